@@ -1,0 +1,90 @@
+/* mm/clip.h - animation clips and forward kinematics.
+ *
+ * A clip is a skeleton plus, for every frame, the local rotation and local translation of every
+ * joint. Local translation is the joint's position in its parent's frame: the rest offset for
+ * joints that do not translate, the animated position for those that do (in BVH, position
+ * channels replace the OFFSET). Frames are sampled uniformly at fps.
+ *
+ *   mm_clip clip;
+ *   mm_clip_init(&clip, &skeleton, frames, 30.0f, NULL);
+ *   ... fill mm_clip_rotations(&clip, f)[j] and mm_clip_positions(&clip, f)[j] ...
+ *   mm_clip_fk(&clip, f, globals);            // globals: joint_count transforms
+ *   mm_clip_free(&clip);
+ *
+ * Functions: mm_clip_init mm_clip_free mm_clip_copy mm_clip_rotations mm_clip_positions
+ *            mm_clip_duration mm_clip_scale mm_clip_resample mm_clip_sample
+ *            mm_fk mm_clip_fk mm_global_to_local mm_skeleton_estimate_height
+ */
+#ifndef MM_CLIP_H
+#define MM_CLIP_H
+
+#include "alloc.h"
+#include "math.h"
+#include "result.h"
+#include "skeleton.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MM_MAX_FRAMES (1 << 24) /* a sanity bound: over 77 hours at 60 fps */
+
+typedef struct mm_clip {
+    mm_skeleton skeleton; /* owned copy */
+    float fps;            /* frames per second, > 0 */
+    int frame_count;
+    mm_quat *rotations; /* [frame_count * joint_count] local rotations (unit quaternions) */
+    mm_vec3 *positions; /* [frame_count * joint_count] local translations */
+    mm_allocator allocator;
+} mm_clip;
+
+/* Copies skeleton and allocates frame_count frames, filled with the rest pose (identity
+ * rotations, rest offsets). frame_count may be 0. fps must be finite and > 0. */
+mm_result mm_clip_init(mm_clip *clip, const mm_skeleton *skeleton, int frame_count, float fps,
+                       const mm_allocator *allocator);
+void mm_clip_free(mm_clip *clip);
+mm_result mm_clip_copy(mm_clip *dst, const mm_clip *src, const mm_allocator *allocator);
+
+/* The joint_count local rotations / translations of frame (0 <= frame < frame_count). */
+static inline mm_quat *mm_clip_rotations(const mm_clip *clip, int frame)
+{
+    return clip->rotations + (long)frame * clip->skeleton.joint_count;
+}
+static inline mm_vec3 *mm_clip_positions(const mm_clip *clip, int frame)
+{
+    return clip->positions + (long)frame * clip->skeleton.joint_count;
+}
+/* Seconds from the first to the last frame: (frame_count - 1) / fps, 0 for fewer than 2. */
+float mm_clip_duration(const mm_clip *clip);
+
+/* Multiplies all lengths (offsets, End Sites, translations) by factor. */
+void mm_clip_scale(mm_clip *clip, float factor);
+
+/* Pose at time t seconds (clamped to the clip): rotations by slerp, translations linearly,
+ * between the two nearest frames. out arrays hold joint_count entries. */
+void mm_clip_sample(const mm_clip *clip, float t, mm_quat *out_rotations, mm_vec3 *out_positions);
+
+/* Resamples src to fps into dst (not initialised): the new clip covers the same duration,
+ * frame_count = floor(duration * fps + 1e-4) + 1, each frame sampled with mm_clip_sample. */
+mm_result mm_clip_resample(mm_clip *dst, const mm_clip *src, float fps, const mm_allocator *allocator);
+
+/* Forward kinematics: global transforms of every joint from local rotations and translations.
+ * out_global holds joint_count transforms; the root's global is its local transform. */
+void mm_fk(const mm_skeleton *s, const mm_quat *local_rotations, const mm_vec3 *local_positions,
+           mm_xform *out_global);
+void mm_clip_fk(const mm_clip *clip, int frame, mm_xform *out_global);
+/* Inverse of mm_fk: local rotations and translations from global transforms. */
+void mm_global_to_local(const mm_skeleton *s, const mm_xform *global, mm_quat *out_rotations,
+                        mm_vec3 *out_positions);
+
+/* Standing height estimate, in the skeleton's units: the vertical (Y) extent of the joints and
+ * End Sites in the given pose (for example frame 0 of a clip). Pass NULL rotations and positions
+ * for the rest pose. */
+float mm_skeleton_estimate_height(const mm_skeleton *s, const mm_quat *local_rotations,
+                                  const mm_vec3 *local_positions);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_CLIP_H */

@@ -1,0 +1,22 @@
+/* mm/mm.h - umbrella header: everything public in mm.
+ *
+ * mm is motion matching in C: import motion capture, build a database of poses and features,
+ * simulate the desired trajectory from player input, search for the best-fitting frame and
+ * blend to it. Each module has its own header; include this one to get them all.
+ */
+#ifndef MM_MM_H
+#define MM_MM_H
+
+#include "alloc.h"
+#include "bvh.h"
+#include "clip.h"
+#include "math.h"
+#include "result.h"
+#include "skeleton.h"
+
+#define MM_VERSION_MAJOR 0
+#define MM_VERSION_MINOR 1
+#define MM_VERSION_PATCH 0
+#define MM_VERSION_STRING "0.1.0"
+
+#endif /* MM_MM_H */

@@ -1,0 +1,158 @@
+#include <mm/clip.h>
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+mm_result mm_clip_init(mm_clip *clip, const mm_skeleton *skeleton, int frame_count, float fps,
+                       const mm_allocator *allocator)
+{
+    if (!clip) return MM_ERR_INVALID_ARGUMENT;
+    memset(clip, 0, sizeof *clip);
+    if (!skeleton || skeleton->joint_count < 1 || frame_count < 0 || frame_count > MM_MAX_FRAMES ||
+        !isfinite(fps) || fps <= 0.0f)
+        return MM_ERR_INVALID_ARGUMENT;
+    if (allocator) clip->allocator = *allocator;
+    mm_result r = mm_skeleton_copy(&clip->skeleton, skeleton, allocator);
+    if (r != MM_OK) return r;
+    clip->fps = fps;
+    clip->frame_count = frame_count;
+    if (frame_count == 0) return MM_OK;
+    size_t n = (size_t)frame_count * (size_t)skeleton->joint_count;
+    clip->rotations = (mm_quat *)mm_alloc_array(allocator, n, sizeof(mm_quat));
+    clip->positions = (mm_vec3 *)mm_alloc_array(allocator, n, sizeof(mm_vec3));
+    if (!clip->rotations || !clip->positions) {
+        mm_clip_free(clip);
+        return MM_ERR_OUT_OF_MEMORY;
+    }
+    int jc = skeleton->joint_count;
+    for (int f = 0; f < frame_count; ++f)
+        for (int j = 0; j < jc; ++j) {
+            clip->rotations[(size_t)f * jc + j] = mm_quat_identity();
+            clip->positions[(size_t)f * jc + j] = skeleton->joints[j].offset;
+        }
+    return MM_OK;
+}
+
+void mm_clip_free(mm_clip *clip)
+{
+    if (!clip) return;
+    mm_free(&clip->allocator, clip->rotations);
+    mm_free(&clip->allocator, clip->positions);
+    mm_skeleton_free(&clip->skeleton);
+    memset(clip, 0, sizeof *clip);
+}
+
+mm_result mm_clip_copy(mm_clip *dst, const mm_clip *src, const mm_allocator *allocator)
+{
+    if (!dst || !src) return MM_ERR_INVALID_ARGUMENT;
+    mm_result r = mm_clip_init(dst, &src->skeleton, src->frame_count, src->fps, allocator);
+    if (r != MM_OK) return r;
+    size_t n = (size_t)src->frame_count * (size_t)src->skeleton.joint_count;
+    if (n) {
+        memcpy(dst->rotations, src->rotations, n * sizeof(mm_quat));
+        memcpy(dst->positions, src->positions, n * sizeof(mm_vec3));
+    }
+    return MM_OK;
+}
+
+float mm_clip_duration(const mm_clip *clip)
+{
+    return clip->frame_count < 2 ? 0.0f : (float)(clip->frame_count - 1) / clip->fps;
+}
+
+void mm_clip_scale(mm_clip *clip, float factor)
+{
+    mm_skeleton_scale(&clip->skeleton, factor);
+    size_t n = (size_t)clip->frame_count * (size_t)clip->skeleton.joint_count;
+    for (size_t i = 0; i < n; ++i) clip->positions[i] = mm_vec3_scale(clip->positions[i], factor);
+}
+
+void mm_clip_sample(const mm_clip *clip, float t, mm_quat *out_rotations, mm_vec3 *out_positions)
+{
+    int jc = clip->skeleton.joint_count;
+    if (clip->frame_count < 1) {
+        for (int j = 0; j < jc; ++j) {
+            out_rotations[j] = mm_quat_identity();
+            out_positions[j] = clip->skeleton.joints[j].offset;
+        }
+        return;
+    }
+    double x = isfinite(t) ? (double)t * clip->fps : 0.0;
+    if (x < 0.0) x = 0.0;
+    double last = clip->frame_count - 1;
+    if (x > last) x = last;
+    int f0 = (int)floor(x);
+    int f1 = f0 + 1 < clip->frame_count ? f0 + 1 : f0;
+    float a = (float)(x - f0);
+    const mm_quat *r0 = mm_clip_rotations(clip, f0), *r1 = mm_clip_rotations(clip, f1);
+    const mm_vec3 *p0 = mm_clip_positions(clip, f0), *p1 = mm_clip_positions(clip, f1);
+    for (int j = 0; j < jc; ++j) {
+        out_rotations[j] = mm_quat_slerp(r0[j], r1[j], a);
+        out_positions[j] = mm_vec3_lerp(p0[j], p1[j], a);
+    }
+}
+
+mm_result mm_clip_resample(mm_clip *dst, const mm_clip *src, float fps, const mm_allocator *allocator)
+{
+    if (!dst || !src || !isfinite(fps) || fps <= 0.0f) return MM_ERR_INVALID_ARGUMENT;
+    double duration = src->frame_count < 2 ? 0.0 : (double)(src->frame_count - 1) / src->fps;
+    double frames = src->frame_count == 0 ? 0.0 : floor(duration * fps + 1e-4) + 1.0;
+    if (frames > MM_MAX_FRAMES) return MM_ERR_LIMIT;
+    mm_result r = mm_clip_init(dst, &src->skeleton, (int)frames, fps, allocator);
+    if (r != MM_OK) return r;
+    for (int f = 0; f < dst->frame_count; ++f)
+        mm_clip_sample(src, (float)((double)f / fps), mm_clip_rotations(dst, f), mm_clip_positions(dst, f));
+    return MM_OK;
+}
+
+void mm_fk(const mm_skeleton *s, const mm_quat *local_rotations, const mm_vec3 *local_positions,
+           mm_xform *out_global)
+{
+    for (int j = 0; j < s->joint_count; ++j) {
+        mm_xform local = mm_xform_make(local_rotations[j], local_positions[j]);
+        int p = s->joints[j].parent;
+        out_global[j] = p < 0 ? local : mm_xform_mul(out_global[p], local);
+    }
+}
+
+void mm_clip_fk(const mm_clip *clip, int frame, mm_xform *out_global)
+{
+    mm_fk(&clip->skeleton, mm_clip_rotations(clip, frame), mm_clip_positions(clip, frame), out_global);
+}
+
+void mm_global_to_local(const mm_skeleton *s, const mm_xform *global, mm_quat *out_rotations,
+                        mm_vec3 *out_positions)
+{
+    for (int j = 0; j < s->joint_count; ++j) {
+        int p = s->joints[j].parent;
+        mm_xform local = p < 0 ? global[j] : mm_xform_mul(mm_xform_inverse(global[p]), global[j]);
+        out_rotations[j] = mm_quat_normalize(local.rotation);
+        out_positions[j] = local.translation;
+    }
+}
+
+float mm_skeleton_estimate_height(const mm_skeleton *s, const mm_quat *local_rotations,
+                                  const mm_vec3 *local_positions)
+{
+    /* Global transforms one joint at a time, kept in a fixed buffer: joints are at most
+     * MM_MAX_JOINTS, so no allocation is needed. */
+    mm_xform global[MM_MAX_JOINTS];
+    if (!s || s->joint_count < 1 || s->joint_count > MM_MAX_JOINTS) return 0.0f;
+    float lo = FLT_MAX, hi = -FLT_MAX;
+    for (int j = 0; j < s->joint_count; ++j) {
+        const mm_joint *jt = &s->joints[j];
+        mm_xform local = mm_xform_make(local_rotations ? local_rotations[j] : mm_quat_identity(),
+                                       local_positions ? local_positions[j] : jt->offset);
+        global[j] = jt->parent < 0 ? local : mm_xform_mul(global[jt->parent], local);
+        float y = global[j].translation.y;
+        lo = fminf(lo, y);
+        hi = fmaxf(hi, y);
+        if (jt->has_end_site) {
+            float ye = mm_xform_apply_point(global[j], jt->end_site).y;
+            lo = fminf(lo, ye);
+            hi = fmaxf(hi, ye);
+        }
+    }
+    return hi - lo;
+}

@@ -1,0 +1,433 @@
+/* math.c - the non-inline parts of mm/math.h.
+ *
+ * Rotations are computed in double internally and rounded to float on return: the Euler,
+ * matrix and log/exp conversions involve cancellations and inverse trigonometry that lose
+ * several digits in single precision.
+ *
+ * Internally a quaternion is a double[4] laid out {x, y, z, w} like mm_quat, so that the
+ * component about axis n (0 = X, 1 = Y, 2 = Z) is simply q[n].
+ */
+#include <mm/math.h>
+
+#include <stddef.h>
+
+/* ---- internal double-precision helpers -------------------------------------------------- */
+
+static void dq_from_quat(mm_quat q, double out[4])
+{
+    out[0] = q.x;
+    out[1] = q.y;
+    out[2] = q.z;
+    out[3] = q.w;
+}
+
+static mm_quat dq_to_quat(const double q[4])
+{
+    return mm_quat_make((float)q[0], (float)q[1], (float)q[2], (float)q[3]);
+}
+
+/* out = a * b (b applied first). out may not alias a or b. */
+static void dq_mul(const double a[4], const double b[4], double out[4])
+{
+    out[0] = a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1];
+    out[1] = a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0];
+    out[2] = a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3];
+    out[3] = a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2];
+}
+
+static double dq_norm(const double q[4])
+{
+    return sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+}
+
+/* Normalises q in place; returns 0 (and sets the identity) if q is zero. */
+static int dq_normalize(double q[4])
+{
+    double n = dq_norm(q);
+    if (n < 1e-300) {
+        q[0] = q[1] = q[2] = 0.0;
+        q[3] = 1.0;
+        return 0;
+    }
+    for (int c = 0; c < 4; c++) q[c] /= n;
+    return 1;
+}
+
+/* Rotation matrix of q; q need not be unit (the result is that of q / |q|). */
+static void dq_to_mat(const double q[4], double m[3][3])
+{
+    double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    double s = n2 > 0.0 ? 2.0 / n2 : 0.0;
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    m[0][0] = 1.0 - s * (y * y + z * z);
+    m[0][1] = s * (x * y - w * z);
+    m[0][2] = s * (x * z + w * y);
+    m[1][0] = s * (x * y + w * z);
+    m[1][1] = 1.0 - s * (x * x + z * z);
+    m[1][2] = s * (y * z - w * x);
+    m[2][0] = s * (x * z - w * y);
+    m[2][1] = s * (y * z + w * x);
+    m[2][2] = 1.0 - s * (x * x + y * y);
+}
+
+/* Maps an angle in [-pi, pi] to (-pi, pi]: atan2 returns -pi for a -0.0 numerator. */
+static double wrap_pi(double a) { return a <= -MM_PI ? a + 2.0 * MM_PI : a; }
+
+/* ---- Euler orders ------------------------------------------------------------------------ */
+
+static const char *const euler_names[] = {NULL, "XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"};
+
+const char *mm_euler_order_name(mm_euler_order order)
+{
+    int o = (int)order;
+    if (o <= (int)MM_EULER_NONE || o > (int)MM_EULER_ZYX) return NULL;
+    return euler_names[o];
+}
+
+mm_euler_order mm_euler_order_parse(const char *name)
+{
+    if (name == NULL) return MM_EULER_NONE;
+    for (int o = (int)MM_EULER_XYZ; o <= (int)MM_EULER_ZYX; o++) {
+        const char *ref = euler_names[o];
+        int n = 0;
+        while (n < 3) {
+            char c = name[n];
+            if (c >= 'a' && c <= 'z') c = (char)(c - 'a' + 'A'); /* ASCII only, locale-free */
+            if (c != ref[n]) break;
+            n++;
+        }
+        if (n == 3 && name[3] == '\0') return (mm_euler_order)o;
+    }
+    return MM_EULER_NONE;
+}
+
+/* Axis indices of an order, first to last; returns 0 for an invalid order. */
+static int euler_axes(mm_euler_order order, int axes[3])
+{
+    const char *name = mm_euler_order_name(order);
+    if (name == NULL) return 0;
+    for (int n = 0; n < 3; n++) axes[n] = name[n] - 'X';
+    return 1;
+}
+
+/* ---- quaternion --------------------------------------------------------------------------- */
+
+mm_quat mm_quat_from_axis_angle(mm_vec3 axis, float angle)
+{
+    double ax = axis.x, ay = axis.y, az = axis.z;
+    double len = sqrt(ax * ax + ay * ay + az * az);
+    if (len <= 1e-12) return mm_quat_identity();
+    double h = 0.5 * (double)angle;
+    double s = sin(h) / len;
+    double q[4] = {ax * s, ay * s, az * s, cos(h)};
+    return dq_to_quat(q);
+}
+
+mm_quat mm_quat_nlerp(mm_quat a, mm_quat b, float t)
+{
+    if (mm_quat_dot(a, b) < 0.0f) b = mm_quat_make(-b.x, -b.y, -b.z, -b.w);
+    return mm_quat_normalize(mm_quat_make(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t,
+                                          a.w + (b.w - a.w) * t));
+}
+
+/* Angle on the 4D unit sphere between unit a and b (half the rotation angle between them),
+ * via atan2 of the chord lengths, which stays accurate near 0 and pi/2 unlike acos(dot). */
+static double dq_sphere_angle(const double a[4], const double b[4])
+{
+    double d2 = 0.0, s2 = 0.0;
+    for (int c = 0; c < 4; c++) {
+        d2 += (a[c] - b[c]) * (a[c] - b[c]);
+        s2 += (a[c] + b[c]) * (a[c] + b[c]);
+    }
+    return 2.0 * atan2(sqrt(d2), sqrt(s2));
+}
+
+mm_quat mm_quat_slerp(mm_quat a, mm_quat b, float t)
+{
+    double qa[4], qb[4], out[4];
+    dq_from_quat(a, qa);
+    dq_from_quat(b, qb);
+    dq_normalize(qa);
+    dq_normalize(qb);
+    double dot = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
+    if (dot < 0.0) { /* q and -q are the same rotation: take the shorter arc */
+        for (int c = 0; c < 4; c++) qb[c] = -qb[c];
+    }
+    double theta = dq_sphere_angle(qa, qb); /* in [0, pi/2] */
+    double td = t, wa, wb;
+    if (theta < 1e-4) {
+        /* Nearly parallel: sin(theta) is too small to divide by; linear interpolation
+         * (normalised below) differs from slerp by O(theta^3) here. */
+        wa = 1.0 - td;
+        wb = td;
+    } else {
+        double s = sin(theta);
+        wa = sin((1.0 - td) * theta) / s;
+        wb = sin(td * theta) / s;
+    }
+    for (int c = 0; c < 4; c++) out[c] = wa * qa[c] + wb * qb[c];
+    dq_normalize(out);
+    return dq_to_quat(out);
+}
+
+float mm_quat_angle_between(mm_quat a, mm_quat b)
+{
+    double qa[4], qb[4];
+    dq_from_quat(a, qa);
+    dq_from_quat(b, qb);
+    dq_normalize(qa);
+    dq_normalize(qb);
+    double dot = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
+    if (dot < 0.0) {
+        for (int c = 0; c < 4; c++) qb[c] = -qb[c];
+    }
+    return (float)(2.0 * dq_sphere_angle(qa, qb));
+}
+
+/* ---- Euler angles --------------------------------------------------------------------------- */
+
+mm_quat mm_quat_from_euler(mm_vec3 angles, mm_euler_order order)
+{
+    int axes[3];
+    if (!euler_axes(order, axes)) return mm_quat_identity();
+    double ang[3] = {angles.x, angles.y, angles.z};
+    double q[4] = {0.0, 0.0, 0.0, 1.0};
+    /* q = R(first) * R(second) * R(third), accumulated left to right. */
+    for (int n = 0; n < 3; n++) {
+        double h = 0.5 * ang[axes[n]];
+        double r[4] = {0.0, 0.0, 0.0, cos(h)};
+        double tmp[4];
+        r[axes[n]] = sin(h);
+        dq_mul(q, r, tmp);
+        for (int c = 0; c < 4; c++) q[c] = tmp[c];
+    }
+    return dq_to_quat(q);
+}
+
+/* Below this cosine of the middle angle (about 1e-6 rad from +-pi/2, a few times the
+ * resolution of a float quaternion) the first and third axes are treated as aligned. */
+#define MM_GIMBAL_EPS 1e-6
+
+mm_vec3 mm_quat_to_euler(mm_quat quat, mm_euler_order order)
+{
+    int axes[3];
+    if (!euler_axes(order, axes)) return mm_vec3_make(0.0f, 0.0f, 0.0f);
+    double q[4], m[3][3];
+    dq_from_quat(quat, q);
+    dq_normalize(q);
+    dq_to_mat(q, m);
+
+    /* M = R_i(a) R_j(b) R_k(c). With s = +1 when (i, j, k) is a cyclic permutation of
+     * (X, Y, Z) and -1 otherwise, expanding the product gives
+     *   column k: M[i][k] = s sin b,  M[j][k] = -s sin a cos b,  M[k][k] = cos a cos b
+     *   row i:    M[i][i] = cos b cos c,  M[i][j] = -s cos b sin c
+     * and, when c = 0, column j is R_i(a) e_j: M[j][j] = cos a, M[k][j] = s sin a. */
+    int i = axes[0], j = axes[1], k = axes[2];
+    double s = ((j - i + 3) % 3 == 1) ? 1.0 : -1.0;
+    double cb = hypot(m[i][i], m[i][j]);
+    double a, b, c;
+    b = atan2(s * m[i][k], cb); /* cb >= 0 keeps b in [-pi/2, pi/2] */
+    if (cb > MM_GIMBAL_EPS) {
+        a = atan2(-s * m[j][k], m[k][k]);
+        c = atan2(-s * m[i][j], m[i][i]);
+    } else {
+        /* Gimbal lock: only a +- c is determined; put it all in the first angle. */
+        a = atan2(s * m[k][j], m[j][j]);
+        c = 0.0;
+    }
+    double out[3];
+    out[i] = wrap_pi(a);
+    out[j] = b;
+    out[k] = wrap_pi(c);
+    return mm_vec3_make((float)out[0], (float)out[1], (float)out[2]);
+}
+
+/* ---- matrices ------------------------------------------------------------------------------- */
+
+mm_quat mm_quat_from_mat3(mm_mat3 mat)
+{
+    double m[3][3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) m[r][c] = mat.m[r][c];
+
+    /* Shepperd: 4w^2 = 1 + tr, 4x^2 = 1 + m00 - m11 - m22, ... Take the square root of the
+     * largest of the four, which is at least 1/4, and get the others from the off-diagonal
+     * sums and differences, so nothing is divided by a small number. */
+    double tr = m[0][0] + m[1][1] + m[2][2];
+    double q[4];
+    if (tr >= m[0][0] && tr >= m[1][1] && tr >= m[2][2]) {
+        double r = sqrt(1.0 + tr); /* 2|w| */
+        double f = 0.5 / r;
+        q[3] = 0.5 * r;
+        q[0] = (m[2][1] - m[1][2]) * f;
+        q[1] = (m[0][2] - m[2][0]) * f;
+        q[2] = (m[1][0] - m[0][1]) * f;
+    } else {
+        /* n is the largest diagonal term; (n, n1, n2) is cyclic. */
+        int n = 0;
+        if (m[1][1] > m[n][n]) n = 1;
+        if (m[2][2] > m[n][n]) n = 2;
+        int n1 = (n + 1) % 3, n2 = (n + 2) % 3;
+        double r = sqrt(1.0 + m[n][n] - m[n1][n1] - m[n2][n2]);
+        double f = 0.5 / r;
+        q[n] = 0.5 * r;
+        q[n1] = (m[n1][n] + m[n][n1]) * f;
+        q[n2] = (m[n2][n] + m[n][n2]) * f;
+        q[3] = (m[n2][n1] - m[n1][n2]) * f;
+    }
+    if (q[3] < 0.0) {
+        for (int c = 0; c < 4; c++) q[c] = -q[c];
+    }
+    dq_normalize(q); /* absorbs small deviations from orthonormality */
+    return dq_to_quat(q);
+}
+
+mm_mat3 mm_quat_to_mat3(mm_quat quat)
+{
+    double q[4], m[3][3];
+    mm_mat3 out;
+    dq_from_quat(quat, q);
+    dq_to_mat(q, m);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) out.m[r][c] = (float)m[r][c];
+    return out;
+}
+
+/* ---- log / exp ------------------------------------------------------------------------------- */
+
+mm_vec3 mm_quat_log(mm_quat quat)
+{
+    double q[4];
+    dq_from_quat(quat, q);
+    if (q[3] < 0.0) { /* -q is the same rotation with angle <= pi */
+        for (int c = 0; c < 4; c++) q[c] = -q[c];
+    }
+    double s = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);            /* |q| sin(angle / 2) */
+    double w = q[3];                                                     /* |q| cos(angle / 2) */
+    double scale;                                                        /* angle / s */
+    if (!(s > 0.0) && !(w > 0.0)) return mm_vec3_make(0.0f, 0.0f, 0.0f); /* zero quaternion */
+    if (s < 1e-6 * w) {
+        /* 2 atan(s/w) / s = (2/w) (1 - (s/w)^2 / 3 + ...); the next term is below 1e-24. */
+        double r = s / w;
+        scale = (2.0 / w) * (1.0 - r * r / 3.0);
+    } else {
+        scale = 2.0 * atan2(s, w) / s; /* s >= 1e-6 w > 0, or s > 0 when w == 0 */
+    }
+    return mm_vec3_make((float)(q[0] * scale), (float)(q[1] * scale), (float)(q[2] * scale));
+}
+
+mm_quat mm_quat_exp(mm_vec3 v)
+{
+    double x = v.x, y = v.y, z = v.z;
+    double angle = sqrt(x * x + y * y + z * z);
+    double h = 0.5 * angle;
+    double scale; /* sin(angle / 2) / angle */
+    if (angle < 1e-4) {
+        /* sin(h) / (2h) = (1 - h^2/6 + h^4/120) / 2 + O(h^6), exact in double here. */
+        double h2 = h * h;
+        scale = 0.5 * (1.0 - h2 / 6.0 + h2 * h2 / 120.0);
+    } else {
+        scale = sin(h) / angle;
+    }
+    double q[4] = {x * scale, y * scale, z * scale, cos(h)};
+    return dq_to_quat(q);
+}
+
+/* ---- decompositions ------------------------------------------------------------------------ */
+
+void mm_quat_swing_twist(mm_quat quat, mm_vec3 axis, mm_quat *swing, mm_quat *twist)
+{
+    double q[4], t[4] = {0.0, 0.0, 0.0, 1.0};
+    double u[3] = {axis.x, axis.y, axis.z};
+    dq_from_quat(quat, q);
+    double ulen = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    double qlen = dq_norm(q);
+    if (ulen > 1e-12) {
+        for (int c = 0; c < 3; c++) u[c] /= ulen;
+        /* The twist keeps the part of q's vector along the axis, and w. */
+        double p = q[0] * u[0] + q[1] * u[1] + q[2] * u[2];
+        double cand[4] = {p * u[0], p * u[1], p * u[2], q[3]};
+        /* When both are ~0, q is a half-turn about an axis perpendicular to u and the twist
+         * is undetermined: keep the identity. */
+        if (dq_norm(cand) > 1e-6 * qlen) {
+            for (int c = 0; c < 4; c++) t[c] = cand[c];
+            dq_normalize(t);
+        }
+    }
+    if (twist != NULL) *twist = dq_to_quat(t);
+    if (swing != NULL) {
+        /* swing = q * twist^-1; its vector part w(v - p) - v x p is perpendicular to u. */
+        double tc[4] = {-t[0], -t[1], -t[2], t[3]}, sw[4];
+        dq_mul(q, tc, sw);
+        *swing = dq_to_quat(sw);
+    }
+}
+
+mm_quat mm_quat_between(mm_vec3 from, mm_vec3 to)
+{
+    double f[3] = {from.x, from.y, from.z}, t[3] = {to.x, to.y, to.z};
+    double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    double tl = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    if (fl <= 1e-12 || tl <= 1e-12) return mm_quat_identity();
+    for (int c = 0; c < 3; c++) {
+        f[c] /= fl;
+        t[c] /= tl;
+    }
+    /* The rotation by angle A about f x t is (f x t, 1 + cos A) up to scale. 1 + cos A is
+     * computed as |f + t|^2 / 2, which does not cancel when f and t are nearly opposite. */
+    double h[3] = {f[0] + t[0], f[1] + t[1], f[2] + t[2]};
+    double q[4];
+    q[0] = f[1] * t[2] - f[2] * t[1];
+    q[1] = f[2] * t[0] - f[0] * t[2];
+    q[2] = f[0] * t[1] - f[1] * t[0];
+    q[3] = 0.5 * (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    if (dq_norm(q) < 1e-12) {
+        /* Opposite: half-turn about an axis perpendicular to f, taken as f x e where e is
+         * the basis axis least aligned with f. */
+        int e = 0;
+        if (fabs(f[1]) < fabs(f[e])) e = 1;
+        if (fabs(f[2]) < fabs(f[e])) e = 2;
+        double b[3] = {0.0, 0.0, 0.0};
+        b[e] = 1.0;
+        q[0] = f[1] * b[2] - f[2] * b[1];
+        q[1] = f[2] * b[0] - f[0] * b[2];
+        q[2] = f[0] * b[1] - f[1] * b[0];
+        q[3] = 0.0;
+    }
+    dq_normalize(q);
+    return dq_to_quat(q);
+}
+
+/* ---- mat3 --------------------------------------------------------------------------------- */
+
+mm_mat3 mm_mat3_identity(void)
+{
+    mm_mat3 r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) r.m[i][j] = i == j ? 1.0f : 0.0f;
+    return r;
+}
+
+mm_mat3 mm_mat3_mul(mm_mat3 a, mm_mat3 b)
+{
+    mm_mat3 r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            r.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
+    return r;
+}
+
+mm_vec3 mm_mat3_mul_vec3(mm_mat3 m, mm_vec3 v)
+{
+    return mm_vec3_make(m.m[0][0] * v.x + m.m[0][1] * v.y + m.m[0][2] * v.z,
+                        m.m[1][0] * v.x + m.m[1][1] * v.y + m.m[1][2] * v.z,
+                        m.m[2][0] * v.x + m.m[2][1] * v.y + m.m[2][2] * v.z);
+}
+
+mm_mat3 mm_mat3_transpose(mm_mat3 m)
+{
+    mm_mat3 r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) r.m[i][j] = m.m[j][i];
+    return r;
+}

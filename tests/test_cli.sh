@@ -1,0 +1,96 @@
+#!/bin/sh
+# End-to-end tests of the mm program: output format, exit codes, error messages.
+# usage: test_cli.sh MM_BINARY TEST_DATA_DIR
+set -u
+mm=$1
+data=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# expect_exit CODE CMD... : runs CMD, stdout to $tmp/out, stderr to $tmp/err
+expect_exit() {
+    want=$1; shift
+    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
+    if [ "$got" -eq "$want" ]; then ok; else bad "exit $got (wanted $want): $*"; cat "$tmp/err"; fi
+}
+expect_grep() { # PATTERN FILE
+    if grep -q -- "$1" "$2"; then ok; else bad "'$1' not in $2:"; cat "$2"; fi
+}
+# expect_value FILE JOINT X Y Z : the fk line of JOINT is within 1e-9 of X Y Z
+expect_value() {
+    if awk -v j="$2" -v x="$3" -v y="$4" -v z="$5" '
+        function abs(v) { return v < 0 ? -v : v }
+        $1 == j { found = 1; if (abs($2 - x) > 1e-9 || abs($3 - y) > 1e-9 || abs($4 - z) > 1e-9) exit 1 }
+        END { exit found ? 0 : 1 }' "$1"; then ok; else bad "fk $2 is not ($3 $4 $5):"; cat "$1"; fi
+}
+
+chain=$data/bvh/chain2.bvh
+
+expect_exit 0 "$mm" version
+expect_grep "^mm " "$tmp/out"
+expect_exit 2 "$mm"
+expect_exit 2 "$mm" no-such-command
+expect_grep "unknown command" "$tmp/err"
+
+# info
+expect_exit 0 "$mm" bvh info "$chain"
+expect_grep "joints: *2 (+ 1 End Sites)" "$tmp/out"
+expect_grep "frames: *3" "$tmp/out"
+expect_grep "fps: *2 " "$tmp/out"
+expect_grep "duration: *1.000 s" "$tmp/out"
+expect_exit 0 "$mm" bvh info "$data/bvh/cmu_style.bvh" --json
+expect_grep '"joints": 31' "$tmp/out"
+expect_grep '"frames": 4' "$tmp/out"
+expect_grep '"orders": {"ZYX": 31}' "$tmp/out"
+expect_grep '"unit": "feet"' "$tmp/out"
+expect_exit 2 "$mm" bvh info "$chain" --bogus
+
+# fk: one line per joint, End Sites excluded, values in file units
+expect_exit 0 "$mm" bvh fk "$chain" --frame 1
+if [ "$(wc -l <"$tmp/out")" -eq 2 ]; then ok; else bad "fk printed $(wc -l <"$tmp/out") lines, wanted 2"; fi
+expect_value "$tmp/out" Base 10 0 0
+expect_value "$tmp/out" Tip 9 0 0
+expect_exit 0 "$mm" bvh fk "$chain" --frame 2
+expect_value "$tmp/out" Tip 0 6 0
+expect_exit 1 "$mm" bvh fk "$chain" --frame 3
+expect_grep "out of range" "$tmp/err"
+if [ ! -s "$tmp/out" ]; then ok; else bad "fk out of range printed to stdout"; fi
+expect_exit 2 "$mm" bvh fk "$chain" --frame -1
+expect_exit 2 "$mm" bvh fk "$chain"
+expect_exit 1 "$mm" bvh fk "$tmp/missing.bvh" --frame 0
+expect_grep "missing.bvh" "$tmp/err"
+
+# the locale of the environment does not change the output
+LC_ALL=de_DE.UTF-8 "$mm" bvh fk "$data/bvh/mobu_style.bvh" --frame 0 >"$tmp/de" 2>/dev/null
+"$mm" bvh fk "$data/bvh/mobu_style.bvh" --frame 0 >"$tmp/c"
+if cmp -s "$tmp/de" "$tmp/c"; then ok; else bad "fk output depends on the locale"; fi
+
+# convert: order, scale, resampling
+expect_exit 0 "$mm" bvh convert "$chain" "$tmp/c.bvh" --order XYZ --scale 0.5 --fps 4
+expect_exit 0 "$mm" bvh info "$tmp/c.bvh"
+expect_grep "frames: *5" "$tmp/out"
+expect_grep "XYZ x2" "$tmp/out"
+expect_exit 0 "$mm" bvh fk "$tmp/c.bvh" --frame 2
+expect_value "$tmp/out" Tip 4.5 0 0
+expect_exit 2 "$mm" bvh convert "$chain" "$tmp/x.bvh" --order QQQ
+expect_exit 2 "$mm" bvh convert "$chain" "$tmp/x.bvh" --scale -1
+printf 'HIERARCHY\nROOT A\n{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation Yrotation Xrotation\n JOINT B\n {\n  OFFSET 0 0.3 0\n  CHANNELS 0\n }\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n' >"$tmp/small.bvh"
+expect_exit 1 "$mm" bvh convert "$tmp/small.bvh" "$tmp/x.bvh" --scale auto
+expect_grep "unit" "$tmp/err"
+if [ ! -e "$tmp/x.bvh" ]; then ok; else bad "a failed convert left $tmp/x.bvh behind"; fi
+expect_exit 1 "$mm" bvh convert "$chain" "$tmp/no/such/dir/x.bvh"
+if [ -z "$(ls "$tmp" | grep '\.tmp')" ]; then ok; else bad "temporary file left behind"; fi
+
+# errors name the file, line and column
+printf 'HIERARCHY\nROOT A\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Xrotation Yrotation Zrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n1 2 nan\n' >"$tmp/nan.bvh"
+expect_exit 1 "$mm" bvh info "$tmp/nan.bvh"
+expect_grep "nan.bvh:10:5:" "$tmp/err"
+expect_grep "not a finite number" "$tmp/err"
+
+echo "test_cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,18 @@
+// Every public header compiles as C++ (with the project's warnings) and links from C++.
+#include <mm/mm.h>
+
+#include <cmath>
+#include <cstdio>
+
+int main()
+{
+    mm_quat q = mm_quat_from_axis_angle(mm_vec3_make(0.0f, 0.0f, 1.0f), static_cast<float>(MM_PI / 2));
+    mm_vec3 v = mm_quat_rotate(q, mm_vec3_make(1.0f, 0.0f, 0.0f));
+    if (std::fabs(v.y - 1.0f) > 1e-6f) {
+        std::printf("rotation from C++ gave (%g %g %g)\n", v.x, v.y, v.z);
+        return 1;
+    }
+    if (mm_result_str(MM_ERR_SYNTAX)[0] == 0) return 1;
+    std::printf("headers compile and link as C++\n");
+    return 0;
+}

@@ -1,0 +1,23 @@
+/* cli.h - small helpers shared by the subcommands: argument parsing and error printing. */
+#ifndef MM_TOOLS_CLI_H
+#define MM_TOOLS_CLI_H
+
+#include <stdio.h>
+
+#include <mm/result.h>
+
+/* Prints "mm: " + the formatted error on stderr. Returns 1 (an exit code). */
+int cli_report(const mm_error *err);
+/* Prints "mm <command>: message" on stderr. Returns 2 (usage error exit code). */
+int cli_usage_error(const char *command, const char *fmt, ...)
+#if defined(__GNUC__) || defined(__clang__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/* Parses a whole argument as a finite double / int in range; 0 on failure. */
+int cli_parse_double(const char *s, double *out);
+int cli_parse_int(const char *s, long min, long max, long *out);
+/* Writes s as a JSON string literal (quotes and escapes included). */
+void cli_json_string(FILE *f, const char *s);
+
+#endif

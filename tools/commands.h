@@ -1,0 +1,8 @@
+/* commands.h - the subcommands of the mm program. Each takes argv with argv[0] the subcommand's
+ * name, prints errors on stderr, and returns the process exit code (0 on success). */
+#ifndef MM_TOOLS_COMMANDS_H
+#define MM_TOOLS_COMMANDS_H
+
+int mm_cmd_bvh(int argc, char **argv);
+
+#endif

@@ -1,0 +1,42 @@
+/* mm - the command-line program: a thin layer over the library. */
+#include <stdio.h>
+#include <string.h>
+
+#include <mm/mm.h>
+
+#include "commands.h"
+
+static void usage(FILE *f)
+{
+    fputs("usage: mm <command> [arguments]\n"
+          "\n"
+          "commands:\n"
+          "  bvh info FILE [--json]            joints, frames, fps, duration, channel orders, height\n"
+          "  bvh fk FILE --frame K             world position of every joint at frame K (0-based)\n"
+          "  bvh convert IN OUT [--order ZYX] [--scale S|auto] [--fps F]\n"
+          "                                    re-write, rescale and resample a BVH file\n"
+          "  version                           print the version\n"
+          "  help                              print this text\n",
+          f);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "bvh") == 0) return mm_cmd_bvh(argc - 1, argv + 1);
+    if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0) {
+        printf("mm %s\n", MM_VERSION_STRING);
+        return 0;
+    }
+    if (strcmp(cmd, "help") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    fprintf(stderr, "mm: unknown command '%s'\n", cmd);
+    usage(stderr);
+    return 2;
+}
