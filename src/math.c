@@ -302,10 +302,11 @@ mm_vec3 mm_quat_log(mm_quat quat)
     if (q[3] < 0.0) { /* -q is the same rotation with angle <= pi */
         for (int c = 0; c < 4; c++) q[c] = -q[c];
     }
-    double s = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);            /* |q| sin(angle / 2) */
-    double w = q[3];                                                     /* |q| cos(angle / 2) */
-    double scale;                                                        /* angle / s */
+    /* For q = |q| (axis sin(angle/2), cos(angle/2)): s = |q| sin(angle/2), w = |q| cos(angle/2). */
+    double s = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    double w = q[3];
     if (!(s > 0.0) && !(w > 0.0)) return mm_vec3_make(0.0f, 0.0f, 0.0f); /* zero quaternion */
+    double scale;                                                        /* angle / s */
     if (s < 1e-6 * w) {
         /* 2 atan(s/w) / s = (2/w) (1 - (s/w)^2 / 3 + ...); the next term is below 1e-24. */
         double r = s / w;

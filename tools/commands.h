@@ -4,5 +4,7 @@
 #define MM_TOOLS_COMMANDS_H
 
 int mm_cmd_bvh(int argc, char **argv);
+int mm_cmd_config(int argc, char **argv);
+int mm_cmd_db(int argc, char **argv);
 
 #endif

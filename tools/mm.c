@@ -6,6 +6,15 @@
 
 #include "commands.h"
 
+static const struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+} commands[] = {
+    {"bvh", mm_cmd_bvh},
+    {"config", mm_cmd_config},
+    {"db", mm_cmd_db},
+};
+
 static void usage(FILE *f)
 {
     fputs("usage: mm <command> [arguments]\n"
@@ -15,6 +24,11 @@ static void usage(FILE *f)
           "  bvh fk FILE --frame K             world position of every joint at frame K (0-based)\n"
           "  bvh convert IN OUT [--order ZYX] [--scale S|auto] [--fps F]\n"
           "                                    re-write, rescale and resample a BVH file\n"
+          "  config explain [FIELD] [--markdown]  what every database config field means\n"
+          "  config check CONFIG               validate a config and find its files\n"
+          "  db build CONFIG -o OUT.mmdb       build a motion database\n"
+          "  db info FILE [--json]             frames, dims, clips, tags, feature groups\n"
+          "  db dump FILE                      everything in a database as deterministic text\n"
           "  version                           print the version\n"
           "  help                              print this text\n",
           f);
@@ -27,7 +41,8 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *cmd = argv[1];
-    if (strcmp(cmd, "bvh") == 0) return mm_cmd_bvh(argc - 1, argv + 1);
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+        if (strcmp(cmd, commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
     if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0) {
         printf("mm %s\n", MM_VERSION_STRING);
         return 0;

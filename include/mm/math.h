@@ -170,7 +170,8 @@ mm_quat mm_quat_slerp(mm_quat a, mm_quat b, float t);
 /* Angle in radians, in [0, pi], of the shortest rotation taking a to b. */
 float mm_quat_angle_between(mm_quat a, mm_quat b);
 
-/* Euler angles (radians about X, Y, Z) to a unit quaternion, composed in the given order. */
+/* Euler angles (radians about X, Y, Z) to a unit quaternion, composed in the given order.
+ * MM_EULER_NONE or an invalid order gives the identity (and mm_quat_to_euler gives zeros). */
 mm_quat mm_quat_from_euler(mm_vec3 angles, mm_euler_order order);
 /* Unit quaternion to Euler angles for the given order. The middle axis angle is in
  * [-pi/2, pi/2], the other two in (-pi, pi]. At gimbal lock (middle angle at +-pi/2) the
@@ -187,8 +188,9 @@ mm_vec3 mm_quat_log(mm_quat q);
 mm_quat mm_quat_exp(mm_vec3 v);
 
 /* Splits q into q = swing * twist, where twist rotates about the (unit or not) axis and swing
- * rotates about an axis perpendicular to it. Either output pointer may be NULL. When q's
- * rotation axis is perpendicular to axis (a 180-degree swing) twist is the identity. */
+ * rotates about an axis perpendicular to it. Either output pointer may be NULL. When q has no
+ * rotation about axis (its rotation axis is perpendicular to it) twist is the identity; for a
+ * half-turn about such an axis the split is undefined and twist is the identity too. */
 void mm_quat_swing_twist(mm_quat q, mm_vec3 axis, mm_quat *swing, mm_quat *twist);
 
 /* Shortest rotation taking direction from to direction to (neither need be unit). Opposite

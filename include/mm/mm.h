@@ -10,6 +10,8 @@
 #include "alloc.h"
 #include "bvh.h"
 #include "clip.h"
+#include "config.h"
+#include "database.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"

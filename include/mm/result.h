@@ -31,7 +31,8 @@ extern "C" {
     X(MM_ERR_VALUE_COUNT, "wrong number of values on a motion line")                          \
     X(MM_ERR_FRAME_COUNT, "frame count does not match the declaration")                       \
     X(MM_ERR_OUT_OF_RANGE, "value out of range")                                              \
-    X(MM_ERR_NOT_FOUND, "not found")
+    X(MM_ERR_NOT_FOUND, "not found")                                                          \
+    X(MM_ERR_UNSUPPORTED, "not supported by this build")
 
 typedef enum mm_result {
 #define MM__RESULT_ENUM(code, text) code,

@@ -473,16 +473,15 @@ static mm_result read_motion(parser *ps, mm_bvh *out)
 
     int channels = ps->channel_count;
     size_t remaining = (size_t)(ps->end - ps->p);
-    /* Every value takes at least two bytes ("0 " or "0\n"): refuse declarations the input
-     * cannot hold before allocating for them. */
-    if (frames > 0 && (uint64_t)frames * (uint64_t)channels > remaining / 2 + 1)
-        return mm_error_set(ps->err, MM_ERR_FRAME_COUNT, frames_line, frames_column,
-                            "declares %lld frames of %d values, but only %zu bytes follow", (long long)frames,
-                            channels, remaining);
+    /* Every value takes at least two bytes ("0 " or "0\n"). When the input cannot hold the
+     * declared frames, allocate nothing from the declaration: read the lines into one scratch row
+     * so the error points at the first bad line or at the end of the input. */
+    int fits = !(frames > 0 && (uint64_t)frames * (uint64_t)channels > remaining / 2 + 1);
     out->frame_count = (int)frames;
     out->frame_time = frame_time;
     if (frames > 0) {
-        out->values = (double *)mm_alloc_array(ps->allocator, (size_t)frames * (size_t)channels, sizeof(double));
+        size_t rows = fits ? (size_t)frames : 1;
+        out->values = (double *)mm_alloc_array(ps->allocator, rows * (size_t)channels, sizeof(double));
         if (!out->values) return mm_error_set(ps->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     }
     int f = 0;
@@ -494,7 +493,8 @@ static mm_result read_motion(parser *ps, mm_bvh *out)
             skip_line(ps);
             continue;
         }
-        if ((r = read_motion_line(ps, out->values + (size_t)f * channels, channels, f)) != MM_OK) return r;
+        double *row = out->values + (fits ? (size_t)f * (size_t)channels : 0);
+        if ((r = read_motion_line(ps, row, channels, f)) != MM_OK) return r;
         ++f;
     }
     while (ps->p < ps->end) {

@@ -2,13 +2,13 @@
  * per frame, numbers in the C locale with a chosen number of significant digits. */
 #include <mm/bvh.h>
 
-#include <locale.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "io/file.h"
+#include "io/text.h"
 
 typedef struct text_buffer {
     char *data;
@@ -50,18 +50,10 @@ static void append_indent(text_buffer *b, int depth)
     for (int i = 0; i < depth; ++i) append(b, "\t", 1);
 }
 
-/* %.*g in the C locale whatever the process locale; -0 printed as 0. */
 static void append_number(text_buffer *b, double v, int precision)
 {
     char buf[64];
-    if (v == 0.0) v = 0.0;
-    int n = snprintf(buf, sizeof buf, "%.*g", precision, v);
-    if (n < 0 || n >= (int)sizeof buf) n = 0;
-    const char *dp = localeconv()->decimal_point;
-    if (dp && dp[0] && dp[0] != '.' && dp[1] == 0) {
-        char *c = memchr(buf, dp[0], (size_t)n);
-        if (c) *c = '.';
-    }
+    int n = mm__format_number(buf, sizeof buf, v, precision);
     append(b, buf, (size_t)n);
 }
 

@@ -1,0 +1,143 @@
+/* mm/config.h - what a database is built from: sampling, bone roles, matched features, clips,
+ * tags and blend clips.
+ *
+ * The config is plain C data. It is usually read from JSON (mm/config_json.h, in the mm_io
+ * library); docs/config.md documents every field with its meaning, unit and default, and
+ * `mm config explain` prints the same text. mm_config_defaults gives the defaults listed there.
+ *
+ * Time ranges: clip frame ranges are half-open [begin, end) in frames of the source file; tag
+ * ranges are [begin, end] in seconds from the start of the source file.
+ *
+ * Functions: mm_config_defaults mm_config_free mm_config_validate mm_config_tag_index
+ */
+#ifndef MM_CONFIG_H
+#define MM_CONFIG_H
+
+#include <stdbool.h>
+
+#include "alloc.h"
+#include "math.h"
+#include "result.h"
+#include "skeleton.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MM_MAX_TAGS 64          /* tags are bits of a 64-bit mask */
+#define MM_TAG_NAME_MAX 32      /* including the terminating zero */
+#define MM_MAX_MATCH_BONES 16   /* bones whose position / velocity are features */
+#define MM_MAX_TRAJ_SAMPLES 16  /* trajectory sample times, past and future */
+#define MM_MAX_MIRROR_PAIRS 8   /* left/right name patterns */
+#define MM_PATH_MAX 512
+
+typedef enum mm_clip_type { MM_CLIP_LOCOMOTION = 0, MM_CLIP_IDLE = 1 } mm_clip_type;
+
+/* Feature kinds of a matched bone (bit mask). */
+enum mm_match_features { MM_MATCH_POSITION = 1u << 0, MM_MATCH_VELOCITY = 1u << 1 };
+
+typedef struct mm_config_bone {
+    char name[MM_NAME_MAX];
+    unsigned features;     /* mm_match_features: which features the database stores */
+    float position_weight; /* the seed's JointPositionWeights entry */
+    float velocity_weight; /* the seed's JointVelocityWeights entry */
+} mm_config_bone;
+
+typedef struct mm_config_range {
+    int begin, end; /* source frames, half-open */
+} mm_config_range;
+
+typedef struct mm_config_tag_range {
+    int tag;          /* index into mm_config.tag_names */
+    float begin, end; /* seconds from the start of the source file, inclusive */
+} mm_config_tag_range;
+
+typedef struct mm_config_clip {
+    char name[MM_NAME_MAX];
+    char file[MM_PATH_MAX]; /* as written in the config; resolved by the loader */
+    mm_clip_type type;
+    bool loop;
+    bool mirror; /* also add the mirrored clip ("<name>_mirror") */
+    int range_count;
+    mm_config_range *ranges; /* [range_count]; none: the whole file. Each range is a clip. */
+    int tag_range_count;
+    mm_config_tag_range *tag_ranges;
+} mm_config_clip;
+
+typedef struct mm_config_blend {
+    char name[MM_NAME_MAX];
+    int left, right; /* indices into clips */
+    float weight;    /* the left clip has weight w, the right 1 - w; loop = both loop */
+} mm_config_blend;
+
+typedef struct mm_config_mirror_pair {
+    char left[MM_NAME_MAX], right[MM_NAME_MAX]; /* name substrings, e.g. "Left" / "Right" */
+} mm_config_mirror_pair;
+
+typedef struct mm_config {
+    /* Sampling and units */
+    float interval;   /* seconds between database frames (the seed's Interval); default 1/60 */
+    float scale;      /* multiplies source lengths to get metres; 0: detect (docs/bvh.md) */
+
+    /* Bone roles (names in the source skeleton) */
+    char hips[MM_NAME_MAX];
+    char root_bone[MM_NAME_MAX];   /* spine bone projected to the ground for the root position */
+    char facing_bone[MM_NAME_MAX]; /* bone whose forward_axis, projected to the ground, is the facing */
+    mm_vec3 forward_axis;          /* in facing_bone's local frame */
+    char left_foot[MM_NAME_MAX], right_foot[MM_NAME_MAX];
+    char left_toe[MM_NAME_MAX], right_toe[MM_NAME_MAX];
+    char left_hand[MM_NAME_MAX], right_hand[MM_NAME_MAX];
+    char head[MM_NAME_MAX];
+
+    /* Root extraction */
+    float root_smoothing; /* seconds: width (sigma) of the Gaussian smoothing root position and
+                             facing; default 0.1; 0 disables */
+
+    /* Contacts */
+    float contact_height;   /* metres above the ground under which a foot/toe may be in contact */
+    float contact_speed;    /* metres/second under which it may be in contact */
+    float contact_min_time; /* seconds: shorter runs of on or off are flicker and removed */
+
+    /* Features */
+    int bone_count;
+    mm_config_bone bones[MM_MAX_MATCH_BONES]; /* the seed's Bones */
+    int traj_count;
+    float traj_times[MM_MAX_TRAJ_SAMPLES]; /* seconds, negative = past (the seed's TrajPoints) */
+    bool root_velocity;                    /* store the root velocity feature group */
+    float body_velocity_weight;            /* the seed's BodyVelocityWeight */
+    float position_multiplier;             /* trajectory position weight (PositionMultiplier) */
+    float angle_multiplier;                /* trajectory direction weight (AngleMultiplier) */
+
+    /* Mirroring */
+    int mirror_pair_count;
+    mm_config_mirror_pair mirror_pairs[MM_MAX_MIRROR_PAIRS]; /* default Left/Right, left/right, L/R prefix */
+
+    /* Tags */
+    int tag_count;
+    char tag_names[MM_MAX_TAGS][MM_TAG_NAME_MAX];
+
+    /* Clips */
+    int clip_count;
+    mm_config_clip *clips;
+    int blend_count;
+    mm_config_blend *blends;
+
+    char base_dir[MM_PATH_MAX]; /* folder relative clip paths start from (the config's folder) */
+    mm_allocator allocator;
+} mm_config;
+
+/* Fills c with the documented defaults and no clips. */
+void mm_config_defaults(mm_config *c);
+/* Frees the clip, range and blend arrays (allocated by the JSON loader or by the caller with
+ * c->allocator). */
+void mm_config_free(mm_config *c);
+/* Checks ranges of every number and the references between fields; err names the field. */
+mm_result mm_config_validate(const mm_config *c, mm_error *err);
+/* Index of a tag name, or -1. */
+int mm_config_tag_index(const mm_config *c, const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_CONFIG_H */

@@ -1,0 +1,60 @@
+/* mm/config_json.h - database configs as JSON files (in the mm_io library, which uses cJSON).
+ *
+ * The format is documented field by field in docs/config.md, generated from the same table that
+ * `mm config explain` prints (mm_config_field_docs). Unknown fields are errors (a typo must not
+ * silently fall back to a default). Errors name the file and the field path, e.g.
+ * "lafan1.json: clips[2].ranges[0]: [900, 100) is empty".
+ *
+ * Paths of clip files are resolved (mm_config_resolve_path): absolute paths as they are;
+ * relative ones against the config file's folder, then against $MM_DATA_DIR.
+ *
+ * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
+ *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
+ */
+#ifndef MM_CONFIG_JSON_H
+#define MM_CONFIG_JSON_H
+
+#include <stddef.h>
+
+#include "clip.h"
+#include "config.h"
+#include "result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Parses JSON text into cfg (defaults first, then the fields present). name is used in errors
+ * and base_dir for relative paths (may be NULL). */
+mm_result mm_config_parse_json(const char *text, size_t size, const char *name, const char *base_dir,
+                               mm_config *cfg, mm_error *err);
+/* Reads and parses a config file; base_dir is the file's folder. out_text (may be NULL)
+ * receives the file's text (malloc'd, zero-terminated) for embedding in a database. */
+mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text, mm_error *err);
+
+typedef struct mm_config_field_doc {
+    const char *path;    /* "features.bones[].position_weight" */
+    const char *type;    /* "number", "string", "bool", "[number]", ... */
+    const char *unit;    /* "s", "m", "m/s", "" */
+    const char *fallback; /* default value as text */
+    const char *help;    /* meaning, one paragraph */
+} mm_config_field_doc;
+
+/* The documentation of every field, in file order; *count receives the number. */
+const mm_config_field_doc *mm_config_field_docs(int *count);
+
+/* Resolves a clip's file path into out (size bytes). Returns MM_ERR_NOT_FOUND (err names the
+ * places looked at) when no file exists there. */
+mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size, mm_error *err);
+
+/* Loads the source of every config clip (BVH with mm's reader; other formats through the
+ * importer when built with it), converted to metres by cfg->scale (or detected when 0). Files
+ * used by several clips are read once. *out_clips is an array of cfg->clip_count clips. */
+mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err);
+void mm_config_free_sources(const mm_config *cfg, mm_clip *clips);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_CONFIG_JSON_H */

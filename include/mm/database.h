@@ -1,0 +1,198 @@
+/* mm/database.h - the motion database: poses, features, clips, tags, and its .mmdb file.
+ *
+ * A database is built once, offline, from a config and the source clips it names
+ * (mm_database_build), saved to a .mmdb file, and loaded at run time (mm_database_load*), where
+ * it is read-only. Everything lives in ONE buffer laid out exactly as the file: loading
+ * validates the header and the array offsets and points into the buffer, with no pointer
+ * fix-ups, so a file can be read or mapped and used in place. docs/format.md specifies it.
+ *
+ * Skeleton: joint 0 is the simulation bone ("root"): the character's position on the ground and
+ * its facing, extracted from the source (docs/database.md). The source root (hips) is its child.
+ *
+ * Features: a row-major [frame_count x dims_padded] float matrix, each dimension normalised
+ * (x - mean) / scale where scale is the feature group's spread (the mean standard deviation of
+ * its dimensions). Weights are NOT baked in: the search multiplies by them, so tuning needs no
+ * rebuild. Padding dimensions are 0. Bounding boxes over blocks of MM_DB_SMALL_BLOCK and
+ * MM_DB_LARGE_BLOCK consecutive frames (never spanning clips' ends... they may: a box only
+ * bounds) give the search a cheap lower bound.
+ *
+ * Character frame: positions and directions are expressed relative to the simulation bone:
+ * x to the character's right... no: x is the character's local X, z its forward, y up.
+ *
+ * Functions: mm_database_build mm_database_save mm_database_write mm_database_load
+ *            mm_database_load_memory mm_database_free mm_database_pose mm_database_find_clip
+ *            mm_database_dump mm_feature_kind_name
+ */
+#ifndef MM_DATABASE_H
+#define MM_DATABASE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "alloc.h"
+#include "clip.h"
+#include "config.h"
+#include "math.h"
+#include "result.h"
+#include "skeleton.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MM_DB_VERSION 1
+#define MM_DB_ALIGN 64        /* every array starts at a multiple of this in the buffer */
+#define MM_DB_SIMD_WIDTH 8    /* dims_padded is a multiple of this */
+#define MM_DB_SMALL_BLOCK 16  /* frames per small bounding box */
+#define MM_DB_LARGE_BLOCK 128 /* frames per large bounding box */
+
+/* Contact bits of mm_database.contacts. */
+enum mm_contact_bits {
+    MM_CONTACT_LEFT_HEEL = 1u << 0,
+    MM_CONTACT_LEFT_TOE = 1u << 1,
+    MM_CONTACT_RIGHT_HEEL = 1u << 2,
+    MM_CONTACT_RIGHT_TOE = 1u << 3
+};
+
+typedef enum mm_feature_kind {
+    MM_FEATURE_BONE_POSITION = 0,  /* 3 dims: bone position in the character frame (m) */
+    MM_FEATURE_BONE_VELOCITY = 1,  /* 3 dims: bone velocity in the character frame (m/s) */
+    MM_FEATURE_ROOT_VELOCITY = 2,  /* 3 dims: simulation bone velocity in the character frame (m/s) */
+    MM_FEATURE_TRAJ_POSITION = 3,  /* 2 dims: x, z of the root at time t, character frame (m) */
+    MM_FEATURE_TRAJ_DIRECTION = 4  /* 2 dims: x, z of the facing at time t, character frame */
+} mm_feature_kind;
+
+/* "bone_position" ... ; NULL if invalid. */
+const char *mm_feature_kind_name(mm_feature_kind kind);
+
+typedef struct mm_feature_group {
+    char name[MM_NAME_MAX]; /* e.g. "LeftFoot.position", "trajectory.position@0.33" */
+    int32_t kind;           /* mm_feature_kind */
+    int32_t bone;           /* joint index for bone features, -1 otherwise */
+    float time;             /* seconds, for trajectory features; 0 otherwise */
+    int32_t offset;         /* first dimension */
+    int32_t dims;           /* number of dimensions */
+    float weight;           /* default weight from the config (the search may override) */
+    float scale;            /* the group's spread used in normalisation */
+} mm_feature_group;
+
+typedef struct mm_db_clip {
+    char name[MM_NAME_MAX];
+    int32_t first_frame; /* index of its first frame in the database */
+    int32_t frame_count;
+    int32_t type;        /* mm_clip_type */
+    int32_t loop;        /* 1: the frame after the last is the first */
+    int32_t mirrored;    /* 1: made by mirroring another clip */
+    int32_t source;      /* index of the config clip (or blend, for blends) it comes from */
+    int32_t blend_left;  /* for blend clips: database clip indices of the sources; -1 otherwise */
+    int32_t blend_right;
+    float blend_weight;  /* for blend clips: weight of the left source */
+    float source_start;  /* seconds: time of its first frame in the source file */
+} mm_db_clip;
+
+/* The seed's PoseData of one frame, assembled by mm_database_pose. Positions and directions are
+ * in the character frame of that frame; units m, m/s, rad/s. */
+typedef struct mm_pose_data {
+    int id, next_id, clip; /* next_id: -1 at the end of a non-loop clip, wraps in a loop clip */
+    float time;            /* seconds from the clip's first frame */
+    mm_vec3 root_velocity;
+    float root_angular_velocity; /* about +Y */
+    int type;                    /* mm_clip_type */
+    uint64_t tags;
+    bool is_blend;
+    float blend_weight;
+    int blend_left, blend_right;
+    unsigned contacts; /* mm_contact_bits */
+} mm_pose_data;
+
+typedef struct mm_database {
+    int frame_count, joint_count, clip_count, tag_count, group_count;
+    int dims, dims_padded;
+    float interval; /* seconds per frame */
+
+    const mm_joint *joints;       /* [joint_count]; joint 0 is the simulation bone */
+    const mm_db_clip *clips;      /* [clip_count] */
+    const char (*tag_names)[MM_TAG_NAME_MAX];
+    const mm_feature_group *groups; /* [group_count] */
+
+    /* Per frame */
+    const int32_t *frame_clip;    /* clip index */
+    const int32_t *frame_next;    /* next frame or -1 */
+    const uint64_t *frame_tags;   /* tag bit mask */
+    const uint8_t *contacts;      /* mm_contact_bits */
+    const mm_vec3 *root_velocity; /* simulation bone velocity in its own frame (m/s) */
+    const float *root_angular_velocity; /* about +Y (rad/s) */
+    const mm_quat *rotations;     /* [frame_count x joint_count] local rotations */
+    const mm_vec3 *positions;     /* [frame_count x joint_count] local translations */
+
+    /* Features */
+    const float *features;       /* [frame_count x dims_padded], normalised */
+    const float *feature_mean;   /* [dims_padded] */
+    const float *feature_scale;  /* [dims_padded]; raw = features * scale + mean */
+    int small_block_count, large_block_count;
+    const float *small_min, *small_max; /* [small_block_count x dims_padded] */
+    const float *large_min, *large_max; /* [large_block_count x dims_padded] */
+
+    const char *config_json; /* the config the database was built from (zero-terminated) */
+
+    /* Storage: the whole file */
+    const void *data;
+    size_t size;
+    void *owned;             /* buffer to free, or NULL when the caller owns data */
+    mm_allocator allocator;
+} mm_database;
+
+typedef struct mm_db_build_desc {
+    const char *config_json;       /* text to embed (the config as read); NULL: none */
+    const mm_allocator *allocator; /* NULL: malloc */
+    void (*progress)(int done, int total, void *user); /* optional, called per clip */
+    void *progress_user;
+} mm_db_build_desc;
+
+/* Builds a database. sources[i] is config->clips[i]'s file, loaded, in metres (scale applied),
+ * at any frame rate. The result owns one buffer in file layout. */
+mm_result mm_database_build(const mm_config *config, const mm_clip *sources, const mm_db_build_desc *desc,
+                            mm_database *out, mm_error *err);
+
+/* Writes the database's buffer (atomically: temporary file and rename). */
+mm_result mm_database_save(const mm_database *db, const char *path, mm_error *err);
+
+/* Loads a .mmdb file into one allocation and validates it. */
+mm_result mm_database_load(const char *path, const mm_allocator *allocator, mm_database *out, mm_error *err);
+/* Validates a buffer holding a .mmdb file and points into it (the caller keeps it alive and
+ * aligned to MM_DB_ALIGN). verify_checksum: check the whole-file checksum too. */
+mm_result mm_database_load_memory(const void *data, size_t size, bool verify_checksum, mm_database *out,
+                                  mm_error *err);
+void mm_database_free(mm_database *db);
+
+/* The seed's PoseData of frame (0 <= frame < frame_count). */
+void mm_database_pose(const mm_database *db, int frame, mm_pose_data *out);
+/* Clip index by name, or -1. */
+int mm_database_find_clip(const mm_database *db, const char *name);
+/* Local rotations / translations of a frame ([joint_count] each). */
+static inline const mm_quat *mm_database_rotations(const mm_database *db, int frame)
+{
+    return db->rotations + (size_t)frame * (size_t)db->joint_count;
+}
+static inline const mm_vec3 *mm_database_positions(const mm_database *db, int frame)
+{
+    return db->positions + (size_t)frame * (size_t)db->joint_count;
+}
+/* Raw (un-normalised) value of feature dimension d at frame. */
+static inline float mm_database_feature_raw(const mm_database *db, int frame, int d)
+{
+    return db->features[(size_t)frame * (size_t)db->dims_padded + (size_t)d] * db->feature_scale[d] +
+           db->feature_mean[d];
+}
+
+/* Deterministic text form of everything in the database (for diffs and bug reports). Numbers are
+ * printed with %.9g in the C locale. */
+mm_result mm_database_dump(const mm_database *db, FILE *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_DATABASE_H */

@@ -1,0 +1,149 @@
+#include <mm/config.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static void set_name(char *dst, const char *src) { snprintf(dst, MM_NAME_MAX, "%s", src); }
+
+void mm_config_defaults(mm_config *c)
+{
+    memset(c, 0, sizeof *c);
+    c->interval = 1.0f / 60.0f;
+    c->scale = 0.0f;
+    set_name(c->hips, "Hips");
+    set_name(c->root_bone, "Spine2");
+    set_name(c->facing_bone, "Hips");
+    c->forward_axis = mm_vec3_make(0, 0, 1);
+    set_name(c->left_foot, "LeftFoot");
+    set_name(c->right_foot, "RightFoot");
+    set_name(c->left_toe, "LeftToe");
+    set_name(c->right_toe, "RightToe");
+    set_name(c->left_hand, "LeftHand");
+    set_name(c->right_hand, "RightHand");
+    set_name(c->head, "Head");
+    c->root_smoothing = 0.1f;
+    c->contact_height = 0.05f;
+    c->contact_speed = 0.6f;
+    c->contact_min_time = 0.1f;
+    c->bone_count = 3;
+    set_name(c->bones[0].name, "LeftFoot");
+    set_name(c->bones[1].name, "RightFoot");
+    set_name(c->bones[2].name, "Hips");
+    for (int i = 0; i < 2; ++i) {
+        c->bones[i].features = MM_MATCH_POSITION | MM_MATCH_VELOCITY;
+        c->bones[i].position_weight = 0.75f;
+        c->bones[i].velocity_weight = 1.0f;
+    }
+    c->bones[2].features = MM_MATCH_VELOCITY;
+    c->bones[2].velocity_weight = 1.0f;
+    c->traj_count = 3;
+    c->traj_times[0] = 0.3333333f;
+    c->traj_times[1] = 0.6666667f;
+    c->traj_times[2] = 1.0f;
+    c->root_velocity = false;
+    c->body_velocity_weight = 1.0f;
+    c->position_multiplier = 1.0f;
+    c->angle_multiplier = 1.5f;
+    c->mirror_pair_count = 2;
+    set_name(c->mirror_pairs[0].left, "Left");
+    set_name(c->mirror_pairs[0].right, "Right");
+    set_name(c->mirror_pairs[1].left, "left");
+    set_name(c->mirror_pairs[1].right, "right");
+}
+
+void mm_config_free(mm_config *c)
+{
+    if (!c) return;
+    for (int i = 0; i < c->clip_count && c->clips; ++i) {
+        mm_free(&c->allocator, c->clips[i].ranges);
+        mm_free(&c->allocator, c->clips[i].tag_ranges);
+    }
+    mm_free(&c->allocator, c->clips);
+    mm_free(&c->allocator, c->blends);
+    c->clips = NULL;
+    c->blends = NULL;
+    c->clip_count = c->blend_count = 0;
+}
+
+int mm_config_tag_index(const mm_config *c, const char *name)
+{
+    for (int i = 0; i < c->tag_count; ++i)
+        if (strcmp(c->tag_names[i], name) == 0) return i;
+    return -1;
+}
+
+static int finite_positive(float v) { return isfinite(v) && v > 0.0f; }
+static int finite_nonneg(float v) { return isfinite(v) && v >= 0.0f; }
+
+mm_result mm_config_validate(const mm_config *c, mm_error *err)
+{
+#define FAIL(...) return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, __VA_ARGS__)
+    if (!(finite_positive(c->interval) && c->interval <= 1.0f))
+        FAIL("interval: %g s is out of range (0 to 1 s)", c->interval);
+    if (!(finite_nonneg(c->scale) && c->scale < 1e6f)) FAIL("scale: %g must be 0 (detect) or positive", c->scale);
+    if (!finite_nonneg(c->root_smoothing) || c->root_smoothing > 10.0f)
+        FAIL("root_smoothing: %g s is out of range (0 to 10 s)", c->root_smoothing);
+    if (!finite_positive(c->contact_height)) FAIL("contacts.height: %g must be positive", c->contact_height);
+    if (!finite_positive(c->contact_speed)) FAIL("contacts.speed: %g must be positive", c->contact_speed);
+    if (!finite_nonneg(c->contact_min_time)) FAIL("contacts.min_time: %g must be >= 0", c->contact_min_time);
+    if (!(isfinite(c->forward_axis.x) && isfinite(c->forward_axis.y) && isfinite(c->forward_axis.z)) ||
+        mm_vec3_length(c->forward_axis) < 1e-6f)
+        FAIL("roles.forward_axis must be a non-zero vector");
+    if (c->bone_count < 0 || c->bone_count > MM_MAX_MATCH_BONES)
+        FAIL("features.bones: %d bones (at most %d)", c->bone_count, MM_MAX_MATCH_BONES);
+    for (int i = 0; i < c->bone_count; ++i) {
+        const mm_config_bone *b = &c->bones[i];
+        if (!b->name[0]) FAIL("features.bones[%d].name is empty", i);
+        if (!b->features) FAIL("features.bones[%d] (%s) has neither position nor velocity", i, b->name);
+        if (!finite_nonneg(b->position_weight) || !finite_nonneg(b->velocity_weight))
+            FAIL("features.bones[%d] (%s): weights must be finite and >= 0", i, b->name);
+    }
+    if (c->traj_count < 0 || c->traj_count > MM_MAX_TRAJ_SAMPLES)
+        FAIL("features.trajectory_times: %d times (at most %d)", c->traj_count, MM_MAX_TRAJ_SAMPLES);
+    for (int i = 0; i < c->traj_count; ++i) {
+        float t = c->traj_times[i];
+        if (!isfinite(t) || fabsf(t) > 10.0f || t == 0.0f)
+            FAIL("features.trajectory_times[%d]: %g s must be non-zero, within +-10 s", i, t);
+        for (int k = 0; k < i; ++k)
+            if (c->traj_times[k] == t) FAIL("features.trajectory_times[%d]: %g s is listed twice", i, t);
+    }
+    if (!finite_nonneg(c->body_velocity_weight) || !finite_nonneg(c->position_multiplier) ||
+        !finite_nonneg(c->angle_multiplier))
+        FAIL("features: body_velocity_weight, position_multiplier and angle_multiplier must be >= 0");
+    if (c->tag_count < 0 || c->tag_count > MM_MAX_TAGS) FAIL("tags: %d tags (at most %d)", c->tag_count, MM_MAX_TAGS);
+    if (c->clip_count < 0 || (c->clip_count > 0 && !c->clips)) FAIL("clips: invalid clip list");
+    for (int i = 0; i < c->clip_count; ++i) {
+        const mm_config_clip *k = &c->clips[i];
+        if (!k->name[0]) FAIL("clips[%d].name is empty", i);
+        for (int j = 0; j < i; ++j)
+            if (strcmp(c->clips[j].name, k->name) == 0)
+                return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "clips[%d].name '%s' is used twice", i, k->name);
+        if (!k->file[0]) FAIL("clips[%d] (%s): file is empty", i, k->name);
+        if (k->type != MM_CLIP_LOCOMOTION && k->type != MM_CLIP_IDLE) FAIL("clips[%d] (%s): unknown type", i, k->name);
+        for (int r = 0; r < k->range_count; ++r)
+            if (k->ranges[r].begin < 0 || k->ranges[r].end <= k->ranges[r].begin)
+                FAIL("clips[%d] (%s).ranges[%d]: [%d, %d) is empty or negative", i, k->name, r, k->ranges[r].begin,
+                     k->ranges[r].end);
+        if (k->loop && k->range_count > 1)
+            FAIL("clips[%d] (%s): a loop clip has one range (it has %d)", i, k->name, k->range_count);
+        for (int t = 0; t < k->tag_range_count; ++t) {
+            const mm_config_tag_range *tr = &k->tag_ranges[t];
+            if (tr->tag < 0 || tr->tag >= c->tag_count) FAIL("clips[%d] (%s).tags[%d]: unknown tag", i, k->name, t);
+            if (!isfinite(tr->begin) || !isfinite(tr->end) || tr->end < tr->begin || tr->begin < 0)
+                FAIL("clips[%d] (%s).tags.%s[%d]: [%g, %g] is not a time range", i, k->name, c->tag_names[tr->tag],
+                     t, tr->begin, tr->end);
+        }
+    }
+    for (int i = 0; i < c->blend_count; ++i) {
+        const mm_config_blend *b = &c->blends[i];
+        if (b->left < 0 || b->left >= c->clip_count || b->right < 0 || b->right >= c->clip_count)
+            FAIL("blend_clips[%d] (%s): left and right must name clips", i, b->name);
+        if (!(isfinite(b->weight) && b->weight >= 0.0f && b->weight <= 1.0f))
+            FAIL("blend_clips[%d] (%s): weight %g is outside [0, 1]", i, b->name, b->weight);
+        if (c->clips[b->left].range_count > 1 || c->clips[b->right].range_count > 1)
+            FAIL("blend_clips[%d] (%s): sources must be single-range clips", i, b->name);
+    }
+    return MM_OK;
+#undef FAIL
+}

@@ -1,0 +1,90 @@
+/* Deterministic text form of a database, for diffs and bug reports. */
+#include <mm/database.h>
+
+#include "io/text.h"
+
+static void num(FILE *out, double v)
+{
+    char buf[64];
+    mm__format_number(buf, sizeof buf, v, 9);
+    fputc(' ', out);
+    fputs(buf, out);
+}
+
+static void vec(FILE *out, mm_vec3 v)
+{
+    num(out, v.x);
+    num(out, v.y);
+    num(out, v.z);
+}
+
+mm_result mm_database_dump(const mm_database *db, FILE *out)
+{
+    if (!db || !out || !db->data) return MM_ERR_INVALID_ARGUMENT;
+    fprintf(out, "mmdb version %d\n", MM_DB_VERSION);
+    fprintf(out, "frames %d joints %d clips %d tags %d groups %d dims %d dims_padded %d interval", db->frame_count,
+            db->joint_count, db->clip_count, db->tag_count, db->group_count, db->dims, db->dims_padded);
+    num(out, db->interval);
+    fputc('\n', out);
+    for (int j = 0; j < db->joint_count; ++j) {
+        const mm_joint *jt = &db->joints[j];
+        fprintf(out, "joint %d %s parent %d flags %u order %d offset", j, jt->name, jt->parent, jt->flags, (int)jt->order);
+        vec(out, jt->offset);
+        if (jt->has_end_site) {
+            fputs(" end_site", out);
+            vec(out, jt->end_site);
+        }
+        fputc('\n', out);
+    }
+    for (int t = 0; t < db->tag_count; ++t) fprintf(out, "tag %d %s\n", t, db->tag_names[t]);
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        fprintf(out, "group %d %s kind %s bone %d offset %d dims %d time", g, grp->name,
+                mm_feature_kind_name((mm_feature_kind)grp->kind), grp->bone, grp->offset, grp->dims);
+        num(out, grp->time);
+        fputs(" weight", out);
+        num(out, grp->weight);
+        fputs(" scale", out);
+        num(out, grp->scale);
+        fputc('\n', out);
+    }
+    for (int d = 0; d < db->dims_padded; ++d) {
+        fprintf(out, "dim %d mean", d);
+        num(out, db->feature_mean[d]);
+        fputs(" scale", out);
+        num(out, db->feature_scale[d]);
+        fputc('\n', out);
+    }
+    for (int c = 0; c < db->clip_count; ++c) {
+        const mm_db_clip *k = &db->clips[c];
+        fprintf(out, "clip %d %s first %d frames %d type %s loop %d mirrored %d source %d blend %d %d", c, k->name,
+                k->first_frame, k->frame_count, k->type == MM_CLIP_IDLE ? "idle" : "locomotion", k->loop, k->mirrored,
+                k->source, k->blend_left, k->blend_right);
+        num(out, k->blend_weight);
+        fputs(" start", out);
+        num(out, k->source_start);
+        fputc('\n', out);
+    }
+    for (int f = 0; f < db->frame_count; ++f) {
+        fprintf(out, "frame %d clip %d next %d tags %llx contacts %x root_velocity", f, db->frame_clip[f],
+                db->frame_next[f], (unsigned long long)db->frame_tags[f], db->contacts[f]);
+        vec(out, db->root_velocity[f]);
+        fputs(" yaw_rate", out);
+        num(out, db->root_angular_velocity[f]);
+        fputs(" features", out);
+        for (int d = 0; d < db->dims; ++d) num(out, mm_database_feature_raw(db, f, d));
+        fputc('\n', out);
+        const mm_quat *q = mm_database_rotations(db, f);
+        const mm_vec3 *p = mm_database_positions(db, f);
+        fputs("  pose", out);
+        for (int j = 0; j < db->joint_count; ++j) {
+            num(out, q[j].x);
+            num(out, q[j].y);
+            num(out, q[j].z);
+            num(out, q[j].w);
+            if (db->joints[j].flags & MM_JOINT_TRANSLATES) vec(out, p[j]);
+        }
+        fputc('\n', out);
+    }
+    return ferror(out) ? MM_ERR_IO : MM_OK;
+}

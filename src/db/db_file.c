@@ -1,0 +1,380 @@
+/* The .mmdb file: packing, validation on load, saving, the text dump and per-frame PoseData.
+ *
+ * Layout (little-endian, docs/format.md): a fixed header with the counts and, for each section,
+ * its offset and size; then the sections, each starting at a multiple of MM_DB_ALIGN. The
+ * checksum covers every byte after the checksum field. Loading checks the header, every offset
+ * and size against the counts, and the cross references (parents, clip ranges, next frames,
+ * feature groups), then points into the buffer: no pointer is ever stored in the file. */
+#include "db/db_file.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/file.h"
+
+static const char mm__db_magic[8] = {'M', 'M', 'D', 'B', 0, '\r', '\n', 0x1a};
+#define MM__DB_BYTE_ORDER 0x01020304u
+
+typedef struct mm__db_header {
+    char magic[8];
+    uint32_t byte_order; /* 0x01020304 as written by the machine */
+    uint32_t version;
+    uint64_t checksum; /* of bytes [24, file_size) */
+    uint64_t file_size;
+    uint32_t header_size;
+    int32_t frame_count, joint_count, clip_count, tag_count, group_count, dims, dims_padded;
+    int32_t small_block, large_block, small_block_count, large_block_count;
+    float interval;
+    uint32_t section_count;
+    struct {
+        uint64_t offset, size;
+    } sections[MM__SEC_COUNT];
+} mm__db_header;
+
+/* The file stores these structs as they are: their layout is part of the format. */
+_Static_assert(sizeof(mm_joint) == 104, "mm_joint layout changed: bump MM_DB_VERSION");
+_Static_assert(offsetof(mm_joint, end_site) == 92, "mm_joint layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_db_clip) == 104, "mm_db_clip layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_feature_group) == 92, "mm_feature_group layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_quat) == 16 && sizeof(mm_vec3) == 12, "vector layout");
+_Static_assert(offsetof(mm__db_header, checksum) == 16, "header layout");
+
+static size_t align_up(size_t x) { return (x + MM_DB_ALIGN - 1) & ~(size_t)(MM_DB_ALIGN - 1); }
+
+static int block_count(int frames, int block) { return (frames + block - 1) / block; }
+
+/* 64-bit checksum: four independent multiply-rotate lanes over 8-byte words (fast enough to
+ * verify a whole database on load), folded together with the tail and the length. */
+static uint64_t rotl64(uint64_t x, int r) { return (x << r) | (x >> (64 - r)); }
+static uint64_t checksum(const unsigned char *p, size_t n)
+{
+    const uint64_t k1 = 0x9E3779B185EBCA87ull, k2 = 0xC2B2AE3D27D4EB4Full;
+    uint64_t h[4] = {k1, k2, ~k1, ~k2};
+    size_t i = 0;
+    for (; i + 32 <= n; i += 32)
+        for (int l = 0; l < 4; ++l) {
+            uint64_t w;
+            memcpy(&w, p + i + 8 * l, 8);
+            h[l] = rotl64(h[l] + w * k2, 31) * k1;
+        }
+    uint64_t r = (uint64_t)n * k1;
+    for (int l = 0; l < 4; ++l) r = rotl64(r ^ h[l], 27) * k2 + k1;
+    for (; i < n; ++i) r = rotl64(r ^ p[i], 11) * k1;
+    r ^= r >> 33;
+    r *= k2;
+    r ^= r >> 29;
+    return r;
+}
+
+void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT])
+{
+    size_t f = (size_t)p->frame_count, j = (size_t)p->joint_count, d = (size_t)p->dims_padded;
+    size_t sb = (size_t)block_count(p->frame_count, MM_DB_SMALL_BLOCK);
+    size_t lb = (size_t)block_count(p->frame_count, MM_DB_LARGE_BLOCK);
+    size[MM__SEC_JOINTS] = j * sizeof(mm_joint);
+    size[MM__SEC_CLIPS] = (size_t)p->clip_count * sizeof(mm_db_clip);
+    size[MM__SEC_TAG_NAMES] = (size_t)p->tag_count * MM_TAG_NAME_MAX;
+    size[MM__SEC_GROUPS] = (size_t)p->group_count * sizeof(mm_feature_group);
+    size[MM__SEC_FRAME_CLIP] = f * 4;
+    size[MM__SEC_FRAME_NEXT] = f * 4;
+    size[MM__SEC_FRAME_TAGS] = f * 8;
+    size[MM__SEC_CONTACTS] = f;
+    size[MM__SEC_ROOT_VELOCITY] = f * sizeof(mm_vec3);
+    size[MM__SEC_ROOT_ANGULAR_VELOCITY] = f * 4;
+    size[MM__SEC_ROTATIONS] = f * j * sizeof(mm_quat);
+    size[MM__SEC_POSITIONS] = f * j * sizeof(mm_vec3);
+    size[MM__SEC_FEATURES] = f * d * 4;
+    size[MM__SEC_FEATURE_MEAN] = d * 4;
+    size[MM__SEC_FEATURE_SCALE] = d * 4;
+    size[MM__SEC_SMALL_MIN] = size[MM__SEC_SMALL_MAX] = sb * d * 4;
+    size[MM__SEC_LARGE_MIN] = size[MM__SEC_LARGE_MAX] = lb * d * 4;
+    size[MM__SEC_CONFIG_JSON] = p->size[MM__SEC_CONFIG_JSON]; /* free size, zero-terminated */
+}
+
+static void point_into(mm_database *db, const unsigned char *base, const mm__db_header *h)
+{
+#define AT(sec) ((const void *)(base + h->sections[sec].offset))
+    db->frame_count = h->frame_count;
+    db->joint_count = h->joint_count;
+    db->clip_count = h->clip_count;
+    db->tag_count = h->tag_count;
+    db->group_count = h->group_count;
+    db->dims = h->dims;
+    db->dims_padded = h->dims_padded;
+    db->interval = h->interval;
+    db->small_block_count = h->small_block_count;
+    db->large_block_count = h->large_block_count;
+    db->joints = (const mm_joint *)AT(MM__SEC_JOINTS);
+    db->clips = (const mm_db_clip *)AT(MM__SEC_CLIPS);
+    db->tag_names = (const char(*)[MM_TAG_NAME_MAX])AT(MM__SEC_TAG_NAMES);
+    db->groups = (const mm_feature_group *)AT(MM__SEC_GROUPS);
+    db->frame_clip = (const int32_t *)AT(MM__SEC_FRAME_CLIP);
+    db->frame_next = (const int32_t *)AT(MM__SEC_FRAME_NEXT);
+    db->frame_tags = (const uint64_t *)AT(MM__SEC_FRAME_TAGS);
+    db->contacts = (const uint8_t *)AT(MM__SEC_CONTACTS);
+    db->root_velocity = (const mm_vec3 *)AT(MM__SEC_ROOT_VELOCITY);
+    db->root_angular_velocity = (const float *)AT(MM__SEC_ROOT_ANGULAR_VELOCITY);
+    db->rotations = (const mm_quat *)AT(MM__SEC_ROTATIONS);
+    db->positions = (const mm_vec3 *)AT(MM__SEC_POSITIONS);
+    db->features = (const float *)AT(MM__SEC_FEATURES);
+    db->feature_mean = (const float *)AT(MM__SEC_FEATURE_MEAN);
+    db->feature_scale = (const float *)AT(MM__SEC_FEATURE_SCALE);
+    db->small_min = (const float *)AT(MM__SEC_SMALL_MIN);
+    db->small_max = (const float *)AT(MM__SEC_SMALL_MAX);
+    db->large_min = (const float *)AT(MM__SEC_LARGE_MIN);
+    db->large_max = (const float *)AT(MM__SEC_LARGE_MAX);
+    db->config_json = (const char *)AT(MM__SEC_CONFIG_JSON);
+#undef AT
+}
+
+mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out, mm_error *err)
+{
+    size_t size[MM__SEC_COUNT];
+    mm__db_section_sizes(parts, size);
+    mm__db_header h;
+    memset(&h, 0, sizeof h);
+    memcpy(h.magic, mm__db_magic, 8);
+    h.byte_order = MM__DB_BYTE_ORDER;
+    h.version = MM_DB_VERSION;
+    h.header_size = (uint32_t)sizeof h;
+    h.frame_count = parts->frame_count;
+    h.joint_count = parts->joint_count;
+    h.clip_count = parts->clip_count;
+    h.tag_count = parts->tag_count;
+    h.group_count = parts->group_count;
+    h.dims = parts->dims;
+    h.dims_padded = parts->dims_padded;
+    h.small_block = MM_DB_SMALL_BLOCK;
+    h.large_block = MM_DB_LARGE_BLOCK;
+    h.small_block_count = block_count(parts->frame_count, MM_DB_SMALL_BLOCK);
+    h.large_block_count = block_count(parts->frame_count, MM_DB_LARGE_BLOCK);
+    h.interval = parts->interval;
+    h.section_count = MM__SEC_COUNT;
+    size_t at = align_up(sizeof h);
+    for (int s = 0; s < MM__SEC_COUNT; ++s) {
+        h.sections[s].offset = at;
+        h.sections[s].size = size[s];
+        at = align_up(at + size[s]);
+    }
+    h.file_size = at;
+    unsigned char *raw = (unsigned char *)mm_alloc(allocator, at + MM_DB_ALIGN);
+    if (!raw) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%zu bytes)", at);
+    unsigned char *base = raw + (align_up((size_t)(uintptr_t)raw) - (size_t)(uintptr_t)raw); /* aligned */
+    memset(base, 0, at); /* padding bytes are zero: the same inputs give the same file */
+    for (int s = 0; s < MM__SEC_COUNT; ++s)
+        if (size[s] && parts->data[s]) memcpy(base + h.sections[s].offset, parts->data[s], size[s]);
+    memcpy(base, &h, sizeof h);
+    h.checksum = checksum(base + 24, at - 24);
+    memcpy(base, &h, sizeof h);
+    memset(out, 0, sizeof *out);
+    if (allocator) out->allocator = *allocator;
+    out->owned = raw;
+    out->data = base;
+    out->size = at;
+    point_into(out, base, &h);
+    return MM_OK;
+}
+
+#define BAD(...) mm_error_set(err, MM_ERR_SYNTAX, 0, 0, __VA_ARGS__)
+
+static mm_result validate(const unsigned char *base, size_t size, bool verify_checksum, mm__db_header *h,
+                          mm_error *err)
+{
+    if (size < 24 || memcmp(base, mm__db_magic, 8) != 0) return BAD("not an mm database (bad magic)");
+    if (size < sizeof *h) return mm_error_set(err, MM_ERR_UNEXPECTED_EOF, 0, 0, "truncated header (%zu bytes)", size);
+    memcpy(h, base, sizeof *h);
+    if (h->byte_order != MM__DB_BYTE_ORDER) return BAD("written on a machine of the other byte order");
+    if (h->version != MM_DB_VERSION)
+        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "format version %u, this mm reads version %d: rebuild it",
+                            h->version, MM_DB_VERSION);
+    if (h->header_size != sizeof *h || h->section_count != MM__SEC_COUNT) return BAD("unexpected header size");
+    if (h->file_size != size)
+        return mm_error_set(err, h->file_size > size ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, 0, 0,
+                            "the header says %llu bytes, the file has %zu (truncated or padded)",
+                            (unsigned long long)h->file_size, size);
+    if (verify_checksum && checksum(base + 24, size - 24) != h->checksum)
+        return BAD("checksum mismatch: the file is corrupted");
+    if (h->frame_count < 1 || h->frame_count > MM_MAX_FRAMES || h->joint_count < 1 ||
+        h->joint_count > MM_MAX_JOINTS || h->clip_count < 1 || h->clip_count > h->frame_count || h->tag_count < 0 ||
+        h->tag_count > MM_MAX_TAGS || h->group_count < 0 || h->group_count > 4 * MM_MAX_TRAJ_SAMPLES + 64 ||
+        h->dims < 0 || h->dims_padded < h->dims || h->dims_padded % MM_DB_SIMD_WIDTH != 0 || h->dims_padded > 4096 ||
+        !(h->interval > 0.0f && h->interval <= 1.0f) || h->small_block != MM_DB_SMALL_BLOCK ||
+        h->large_block != MM_DB_LARGE_BLOCK ||
+        h->small_block_count != block_count(h->frame_count, MM_DB_SMALL_BLOCK) ||
+        h->large_block_count != block_count(h->frame_count, MM_DB_LARGE_BLOCK))
+        return BAD("header counts are out of range");
+    mm__db_parts p;
+    memset(&p, 0, sizeof p);
+    p.frame_count = h->frame_count;
+    p.joint_count = h->joint_count;
+    p.clip_count = h->clip_count;
+    p.tag_count = h->tag_count;
+    p.group_count = h->group_count;
+    p.dims_padded = h->dims_padded;
+    p.size[MM__SEC_CONFIG_JSON] = (size_t)h->sections[MM__SEC_CONFIG_JSON].size;
+    size_t want[MM__SEC_COUNT];
+    mm__db_section_sizes(&p, want);
+    for (int s = 0; s < MM__SEC_COUNT; ++s) {
+        uint64_t off = h->sections[s].offset, sz = h->sections[s].size;
+        if (off % MM_DB_ALIGN || off < sizeof *h || off > size || sz > size - off || sz != want[s])
+            return BAD("section %d: offset %llu size %llu does not fit the file or the counts", s,
+                       (unsigned long long)off, (unsigned long long)sz);
+    }
+    const unsigned char *json = base + h->sections[MM__SEC_CONFIG_JSON].offset;
+    size_t json_size = (size_t)h->sections[MM__SEC_CONFIG_JSON].size;
+    if (json_size < 1 || json[json_size - 1] != 0) return BAD("embedded config is not terminated");
+    return MM_OK;
+}
+
+/* Cross references: everything an index in the file points at must exist. */
+static mm_result validate_references(const mm_database *db, mm_error *err)
+{
+    for (int j = 0; j < db->joint_count; ++j) {
+        const mm_joint *jt = &db->joints[j];
+        if (memchr(jt->name, 0, MM_NAME_MAX) == NULL || (j == 0 ? jt->parent != -1 : (jt->parent < 0 || jt->parent >= j)))
+            return BAD("joint %d: bad name or parent", j);
+    }
+    int expect_first = 0;
+    for (int c = 0; c < db->clip_count; ++c) {
+        const mm_db_clip *k = &db->clips[c];
+        if (memchr(k->name, 0, MM_NAME_MAX) == NULL || k->first_frame != expect_first || k->frame_count < 1 ||
+            k->frame_count > db->frame_count - k->first_frame || (k->type != MM_CLIP_IDLE && k->type != MM_CLIP_LOCOMOTION) ||
+            k->blend_left < -1 || k->blend_left >= db->clip_count || k->blend_right < -1 ||
+            k->blend_right >= db->clip_count)
+            return BAD("clip %d: bad name, frame range, type or blend sources", c);
+        expect_first += k->frame_count;
+    }
+    if (expect_first != db->frame_count) return BAD("clips cover %d of %d frames", expect_first, db->frame_count);
+    for (int f = 0; f < db->frame_count; ++f) {
+        int c = db->frame_clip[f];
+        if (c < 0 || c >= db->clip_count || f < db->clips[c].first_frame ||
+            f >= db->clips[c].first_frame + db->clips[c].frame_count)
+            return BAD("frame %d: bad clip index %d", f, c);
+        int n = db->frame_next[f];
+        if (n < -1 || n >= db->frame_count || (n >= 0 && db->frame_clip[n] != c))
+            return BAD("frame %d: bad next frame %d", f, n);
+    }
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->offset < 0 || grp->dims < 1 || grp->dims > 3 || grp->offset + grp->dims > db->dims ||
+            grp->kind < MM_FEATURE_BONE_POSITION || grp->kind > MM_FEATURE_TRAJ_DIRECTION ||
+            grp->bone < -1 || grp->bone >= db->joint_count || memchr(grp->name, 0, MM_NAME_MAX) == NULL)
+            return BAD("feature group %d is inconsistent", g);
+    }
+    for (int t = 0; t < db->tag_count; ++t)
+        if (memchr(db->tag_names[t], 0, MM_TAG_NAME_MAX) == NULL) return BAD("tag %d: name not terminated", t);
+    for (int d = 0; d < db->dims_padded; ++d)
+        if (!isfinite(db->feature_mean[d]) || !(db->feature_scale[d] > 0.0f) || !isfinite(db->feature_scale[d]))
+            return BAD("feature dimension %d: bad normalisation", d);
+    return MM_OK;
+}
+
+mm_result mm_database_load_memory(const void *data, size_t size, bool verify_checksum, mm_database *out,
+                                  mm_error *err)
+{
+    if (!out) return MM_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    if (!data || ((uintptr_t)data % MM_DB_ALIGN) != 0)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "the buffer must be aligned to %d bytes", MM_DB_ALIGN);
+    mm__db_header h;
+    mm_result r = validate((const unsigned char *)data, size, verify_checksum, &h, err);
+    if (r != MM_OK) return r;
+    mm_database db;
+    memset(&db, 0, sizeof db);
+    point_into(&db, (const unsigned char *)data, &h);
+    r = validate_references(&db, err);
+    if (r != MM_OK) return r;
+    db.data = data;
+    db.size = size;
+    *out = db;
+    return MM_OK;
+}
+
+mm_result mm_database_load(const char *path, const mm_allocator *allocator, mm_database *out, mm_error *err)
+{
+    if (!out) return MM_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    mm__error_set_file(err, path);
+    FILE *f = path ? fopen(path, "rb") : NULL;
+    if (!f) return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot open");
+    long size = -1;
+    if (fseek(f, 0, SEEK_END) == 0) size = ftell(f);
+    if (size < 0 || fseek(f, 0, SEEK_SET) != 0) {
+        fclose(f);
+        return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot read (not a regular file?)");
+    }
+    if ((unsigned long)size >= MM__MAX_FILE_BYTES) {
+        fclose(f);
+        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "file is %ld bytes, more than allowed", size);
+    }
+    unsigned char *raw = (unsigned char *)mm_alloc(allocator, (size_t)size + MM_DB_ALIGN);
+    if (!raw) {
+        fclose(f);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%ld bytes)", size);
+    }
+    unsigned char *base = raw + (align_up((size_t)(uintptr_t)raw) - (size_t)(uintptr_t)raw);
+    size_t got = fread(base, 1, (size_t)size, f);
+    fclose(f);
+    mm_result r = got == (size_t)size ? mm_database_load_memory(base, (size_t)size, true, out, err)
+                                      : mm_error_set(err, MM_ERR_IO, 0, 0, "read error");
+    if (r != MM_OK) {
+        mm_free(allocator, raw);
+        return r;
+    }
+    if (allocator) out->allocator = *allocator;
+    out->owned = raw;
+    return MM_OK;
+}
+
+void mm_database_free(mm_database *db)
+{
+    if (!db) return;
+    mm_allocator a = db->allocator;
+    mm_free(&a, db->owned);
+    memset(db, 0, sizeof *db);
+}
+
+mm_result mm_database_save(const mm_database *db, const char *path, mm_error *err)
+{
+    if (!db || !db->data) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
+    return mm__write_file_atomic(path, db->data, db->size, err);
+}
+
+int mm_database_find_clip(const mm_database *db, const char *name)
+{
+    for (int c = 0; c < db->clip_count; ++c)
+        if (strcmp(db->clips[c].name, name) == 0) return c;
+    return -1;
+}
+
+void mm_database_pose(const mm_database *db, int frame, mm_pose_data *out)
+{
+    memset(out, 0, sizeof *out);
+    if (frame < 0 || frame >= db->frame_count) {
+        out->id = out->next_id = out->clip = -1;
+        return;
+    }
+    const mm_db_clip *c = &db->clips[db->frame_clip[frame]];
+    out->id = frame;
+    out->next_id = db->frame_next[frame];
+    out->clip = db->frame_clip[frame];
+    out->time = (float)(frame - c->first_frame) * db->interval;
+    out->root_velocity = db->root_velocity[frame];
+    out->root_angular_velocity = db->root_angular_velocity[frame];
+    out->type = c->type;
+    out->tags = db->frame_tags[frame];
+    out->is_blend = c->blend_left >= 0;
+    out->blend_weight = c->blend_weight;
+    out->blend_left = c->blend_left;
+    out->blend_right = c->blend_right;
+    out->contacts = db->contacts[frame];
+}
+
+const char *mm_feature_kind_name(mm_feature_kind kind)
+{
+    static const char *names[] = {"bone_position", "bone_velocity", "root_velocity", "trajectory_position",
+                                  "trajectory_direction"};
+    return (int)kind >= 0 && (int)kind < 5 ? names[kind] : NULL;
+}

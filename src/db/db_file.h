@@ -1,0 +1,45 @@
+/* db_file.h (private) - the .mmdb layout: one header, then aligned arrays (docs/format.md). */
+#ifndef MM_DB_FILE_H
+#define MM_DB_FILE_H
+
+#include <mm/database.h>
+
+enum mm__db_section {
+    MM__SEC_JOINTS,
+    MM__SEC_CLIPS,
+    MM__SEC_TAG_NAMES,
+    MM__SEC_GROUPS,
+    MM__SEC_FRAME_CLIP,
+    MM__SEC_FRAME_NEXT,
+    MM__SEC_FRAME_TAGS,
+    MM__SEC_CONTACTS,
+    MM__SEC_ROOT_VELOCITY,
+    MM__SEC_ROOT_ANGULAR_VELOCITY,
+    MM__SEC_ROTATIONS,
+    MM__SEC_POSITIONS,
+    MM__SEC_FEATURES,
+    MM__SEC_FEATURE_MEAN,
+    MM__SEC_FEATURE_SCALE,
+    MM__SEC_SMALL_MIN,
+    MM__SEC_SMALL_MAX,
+    MM__SEC_LARGE_MIN,
+    MM__SEC_LARGE_MAX,
+    MM__SEC_CONFIG_JSON,
+    MM__SEC_COUNT
+};
+
+/* Everything a database holds, as separate arrays: what the build computes and packs. */
+typedef struct mm__db_parts {
+    int frame_count, joint_count, clip_count, tag_count, group_count, dims, dims_padded;
+    float interval;
+    const void *data[MM__SEC_COUNT];
+    size_t size[MM__SEC_COUNT];
+} mm__db_parts;
+
+/* Expected byte size of each section for the given counts. */
+void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT]);
+
+/* Packs parts into one aligned buffer in file layout and points out into it. */
+mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out, mm_error *err);
+
+#endif

@@ -1,0 +1,50 @@
+/* process.h (private) - turning source clips into database clips.
+ *
+ * Every step takes a clip and makes a new one (the input is left alone):
+ *   mm__clip_extract      frames [begin, end) of a source, resampled to the database interval
+ *   mm__clip_add_root     adds the simulation bone as joint 0 (position: a spine bone projected
+ *                         to the ground; facing: a bone's forward axis projected; both smoothed)
+ *   mm__clip_mirror       mirrors across the character's sagittal plane, swapping left and right
+ *   mm__clip_blend        blends two clips on a common (normalised) time base
+ * and the analysis used by the build:
+ *   mm__root_motion       per-frame root velocity and yaw rate, in the root's frame
+ *   mm__detect_contacts   heel/toe contact flags from height and speed, without flicker
+ */
+#ifndef MM_DB_PROCESS_H
+#define MM_DB_PROCESS_H
+
+#include <stdint.h>
+
+#include <mm/clip.h>
+#include <mm/config.h>
+
+#define MM__ROOT_NAME "SimulationRoot"
+
+/* Yaw (radians about +Y, 0 = facing +Z) of a rotation's +Z axis projected to the ground. */
+float mm__yaw_of(mm_quat q);
+mm_quat mm__quat_yaw(float yaw);
+/* Angle wrapped to (-pi, pi]. */
+float mm__wrap_angle(float a);
+
+mm_result mm__clip_extract(const mm_clip *src, int begin, int end, float interval, mm_clip *out,
+                           const mm_allocator *a);
+mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a,
+                            mm_error *err);
+mm_result mm__clip_mirror(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a);
+/* Clips with the simulation root as joint 0; a loop clip's frame after its last is its first. */
+mm_result mm__clip_blend(const mm_clip *left, int left_loop, const mm_clip *right, int right_loop, float weight,
+                         float interval, mm_clip *out, const mm_allocator *a);
+
+/* Mirror partner of every joint (itself when it has none), from the config's name pairs. */
+void mm__mirror_map(const mm_skeleton *s, const mm_config *cfg, int *partner);
+
+/* Root velocity (m/s, root frame) and yaw rate (rad/s) of a clip whose joint 0 is the root:
+ * backward differences, forward at frame 0 (the runtime measures its own motion the same way). */
+void mm__root_motion(const mm_clip *clip, mm_vec3 *velocity, float *yaw_rate);
+
+/* Contact flags (mm_contact_bits) for each frame of a clip whose globals are given
+ * ([frames x joints]). heel/toe: joint indices (-1: never in contact). */
+void mm__detect_contacts(const mm_clip *clip, const mm_xform *globals, const int heel_toe[4],
+                         const mm_config *cfg, uint8_t *out);
+
+#endif

@@ -1,0 +1,170 @@
+/* Resampling a source range and extracting the simulation bone. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "db/process.h"
+
+float mm__wrap_angle(float a)
+{
+    double w = fmod((double)a + MM_PI, 2.0 * MM_PI);
+    if (w <= 0.0) w += 2.0 * MM_PI;
+    return (float)(w - MM_PI);
+}
+
+float mm__yaw_of(mm_quat q)
+{
+    mm_vec3 z = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
+    return atan2f(z.x, z.z);
+}
+
+mm_quat mm__quat_yaw(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), yaw); }
+
+mm_result mm__clip_extract(const mm_clip *src, int begin, int end, float interval, mm_clip *out,
+                           const mm_allocator *a)
+{
+    if (begin < 0 || end > src->frame_count || end - begin < 2) return MM_ERR_OUT_OF_RANGE;
+    mm_clip part;
+    mm_result r = mm_clip_init(&part, &src->skeleton, end - begin, src->fps, a);
+    if (r != MM_OK) return r;
+    size_t n = (size_t)(end - begin) * (size_t)src->skeleton.joint_count;
+    memcpy(part.rotations, mm_clip_rotations(src, begin), n * sizeof(mm_quat));
+    memcpy(part.positions, mm_clip_positions(src, begin), n * sizeof(mm_vec3));
+    /* Same rate (to 1e-4 relative): keep the frames as they are. */
+    if (fabs((double)src->fps * interval - 1.0) < 1e-4) {
+        *out = part;
+        return MM_OK;
+    }
+    r = mm_clip_resample(out, &part, 1.0f / interval, a);
+    mm_clip_free(&part);
+    return r;
+}
+
+/* Gaussian smoothing of n samples of dim floats (stride dim) with sigma in samples. Samples
+ * beyond the ends are the odd reflection 2 x[0] - x[k], which keeps constant-velocity motion
+ * exactly as it is. */
+static void smooth(float *x, int n, int dim, float sigma, float *tmp)
+{
+    if (sigma <= 0.0f || n < 3) return;
+    int radius = (int)ceilf(3.0f * sigma);
+    memcpy(tmp, x, sizeof(float) * (size_t)n * dim);
+    for (int i = 0; i < n; ++i)
+        for (int d = 0; d < dim; ++d) {
+            double sum = 0.0, wsum = 0.0;
+            for (int k = -radius; k <= radius; ++k) {
+                int j = i + k;
+                double v;
+                if (j < 0) {
+                    int m = -j < n ? -j : n - 1;
+                    v = 2.0 * tmp[d] - tmp[m * dim + d];
+                } else if (j >= n) {
+                    int m = 2 * (n - 1) - j;
+                    if (m < 0) m = 0;
+                    v = 2.0 * tmp[(n - 1) * dim + d] - tmp[m * dim + d];
+                } else {
+                    v = tmp[j * dim + d];
+                }
+                double w = exp(-0.5 * (double)k * k / ((double)sigma * sigma));
+                sum += w * v;
+                wsum += w;
+            }
+            x[i * dim + d] = (float)(sum / wsum);
+        }
+}
+
+mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a,
+                            mm_error *err)
+{
+    const mm_skeleton *s = &src->skeleton;
+    int root_bone = mm_skeleton_find(s, cfg->root_bone);
+    int facing = mm_skeleton_find(s, cfg->facing_bone);
+    if (root_bone < 0)
+        return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "roles.root_bone: no joint named '%s'", cfg->root_bone);
+    if (facing < 0)
+        return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "roles.facing_bone: no joint named '%s'",
+                            cfg->facing_bone);
+    if (mm_skeleton_find(s, MM__ROOT_NAME) >= 0)
+        return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "the source already has a joint named '%s'",
+                            MM__ROOT_NAME);
+    if (s->joint_count + 1 > MM_MAX_JOINTS) return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "too many joints");
+
+    mm_skeleton ns;
+    mm_result r = mm_skeleton_init(&ns, s->joint_count + 1, a);
+    if (r != MM_OK) return mm_error_set(err, r, 0, 0, "out of memory");
+    snprintf(ns.joints[0].name, MM_NAME_MAX, "%s", MM__ROOT_NAME);
+    ns.joints[0].parent = -1;
+    ns.joints[0].flags = MM_JOINT_TRANSLATES;
+    ns.joints[0].order = MM_EULER_NONE;
+    for (int j = 0; j < s->joint_count; ++j) {
+        ns.joints[j + 1] = s->joints[j];
+        ns.joints[j + 1].parent = s->joints[j].parent + 1; /* the old root (-1) becomes a child of 0 */
+    }
+    ns.joints[1].flags |= MM_JOINT_TRANSLATES;
+    r = mm_clip_init(out, &ns, src->frame_count, src->fps, a);
+    mm_skeleton_free(&ns);
+    if (r != MM_OK) return mm_error_set(err, r, 0, 0, "out of memory");
+
+    int n = src->frame_count, jc = s->joint_count;
+    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
+    float *track = (float *)malloc(sizeof(float) * 5 * (size_t)n); /* x z | dx dz */
+    float *tmp = (float *)malloc(sizeof(float) * 3 * (size_t)n);
+    if (!g || !track || !tmp) {
+        free(g);
+        free(track);
+        free(tmp);
+        mm_clip_free(out);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    float *pos = track, *dir = track + 2 * n;
+    mm_vec3 axis = mm_vec3_normalize(cfg->forward_axis);
+    float last_dx = 0.0f, last_dz = 1.0f;
+    for (int f = 0; f < n; ++f) {
+        mm_clip_fk(src, f, g);
+        pos[2 * f] = g[root_bone].translation.x;
+        pos[2 * f + 1] = g[root_bone].translation.z;
+        mm_vec3 d = mm_quat_rotate(g[facing].rotation, axis);
+        float len = sqrtf(d.x * d.x + d.z * d.z);
+        if (len > 1e-4f) { /* a forward axis pointing straight up keeps the last facing */
+            last_dx = d.x / len;
+            last_dz = d.z / len;
+        }
+        dir[2 * f] = last_dx;
+        dir[2 * f + 1] = last_dz;
+    }
+    float sigma = cfg->root_smoothing * src->fps;
+    smooth(pos, n, 2, sigma, tmp);
+    smooth(dir, n, 2, sigma, tmp);
+    for (int f = 0; f < n; ++f) {
+        float yaw = atan2f(dir[2 * f], dir[2 * f + 1]);
+        mm_xform root = mm_xform_make(mm__quat_yaw(yaw), mm_vec3_make(pos[2 * f], 0.0f, pos[2 * f + 1]));
+        mm_xform old_root = mm_xform_make(mm_clip_rotations(src, f)[0], mm_clip_positions(src, f)[0]);
+        mm_xform hips = mm_xform_mul(mm_xform_inverse(root), old_root);
+        mm_quat *rot = mm_clip_rotations(out, f);
+        mm_vec3 *p = mm_clip_positions(out, f);
+        rot[0] = root.rotation;
+        p[0] = root.translation;
+        rot[1] = mm_quat_normalize(hips.rotation);
+        p[1] = hips.translation;
+        memcpy(rot + 2, mm_clip_rotations(src, f) + 1, sizeof(mm_quat) * (size_t)(jc - 1));
+        memcpy(p + 2, mm_clip_positions(src, f) + 1, sizeof(mm_vec3) * (size_t)(jc - 1));
+    }
+    free(g);
+    free(track);
+    free(tmp);
+    return MM_OK;
+}
+
+void mm__root_motion(const mm_clip *clip, mm_vec3 *velocity, float *yaw_rate)
+{
+    int n = clip->frame_count;
+    for (int f = 0; f < n; ++f) {
+        int a = f > 0 ? f - 1 : 0, b = f > 0 ? f : (n > 1 ? 1 : 0);
+        mm_quat qa = mm_clip_rotations(clip, a)[0], qb = mm_clip_rotations(clip, b)[0];
+        mm_vec3 pa = mm_clip_positions(clip, a)[0], pb = mm_clip_positions(clip, b)[0];
+        mm_quat here = mm_clip_rotations(clip, f)[0];
+        mm_vec3 v = mm_vec3_scale(mm_vec3_sub(pb, pa), clip->fps);
+        velocity[f] = a == b ? mm_vec3_make(0, 0, 0) : mm_quat_inv_rotate(here, v);
+        yaw_rate[f] = a == b ? 0.0f : mm__wrap_angle(mm__yaw_of(qb) - mm__yaw_of(qa)) * clip->fps;
+    }
+}

@@ -1,0 +1,582 @@
+/* Database configs in JSON (cJSON), their documentation table, and loading the clips they name. */
+#define _POSIX_C_SOURCE 200809L
+#include <mm/config_json.h>
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <mm/bvh.h>
+
+#include "io/file.h"
+
+/* ---- documentation ---------------------------------------------------------------------- */
+
+static const mm_config_field_doc docs[] = {
+    {"interval", "number", "s", "0.0166667 (1/60)",
+     "Seconds between database frames (the seed's Interval: 0.05 gives 20 frames per second of animation). "
+     "Every clip is resampled to it, rotations by slerp."},
+    {"scale", "number", "", "0 (detect)",
+     "Multiplies source lengths to get metres: 0.01 for centimetre files, 1 for metres. 0 detects the unit "
+     "from the character's height (docs/bvh.md)."},
+    {"roles.hips", "string", "", "Hips", "The pelvis joint (the source root in most skeletons)."},
+    {"roles.root_bone", "string", "", "Spine2",
+     "Joint projected to the ground to give the simulation bone's position (a spine joint moves more steadily "
+     "than the hips)."},
+    {"roles.facing_bone", "string", "", "Hips",
+     "Joint whose forward axis, projected to the ground, gives the simulation bone's facing."},
+    {"roles.forward_axis", "[number, number, number]", "", "[0, 0, 1]",
+     "The axis of facing_bone's local frame that points forward. Skeletons differ: LAFAN1's hips use [0, 1, 0]."},
+    {"roles.left_foot", "string", "", "LeftFoot", "Left ankle: the heel contact and a matched bone by default."},
+    {"roles.right_foot", "string", "", "RightFoot", "Right ankle."},
+    {"roles.left_toe", "string", "", "LeftToe", "Left toe: the toe contact."},
+    {"roles.right_toe", "string", "", "RightToe", "Right toe."},
+    {"roles.left_hand", "string", "", "LeftHand", "Left hand (used by moves that plant hands)."},
+    {"roles.right_hand", "string", "", "RightHand", "Right hand."},
+    {"roles.head", "string", "", "Head", "Head joint."},
+    {"root_smoothing", "number", "s", "0.1",
+     "Standard deviation of the Gaussian that smooths the simulation bone's position and facing over time. "
+     "0 disables smoothing."},
+    {"contacts.height", "number", "m", "0.05",
+     "A heel or toe can be in contact when it is less than this above its floor (its own lowest steady height "
+     "in the clip)."},
+    {"contacts.speed", "number", "m/s", "0.6", "... and moves horizontally slower than this."},
+    {"contacts.min_time", "number", "s", "0.1",
+     "Contact or lift-off runs shorter than this are flicker and are removed."},
+    {"features.bones", "[object]", "", "LeftFoot, RightFoot (position and velocity), Hips (velocity)",
+     "The bones whose position and velocity, relative to the character, are matched (the seed's Bones)."},
+    {"features.bones[].name", "string", "", "", "Joint name."},
+    {"features.bones[].position", "bool", "", "true", "Store the bone's position (3 dimensions)."},
+    {"features.bones[].velocity", "bool", "", "true", "Store the bone's velocity (3 dimensions)."},
+    {"features.bones[].position_weight", "number", "", "0.75 (feet), 0",
+     "The seed's JointPositionWeights entry: how much the position matters. Feet most, neck next, hands little."},
+    {"features.bones[].velocity_weight", "number", "", "1",
+     "The seed's JointVelocityWeights entry: how much the velocity matters (helps; usually lower)."},
+    {"features.trajectory_times", "[number]", "s", "[0.333, 0.667, 1.0]",
+     "Times of the trajectory samples relative to the current frame (the seed's TrajPoints); negative times "
+     "are the past (e.g. -0.33). Each time stores the root position (x, z) and facing (x, z) then."},
+    {"features.root_velocity", "bool", "", "false",
+     "Also store the simulation bone's velocity (3 dimensions), weighted by body_velocity_weight."},
+    {"features.body_velocity_weight", "number", "", "1", "The seed's BodyVelocityWeight: weight of the root velocity."},
+    {"features.position_multiplier", "number", "", "1",
+     "The seed's PositionMultiplier: weight of the trajectory positions."},
+    {"features.angle_multiplier", "number", "", "1.5",
+     "The seed's AngleMultiplier: weight of the trajectory directions."},
+    {"mirror_pairs", "[[string, string]]", "", "[[\"Left\", \"Right\"], [\"left\", \"right\"]]",
+     "Name patterns of left and right joints for mirroring: a joint whose name contains the left pattern pairs "
+     "with the joint named with the right pattern instead. A pattern starting with ^ matches only at the start "
+     "(e.g. [\"^l\", \"^r\"] for lHip / rHip)."},
+    {"tags", "[string]", "", "[]",
+     "Names of the tags clips may use (at most 64), e.g. the seed's Required and DoNotUse."},
+    {"clips", "[object]", "", "",
+     "The clips (the seed's IdleClips and LocomotionClips). Each frame range of a clip becomes a database clip."},
+    {"clips[].name", "string", "", "the file name", "Unique name; ranges add #0, #1...; mirrors add _mirror."},
+    {"clips[].file", "string", "", "",
+     "Motion file: absolute, or relative to the config's folder, or to $MM_DATA_DIR."},
+    {"clips[].ranges", "[[int, int]]", "frames", "the whole file",
+     "Half-open frame ranges [begin, end) in the file's own frames; each becomes a clip."},
+    {"clips[].type", "string", "", "locomotion", "idle or locomotion: the search can require either."},
+    {"clips[].loop", "bool", "", "false",
+     "The frame after the last is the first: playback and trajectories wrap. A loop clip has one range."},
+    {"clips[].mirror", "bool", "", "false", "Also add the clip mirrored left to right (data augmentation)."},
+    {"clips[].tags", "{string: [[number, number]]}", "s", "{}",
+     "Tag ranges: for each tag name, [begin, end] times in seconds from the start of the file."},
+    {"blend_clips", "[object]", "", "[]",
+     "Clips made by blending two clips on a common time base (the seed's BlendClips); loop when both loop."},
+    {"blend_clips[].name", "string", "", "", "Unique name."},
+    {"blend_clips[].left", "string", "", "", "Name of the left source clip."},
+    {"blend_clips[].right", "string", "", "", "Name of the right source clip."},
+    {"blend_clips[].weight", "number", "", "0.5", "Weight of the left clip; the right gets 1 - weight."},
+};
+
+const mm_config_field_doc *mm_config_field_docs(int *count)
+{
+    if (count) *count = (int)(sizeof docs / sizeof docs[0]);
+    return docs;
+}
+
+/* ---- parsing ---------------------------------------------------------------------------- */
+
+typedef struct ctx {
+    mm_config *cfg;
+    mm_error *err;
+} ctx;
+
+#define FAIL(code, ...) mm_error_set(c->err, code, 0, 0, __VA_ARGS__)
+
+static int is_one_of(const char *key, const char *const *keys)
+{
+    for (; *keys; ++keys)
+        if (strcmp(key, *keys) == 0) return 1;
+    return 0;
+}
+
+static mm_result check_keys(ctx *c, const cJSON *obj, const char *where, const char *const *keys)
+{
+    if (!cJSON_IsObject(obj)) return FAIL(MM_ERR_SYNTAX, "%s must be an object", where);
+    for (const cJSON *it = obj->child; it; it = it->next)
+        if (!is_one_of(it->string, keys))
+            return FAIL(MM_ERR_UNKNOWN_KEYWORD, "%s%s%s: unknown field (see mm config explain)", where,
+                        where[0] ? "." : "", it->string);
+    return MM_OK;
+}
+
+static mm_result get_number(ctx *c, const cJSON *obj, const char *key, const char *where, float *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return MM_OK;
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+        return FAIL(MM_ERR_BAD_NUMBER, "%s%s%s must be a finite number", where, where[0] ? "." : "", key);
+    *out = (float)v->valuedouble;
+    return MM_OK;
+}
+
+static mm_result get_bool(ctx *c, const cJSON *obj, const char *key, const char *where, bool *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return MM_OK;
+    if (!cJSON_IsBool(v)) return FAIL(MM_ERR_SYNTAX, "%s%s%s must be true or false", where, where[0] ? "." : "", key);
+    *out = cJSON_IsTrue(v);
+    return MM_OK;
+}
+
+static mm_result copy_string(ctx *c, const cJSON *v, const char *what, char *out, size_t size)
+{
+    if (!cJSON_IsString(v) || !v->valuestring) return FAIL(MM_ERR_SYNTAX, "%s must be a string", what);
+    size_t n = strlen(v->valuestring);
+    if (n >= size) return FAIL(MM_ERR_LIMIT, "%s is %zu characters (at most %zu)", what, n, size - 1);
+    memcpy(out, v->valuestring, n + 1);
+    return MM_OK;
+}
+
+static mm_result get_string(ctx *c, const cJSON *obj, const char *key, const char *where, char *out, size_t size)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return MM_OK;
+    char what[160];
+    snprintf(what, sizeof what, "%s%s%s", where, where[0] ? "." : "", key);
+    return copy_string(c, v, what, out, size);
+}
+
+static mm_result get_int(ctx *c, const cJSON *v, const char *what, int *out)
+{
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble) || v->valuedouble != floor(v->valuedouble) ||
+        fabs(v->valuedouble) > 2e9)
+        return FAIL(MM_ERR_BAD_NUMBER, "%s must be an integer", what);
+    *out = (int)v->valuedouble;
+    return MM_OK;
+}
+
+static mm_result parse_roles(ctx *c, const cJSON *roles)
+{
+    static const char *const keys[] = {"hips",      "root_bone", "facing_bone", "forward_axis", "left_foot",  "right_foot",
+                                       "left_toe",  "right_toe", "left_hand",   "right_hand",   "head",       NULL};
+    mm_result r = check_keys(c, roles, "roles", keys);
+    mm_config *cfg = c->cfg;
+    char *fields[] = {cfg->hips,     cfg->root_bone, cfg->facing_bone, cfg->left_foot, cfg->right_foot, cfg->left_toe,
+                      cfg->right_toe, cfg->left_hand, cfg->right_hand, cfg->head};
+    const char *names[] = {"hips",     "root_bone", "facing_bone", "left_foot",  "right_foot",
+                           "left_toe", "right_toe", "left_hand",   "right_hand", "head"};
+    for (int i = 0; i < 10 && r == MM_OK; ++i) r = get_string(c, roles, names[i], "roles", fields[i], MM_NAME_MAX);
+    const cJSON *axis = cJSON_GetObjectItemCaseSensitive(roles, "forward_axis");
+    if (r == MM_OK && axis) {
+        if (!cJSON_IsArray(axis) || cJSON_GetArraySize(axis) != 3)
+            return FAIL(MM_ERR_SYNTAX, "roles.forward_axis must be an array of 3 numbers");
+        float v[3];
+        for (int i = 0; i < 3; ++i) {
+            const cJSON *e = cJSON_GetArrayItem(axis, i);
+            if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
+                return FAIL(MM_ERR_BAD_NUMBER, "roles.forward_axis[%d] must be a finite number", i);
+            v[i] = (float)e->valuedouble;
+        }
+        cfg->forward_axis = mm_vec3_make(v[0], v[1], v[2]);
+    }
+    return r;
+}
+
+static mm_result parse_features(ctx *c, const cJSON *f)
+{
+    static const char *const keys[] = {"bones",         "trajectory_times",     "root_velocity",    "body_velocity_weight",
+                                       "position_multiplier", "angle_multiplier", NULL};
+    mm_config *cfg = c->cfg;
+    mm_result r = check_keys(c, f, "features", keys);
+    if (r == MM_OK) r = get_bool(c, f, "root_velocity", "features", &cfg->root_velocity);
+    if (r == MM_OK) r = get_number(c, f, "body_velocity_weight", "features", &cfg->body_velocity_weight);
+    if (r == MM_OK) r = get_number(c, f, "position_multiplier", "features", &cfg->position_multiplier);
+    if (r == MM_OK) r = get_number(c, f, "angle_multiplier", "features", &cfg->angle_multiplier);
+    if (r != MM_OK) return r;
+    const cJSON *bones = cJSON_GetObjectItemCaseSensitive(f, "bones");
+    if (bones) {
+        if (!cJSON_IsArray(bones)) return FAIL(MM_ERR_SYNTAX, "features.bones must be an array");
+        int n = cJSON_GetArraySize(bones);
+        if (n > MM_MAX_MATCH_BONES) return FAIL(MM_ERR_LIMIT, "features.bones: %d bones (at most %d)", n, MM_MAX_MATCH_BONES);
+        cfg->bone_count = n;
+        static const char *const bkeys[] = {"name", "position", "velocity", "position_weight", "velocity_weight", NULL};
+        for (int i = 0; i < n; ++i) {
+            const cJSON *b = cJSON_GetArrayItem(bones, i);
+            char where[64];
+            snprintf(where, sizeof where, "features.bones[%d]", i);
+            mm_config_bone *cb = &cfg->bones[i];
+            memset(cb, 0, sizeof *cb);
+            cb->velocity_weight = 1.0f;
+            bool pos = true, vel = true;
+            if ((r = check_keys(c, b, where, bkeys)) != MM_OK) return r;
+            const cJSON *name = cJSON_GetObjectItemCaseSensitive(b, "name");
+            if (!name) return FAIL(MM_ERR_SYNTAX, "%s.name is missing", where);
+            if ((r = get_string(c, b, "name", where, cb->name, MM_NAME_MAX)) != MM_OK) return r;
+            if ((r = get_bool(c, b, "position", where, &pos)) != MM_OK) return r;
+            if ((r = get_bool(c, b, "velocity", where, &vel)) != MM_OK) return r;
+            if ((r = get_number(c, b, "position_weight", where, &cb->position_weight)) != MM_OK) return r;
+            if ((r = get_number(c, b, "velocity_weight", where, &cb->velocity_weight)) != MM_OK) return r;
+            cb->features = (pos ? MM_MATCH_POSITION : 0u) | (vel ? MM_MATCH_VELOCITY : 0u);
+        }
+    }
+    const cJSON *times = cJSON_GetObjectItemCaseSensitive(f, "trajectory_times");
+    if (times) {
+        if (!cJSON_IsArray(times)) return FAIL(MM_ERR_SYNTAX, "features.trajectory_times must be an array");
+        int n = cJSON_GetArraySize(times);
+        if (n > MM_MAX_TRAJ_SAMPLES)
+            return FAIL(MM_ERR_LIMIT, "features.trajectory_times: %d times (at most %d)", n, MM_MAX_TRAJ_SAMPLES);
+        cfg->traj_count = n;
+        for (int i = 0; i < n; ++i) {
+            const cJSON *e = cJSON_GetArrayItem(times, i);
+            if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
+                return FAIL(MM_ERR_BAD_NUMBER, "features.trajectory_times[%d] must be a finite number", i);
+            cfg->traj_times[i] = (float)e->valuedouble;
+        }
+    }
+    return MM_OK;
+}
+
+static mm_result parse_pair_list(ctx *c, const cJSON *arr, const char *where, int max, int *count,
+                                 mm_config_range *ranges, float (*times)[2])
+{
+    if (!cJSON_IsArray(arr)) return FAIL(MM_ERR_SYNTAX, "%s must be an array of [begin, end] pairs", where);
+    int n = cJSON_GetArraySize(arr);
+    if (n > max) return FAIL(MM_ERR_LIMIT, "%s: %d entries (at most %d)", where, n, max);
+    for (int i = 0; i < n; ++i) {
+        const cJSON *p = cJSON_GetArrayItem(arr, i);
+        char what[200];
+        snprintf(what, sizeof what, "%s[%d]", where, i);
+        if (!cJSON_IsArray(p) || cJSON_GetArraySize(p) != 2)
+            return FAIL(MM_ERR_SYNTAX, "%s must be a [begin, end] pair", what);
+        if (ranges) {
+            mm_result r = get_int(c, cJSON_GetArrayItem(p, 0), what, &ranges[i].begin);
+            if (r == MM_OK) r = get_int(c, cJSON_GetArrayItem(p, 1), what, &ranges[i].end);
+            if (r != MM_OK) return r;
+        } else {
+            for (int k = 0; k < 2; ++k) {
+                const cJSON *e = cJSON_GetArrayItem(p, k);
+                if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
+                    return FAIL(MM_ERR_BAD_NUMBER, "%s must hold two finite numbers", what);
+                times[i][k] = (float)e->valuedouble;
+            }
+        }
+    }
+    *count = n;
+    return MM_OK;
+}
+
+static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
+{
+    static const char *const keys[] = {"name", "file", "ranges", "type", "loop", "mirror", "tags", NULL};
+    mm_config *cfg = c->cfg;
+    char where[64];
+    snprintf(where, sizeof where, "clips[%d]", i);
+    mm_result r = check_keys(c, j, where, keys);
+    if (r != MM_OK) return r;
+    const cJSON *file = cJSON_GetObjectItemCaseSensitive(j, "file");
+    if (!file) return FAIL(MM_ERR_SYNTAX, "%s.file is missing", where);
+    if ((r = get_string(c, j, "file", where, clip->file, MM_PATH_MAX)) != MM_OK) return r;
+    if (cJSON_GetObjectItemCaseSensitive(j, "name")) {
+        if ((r = get_string(c, j, "name", where, clip->name, MM_NAME_MAX)) != MM_OK) return r;
+    } else { /* the file name without folder and extension */
+        const char *base = strrchr(clip->file, '/');
+        base = base ? base + 1 : clip->file;
+        size_t n = strcspn(base, ".");
+        snprintf(clip->name, MM_NAME_MAX, "%.*s", (int)(n < MM_NAME_MAX - 1 ? n : MM_NAME_MAX - 1), base);
+    }
+    const cJSON *type = cJSON_GetObjectItemCaseSensitive(j, "type");
+    if (type) {
+        if (cJSON_IsString(type) && strcmp(type->valuestring, "idle") == 0) clip->type = MM_CLIP_IDLE;
+        else if (cJSON_IsString(type) && strcmp(type->valuestring, "locomotion") == 0) clip->type = MM_CLIP_LOCOMOTION;
+        else return FAIL(MM_ERR_SYNTAX, "%s.type must be \"idle\" or \"locomotion\"", where);
+    }
+    if ((r = get_bool(c, j, "loop", where, &clip->loop)) != MM_OK) return r;
+    if ((r = get_bool(c, j, "mirror", where, &clip->mirror)) != MM_OK) return r;
+    const cJSON *ranges = cJSON_GetObjectItemCaseSensitive(j, "ranges");
+    if (ranges) {
+        char w[80];
+        snprintf(w, sizeof w, "%s.ranges", where);
+        int n = cJSON_IsArray(ranges) ? cJSON_GetArraySize(ranges) : 0;
+        if (n > 0) {
+            clip->ranges = (mm_config_range *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_range));
+            if (!clip->ranges) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
+        }
+        if ((r = parse_pair_list(c, ranges, w, 100000, &clip->range_count, clip->ranges, NULL)) != MM_OK) return r;
+    }
+    const cJSON *tags = cJSON_GetObjectItemCaseSensitive(j, "tags");
+    if (tags) {
+        if (!cJSON_IsObject(tags)) return FAIL(MM_ERR_SYNTAX, "%s.tags must be an object {tag: [[begin, end], ...]}", where);
+        int total = 0;
+        for (const cJSON *t = tags->child; t; t = t->next) total += cJSON_IsArray(t) ? cJSON_GetArraySize(t) : 0;
+        if (total > 0) {
+            clip->tag_ranges = (mm_config_tag_range *)mm_alloc_array(&cfg->allocator, (size_t)total, sizeof(mm_config_tag_range));
+            if (!clip->tag_ranges) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
+        }
+        for (const cJSON *t = tags->child; t; t = t->next) {
+            int tag = mm_config_tag_index(cfg, t->string);
+            if (tag < 0) return FAIL(MM_ERR_NOT_FOUND, "%s.tags.%s: not declared in tags", where, t->string);
+            char w[120];
+            snprintf(w, sizeof w, "%s.tags.%s", where, t->string);
+            int n = 0;
+            float (*times)[2] = (float(*)[2])calloc((size_t)(cJSON_IsArray(t) ? cJSON_GetArraySize(t) : 0) + 1, sizeof *times);
+            if (!times) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
+            r = parse_pair_list(c, t, w, 100000, &n, NULL, times);
+            for (int k = 0; k < n && r == MM_OK; ++k) {
+                mm_config_tag_range *tr = &clip->tag_ranges[clip->tag_range_count++];
+                tr->tag = tag;
+                tr->begin = times[k][0];
+                tr->end = times[k][1];
+            }
+            free(times);
+            if (r != MM_OK) return r;
+        }
+    }
+    return MM_OK;
+}
+
+static int clip_index(const mm_config *cfg, const char *name)
+{
+    for (int i = 0; i < cfg->clip_count; ++i)
+        if (strcmp(cfg->clips[i].name, name) == 0) return i;
+    return -1;
+}
+
+static mm_result parse_root(ctx *c, const cJSON *root)
+{
+    static const char *const keys[] = {"interval", "scale",        "roles", "root_smoothing", "contacts", "features",
+                                       "mirror_pairs", "tags",     "clips", "blend_clips",    NULL};
+    mm_config *cfg = c->cfg;
+    mm_result r = check_keys(c, root, "", keys);
+    if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
+    if (r == MM_OK) r = get_number(c, root, "scale", "", &cfg->scale);
+    if (r == MM_OK) r = get_number(c, root, "root_smoothing", "", &cfg->root_smoothing);
+    if (r != MM_OK) return r;
+    const cJSON *roles = cJSON_GetObjectItemCaseSensitive(root, "roles");
+    if (roles && (r = parse_roles(c, roles)) != MM_OK) return r;
+    const cJSON *contacts = cJSON_GetObjectItemCaseSensitive(root, "contacts");
+    if (contacts) {
+        static const char *const ckeys[] = {"height", "speed", "min_time", NULL};
+        if ((r = check_keys(c, contacts, "contacts", ckeys)) != MM_OK) return r;
+        if ((r = get_number(c, contacts, "height", "contacts", &cfg->contact_height)) != MM_OK) return r;
+        if ((r = get_number(c, contacts, "speed", "contacts", &cfg->contact_speed)) != MM_OK) return r;
+        if ((r = get_number(c, contacts, "min_time", "contacts", &cfg->contact_min_time)) != MM_OK) return r;
+    }
+    const cJSON *features = cJSON_GetObjectItemCaseSensitive(root, "features");
+    if (features && (r = parse_features(c, features)) != MM_OK) return r;
+    const cJSON *pairs = cJSON_GetObjectItemCaseSensitive(root, "mirror_pairs");
+    if (pairs) {
+        int n = cJSON_IsArray(pairs) ? cJSON_GetArraySize(pairs) : -1;
+        if (n < 0 || n > MM_MAX_MIRROR_PAIRS)
+            return FAIL(MM_ERR_SYNTAX, "mirror_pairs must be an array of at most %d [left, right] pairs", MM_MAX_MIRROR_PAIRS);
+        cfg->mirror_pair_count = n;
+        for (int i = 0; i < n; ++i) {
+            const cJSON *p = cJSON_GetArrayItem(pairs, i);
+            char w[40];
+            snprintf(w, sizeof w, "mirror_pairs[%d]", i);
+            if (!cJSON_IsArray(p) || cJSON_GetArraySize(p) != 2) return FAIL(MM_ERR_SYNTAX, "%s must be [left, right]", w);
+            if ((r = copy_string(c, cJSON_GetArrayItem(p, 0), w, cfg->mirror_pairs[i].left, MM_NAME_MAX)) != MM_OK) return r;
+            if ((r = copy_string(c, cJSON_GetArrayItem(p, 1), w, cfg->mirror_pairs[i].right, MM_NAME_MAX)) != MM_OK) return r;
+        }
+    }
+    const cJSON *tags = cJSON_GetObjectItemCaseSensitive(root, "tags");
+    if (tags) {
+        int n = cJSON_IsArray(tags) ? cJSON_GetArraySize(tags) : -1;
+        if (n < 0) return FAIL(MM_ERR_SYNTAX, "tags must be an array of names");
+        if (n > MM_MAX_TAGS) return FAIL(MM_ERR_LIMIT, "tags: %d tags (at most %d)", n, MM_MAX_TAGS);
+        for (int i = 0; i < n; ++i) {
+            char w[40];
+            snprintf(w, sizeof w, "tags[%d]", i);
+            if ((r = copy_string(c, cJSON_GetArrayItem(tags, i), w, cfg->tag_names[i], MM_TAG_NAME_MAX)) != MM_OK) return r;
+            if (!cfg->tag_names[i][0]) return FAIL(MM_ERR_SYNTAX, "%s is empty", w);
+            cfg->tag_count = i + 1;
+            if (mm_config_tag_index(cfg, cfg->tag_names[i]) != i)
+                return FAIL(MM_ERR_DUPLICATE_NAME, "%s: '%s' is listed twice", w, cfg->tag_names[i]);
+        }
+    }
+    const cJSON *clips = cJSON_GetObjectItemCaseSensitive(root, "clips");
+    if (clips) {
+        int n = cJSON_IsArray(clips) ? cJSON_GetArraySize(clips) : -1;
+        if (n < 0) return FAIL(MM_ERR_SYNTAX, "clips must be an array");
+        if (n > 0) {
+            cfg->clips = (mm_config_clip *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_clip));
+            if (!cfg->clips) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
+        }
+        for (int i = 0; i < n; ++i) {
+            cfg->clip_count = i + 1;
+            if ((r = parse_clip(c, cJSON_GetArrayItem(clips, i), i, &cfg->clips[i])) != MM_OK) return r;
+        }
+    }
+    const cJSON *blends = cJSON_GetObjectItemCaseSensitive(root, "blend_clips");
+    if (blends) {
+        int n = cJSON_IsArray(blends) ? cJSON_GetArraySize(blends) : -1;
+        if (n < 0) return FAIL(MM_ERR_SYNTAX, "blend_clips must be an array");
+        if (n > 0) {
+            cfg->blends = (mm_config_blend *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_blend));
+            if (!cfg->blends) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
+        }
+        static const char *const bkeys[] = {"name", "left", "right", "weight", NULL};
+        for (int i = 0; i < n; ++i) {
+            const cJSON *b = cJSON_GetArrayItem(blends, i);
+            mm_config_blend *cb = &cfg->blends[i];
+            char where[40], left[MM_NAME_MAX] = "", right[MM_NAME_MAX] = "";
+            snprintf(where, sizeof where, "blend_clips[%d]", i);
+            cfg->blend_count = i + 1;
+            cb->weight = 0.5f;
+            if ((r = check_keys(c, b, where, bkeys)) != MM_OK) return r;
+            if ((r = get_string(c, b, "name", where, cb->name, MM_NAME_MAX)) != MM_OK) return r;
+            if ((r = get_string(c, b, "left", where, left, MM_NAME_MAX)) != MM_OK) return r;
+            if ((r = get_string(c, b, "right", where, right, MM_NAME_MAX)) != MM_OK) return r;
+            if ((r = get_number(c, b, "weight", where, &cb->weight)) != MM_OK) return r;
+            if (!cb->name[0]) return FAIL(MM_ERR_SYNTAX, "%s.name is missing", where);
+            cb->left = clip_index(cfg, left);
+            cb->right = clip_index(cfg, right);
+            if (cb->left < 0) return FAIL(MM_ERR_NOT_FOUND, "%s.left: no clip named '%s'", where, left);
+            if (cb->right < 0) return FAIL(MM_ERR_NOT_FOUND, "%s.right: no clip named '%s'", where, right);
+        }
+    }
+    return MM_OK;
+}
+
+/* Line and column of a byte offset in text, for JSON syntax errors. */
+static void position_of(const char *text, size_t offset, int *line, int *column)
+{
+    *line = 1;
+    *column = 1;
+    for (size_t i = 0; i < offset; ++i) {
+        if (text[i] == '\n') {
+            ++*line;
+            *column = 1;
+        } else {
+            ++*column;
+        }
+    }
+}
+
+mm_result mm_config_parse_json(const char *text, size_t size, const char *name, const char *base_dir,
+                               mm_config *cfg, mm_error *err)
+{
+    mm_allocator keep = cfg ? cfg->allocator : (mm_allocator){0};
+    if (!cfg) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no config given");
+    mm_config_defaults(cfg);
+    cfg->allocator = keep;
+    mm__error_set_file(err, name ? name : "<config>");
+    if (base_dir) snprintf(cfg->base_dir, sizeof cfg->base_dir, "%s", base_dir);
+    if (!text) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no text given");
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, 0);
+    if (!root) {
+        int line, column;
+        size_t at = end && end >= text && end <= text + size ? (size_t)(end - text) : 0;
+        position_of(text, at, &line, &column);
+        return mm_error_set(err, size == 0 ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, line, column,
+                            size == 0 ? "the file is empty" : "not valid JSON here");
+    }
+    ctx c = {cfg, err};
+    mm_result r = parse_root(&c, root);
+    cJSON_Delete(root);
+    if (r == MM_OK) r = mm_config_validate(cfg, err);
+    if (r != MM_OK) mm_config_free(cfg);
+    return r;
+}
+
+mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text, mm_error *err)
+{
+    if (out_text) *out_text = NULL;
+    char *text = NULL;
+    size_t size = 0;
+    mm_result r = mm__read_file(path, NULL, &text, &size, err);
+    if (r != MM_OK) return r;
+    char dir[MM_PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    if (slash) snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    else snprintf(dir, sizeof dir, ".");
+    r = mm_config_parse_json(text, size, path, dir, cfg, err);
+    if (r == MM_OK && out_text) *out_text = text;
+    else free(text);
+    return r;
+}
+
+/* ---- sources ---------------------------------------------------------------------------- */
+
+static int file_exists(const char *path) { return access(path, R_OK) == 0; }
+
+mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size, mm_error *err)
+{
+    if (file[0] == '/') {
+        snprintf(out, size, "%s", file);
+        if (file_exists(out)) return MM_OK;
+        return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clip file '%s' does not exist", file);
+    }
+    snprintf(out, size, "%s/%s", cfg->base_dir[0] ? cfg->base_dir : ".", file);
+    if (file_exists(out)) return MM_OK;
+    const char *data = getenv("MM_DATA_DIR");
+    if (data && data[0]) {
+        snprintf(out, size, "%s/%s", data, file);
+        if (file_exists(out)) return MM_OK;
+    }
+    return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clip file '%s' is neither in %s nor in $MM_DATA_DIR (%s)", file,
+                        cfg->base_dir[0] ? cfg->base_dir : ".", data && data[0] ? data : "unset");
+}
+
+void mm_config_free_sources(const mm_config *cfg, mm_clip *clips)
+{
+    if (!clips) return;
+    for (int i = 0; i < cfg->clip_count; ++i) mm_clip_free(&clips[i]);
+    free(clips);
+}
+
+mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err)
+{
+    *out_clips = NULL;
+    if (cfg->clip_count < 1) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
+    mm_clip *clips = (mm_clip *)calloc((size_t)cfg->clip_count, sizeof(mm_clip));
+    char (*paths)[MM_PATH_MAX] = (char(*)[MM_PATH_MAX])calloc((size_t)cfg->clip_count, MM_PATH_MAX);
+    if (!clips || !paths) {
+        free(clips);
+        free(paths);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    mm_result r = MM_OK;
+    for (int i = 0; i < cfg->clip_count && r == MM_OK; ++i) {
+        r = mm_config_resolve_path(cfg, cfg->clips[i].file, paths[i], MM_PATH_MAX, err);
+        if (r != MM_OK) break;
+        int same = -1;
+        for (int k = 0; k < i && same < 0; ++k)
+            if (strcmp(paths[k], paths[i]) == 0) same = k;
+        if (same >= 0) {
+            r = mm_clip_copy(&clips[i], &clips[same], NULL);
+            continue;
+        }
+        mm_bvh bvh;
+        r = mm_bvh_load(paths[i], NULL, &bvh, err);
+        if (r != MM_OK) break;
+        mm_bvh_import_desc imp;
+        memset(&imp, 0, sizeof imp);
+        imp.scale = cfg->scale;
+        imp.auto_scale = cfg->scale == 0.0f;
+        r = mm_bvh_to_clip(&bvh, &imp, &clips[i], err);
+        mm_bvh_free(&bvh);
+    }
+    free(paths);
+    if (r != MM_OK) {
+        mm_config_free_sources(cfg, clips);
+        return r;
+    }
+    *out_clips = clips;
+    return MM_OK;
+}

@@ -1,0 +1,181 @@
+/* mm db build | info | dump */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <mm/config_json.h>
+#include <mm/database.h>
+
+#include "cli.h"
+#include "commands.h"
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void progress(int done, int total, void *user)
+{
+    (void)user;
+    if (isatty(2)) fprintf(stderr, "\rmm db build: clip %d/%d", done, total);
+    if (isatty(2) && done == total) fputc('\n', stderr);
+}
+
+static int cmd_build(int argc, char **argv)
+{
+    const char *config = NULL, *out = NULL;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--output") == 0) {
+            if (i + 1 >= argc) return cli_usage_error("db build", "-o needs a file name");
+            out = argv[++i];
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return cli_usage_error("db build", "unknown option '%s'", argv[i]);
+        } else if (!config) {
+            config = argv[i];
+        } else {
+            return cli_usage_error("db build", "unexpected argument '%s'", argv[i]);
+        }
+    }
+    if (!config || !out) return cli_usage_error("db build", "usage: mm db build CONFIG -o OUT.mmdb");
+    double t0 = now_seconds();
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    char *text = NULL;
+    if (mm_config_load_json(config, &cfg, &text, &err) != MM_OK) return cli_report(&err);
+    mm_clip *sources = NULL;
+    if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) {
+        free(text);
+        mm_config_free(&cfg);
+        return cli_report(&err);
+    }
+    double t1 = now_seconds();
+    mm_db_build_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.config_json = text;
+    desc.progress = progress;
+    mm_database db;
+    snprintf(err.file, sizeof err.file, "%s", config);
+    mm_result r = mm_database_build(&cfg, sources, &desc, &db, &err);
+    mm_config_free_sources(&cfg, sources);
+    mm_config_free(&cfg);
+    free(text);
+    if (r != MM_OK) return cli_report(&err);
+    double t2 = now_seconds();
+    r = mm_database_save(&db, out, &err);
+    if (r != MM_OK) {
+        mm_database_free(&db);
+        return cli_report(&err);
+    }
+    printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out, db.frame_count,
+           db.dims, db.clip_count, db.size, now_seconds() - t0, t1 - t0, t2 - t1);
+    mm_database_free(&db);
+    return 0;
+}
+
+static int load(const char *path, mm_database *db)
+{
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    if (mm_database_load(path, NULL, db, &err) != MM_OK) return cli_report(&err);
+    return 0;
+}
+
+static int cmd_info(int argc, char **argv)
+{
+    const char *path = NULL;
+    int json = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--json") == 0) json = 1;
+        else if (argv[i][0] == '-' && argv[i][1]) return cli_usage_error("db info", "unknown option '%s'", argv[i]);
+        else if (!path) path = argv[i];
+        else return cli_usage_error("db info", "unexpected argument '%s'", argv[i]);
+    }
+    if (!path) return cli_usage_error("db info", "usage: mm db info FILE [--json]");
+    mm_database db;
+    if (load(path, &db)) return 1;
+    int idle = 0, loops = 0, mirrored = 0, blends = 0;
+    for (int c = 0; c < db.clip_count; ++c) {
+        idle += db.clips[c].type == MM_CLIP_IDLE;
+        loops += db.clips[c].loop != 0;
+        mirrored += db.clips[c].mirrored != 0;
+        blends += db.clips[c].blend_left >= 0;
+    }
+    if (json) {
+        printf("{\"file\": ");
+        cli_json_string(stdout, path);
+        printf(", \"version\": %d, \"frames\": %d, \"dims\": %d, \"dims_padded\": %d, \"clips\": %d, \"joints\": %d, "
+               "\"interval\": %.9g, \"duration\": %.9g, \"bytes\": %zu, \"clip_names\": [",
+               MM_DB_VERSION, db.frame_count, db.dims, db.dims_padded, db.clip_count, db.joint_count, db.interval,
+               db.frame_count * db.interval, db.size);
+        for (int c = 0; c < db.clip_count; ++c) {
+            if (c) printf(", ");
+            cli_json_string(stdout, db.clips[c].name);
+        }
+        printf("], \"tags\": [");
+        for (int t = 0; t < db.tag_count; ++t) {
+            if (t) printf(", ");
+            cli_json_string(stdout, db.tag_names[t]);
+        }
+        printf("], \"features\": [");
+        for (int g = 0; g < db.group_count; ++g) {
+            printf("%s{\"name\": ", g ? ", " : "");
+            cli_json_string(stdout, db.groups[g].name);
+            printf(", \"kind\": \"%s\", \"offset\": %d, \"dims\": %d, \"weight\": %.9g, \"scale\": %.9g}",
+                   mm_feature_kind_name((mm_feature_kind)db.groups[g].kind), db.groups[g].offset, db.groups[g].dims,
+                   db.groups[g].weight, db.groups[g].scale);
+        }
+        printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"mirrored_clips\": %d, \"blend_clips\": %d}\n", idle, loops,
+               mirrored, blends);
+    } else {
+        printf("file:       %s (%zu bytes, format version %d)\n", path, db.size, MM_DB_VERSION);
+        printf("frames:     %d (%.1f s at %.6g s per frame)\n", db.frame_count, db.frame_count * db.interval, db.interval);
+        printf("joints:     %d (joint 0: %s)\n", db.joint_count, db.joints[0].name);
+        printf("clips:      %d (%d idle, %d loop, %d mirrored, %d blend)\n", db.clip_count, idle, loops, mirrored, blends);
+        printf("features:   %d dims (%d padded)\n", db.dims, db.dims_padded);
+        for (int g = 0; g < db.group_count; ++g)
+            printf("  %-34s %-21s dims %d..%d  weight %-6g scale %.4g\n", db.groups[g].name,
+                   mm_feature_kind_name((mm_feature_kind)db.groups[g].kind), db.groups[g].offset,
+                   db.groups[g].offset + db.groups[g].dims - 1, db.groups[g].weight, db.groups[g].scale);
+        printf("tags:      ");
+        for (int t = 0; t < db.tag_count; ++t) printf(" %s", db.tag_names[t]);
+        printf("%s\n", db.tag_count ? "" : " none");
+        for (int c = 0; c < db.clip_count; ++c) {
+            const mm_db_clip *k = &db.clips[c];
+            printf("  clip %3d %-32s frames %6d..%-6d %-10s%s%s\n", c, k->name, k->first_frame,
+                   k->first_frame + k->frame_count - 1, k->type == MM_CLIP_IDLE ? "idle" : "locomotion",
+                   k->loop ? " loop" : "", k->blend_left >= 0 ? " blend" : "");
+        }
+    }
+    mm_database_free(&db);
+    return 0;
+}
+
+static int cmd_dump(int argc, char **argv)
+{
+    if (argc != 2 || argv[1][0] == '-') return cli_usage_error("db dump", "usage: mm db dump FILE");
+    mm_database db;
+    if (load(argv[1], &db)) return 1;
+    mm_result r = mm_database_dump(&db, stdout);
+    mm_database_free(&db);
+    if (r != MM_OK) {
+        fprintf(stderr, "mm: cannot write the dump: %s\n", mm_result_str(r));
+        return 1;
+    }
+    return 0;
+}
+
+int mm_cmd_db(int argc, char **argv)
+{
+    if (argc < 2) return cli_usage_error("db", "usage: mm db build|info|dump ...");
+    if (strcmp(argv[1], "build") == 0) return cmd_build(argc - 1, argv + 1);
+    if (strcmp(argv[1], "info") == 0) return cmd_info(argc - 1, argv + 1);
+    if (strcmp(argv[1], "dump") == 0) return cmd_dump(argc - 1, argv + 1);
+    return cli_usage_error("db", "unknown subcommand '%s' (build, info, dump)", argv[1]);
+}
