@@ -141,8 +141,6 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
             FAIL("blend_clips[%d] (%s): left and right must name clips", i, b->name);
         if (!(isfinite(b->weight) && b->weight >= 0.0f && b->weight <= 1.0f))
             FAIL("blend_clips[%d] (%s): weight %g is outside [0, 1]", i, b->name, b->weight);
-        if (c->clips[b->left].range_count > 1 || c->clips[b->right].range_count > 1)
-            FAIL("blend_clips[%d] (%s): sources must be single-range clips", i, b->name);
     }
     return MM_OK;
 #undef FAIL

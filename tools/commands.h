@@ -6,5 +6,6 @@
 int mm_cmd_bvh(int argc, char **argv);
 int mm_cmd_config(int argc, char **argv);
 int mm_cmd_db(int argc, char **argv);
+int mm_cmd_synth(int argc, char **argv);
 
 #endif

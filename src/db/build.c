@@ -263,7 +263,9 @@ static void normalise(arrays *x, int frames, int dims_padded, int group_count)
             spread += sqrt(sq / frames);
         }
         spread /= grp->dims;
-        float s = spread > 1e-8 ? (float)spread : 1.0f;
+        /* Below 1e-5 (m, m/s or unit vectors) a group does not vary: float noise must not be
+         * blown up into features. */
+        float s = spread > 1e-5 ? (float)spread : 1.0f;
         x->groups[g].scale = s;
         for (int d = grp->offset; d < grp->offset + grp->dims; ++d) x->scale[d] = s;
     }

@@ -497,6 +497,9 @@ static mm_result read_motion(parser *ps, mm_bvh *out)
         if ((r = read_motion_line(ps, row, channels, f)) != MM_OK) return r;
         ++f;
     }
+    if (!fits) /* unreachable (the input is too short for the frames), but values holds one row */
+        return mm_error_set(ps->err, MM_ERR_FRAME_COUNT, frames_line, frames_column,
+                            "declares %lld frames, more than the input can hold", (long long)frames);
     while (ps->p < ps->end) {
         if (!line_is_blank(ps)) {
             const char *q = ps->p;

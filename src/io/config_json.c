@@ -85,7 +85,8 @@ static const mm_config_field_doc docs[] = {
     {"clips[].tags", "{string: [[number, number]]}", "s", "{}",
      "Tag ranges: for each tag name, [begin, end] times in seconds from the start of the file."},
     {"blend_clips", "[object]", "", "[]",
-     "Clips made by blending two clips on a common time base (the seed's BlendClips); loop when both loop."},
+     "Clips made by blending two clips on a common time base (the seed's BlendClips), from each source's first "
+     "range (and from their mirrors too when both are mirrored); loop when both loop."},
     {"blend_clips[].name", "string", "", "", "Unique name."},
     {"blend_clips[].left", "string", "", "", "Name of the left source clip."},
     {"blend_clips[].right", "string", "", "", "Name of the right source clip."},
@@ -419,6 +420,9 @@ static mm_result parse_root(ctx *c, const cJSON *root)
         for (int i = 0; i < n; ++i) {
             cfg->clip_count = i + 1;
             if ((r = parse_clip(c, cJSON_GetArrayItem(clips, i), i, &cfg->clips[i])) != MM_OK) return r;
+            for (int k = 0; k < i; ++k)
+                if (strcmp(cfg->clips[k].name, cfg->clips[i].name) == 0)
+                    return FAIL(MM_ERR_DUPLICATE_NAME, "clips[%d].name '%s' is used twice", i, cfg->clips[i].name);
         }
     }
     const cJSON *blends = cJSON_GetObjectItemCaseSensitive(root, "blend_clips");

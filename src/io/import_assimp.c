@@ -591,18 +591,22 @@ static mm_result take_timing(const importer *im, take *t, const mm_import_desc *
     } else if (whole_ticks && t->tps <= 240.0) {
         t->fps = t->tps; /* keys on the file's own frame grid (FBX, BVH) */
     } else if (isfinite(gap)) {
-        /* The closest keys are one frame apart: snap to a standard rate within 0.5%. */
-        double fps = 1.0 / gap;
-        for (size_t i = 0; i < sizeof standard_rates / sizeof standard_rates[0]; ++i)
-            if (fabs(fps / standard_rates[i] - 1.0) < 0.005) {
+        /* The closest keys are one frame apart: snap to the nearest standard rate within 0.02%
+         * (the key times of glTF are single-precision seconds). */
+        double fps = 1.0 / gap, best = INFINITY;
+        for (size_t i = 0; i < sizeof standard_rates / sizeof standard_rates[0]; ++i) {
+            double d = fabs(fps / standard_rates[i] - 1.0);
+            if (d < 2e-4 && d < best) {
+                best = d;
                 fps = standard_rates[i];
-                break;
             }
+        }
         t->fps = fps < 1.0 ? 1.0 : fps > 1000.0 ? 1000.0 : fps;
     } else {
         t->fps = t->tps <= 240.0 ? t->tps : 30.0;
     }
-    double frames = floor((t->end - t->start) / t->tps * t->fps + 1e-3) + 1.0;
+    /* A last frame within 1% of a frame period of the last key is kept (sampled at that key). */
+    double frames = floor((t->end - t->start) / t->tps * t->fps + 0.01) + 1.0;
     if (!(frames <= (double)MM_MAX_FRAMES))
         return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "take '%s' would have %.0f frames at %g fps, more than %d",
                             an->mName.data, frames, t->fps, MM_MAX_FRAMES);
@@ -757,17 +761,28 @@ static mm_result import_take(importer *im, const struct aiAnimation *an, const m
         mm_free(im->allocator, rest_pos);
     }
     /* End Sites: a joint without child joints whose node has a single, childless, unanimated
-     * child (BVH's End Site, Blender's "_end" leaf bones). */
+     * child (BVH's End Site, Blender's "_end" leaf bones), maybe behind static FBX helpers. */
     for (int j = 0; j < n; ++j) {
         int k = t.joint_node[j];
         const struct aiNode *node = im->nodes[k].node;
         bool has_child_joint = false;
         for (int i = j + 1; i < n && !has_child_joint; ++i) has_child_joint = t.parents[i] == j;
-        if (has_child_joint || node->mNumChildren != 1 || k + 1 >= im->node_count) continue;
-        const anode *c = &im->nodes[k + 1];
-        if (c->node->mNumChildren != 0 || c->helper || c->channel >= 0) continue;
-        dmat4 m = dmat4_from_ai(&c->node->mTransformation);
-        dmat4 g = dmat4_mul(&t.global[j], &m);
+        if (has_child_joint || node->mNumChildren != 1) continue;
+        /* down through static helpers (a single child each: the next node in pre-order) */
+        dmat4 g = t.global[j];
+        int c = k + 1;
+        bool ok = false;
+        for (; c < im->node_count && im->nodes[c].parent == c - 1 && im->nodes[c].channel < 0; ++c) {
+            dmat4 m = dmat4_from_ai(&im->nodes[c].node->mTransformation);
+            g = dmat4_mul(&g, &m);
+            unsigned children = im->nodes[c].node->mNumChildren;
+            if (!im->nodes[c].helper) {
+                ok = children == 0;
+                break;
+            }
+            if (children != 1) break;
+        }
+        if (!ok) continue;
         double w[3], d[3];
         for (int r2 = 0; r2 < 3; ++r2)
             w[r2] = im->axes[r2][0] * g.m[0][3] + im->axes[r2][1] * g.m[1][3] + im->axes[r2][2] * g.m[2][3];
@@ -840,6 +855,20 @@ static double declared_unit(const importer *im)
     if (strcmp(ext, "gltf") == 0 || strcmp(ext, "glb") == 0) return 1.0;
     if (strcmp(ext, "dae") == 0) return 1.0; /* assimp applies <unit meter> */
     return 0.0;
+}
+
+/* assimp's Collada reader names the takes "<first take>_<take>" (the root of the animation
+ * library takes the first <animation>'s name): when the first take is "P_P" and every take starts
+ * with "P_", the prefix goes. */
+static void strip_collada_prefix(mm_clip_list *list)
+{
+    const char *first = list->names[0];
+    size_t len = strlen(first);
+    if (len < 3 || len % 2 == 0 || first[len / 2] != '_' || strncmp(first, first + len / 2 + 1, len / 2) != 0) return;
+    size_t strip = len / 2 + 1;
+    for (int i = 0; i < list->count; ++i)
+        if (strlen(list->names[i]) <= strip || strncmp(list->names[i], first, strip) != 0) return;
+    for (int i = 0; i < list->count; ++i) memmove(list->names[i], list->names[i] + strip, strlen(list->names[i] + strip) + 1);
 }
 
 mm_result mm__import_assimp(const char *path, const mm_import_desc *desc, mm_clip_list *out, mm_error *err)
@@ -925,6 +954,8 @@ mm_result mm__import_assimp(const char *path, const mm_import_desc *desc, mm_cli
     }
     if (out->count == 0)
         r = mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "none of the file's %d animation takes animates a node", takes);
+    else if (strcmp(out->format, "dae") == 0)
+        strip_collada_prefix(out);
 done:
     mm_free(im.allocator, im.nodes);
     aiReleaseImport(im.scene);

@@ -22,12 +22,12 @@ static void walk_params(const synth_body *b, const synth_style *st, float v, syn
     g->duty = 0.66f - 0.035f * v;
     g->width = st->step_width;
     g->heel_strike = (10.0f + 7.0f * v) * deg;
-    g->toe_off = (25.0f + 14.0f * v) * deg;
+    g->toe_off = (32.0f + 15.0f * v) * deg;
     g->roll_in = 0.15f;
-    g->roll_out = 0.45f;
+    g->roll_out = 0.5f;
     g->swing_height = 0.035f + 0.025f * v;
     g->swing_peak = 0.45f;
-    g->plant_ref = 0.32f;
+    g->plant_ref = 0.37f;
     g->pelvis_height = b->ankle_height + synth_leg_length_at(b, 12.0f * deg) + 0.05f;
     g->bob = 0.012f * st->bob;
     g->sway = (0.032f - 0.008f * v) * st->sway;
@@ -113,5 +113,6 @@ void synth_gait_eval(const synth_body *b, const synth_style *st, float speed, fl
     w.yaw *= a;
     w.list *= a;
     w.arm_swing *= a;
+    w.elbow_swing *= a;
     *out = w;
 }

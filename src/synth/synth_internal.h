@@ -185,6 +185,8 @@ typedef struct synth_foot {
     float pitch;      /* toe-up angle, rad: > 0 toes up (heel rocker), < 0 heel up (toe rocker) */
     float toe_angle;  /* Toe joint local rotation about X, rad (< 0: toes bent up) */
     bool heel, toe;   /* contact flags: this joint is planted */
+    float margin;     /* extra reach margin the pelvis keeps for this foot, m (knee flexion
+                         around liftoff and touchdown) */
 } synth_foot;
 
 /* Global rotation of a foot of this yaw and toe-up pitch. */

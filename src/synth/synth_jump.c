@@ -209,8 +209,8 @@ mm_result synth_make_jump(synth_ctx *ctx, float distance, mm_synth_clip *out)
     const float trunk_keys[][2] = {{J_CROUCH, 3 * deg},           {J_PUSH, 34 * deg},     {j.t_to, 12 * deg},
                                    {j.t_to + 0.2f, 6 * deg},      {j.t_ld, 18 * deg},     {t_absorb, 30 * deg},
                                    {t_rise, 3 * deg}};
-    const float arm_keys[][2] = {{J_CROUCH, -3 * deg},      {J_PUSH, -45 * deg},  {j.t_to, 75 * deg},
-                                 {j.t_to + 0.2f, 60 * deg}, {j.t_ld, 35 * deg},   {t_absorb, 30 * deg},
+    const float arm_keys[][2] = {{J_CROUCH, -3 * deg},         {J_PUSH - 0.12f, -40 * deg}, {j.t_to + 0.1f, 65 * deg},
+                                 {j.t_to + 0.3f, 55 * deg},    {j.t_ld, 35 * deg},          {t_absorb, 30 * deg},
                                  {t_rise, -3 * deg}};
     const float elbow_keys[][2] = {{J_CROUCH, st->elbow}, {J_PUSH, 20 * deg},    {j.t_to, 35 * deg},
                                    {j.t_ld, 45 * deg},    {t_absorb, 40 * deg},  {t_rise, st->elbow}};

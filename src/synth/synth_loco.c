@@ -63,7 +63,7 @@ static float reach_limit(const synth_body *b, const synth_pose *p)
 {
     float y = 1e9f;
     for (int side = 0; side < 2; ++side) {
-        float lim = synth_pelvis_reach(b, side, p->pelvis, p->pelvis_rot, p->foot[side].ankle);
+        float lim = synth_pelvis_reach(b, side, p->pelvis, p->pelvis_rot, p->foot[side].ankle) - p->foot[side].margin;
         if (lim < y) y = lim;
     }
     return y;
@@ -161,7 +161,7 @@ static void loco_pose(const synth_ctx *ctx, const synth_track *tr, int frame, sy
     for (int side = 0; side < 2; ++side) {
         float sgn = side == SYNTH_LEFT ? -1.0f : 1.0f;
         float swing = sgn * g.arm_swing * arm; /* left arm forward when the right leg is */
-        float fwd = g.arm_swing > 1e-6f ? synth_clampf(swing / g.arm_swing, 0.0f, 1.0f) : 0.0f;
+        float fwd = 0.5f + 0.5f * sgn * arm; /* 1 when this arm is furthest forward */
         p->arm_swing[side] = g.arm_carry + swing - 0.3f * idle.sway / 0.008f * deg;
         p->arm_abduct[side] = g.arm_abduct + 2.0f * deg * synth_side_sign(side) * idle.shift / 0.022f;
         p->elbow[side] = g.elbow + g.elbow_swing * fwd;

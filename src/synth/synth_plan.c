@@ -339,6 +339,32 @@ static float beta_rate_td(const synth_stance *st)
     return -2.0f * st->beta_td / (st->u1 * (float)(st->phi_lo - st->phi_td));
 }
 
+/* Reach margins near liftoff and touchdown: the knee is already flexing when the toe leaves
+ * the ground and not quite straight when the heel lands (no snap through full extension). */
+#define SYNTH_MARGIN_LO 0.02f
+#define SYNTH_MARGIN_TD 0.008f
+
+static float stance_margin(const synth_stance *st, float u)
+{
+    float m = 0.0f;
+    if (u < st->u1 && st->beta_td != 0.0f) {
+        float q = 1.0f - u / st->u1;
+        m += SYNTH_MARGIN_TD * q * q;
+    }
+    if (u > st->u2 && st->beta_lo != 0.0f) {
+        float q = (u - st->u2) / (1.0f - st->u2);
+        m += SYNTH_MARGIN_LO * q * q;
+    }
+    return m;
+}
+
+static float monotone_tangent(float m, float delta)
+{
+    if (m * delta <= 0.0f) return 0.0f;
+    float lim = 3.0f * fabsf(delta);
+    return m > lim ? lim : m < -lim ? -lim : m;
+}
+
 static float swing_bump(float s, float peak)
 {
     /* s^2 (1-s)^b peaks at 2 / (2 + b); normalised to 1 there. */
@@ -368,6 +394,7 @@ void synth_track_foot(const synth_body *b, const synth_track *tr, int side, doub
         out->toe_angle = beta < 0.0f ? beta : 0.0f;
         out->heel = beta >= 0.0f;
         out->toe = beta <= 0.0f;
+        out->margin = stance_margin(a, u);
         return;
     }
     const synth_stance *c = &st[lo + 1];
@@ -383,9 +410,14 @@ void synth_track_foot(const synth_body *b, const synth_track *tr, int side, doub
     out->ankle.y += a->swing_height * swing_bump(s, a->swing_peak);
     float yaw1 = a->yaw + synth_wrap_angle(c->yaw - a->yaw);
     out->yaw = synth_hermite(a->yaw, 0.0f, yaw1, 0.0f, s);
-    out->pitch = synth_hermite(b0, r0, b1, r1, s);
+    /* Angles: the rocker rates continue into the swing, limited so the curve is monotone
+     * (Fritsch-Carlson) and the foot never over-rotates. */
+    out->pitch = synth_hermite(b0, monotone_tangent(r0, b1 - b0), b1, monotone_tangent(r1, b1 - b0), s);
     float t0 = b0 < 0.0f ? b0 : 0.0f, t1 = b1 < 0.0f ? b1 : 0.0f;
-    out->toe_angle = synth_hermite(t0, b0 < 0.0f ? r0 : 0.0f, t1, b1 < 0.0f ? r1 : 0.0f, s);
+    out->toe_angle = synth_hermite(t0, monotone_tangent(b0 < 0.0f ? r0 : 0.0f, t1 - t0), t1,
+                                   monotone_tangent(b1 < 0.0f ? r1 : 0.0f, t1 - t0), s);
     out->heel = false;
     out->toe = false;
+    float m0 = a->beta_lo != 0.0f ? SYNTH_MARGIN_LO : 0.0f, m1 = c->beta_td != 0.0f ? SYNTH_MARGIN_TD : 0.0f;
+    out->margin = synth_hermite(m0, 0.0f, m1, 0.0f, s);
 }

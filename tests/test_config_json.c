@@ -1,0 +1,217 @@
+/* Database configs in JSON: every field read, every mistake reported with the field's path. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+
+#include <mm/config_json.h>
+
+#include "test_util.h"
+
+static const char full[] =
+    "{\n"
+    "  \"interval\": 0.02, \"scale\": 0.01, \"root_smoothing\": 0.2,\n"
+    "  \"roles\": {\"hips\": \"Pelvis\", \"root_bone\": \"Chest\", \"facing_bone\": \"Pelvis\",\n"
+    "            \"forward_axis\": [0, 1, 0], \"left_foot\": \"LF\", \"right_foot\": \"RF\", \"left_toe\": \"LT\",\n"
+    "            \"right_toe\": \"RT\", \"left_hand\": \"LH\", \"right_hand\": \"RH\", \"head\": \"H\"},\n"
+    "  \"contacts\": {\"height\": 0.04, \"speed\": 0.5, \"min_time\": 0.05},\n"
+    "  \"features\": {\"bones\": [{\"name\": \"LF\", \"position_weight\": 2, \"velocity_weight\": 0.5},\n"
+    "                           {\"name\": \"Pelvis\", \"position\": false}],\n"
+    "               \"trajectory_times\": [-0.33, 0.5, 1.0], \"root_velocity\": true,\n"
+    "               \"body_velocity_weight\": 0.7, \"position_multiplier\": 1.1, \"angle_multiplier\": 1.9},\n"
+    "  \"mirror_pairs\": [[\"^l\", \"^r\"]],\n"
+    "  \"tags\": [\"Required\", \"DoNotUse\"],\n"
+    "  \"clips\": [\n"
+    "    {\"file\": \"moves/walk.bvh\", \"ranges\": [[0, 100], [120, 300]], \"mirror\": true,\n"
+    "     \"tags\": {\"DoNotUse\": [[1.5, 2.0], [3, 4]], \"Required\": [[0, 1]]}},\n"
+    "    {\"name\": \"stand\", \"file\": \"/abs/idle.bvh\", \"type\": \"idle\", \"loop\": true}\n"
+    "  ],\n"
+    "  \"blend_clips\": [{\"name\": \"mix\", \"left\": \"walk\", \"right\": \"stand\", \"weight\": 0.3}]\n"
+    "}\n";
+
+static void test_every_field(void **state)
+{
+    (void)state;
+    mm_config c;
+    memset(&c, 0, sizeof c);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_result r = mm_config_parse_json(full, sizeof full - 1, "full.json", "/cfg", &c, &err);
+    if (r != MM_OK) print_error("%s\n", err.message);
+    assert_int_equal(r, MM_OK);
+    assert_near(c.interval, 0.02, 1e-8);
+    assert_near(c.scale, 0.01, 1e-8);
+    assert_near(c.root_smoothing, 0.2, 1e-7);
+    assert_string_equal(c.hips, "Pelvis");
+    assert_string_equal(c.root_bone, "Chest");
+    assert_near(c.forward_axis.y, 1, 0);
+    assert_string_equal(c.right_toe, "RT");
+    assert_string_equal(c.head, "H");
+    assert_near(c.contact_height, 0.04, 1e-8);
+    assert_near(c.contact_min_time, 0.05, 1e-8);
+    assert_int_equal(c.bone_count, 2);
+    assert_int_equal(c.bones[0].features, MM_MATCH_POSITION | MM_MATCH_VELOCITY);
+    assert_near(c.bones[0].position_weight, 2, 0);
+    assert_near(c.bones[0].velocity_weight, 0.5, 0);
+    assert_int_equal(c.bones[1].features, MM_MATCH_VELOCITY);
+    assert_int_equal(c.traj_count, 3);
+    assert_near(c.traj_times[0], -0.33, 1e-7);
+    assert_true(c.root_velocity);
+    assert_near(c.angle_multiplier, 1.9, 1e-7);
+    assert_int_equal(c.mirror_pair_count, 1);
+    assert_string_equal(c.mirror_pairs[0].right, "^r");
+    assert_int_equal(c.tag_count, 2);
+    assert_int_equal(c.clip_count, 2);
+    assert_string_equal(c.clips[0].name, "walk"); /* from the file name */
+    assert_int_equal(c.clips[0].range_count, 2);
+    assert_int_equal(c.clips[0].ranges[1].begin, 120);
+    assert_true(c.clips[0].mirror);
+    assert_int_equal(c.clips[0].tag_range_count, 3);
+    int donotuse = 0;
+    for (int i = 0; i < 3; ++i) donotuse += c.clips[0].tag_ranges[i].tag == 1;
+    assert_int_equal(donotuse, 2);
+    assert_int_equal(c.clips[1].type, MM_CLIP_IDLE);
+    assert_true(c.clips[1].loop);
+    assert_int_equal(c.blend_count, 1);
+    assert_int_equal(c.blends[0].left, 0);
+    assert_int_equal(c.blends[0].right, 1);
+    assert_near(c.blends[0].weight, 0.3, 1e-7);
+    assert_string_equal(c.base_dir, "/cfg");
+    mm_config_free(&c);
+}
+
+/* Replaces the first occurrence of from in full by to, parses, and checks the error. */
+static void expect_error(const char *from, const char *to, mm_result code, const char *message)
+{
+    char text[4096];
+    const char *at = strstr(full, from);
+    assert_non_null(at);
+    snprintf(text, sizeof text, "%.*s%s%s", (int)(at - full), full, to, at + strlen(from));
+    mm_config c;
+    memset(&c, 0, sizeof c);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_result r = mm_config_parse_json(text, strlen(text), "bad.json", NULL, &c, &err);
+    if (r != code || !strstr(err.message, message))
+        print_error("'%s' -> '%s': got %s '%s'\n", from, to, mm_result_name(r), err.message);
+    assert_int_equal(r, code);
+    assert_non_null(strstr(err.message, message));
+    assert_string_equal(err.file, "bad.json");
+    assert_null(c.clips); /* nothing left allocated */
+}
+
+static void test_errors_name_the_field(void **state)
+{
+    (void)state;
+    expect_error("\"interval\": 0.02", "\"interval\": -1", MM_ERR_OUT_OF_RANGE, "interval");
+    expect_error("\"interval\": 0.02", "\"interval\": \"fast\"", MM_ERR_BAD_NUMBER, "interval must be a finite number");
+    expect_error("\"interval\": 0.02", "\"interval\": 1e999", MM_ERR_BAD_NUMBER, "interval");
+    expect_error("\"interval\": 0.02", "\"intervall\": 0.02", MM_ERR_UNKNOWN_KEYWORD, "intervall: unknown field");
+    expect_error("\"hips\": \"Pelvis\"", "\"hip\": \"Pelvis\"", MM_ERR_UNKNOWN_KEYWORD, "roles.hip: unknown field");
+    expect_error("\"forward_axis\": [0, 1, 0]", "\"forward_axis\": [0, 1]", MM_ERR_SYNTAX, "roles.forward_axis");
+    expect_error("\"forward_axis\": [0, 1, 0]", "\"forward_axis\": [0, 0, 0]", MM_ERR_OUT_OF_RANGE, "forward_axis");
+    expect_error("\"height\": 0.04", "\"height\": 0", MM_ERR_OUT_OF_RANGE, "contacts.height");
+    expect_error("\"position_weight\": 2", "\"position_weight\": -2", MM_ERR_OUT_OF_RANGE, "features.bones[0]");
+    expect_error("{\"name\": \"Pelvis\", \"position\": false}", "{\"position\": false}", MM_ERR_SYNTAX,
+                 "features.bones[1].name is missing");
+    expect_error("\"position\": false", "\"position\": false, \"velocity\": false", MM_ERR_OUT_OF_RANGE,
+                 "features.bones[1] (Pelvis) has neither");
+    expect_error("[-0.33, 0.5, 1.0]", "[-0.33, 0.5, 0.5]", MM_ERR_OUT_OF_RANGE, "trajectory_times[2]: 0.5 s is listed twice");
+    expect_error("[\"Required\", \"DoNotUse\"]", "[\"Required\", \"Required\"]", MM_ERR_DUPLICATE_NAME, "tags[1]");
+    expect_error("\"DoNotUse\": [[1.5, 2.0]", "\"DoNotUsed\": [[1.5, 2.0]", MM_ERR_NOT_FOUND,
+                 "clips[0].tags.DoNotUsed: not declared");
+    expect_error("[[1.5, 2.0], [3, 4]]", "[[1.5, 2.0], [4, 3]]", MM_ERR_OUT_OF_RANGE, "clips[0] (walk).tags.DoNotUse[1]");
+    expect_error("[[0, 100], [120, 300]]", "[[0, 100], [300, 120]]", MM_ERR_OUT_OF_RANGE, "clips[0] (walk).ranges[1]");
+    expect_error("[[0, 100], [120, 300]]", "[[0, 100], [120.5, 300]]", MM_ERR_BAD_NUMBER, "clips[0].ranges[1] must be an integer");
+    expect_error("\"type\": \"idle\"", "\"type\": \"sitting\"", MM_ERR_SYNTAX, "clips[1].type");
+    expect_error("\"name\": \"stand\"", "\"name\": \"walk\"", MM_ERR_DUPLICATE_NAME, "clips[1].name 'walk' is used twice");
+    expect_error("\"file\": \"/abs/idle.bvh\", ", "", MM_ERR_SYNTAX, "clips[1].file is missing");
+    expect_error("\"right\": \"stand\"", "\"right\": \"run\"", MM_ERR_NOT_FOUND, "blend_clips[0].right: no clip named 'run'");
+    expect_error("\"weight\": 0.3", "\"weight\": 1.5", MM_ERR_OUT_OF_RANGE, "blend_clips[0] (mix): weight");
+    expect_error("\"loop\": true}", "\"loop\": true, \"ranges\": [[0, 5], [6, 9]]}", MM_ERR_OUT_OF_RANGE,
+                 "a loop clip has one range");
+}
+
+static void test_json_syntax_errors(void **state)
+{
+    (void)state;
+    mm_config c;
+    memset(&c, 0, sizeof c);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    const char broken[] = "{\n  \"interval\": 0.02,\n  \"scale\" 0.01\n}\n";
+    assert_int_equal(mm_config_parse_json(broken, sizeof broken - 1, "broken.json", NULL, &c, &err), MM_ERR_SYNTAX);
+    assert_int_equal(err.line, 3);
+    assert_true(err.column >= 10);
+    assert_int_equal(mm_config_parse_json("", 0, "empty.json", NULL, &c, &err), MM_ERR_UNEXPECTED_EOF);
+    assert_int_equal(mm_config_parse_json("[1, 2]", 6, "array.json", NULL, &c, &err), MM_ERR_SYNTAX);
+    assert_non_null(strstr(err.message, "must be an object"));
+    const char garbage[] = "\x01\xff\xfe{";
+    assert_int_equal(mm_config_parse_json(garbage, 4, "garbage.json", NULL, &c, &err), MM_ERR_SYNTAX);
+    assert_int_equal(mm_config_load_json("/nonexistent/c.json", &c, NULL, &err), MM_ERR_IO);
+    assert_string_equal(err.file, "/nonexistent/c.json");
+}
+
+static void test_defaults(void **state)
+{
+    (void)state;
+    mm_config c;
+    memset(&c, 0, sizeof c);
+    assert_int_equal(mm_config_parse_json("{}", 2, "empty.json", NULL, &c, NULL), MM_OK);
+    assert_near(c.interval, 1.0 / 60.0, 1e-7);
+    assert_int_equal(c.bone_count, 3);
+    assert_int_equal(c.traj_count, 3);
+    assert_string_equal(c.hips, "Hips");
+    assert_int_equal(c.clip_count, 0);
+    mm_config_free(&c);
+}
+
+/* Clip paths: the config's folder first, then $MM_DATA_DIR. */
+static void test_resolve_paths(void **state)
+{
+    (void)state;
+    mm_config c;
+    mm_config_defaults(&c);
+    snprintf(c.base_dir, sizeof c.base_dir, "%s", MM_TEST_DATA);
+    char out[MM_PATH_MAX];
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_config_resolve_path(&c, "bvh/chain2.bvh", out, sizeof out, &err), MM_OK);
+    assert_non_null(strstr(out, "tests/data/bvh/chain2.bvh"));
+    snprintf(c.base_dir, sizeof c.base_dir, "/nonexistent");
+    setenv("MM_DATA_DIR", MM_TEST_DATA, 1);
+    assert_int_equal(mm_config_resolve_path(&c, "bvh/chain2.bvh", out, sizeof out, &err), MM_OK);
+    unsetenv("MM_DATA_DIR");
+    assert_int_equal(mm_config_resolve_path(&c, "bvh/chain2.bvh", out, sizeof out, &err), MM_ERR_NOT_FOUND);
+    assert_non_null(strstr(err.message, "bvh/chain2.bvh"));
+}
+
+/* docs/config.md holds the same table that `mm config explain --markdown` prints. */
+static void test_docs_in_sync(void **state)
+{
+    (void)state;
+    FILE *f = fopen(MM_TEST_DATA "/../../docs/config.md", "rb");
+    assert_non_null(f);
+    static char doc[1 << 16];
+    size_t n = fread(doc, 1, sizeof doc - 1, f);
+    fclose(f);
+    doc[n] = 0;
+    int count = 0;
+    const mm_config_field_doc *d = mm_config_field_docs(&count);
+    assert_true(count > 30);
+    for (int i = 0; i < count; ++i) {
+        char row[2048];
+        snprintf(row, sizeof row, "| `%s` | %s | %s | %s | %s |", d[i].path, d[i].type, d[i].unit, d[i].fallback,
+                 d[i].help);
+        if (!strstr(doc, row)) print_error("docs/config.md lacks the row: %s\n", row);
+        assert_non_null(strstr(doc, row));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_field),  cmocka_unit_test(test_errors_name_the_field),
+        cmocka_unit_test(test_json_syntax_errors), cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_resolve_paths), cmocka_unit_test(test_docs_in_sync),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,516 @@
+/* Database build against analytic motions, the .mmdb round trip, and bad database files. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <mm/database.h>
+
+#include "db/process.h"
+#include "test_util.h"
+
+/* A small symmetric skeleton with identity rest frames: hips 1 m up, a spine joint above,
+ * feet and toes on both sides. */
+static void make_skeleton(mm_skeleton *s)
+{
+    assert_int_equal(mm_skeleton_init(s, 6, NULL), MM_OK);
+    const char *names[6] = {"Hips", "Spine2", "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
+    const int parents[6] = {-1, 0, 0, 2, 0, 4};
+    const float off[6][3] = {{0, 1, 0}, {0, 0.3f, 0}, {0.1f, -0.9f, 0}, {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},
+                             {0, -0.05f, 0.15f}};
+    for (int j = 0; j < 6; ++j) {
+        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
+        s->joints[j].parent = parents[j];
+        s->joints[j].offset = mm_vec3_make(off[j][0], off[j][1], off[j][2]);
+        s->joints[j].order = MM_EULER_ZYX;
+    }
+    s->joints[0].flags = MM_JOINT_TRANSLATES;
+}
+
+/* The hips go round a circle of radius R (R = 0: a straight line) at speed v, facing along the
+ * path, turning toward +X local (positive yaw rate). */
+static void make_motion(mm_clip *clip, int frames, float fps, double radius, double speed)
+{
+    mm_skeleton s;
+    make_skeleton(&s);
+    assert_int_equal(mm_clip_init(clip, &s, frames, fps, NULL), MM_OK);
+    mm_skeleton_free(&s);
+    for (int f = 0; f < frames; ++f) {
+        double t = f / (double)fps, yaw = radius > 0 ? speed / radius * t : 0.0;
+        double x = radius > 0 ? -radius * cos(yaw) + radius : 0.0, z = radius > 0 ? radius * sin(yaw) : speed * t;
+        mm_clip_rotations(clip, f)[0] = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), (float)yaw);
+        mm_clip_positions(clip, f)[0] = mm_vec3_make((float)x, 1.0f, (float)z);
+    }
+}
+
+static void test_config(mm_config *cfg, int clips)
+{
+    mm_config_defaults(cfg);
+    cfg->scale = 1.0f;
+    cfg->root_smoothing = 0.0f;
+    cfg->left_hand[0] = cfg->right_hand[0] = cfg->head[0] = 0;
+    cfg->clip_count = clips;
+    cfg->clips = calloc((size_t)clips, sizeof(mm_config_clip));
+    for (int i = 0; i < clips; ++i) {
+        snprintf(cfg->clips[i].name, MM_NAME_MAX, "clip%d", i);
+        snprintf(cfg->clips[i].file, MM_PATH_MAX, "clip%d.bvh", i);
+    }
+}
+
+static int group_offset(const mm_database *db, const char *name)
+{
+    for (int g = 0; g < db->group_count; ++g)
+        if (strcmp(db->groups[g].name, name) == 0) return db->groups[g].offset;
+    fail_msg("no feature group %s", name);
+    return -1;
+}
+
+static void test_circle_features(void **state)
+{
+    (void)state;
+    const double radius = 3.0, speed = 1.5, omega = speed / radius;
+    mm_clip clip;
+    make_motion(&clip, 600, 60.0f, radius, speed);
+    mm_config cfg;
+    test_config(&cfg, 1);
+    cfg.traj_count = 4;
+    cfg.traj_times[3] = -0.5f;
+    mm_database db;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, &err), MM_OK);
+    assert_int_equal(db.frame_count, 600);
+    assert_int_equal(db.dims, 15 + 4 * 4);
+    assert_int_equal(db.dims_padded % MM_DB_SIMD_WIDTH, 0);
+    assert_string_equal(db.joints[0].name, "SimulationRoot");
+    assert_string_equal(db.joints[1].name, "Hips");
+
+    int p1 = group_offset(&db, "trajectory.position@1"), d1 = group_offset(&db, "trajectory.direction@1");
+    int pm = group_offset(&db, "trajectory.position@-0.5"), hv = group_offset(&db, "Hips.velocity");
+    int lf = group_offset(&db, "LeftFoot.position");
+    /* Inside the clip: on the circle, turned by omega t. */
+    for (int f = 60; f < 500; f += 37) {
+        double th = omega * 1.0;
+        assert_near(mm_database_feature_raw(&db, f, p1), radius * (1 - cos(th)), 1e-4);
+        assert_near(mm_database_feature_raw(&db, f, p1 + 1), radius * sin(th), 1e-4);
+        assert_near(mm_database_feature_raw(&db, f, d1), sin(th), 1e-5);
+        assert_near(mm_database_feature_raw(&db, f, d1 + 1), cos(th), 1e-5);
+        double tb = -omega * 0.5;
+        assert_near(mm_database_feature_raw(&db, f, pm), radius * (1 - cos(tb)), 1e-4);
+        assert_near(mm_database_feature_raw(&db, f, pm + 1), radius * sin(tb), 1e-4);
+        /* The hips move forward at the speed (backward difference: a chord, 1e-2 relative). */
+        assert_near(mm_database_feature_raw(&db, f, hv + 2), speed, speed * 1e-2);
+        assert_near(mm_database_feature_raw(&db, f, hv), 0, speed * 1e-2);
+        /* A foot rigid with the hips stays where its offset puts it. */
+        assert_near(mm_database_feature_raw(&db, f, lf), 0.1, 1e-5);
+        assert_near(mm_database_feature_raw(&db, f, lf + 1), 0.1, 1e-5);
+        /* Root velocity and turning rate. */
+        assert_near(db.root_velocity[f].z, speed, speed * 1e-2);
+        assert_near(db.root_angular_velocity[f], omega, 1e-4);
+    }
+    /* After the end of a non-loop clip: straight on with the last velocity, facing kept. */
+    int last = 599;
+    assert_near(mm_database_feature_raw(&db, last, d1), 0, 1e-5);
+    assert_near(mm_database_feature_raw(&db, last, d1 + 1), 1, 1e-5);
+    assert_near(hypot(mm_database_feature_raw(&db, last, p1), mm_database_feature_raw(&db, last, p1 + 1)), speed,
+                1e-3);
+    /* Before the start: back along the first velocity, facing kept. */
+    assert_near(mm_database_feature_raw(&db, 0, pm + 1), -0.5 * speed, 2e-3);
+    /* Next frames: -1 at the end of a non-loop clip. */
+    mm_pose_data pd;
+    mm_database_pose(&db, last, &pd);
+    assert_int_equal(pd.next_id, -1);
+    mm_database_pose(&db, 10, &pd);
+    assert_int_equal(pd.next_id, 11);
+    assert_near(pd.time, 10.0 / 60.0, 1e-6);
+    mm_database_free(&db);
+    mm_config_free(&cfg);
+    mm_clip_free(&clip);
+}
+
+/* A loop clip wraps: its trajectory keeps going across the end instead of jumping back. */
+static void test_loop_wraps(void **state)
+{
+    (void)state;
+    const double speed = 1.2;
+    mm_clip clips[2];
+    make_motion(&clips[0], 90, 60.0f, 0.0, speed); /* straight: 1.5 s */
+    /* A whole circle in 2 s, as a loop. */
+    const double radius = 1.0, circle_speed = 2 * MM_PI * radius / 2.0;
+    make_motion(&clips[1], 120, 60.0f, radius, circle_speed);
+    mm_config cfg;
+    test_config(&cfg, 2);
+    cfg.clips[0].loop = true;
+    cfg.clips[1].loop = true;
+    cfg.clips[1].type = MM_CLIP_IDLE;
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, clips, NULL, &db, NULL), MM_OK);
+    int p1 = group_offset(&db, "trajectory.position@1"), d1 = group_offset(&db, "trajectory.direction@1");
+    for (int f = 0; f < 90; ++f) { /* 1 s ahead is always 1.2 m straight on, also past the end */
+        assert_near(mm_database_feature_raw(&db, f, p1), 0, 1e-4);
+        assert_near(mm_database_feature_raw(&db, f, p1 + 1), speed, 1e-4);
+    }
+    double omega = circle_speed / radius;
+    for (int f = 90; f < 210; ++f) {
+        assert_near(mm_database_feature_raw(&db, f, p1), radius * (1 - cos(omega)), 1e-3);
+        assert_near(mm_database_feature_raw(&db, f, p1 + 1), radius * sin(omega), 1e-3);
+        assert_near(mm_database_feature_raw(&db, f, d1), sin(omega), 1e-4);
+    }
+    mm_pose_data pd;
+    mm_database_pose(&db, 89, &pd);
+    assert_int_equal(pd.next_id, 0);
+    mm_database_pose(&db, 209, &pd);
+    assert_int_equal(pd.next_id, 90);
+    assert_int_equal(pd.type, MM_CLIP_IDLE);
+    assert_int_equal(db.clips[1].loop, 1);
+    mm_database_free(&db);
+    mm_config_free(&cfg);
+    mm_clip_free(&clips[0]);
+    mm_clip_free(&clips[1]);
+}
+
+/* Normalisation: each dimension has mean 0 over the database and each group a mean standard
+ * deviation of 1 (or is left unscaled when it does not vary); bounding boxes bound their frames. */
+static void test_normalisation_and_bounds(void **state)
+{
+    (void)state;
+    mm_clip clips[2];
+    make_motion(&clips[0], 200, 60.0f, 2.0, 1.0);
+    make_motion(&clips[1], 150, 30.0f, 0.0, 3.0); /* resampled from 30 to 60 fps */
+    mm_config cfg;
+    test_config(&cfg, 2);
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, clips, NULL, &db, NULL), MM_OK);
+    assert_int_equal(db.clips[1].frame_count, 299); /* 149 / 30 s at 60 fps, + 1 */
+    for (int g = 0; g < db.group_count; ++g) {
+        const mm_feature_group *grp = &db.groups[g];
+        double spread = 0;
+        for (int d = grp->offset; d < grp->offset + grp->dims; ++d) {
+            double sum = 0, sq = 0;
+            for (int f = 0; f < db.frame_count; ++f) sum += db.features[(size_t)f * db.dims_padded + d];
+            for (int f = 0; f < db.frame_count; ++f) {
+                double v = db.features[(size_t)f * db.dims_padded + d] - sum / db.frame_count;
+                sq += v * v;
+            }
+            assert_near(sum / db.frame_count, 0, 1e-4);
+            spread += sqrt(sq / db.frame_count);
+        }
+        spread /= grp->dims;
+        if (grp->scale != 1.0f) assert_near(spread, 1.0, 1e-3);
+    }
+    for (int f = 0; f < db.frame_count; ++f)
+        for (int d = 0; d < db.dims_padded; ++d) {
+            float v = db.features[(size_t)f * db.dims_padded + d];
+            if (d >= db.dims) assert_true(v == 0.0f);
+            int sb = f / MM_DB_SMALL_BLOCK, lb = f / MM_DB_LARGE_BLOCK;
+            assert_true(v >= db.small_min[(size_t)sb * db.dims_padded + d] && v <= db.small_max[(size_t)sb * db.dims_padded + d]);
+            assert_true(v >= db.large_min[(size_t)lb * db.dims_padded + d] && v <= db.large_max[(size_t)lb * db.dims_padded + d]);
+        }
+    mm_database_free(&db);
+    mm_config_free(&cfg);
+    mm_clip_free(&clips[0]);
+    mm_clip_free(&clips[1]);
+}
+
+/* A foot that is planted, lifted, and planted again, with one-frame flicker. */
+static void test_contacts(void **state)
+{
+    (void)state;
+    mm_clip clip;
+    make_motion(&clip, 120, 60.0f, 0.0, 0.0); /* standing still */
+    for (int f = 0; f < 120; ++f) {
+        mm_quat *r = mm_clip_rotations(&clip, f);
+        (void)r;
+        mm_vec3 *p = mm_clip_positions(&clip, f);
+        /* LeftFoot lifted 20 cm between frames 40 and 80, and 1 frame at 20 (flicker) */
+        float lift = (f >= 40 && f < 80) || f == 20 ? 0.2f : 0.0f;
+        p[2] = mm_vec3_make(0.1f, -0.9f + lift, 0);
+    }
+    mm_config cfg;
+    test_config(&cfg, 1);
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, NULL), MM_OK);
+    for (int f = 0; f < 120; ++f) {
+        int left = (db.contacts[f] & MM_CONTACT_LEFT_HEEL) != 0;
+        int expect = !(f >= 40 && f < 80); /* frame 20's lift is flicker: removed */
+        /* The lift takes one frame to register in speed: allow the edges. */
+        if (f != 40 && f != 80 && f != 39 && f != 81) assert_int_equal(left, expect);
+        assert_true(db.contacts[f] & MM_CONTACT_RIGHT_HEEL);
+        assert_true(db.contacts[f] & MM_CONTACT_RIGHT_TOE);
+    }
+    mm_database_free(&db);
+    mm_config_free(&cfg);
+    mm_clip_free(&clip);
+}
+
+/* Mirroring: the mirrored clip's joints are the reflected partners, and mirroring twice is the
+ * identity. */
+static void test_mirror(void **state)
+{
+    (void)state;
+    mm_clip clip;
+    make_motion(&clip, 100, 60.0f, 2.0, 1.0);
+    for (int f = 0; f < 100; ++f) { /* give the left foot its own motion */
+        mm_clip_rotations(&clip, f)[2] = mm_quat_from_axis_angle(mm_vec3_make(1, 0.2f, 0), 0.3f * sinf(f * 0.1f));
+        mm_clip_rotations(&clip, f)[4] = mm_quat_from_axis_angle(mm_vec3_make(0, 0, 1), 0.2f);
+    }
+    mm_config cfg;
+    test_config(&cfg, 1);
+    cfg.clips[0].mirror = true;
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, NULL), MM_OK);
+    assert_int_equal(db.clip_count, 2);
+    assert_string_equal(db.clips[1].name, "clip0_mirror");
+    assert_int_equal(db.clips[1].mirrored, 1);
+    mm_skeleton s;
+    assert_int_equal(mm_skeleton_init(&s, db.joint_count, NULL), MM_OK);
+    memcpy(s.joints, db.joints, sizeof(mm_joint) * (size_t)db.joint_count);
+    mm_xform g[7], m[7];
+    const int partner[7] = {0, 1, 2, 5, 6, 3, 4};
+    for (int f = 0; f < 100; f += 7) {
+        mm_fk(&s, mm_database_rotations(&db, f), mm_database_positions(&db, f), g);
+        mm_fk(&s, mm_database_rotations(&db, 100 + f), mm_database_positions(&db, 100 + f), m);
+        for (int j = 0; j < 7; ++j) {
+            mm_vec3 want = g[partner[j]].translation;
+            assert_near(m[j].translation.x, -want.x, 1e-5);
+            assert_near(m[j].translation.y, want.y, 1e-5);
+            assert_near(m[j].translation.z, want.z, 1e-5);
+        }
+    }
+    /* The mirrored circle turns the other way. */
+    assert_near(db.root_angular_velocity[150], -db.root_angular_velocity[50], 1e-4);
+    mm_skeleton_free(&s);
+    mm_database_free(&db);
+
+    /* Mirroring twice gives the clip back. */
+    mm_clip once, twice;
+    assert_int_equal(mm__clip_mirror(&clip, &cfg, &once, NULL), MM_OK);
+    assert_int_equal(mm__clip_mirror(&once, &cfg, &twice, NULL), MM_OK);
+    for (int f = 0; f < clip.frame_count; ++f)
+        for (int j = 0; j < clip.skeleton.joint_count; ++j) {
+            assert_true(fabsf(mm_quat_dot(mm_clip_rotations(&clip, f)[j], mm_clip_rotations(&twice, f)[j])) > 1 - 1e-6f);
+            assert_near(mm_vec3_distance(mm_clip_positions(&clip, f)[j], mm_clip_positions(&twice, f)[j]), 0, 1e-5);
+        }
+    mm_clip_free(&once);
+    mm_clip_free(&twice);
+    mm_config_free(&cfg);
+    mm_clip_free(&clip);
+}
+
+static void test_blend_speed(void **state)
+{
+    (void)state;
+    mm_clip clips[2];
+    make_motion(&clips[0], 61, 60.0f, 0.0, 1.0);
+    make_motion(&clips[1], 61, 60.0f, 0.0, 3.0);
+    mm_config cfg;
+    test_config(&cfg, 2);
+    cfg.clips[0].loop = cfg.clips[1].loop = true;
+    cfg.blend_count = 1;
+    cfg.blends = calloc(1, sizeof(mm_config_blend));
+    snprintf(cfg.blends[0].name, MM_NAME_MAX, "mix");
+    cfg.blends[0].left = 0;
+    cfg.blends[0].right = 1;
+    cfg.blends[0].weight = 0.25f;
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, clips, NULL, &db, NULL), MM_OK);
+    int c = mm_database_find_clip(&db, "mix");
+    assert_true(c >= 0);
+    assert_int_equal(db.clips[c].loop, 1);
+    assert_int_equal(db.clips[c].blend_left, 0);
+    assert_near(db.clips[c].blend_weight, 0.25, 0);
+    /* left weight 0.25: 0.25 * 1 + 0.75 * 3 = 2.5 m/s */
+    for (int f = db.clips[c].first_frame + 1; f < db.clips[c].first_frame + db.clips[c].frame_count; ++f)
+        assert_near(db.root_velocity[f].z, 2.5, 1e-3);
+    mm_pose_data pd;
+    mm_database_pose(&db, db.clips[c].first_frame + 3, &pd);
+    assert_true(pd.is_blend);
+    mm_database_free(&db);
+    mm_config_free(&cfg);
+    mm_clip_free(&clips[0]);
+    mm_clip_free(&clips[1]);
+}
+
+static void test_tags_and_ranges(void **state)
+{
+    (void)state;
+    mm_clip clip;
+    make_motion(&clip, 300, 30.0f, 0.0, 1.0); /* 10 s at 30 fps */
+    mm_config cfg;
+    test_config(&cfg, 1);
+    cfg.tag_count = 2;
+    snprintf(cfg.tag_names[0], MM_TAG_NAME_MAX, "Required");
+    snprintf(cfg.tag_names[1], MM_TAG_NAME_MAX, "DoNotUse");
+    cfg.clips[0].range_count = 2;
+    cfg.clips[0].ranges = calloc(2, sizeof(mm_config_range));
+    cfg.clips[0].ranges[0] = (mm_config_range){30, 90};   /* 1 s .. 3 s */
+    cfg.clips[0].ranges[1] = (mm_config_range){150, 300}; /* 5 s .. 10 s */
+    cfg.clips[0].tag_range_count = 1;
+    cfg.clips[0].tag_ranges = calloc(1, sizeof(mm_config_tag_range));
+    cfg.clips[0].tag_ranges[0] = (mm_config_tag_range){1, 6.0f, 7.0f};
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, NULL), MM_OK);
+    assert_int_equal(db.clip_count, 2);
+    assert_string_equal(db.clips[0].name, "clip0#0");
+    assert_near(db.clips[1].source_start, 5.0, 1e-6);
+    int tagged = 0;
+    for (int f = 0; f < db.frame_count; ++f) {
+        int c = db.frame_clip[f];
+        double t = db.clips[c].source_start + (f - db.clips[c].first_frame) * db.interval;
+        int expect = t >= 6.0 - 1e-4 && t <= 7.0 + 1e-4;
+        assert_int_equal((db.frame_tags[f] >> 1) & 1, expect);
+        assert_int_equal(db.frame_tags[f] & 1, 0);
+        tagged += expect;
+    }
+    assert_int_equal(tagged, 61);
+    assert_string_equal(db.tag_names[1], "DoNotUse");
+    mm_database_free(&db);
+
+    /* A range past the end of the file is refused, naming the clip and the range. */
+    cfg.clips[0].ranges[1].end = 301;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, &err), MM_ERR_OUT_OF_RANGE);
+    assert_non_null(strstr(err.message, "clips[0] (clip0).ranges[1]"));
+    mm_config_free(&cfg);
+    mm_clip_free(&clip);
+}
+
+static mm_database build_small(void)
+{
+    mm_clip clips[2];
+    make_motion(&clips[0], 100, 60.0f, 2.0, 1.0);
+    make_motion(&clips[1], 80, 60.0f, 0.0, 2.0);
+    mm_config cfg;
+    test_config(&cfg, 2);
+    cfg.clips[1].mirror = true;
+    mm_db_build_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.config_json = "{\"interval\": 0.0166667}";
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, clips, &desc, &db, NULL), MM_OK);
+    mm_config_free(&cfg);
+    mm_clip_free(&clips[0]);
+    mm_clip_free(&clips[1]);
+    return db;
+}
+
+static void test_save_load_round_trip(void **state)
+{
+    (void)state;
+    mm_database a = build_small(), b = build_small();
+    /* Deterministic: the same inputs give the same bytes. */
+    assert_int_equal(a.size, b.size);
+    assert_memory_equal(a.data, b.data, a.size);
+    mm_database_free(&b);
+    char path[] = "/tmp/mm_test_db_XXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_save(&a, path, &err), MM_OK);
+    assert_int_equal(mm_database_load(path, NULL, &b, &err), MM_OK);
+    assert_int_equal(b.size, a.size);
+    assert_memory_equal(b.data, a.data, a.size);
+    assert_int_equal(b.frame_count, a.frame_count);
+    assert_int_equal(b.clip_count, 3);
+    assert_string_equal(b.clips[2].name, "clip1_mirror");
+    assert_string_equal(b.config_json, "{\"interval\": 0.0166667}");
+    assert_memory_equal(b.features, a.features, sizeof(float) * (size_t)a.frame_count * a.dims_padded);
+    mm_database_free(&b);
+    remove(path);
+    mm_database_free(&a);
+}
+
+/* Loading a damaged copy of db's bytes must fail with code and a message containing what. */
+static void expect_refused(const mm_database *db, size_t size, size_t flip_at, int verify, mm_result code,
+                           const char *what)
+{
+    unsigned char *copy = aligned_alloc(MM_DB_ALIGN, (db->size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
+    memcpy(copy, db->data, db->size);
+    if (flip_at != (size_t)-1) copy[flip_at] ^= 0x40;
+    mm_database out;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_result r = mm_database_load_memory(copy, size, verify, &out, &err);
+    if (r != code || !strstr(err.message, what))
+        print_error("got %s '%s', wanted %s '%s'\n", mm_result_name(r), err.message, mm_result_name(code), what);
+    assert_int_equal(r, code);
+    assert_non_null(strstr(err.message, what));
+    assert_null(out.data);
+    free(copy);
+}
+
+static void test_bad_files(void **state)
+{
+    (void)state;
+    mm_database db = build_small();
+    const size_t none = (size_t)-1;
+    expect_refused(&db, db.size, 0, 1, MM_ERR_SYNTAX, "bad magic");
+    expect_refused(&db, 10, none, 1, MM_ERR_SYNTAX, "bad magic");
+    expect_refused(&db, 100, none, 1, MM_ERR_UNEXPECTED_EOF, "truncated header");
+    expect_refused(&db, db.size - 64, none, 1, MM_ERR_UNEXPECTED_EOF, "truncated");
+    expect_refused(&db, db.size, 12, 1, MM_ERR_OUT_OF_RANGE, "version");
+    expect_refused(&db, db.size, db.size / 2, 1, MM_ERR_SYNTAX, "checksum");
+    expect_refused(&db, db.size, db.size - 1, 1, MM_ERR_SYNTAX, "checksum");
+    /* Without the checksum, structural damage is still caught: a frame count that does not match
+     * the sections (byte 44 is frame_count). */
+    expect_refused(&db, db.size, 44, 0, MM_ERR_SYNTAX, "");
+    /* Every truncation fails cleanly. */
+    for (size_t n = 0; n < db.size; n += 97) {
+        unsigned char *copy = aligned_alloc(MM_DB_ALIGN, (db.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
+        memcpy(copy, db.data, db.size);
+        mm_database out;
+        assert_int_not_equal(mm_database_load_memory(copy, n, true, &out, NULL), MM_OK);
+        free(copy);
+    }
+    /* A missing file names the file. */
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_database out;
+    assert_int_equal(mm_database_load("/nonexistent/x.mmdb", NULL, &out, &err), MM_ERR_IO);
+    assert_string_equal(err.file, "/nonexistent/x.mmdb");
+    mm_database_free(&db);
+}
+
+static void test_bad_configs(void **state)
+{
+    (void)state;
+    mm_clip clip;
+    make_motion(&clip, 100, 60.0f, 0.0, 1.0);
+    mm_config cfg;
+    mm_database db;
+    mm_error err;
+    test_config(&cfg, 1);
+    cfg.interval = -1.0f;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, &err), MM_ERR_OUT_OF_RANGE);
+    assert_non_null(strstr(err.message, "interval"));
+    cfg.interval = 1.0f / 60.0f;
+    snprintf(cfg.root_bone, MM_NAME_MAX, "Chest");
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, &err), MM_ERR_NOT_FOUND);
+    assert_non_null(strstr(err.message, "roles.root_bone: no joint named 'Chest'"));
+    snprintf(cfg.root_bone, MM_NAME_MAX, "Spine2");
+    snprintf(cfg.bones[0].name, MM_NAME_MAX, "LeftAnkle");
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, &err), MM_ERR_NOT_FOUND);
+    assert_non_null(strstr(err.message, "features.bones[0]: no joint named 'LeftAnkle'"));
+    snprintf(cfg.bones[0].name, MM_NAME_MAX, "LeftFoot");
+    snprintf(cfg.left_toe, MM_NAME_MAX, "LeftToeBase");
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, &err), MM_ERR_NOT_FOUND);
+    assert_non_null(strstr(err.message, "roles.left_toe"));
+    snprintf(cfg.left_toe, MM_NAME_MAX, "LeftToe");
+    cfg.traj_times[1] = NAN;
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, &err), MM_ERR_OUT_OF_RANGE);
+    assert_non_null(strstr(err.message, "trajectory_times[1]"));
+    mm_config_free(&cfg);
+    mm_clip_free(&clip);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_circle_features), cmocka_unit_test(test_loop_wraps),
+        cmocka_unit_test(test_normalisation_and_bounds), cmocka_unit_test(test_contacts),
+        cmocka_unit_test(test_mirror), cmocka_unit_test(test_blend_speed),
+        cmocka_unit_test(test_tags_and_ranges), cmocka_unit_test(test_save_load_round_trip),
+        cmocka_unit_test(test_bad_files), cmocka_unit_test(test_bad_configs),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
