@@ -92,5 +92,40 @@ expect_exit 1 "$mm" bvh info "$tmp/nan.bvh"
 expect_grep "nan.bvh:10:5:" "$tmp/err"
 expect_grep "not a finite number" "$tmp/err"
 
+# config explain / check
+expect_exit 0 "$mm" config explain interval
+expect_grep "seed's Interval" "$tmp/out"
+expect_exit 1 "$mm" config explain no_such_field
+expect_exit 0 "$mm" config check "$data/configs/cmu_style.json"
+expect_grep "1 clips" "$tmp/out"
+printf '{"clips": [{"file": "missing.bvh"}]}' >"$tmp/missing.json"
+expect_exit 1 "$mm" config check "$tmp/missing.json"
+expect_grep "missing.bvh" "$tmp/err"
+printf '{"interval": 0.02,\n "clipz": []}' >"$tmp/typo.json"
+expect_exit 1 "$mm" config check "$tmp/typo.json"
+expect_grep "typo.json: clipz: unknown field" "$tmp/err"
+
+# db build / info / dump: deterministic bytes, the JSON fields users rely on
+expect_exit 0 "$mm" db build "$data/configs/cmu_style.json" -o "$tmp/a.mmdb"
+expect_grep "8 frames, 27 dims, 2 clips" "$tmp/out"
+expect_exit 0 "$mm" db build "$data/configs/cmu_style.json" -o "$tmp/b.mmdb"
+if cmp -s "$tmp/a.mmdb" "$tmp/b.mmdb"; then ok; else bad "two builds of one config differ"; fi
+expect_exit 0 "$mm" db info "$tmp/a.mmdb" --json
+expect_grep '"frames": 8, "dims": 27' "$tmp/out"
+expect_grep '"clips": 2' "$tmp/out"
+expect_grep '"clip_names": \["cmu", "cmu_mirror"\]' "$tmp/out"
+expect_grep '"tags": \["DoNotUse"\]' "$tmp/out"
+expect_grep '"bytes": ' "$tmp/out"
+expect_exit 0 "$mm" db dump "$tmp/a.mmdb"
+cp "$tmp/out" "$tmp/dump1"
+expect_exit 0 "$mm" db dump "$tmp/b.mmdb"
+if cmp -s "$tmp/out" "$tmp/dump1"; then ok; else bad "dumps differ"; fi
+expect_grep "^clip 1 cmu_mirror" "$tmp/out"
+head -c 1000 "$tmp/a.mmdb" >"$tmp/short.mmdb"
+expect_exit 1 "$mm" db info "$tmp/short.mmdb"
+expect_grep "short.mmdb" "$tmp/err"
+expect_exit 1 "$mm" db build "$tmp/missing.json" -o "$tmp/c.mmdb"
+if [ ! -e "$tmp/c.mmdb" ]; then ok; else bad "a failed build left its output"; fi
+
 echo "test_cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -407,7 +407,13 @@ static void test_save_load_round_trip(void **state)
     memset(&err, 0, sizeof err);
     assert_int_equal(mm_database_save(&a, path, &err), MM_OK);
     assert_int_equal(mm_database_load(path, NULL, &b, &err), MM_OK);
+    assert_true(b.mapped);
     assert_int_equal(b.size, a.size);
+    assert_memory_equal(b.data, a.data, a.size);
+    mm_database_free(&b);
+    mm_db_load_desc read_desc = {.no_map = true};
+    assert_int_equal(mm_database_load(path, &read_desc, &b, &err), MM_OK);
+    assert_false(b.mapped);
     assert_memory_equal(b.data, a.data, a.size);
     assert_int_equal(b.frame_count, a.frame_count);
     assert_int_equal(b.clip_count, 3);

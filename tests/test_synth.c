@@ -73,12 +73,13 @@ static void test_skeleton(void **state)
     mm_skeleton s;
     assert_int_equal(mm_synth_skeleton(&s, NULL), MM_OK);
     assert_int_equal(s.joint_count, 22);
-    static const char *names[] = {"Hips",     "Spine",    "Spine1",       "Spine2",      "Neck",
-                                  "Head",     "LeftShoulder", "LeftArm",  "LeftForeArm", "LeftHand",
-                                  "RightShoulder", "RightArm", "RightForeArm", "RightHand", "LeftUpLeg",
-                                  "LeftLeg",  "LeftFoot", "LeftToe",      "RightUpLeg",  "RightLeg",
-                                  "RightFoot", "RightToe"};
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) assert_true(mm_skeleton_find(&s, names[i]) >= 0);
+    static const char *names[] = {"Hips",          "Spine",        "Spine1",       "Spine2",      "Neck",
+                                  "Head",          "LeftShoulder", "LeftArm",      "LeftForeArm", "LeftHand",
+                                  "RightShoulder", "RightArm",     "RightForeArm", "RightHand",   "LeftUpLeg",
+                                  "LeftLeg",       "LeftFoot",     "LeftToe",      "RightUpLeg",  "RightLeg",
+                                  "RightFoot",     "RightToe"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
+        assert_true(mm_skeleton_find(&s, names[i]) >= 0);
     assert_int_equal(mm_skeleton_find(&s, "Hips"), 0);
     assert_true(s.joints[0].flags & MM_JOINT_TRANSLATES);
     mm_error err;
@@ -108,14 +109,35 @@ static void test_set_content(void **state)
     }
     assert_true(total >= 180.0);
     /* What the issue asks for, with the planned values. */
-    static const char *required[] = {"idle",           "walk_1.05",         "walk_1.40",          "walk_1.75",
-                                     "run_3.00",       "run_3.80",          "run_4.60",           "walk_arc_left_r1.5",
-                                     "walk_arc_right_r1.5", "walk_arc_left_r3.0", "walk_arc_right_r3.0",
-                                     "run_arc_left_r4.0", "run_arc_right_r4.0", "run_arc_left_r8.0",
-                                     "run_arc_right_r8.0", "walk_start",   "walk_stop",          "run_start",
-                                     "run_stop",       "turn_left_90",      "turn_right_90",      "turn_left_180",
-                                     "turn_right_180", "sidestep_left",     "sidestep_right",     "walk_backward",
-                                     "walk_to_run",    "run_to_walk",       "jump"};
+    static const char *required[] = {"idle",
+                                     "walk_1.05",
+                                     "walk_1.40",
+                                     "walk_1.75",
+                                     "run_3.00",
+                                     "run_3.80",
+                                     "run_4.60",
+                                     "walk_arc_left_r1.5",
+                                     "walk_arc_right_r1.5",
+                                     "walk_arc_left_r3.0",
+                                     "walk_arc_right_r3.0",
+                                     "run_arc_left_r4.0",
+                                     "run_arc_right_r4.0",
+                                     "run_arc_left_r8.0",
+                                     "run_arc_right_r8.0",
+                                     "walk_start",
+                                     "walk_stop",
+                                     "run_start",
+                                     "run_stop",
+                                     "turn_left_90",
+                                     "turn_right_90",
+                                     "turn_left_180",
+                                     "turn_right_180",
+                                     "sidestep_left",
+                                     "sidestep_right",
+                                     "walk_backward",
+                                     "walk_to_run",
+                                     "run_to_walk",
+                                     "jump"};
     for (size_t i = 0; i < sizeof required / sizeof required[0]; ++i) find_clip(required[i]);
     assert_near(find_clip("walk_1.40")->speed, 1.4, 1e-6);
     assert_near(find_clip("run_4.60")->speed, 4.6, 1e-6);
@@ -125,7 +147,8 @@ static void test_set_content(void **state)
     assert_near(find_clip("sidestep_left")->direction, MM_PI / 2, 1e-5);
     assert_near(find_clip("walk_backward")->direction, MM_PI, 1e-5);
     for (int k = 0; k < MM_SYNTH_KIND_COUNT; ++k) assert_true(kinds[k] >= 1);
-    assert_true(find_clip("idle")->loop && find_clip("walk_1.05")->loop && find_clip("run_arc_left_r4.0")->loop);
+    assert_true(find_clip("idle")->loop && find_clip("walk_1.05")->loop &&
+                find_clip("run_arc_left_r4.0")->loop);
     assert_false(find_clip("jump")->loop || find_clip("walk_start")->loop);
 }
 
@@ -245,8 +268,8 @@ static void test_continuity(void **state)
                 double step = fmax(mm_vec3_distance(a, b), mm_vec3_distance(b, d));
                 if (second > worst) worst = second;
                 if (second > 0.5 * step + 0.02 || second > 0.05) {
-                    print_error("%s joint %d frame %d: second difference %.4f m, step %.4f m\n", c->name, j, f,
-                                second, step);
+                    print_error("%s joint %d frame %d: second difference %.4f m, step %.4f m\n", c->name, j,
+                                f, second, step);
                     fail();
                 }
             }
@@ -270,7 +293,8 @@ static void test_knees(void **state)
                 int hip = side ? RUPLEG : LUPLEG, knee = hip + 1, ankle = hip + 2;
                 mm_vec3 h = p[f * NJ + hip], k = p[f * NJ + knee], a = p[f * NJ + ankle];
                 mm_vec3 thigh = mm_vec3_sub(k, h), shin = mm_vec3_sub(a, k);
-                double flex = acos(fmin(1.0, mm_vec3_dot(thigh, shin) / (mm_vec3_length(thigh) * mm_vec3_length(shin))));
+                double flex = acos(
+                    fmin(1.0, mm_vec3_dot(thigh, shin) / (mm_vec3_length(thigh) * mm_vec3_length(shin))));
                 if (flex < lo) lo = flex;
                 if (flex > hi) hi = flex;
                 assert_true(flex > 2.0 * MM_DEG_TO_RAD && flex < 150.0 * MM_DEG_TO_RAD);
@@ -443,12 +467,16 @@ static void test_loops_close(void **state)
             const mm_xform *a = g + f * NJ, *b = g + ((f + 1) % n) * NJ;
             double d = fabs(a[0].translation.y - b[0].translation.y);
             for (int j = 1; j < NJ; ++j) {
-                mm_vec3 pa = mm_quat_inv_rotate(a[0].rotation, mm_vec3_sub(a[j].translation, a[0].translation));
-                mm_vec3 pb = mm_quat_inv_rotate(b[0].rotation, mm_vec3_sub(b[j].translation, b[0].translation));
+                mm_vec3 pa =
+                    mm_quat_inv_rotate(a[0].rotation, mm_vec3_sub(a[j].translation, a[0].translation));
+                mm_vec3 pb =
+                    mm_quat_inv_rotate(b[0].rotation, mm_vec3_sub(b[j].translation, b[0].translation));
                 d = fmax(d, mm_vec3_distance(pa, pb));
             }
-            if (f == n - 1) closing = d;
-            else step_max = fmax(step_max, d);
+            if (f == n - 1)
+                closing = d;
+            else
+                step_max = fmax(step_max, d);
         }
         assert_true(closing <= step_max);
         /* The root moves on at the same speed across the seam. */

@@ -1,4 +1,5 @@
 /* mm bvh info | fk | convert */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -210,6 +211,126 @@ static int cmd_convert(int argc, char **argv)
     return 0;
 }
 
+
+/* Frame spans for database configs: where the character lies down (hips below a height, widened
+ * by a margin) and, in the rest, where it stands (root slower than a speed for long enough).
+ * Prints JSON: {"file", "frames", "fps", "excluded": [[b, e)...], "idle": [...], "locomotion": [...]}. */
+static void print_spans(const char *key, const int (*spans)[2], int n, int last)
+{
+    printf("  \"%s\": [", key);
+    for (int i = 0; i < n; ++i) printf("%s[%d, %d]", i ? ", " : "", spans[i][0], spans[i][1]);
+    printf("]%s\n", last ? "" : ",");
+}
+
+static int cmd_spans(int argc, char **argv)
+{
+    const char *path = NULL, *hips_name = "Hips", *root_name = "Spine2";
+    double scale = 0.0, low = 0.6, pad = 1.0, idle_speed = 0.15, idle_min = 1.0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        double *num = strcmp(a, "--scale") == 0 ? &scale : strcmp(a, "--low-hips") == 0 ? &low
+                      : strcmp(a, "--pad") == 0 ? &pad : strcmp(a, "--idle-speed") == 0 ? &idle_speed
+                      : strcmp(a, "--idle-min") == 0 ? &idle_min : NULL;
+        if (num) {
+            if (!v || !cli_parse_double(v, num) || *num < 0) return cli_usage_error("bvh spans", "%s needs a number >= 0", a);
+            ++i;
+        } else if (strcmp(a, "--hips") == 0 && v) {
+            hips_name = argv[++i];
+        } else if (strcmp(a, "--root-bone") == 0 && v) {
+            root_name = argv[++i];
+        } else if (a[0] == '-' && a[1]) {
+            return cli_usage_error("bvh spans", "unknown option '%s'", a);
+        } else if (!path) {
+            path = a;
+        } else {
+            return cli_usage_error("bvh spans", "unexpected argument '%s'", a);
+        }
+    }
+    if (!path)
+        return cli_usage_error("bvh spans", "usage: mm bvh spans FILE [--scale S] [--hips NAME] [--root-bone NAME] "
+                                            "[--low-hips 0.6] [--pad 1] [--idle-speed 0.15] [--idle-min 1]");
+    mm_bvh bvh;
+    if (load(path, &bvh)) return 1;
+    mm_bvh_import_desc imp;
+    memset(&imp, 0, sizeof imp);
+    imp.scale = (float)scale;
+    imp.auto_scale = scale == 0.0;
+    mm_clip clip;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    snprintf(err.file, sizeof err.file, "%s", path);
+    mm_result r = mm_bvh_to_clip(&bvh, &imp, &clip, &err);
+    mm_bvh_free(&bvh);
+    if (r != MM_OK) return cli_report(&err);
+    int hips = mm_skeleton_find(&clip.skeleton, hips_name), root = mm_skeleton_find(&clip.skeleton, root_name);
+    if (hips < 0 || root < 0) {
+        fprintf(stderr, "mm: %s: no joint named '%s'\n", path, hips < 0 ? hips_name : root_name);
+        mm_clip_free(&clip);
+        return 1;
+    }
+    int n = clip.frame_count, jc = clip.skeleton.joint_count;
+    mm_xform *g = malloc(sizeof(mm_xform) * (size_t)jc);
+    double *x = malloc(sizeof(double) * (size_t)n * 3);
+    unsigned char *excluded = calloc((size_t)n, 1), *idle = calloc((size_t)n, 1);
+    int (*spans)[2] = malloc(sizeof(int[2]) * ((size_t)n + 1));
+    if (!g || !x || !excluded || !idle || !spans) {
+        fprintf(stderr, "mm: out of memory\n");
+        return 1;
+    }
+    for (int f = 0; f < n; ++f) {
+        mm_clip_fk(&clip, f, g);
+        x[3 * f] = g[root].translation.x;
+        x[3 * f + 1] = g[root].translation.z;
+        x[3 * f + 2] = g[hips].translation.y;
+    }
+    /* excluded: hips low, widened by pad seconds on each side */
+    int widen = (int)lround(pad * clip.fps);
+    for (int f = 0; f < n; ++f)
+        if (x[3 * f + 2] < low)
+            for (int k = f - widen; k <= f + widen; ++k)
+                if (k >= 0 && k < n) excluded[k] = 1;
+    /* idle: root speed (central differences over +-0.1 s) below idle_speed for idle_min seconds */
+    int h = (int)lround(0.1 * clip.fps) > 0 ? (int)lround(0.1 * clip.fps) : 1, min_len = (int)lround(idle_min * clip.fps);
+    for (int f = 0; f < n;) {
+        int e = f;
+        while (e < n && !excluded[e]) {
+            int a = e - h < 0 ? 0 : e - h, b = e + h >= n ? n - 1 : e + h;
+            double speed = b > a ? hypot(x[3 * b] - x[3 * a], x[3 * b + 1] - x[3 * a + 1]) * clip.fps / (b - a) : 0;
+            if (speed >= idle_speed) break;
+            ++e;
+        }
+        if (e - f >= min_len)
+            for (int k = f; k < e; ++k) idle[k] = 1;
+        f = e > f ? e : f + 1;
+    }
+    printf("{\n  \"file\": ");
+    cli_json_string(stdout, path);
+    printf(",\n  \"frames\": %d,\n  \"fps\": %.6g,\n", n, clip.fps);
+    for (int kind = 0; kind < 3; ++kind) {
+        int count = 0;
+        for (int f = 0; f < n;) {
+            int in = kind == 0 ? excluded[f] : kind == 1 ? (!excluded[f] && idle[f]) : (!excluded[f] && !idle[f]);
+            int e = f;
+            while (e < n && (kind == 0 ? excluded[e] : kind == 1 ? (!excluded[e] && idle[e]) : (!excluded[e] && !idle[e])) == in) ++e;
+            if (in && e - f >= 2) {
+                spans[count][0] = f;
+                spans[count][1] = e;
+                ++count;
+            }
+            f = e;
+        }
+        print_spans(kind == 0 ? "excluded" : kind == 1 ? "idle" : "locomotion", (const int(*)[2])spans, count, kind == 2);
+    }
+    printf("}\n");
+    free(g);
+    free(x);
+    free(excluded);
+    free(idle);
+    free(spans);
+    mm_clip_free(&clip);
+    return 0;
+}
+
 int mm_cmd_bvh(int argc, char **argv)
 {
     if (argc < 2) return cli_usage_error("bvh", "usage: mm bvh info|fk|convert ...");
@@ -217,5 +338,6 @@ int mm_cmd_bvh(int argc, char **argv)
     if (strcmp(sub, "info") == 0) return cmd_info(argc - 1, argv + 1);
     if (strcmp(sub, "fk") == 0) return cmd_fk(argc - 1, argv + 1);
     if (strcmp(sub, "convert") == 0) return cmd_convert(argc - 1, argv + 1);
-    return cli_usage_error("bvh", "unknown subcommand '%s' (info, fk, convert)", sub);
+    if (strcmp(sub, "spans") == 0) return cmd_spans(argc - 1, argv + 1);
+    return cli_usage_error("bvh", "unknown subcommand '%s' (info, fk, convert, spans)", sub);
 }

@@ -77,13 +77,14 @@ static int write_json(const char *path, const mm_synth_set *set, uint64_t seed, 
         frames += set->clips[i].clip.frame_count;
     }
     mm_skeleton *sk = &set->clips[0].clip.skeleton;
-    fprintf(f, "{\n  \"generator\": \"mm synth\",\n  \"version\": \"%s\",\n  \"seed\": %llu,\n  \"fps\": %.9g,\n",
-            MM_VERSION_STRING, (unsigned long long)seed, (double)fps);
+    fprintf(
+        f, "{\n  \"generator\": \"mm synth\",\n  \"version\": \"%s\",\n  \"seed\": %llu,\n  \"fps\": %.9g,\n",
+        MM_VERSION_STRING, (unsigned long long)seed, (double)fps);
     fprintf(f, "  \"units\": {\"length\": \"m\", \"time\": \"s\", \"angle\": \"rad\"},\n");
     fprintf(f, "  \"skeleton\": {\"joints\": %d, \"height\": %.4f},\n", sk->joint_count,
             (double)mm_skeleton_estimate_height(sk, NULL, NULL));
-    fprintf(f, "  \"clip_count\": %d,\n  \"total_frames\": %ld,\n  \"total_duration\": %.4f,\n", set->clip_count,
-            frames, total);
+    fprintf(f, "  \"clip_count\": %d,\n  \"total_frames\": %ld,\n  \"total_duration\": %.4f,\n",
+            set->clip_count, frames, total);
     fprintf(f, "  \"clips\": [\n");
     for (int i = 0; i < set->clip_count; ++i) {
         const mm_synth_clip *c = &set->clips[i];
@@ -171,14 +172,16 @@ int mm_cmd_synth(int argc, char **argv)
         if (mm_bvh_save(path, &set.clips[i].clip, NULL, &err) != MM_OK) rc = cli_report(&err);
     }
     if (rc == 0) {
-        if (snprintf(path, sizeof path, "%s/clips.json", outdir) >= (int)sizeof path) rc = 1;
-        else rc = write_json(path, &set, seed, (float)fps);
+        if (snprintf(path, sizeof path, "%s/clips.json", outdir) >= (int)sizeof path)
+            rc = 1;
+        else
+            rc = write_json(path, &set, seed, (float)fps);
     }
     if (rc == 0) {
         double total = 0.0;
         for (int i = 0; i < set.clip_count; ++i) total += (double)set.clips[i].clip.frame_count / fps;
-        printf("mm synth: wrote %d clips (%.1f s at %g fps) and clips.json to %s\n", set.clip_count, total, fps,
-               outdir);
+        printf("mm synth: wrote %d clips (%.1f s at %g fps) and clips.json to %s\n", set.clip_count, total,
+               fps, outdir);
     }
     mm_synth_set_free(&set);
     return rc;

@@ -5,7 +5,9 @@
 
 int mm_cmd_bvh(int argc, char **argv);
 int mm_cmd_config(int argc, char **argv);
+int mm_cmd_convert(int argc, char **argv);
 int mm_cmd_db(int argc, char **argv);
+int mm_cmd_import(int argc, char **argv);
 int mm_cmd_synth(int argc, char **argv);
 
 #endif

@@ -141,8 +141,15 @@ typedef struct mm_database {
     const void *data;
     size_t size;
     void *owned;             /* buffer to free, or NULL when the caller owns data */
+    bool mapped;             /* data is a read-only mapping of the file (unmapped by free) */
     mm_allocator allocator;
 } mm_database;
+
+typedef struct mm_db_load_desc {
+    bool skip_checksum;            /* skip the whole-file checksum (structure is still validated) */
+    bool no_map;                   /* read into memory instead of mapping the file */
+    const mm_allocator *allocator; /* for the read buffer; NULL: malloc */
+} mm_db_load_desc;
 
 typedef struct mm_db_build_desc {
     const char *config_json;       /* text to embed (the config as read); NULL: none */
@@ -159,8 +166,9 @@ mm_result mm_database_build(const mm_config *config, const mm_clip *sources, con
 /* Writes the database's buffer (atomically: temporary file and rename). */
 mm_result mm_database_save(const mm_database *db, const char *path, mm_error *err);
 
-/* Loads a .mmdb file into one allocation and validates it. */
-mm_result mm_database_load(const char *path, const mm_allocator *allocator, mm_database *out, mm_error *err);
+/* Loads a .mmdb file and validates it: by default the file is mapped read-only (it is used in
+ * place, pages come in as they are touched) and its checksum verified. desc may be NULL. */
+mm_result mm_database_load(const char *path, const mm_db_load_desc *desc, mm_database *out, mm_error *err);
 /* Validates a buffer holding a .mmdb file and points into it (the caller keeps it alive and
  * aligned to MM_DB_ALIGN). verify_checksum: check the whole-file checksum too. */
 mm_result mm_database_load_memory(const void *data, size_t size, bool verify_checksum, mm_database *out,

@@ -75,7 +75,7 @@ enum mm_synth_contact {
 };
 
 #define MM_SYNTH_JOINT_COUNT 22
-#define MM_SYNTH_NAME_MAX 48
+#define MM_SYNTH_NAME_MAX    48
 
 /* One clip with its ground truth. Nominal values are the plan's inputs, not measurements. */
 typedef struct mm_synth_clip {

@@ -5,9 +5,15 @@
  * checksum covers every byte after the checksum field. Loading checks the header, every offset
  * and size against the counts, and the cross references (parents, clip ranges, next frames,
  * feature groups), then points into the buffer: no pointer is ever stored in the file. */
+#define _POSIX_C_SOURCE 200809L
 #include "db/db_file.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
@@ -292,33 +298,55 @@ mm_result mm_database_load_memory(const void *data, size_t size, bool verify_che
     return MM_OK;
 }
 
-mm_result mm_database_load(const char *path, const mm_allocator *allocator, mm_database *out, mm_error *err)
+mm_result mm_database_load(const char *path, const mm_db_load_desc *desc, mm_database *out, mm_error *err)
 {
     if (!out) return MM_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     mm__error_set_file(err, path);
-    FILE *f = path ? fopen(path, "rb") : NULL;
-    if (!f) return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot open");
-    long size = -1;
-    if (fseek(f, 0, SEEK_END) == 0) size = ftell(f);
-    if (size < 0 || fseek(f, 0, SEEK_SET) != 0) {
-        fclose(f);
-        return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot read (not a regular file?)");
+    const mm_allocator *allocator = desc ? desc->allocator : NULL;
+    bool verify = !(desc && desc->skip_checksum);
+    int fd = path ? open(path, O_RDONLY) : -1;
+    if (fd < 0) return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        return mm_error_set(err, MM_ERR_IO, 0, 0, "not a regular file");
     }
-    if ((unsigned long)size >= MM__MAX_FILE_BYTES) {
-        fclose(f);
-        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "file is %ld bytes, more than allowed", size);
+    if ((unsigned long long)st.st_size >= MM__MAX_FILE_BYTES) {
+        close(fd);
+        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "file is %lld bytes, more than allowed", (long long)st.st_size);
     }
-    unsigned char *raw = (unsigned char *)mm_alloc(allocator, (size_t)size + MM_DB_ALIGN);
+    size_t size = (size_t)st.st_size;
+    mm_result r;
+    if (!(desc && desc->no_map) && size > 0) {
+        void *map = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
+        if (map != MAP_FAILED) { /* page-aligned, so MM_DB_ALIGN-aligned */
+            close(fd);
+            r = mm_database_load_memory(map, size, verify, out, err);
+            if (r != MM_OK) {
+                munmap(map, size);
+                return r;
+            }
+            out->owned = map;
+            out->mapped = true;
+            return MM_OK;
+        }
+    }
+    unsigned char *raw = (unsigned char *)mm_alloc(allocator, size + MM_DB_ALIGN);
     if (!raw) {
-        fclose(f);
-        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%ld bytes)", size);
+        close(fd);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%zu bytes)", size);
     }
     unsigned char *base = raw + (align_up((size_t)(uintptr_t)raw) - (size_t)(uintptr_t)raw);
-    size_t got = fread(base, 1, (size_t)size, f);
-    fclose(f);
-    mm_result r = got == (size_t)size ? mm_database_load_memory(base, (size_t)size, true, out, err)
-                                      : mm_error_set(err, MM_ERR_IO, 0, 0, "read error");
+    size_t got = 0;
+    while (got < size) {
+        ssize_t n = read(fd, base + got, size - got);
+        if (n <= 0) break;
+        got += (size_t)n;
+    }
+    close(fd);
+    r = got == size ? mm_database_load_memory(base, size, verify, out, err)
+                    : mm_error_set(err, MM_ERR_IO, 0, 0, "read error");
     if (r != MM_OK) {
         mm_free(allocator, raw);
         return r;
@@ -331,8 +359,12 @@ mm_result mm_database_load(const char *path, const mm_allocator *allocator, mm_d
 void mm_database_free(mm_database *db)
 {
     if (!db) return;
-    mm_allocator a = db->allocator;
-    mm_free(&a, db->owned);
+    if (db->mapped) {
+        munmap(db->owned, db->size);
+    } else {
+        mm_allocator a = db->allocator;
+        mm_free(&a, db->owned);
+    }
     memset(db, 0, sizeof *db);
 }
 

@@ -632,6 +632,34 @@ static void set_joint_name(mm_skeleton *s, int j, const char *name)
     }
 }
 
+/* Whether the channel moves its node: some key differs from the node's static transform. A
+ * channel that only repeats the rest transform (Blender keys its armature objects so) does not
+ * make a joint. */
+static bool channel_moves(const struct aiNodeAnim *ch, const struct aiNode *node)
+{
+    dmat4 m = dmat4_from_ai(&node->mTransformation);
+    double t[3], sc[3];
+    dquat q;
+    decompose(&m, t, &q, sc);
+    double size = 1.0 + sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (unsigned i = 0; ch->mPositionKeys && i < ch->mNumPositionKeys; ++i) {
+        const struct aiVector3D *v = &ch->mPositionKeys[i].mValue;
+        if (fabs(v->x - t[0]) > 1e-5 * size || fabs(v->y - t[1]) > 1e-5 * size || fabs(v->z - t[2]) > 1e-5 * size)
+            return true;
+    }
+    for (unsigned i = 0; ch->mRotationKeys && i < ch->mNumRotationKeys; ++i) {
+        dquat k = ai_quat(&ch->mRotationKeys[i].mValue);
+        if (fabs(k.x * q.x + k.y * q.y + k.z * q.z + k.w * q.w) < 1.0 - 1e-9) return true;
+    }
+    for (unsigned i = 0; ch->mScalingKeys && i < ch->mNumScalingKeys; ++i) {
+        const struct aiVector3D *v = &ch->mScalingKeys[i].mValue;
+        if (fabs(v->x - sc[0]) > 1e-5 * fabs(sc[0]) || fabs(v->y - sc[1]) > 1e-5 * fabs(sc[1]) ||
+            fabs(v->z - sc[2]) > 1e-5 * fabs(sc[2]))
+            return true;
+    }
+    return false;
+}
+
 /* Builds the clip of one take; returns MM_ERR_NOT_FOUND (without message) for a take that
  * animates no node of the scene. */
 static mm_result import_take(importer *im, const struct aiAnimation *an, const mm_import_desc *desc, mm_clip *out,
@@ -657,7 +685,7 @@ static mm_result import_take(importer *im, const struct aiAnimation *an, const m
         if (k < 0 || im->nodes[k].channel >= 0) continue;
         im->nodes[k].channel = (int)c;
         int o = im->nodes[k].owner;
-        if (o < 0) continue;
+        if (o < 0 || !channel_moves(ch, im->nodes[k].node)) continue;
         im->nodes[o].marked = 1;
         /* 2. lowest common ancestor of the animated nodes */
         if (lca < 0) {

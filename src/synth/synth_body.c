@@ -14,13 +14,15 @@ float synth_wrap_angle(float a)
     return a;
 }
 
-mm_quat synth_quat_from_frame(mm_vec3 primary, mm_vec3 secondary, mm_vec3 rest_primary, mm_vec3 rest_secondary)
+mm_quat synth_quat_from_frame(mm_vec3 primary, mm_vec3 secondary, mm_vec3 rest_primary,
+                              mm_vec3 rest_secondary)
 {
     mm_vec3 p = mm_vec3_normalize(primary);
     mm_vec3 s = mm_vec3_normalize(mm_vec3_sub(secondary, mm_vec3_scale(p, mm_vec3_dot(secondary, p))));
     mm_vec3 t = mm_vec3_cross(p, s);
     mm_vec3 rp = mm_vec3_normalize(rest_primary);
-    mm_vec3 rs = mm_vec3_normalize(mm_vec3_sub(rest_secondary, mm_vec3_scale(rp, mm_vec3_dot(rest_secondary, rp))));
+    mm_vec3 rs =
+        mm_vec3_normalize(mm_vec3_sub(rest_secondary, mm_vec3_scale(rp, mm_vec3_dot(rest_secondary, rp))));
     mm_vec3 rt = mm_vec3_cross(rp, rs);
     const float w[3][3] = {{p.x, s.x, t.x}, {p.y, s.y, t.y}, {p.z, s.z, t.z}};
     const float r[3][3] = {{rp.x, rs.x, rt.x}, {rp.y, rs.y, rt.y}, {rp.z, rs.z, rt.z}};
@@ -102,7 +104,8 @@ void synth_pose_to_locals(const synth_body *b, const synth_pose *p, mm_quat *rot
     rot[SJ_SPINE] = part;
     rot[SJ_SPINE1] = mm_quat_mul(part, breathe);
     rot[SJ_SPINE2] = mm_quat_mul(part, breathe);
-    mm_quat chest = mm_quat_mul(pelvis, mm_quat_mul(rot[SJ_SPINE], mm_quat_mul(rot[SJ_SPINE1], rot[SJ_SPINE2])));
+    mm_quat chest =
+        mm_quat_mul(pelvis, mm_quat_mul(rot[SJ_SPINE], mm_quat_mul(rot[SJ_SPINE1], rot[SJ_SPINE2])));
 
     /* Neck and head share the rotation from the chest to the gaze. */
     mm_quat head = synth_yaw_pitch_roll(p->head_yaw, p->head_pitch, p->head_roll);

@@ -72,7 +72,7 @@ static void run_params(const synth_body *b, const synth_style *st, float v, synt
 }
 
 void synth_gait_eval(const synth_body *b, const synth_style *st, float speed, float gait, float activity,
-                     float turn_rate, synth_gait *out)
+                     float turn_rate, float direction, synth_gait *out)
 {
     synth_gait w, r;
     gait = synth_clampf(gait, 0.0f, 1.0f);
@@ -106,6 +106,9 @@ void synth_gait_eval(const synth_body *b, const synth_style *st, float speed, fl
     }
     /* Stepping on the spot while turning: a little quicker. */
     w.freq += 0.12f * fabsf(turn_rate);
+    /* Sideways: quicker, shorter steps (the feet must not cross, so every step spans the
+     * stance width plus the lateral stride). */
+    w.freq *= 1.0f + 0.35f * fabsf(sinf(direction));
     /* Amplitudes of the gait grow with the activity; standing has none. */
     float a = synth_clampf(activity, 0.0f, 1.0f);
     w.bob *= a;

@@ -20,8 +20,8 @@
 #include <mm/math.h>
 #include <mm/synth.h>
 
-#define SYNTH_PI 3.14159265358979323846f
-#define SYNTH_TAU 6.28318530717958647692f
+#define SYNTH_PI      3.14159265358979323846f
+#define SYNTH_TAU     6.28318530717958647692f
 #define SYNTH_GRAVITY 9.81f
 
 /* Joint indices of the standard skeleton (LAFAN1 order). */
@@ -52,7 +52,7 @@ enum synth_joint {
 };
 
 /* Side index: 0 left (+X), 1 right (-X). */
-#define SYNTH_LEFT 0
+#define SYNTH_LEFT  0
 #define SYNTH_RIGHT 1
 static inline float synth_side_sign(int side) { return side == SYNTH_LEFT ? 1.0f : -1.0f; }
 
@@ -61,13 +61,13 @@ static inline float synth_side_sign(int side) { return side == SYNTH_LEFT ? 1.0f
 typedef struct synth_body {
     mm_vec3 offset[SJ_COUNT]; /* rest offsets from the parent (root: rest Hips position) */
     int parent[SJ_COUNT];
-    float thigh, shin;     /* bone lengths */
-    float ankle_height;    /* Foot joint above the ground when the foot is flat */
-    mm_vec3 toe_offset;    /* Foot -> Toe in the flat foot's frame */
-    float leg_reach;       /* largest hip-ankle distance allowed (knee flexed at least min_knee) */
-    float min_knee;        /* smallest knee flexion, rad */
-    float stand_height;    /* Hips height of the relaxed standing pose */
-    float height;          /* top of the head when standing straight */
+    float thigh, shin;  /* bone lengths */
+    float ankle_height; /* Foot joint above the ground when the foot is flat */
+    mm_vec3 toe_offset; /* Foot -> Toe in the flat foot's frame */
+    float leg_reach;    /* largest hip-ankle distance allowed (knee flexed at least min_knee) */
+    float min_knee;     /* smallest knee flexion, rad */
+    float stand_height; /* Hips height of the relaxed standing pose */
+    float height;       /* top of the head when standing straight */
 } synth_body;
 
 extern const char *const synth_joint_names[SJ_COUNT];
@@ -170,7 +170,8 @@ static inline mm_quat synth_yaw_pitch_roll(float yaw, float pitch, float roll)
 }
 /* Rotation taking the orthonormal pair (rest_primary, rest_secondary) to (primary, secondary);
  * secondary is made orthogonal to primary first. */
-mm_quat synth_quat_from_frame(mm_vec3 primary, mm_vec3 secondary, mm_vec3 rest_primary, mm_vec3 rest_secondary);
+mm_quat synth_quat_from_frame(mm_vec3 primary, mm_vec3 secondary, mm_vec3 rest_primary,
+                              mm_vec3 rest_secondary);
 /* q^t for t in [0, 1] (the same axis, t times the angle). */
 mm_quat synth_quat_pow(mm_quat q, float t);
 /* Horizontal unit vector of heading yaw: (sin yaw, 0, cos yaw). */
@@ -180,13 +181,13 @@ static inline mm_vec3 synth_heading_dir(float yaw) { return mm_vec3_make(sinf(ya
 
 /* Global state of one foot for a frame. */
 typedef struct synth_foot {
-    mm_vec3 ankle;    /* Foot joint target, world */
-    float yaw;        /* heading of the foot, rad */
-    float pitch;      /* toe-up angle, rad: > 0 toes up (heel rocker), < 0 heel up (toe rocker) */
-    float toe_angle;  /* Toe joint local rotation about X, rad (< 0: toes bent up) */
-    bool heel, toe;   /* contact flags: this joint is planted */
-    float margin;     /* extra reach margin the pelvis keeps for this foot, m (knee flexion
-                         around liftoff and touchdown) */
+    mm_vec3 ankle;   /* Foot joint target, world */
+    float yaw;       /* heading of the foot, rad */
+    float pitch;     /* toe-up angle, rad: > 0 toes up (heel rocker), < 0 heel up (toe rocker) */
+    float toe_angle; /* Toe joint local rotation about X, rad (< 0: toes bent up) */
+    bool heel, toe;  /* contact flags: this joint is planted */
+    float margin;    /* extra reach margin the pelvis keeps for this foot, m (knee flexion
+                        around liftoff and touchdown) */
 } synth_foot;
 
 /* Global rotation of a foot of this yaw and toe-up pitch. */
@@ -204,7 +205,8 @@ mm_vec3 synth_foot_pivot_d(const synth_body *b, float yaw, float pitch);
  * rotations of the thigh and shin (knee a pure hinge about the thigh's X axis, bending forward
  * toward pole). Targets beyond b->leg_reach are pulled in along the hip-ankle line. Returns the
  * achieved ankle position. */
-mm_vec3 synth_leg_ik(const synth_body *b, mm_vec3 hip, mm_vec3 ankle, mm_vec3 pole, mm_quat *thigh, mm_quat *shin);
+mm_vec3 synth_leg_ik(const synth_body *b, mm_vec3 hip, mm_vec3 ankle, mm_vec3 pole, mm_quat *thigh,
+                     mm_quat *shin);
 
 /* Hip joint position for a pelvis at pos with rotation rot. */
 mm_vec3 synth_hip_position(const synth_body *b, int side, mm_vec3 pelvis, mm_quat rot);
@@ -242,7 +244,7 @@ typedef struct synth_gait {
 } synth_gait;
 
 void synth_gait_eval(const synth_body *b, const synth_style *st, float speed, float gait, float activity,
-                     float turn_rate, synth_gait *out);
+                     float turn_rate, float direction, synth_gait *out);
 /* Rocker scale: 0 standing, 1 from about 0.9 m/s. */
 float synth_roll_scale(float speed);
 
@@ -253,14 +255,14 @@ typedef struct synth_pose {
     mm_quat pelvis_rot; /* Hips rotation, world */
     float facing;       /* heading of the body, rad (the gaze follows it) */
     synth_foot foot[2];
-    mm_quat chest; /* desired Spine2 rotation, world; the spine distributes it */
-    float breath;  /* -1..1: chest and clavicle breathing */
+    mm_quat chest;                         /* desired Spine2 rotation, world; the spine distributes it */
+    float breath;                          /* -1..1: chest and clavicle breathing */
     float head_yaw, head_pitch, head_roll; /* head rotation, world (yaw absolute) */
-    float arm_swing[2];  /* shoulder flexion, rad (> 0 forward) */
-    float arm_abduct[2]; /* away from the body, rad */
-    float elbow[2];      /* elbow flexion, rad */
-    float clavicle[2];   /* clavicle elevation, rad */
-    float wrist[2];      /* wrist flexion, rad */
+    float arm_swing[2];                    /* shoulder flexion, rad (> 0 forward) */
+    float arm_abduct[2];                   /* away from the body, rad */
+    float elbow[2];                        /* elbow flexion, rad */
+    float clavicle[2];                     /* clavicle elevation, rad */
+    float wrist[2];                        /* wrist flexion, rad */
 } synth_pose;
 
 /* Writes the local rotations and translations (SJ_COUNT each) of the pose. */
@@ -286,13 +288,13 @@ typedef struct synth_ctx {
 
 /* Plan keyframe: values hold at t and change smoothly (C2) to the next key. */
 typedef struct synth_key {
-    float t;          /* s */
-    float speed;      /* m/s along the travel direction */
-    float curvature;  /* 1/m of the path, > 0 turns left */
-    float direction;  /* travel direction relative to facing, rad */
-    float turn_rate;  /* extra facing rotation, rad/s, > 0 left (turning on the spot) */
-    float gait;       /* 0 walk, 1 run */
-    float activity;   /* 0 standing, 1 stepping */
+    float t;         /* s */
+    float speed;     /* m/s along the travel direction */
+    float curvature; /* 1/m of the path, > 0 turns left */
+    float direction; /* travel direction relative to facing, rad */
+    float turn_rate; /* extra facing rotation, rad/s, > 0 left (turning on the spot) */
+    float gait;      /* 0 walk, 1 run */
+    float activity;  /* 0 standing, 1 stepping */
 } synth_key;
 
 #define SYNTH_MAX_KEYS 8
@@ -325,9 +327,9 @@ typedef struct synth_stance {
 } synth_stance;
 
 typedef struct synth_sample {
-    double phi;       /* gait phase, cycles */
-    double x, z;      /* root trajectory on the ground */
-    double heading;   /* facing, rad */
+    double phi;     /* gait phase, cycles */
+    double x, z;    /* root trajectory on the ground */
+    double heading; /* facing, rad */
 } synth_sample;
 
 /* The simulated plan: root trajectory and phase at a fine rate, and the planned footsteps. */

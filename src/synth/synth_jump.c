@@ -13,15 +13,15 @@
 #include "synth_internal.h"
 
 /* Timeline, s. */
-#define J_CROUCH 0.8f   /* start of the countermovement */
-#define J_PUSH 1.45f    /* deepest crouch, start of the push */
-#define J_PUSH_T 0.30f  /* push duration */
-#define J_HEEL_T 0.18f  /* heel rise before take-off */
-#define J_ROLL_T 0.12f  /* heels coming down after landing */
+#define J_CROUCH   0.8f  /* start of the countermovement */
+#define J_PUSH     1.45f /* deepest crouch, start of the push */
+#define J_PUSH_T   0.30f /* push duration */
+#define J_HEEL_T   0.18f /* heel rise before take-off */
+#define J_ROLL_T   0.12f /* heels coming down after landing */
 #define J_ABSORB_T 0.30f
 #define J_SETTLE_T 0.5f /* horizontal deceleration after landing */
-#define J_RISE_T 0.8f
-#define J_REST_T 0.8f
+#define J_RISE_T   0.8f
+#define J_REST_T   0.8f
 
 typedef struct jump_plan {
     float t_to, t_ld, t_end;
@@ -38,7 +38,8 @@ static float keyed(const float (*k)[2], int n, float t)
 {
     if (t <= k[0][0]) return k[0][1];
     for (int i = 0; i + 1 < n; ++i)
-        if (t < k[i + 1][0]) return synth_lerpf(k[i][1], k[i + 1][1], synth_smoother((t - k[i][0]) / (k[i + 1][0] - k[i][0])));
+        if (t < k[i + 1][0])
+            return synth_lerpf(k[i][1], k[i + 1][1], synth_smoother((t - k[i][0]) / (k[i + 1][0] - k[i][0])));
     return k[n - 1][1];
 }
 
@@ -124,8 +125,11 @@ static void pelvis_path(const jump_plan *j, float t, float *y, float *z)
         float u = t - j->t_ld;
         float sy = synth_clampf(u / J_ABSORB_T, 0.0f, 1.0f);
         float sz = synth_clampf(u / J_SETTLE_T, 0.0f, 1.0f);
-        if (u < J_ABSORB_T) *y = synth_hermite(j->y_ld, j->vy_ld * J_ABSORB_T, j->y_absorb, 0, sy);
-        else *y = synth_hermite(j->y_absorb, 0, j->y_stand, 0, synth_clampf((u - J_ABSORB_T) / J_RISE_T, 0.0f, 1.0f));
+        if (u < J_ABSORB_T)
+            *y = synth_hermite(j->y_ld, j->vy_ld * J_ABSORB_T, j->y_absorb, 0, sy);
+        else
+            *y = synth_hermite(j->y_absorb, 0, j->y_stand, 0,
+                               synth_clampf((u - J_ABSORB_T) / J_RISE_T, 0.0f, 1.0f));
         *z = synth_hermite(j->z_ld, j->vz * J_SETTLE_T, j->z_end, 0, sz);
     }
 }
@@ -163,7 +167,8 @@ static void stance_foot(const synth_body *b, const jump_plan *j, int side, float
     f->toe = beta <= 0.0f;
 }
 
-static void flight_foot(const synth_body *b, const jump_plan *j, int side, float t, mm_vec3 pelvis, synth_foot *f)
+static void flight_foot(const synth_body *b, const jump_plan *j, int side, float t, mm_vec3 pelvis,
+                        synth_foot *f)
 {
     float tf = j->t_ld - j->t_to;
     float s = (t - j->t_to) / tf;
@@ -178,7 +183,8 @@ static void flight_foot(const synth_body *b, const jump_plan *j, int side, float
     pelvis_path(j, j->t_ld, &y1, &z1);
     pelvis_velocity(j, j->t_to, &vy0, &vz0);
     pelvis_velocity(j, j->t_ld, &vy1, &vz1);
-    mm_vec3 r0 = mm_vec3_sub(a0, mm_vec3_make(0.0f, y0, z0)), r1 = mm_vec3_sub(a1, mm_vec3_make(0.0f, y1, z1));
+    mm_vec3 r0 = mm_vec3_sub(a0, mm_vec3_make(0.0f, y0, z0)),
+            r1 = mm_vec3_sub(a1, mm_vec3_make(0.0f, y1, z1));
     mm_vec3 m0 = mm_vec3_scale(mm_vec3_sub(va0, mm_vec3_make(0.0f, vy0, vz0)), tf);
     mm_vec3 m1 = mm_vec3_scale(mm_vec3_sub(va1, mm_vec3_make(0.0f, vy1, vz1)), tf);
     mm_vec3 rel = synth_vec3_hermite(r0, m0, r1, m1, s);
@@ -206,14 +212,15 @@ mm_result synth_make_jump(synth_ctx *ctx, float distance, mm_synth_clip *out)
     out->loop = false;
 
     const float t_absorb = j.t_ld + J_ABSORB_T, t_rise = t_absorb + J_RISE_T;
-    const float trunk_keys[][2] = {{J_CROUCH, 3 * deg},           {J_PUSH, 34 * deg},     {j.t_to, 12 * deg},
-                                   {j.t_to + 0.2f, 6 * deg},      {j.t_ld, 18 * deg},     {t_absorb, 30 * deg},
+    const float trunk_keys[][2] = {{J_CROUCH, 3 * deg},      {J_PUSH, 34 * deg}, {j.t_to, 12 * deg},
+                                   {j.t_to + 0.2f, 6 * deg}, {j.t_ld, 18 * deg}, {t_absorb, 30 * deg},
                                    {t_rise, 3 * deg}};
-    const float arm_keys[][2] = {{J_CROUCH, -3 * deg},         {J_PUSH - 0.12f, -40 * deg}, {j.t_to + 0.1f, 65 * deg},
-                                 {j.t_to + 0.3f, 55 * deg},    {j.t_ld, 35 * deg},          {t_absorb, 30 * deg},
+    const float arm_keys[][2] = {{J_CROUCH, -3 * deg},      {J_PUSH - 0.12f, -40 * deg},
+                                 {j.t_to + 0.1f, 65 * deg}, {j.t_to + 0.3f, 55 * deg},
+                                 {j.t_ld, 35 * deg},        {t_absorb, 30 * deg},
                                  {t_rise, -3 * deg}};
-    const float elbow_keys[][2] = {{J_CROUCH, st->elbow}, {J_PUSH, 20 * deg},    {j.t_to, 35 * deg},
-                                   {j.t_ld, 45 * deg},    {t_absorb, 40 * deg},  {t_rise, st->elbow}};
+    const float elbow_keys[][2] = {{J_CROUCH, st->elbow}, {J_PUSH, 20 * deg},   {j.t_to, 35 * deg},
+                                   {j.t_ld, 45 * deg},    {t_absorb, 40 * deg}, {t_rise, st->elbow}};
     const int nk = 7;
 
     for (int f = 0; f < frames; ++f) {
@@ -229,14 +236,17 @@ mm_result synth_make_jump(synth_ctx *ctx, float distance, mm_synth_clip *out)
         p.pelvis_rot = synth_yaw_pitch_roll(0.0f, 0.5f * trunk + 3.0f * deg, 0.0f);
         bool flight = t > j.t_to && t < j.t_ld;
         for (int side = 0; side < 2; ++side) {
-            if (flight) flight_foot(b, &j, side, t, p.pelvis, &p.foot[side]);
-            else stance_foot(b, &j, side, t, &p.foot[side]);
+            if (flight)
+                flight_foot(b, &j, side, t, p.pelvis, &p.foot[side]);
+            else
+                stance_foot(b, &j, side, t, &p.foot[side]);
         }
         if (!flight) {
             /* Never let a planted foot out of reach. */
             for (int side = 0; side < 2; ++side)
-                p.pelvis.y = synth_smin(p.pelvis.y, synth_pelvis_reach(b, side, p.pelvis, p.pelvis_rot, p.foot[side].ankle),
-                                        0.01f);
+                p.pelvis.y = synth_smin(
+                    p.pelvis.y, synth_pelvis_reach(b, side, p.pelvis, p.pelvis_rot, p.foot[side].ankle),
+                    0.01f);
         }
         p.facing = 0.0f;
         p.chest = synth_yaw_pitch_roll(0.0f, trunk, 0.0f);

@@ -47,7 +47,8 @@ float synth_pelvis_reach(const synth_body *b, int side, mm_vec3 pelvis, mm_quat 
     return ankle.y + v - off.y;
 }
 
-mm_vec3 synth_leg_ik(const synth_body *b, mm_vec3 hip, mm_vec3 ankle, mm_vec3 pole, mm_quat *thigh, mm_quat *shin)
+mm_vec3 synth_leg_ik(const synth_body *b, mm_vec3 hip, mm_vec3 ankle, mm_vec3 pole, mm_quat *thigh,
+                     mm_quat *shin)
 {
     const float l1 = b->thigh, l2 = b->shin;
     mm_vec3 d = mm_vec3_sub(ankle, hip);

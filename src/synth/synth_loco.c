@@ -39,11 +39,11 @@ static uint8_t contact_bits(const synth_foot *f)
 
 /* Standing motions at time t, weighted by w (1 standing, 0 moving). */
 typedef struct idle_motion {
-    float shift;   /* lateral weight shift of the pelvis, m (> 0 left) */
-    float sway;    /* fore-aft sway, m */
-    float breath;  /* -1..1 */
-    float look;    /* head yaw, rad */
-    float nod;     /* head pitch, rad */
+    float shift;  /* lateral weight shift of the pelvis, m (> 0 left) */
+    float sway;   /* fore-aft sway, m */
+    float breath; /* -1..1 */
+    float look;   /* head yaw, rad */
+    float nod;    /* head pitch, rad */
 } idle_motion;
 
 static void idle_at(const synth_style *st, float t, float w, idle_motion *m)
@@ -54,7 +54,8 @@ static void idle_at(const synth_style *st, float t, float w, idle_motion *m)
     m->sway = w * 0.008f * st->idle_amp[1] * sinf(3.0f * f * t + st->idle_phase[1]);
     m->breath = w * sinf(2.0f * f * t + st->idle_phase[2]);
     m->look = w * deg *
-              (7.0f * st->idle_amp[2] * sinf(f * t + st->idle_phase[3]) + 2.5f * sinf(3.0f * f * t + st->idle_phase[2]));
+              (7.0f * st->idle_amp[2] * sinf(f * t + st->idle_phase[3]) +
+               2.5f * sinf(3.0f * f * t + st->idle_phase[2]));
     m->nod = w * deg * 2.0f * st->idle_amp[3] * sinf(2.0f * f * t + st->idle_phase[1]);
 }
 
@@ -63,7 +64,8 @@ static float reach_limit(const synth_body *b, const synth_pose *p)
 {
     float y = 1e9f;
     for (int side = 0; side < 2; ++side) {
-        float lim = synth_pelvis_reach(b, side, p->pelvis, p->pelvis_rot, p->foot[side].ankle) - p->foot[side].margin;
+        float lim =
+            synth_pelvis_reach(b, side, p->pelvis, p->pelvis_rot, p->foot[side].ankle) - p->foot[side].margin;
         if (lim < y) y = lim;
     }
     return y;
@@ -77,8 +79,10 @@ static void lower_envelope(const float *lim, float *a, float *out, int n, int r,
         float m = lim[i];
         for (int d = -r; d <= r; ++d) {
             int j = i + d;
-            if (wrap) j = ((j % n) + n) % n;
-            else j = j < 0 ? 0 : j >= n ? n - 1 : j;
+            if (wrap)
+                j = ((j % n) + n) % n;
+            else
+                j = j < 0 ? 0 : j >= n ? n - 1 : j;
             if (lim[j] < m) m = lim[j];
         }
         a[i] = m;
@@ -91,8 +95,10 @@ static void lower_envelope(const float *lim, float *a, float *out, int n, int r,
             float sum = 0.0f;
             for (int d = -h; d <= h; ++d) {
                 int j = i + d;
-                if (wrap) j = ((j % n) + n) % n;
-                else j = j < 0 ? 0 : j >= n ? n - 1 : j;
+                if (wrap)
+                    j = ((j % n) + n) % n;
+                else
+                    j = j < 0 ? 0 : j >= n ? n - 1 : j;
                 sum += src[j];
             }
             dst[i] = sum / (float)(2 * h + 1);
@@ -112,7 +118,7 @@ static void loco_pose(const synth_ctx *ctx, const synth_track *tr, int frame, sy
     float accel;
     synth_plan_values(tr->plan, t, &k, &accel);
     synth_gait g;
-    synth_gait_eval(b, st, k.speed, k.gait, k.activity, k.turn_rate, &g);
+    synth_gait_eval(b, st, k.speed, k.gait, k.activity, k.turn_rate, k.direction, &g);
     float a = synth_clampf(k.activity, 0.0f, 1.0f);
     idle_motion idle;
     idle_at(st, t, 1.0f - a, &idle);
@@ -146,8 +152,8 @@ static void loco_pose(const synth_ctx *ctx, const synth_track *tr, int frame, sy
 
     /* Chest: counter-rotates against the pelvis, leans with the trunk and into turns, and stays
      * nearly level sideways. */
-    p->chest = synth_yaw_pitch_roll(heading + yaw_osc * (1.0f - g.counter), trunk,
-                                    -0.9f * lean_turn + 0.15f * list);
+    p->chest =
+        synth_yaw_pitch_roll(heading + yaw_osc * (1.0f - g.counter), trunk, -0.9f * lean_turn + 0.15f * list);
     p->breath = idle.breath;
 
     /* Head: level gaze, looking a little into turns. */
@@ -161,7 +167,7 @@ static void loco_pose(const synth_ctx *ctx, const synth_track *tr, int frame, sy
     for (int side = 0; side < 2; ++side) {
         float sgn = side == SYNTH_LEFT ? -1.0f : 1.0f;
         float swing = sgn * g.arm_swing * arm; /* left arm forward when the right leg is */
-        float fwd = 0.5f + 0.5f * sgn * arm; /* 1 when this arm is furthest forward */
+        float fwd = 0.5f + 0.5f * sgn * arm;   /* 1 when this arm is furthest forward */
         p->arm_swing[side] = g.arm_carry + swing - 0.3f * idle.sway / 0.008f * deg;
         p->arm_abduct[side] = g.arm_abduct + 2.0f * deg * synth_side_sign(side) * idle.shift / 0.022f;
         p->elbow[side] = g.elbow + g.elbow_swing * fwd;
@@ -196,7 +202,8 @@ mm_result synth_make_loco(synth_ctx *ctx, const synth_plan *plan, mm_synth_clip 
     for (int f = 0; f < n; ++f) {
         synth_pose *p = &poses[f];
         p->pelvis.y = synth_smin(p->pelvis.y, env[f], 0.02f);
-        synth_pose_to_locals(&ctx->body, p, mm_clip_rotations(&out->clip, f), mm_clip_positions(&out->clip, f));
+        synth_pose_to_locals(&ctx->body, p, mm_clip_rotations(&out->clip, f),
+                             mm_clip_positions(&out->clip, f));
         out->contacts[f] = contact_bits(p->foot);
     }
     synth_key k;

@@ -21,8 +21,8 @@
 
 #include "synth_internal.h"
 
-#define SYNTH_SIM_HZ 480.0f /* the trajectory is integrated at least this finely */
-#define SYNTH_PREROLL 2.5f  /* s simulated before and after the clip (stances crossing its ends) */
+#define SYNTH_SIM_HZ  480.0f /* the trajectory is integrated at least this finely */
+#define SYNTH_PREROLL 2.5f   /* s simulated before and after the clip (stances crossing its ends) */
 
 void synth_plan_values(const synth_plan *p, float t, synth_key *out, float *accel)
 {
@@ -91,8 +91,10 @@ static float time_of_phase(const synth_track *tr, double phi)
     int lo = 0, hi = tr->count - 1; /* s[lo].phi < phi <= s[hi].phi */
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
-        if (s[mid].phi < phi) lo = mid;
-        else hi = mid;
+        if (s[mid].phi < phi)
+            lo = mid;
+        else
+            hi = mid;
     }
     double f = (phi - s[lo].phi) / (s[hi].phi - s[lo].phi);
     return tr->t0 + ((float)lo + (float)f) * tr->dt;
@@ -113,7 +115,7 @@ static void track_at(const synth_track *tr, float t, mm_vec3 *pos, float *headin
 
 static void gait_at(const synth_ctx *ctx, const synth_key *k, synth_gait *g)
 {
-    synth_gait_eval(&ctx->body, &ctx->style, k->speed, k->gait, k->activity, k->turn_rate, g);
+    synth_gait_eval(&ctx->body, &ctx->style, k->speed, k->gait, k->activity, k->turn_rate, k->direction, g);
 }
 
 /* The plant of a stance in which the character stands still at time t. */
@@ -123,7 +125,8 @@ static void rest_plant(const synth_ctx *ctx, const synth_track *tr, int side, fl
     float heading;
     track_at(tr, t, &pos, &heading);
     float s = synth_side_sign(side);
-    mm_vec3 lateral = mm_quat_rotate(synth_rot_y(heading), mm_vec3_make(s * ctx->style.stand_width, 0.0f, 0.0f));
+    mm_vec3 lateral =
+        mm_quat_rotate(synth_rot_y(heading), mm_vec3_make(s * ctx->style.stand_width, 0.0f, 0.0f));
     st->plant = mm_vec3_add(pos, lateral);
     st->plant.y = ctx->body.ankle_height;
     st->yaw = heading + s * ctx->style.toe_out;
@@ -146,7 +149,8 @@ static void clamp_rest(synth_stance *st, double phi_rest)
     }
 }
 
-static void plan_stance(const synth_ctx *ctx, const synth_track *tr, int side, double phi_td, synth_stance *st)
+static void plan_stance(const synth_ctx *ctx, const synth_track *tr, int side, double phi_td,
+                        synth_stance *st)
 {
     const synth_plan *plan = tr->plan;
     memset(st, 0, sizeof *st);
@@ -275,7 +279,7 @@ mm_result synth_track_build(synth_ctx *ctx, const synth_plan *plan, synth_track 
     tr->foot_offset[lead] = 0.0f;
     tr->foot_offset[1 - lead] = 0.5f;
     synth_gait grest;
-    synth_gait_eval(&ctx->body, &ctx->style, 0.0f, 0.0f, 0.0f, 0.0f, &grest);
+    synth_gait_eval(&ctx->body, &ctx->style, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, &grest);
     /* Double supports start at every touchdown (multiples of 0.5) and last duty - 0.5. */
     double window_mid = 0.5 * (grest.duty - 0.5);
     double i0 = tr->s[tr->zero].phi, i1 = tr->s[tr->zero + span].phi, total = i1 - i0;
@@ -314,16 +318,18 @@ mm_result synth_track_build(synth_ctx *ctx, const synth_plan *plan, synth_track 
 
 /* ---- evaluating a foot ------------------------------------------------------------------ */
 
+/* Rocker profile on q in [0, 1]: starts flat (zero slope), ends with slope ROCKER_END_SLOPE. */
+#define ROCKER_END_SLOPE 0.8f
+static float rocker(float q)
+{
+    const float w = 1.0f - 0.5f * ROCKER_END_SLOPE; /* blend of smoothstep (end slope 0) and q^2 (2) */
+    return w * q * q * (3.0f - 2.0f * q) + (1.0f - w) * q * q;
+}
+
 static float stance_beta(const synth_stance *st, float u)
 {
-    if (u < st->u1) {
-        float q = 1.0f - u / st->u1;
-        return st->beta_td * q * q;
-    }
-    if (u > st->u2) {
-        float q = (u - st->u2) / (1.0f - st->u2);
-        return st->beta_lo * q * q;
-    }
+    if (u < st->u1) return st->beta_td * rocker(1.0f - u / st->u1);
+    if (u > st->u2) return st->beta_lo * rocker((u - st->u2) / (1.0f - st->u2));
     return 0.0f;
 }
 
@@ -331,12 +337,12 @@ static float stance_beta(const synth_stance *st, float u)
 static float beta_rate_lo(const synth_stance *st)
 {
     if (st->u2 >= 1.0f) return 0.0f;
-    return 2.0f * st->beta_lo / ((1.0f - st->u2) * (float)(st->phi_lo - st->phi_td));
+    return ROCKER_END_SLOPE * st->beta_lo / ((1.0f - st->u2) * (float)(st->phi_lo - st->phi_td));
 }
 static float beta_rate_td(const synth_stance *st)
 {
     if (st->u1 <= 0.0f) return 0.0f;
-    return -2.0f * st->beta_td / (st->u1 * (float)(st->phi_lo - st->phi_td));
+    return -ROCKER_END_SLOPE * st->beta_td / (st->u1 * (float)(st->phi_lo - st->phi_td));
 }
 
 /* Reach margins near liftoff and touchdown: the knee is already flexing when the toe leaves
@@ -358,13 +364,6 @@ static float stance_margin(const synth_stance *st, float u)
     return m;
 }
 
-static float monotone_tangent(float m, float delta)
-{
-    if (m * delta <= 0.0f) return 0.0f;
-    float lim = 3.0f * fabsf(delta);
-    return m > lim ? lim : m < -lim ? -lim : m;
-}
-
 static float swing_bump(float s, float peak)
 {
     /* s^2 (1-s)^b peaks at 2 / (2 + b); normalised to 1 there. */
@@ -381,8 +380,10 @@ void synth_track_foot(const synth_body *b, const synth_track *tr, int side, doub
     if (phi < st[0].phi_td) hi = 0;
     while (lo < hi) {
         int mid = (lo + hi + 1) / 2;
-        if (st[mid].phi_td <= phi) lo = mid;
-        else hi = mid - 1;
+        if (st[mid].phi_td <= phi)
+            lo = mid;
+        else
+            hi = mid - 1;
     }
     const synth_stance *a = &st[lo];
     if (phi <= a->phi_lo || lo == n - 1) {
@@ -410,12 +411,14 @@ void synth_track_foot(const synth_body *b, const synth_track *tr, int side, doub
     out->ankle.y += a->swing_height * swing_bump(s, a->swing_peak);
     float yaw1 = a->yaw + synth_wrap_angle(c->yaw - a->yaw);
     out->yaw = synth_hermite(a->yaw, 0.0f, yaw1, 0.0f, s);
-    /* Angles: the rocker rates continue into the swing, limited so the curve is monotone
-     * (Fritsch-Carlson) and the foot never over-rotates. */
-    out->pitch = synth_hermite(b0, monotone_tangent(r0, b1 - b0), b1, monotone_tangent(r1, b1 - b0), s);
+    /* Angles: an eased blend from liftoff to touchdown, plus terms that carry the rocker
+     * rates a little way into the swing and decay (the foot keeps rolling just after toe-off
+     * and is still rolling at heel strike), so the rotation is C1 without overshooting. */
+    float carry0 = s * (1.0f - s) * (1.0f - s) * (1.0f - s), carry1 = -(1.0f - s) * s * s * s;
+    out->pitch = synth_hermite(b0, 0.0f, b1, 0.0f, s) + r0 * carry0 + r1 * carry1;
     float t0 = b0 < 0.0f ? b0 : 0.0f, t1 = b1 < 0.0f ? b1 : 0.0f;
-    out->toe_angle = synth_hermite(t0, monotone_tangent(b0 < 0.0f ? r0 : 0.0f, t1 - t0), t1,
-                                   monotone_tangent(b1 < 0.0f ? r1 : 0.0f, t1 - t0), s);
+    out->toe_angle = synth_hermite(t0, 0.0f, t1, 0.0f, s) + (b0 < 0.0f ? r0 : 0.0f) * carry0 +
+                     (b1 < 0.0f ? r1 : 0.0f) * carry1;
     out->heel = false;
     out->toe = false;
     float m0 = a->beta_lo != 0.0f ? SYNTH_MARGIN_LO : 0.0f, m1 = c->beta_td != 0.0f ? SYNTH_MARGIN_TD : 0.0f;

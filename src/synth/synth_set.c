@@ -11,8 +11,8 @@
 #include "synth_internal.h"
 
 static const char *const kind_names[MM_SYNTH_KIND_COUNT] = {
-    "idle", "walk", "run", "walk_arc", "run_arc", "start", "stop", "turn_in_place", "sidestep", "backward",
-    "gait_change", "jump"};
+    "idle", "walk",          "run",      "walk_arc", "run_arc",     "start",
+    "stop", "turn_in_place", "sidestep", "backward", "gait_change", "jump"};
 
 const char *mm_synth_kind_name(mm_synth_kind kind)
 {
@@ -98,11 +98,11 @@ static clip_spec *add_spec(clip_spec *specs, int *n, mm_synth_kind kind)
     return s;
 }
 
-static void loop_plan(const synth_ctx *ctx, clip_spec *s, float speed, float curvature, float direction, float gait,
-                      float target_duration)
+static void loop_plan(const synth_ctx *ctx, clip_spec *s, float speed, float curvature, float direction,
+                      float gait, float target_duration)
 {
     synth_gait g;
-    synth_gait_eval(&ctx->body, &ctx->style, speed, gait, 1.0f, 0.0f, &g);
+    synth_gait_eval(&ctx->body, &ctx->style, speed, gait, 1.0f, 0.0f, direction, &g);
     s->plan.keys[0] = key(0.0f, speed, curvature, direction, 0.0f, gait, 1.0f);
     s->plan.key_count = 1;
     s->plan.loop = true;
@@ -225,15 +225,15 @@ static int build_specs(const synth_ctx *ctx, clip_spec *specs)
         spec_name(s, side == 0 ? "sidestep_left" : "sidestep_right", 0, -1, NULL);
         s->plan.keys[0] = key(0.0f, 0, 0, dir, 0, 0, 0);
         s->plan.keys[1] = key(0.6f, 0, 0, dir, 0, 0, 0);
-        s->plan.keys[2] = key(1.1f, 0.3f, 0, dir, 0, 0, 1);
-        s->plan.keys[3] = key(1.8f, 0.8f, 0, dir, 0, 0, 1);
-        s->plan.keys[4] = key(3.6f, 0.8f, 0, dir, 0, 0, 1);
-        s->plan.keys[5] = key(4.4f, 0.2f, 0, dir, 0, 0, 1);
+        s->plan.keys[2] = key(1.1f, 0.2f, 0, dir, 0, 0, 1);
+        s->plan.keys[3] = key(1.8f, 0.5f, 0, dir, 0, 0, 1);
+        s->plan.keys[4] = key(3.6f, 0.5f, 0, dir, 0, 0, 1);
+        s->plan.keys[5] = key(4.4f, 0.15f, 0, dir, 0, 0, 1);
         s->plan.keys[6] = key(4.9f, 0, 0, dir, 0, 0, 0);
         s->plan.key_count = 7;
         s->plan.duration = 6.0f;
         s->plan.lead = side == 0 ? SYNTH_LEFT : SYNTH_RIGHT;
-        s->speed = 0.8f;
+        s->speed = 0.5f;
         s->direction = dir;
     }
 
@@ -287,7 +287,8 @@ mm_result mm_synth_generate(const mm_synth_desc *desc, mm_synth_set *out, mm_err
     if (desc) d = *desc;
     if (d.fps == 0.0f) d.fps = 60.0f;
     if (!(d.fps >= 10.0f && d.fps <= 240.0f))
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "synth: fps %g is outside 10-240", (double)d.fps);
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "synth: fps %g is outside 10-240",
+                            (double)d.fps);
     if (d.allocator) out->allocator = *d.allocator;
 
     synth_ctx ctx;
@@ -310,8 +311,10 @@ mm_result mm_synth_generate(const mm_synth_desc *desc, mm_synth_set *out, mm_err
         const clip_spec *s = &specs[i];
         mm_synth_clip *c = &out->clips[i];
         out->clip_count = i + 1; /* a zeroed clip frees safely */
-        if (s->jump_distance > 0.0f) r = synth_make_jump(&ctx, s->jump_distance, c);
-        else r = synth_make_loco(&ctx, &s->plan, c);
+        if (s->jump_distance > 0.0f)
+            r = synth_make_jump(&ctx, s->jump_distance, c);
+        else
+            r = synth_make_loco(&ctx, &s->plan, c);
         if (r != MM_OK) break;
         memcpy(c->name, s->name, sizeof c->name);
         c->kind = s->kind;

@@ -13,25 +13,28 @@
 #include "synth_internal.h"
 
 const char *const synth_joint_names[SJ_COUNT] = {
-    "Hips",     "LeftUpLeg",    "LeftLeg",  "LeftFoot",    "LeftToe",      "RightUpLeg",    "RightLeg",     "RightFoot",
-    "RightToe", "Spine",        "Spine1",   "Spine2",      "Neck",         "Head",          "LeftShoulder", "LeftArm",
-    "LeftForeArm", "LeftHand", "RightShoulder", "RightArm", "RightForeArm", "RightHand"};
+    "Hips",          "LeftUpLeg", "LeftLeg",      "LeftFoot", "LeftToe",     "RightUpLeg",
+    "RightLeg",      "RightFoot", "RightToe",     "Spine",    "Spine1",      "Spine2",
+    "Neck",          "Head",      "LeftShoulder", "LeftArm",  "LeftForeArm", "LeftHand",
+    "RightShoulder", "RightArm",  "RightForeArm", "RightHand"};
 
 /* End Sites (leaf markers): toe tips, top of the head, finger tips. */
 static const struct {
     int joint;
     float x, y, z;
-} synth_end_sites[] = {{SJ_LTOE, 0.0f, -0.01f, 0.06f},  {SJ_RTOE, 0.0f, -0.01f, 0.06f},
-                       {SJ_HEAD, 0.0f, 0.15f, 0.02f},   {SJ_LHAND, 0.17f, 0.0f, 0.0f},
+} synth_end_sites[] = {{SJ_LTOE, 0.0f, -0.01f, 0.06f},
+                       {SJ_RTOE, 0.0f, -0.01f, 0.06f},
+                       {SJ_HEAD, 0.0f, 0.15f, 0.02f},
+                       {SJ_LHAND, 0.17f, 0.0f, 0.0f},
                        {SJ_RHAND, -0.17f, 0.0f, 0.0f}};
 
 void synth_body_init(synth_body *b)
 {
     memset(b, 0, sizeof *b);
-    static const int parent[SJ_COUNT] = {-1,      SJ_HIPS,   SJ_LUPLEG,  SJ_LLEG,       SJ_LFOOT, SJ_HIPS,
-                                         SJ_RUPLEG, SJ_RLEG, SJ_RFOOT,   SJ_HIPS,       SJ_SPINE, SJ_SPINE1,
-                                         SJ_SPINE2, SJ_NECK, SJ_SPINE2,  SJ_LSHOULDER,  SJ_LARM,  SJ_LFOREARM,
-                                         SJ_SPINE2, SJ_RSHOULDER, SJ_RARM, SJ_RFOREARM};
+    static const int parent[SJ_COUNT] = {
+        -1,       SJ_HIPS,     SJ_LUPLEG, SJ_LLEG,      SJ_LFOOT,  SJ_HIPS,    SJ_RUPLEG, SJ_RLEG,
+        SJ_RFOOT, SJ_HIPS,     SJ_SPINE,  SJ_SPINE1,    SJ_SPINE2, SJ_NECK,    SJ_SPINE2, SJ_LSHOULDER,
+        SJ_LARM,  SJ_LFOREARM, SJ_SPINE2, SJ_RSHOULDER, SJ_RARM,   SJ_RFOREARM};
     memcpy(b->parent, parent, sizeof parent);
 
     b->thigh = 0.42f;
@@ -51,9 +54,9 @@ void synth_body_init(synth_body *b)
         b->offset[up + 3] = b->toe_offset;
         int sh = side == SYNTH_LEFT ? SJ_LSHOULDER : SJ_RSHOULDER;
         b->offset[sh] = mm_vec3_make(s * 0.03f, 0.15f, -0.01f);
-        b->offset[sh + 1] = mm_vec3_make(s * 0.15f, 0.0f, 0.0f);  /* clavicle */
-        b->offset[sh + 2] = mm_vec3_make(s * 0.29f, 0.0f, 0.0f);  /* upper arm */
-        b->offset[sh + 3] = mm_vec3_make(s * 0.25f, 0.0f, 0.0f);  /* forearm */
+        b->offset[sh + 1] = mm_vec3_make(s * 0.15f, 0.0f, 0.0f); /* clavicle */
+        b->offset[sh + 2] = mm_vec3_make(s * 0.29f, 0.0f, 0.0f); /* upper arm */
+        b->offset[sh + 3] = mm_vec3_make(s * 0.25f, 0.0f, 0.0f); /* forearm */
     }
     b->offset[SJ_SPINE] = mm_vec3_make(0.0f, 0.09f, -0.01f);
     b->offset[SJ_SPINE1] = mm_vec3_make(0.0f, 0.12f, 0.0f);

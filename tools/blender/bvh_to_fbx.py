@@ -110,9 +110,11 @@ def main():
         filepath=out,
         use_selection=False,
         object_types={"ARMATURE"},
+        # Blender takes its units for metres and FBX's for centimetres, so it would multiply by
+        # 100: 0.01 keeps the BVH's numbers (and the FBX declares centimetres).
         apply_unit_scale=False,
         apply_scale_options="FBX_SCALE_NONE",
-        global_scale=1.0,
+        global_scale=0.01,
         axis_forward="-Z",
         axis_up="Y",
         add_leaf_bones=True,

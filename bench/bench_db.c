@@ -1,0 +1,125 @@
+/* bench_db: database build time and peak memory, bytes per frame, load time.
+ * usage: bench_db [CONFIG]   (default: configs/lafan1.json; clips found through $MM_DATA_DIR)
+ * Prints figures; never fails on speed. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <time.h>
+
+#include <mm/config_json.h>
+#include <mm/database.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double peak_mib(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return ru.ru_maxrss / 1024.0;
+}
+
+static int compare(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+int main(int argc, char **argv)
+{
+    const char *config = argc > 1 ? argv[1] : MM_SOURCE_DIR "/configs/lafan1.json";
+    if (!getenv("MM_DATA_DIR")) {
+        printf("bench_db: MM_DATA_DIR is not set; skipped\n");
+        return 0;
+    }
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    char *text = NULL;
+    double t0 = now();
+    if (mm_config_load_json(config, &cfg, &text, &err) != MM_OK) {
+        fprintf(stderr, "bench_db: %s: %s\n", err.file, err.message);
+        return 1;
+    }
+    mm_clip *sources = NULL;
+    if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) {
+        fprintf(stderr, "bench_db: %s: %s\n", err.file, err.message);
+        return 1;
+    }
+    double t1 = now();
+    double mem_sources = peak_mib();
+    mm_db_build_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.config_json = text;
+    mm_database db;
+    if (mm_database_build(&cfg, sources, &desc, &db, &err) != MM_OK) {
+        fprintf(stderr, "bench_db: build: %s\n", err.message);
+        return 1;
+    }
+    double t2 = now();
+    printf("config           %s\n", config);
+    printf("read sources     %.3f s (%d clips)\n", t1 - t0, cfg.clip_count);
+    printf("build            %.3f s for %d frames, %d clips, %d dims (%.1f us per frame)\n", t2 - t1, db.frame_count,
+           db.clip_count, db.dims, 1e6 * (t2 - t1) / db.frame_count);
+    printf("total            %.3f s (target: under 10 s on one core)\n", t2 - t0);
+    printf("peak memory      %.1f MiB (%.1f MiB after reading the sources)\n", peak_mib(), mem_sources);
+    printf("file size        %zu bytes, %.1f bytes per frame (features %zu, pose %zu)\n", db.size,
+           (double)db.size / db.frame_count, sizeof(float) * (size_t)db.dims_padded,
+           (sizeof(mm_quat) + sizeof(mm_vec3)) * (size_t)db.joint_count);
+    char path[] = "/tmp/bench_db_XXXXXX";
+    int fd = mkstemp(path);
+    if (fd < 0 || mm_database_save(&db, path, &err) != MM_OK) {
+        fprintf(stderr, "bench_db: cannot save\n");
+        return 1;
+    }
+    double times[9];
+    const char *modes[3] = {"map + checksum", "map, no checksum", "read + checksum"};
+    for (int m = 0; m < 3; ++m) {
+        mm_db_load_desc ld;
+        memset(&ld, 0, sizeof ld);
+        ld.skip_checksum = m == 1;
+        ld.no_map = m == 2;
+        for (int i = 0; i < 9; ++i) {
+            mm_database loaded;
+            double a = now();
+            if (mm_database_load(path, &ld, &loaded, &err) != MM_OK) {
+                fprintf(stderr, "bench_db: load: %s\n", err.message);
+                return 1;
+            }
+            times[i] = now() - a;
+            mm_database_free(&loaded);
+        }
+        qsort(times, 9, sizeof(double), compare);
+        printf("load (%s) median %.2f ms, best %.2f ms (target: under 10 ms)\n", modes[m], 1e3 * times[4],
+               1e3 * times[0]);
+    }
+    for (int i = 0; i < 9; ++i) {
+        mm_database view;
+        double a = now();
+        if (mm_database_load_memory(db.data, db.size, false, &view, &err) != MM_OK) return 1;
+        times[i] = now() - a;
+    }
+    qsort(times, 9, sizeof(double), compare);
+    printf("load in place (validate, no checksum) median %.3f ms\n", 1e3 * times[4]);
+    for (int i = 0; i < 9; ++i) {
+        mm_database view;
+        double a = now();
+        if (mm_database_load_memory(db.data, db.size, true, &view, &err) != MM_OK) return 1;
+        times[i] = now() - a;
+    }
+    qsort(times, 9, sizeof(double), compare);
+    printf("load in place (validate + checksum) median %.3f ms (%.1f GB/s)\n", 1e3 * times[4], db.size / times[4] / 1e9);
+    remove(path);
+    mm_database_free(&db);
+    mm_config_free_sources(&cfg, sources);
+    mm_config_free(&cfg);
+    free(text);
+    return 0;
+}
