@@ -2,6 +2,7 @@
 # Builds the libFuzzer targets into build-fuzz and runs each for N seconds (default 60).
 #
 #   scripts/fuzz.sh [seconds] [target...]      e.g. scripts/fuzz.sh 300 fuzz_bvh
+#   (targets: fuzz_bvh, fuzz_config, fuzz_mmdb; each has a dictionary fuzz/<name>.dict if present)
 #
 # Each target starts from its seed corpus fuzz/corpus/<name>/ (read only) plus a working corpus
 # in build-fuzz/corpus/<name>/ that grows from run to run. Crashes, leaks and timeouts are written
@@ -13,7 +14,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build-fuzz"
 seconds=${1:-60}
 [ $# -gt 0 ] && shift
-targets=${*:-fuzz_bvh}
+targets=${*:-fuzz_bvh fuzz_config fuzz_mmdb}
 
 case $seconds in
 '' | *[!0-9]*)
@@ -27,32 +28,6 @@ cmake -S "$root" -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang
 # shellcheck disable=SC2086
 cmake --build "$build" --target $targets -j "$(nproc 2>/dev/null || echo 2)" >/dev/null
 
-# BVH keywords help libFuzzer reach past the header quickly.
-cat >"$build/bvh.dict" <<'EOF'
-"HIERARCHY"
-"ROOT"
-"JOINT"
-"End Site"
-"OFFSET"
-"CHANNELS"
-"Xposition"
-"Yposition"
-"Zposition"
-"Xrotation"
-"Yrotation"
-"Zrotation"
-"MOTION"
-"Frames:"
-"Frame Time:"
-"{"
-"}"
-"\x0a"
-"\x0d\x0a"
-"1e999"
-"nan"
-"-0.5e-3"
-"99999999999"
-EOF
 
 status=0
 summary=""
@@ -67,7 +42,10 @@ for t in $targets; do
     : >"$stamp"
     echo "== $t: $seconds s (log: $log)"
     rc=0
-    "$build/fuzz/$t" "$work" "$seeds" -dict="$build/bvh.dict" -max_total_time="$seconds" -max_len=16384 \
+    dict=""
+    [ -f "$root/fuzz/$name.dict" ] && dict="-dict=$root/fuzz/$name.dict"
+    # shellcheck disable=SC2086
+    "$build/fuzz/$t" "$work" "$seeds" $dict -max_total_time="$seconds" -max_len=32768 \
         -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1 || rc=$?
     # The last status line reads "#RUNS <event> cov: C ft: F corp: N/SIZE ... exec/s: E rss: R".
     last=$(grep -E '^#[0-9]+' "$log" | tail -n 1 || true)

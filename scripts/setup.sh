@@ -3,7 +3,7 @@
 # usage: scripts/setup.sh [extra cmake arguments]
 set -e
 cd "$(dirname "$0")/.."
-packages="build-essential cmake pkg-config libcmocka-dev libcjson-dev"
+packages="build-essential cmake pkg-config libcmocka-dev libcjson-dev libassimp-dev"
 missing=""
 for p in $packages; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

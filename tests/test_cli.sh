@@ -127,5 +127,14 @@ expect_grep "short.mmdb" "$tmp/err"
 expect_exit 1 "$mm" db build "$tmp/missing.json" -o "$tmp/c.mmdb"
 if [ ! -e "$tmp/c.mmdb" ]; then ok; else bad "a failed build left its output"; fi
 
+# the main job: the built-in motion set and its database config
+expect_exit 0 "$mm" synth "$tmp/synth/set"
+expect_exit 0 "$mm" db build "$data/../../configs/synth.json" --data "$tmp/synth/set" -o "$tmp/synth.mmdb"
+expect_exit 0 "$mm" db info "$tmp/synth.mmdb" --json
+expect_grep '"clips": 43' "$tmp/out"
+expect_grep '"tags": \["DoNotUse", "Jump"\]' "$tmp/out"
+expect_exit 1 "$mm" db build "$data/../../configs/synth.json" -o "$tmp/nosynth.mmdb"
+expect_grep "idle.bvh" "$tmp/err"
+
 echo "test_cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -120,6 +120,7 @@ static void test_clip_init_sample_resample(void **state)
     mm_clip down;
     assert_int_equal(mm_clip_resample(&down, &clip, 7.0f, NULL), MM_OK);
     assert_int_equal(down.frame_count, 8); /* floor(1 s * 7) + 1 */
+    mm_clip_free(&down);
     assert_int_equal(mm_clip_resample(&down, &clip, 0.0f, NULL), MM_ERR_INVALID_ARGUMENT);
 
     mm_clip_scale(&up, 0.01f);

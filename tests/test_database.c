@@ -459,6 +459,9 @@ static void test_bad_files(void **state)
     /* Without the checksum, structural damage is still caught: a frame count that does not match
      * the sections (byte 44 is frame_count). */
     expect_refused(&db, db.size, 44, 0, MM_ERR_SYNTAX, "");
+    /* A bool holding 64 (found by fuzz_mmdb: it reached the dump as undefined behaviour). */
+    size_t end_site = (size_t)((const char *)db.joints - (const char *)db.data) + offsetof(mm_joint, has_end_site);
+    expect_refused(&db, db.size, end_site, 0, MM_ERR_SYNTAX, "bad End Site flag");
     /* Every truncation fails cleanly. */
     for (size_t n = 0; n < db.size; n += 97) {
         unsigned char *copy = aligned_alloc(MM_DB_ALIGN, (db.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);

@@ -176,10 +176,12 @@ static void test_missing_file(void **state)
     mm_import_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.scale = -1.0f;
-    assert_int_equal(mm_import_clips(test_data_path("bvh/chain2.bvh"), &desc, &list, &err), MM_ERR_OUT_OF_RANGE);
+    assert_int_equal(mm_import_clips(test_data_path("bvh/chain2.bvh"), &desc, &list, &err),
+                     MM_ERR_OUT_OF_RANGE);
     desc.scale = 0.0f;
     desc.fps = NAN;
-    assert_int_equal(mm_import_clips(test_data_path("bvh/chain2.bvh"), &desc, &list, &err), MM_ERR_OUT_OF_RANGE);
+    assert_int_equal(mm_import_clips(test_data_path("bvh/chain2.bvh"), &desc, &list, &err),
+                     MM_ERR_OUT_OF_RANGE);
 }
 
 /* Random bytes named .fbx / .glb / .dae: an error naming the file, whichever the build. */
@@ -352,7 +354,10 @@ static void write_matrix(FILE *f, mm_quat q, mm_vec3 t)
 {
     mm_mat3 r = mm_quat_to_mat3(q);
     for (int i = 0; i < 3; ++i)
-        fprintf(f, "%.9g %.9g %.9g %.9g ", r.m[i][0], r.m[i][1], r.m[i][2], i == 0 ? t.x : i == 1 ? t.y : t.z);
+        fprintf(f, "%.9g %.9g %.9g %.9g ", r.m[i][0], r.m[i][1], r.m[i][2],
+                i == 0   ? t.x
+                : i == 1 ? t.y
+                         : t.z);
     fprintf(f, "0 0 0 1");
 }
 
@@ -360,14 +365,14 @@ static void write_collada_nodes(FILE *f, const mm_skeleton *s, int parent)
 {
     for (int j = 0; j < s->joint_count; ++j) {
         if (s->joints[j].parent != parent) continue;
-        fprintf(f, "<node id=\"%s\" name=\"%s\" sid=\"%s\" type=\"JOINT\"><matrix sid=\"transform\">", s->joints[j].name,
-                s->joints[j].name, s->joints[j].name);
+        fprintf(f, "<node id=\"%s\" name=\"%s\" sid=\"%s\" type=\"JOINT\"><matrix sid=\"transform\">",
+                s->joints[j].name, s->joints[j].name, s->joints[j].name);
         write_matrix(f, mm_quat_identity(), s->joints[j].offset);
         fprintf(f, "</matrix>\n");
         write_collada_nodes(f, s, j);
         if (s->joints[j].has_end_site) {
-            fprintf(f, "<node id=\"%s_end\" name=\"%s_end\" type=\"JOINT\"><matrix sid=\"transform\">", s->joints[j].name,
-                    s->joints[j].name);
+            fprintf(f, "<node id=\"%s_end\" name=\"%s_end\" type=\"JOINT\"><matrix sid=\"transform\">",
+                    s->joints[j].name, s->joints[j].name);
             write_matrix(f, mm_quat_identity(), s->joints[j].end_site);
             fprintf(f, "</matrix></node>\n");
         }
@@ -381,38 +386,48 @@ static void write_collada(const char *path, const mm_clip *clip, bool z_up, doub
     assert_non_null(f);
     const mm_skeleton *s = &clip->skeleton;
     int frames = clip->frame_count;
-    fprintf(f, "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n"
-               "<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n"
-               "<asset><unit name=\"unit\" meter=\"%.9g\"/><up_axis>%s</up_axis></asset>\n"
-               "<library_animations>\n",
+    fprintf(f,
+            "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n"
+            "<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n"
+            "<asset><unit name=\"unit\" meter=\"%.9g\"/><up_axis>%s</up_axis></asset>\n"
+            "<library_animations>\n",
             unit_meter, z_up ? "Z_UP" : "Y_UP");
     for (int t = 0; t < TAKES; ++t) {
         fprintf(f, "<animation id=\"%s\" name=\"%s\">\n", take_names[t], take_names[t]);
         for (int j = 0; j < s->joint_count; ++j) {
             const char *jn = s->joints[j].name, *tn = take_names[t];
-            fprintf(f, "<source id=\"%s_%s_time\"><float_array id=\"%s_%s_time_a\" count=\"%d\">", tn, jn, tn, jn, frames);
+            fprintf(f, "<source id=\"%s_%s_time\"><float_array id=\"%s_%s_time_a\" count=\"%d\">", tn, jn, tn,
+                    jn, frames);
             for (int k = 0; k < frames; ++k) fprintf(f, "%.9g ", k / (double)clip->fps);
-            fprintf(f, "</float_array><technique_common><accessor source=\"#%s_%s_time_a\" count=\"%d\" stride=\"1\">"
-                       "<param name=\"TIME\" type=\"float\"/></accessor></technique_common></source>\n",
+            fprintf(f,
+                    "</float_array><technique_common><accessor source=\"#%s_%s_time_a\" count=\"%d\" "
+                    "stride=\"1\">"
+                    "<param name=\"TIME\" type=\"float\"/></accessor></technique_common></source>\n",
                     tn, jn, frames);
-            fprintf(f, "<source id=\"%s_%s_xf\"><float_array id=\"%s_%s_xf_a\" count=\"%d\">", tn, jn, tn, jn, 16 * frames);
+            fprintf(f, "<source id=\"%s_%s_xf\"><float_array id=\"%s_%s_xf_a\" count=\"%d\">", tn, jn, tn, jn,
+                    16 * frames);
             for (int k = 0; k < frames; ++k) {
                 int fr = source_frame(t, k, frames);
                 write_matrix(f, mm_clip_rotations(clip, fr)[j], mm_clip_positions(clip, fr)[j]);
                 fputc(' ', f);
             }
-            fprintf(f, "</float_array><technique_common><accessor source=\"#%s_%s_xf_a\" count=\"%d\" stride=\"16\">"
-                       "<param name=\"TRANSFORM\" type=\"float4x4\"/></accessor></technique_common></source>\n",
+            fprintf(
+                f,
+                "</float_array><technique_common><accessor source=\"#%s_%s_xf_a\" count=\"%d\" stride=\"16\">"
+                "<param name=\"TRANSFORM\" type=\"float4x4\"/></accessor></technique_common></source>\n",
+                tn, jn, frames);
+            fprintf(f, "<source id=\"%s_%s_interp\"><Name_array id=\"%s_%s_interp_a\" count=\"%d\">", tn, jn,
                     tn, jn, frames);
-            fprintf(f, "<source id=\"%s_%s_interp\"><Name_array id=\"%s_%s_interp_a\" count=\"%d\">", tn, jn, tn, jn,
-                    frames);
             for (int k = 0; k < frames; ++k) fprintf(f, "LINEAR ");
-            fprintf(f, "</Name_array><technique_common><accessor source=\"#%s_%s_interp_a\" count=\"%d\" stride=\"1\">"
-                       "<param name=\"INTERPOLATION\" type=\"name\"/></accessor></technique_common></source>\n",
+            fprintf(f,
+                    "</Name_array><technique_common><accessor source=\"#%s_%s_interp_a\" count=\"%d\" "
+                    "stride=\"1\">"
+                    "<param name=\"INTERPOLATION\" type=\"name\"/></accessor></technique_common></source>\n",
                     tn, jn, frames);
-            fprintf(f, "<sampler id=\"%s_%s_sampler\"><input semantic=\"INPUT\" source=\"#%s_%s_time\"/>"
-                       "<input semantic=\"OUTPUT\" source=\"#%s_%s_xf\"/>"
-                       "<input semantic=\"INTERPOLATION\" source=\"#%s_%s_interp\"/></sampler>\n",
+            fprintf(f,
+                    "<sampler id=\"%s_%s_sampler\"><input semantic=\"INPUT\" source=\"#%s_%s_time\"/>"
+                    "<input semantic=\"OUTPUT\" source=\"#%s_%s_xf\"/>"
+                    "<input semantic=\"INTERPOLATION\" source=\"#%s_%s_interp\"/></sampler>\n",
                     tn, jn, tn, jn, tn, jn, tn, jn);
             fprintf(f, "<channel source=\"#%s_%s_sampler\" target=\"%s/transform\"/>\n", tn, jn, jn);
         }
@@ -420,13 +435,17 @@ static void write_collada(const char *path, const mm_clip *clip, bool z_up, doub
     }
     fprintf(f, "</library_animations>\n<library_animation_clips>\n");
     for (int t = 0; t < TAKES; ++t)
-        fprintf(f, "<animation_clip id=\"%s\" name=\"%s\" start=\"0\" end=\"%.9g\"><instance_animation url=\"#%s\"/>"
-                   "</animation_clip>\n",
-                take_names[t], take_names[t], (frames - 1) / (double)clip->fps, take_names[t]);
-    fprintf(f, "</library_animation_clips>\n<library_visual_scenes><visual_scene id=\"Scene\" name=\"Scene\">\n");
+        fprintf(
+            f,
+            "<animation_clip id=\"%s\" name=\"%s\" start=\"0\" end=\"%.9g\"><instance_animation url=\"#%s\"/>"
+            "</animation_clip>\n",
+            take_names[t], take_names[t], (frames - 1) / (double)clip->fps, take_names[t]);
+    fprintf(
+        f, "</library_animation_clips>\n<library_visual_scenes><visual_scene id=\"Scene\" name=\"Scene\">\n");
     if (z_up) {
         fprintf(f, "<node id=\"ZUp\" name=\"ZUp\"><matrix sid=\"transform\">");
-        write_matrix(f, mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), (float)(MM_PI / 2)), mm_vec3_make(0, 0, 0));
+        write_matrix(f, mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), (float)(MM_PI / 2)),
+                     mm_vec3_make(0, 0, 0));
         fprintf(f, "</matrix>\n");
     }
     write_collada_nodes(f, s, -1);
@@ -454,7 +473,8 @@ static void declare_fbx_z_up(const char *path)
     static const char *const from[] = {"\"UpAxis\", \"int\", \"Integer\", \"\", 1",
                                        "\"FrontAxis\", \"int\", \"Integer\", \"\", 2",
                                        "\"FrontAxisSign\", \"int\", \"Integer\", \"\", 1"};
-    static const char *const to[] = {"\"UpAxis\", \"int\", \"Integer\", \"\", 2", "\"FrontAxis\", \"int\", \"Integer\", \"\", 1",
+    static const char *const to[] = {"\"UpAxis\", \"int\", \"Integer\", \"\", 2",
+                                     "\"FrontAxis\", \"int\", \"Integer\", \"\", 1",
                                      "\"FrontAxisSign\", \"int\", \"Integer\", \"\", -1"};
     int replaced = 0;
     for (char *p = text; *p;) {
@@ -513,7 +533,8 @@ static void add_fbx_pivots(const char *path)
 /* Largest distance, over every frame of the take that falls on a frame of the BVH and every BVH
  * joint, between the clip's world position (mm_clip_fk) and axes * scale * mm_bvh_fk. Fails if a
  * BVH joint is missing or a BVH frame is not covered. */
-static double take_error(const mm_clip *clip, const mm_bvh *bvh, int take, const double axes[3][3], double scale)
+static double take_error(const mm_clip *clip, const mm_bvh *bvh, int take, const double axes[3][3],
+                         double scale)
 {
     int n = bvh->skeleton.joint_count;
     assert_int_equal(clip->skeleton.joint_count, n);
@@ -539,15 +560,17 @@ static double take_error(const mm_clip *clip, const mm_bvh *bvh, int take, const
         for (int j = 0; j < n; ++j) {
             double e[3];
             for (int r = 0; r < 3; ++r)
-                e[r] = scale * (axes[r][0] * xyz[3 * j] + axes[r][1] * xyz[3 * j + 1] + axes[r][2] * xyz[3 * j + 2]);
+                e[r] = scale *
+                       (axes[r][0] * xyz[3 * j] + axes[r][1] * xyz[3 * j + 1] + axes[r][2] * xyz[3 * j + 2]);
             mm_vec3 p = g[map[j]].translation;
-            double d = sqrt((p.x - e[0]) * (p.x - e[0]) + (p.y - e[1]) * (p.y - e[1]) + (p.z - e[2]) * (p.z - e[2]));
+            double d =
+                sqrt((p.x - e[0]) * (p.x - e[0]) + (p.y - e[1]) * (p.y - e[1]) + (p.z - e[2]) * (p.z - e[2]));
             if (d > worst) worst = d;
         }
     }
     if (covered != bvh->frame_count)
-        print_error("%d of the %d BVH frames are in the take (%d frames at %g fps)\n", covered, bvh->frame_count,
-                    clip->frame_count, clip->fps);
+        print_error("%d of the %d BVH frames are in the take (%d frames at %g fps)\n", covered,
+                    bvh->frame_count, clip->frame_count, clip->fps);
     assert_int_equal(covered, bvh->frame_count);
     free(g);
     free(xyz);
@@ -595,9 +618,13 @@ typedef struct format_case {
 } format_case;
 
 static const format_case format_cases[] = {
-    {"FBX (ASCII)", "fbxa", "fbx", 0}, {"FBX (ASCII), Z up", "fbxa", "fbx", 1}, {"FBX, pivot helpers", "fbxa", "fbx", 3},
-    {"glTF", "gltf2", "gltf", 0},      {"GLB", "glb2", "glb", 0},
-    {"Collada", NULL, "dae", 0},       {"Collada, Z up", NULL, "dae", 1},
+    {"FBX (ASCII)", "fbxa", "fbx", 0},
+    {"FBX (ASCII), Z up", "fbxa", "fbx", 1},
+    {"FBX, pivot helpers", "fbxa", "fbx", 3},
+    {"glTF", "gltf2", "gltf", 0},
+    {"GLB", "glb2", "glb", 0},
+    {"Collada", NULL, "dae", 0},
+    {"Collada, Z up", NULL, "dae", 1},
     {"Collada, centimetres", NULL, "dae", 2},
 };
 #define FORMAT_CASE_COUNT (int)(sizeof format_cases / sizeof format_cases[0])
@@ -620,14 +647,18 @@ static void test_formats_round_trip(void **state)
             mm_clip_fk(&clip, f, g);
             assert_int_equal(mm_bvh_fk(&bvh, f, xyz), MM_OK);
             for (int j = 0; j < clip.skeleton.joint_count; ++j)
-                clip_error = fmax(clip_error, mm_vec3_distance(g[j].translation, mm_vec3_make((float)xyz[3 * j], (float)xyz[3 * j + 1],
-                                                                                         (float)xyz[3 * j + 2])));
+                clip_error =
+                    fmax(clip_error, mm_vec3_distance(g[j].translation,
+                                                      mm_vec3_make((float)xyz[3 * j], (float)xyz[3 * j + 1],
+                                                                   (float)xyz[3 * j + 2])));
         }
-        printf("  %s: extent %.4g, mm_bvh_to_clip error %.3g of it\n", bvh_files[i], extent, clip_error / extent);
+        printf("  %s: extent %.4g, mm_bvh_to_clip error %.3g of it\n", bvh_files[i], extent,
+               clip_error / extent);
         for (int c = 0; c < FORMAT_CASE_COUNT; ++c) {
             const format_case *fc = &format_cases[c];
             char name[128];
-            snprintf(name, sizeof name, "%s_%d_%d.%s", strrchr(bvh_files[i], '/') + 1, c, fc->variant, fc->ext);
+            snprintf(name, sizeof name, "%s_%d_%d.%s", strrchr(bvh_files[i], '/') + 1, c, fc->variant,
+                     fc->ext);
             const char *path = tmp_path(name);
             double scale = 1.0;
             const double(*axes)[3] = identity_axes;
@@ -654,7 +685,8 @@ static void test_formats_round_trip(void **state)
                 double e = take_error(&list.clips[t], &bvh, t, axes, scale) / (extent * scale);
                 if (e > worst_rel[c]) worst_rel[c] = e;
                 if (e > REL_TOLERANCE)
-                    print_error("%s %s take %s: error %.3g of the extent\n", bvh_files[i], fc->label, take_names[t], e);
+                    print_error("%s %s take %s: error %.3g of the extent\n", bvh_files[i], fc->label,
+                                take_names[t], e);
                 assert_true(e <= REL_TOLERANCE);
             }
             /* End Sites survive as the joints' single leaf children. */
@@ -664,8 +696,9 @@ static void test_formats_round_trip(void **state)
                 int k = mm_skeleton_find(s, bj->name);
                 assert_int_equal(s->joints[k].has_end_site, bj->has_end_site);
                 if (!bj->has_end_site) continue;
-                assert_near(mm_vec3_distance(s->joints[k].end_site, mm_vec3_scale(bj->end_site, (float)scale)), 0,
-                            1e-5 * extent * scale);
+                assert_near(
+                    mm_vec3_distance(s->joints[k].end_site, mm_vec3_scale(bj->end_site, (float)scale)), 0,
+                    1e-5 * extent * scale);
             }
             /* The root translates, like the BVH's. */
             assert_true(s->joints[0].flags & MM_JOINT_TRANSLATES);
@@ -675,7 +708,8 @@ static void test_formats_round_trip(void **state)
         mm_bvh_free(&bvh);
     }
     for (int c = 0; c < FORMAT_CASE_COUNT; ++c)
-        printf("  %-22s worst position error %.3g of the character's extent\n", format_cases[c].label, worst_rel[c]);
+        printf("  %-22s worst position error %.3g of the character's extent\n", format_cases[c].label,
+               worst_rel[c]);
 }
 
 /* Take timing: the own rate, desc.fps, and auto_scale with the declared unit. */

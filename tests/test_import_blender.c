@@ -27,10 +27,7 @@ static const char *tmp_path(const char *name)
     return p;
 }
 
-static int blender_on_path(void)
-{
-    return system("command -v blender > /dev/null 2>&1") == 0;
-}
+static int blender_on_path(void) { return system("command -v blender > /dev/null 2>&1") == 0; }
 
 /* Runs a shell command; returns its exit status. */
 static int run(const char *cmd)
@@ -127,8 +124,10 @@ static void test_convert_and_import(void **state)
     assert_int_equal(mm_clip_copy(&reversed, &clip, NULL), MM_OK);
     int nj = clip.skeleton.joint_count;
     for (int f = 0; f < clip.frame_count; ++f) {
-        memcpy(mm_clip_rotations(&reversed, f), mm_clip_rotations(&clip, clip.frame_count - 1 - f), sizeof(mm_quat) * (size_t)nj);
-        memcpy(mm_clip_positions(&reversed, f), mm_clip_positions(&clip, clip.frame_count - 1 - f), sizeof(mm_vec3) * (size_t)nj);
+        memcpy(mm_clip_rotations(&reversed, f), mm_clip_rotations(&clip, clip.frame_count - 1 - f),
+               sizeof(mm_quat) * (size_t)nj);
+        memcpy(mm_clip_positions(&reversed, f), mm_clip_positions(&clip, clip.frame_count - 1 - f),
+               sizeof(mm_vec3) * (size_t)nj);
     }
     snprintf(path, sizeof path, "%s/cmu_style_reversed.bvh", in_dir);
     assert_int_equal(mm_bvh_save(path, &reversed, NULL, NULL), MM_OK);
@@ -175,7 +174,8 @@ static void test_convert_and_import(void **state)
             snprintf(bvh_path, sizeof bvh_path, "%s/%s.bvh", in_dir, expected[e].bvh[t]);
             mm_bvh bvh = load_bvh(bvh_path);
             double rel = take_error(&list.clips[k], &bvh);
-            printf("  %s take %s: worst position error %.3g of the character's extent\n", expected[e].file, take, rel);
+            printf("  %s take %s: worst position error %.3g of the character's extent\n", expected[e].file,
+                   take, rel);
             assert_true(rel <= REL_TOLERANCE);
             mm_bvh_free(&bvh);
         }
@@ -196,12 +196,13 @@ int main(void)
 
     /* Without Blender mm convert fails and says so. */
     char cmd[2000];
-    snprintf(cmd, sizeof cmd, "'%s' convert '%s' '%s/out' --blender /nonexistent/blender 2> '%s/stderr.txt'", mm_bin,
-             MM_TEST_DATA "/bvh", tmp_dir, tmp_dir);
+    snprintf(cmd, sizeof cmd, "'%s' convert '%s' '%s/out' --blender /nonexistent/blender 2> '%s/stderr.txt'",
+             mm_bin, MM_TEST_DATA "/bvh", tmp_dir, tmp_dir);
     int rc = run(cmd);
     snprintf(cmd, sizeof cmd, "grep -q 'Blender is not installed' '%s/stderr.txt'", tmp_dir);
     int said = run(cmd) == 0;
-    printf("mm convert without Blender: exit status %d, %s\n", rc, said ? "says Blender is not installed" : "SAYS NOTHING");
+    printf("mm convert without Blender: exit status %d, %s\n", rc,
+           said ? "says Blender is not installed" : "SAYS NOTHING");
 
     int result;
     if (rc == 0 || !said) {

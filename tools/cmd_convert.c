@@ -57,12 +57,15 @@ static int has_bvh_extension(const char *name)
     return e[0] == '.' && (e[1] | 32) == 'b' && (e[2] | 32) == 'v' && (e[3] | 32) == 'h';
 }
 
-static int compare_names(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
+static int compare_names(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
 
 typedef struct bvh_file {
-    char *name;      /* file name in the folder */
-    char *path;      /* folder/name */
-    char *skeleton;  /* joint names, one per line: files of one skeleton share it */
+    char *name;     /* file name in the folder */
+    char *path;     /* folder/name */
+    char *skeleton; /* joint names, one per line: files of one skeleton share it */
 } bvh_file;
 
 static void free_files(bvh_file *files, int count)
@@ -117,7 +120,8 @@ static int run_blender(const char *blender, const char *script, const char *out,
 }
 
 /* The output file of a batch: "<stem>.fbx" for one file, "<first>_to_<last>.fbx" for more. */
-static void output_path(char *buf, size_t size, const char *folder, const bvh_file *first, const bvh_file *last)
+static void output_path(char *buf, size_t size, const char *folder, const bvh_file *first,
+                        const bvh_file *last)
 {
     int a = (int)strlen(first->name) - 4, b = (int)strlen(last->name) - 4;
     if (first == last)
@@ -135,10 +139,12 @@ int mm_cmd_convert(int argc, char **argv)
         const char *a = argv[i];
         if (strcmp(a, "--batch-size") == 0) {
             if (i + 1 >= argc || !cli_parse_int(argv[i + 1], 1, 100000, &batch_size))
-                return cli_usage_error("convert", "--batch-size needs a number of takes per FBX file, 1 or more");
+                return cli_usage_error("convert",
+                                       "--batch-size needs a number of takes per FBX file, 1 or more");
             ++i;
         } else if (strcmp(a, "--blender") == 0) {
-            if (i + 1 >= argc) return cli_usage_error("convert", "--blender needs the path of the blender program");
+            if (i + 1 >= argc)
+                return cli_usage_error("convert", "--blender needs the path of the blender program");
             blender_arg = argv[++i];
         } else if (strcmp(a, "--verbose") == 0) {
             verbose = 1;
@@ -157,7 +163,8 @@ int mm_cmd_convert(int argc, char **argv)
     char blender[4096];
     if (!find_program(blender_arg ? blender_arg : "blender", blender, sizeof blender)) {
         if (blender_arg)
-            fprintf(stderr, "mm convert: Blender is not installed at '%s' (no executable there).\n", blender_arg);
+            fprintf(stderr, "mm convert: Blender is not installed at '%s' (no executable there).\n",
+                    blender_arg);
         else
             fprintf(stderr, "mm convert: Blender is not installed (no 'blender' on PATH).\n");
         fprintf(stderr, "mm convert converts BVH to FBX through Blender: apt-get install blender (Debian, "
@@ -215,7 +222,8 @@ int mm_cmd_convert(int argc, char **argv)
         files[i].skeleton = (char *)malloc(total);
         if (files[i].skeleton) {
             char *p = files[i].skeleton;
-            for (int j = 0; j < bvh.skeleton.joint_count; ++j) p += sprintf(p, "%s\n", bvh.skeleton.joints[j].name);
+            for (int j = 0; j < bvh.skeleton.joint_count; ++j)
+                p += sprintf(p, "%s\n", bvh.skeleton.joints[j].name);
             *p = 0;
         }
         mm_bvh_free(&bvh);
@@ -240,7 +248,8 @@ int mm_cmd_convert(int argc, char **argv)
         snprintf(script, sizeof script, "%s/mm_bvh_to_fbx_XXXXXX", tmp && *tmp ? tmp : "/tmp");
         int fd = mkstemp(script);
         FILE *f = fd >= 0 ? fdopen(fd, "wb") : NULL;
-        if (!f || fwrite(mm_blender_script, 1, mm_blender_script_size, f) != mm_blender_script_size || fclose(f) != 0) {
+        if (!f || fwrite(mm_blender_script, 1, mm_blender_script_size, f) != mm_blender_script_size ||
+            fclose(f) != 0) {
             fprintf(stderr, "mm convert: cannot write the Blender script %s: %s\n", script, strerror(errno));
             if (fd >= 0) unlink(script);
             script[0] = 0;
@@ -250,14 +259,18 @@ int mm_cmd_convert(int argc, char **argv)
     int batches = 0;
     for (int first = 0; !rc && first < count;) {
         int n = 1;
-        while (first + n < count && n < batch_size && strcmp(files[first + n].skeleton, files[first].skeleton) == 0) ++n;
+        while (first + n < count && n < batch_size &&
+               strcmp(files[first + n].skeleton, files[first].skeleton) == 0)
+            ++n;
         char out[4096];
         output_path(out, sizeof out, out_dir, &files[first], &files[first + n - 1]);
         int status = run_blender(blender, script, out, &files[first], n, verbose);
         struct stat st;
         if (status != 0 || stat(out, &st) != 0) {
-            fprintf(stderr, "mm convert: Blender failed on %s (exit status %d); run with --verbose to see its output\n",
-                    out, status);
+            fprintf(
+                stderr,
+                "mm convert: Blender failed on %s (exit status %d); run with --verbose to see its output\n",
+                out, status);
             rc = 1;
             break;
         }

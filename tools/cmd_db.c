@@ -28,11 +28,14 @@ static void progress(int done, int total, void *user)
 
 static int cmd_build(int argc, char **argv)
 {
-    const char *config = NULL, *out = NULL;
+    const char *config = NULL, *out = NULL, *data = NULL;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--output") == 0) {
             if (i + 1 >= argc) return cli_usage_error("db build", "-o needs a file name");
             out = argv[++i];
+        } else if (strcmp(argv[i], "--data") == 0) {
+            if (i + 1 >= argc) return cli_usage_error("db build", "--data needs a folder");
+            data = argv[++i];
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return cli_usage_error("db build", "unknown option '%s'", argv[i]);
         } else if (!config) {
@@ -41,7 +44,7 @@ static int cmd_build(int argc, char **argv)
             return cli_usage_error("db build", "unexpected argument '%s'", argv[i]);
         }
     }
-    if (!config || !out) return cli_usage_error("db build", "usage: mm db build CONFIG -o OUT.mmdb");
+    if (!config || !out) return cli_usage_error("db build", "usage: mm db build CONFIG -o OUT.mmdb [--data DIR]");
     double t0 = now_seconds();
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -49,6 +52,7 @@ static int cmd_build(int argc, char **argv)
     memset(&cfg, 0, sizeof cfg);
     char *text = NULL;
     if (mm_config_load_json(config, &cfg, &text, &err) != MM_OK) return cli_report(&err);
+    if (data) snprintf(cfg.data_dir, sizeof cfg.data_dir, "%s", data);
     mm_clip *sources = NULL;
     if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) {
         free(text);

@@ -22,7 +22,8 @@ static int cmd_info(int argc, char **argv)
         if (strcmp(a, "--json") == 0) {
             json = 1;
         } else if (strcmp(a, "--scale") == 0) {
-            if (v && strcmp(v, "auto") == 0) desc.auto_scale = true;
+            if (v && strcmp(v, "auto") == 0)
+                desc.auto_scale = true;
             else if (!v || !cli_parse_double(v, &d) || d <= 0.0)
                 return cli_usage_error("import info", "--scale needs a positive number or 'auto'");
             desc.scale = (float)d;
@@ -55,8 +56,9 @@ static int cmd_info(int argc, char **argv)
     }
     for (int i = 0; i < list.count; ++i) {
         const mm_clip *c = &list.clips[i];
-        float height = mm_skeleton_estimate_height(&c->skeleton, c->frame_count ? mm_clip_rotations(c, 0) : NULL,
-                                                   c->frame_count ? mm_clip_positions(c, 0) : NULL);
+        float height =
+            mm_skeleton_estimate_height(&c->skeleton, c->frame_count ? mm_clip_rotations(c, 0) : NULL,
+                                        c->frame_count ? mm_clip_positions(c, 0) : NULL);
         if (json) {
             printf("%s{\"name\": ", i ? ", " : "");
             cli_json_string(stdout, list.names[i]);
@@ -67,8 +69,8 @@ static int cmd_info(int argc, char **argv)
             printf("}");
         } else {
             printf("  %-32s %4d joints %7d frames at %g fps (%.3f s), root %s, height %.4g\n", list.names[i],
-                   c->skeleton.joint_count, c->frame_count, c->fps, mm_clip_duration(c), c->skeleton.joints[0].name,
-                   height);
+                   c->skeleton.joint_count, c->frame_count, c->fps, mm_clip_duration(c),
+                   c->skeleton.joints[0].name, height);
         }
     }
     if (json) printf("]}\n");

@@ -31,8 +31,25 @@ static int parse_seed(const char *s, uint64_t *out)
     return 1;
 }
 
+/* Creates path and any missing parent folders (like mkdir -p). */
 static int make_dir(const char *path)
 {
+    char parent[4096];
+    size_t n = strlen(path);
+    if (n >= sizeof parent) {
+        fprintf(stderr, "mm synth: path too long: '%s'\n", path);
+        return 1;
+    }
+    memcpy(parent, path, n + 1);
+    for (char *p = parent + 1; *p; ++p)
+        if (*p == '/') {
+            *p = 0;
+            if (mkdir(parent, 0777) != 0 && errno != EEXIST) {
+                fprintf(stderr, "mm synth: cannot create '%s': %s\n", parent, strerror(errno));
+                return 1;
+            }
+            *p = '/';
+        }
     if (mkdir(path, 0777) == 0) return 0;
     if (errno == EEXIST) {
         struct stat st;
@@ -57,6 +74,12 @@ static int json_ranges(FILE *f, const mm_synth_clip *c, unsigned flag)
     return 0;
 }
 
+/* Seconds a clip covers: a loop's last frame wraps to its first. */
+static double clip_seconds(const mm_synth_clip *c)
+{
+    return (double)(c->loop ? c->clip.frame_count : c->clip.frame_count - 1) / (double)c->clip.fps;
+}
+
 static int write_json(const char *path, const mm_synth_set *set, uint64_t seed, float fps)
 {
     char tmp[4096];
@@ -73,7 +96,7 @@ static int write_json(const char *path, const mm_synth_set *set, uint64_t seed, 
     double total = 0.0;
     long frames = 0;
     for (int i = 0; i < set->clip_count; ++i) {
-        total += (double)set->clips[i].clip.frame_count / fps;
+        total += clip_seconds(&set->clips[i]);
         frames += set->clips[i].clip.frame_count;
     }
     mm_skeleton *sk = &set->clips[0].clip.skeleton;
@@ -100,9 +123,9 @@ static int write_json(const char *path, const mm_synth_set *set, uint64_t seed, 
                 ", \"loop\": %s, \"frames\": %d, \"fps\": %.9g, \"duration\": %.6f,\n"
                 "     \"speed\": %.6g, \"speed_in\": %.6g, \"speed_out\": %.6g, \"turn_radius\": %.6g, "
                 "\"turn_angle\": %.6g, \"direction\": %.6g,\n",
-                c->loop ? "true" : "false", c->clip.frame_count, (double)c->clip.fps,
-                (double)c->clip.frame_count / (double)fps, (double)c->speed, (double)c->speed_in,
-                (double)c->speed_out, (double)c->turn_radius, (double)c->turn_angle, (double)c->direction);
+                c->loop ? "true" : "false", c->clip.frame_count, (double)c->clip.fps, clip_seconds(c),
+                (double)c->speed, (double)c->speed_in, (double)c->speed_out, (double)c->turn_radius,
+                (double)c->turn_angle, (double)c->direction);
         fprintf(f, "     \"contacts\": {\"left_heel\": ");
         bad |= json_ranges(f, c, MM_SYNTH_LEFT_HEEL);
         fprintf(f, ", \"left_toe\": ");
@@ -179,7 +202,7 @@ int mm_cmd_synth(int argc, char **argv)
     }
     if (rc == 0) {
         double total = 0.0;
-        for (int i = 0; i < set.clip_count; ++i) total += (double)set.clips[i].clip.frame_count / fps;
+        for (int i = 0; i < set.clip_count; ++i) total += clip_seconds(&set.clips[i]);
         printf("mm synth: wrote %d clips (%.1f s at %g fps) and clips.json to %s\n", set.clip_count, total,
                fps, outdir);
     }

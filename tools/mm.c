@@ -14,6 +14,7 @@ static const struct command {
     {"config", mm_cmd_config},
     {"convert", mm_cmd_convert},
     {"db", mm_cmd_db},
+    {"synth", mm_cmd_synth},
     {"import", mm_cmd_import},
 };
 
@@ -33,9 +34,11 @@ static void usage(FILE *f)
           "  convert BVH_DIR FBX_DIR [--batch-size 10] [--blender PATH]\n"
           "                                    BVH files to FBX through Blender, batch-size takes per file\n"
           "  import info FILE [--json]         the takes of a BVH, FBX, glTF or Collada file\n"
-          "  db build CONFIG -o OUT.mmdb       build a motion database\n"
+          "  db build CONFIG -o OUT.mmdb [--data DIR]  build a motion database (clip files are looked\n"
+          "                                    for beside CONFIG, in DIR, then in $MM_DATA_DIR)\n"
           "  db info FILE [--json]             frames, dims, clips, tags, feature groups\n"
           "  db dump FILE                      everything in a database as deterministic text\n"
+          "  synth OUTDIR [--seed N] [--fps 60]  write the built-in procedural motion set (BVH + clips.json)\n"
           "  version                           print the version\n"
           "  help                              print this text\n",
           f);

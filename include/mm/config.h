@@ -55,6 +55,7 @@ typedef struct mm_config_tag_range {
 typedef struct mm_config_clip {
     char name[MM_NAME_MAX];
     char file[MM_PATH_MAX]; /* as written in the config; resolved by the loader */
+    char take[MM_NAME_MAX]; /* the take to use in a file with several (FBX, glTF); empty: the first */
     mm_clip_type type;
     bool loop;
     bool mirror; /* also add the mirrored clip ("<name>_mirror") */
@@ -123,6 +124,8 @@ typedef struct mm_config {
     mm_config_blend *blends;
 
     char base_dir[MM_PATH_MAX]; /* folder relative clip paths start from (the config's folder) */
+    char data_dir[MM_PATH_MAX]; /* another folder for relative clip paths, looked at after base_dir
+                                   and before $MM_DATA_DIR (mm db build --data); may be empty */
     mm_allocator allocator;
 } mm_config;
 

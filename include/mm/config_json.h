@@ -6,7 +6,7 @@
  * "lafan1.json: clips[2].ranges[0]: [900, 100) is empty".
  *
  * Paths of clip files are resolved (mm_config_resolve_path): absolute paths as they are;
- * relative ones against the config file's folder, then against $MM_DATA_DIR.
+ * relative ones against the config file's folder, then cfg->data_dir (if set), then $MM_DATA_DIR.
  *
  * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
  *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
@@ -47,9 +47,10 @@ const mm_config_field_doc *mm_config_field_docs(int *count);
  * places looked at) when no file exists there. */
 mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size, mm_error *err);
 
-/* Loads the source of every config clip (BVH with mm's reader; other formats through the
- * importer when built with it), converted to metres by cfg->scale (or detected when 0). Files
- * used by several clips are read once. *out_clips is an array of cfg->clip_count clips. */
+/* Loads the source of every config clip through mm_import_clips (BVH with mm's reader, FBX, glTF
+ * and Collada through assimp when built with it; the clip's take, or the file's first),
+ * converted to metres by cfg->scale (or detected when 0). A file and take used by several clips
+ * is read once. *out_clips is an array of cfg->clip_count clips. */
 mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err);
 void mm_config_free_sources(const mm_config *cfg, mm_clip *clips);
 

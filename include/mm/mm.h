@@ -12,9 +12,11 @@
 #include "clip.h"
 #include "config.h"
 #include "database.h"
+#include "import.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"
+#include "synth.h"
 
 #define MM_VERSION_MAJOR 0
 #define MM_VERSION_MINOR 1

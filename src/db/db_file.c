@@ -239,8 +239,15 @@ static mm_result validate_references(const mm_database *db, mm_error *err)
 {
     for (int j = 0; j < db->joint_count; ++j) {
         const mm_joint *jt = &db->joints[j];
+        /* bool and enum fields are read as bytes first: a bool holding 32 must not be loaded */
+        unsigned char end_site;
+        int32_t order;
+        memcpy(&end_site, (const unsigned char *)jt + offsetof(mm_joint, has_end_site), 1);
+        memcpy(&order, (const unsigned char *)jt + offsetof(mm_joint, order), 4);
         if (memchr(jt->name, 0, MM_NAME_MAX) == NULL || (j == 0 ? jt->parent != -1 : (jt->parent < 0 || jt->parent >= j)))
             return BAD("joint %d: bad name or parent", j);
+        if (end_site > 1 || order < MM_EULER_NONE || order > MM_EULER_ZYX || (jt->flags & ~(unsigned)MM_JOINT_TRANSLATES))
+            return BAD("joint %d: bad End Site flag, rotation order or flags", j);
     }
     int expect_first = 0;
     for (int c = 0; c < db->clip_count; ++c) {

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <mm/bvh.h>
+#include <mm/import.h>
 
 #include "io/file.h"
 
@@ -75,7 +75,10 @@ static const mm_config_field_doc docs[] = {
      "The clips (the seed's IdleClips and LocomotionClips). Each frame range of a clip becomes a database clip."},
     {"clips[].name", "string", "", "the file name", "Unique name; ranges add #0, #1...; mirrors add _mirror."},
     {"clips[].file", "string", "", "",
-     "Motion file: absolute, or relative to the config's folder, or to $MM_DATA_DIR."},
+     "Motion file: absolute, or relative to the config's folder, to the folder given by mm db build --data, or "
+     "to $MM_DATA_DIR (looked up in that order)."},
+    {"clips[].take", "string", "", "the first take",
+     "For files with several takes (FBX, glTF, Collada; `mm import info FILE` lists them): the take's name."},
     {"clips[].ranges", "[[int, int]]", "frames", "the whole file",
      "Half-open frame ranges [begin, end) in the file's own frames; each becomes a clip."},
     {"clips[].type", "string", "", "locomotion", "idle or locomotion: the search can require either."},
@@ -283,7 +286,7 @@ static mm_result parse_pair_list(ctx *c, const cJSON *arr, const char *where, in
 
 static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
 {
-    static const char *const keys[] = {"name", "file", "ranges", "type", "loop", "mirror", "tags", NULL};
+    static const char *const keys[] = {"name", "file", "take", "ranges", "type", "loop", "mirror", "tags", NULL};
     mm_config *cfg = c->cfg;
     char where[64];
     snprintf(where, sizeof where, "clips[%d]", i);
@@ -292,6 +295,7 @@ static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
     const cJSON *file = cJSON_GetObjectItemCaseSensitive(j, "file");
     if (!file) return FAIL(MM_ERR_SYNTAX, "%s.file is missing", where);
     if ((r = get_string(c, j, "file", where, clip->file, MM_PATH_MAX)) != MM_OK) return r;
+    if ((r = get_string(c, j, "take", where, clip->take, MM_NAME_MAX)) != MM_OK) return r;
     if (cJSON_GetObjectItemCaseSensitive(j, "name")) {
         if ((r = get_string(c, j, "name", where, clip->name, MM_NAME_MAX)) != MM_OK) return r;
     } else { /* the file name without folder and extension */
@@ -528,13 +532,18 @@ mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *o
     }
     snprintf(out, size, "%s/%s", cfg->base_dir[0] ? cfg->base_dir : ".", file);
     if (file_exists(out)) return MM_OK;
+    if (cfg->data_dir[0]) {
+        snprintf(out, size, "%s/%s", cfg->data_dir, file);
+        if (file_exists(out)) return MM_OK;
+    }
     const char *data = getenv("MM_DATA_DIR");
     if (data && data[0]) {
         snprintf(out, size, "%s/%s", data, file);
         if (file_exists(out)) return MM_OK;
     }
-    return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clip file '%s' is neither in %s nor in $MM_DATA_DIR (%s)", file,
-                        cfg->base_dir[0] ? cfg->base_dir : ".", data && data[0] ? data : "unset");
+    return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clip file '%s' is not in %s%s%s nor in $MM_DATA_DIR (%s)", file,
+                        cfg->base_dir[0] ? cfg->base_dir : ".", cfg->data_dir[0] ? " or " : "", cfg->data_dir,
+                        data && data[0] ? data : "unset");
 }
 
 void mm_config_free_sources(const mm_config *cfg, mm_clip *clips)
@@ -561,20 +570,32 @@ mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_e
         if (r != MM_OK) break;
         int same = -1;
         for (int k = 0; k < i && same < 0; ++k)
-            if (strcmp(paths[k], paths[i]) == 0) same = k;
+            if (strcmp(paths[k], paths[i]) == 0 && strcmp(cfg->clips[k].take, cfg->clips[i].take) == 0) same = k;
         if (same >= 0) {
             r = mm_clip_copy(&clips[i], &clips[same], NULL);
             continue;
         }
-        mm_bvh bvh;
-        r = mm_bvh_load(paths[i], NULL, &bvh, err);
-        if (r != MM_OK) break;
-        mm_bvh_import_desc imp;
+        mm_import_desc imp;
         memset(&imp, 0, sizeof imp);
         imp.scale = cfg->scale;
         imp.auto_scale = cfg->scale == 0.0f;
-        r = mm_bvh_to_clip(&bvh, &imp, &clips[i], err);
-        mm_bvh_free(&bvh);
+        mm_clip_list takes;
+        r = mm_import_clips(paths[i], &imp, &takes, err);
+        if (r != MM_OK) break;
+        int pick = 0;
+        if (cfg->clips[i].take[0]) {
+            pick = -1;
+            for (int t = 0; t < takes.count && pick < 0; ++t)
+                if (strcmp(takes.names[t], cfg->clips[i].take) == 0) pick = t;
+        }
+        if (pick < 0) {
+            r = mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clips[%d] (%s): the file has no take named '%s'", i,
+                             cfg->clips[i].name, cfg->clips[i].take);
+        } else {
+            clips[i] = takes.clips[pick]; /* moved out of the list */
+            memset(&takes.clips[pick], 0, sizeof takes.clips[pick]);
+        }
+        mm_clip_list_free(&takes);
     }
     free(paths);
     if (r != MM_OK) {

@@ -4,6 +4,7 @@
 #include <mm/import.h>
 
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -127,7 +128,8 @@ static mm_result import_bvh(const char *path, const mm_import_desc *desc, mm_cli
         mm_clip resampled;
         r = mm_clip_resample(&resampled, &clip, desc->fps, allocator);
         mm_clip_free(&clip);
-        if (r != MM_OK) return mm_error_set(err, r, 0, 0, "cannot resample to %g fps: %s", desc->fps, mm_result_str(r));
+        if (r != MM_OK)
+            return mm_error_set(err, r, 0, 0, "cannot resample to %g fps: %s", desc->fps, mm_result_str(r));
         clip = resampled;
     }
     r = mm__clip_list_alloc(out, 1, allocator);
@@ -160,8 +162,8 @@ mm_result mm_import_clips(const char *path, const mm_import_desc *desc, mm_clip_
         return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "scale %g must be finite and positive (0: keep)",
                             (double)desc->scale);
     if (desc && (!isfinite(desc->fps) || desc->fps < 0.0f || desc->fps > 10000.0f))
-        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "fps %g must be in (0, 10000] (0: the take's own)",
-                            (double)desc->fps);
+        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
+                            "fps %g must be in (0, 10000] (0: the take's own)", (double)desc->fps);
 
     const char *ext = extension(path);
     mm_result r;
@@ -172,7 +174,7 @@ mm_result mm_import_clips(const char *path, const mm_import_desc *desc, mm_clip_
         r = mm__import_assimp(path, desc, out, err);
 #else
         FILE *f = fopen(path, "rb");
-        if (!f) return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot open the file");
+        if (!f) return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot open: %s", strerror(errno));
         fclose(f);
         r = mm_error_set(err, MM_ERR_UNSUPPORTED, 0, 0,
                          "mm was built without assimp, so only BVH files can be imported (install "

@@ -32,7 +32,7 @@
 #include "io/file.h"
 #include "io/import_private.h"
 
-#define MAX_NODES (1 << 22)
+#define MAX_NODES  (1 << 22)
 #define HELPER_TAG "$AssimpFbx$"
 
 /* ---- double-precision math -------------------------------------------------------------- */
@@ -91,8 +91,9 @@ static dquat dquat_normalize(dquat q)
 
 static dquat dquat_mul(dquat a, dquat b)
 {
-    return dquat_make(a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-                      a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z);
+    return dquat_make(
+        a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+        a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z);
 }
 
 static dquat dquat_conj(dquat q) { return dquat_make(-q.x, -q.y, -q.z, q.w); }
@@ -100,7 +101,8 @@ static dquat dquat_conj(dquat q) { return dquat_make(-q.x, -q.y, -q.z, q.w); }
 static void dquat_rotate(dquat q, const double v[3], double out[3])
 {
     /* v' = v + 2w (u x v) + 2 u x (u x v) */
-    double t[3] = {2 * (q.y * v[2] - q.z * v[1]), 2 * (q.z * v[0] - q.x * v[2]), 2 * (q.x * v[1] - q.y * v[0])};
+    double t[3] = {2 * (q.y * v[2] - q.z * v[1]), 2 * (q.z * v[0] - q.x * v[2]),
+                   2 * (q.x * v[1] - q.y * v[0])};
     out[0] = v[0] + q.w * t[0] + (q.y * t[2] - q.z * t[1]);
     out[1] = v[1] + q.w * t[1] + (q.z * t[0] - q.x * t[2]);
     out[2] = v[2] + q.w * t[2] + (q.x * t[1] - q.y * t[0]);
@@ -271,7 +273,10 @@ static void sample_vec(const struct aiVectorKey *k, unsigned n, double t, double
     out[2] = a->z + (b->z - (double)a->z) * u;
 }
 
-static dquat ai_quat(const struct aiQuaternion *q) { return dquat_normalize(dquat_make(q->x, q->y, q->z, q->w)); }
+static dquat ai_quat(const struct aiQuaternion *q)
+{
+    return dquat_normalize(dquat_make(q->x, q->y, q->z, q->w));
+}
 
 static dquat sample_quat(const struct aiQuatKey *k, unsigned n, double t)
 {
@@ -304,7 +309,7 @@ typedef struct importer {
     const mm_allocator *allocator;
     anode *nodes;
     int node_count;
-    double axes[3][3]; /* file axes to Y up */
+    double axes[3][3];    /* file axes to Y up */
     double declared_unit; /* metres per unit the file declares, 0 when unknown */
 } importer;
 
@@ -331,7 +336,8 @@ static mm_result flatten(importer *im, mm_error *err)
         }
         if (top + n->mNumChildren > cap) {
             size_t ncap = (top + n->mNumChildren) * 2;
-            const struct aiNode **ns = (const struct aiNode **)mm_alloc_array(im->allocator, ncap, sizeof *ns);
+            const struct aiNode **ns =
+                (const struct aiNode **)mm_alloc_array(im->allocator, ncap, sizeof *ns);
             if (!ns) {
                 r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
                 goto done;
@@ -430,7 +436,8 @@ static void setup_axes(importer *im)
     for (int i = 0; i < 3; ++i) im->axes[i][i] = 1.0;
     double up, up_sign, front, front_sign, coord, coord_sign;
     const struct aiScene *s = im->scene;
-    if (!meta_number(s, "UpAxis", &up) || !meta_number(s, "FrontAxis", &front) || !meta_number(s, "CoordAxis", &coord))
+    if (!meta_number(s, "UpAxis", &up) || !meta_number(s, "FrontAxis", &front) ||
+        !meta_number(s, "CoordAxis", &coord))
         return;
     if (!meta_number(s, "UpAxisSign", &up_sign)) up_sign = 1;
     if (!meta_number(s, "FrontAxisSign", &front_sign)) front_sign = 1;
@@ -443,7 +450,8 @@ static void setup_axes(importer *im)
     a[1][u] = up_sign < 0 ? -1.0 : 1.0;
     a[2][f] = front_sign < 0 ? -1.0 : 1.0;
     /* A left-handed declaration would mirror the motion: keep it a rotation by flipping front. */
-    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+    double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+                 a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
                  a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
     if (det < 0)
         for (int i = 0; i < 3; ++i) a[2][i] = -a[2][i];
@@ -455,14 +463,14 @@ static void setup_axes(importer *im)
 typedef struct take {
     const struct aiAnimation *anim;
     int joint_count;
-    int *joint_node; /* [joint_count] node of each joint */
-    int *chain;      /* nodes of every joint's chain, top-down, joint after joint */
-    int *chain_first; /* [joint_count + 1] */
-    int *parents;     /* [joint_count] parent joint, -1 for the root */
+    int *joint_node;        /* [joint_count] node of each joint */
+    int *chain;             /* nodes of every joint's chain, top-down, joint after joint */
+    int *chain_first;       /* [joint_count + 1] */
+    int *parents;           /* [joint_count] parent joint, -1 for the root */
     double tps, start, end; /* ticks per second, first and last key (ticks) */
     double fps;
     int frame_count;
-    dmat4 *global;    /* [joint_count] scratch */
+    dmat4 *global;     /* [joint_count] scratch */
     double *world_pos; /* [3 * joint_count] scratch */
     dquat *world_rot;  /* [joint_count] scratch */
 } take;
@@ -490,8 +498,10 @@ static dmat4 node_local(const importer *im, const take *t, int k, bool animated,
     double tr[3], sc[3];
     dquat q;
     decompose(&m, tr, &q, sc);
-    if (ch->mNumPositionKeys && ch->mPositionKeys) sample_vec(ch->mPositionKeys, ch->mNumPositionKeys, ticks, tr);
-    if (ch->mNumRotationKeys && ch->mRotationKeys) q = sample_quat(ch->mRotationKeys, ch->mNumRotationKeys, ticks);
+    if (ch->mNumPositionKeys && ch->mPositionKeys)
+        sample_vec(ch->mPositionKeys, ch->mNumPositionKeys, ticks, tr);
+    if (ch->mNumRotationKeys && ch->mRotationKeys)
+        q = sample_quat(ch->mRotationKeys, ch->mNumRotationKeys, ticks);
     if (ch->mNumScalingKeys && ch->mScalingKeys) sample_vec(ch->mScalingKeys, ch->mNumScalingKeys, ticks, sc);
     return dmat4_trs(tr, q, sc);
 }
@@ -529,7 +539,8 @@ static void take_locals(const take *t, mm_quat *rot, mm_vec3 *pos)
         if (p >= 0) {
             dquat inv = dquat_conj(t->world_rot[p]);
             q = dquat_normalize(dquat_mul(inv, q));
-            double d[3] = {v[0] - t->world_pos[3 * p], v[1] - t->world_pos[3 * p + 1], v[2] - t->world_pos[3 * p + 2]};
+            double d[3] = {v[0] - t->world_pos[3 * p], v[1] - t->world_pos[3 * p + 1],
+                           v[2] - t->world_pos[3 * p + 2]};
             dquat_rotate(inv, d, v);
         }
         rot[j] = mm_quat_make((float)q.x, (float)q.y, (float)q.z, (float)q.w);
@@ -537,8 +548,9 @@ static void take_locals(const take *t, mm_quat *rot, mm_vec3 *pos)
     }
 }
 
-static const double standard_rates[] = {12, 15, 20, 24000.0 / 1001, 24, 25, 30000.0 / 1001, 30, 48, 50,
-                                        60000.0 / 1001, 60, 72, 90, 96, 100, 120, 144, 240};
+static const double standard_rates[] = {
+    12,  15,  20, 24000.0 / 1001, 24, 25, 30000.0 / 1001, 30, 48, 50, 60000.0 / 1001, 60, 72, 90, 96, 100,
+    120, 144, 240};
 
 static int compare_double(const void *a, const void *b)
 {
@@ -563,9 +575,12 @@ static mm_result take_timing(const importer *im, take *t, const mm_import_desc *
     for (unsigned c = 0; c < an->mNumChannels; ++c) {
         const struct aiNodeAnim *ch = an->mChannels[c];
         if (!ch) continue;
-        for (unsigned i = 0; i < ch->mNumPositionKeys && ch->mPositionKeys; ++i) times[n++] = ch->mPositionKeys[i].mTime;
-        for (unsigned i = 0; i < ch->mNumRotationKeys && ch->mRotationKeys; ++i) times[n++] = ch->mRotationKeys[i].mTime;
-        for (unsigned i = 0; i < ch->mNumScalingKeys && ch->mScalingKeys; ++i) times[n++] = ch->mScalingKeys[i].mTime;
+        for (unsigned i = 0; i < ch->mNumPositionKeys && ch->mPositionKeys; ++i)
+            times[n++] = ch->mPositionKeys[i].mTime;
+        for (unsigned i = 0; i < ch->mNumRotationKeys && ch->mRotationKeys; ++i)
+            times[n++] = ch->mRotationKeys[i].mTime;
+        for (unsigned i = 0; i < ch->mNumScalingKeys && ch->mScalingKeys; ++i)
+            times[n++] = ch->mScalingKeys[i].mTime;
     }
     t->start = 0.0;
     t->end = 0.0;
@@ -608,8 +623,9 @@ static mm_result take_timing(const importer *im, take *t, const mm_import_desc *
     /* A last frame within 1% of a frame period of the last key is kept (sampled at that key). */
     double frames = floor((t->end - t->start) / t->tps * t->fps + 0.01) + 1.0;
     if (!(frames <= (double)MM_MAX_FRAMES))
-        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "take '%s' would have %.0f frames at %g fps, more than %d",
-                            an->mName.data, frames, t->fps, MM_MAX_FRAMES);
+        return mm_error_set(err, MM_ERR_LIMIT, 0, 0,
+                            "take '%s' would have %.0f frames at %g fps, more than %d", an->mName.data,
+                            frames, t->fps, MM_MAX_FRAMES);
     t->frame_count = (int)frames;
     return MM_OK;
 }
@@ -644,7 +660,8 @@ static bool channel_moves(const struct aiNodeAnim *ch, const struct aiNode *node
     double size = 1.0 + sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
     for (unsigned i = 0; ch->mPositionKeys && i < ch->mNumPositionKeys; ++i) {
         const struct aiVector3D *v = &ch->mPositionKeys[i].mValue;
-        if (fabs(v->x - t[0]) > 1e-5 * size || fabs(v->y - t[1]) > 1e-5 * size || fabs(v->z - t[2]) > 1e-5 * size)
+        if (fabs(v->x - t[0]) > 1e-5 * size || fabs(v->y - t[1]) > 1e-5 * size ||
+            fabs(v->z - t[2]) > 1e-5 * size)
             return true;
     }
     for (unsigned i = 0; ch->mRotationKeys && i < ch->mNumRotationKeys; ++i) {
@@ -662,8 +679,8 @@ static bool channel_moves(const struct aiNodeAnim *ch, const struct aiNode *node
 
 /* Builds the clip of one take; returns MM_ERR_NOT_FOUND (without message) for a take that
  * animates no node of the scene. */
-static mm_result import_take(importer *im, const struct aiAnimation *an, const mm_import_desc *desc, mm_clip *out,
-                             mm_error *err)
+static mm_result import_take(importer *im, const struct aiAnimation *an, const mm_import_desc *desc,
+                             mm_clip *out, mm_error *err)
 {
     take t;
     memset(&t, 0, sizeof t);
@@ -715,8 +732,8 @@ static mm_result import_take(importer *im, const struct aiAnimation *an, const m
     for (int k = 0; k < im->node_count; ++k)
         if (im->nodes[k].marked && !im->nodes[k].helper) im->nodes[k].joint = n++;
     if (n > MM_MAX_JOINTS) {
-        r = mm_error_set(err, MM_ERR_LIMIT, 0, 0, "take '%s' animates %d joints, more than %d", an->mName.data, n,
-                         MM_MAX_JOINTS);
+        r = mm_error_set(err, MM_ERR_LIMIT, 0, 0, "take '%s' animates %d joints, more than %d",
+                         an->mName.data, n, MM_MAX_JOINTS);
         goto fail;
     }
     t.joint_count = n;
@@ -879,7 +896,8 @@ static double declared_unit(const importer *im)
     for (char *c = ext; *c; ++c)
         if (*c >= 'A' && *c <= 'Z') *c = (char)(*c - 'A' + 'a');
     double f;
-    if (strcmp(ext, "fbx") == 0) return meta_number(im->scene, "UnitScaleFactor", &f) && f > 0 ? f * 0.01 : 0.01;
+    if (strcmp(ext, "fbx") == 0)
+        return meta_number(im->scene, "UnitScaleFactor", &f) && f > 0 ? f * 0.01 : 0.01;
     if (strcmp(ext, "gltf") == 0 || strcmp(ext, "glb") == 0) return 1.0;
     if (strcmp(ext, "dae") == 0) return 1.0; /* assimp applies <unit meter> */
     return 0.0;
@@ -892,11 +910,13 @@ static void strip_collada_prefix(mm_clip_list *list)
 {
     const char *first = list->names[0];
     size_t len = strlen(first);
-    if (len < 3 || len % 2 == 0 || first[len / 2] != '_' || strncmp(first, first + len / 2 + 1, len / 2) != 0) return;
+    if (len < 3 || len % 2 == 0 || first[len / 2] != '_' || strncmp(first, first + len / 2 + 1, len / 2) != 0)
+        return;
     size_t strip = len / 2 + 1;
     for (int i = 0; i < list->count; ++i)
         if (strlen(list->names[i]) <= strip || strncmp(list->names[i], first, strip) != 0) return;
-    for (int i = 0; i < list->count; ++i) memmove(list->names[i], list->names[i] + strip, strlen(list->names[i] + strip) + 1);
+    for (int i = 0; i < list->count; ++i)
+        memmove(list->names[i], list->names[i] + strip, strlen(list->names[i] + strip) + 1);
 }
 
 mm_result mm__import_assimp(const char *path, const mm_import_desc *desc, mm_clip_list *out, mm_error *err)
@@ -925,7 +945,8 @@ mm_result mm__import_assimp(const char *path, const mm_import_desc *desc, mm_cli
     im.scene = aiImportFileExWithProperties(path, aiProcess_ValidateDataStructure, NULL, props);
     if (!im.scene) {
         const char *why = aiGetErrorString();
-        mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "assimp cannot read it: %s", why && *why ? why : "unknown error");
+        mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "assimp cannot read it: %s",
+                     why && *why ? why : "unknown error");
     }
     pthread_mutex_unlock(&assimp_lock);
     aiReleasePropertyStore(props);
@@ -952,7 +973,8 @@ mm_result mm__import_assimp(const char *path, const mm_import_desc *desc, mm_cli
     out->count = 0;
     snprintf(out->format, sizeof out->format, "%s", extension(path));
     for (int c = 0; c < (int)sizeof out->format && out->format[c]; ++c)
-        if (out->format[c] >= 'A' && out->format[c] <= 'Z') out->format[c] = (char)(out->format[c] - 'A' + 'a');
+        if (out->format[c] >= 'A' && out->format[c] <= 'Z')
+            out->format[c] = (char)(out->format[c] - 'A' + 'a');
     for (int a = 0; a < takes; ++a) {
         const struct aiAnimation *an = im.scene->mAnimations[a];
         if (!an) continue;
@@ -981,7 +1003,8 @@ mm_result mm__import_assimp(const char *path, const mm_import_desc *desc, mm_cli
         ++out->count;
     }
     if (out->count == 0)
-        r = mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "none of the file's %d animation takes animates a node", takes);
+        r = mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "none of the file's %d animation takes animates a node",
+                         takes);
     else if (strcmp(out->format, "dae") == 0)
         strip_collada_prefix(out);
 done:
