@@ -66,8 +66,8 @@ int main(int argc, char **argv)
     double t2 = now();
     printf("config           %s\n", config);
     printf("read sources     %.3f s (%d clips)\n", t1 - t0, cfg.clip_count);
-    printf("build            %.3f s for %d frames, %d clips, %d dims (%.1f us per frame)\n", t2 - t1, db.frame_count,
-           db.clip_count, db.dims, 1e6 * (t2 - t1) / db.frame_count);
+    printf("build            %.3f s for %d frames, %d clips, %d dims (%.1f us per frame)\n", t2 - t1,
+           db.frame_count, db.clip_count, db.dims, 1e6 * (t2 - t1) / db.frame_count);
     printf("total            %.3f s (target: under 10 s on one core)\n", t2 - t0);
     printf("peak memory      %.1f MiB (%.1f MiB after reading the sources)\n", peak_mib(), mem_sources);
     printf("file size        %zu bytes, %.1f bytes per frame (features %zu, pose %zu)\n", db.size,
@@ -115,7 +115,8 @@ int main(int argc, char **argv)
         times[i] = now() - a;
     }
     qsort(times, 9, sizeof(double), compare);
-    printf("load in place (validate + checksum) median %.3f ms (%.1f GB/s)\n", 1e3 * times[4], db.size / times[4] / 1e9);
+    printf("load in place (validate + checksum) median %.3f ms (%.1f GB/s)\n", 1e3 * times[4],
+           db.size / times[4] / 1e9);
     remove(path);
     mm_database_free(&db);
     mm_config_free_sources(&cfg, sources);

@@ -81,7 +81,8 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
 #define FAIL(...) return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, __VA_ARGS__)
     if (!(finite_positive(c->interval) && c->interval <= 1.0f))
         FAIL("interval: %g s is out of range (0 to 1 s)", c->interval);
-    if (!(finite_nonneg(c->scale) && c->scale < 1e6f)) FAIL("scale: %g must be 0 (detect) or positive", c->scale);
+    if (!(finite_nonneg(c->scale) && c->scale < 1e6f))
+        FAIL("scale: %g must be 0 (detect) or positive", c->scale);
     if (!finite_nonneg(c->root_smoothing) || c->root_smoothing > 10.0f)
         FAIL("root_smoothing: %g s is out of range (0 to 10 s)", c->root_smoothing);
     if (!finite_positive(c->contact_height)) FAIL("contacts.height: %g must be positive", c->contact_height);
@@ -111,28 +112,32 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
     if (!finite_nonneg(c->body_velocity_weight) || !finite_nonneg(c->position_multiplier) ||
         !finite_nonneg(c->angle_multiplier))
         FAIL("features: body_velocity_weight, position_multiplier and angle_multiplier must be >= 0");
-    if (c->tag_count < 0 || c->tag_count > MM_MAX_TAGS) FAIL("tags: %d tags (at most %d)", c->tag_count, MM_MAX_TAGS);
+    if (c->tag_count < 0 || c->tag_count > MM_MAX_TAGS)
+        FAIL("tags: %d tags (at most %d)", c->tag_count, MM_MAX_TAGS);
     if (c->clip_count < 0 || (c->clip_count > 0 && !c->clips)) FAIL("clips: invalid clip list");
     for (int i = 0; i < c->clip_count; ++i) {
         const mm_config_clip *k = &c->clips[i];
         if (!k->name[0]) FAIL("clips[%d].name is empty", i);
         for (int j = 0; j < i; ++j)
             if (strcmp(c->clips[j].name, k->name) == 0)
-                return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "clips[%d].name '%s' is used twice", i, k->name);
+                return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "clips[%d].name '%s' is used twice", i,
+                                    k->name);
         if (!k->file[0]) FAIL("clips[%d] (%s): file is empty", i, k->name);
-        if (k->type != MM_CLIP_LOCOMOTION && k->type != MM_CLIP_IDLE) FAIL("clips[%d] (%s): unknown type", i, k->name);
+        if (k->type != MM_CLIP_LOCOMOTION && k->type != MM_CLIP_IDLE)
+            FAIL("clips[%d] (%s): unknown type", i, k->name);
         for (int r = 0; r < k->range_count; ++r)
             if (k->ranges[r].begin < 0 || k->ranges[r].end <= k->ranges[r].begin)
-                FAIL("clips[%d] (%s).ranges[%d]: [%d, %d) is empty or negative", i, k->name, r, k->ranges[r].begin,
-                     k->ranges[r].end);
+                FAIL("clips[%d] (%s).ranges[%d]: [%d, %d) is empty or negative", i, k->name, r,
+                     k->ranges[r].begin, k->ranges[r].end);
         if (k->loop && k->range_count > 1)
             FAIL("clips[%d] (%s): a loop clip has one range (it has %d)", i, k->name, k->range_count);
         for (int t = 0; t < k->tag_range_count; ++t) {
             const mm_config_tag_range *tr = &k->tag_ranges[t];
-            if (tr->tag < 0 || tr->tag >= c->tag_count) FAIL("clips[%d] (%s).tags[%d]: unknown tag", i, k->name, t);
+            if (tr->tag < 0 || tr->tag >= c->tag_count)
+                FAIL("clips[%d] (%s).tags[%d]: unknown tag", i, k->name, t);
             if (!isfinite(tr->begin) || !isfinite(tr->end) || tr->end < tr->begin || tr->begin < 0)
-                FAIL("clips[%d] (%s).tags.%s[%d]: [%g, %g] is not a time range", i, k->name, c->tag_names[tr->tag],
-                     t, tr->begin, tr->end);
+                FAIL("clips[%d] (%s).tags.%s[%d]: [%g, %g] is not a time range", i, k->name,
+                     c->tag_names[tr->tag], t, tr->begin, tr->end);
         }
     }
     for (int i = 0; i < c->blend_count; ++i) {

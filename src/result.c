@@ -7,8 +7,8 @@
 const char *mm_result_str(mm_result r)
 {
     switch (r) {
-#define MM__RESULT_TEXT(code, text)                                                                         \
-    case code:                                                                                              \
+#define MM__RESULT_TEXT(code, text)                                                                          \
+    case code:                                                                                               \
         return text;
         MM_RESULT_LIST(MM__RESULT_TEXT)
 #undef MM__RESULT_TEXT
@@ -20,8 +20,8 @@ const char *mm_result_str(mm_result r)
 const char *mm_result_name(mm_result r)
 {
     switch (r) {
-#define MM__RESULT_NAME(code, text)                                                                         \
-    case code:                                                                                              \
+#define MM__RESULT_NAME(code, text)                                                                          \
+    case code:                                                                                               \
         return #code;
         MM_RESULT_LIST(MM__RESULT_NAME)
 #undef MM__RESULT_NAME

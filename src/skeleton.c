@@ -61,14 +61,16 @@ mm_result mm_skeleton_validate(const mm_skeleton *s, mm_error *err)
         if (memchr(j->name, 0, MM_NAME_MAX) == NULL || j->name[0] == 0)
             return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "joint %d has no name", i);
         if (i == 0 ? j->parent != -1 : (j->parent < 0 || j->parent >= i))
-            return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                                "joint %d '%s' has parent %d (the root must be first, parents before children)",
-                                i, j->name, j->parent);
+            return mm_error_set(
+                err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                "joint %d '%s' has parent %d (the root must be first, parents before children)", i, j->name,
+                j->parent);
         if (!finite3(j->offset) || (j->has_end_site && !finite3(j->end_site)))
             return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "joint '%s' has a non-finite offset", j->name);
         for (int k = 0; k < i; ++k)
             if (strcmp(s->joints[k].name, j->name) == 0)
-                return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "joint name '%s' is used twice", j->name);
+                return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "joint name '%s' is used twice",
+                                    j->name);
     }
     return MM_OK;
 }

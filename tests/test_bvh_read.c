@@ -187,8 +187,9 @@ static void test_scale_and_units(void **state)
     mm_bvh_free(&bvh);
 
     /* 0.3 units tall: no unit gives a human height, so auto fails with a message. */
-    const char small[] = "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Yrotation Xrotation\n"
-                         "JOINT B\n{\nOFFSET 0 0.3 0\nCHANNELS 0\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n";
+    const char small[] =
+        "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Yrotation Xrotation\n"
+        "JOINT B\n{\nOFFSET 0 0.3 0\nCHANNELS 0\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n";
     assert_int_equal(mm_bvh_parse(small, sizeof small - 1, NULL, &bvh, NULL), MM_OK);
     assert_near(mm_bvh_detect_scale(&bvh, &height), 0.0, 0);
     assert_near(height, 0.3, 1e-6);
@@ -203,8 +204,9 @@ static void test_parse_from_memory(void **state)
 {
     (void)state;
     /* Not zero-terminated: the reader must stop at size. A UTF-8 BOM is skipped. */
-    const char text[] = "\xEF\xBB\xBFHIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Yrotation Xrotation Zrotation\n}\n"
-                        "MOTION\nFrames: 1\nFrame Time: 1\n1 2 3\nGARBAGE";
+    const char text[] =
+        "\xEF\xBB\xBFHIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Yrotation Xrotation Zrotation\n}\n"
+        "MOTION\nFrames: 1\nFrame Time: 1\n1 2 3\nGARBAGE";
     mm_bvh bvh;
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -236,9 +238,9 @@ static void test_missing_file(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_chain_by_hand),       cmocka_unit_test(test_motionbuilder_style),
-        cmocka_unit_test(test_cmu_style),           cmocka_unit_test(test_clip_matches_reference),
-        cmocka_unit_test(test_scale_and_units),     cmocka_unit_test(test_parse_from_memory),
+        cmocka_unit_test(test_chain_by_hand),   cmocka_unit_test(test_motionbuilder_style),
+        cmocka_unit_test(test_cmu_style),       cmocka_unit_test(test_clip_matches_reference),
+        cmocka_unit_test(test_scale_and_units), cmocka_unit_test(test_parse_from_memory),
         cmocka_unit_test(test_missing_file),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

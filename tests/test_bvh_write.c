@@ -51,7 +51,9 @@ static void round_trip(const char *path, mm_euler_order order, double tolerance)
     assert_int_equal(mm_bvh_parse(text, size, NULL, &back, &err), MM_OK);
     assert_near(back.frame_time, src.frame_time, 1e-9);
     for (int j = 0; j < back.skeleton.joint_count; ++j) {
-        mm_euler_order expect = order ? order : src.skeleton.joints[mm_skeleton_find(&src.skeleton, back.skeleton.joints[j].name)].order;
+        mm_euler_order expect =
+            order ? order
+                  : src.skeleton.joints[mm_skeleton_find(&src.skeleton, back.skeleton.joints[j].name)].order;
         assert_int_equal(back.skeleton.joints[j].order, expect ? expect : MM_EULER_ZYX);
     }
     double e = max_position_error(&src, &back);
@@ -68,7 +70,8 @@ static void test_round_trip_all_orders(void **state)
     (void)state;
     const char *files[] = {"bvh/chain2.bvh", "bvh/mobu_style.bvh", "bvh/cmu_style.bvh"};
     for (size_t i = 0; i < sizeof files / sizeof files[0]; ++i)
-        for (int o = MM_EULER_NONE; o <= MM_EULER_ZYX; ++o) round_trip(test_data_path(files[i]), (mm_euler_order)o, 1e-4);
+        for (int o = MM_EULER_NONE; o <= MM_EULER_ZYX; ++o)
+            round_trip(test_data_path(files[i]), (mm_euler_order)o, 1e-4);
 }
 
 /* A skeleton listed breadth-first is written depth-first, with its data reordered to match. */

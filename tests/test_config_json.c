@@ -10,13 +10,15 @@ static const char full[] =
     "{\n"
     "  \"interval\": 0.02, \"scale\": 0.01, \"root_smoothing\": 0.2,\n"
     "  \"roles\": {\"hips\": \"Pelvis\", \"root_bone\": \"Chest\", \"facing_bone\": \"Pelvis\",\n"
-    "            \"forward_axis\": [0, 1, 0], \"left_foot\": \"LF\", \"right_foot\": \"RF\", \"left_toe\": \"LT\",\n"
+    "            \"forward_axis\": [0, 1, 0], \"left_foot\": \"LF\", \"right_foot\": \"RF\", \"left_toe\": "
+    "\"LT\",\n"
     "            \"right_toe\": \"RT\", \"left_hand\": \"LH\", \"right_hand\": \"RH\", \"head\": \"H\"},\n"
     "  \"contacts\": {\"height\": 0.04, \"speed\": 0.5, \"min_time\": 0.05},\n"
     "  \"features\": {\"bones\": [{\"name\": \"LF\", \"position_weight\": 2, \"velocity_weight\": 0.5},\n"
     "                           {\"name\": \"Pelvis\", \"position\": false}],\n"
     "               \"trajectory_times\": [-0.33, 0.5, 1.0], \"root_velocity\": true,\n"
-    "               \"body_velocity_weight\": 0.7, \"position_multiplier\": 1.1, \"angle_multiplier\": 1.9},\n"
+    "               \"body_velocity_weight\": 0.7, \"position_multiplier\": 1.1, \"angle_multiplier\": "
+    "1.9},\n"
     "  \"mirror_pairs\": [[\"^l\", \"^r\"]],\n"
     "  \"tags\": [\"Required\", \"DoNotUse\"],\n"
     "  \"clips\": [\n"
@@ -102,29 +104,42 @@ static void test_errors_name_the_field(void **state)
 {
     (void)state;
     expect_error("\"interval\": 0.02", "\"interval\": -1", MM_ERR_OUT_OF_RANGE, "interval");
-    expect_error("\"interval\": 0.02", "\"interval\": \"fast\"", MM_ERR_BAD_NUMBER, "interval must be a finite number");
+    expect_error("\"interval\": 0.02", "\"interval\": \"fast\"", MM_ERR_BAD_NUMBER,
+                 "interval must be a finite number");
     expect_error("\"interval\": 0.02", "\"interval\": 1e999", MM_ERR_BAD_NUMBER, "interval");
-    expect_error("\"interval\": 0.02", "\"intervall\": 0.02", MM_ERR_UNKNOWN_KEYWORD, "intervall: unknown field");
-    expect_error("\"hips\": \"Pelvis\"", "\"hip\": \"Pelvis\"", MM_ERR_UNKNOWN_KEYWORD, "roles.hip: unknown field");
-    expect_error("\"forward_axis\": [0, 1, 0]", "\"forward_axis\": [0, 1]", MM_ERR_SYNTAX, "roles.forward_axis");
-    expect_error("\"forward_axis\": [0, 1, 0]", "\"forward_axis\": [0, 0, 0]", MM_ERR_OUT_OF_RANGE, "forward_axis");
+    expect_error("\"interval\": 0.02", "\"intervall\": 0.02", MM_ERR_UNKNOWN_KEYWORD,
+                 "intervall: unknown field");
+    expect_error("\"hips\": \"Pelvis\"", "\"hip\": \"Pelvis\"", MM_ERR_UNKNOWN_KEYWORD,
+                 "roles.hip: unknown field");
+    expect_error("\"forward_axis\": [0, 1, 0]", "\"forward_axis\": [0, 1]", MM_ERR_SYNTAX,
+                 "roles.forward_axis");
+    expect_error("\"forward_axis\": [0, 1, 0]", "\"forward_axis\": [0, 0, 0]", MM_ERR_OUT_OF_RANGE,
+                 "forward_axis");
     expect_error("\"height\": 0.04", "\"height\": 0", MM_ERR_OUT_OF_RANGE, "contacts.height");
-    expect_error("\"position_weight\": 2", "\"position_weight\": -2", MM_ERR_OUT_OF_RANGE, "features.bones[0]");
+    expect_error("\"position_weight\": 2", "\"position_weight\": -2", MM_ERR_OUT_OF_RANGE,
+                 "features.bones[0]");
     expect_error("{\"name\": \"Pelvis\", \"position\": false}", "{\"position\": false}", MM_ERR_SYNTAX,
                  "features.bones[1].name is missing");
     expect_error("\"position\": false", "\"position\": false, \"velocity\": false", MM_ERR_OUT_OF_RANGE,
                  "features.bones[1] (Pelvis) has neither");
-    expect_error("[-0.33, 0.5, 1.0]", "[-0.33, 0.5, 0.5]", MM_ERR_OUT_OF_RANGE, "trajectory_times[2]: 0.5 s is listed twice");
-    expect_error("[\"Required\", \"DoNotUse\"]", "[\"Required\", \"Required\"]", MM_ERR_DUPLICATE_NAME, "tags[1]");
+    expect_error("[-0.33, 0.5, 1.0]", "[-0.33, 0.5, 0.5]", MM_ERR_OUT_OF_RANGE,
+                 "trajectory_times[2]: 0.5 s is listed twice");
+    expect_error("[\"Required\", \"DoNotUse\"]", "[\"Required\", \"Required\"]", MM_ERR_DUPLICATE_NAME,
+                 "tags[1]");
     expect_error("\"DoNotUse\": [[1.5, 2.0]", "\"DoNotUsed\": [[1.5, 2.0]", MM_ERR_NOT_FOUND,
                  "clips[0].tags.DoNotUsed: not declared");
-    expect_error("[[1.5, 2.0], [3, 4]]", "[[1.5, 2.0], [4, 3]]", MM_ERR_OUT_OF_RANGE, "clips[0] (walk).tags.DoNotUse[1]");
-    expect_error("[[0, 100], [120, 300]]", "[[0, 100], [300, 120]]", MM_ERR_OUT_OF_RANGE, "clips[0] (walk).ranges[1]");
-    expect_error("[[0, 100], [120, 300]]", "[[0, 100], [120.5, 300]]", MM_ERR_BAD_NUMBER, "clips[0].ranges[1] must be an integer");
+    expect_error("[[1.5, 2.0], [3, 4]]", "[[1.5, 2.0], [4, 3]]", MM_ERR_OUT_OF_RANGE,
+                 "clips[0] (walk).tags.DoNotUse[1]");
+    expect_error("[[0, 100], [120, 300]]", "[[0, 100], [300, 120]]", MM_ERR_OUT_OF_RANGE,
+                 "clips[0] (walk).ranges[1]");
+    expect_error("[[0, 100], [120, 300]]", "[[0, 100], [120.5, 300]]", MM_ERR_BAD_NUMBER,
+                 "clips[0].ranges[1] must be an integer");
     expect_error("\"type\": \"idle\"", "\"type\": \"sitting\"", MM_ERR_SYNTAX, "clips[1].type");
-    expect_error("\"name\": \"stand\"", "\"name\": \"walk\"", MM_ERR_DUPLICATE_NAME, "clips[1].name 'walk' is used twice");
+    expect_error("\"name\": \"stand\"", "\"name\": \"walk\"", MM_ERR_DUPLICATE_NAME,
+                 "clips[1].name 'walk' is used twice");
     expect_error("\"file\": \"/abs/idle.bvh\", ", "", MM_ERR_SYNTAX, "clips[1].file is missing");
-    expect_error("\"right\": \"stand\"", "\"right\": \"run\"", MM_ERR_NOT_FOUND, "blend_clips[0].right: no clip named 'run'");
+    expect_error("\"right\": \"stand\"", "\"right\": \"run\"", MM_ERR_NOT_FOUND,
+                 "blend_clips[0].right: no clip named 'run'");
     expect_error("\"weight\": 0.3", "\"weight\": 1.5", MM_ERR_OUT_OF_RANGE, "blend_clips[0] (mix): weight");
     expect_error("\"loop\": true}", "\"loop\": true, \"ranges\": [[0, 5], [6, 9]]}", MM_ERR_OUT_OF_RANGE,
                  "a loop clip has one range");
@@ -138,7 +153,8 @@ static void test_json_syntax_errors(void **state)
     mm_error err;
     memset(&err, 0, sizeof err);
     const char broken[] = "{\n  \"interval\": 0.02,\n  \"scale\" 0.01\n}\n";
-    assert_int_equal(mm_config_parse_json(broken, sizeof broken - 1, "broken.json", NULL, &c, &err), MM_ERR_SYNTAX);
+    assert_int_equal(mm_config_parse_json(broken, sizeof broken - 1, "broken.json", NULL, &c, &err),
+                     MM_ERR_SYNTAX);
     assert_int_equal(err.line, 3);
     assert_true(err.column >= 10);
     assert_int_equal(mm_config_parse_json("", 0, "empty.json", NULL, &c, &err), MM_ERR_UNEXPECTED_EOF);
@@ -199,8 +215,8 @@ static void test_docs_in_sync(void **state)
     assert_true(count > 30);
     for (int i = 0; i < count; ++i) {
         char row[2048];
-        snprintf(row, sizeof row, "| `%s` | %s | %s | %s | %s |", d[i].path, d[i].type, d[i].unit, d[i].fallback,
-                 d[i].help);
+        snprintf(row, sizeof row, "| `%s` | %s | %s | %s | %s |", d[i].path, d[i].type, d[i].unit,
+                 d[i].fallback, d[i].help);
         if (!strstr(doc, row)) print_error("docs/config.md lacks the row: %s\n", row);
         assert_non_null(strstr(doc, row));
     }
@@ -209,9 +225,9 @@ static void test_docs_in_sync(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_every_field),  cmocka_unit_test(test_errors_name_the_field),
+        cmocka_unit_test(test_every_field),        cmocka_unit_test(test_errors_name_the_field),
         cmocka_unit_test(test_json_syntax_errors), cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_resolve_paths), cmocka_unit_test(test_docs_in_sync),
+        cmocka_unit_test(test_resolve_paths),      cmocka_unit_test(test_docs_in_sync),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,8 +13,8 @@ static void make_skeleton(mm_skeleton *s)
     assert_int_equal(mm_skeleton_init(s, 6, NULL), MM_OK);
     const char *names[6] = {"Hips", "Spine2", "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
     const int parents[6] = {-1, 0, 0, 2, 0, 4};
-    const float off[6][3] = {{0, 1, 0}, {0, 0.3f, 0}, {0.1f, -0.9f, 0}, {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},
-                             {0, -0.05f, 0.15f}};
+    const float off[6][3] = {{0, 1, 0},          {0, 0.3f, 0},      {0.1f, -0.9f, 0},
+                             {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0}, {0, -0.05f, 0.15f}};
     for (int j = 0; j < 6; ++j) {
         snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
         s->joints[j].parent = parents[j];
@@ -34,7 +34,8 @@ static void make_motion(mm_clip *clip, int frames, float fps, double radius, dou
     mm_skeleton_free(&s);
     for (int f = 0; f < frames; ++f) {
         double t = f / (double)fps, yaw = radius > 0 ? speed / radius * t : 0.0;
-        double x = radius > 0 ? -radius * cos(yaw) + radius : 0.0, z = radius > 0 ? radius * sin(yaw) : speed * t;
+        double x = radius > 0 ? -radius * cos(yaw) + radius : 0.0,
+               z = radius > 0 ? radius * sin(yaw) : speed * t;
         mm_clip_rotations(clip, f)[0] = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), (float)yaw);
         mm_clip_positions(clip, f)[0] = mm_vec3_make((float)x, 1.0f, (float)z);
     }
@@ -109,8 +110,8 @@ static void test_circle_features(void **state)
     int last = 599;
     assert_near(mm_database_feature_raw(&db, last, d1), 0, 1e-5);
     assert_near(mm_database_feature_raw(&db, last, d1 + 1), 1, 1e-5);
-    assert_near(hypot(mm_database_feature_raw(&db, last, p1), mm_database_feature_raw(&db, last, p1 + 1)), speed,
-                1e-3);
+    assert_near(hypot(mm_database_feature_raw(&db, last, p1), mm_database_feature_raw(&db, last, p1 + 1)),
+                speed, 1e-3);
     /* Before the start: back along the first velocity, facing kept. */
     assert_near(mm_database_feature_raw(&db, 0, pm + 1), -0.5 * speed, 2e-3);
     /* Next frames: -1 at the end of a non-loop clip. */
@@ -200,8 +201,10 @@ static void test_normalisation_and_bounds(void **state)
             float v = db.features[(size_t)f * db.dims_padded + d];
             if (d >= db.dims) assert_true(v == 0.0f);
             int sb = f / MM_DB_SMALL_BLOCK, lb = f / MM_DB_LARGE_BLOCK;
-            assert_true(v >= db.small_min[(size_t)sb * db.dims_padded + d] && v <= db.small_max[(size_t)sb * db.dims_padded + d]);
-            assert_true(v >= db.large_min[(size_t)lb * db.dims_padded + d] && v <= db.large_max[(size_t)lb * db.dims_padded + d]);
+            assert_true(v >= db.small_min[(size_t)sb * db.dims_padded + d] &&
+                        v <= db.small_max[(size_t)sb * db.dims_padded + d]);
+            assert_true(v >= db.large_min[(size_t)lb * db.dims_padded + d] &&
+                        v <= db.large_max[(size_t)lb * db.dims_padded + d]);
         }
     mm_database_free(&db);
     mm_config_free(&cfg);
@@ -248,7 +251,8 @@ static void test_mirror(void **state)
     mm_clip clip;
     make_motion(&clip, 100, 60.0f, 2.0, 1.0);
     for (int f = 0; f < 100; ++f) { /* give the left foot its own motion */
-        mm_clip_rotations(&clip, f)[2] = mm_quat_from_axis_angle(mm_vec3_make(1, 0.2f, 0), 0.3f * sinf(f * 0.1f));
+        mm_clip_rotations(&clip, f)[2] =
+            mm_quat_from_axis_angle(mm_vec3_make(1, 0.2f, 0), 0.3f * sinf(f * 0.1f));
         mm_clip_rotations(&clip, f)[4] = mm_quat_from_axis_angle(mm_vec3_make(0, 0, 1), 0.2f);
     }
     mm_config cfg;
@@ -285,8 +289,10 @@ static void test_mirror(void **state)
     assert_int_equal(mm__clip_mirror(&once, &cfg, &twice, NULL), MM_OK);
     for (int f = 0; f < clip.frame_count; ++f)
         for (int j = 0; j < clip.skeleton.joint_count; ++j) {
-            assert_true(fabsf(mm_quat_dot(mm_clip_rotations(&clip, f)[j], mm_clip_rotations(&twice, f)[j])) > 1 - 1e-6f);
-            assert_near(mm_vec3_distance(mm_clip_positions(&clip, f)[j], mm_clip_positions(&twice, f)[j]), 0, 1e-5);
+            assert_true(fabsf(mm_quat_dot(mm_clip_rotations(&clip, f)[j], mm_clip_rotations(&twice, f)[j])) >
+                        1 - 1e-6f);
+            assert_near(mm_vec3_distance(mm_clip_positions(&clip, f)[j], mm_clip_positions(&twice, f)[j]), 0,
+                        1e-5);
         }
     mm_clip_free(&once);
     mm_clip_free(&twice);
@@ -437,7 +443,8 @@ static void expect_refused(const mm_database *db, size_t size, size_t flip_at, i
     memset(&err, 0, sizeof err);
     mm_result r = mm_database_load_memory(copy, size, verify, &out, &err);
     if (r != code || !strstr(err.message, what))
-        print_error("got %s '%s', wanted %s '%s'\n", mm_result_name(r), err.message, mm_result_name(code), what);
+        print_error("got %s '%s', wanted %s '%s'\n", mm_result_name(r), err.message, mm_result_name(code),
+                    what);
     assert_int_equal(r, code);
     assert_non_null(strstr(err.message, what));
     assert_null(out.data);
@@ -460,7 +467,8 @@ static void test_bad_files(void **state)
      * the sections (byte 44 is frame_count). */
     expect_refused(&db, db.size, 44, 0, MM_ERR_SYNTAX, "");
     /* A bool holding 64 (found by fuzz_mmdb: it reached the dump as undefined behaviour). */
-    size_t end_site = (size_t)((const char *)db.joints - (const char *)db.data) + offsetof(mm_joint, has_end_site);
+    size_t end_site =
+        (size_t)((const char *)db.joints - (const char *)db.data) + offsetof(mm_joint, has_end_site);
     expect_refused(&db, db.size, end_site, 0, MM_ERR_SYNTAX, "bad End Site flag");
     /* Every truncation fails cleanly. */
     for (size_t n = 0; n < db.size; n += 97) {
@@ -515,11 +523,16 @@ static void test_bad_configs(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_circle_features), cmocka_unit_test(test_loop_wraps),
-        cmocka_unit_test(test_normalisation_and_bounds), cmocka_unit_test(test_contacts),
-        cmocka_unit_test(test_mirror), cmocka_unit_test(test_blend_speed),
-        cmocka_unit_test(test_tags_and_ranges), cmocka_unit_test(test_save_load_round_trip),
-        cmocka_unit_test(test_bad_files), cmocka_unit_test(test_bad_configs),
+        cmocka_unit_test(test_circle_features),
+        cmocka_unit_test(test_loop_wraps),
+        cmocka_unit_test(test_normalisation_and_bounds),
+        cmocka_unit_test(test_contacts),
+        cmocka_unit_test(test_mirror),
+        cmocka_unit_test(test_blend_speed),
+        cmocka_unit_test(test_tags_and_ranges),
+        cmocka_unit_test(test_save_load_round_trip),
+        cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_bad_configs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -74,9 +74,12 @@ static void test_mirror_positions(void **state)
     for (int j = 0; j < db.joint_count; ++j) {
         char name[MM_NAME_MAX];
         const char *n = db.joints[j].name;
-        if (strncmp(n, "Left", 4) == 0) snprintf(name, sizeof name, "Right%s", n + 4);
-        else if (strncmp(n, "Right", 5) == 0) snprintf(name, sizeof name, "Left%s", n + 5);
-        else snprintf(name, sizeof name, "%s", n);
+        if (strncmp(n, "Left", 4) == 0)
+            snprintf(name, sizeof name, "Right%s", n + 4);
+        else if (strncmp(n, "Right", 5) == 0)
+            snprintf(name, sizeof name, "Left%s", n + 5);
+        else
+            snprintf(name, sizeof name, "%s", n);
         partner[j] = mm_skeleton_find(&s, name);
         assert_true(partner[j] >= 0);
     }
@@ -126,8 +129,9 @@ static void test_motion_statistics(void **state)
     qsort(speeds[1], (size_t)count[1], sizeof(float), compare_float);
     float loco = speeds[0][count[0] / 2], idle = speeds[1][count[1] / 2];
     double share = (double)contact_frames / locomotion_frames;
-    print_message("median root speed: locomotion %.2f m/s, idle %.3f m/s; left foot in contact %.0f%% of locomotion\n",
-                  loco, idle, 100 * share);
+    print_message(
+        "median root speed: locomotion %.2f m/s, idle %.3f m/s; left foot in contact %.0f%% of locomotion\n",
+        loco, idle, 100 * share);
     assert_true(loco > 0.5f && loco < 4.0f);
     assert_true(idle < 0.15f);
     assert_true(share > 0.3 && share < 0.9);

@@ -1,4 +1,5 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
+#include <mm/config_json.h>
 #include <mm/mm.h>
 
 #include <cmath>

@@ -31,13 +31,13 @@ static inline const char *test_shared_data(const char *relative, char *buf, size
 
 /* For test programs that need the shared motion capture: when MM_DATA_DIR is unset, say so and
  * return 77, which CTest reports as skipped (SKIP_RETURN_CODE), not passed. */
-#define TEST_SKIP_WITHOUT_DATA_DIR()                                                                        \
-    do {                                                                                                    \
-        const char *test_dir = getenv("MM_DATA_DIR");                                                       \
-        if (!test_dir || !*test_dir) {                                                                      \
-            printf("MM_DATA_DIR is not set: skipping the tests on shared motion capture\n");                \
-            return 77;                                                                                      \
-        }                                                                                                   \
+#define TEST_SKIP_WITHOUT_DATA_DIR()                                                                         \
+    do {                                                                                                     \
+        const char *test_dir = getenv("MM_DATA_DIR");                                                        \
+        if (!test_dir || !*test_dir) {                                                                       \
+            printf("MM_DATA_DIR is not set: skipping the tests on shared motion capture\n");                 \
+            return 77;                                                                                       \
+        }                                                                                                    \
     } while (0)
 
 /* Deterministic xorshift generator: tests never depend on rand(). */
@@ -57,14 +57,14 @@ static inline double test_rng_uniform(test_rng *r, double lo, double hi)
     return lo + (hi - lo) * (double)(test_rng_next(r) >> 11) * (1.0 / 9007199254740992.0);
 }
 
-#define assert_near(a, b, tol)                                                                              \
-    do {                                                                                                    \
-        double assert_near_a = (double)(a), assert_near_b = (double)(b);                                    \
-        if (!(fabs(assert_near_a - assert_near_b) <= (tol))) {                                              \
-            print_error("%s = %.9g, expected %s = %.9g (tolerance %g)\n", #a, assert_near_a, #b,            \
-                        assert_near_b, (double)(tol));                                                      \
-            fail();                                                                                         \
-        }                                                                                                   \
+#define assert_near(a, b, tol)                                                                               \
+    do {                                                                                                     \
+        double assert_near_a = (double)(a), assert_near_b = (double)(b);                                     \
+        if (!(fabs(assert_near_a - assert_near_b) <= (tol))) {                                               \
+            print_error("%s = %.9g, expected %s = %.9g (tolerance %g)\n", #a, assert_near_a, #b,             \
+                        assert_near_b, (double)(tol));                                                       \
+            fail();                                                                                          \
+        }                                                                                                    \
     } while (0)
 
 #endif

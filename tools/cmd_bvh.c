@@ -33,10 +33,14 @@ static int cmd_info(int argc, char **argv)
     const char *path = NULL;
     int json = 0;
     for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0) json = 1;
-        else if (argv[i][0] == '-' && argv[i][1]) return cli_usage_error("bvh info", "unknown option '%s'", argv[i]);
-        else if (!path) path = argv[i];
-        else return cli_usage_error("bvh info", "unexpected argument '%s'", argv[i]);
+        if (strcmp(argv[i], "--json") == 0)
+            json = 1;
+        else if (argv[i][0] == '-' && argv[i][1])
+            return cli_usage_error("bvh info", "unknown option '%s'", argv[i]);
+        else if (!path)
+            path = argv[i];
+        else
+            return cli_usage_error("bvh info", "unexpected argument '%s'", argv[i]);
     }
     if (!path) return cli_usage_error("bvh info", "usage: mm bvh info FILE [--json]");
     mm_bvh bvh;
@@ -72,7 +76,8 @@ static int cmd_info(int argc, char **argv)
             cli_json_string(stdout, s->joints[j].name);
             printf(", \"parent\": %d, \"channels\": [", s->joints[j].parent);
             for (int c = 0; c < bvh.channels[j].count; ++c)
-                printf("%s\"%s\"", c ? ", " : "", mm_bvh_channel_name((mm_bvh_channel)bvh.channels[j].type[c]));
+                printf("%s\"%s\"", c ? ", " : "",
+                       mm_bvh_channel_name((mm_bvh_channel)bvh.channels[j].type[c]));
             printf("]}");
         }
         printf("]}\n");
@@ -89,7 +94,8 @@ static int cmd_info(int argc, char **argv)
                 printf(" %s x%d", o ? mm_euler_order_name((mm_euler_order)o) : "none", order_count[o]);
         printf("\n");
         if (scale > 0)
-            printf("estimated height: %.4g file units (%s: %.3g m)\n", height, unit_name(scale), height * scale);
+            printf("estimated height: %.4g file units (%s: %.3g m)\n", height, unit_name(scale),
+                   height * scale);
         else
             printf("estimated height: %.4g file units (unit not recognised)\n", height);
         printf("hierarchy:\n");
@@ -143,7 +149,8 @@ static int cmd_fk(int argc, char **argv)
         return 1;
     }
     for (int j = 0; j < n; ++j)
-        printf("%s %.9g %.9g %.9g\n", bvh.skeleton.joints[j].name, xyz[3 * j], xyz[3 * j + 1], xyz[3 * j + 2]);
+        printf("%s %.9g %.9g %.9g\n", bvh.skeleton.joints[j].name, xyz[3 * j], xyz[3 * j + 1],
+               xyz[3 * j + 2]);
     free(xyz);
     mm_bvh_free(&bvh);
     return 0;
@@ -166,7 +173,8 @@ static int cmd_convert(int argc, char **argv)
             ++i;
         } else if (strcmp(a, "--scale") == 0) {
             double s = 0.0;
-            if (v && strcmp(v, "auto") == 0) imp.auto_scale = true;
+            if (v && strcmp(v, "auto") == 0)
+                imp.auto_scale = true;
             else if (!v || !cli_parse_double(v, &s) || s <= 0.0)
                 return cli_usage_error("bvh convert", "--scale needs a positive number or 'auto'");
             imp.scale = (float)s;
@@ -186,7 +194,8 @@ static int cmd_convert(int argc, char **argv)
         }
     }
     if (!in || !out)
-        return cli_usage_error("bvh convert", "usage: mm bvh convert IN OUT [--order ZYX] [--scale S|auto] [--fps F]");
+        return cli_usage_error("bvh convert",
+                               "usage: mm bvh convert IN OUT [--order ZYX] [--scale S|auto] [--fps F]");
     mm_bvh bvh;
     if (load(in, &bvh)) return 1;
     mm_error err;
@@ -211,7 +220,6 @@ static int cmd_convert(int argc, char **argv)
     return 0;
 }
 
-
 /* Frame spans for database configs: where the character lies down (hips below a height, widened
  * by a margin) and, in the rest, where it stands (root slower than a speed for long enough).
  * Prints JSON: {"file", "frames", "fps", "excluded": [[b, e)...], "idle": [...], "locomotion": [...]}. */
@@ -228,11 +236,15 @@ static int cmd_spans(int argc, char **argv)
     double scale = 0.0, low = 0.6, pad = 1.0, idle_speed = 0.15, idle_min = 1.0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        double *num = strcmp(a, "--scale") == 0 ? &scale : strcmp(a, "--low-hips") == 0 ? &low
-                      : strcmp(a, "--pad") == 0 ? &pad : strcmp(a, "--idle-speed") == 0 ? &idle_speed
-                      : strcmp(a, "--idle-min") == 0 ? &idle_min : NULL;
+        double *num = strcmp(a, "--scale") == 0        ? &scale
+                      : strcmp(a, "--low-hips") == 0   ? &low
+                      : strcmp(a, "--pad") == 0        ? &pad
+                      : strcmp(a, "--idle-speed") == 0 ? &idle_speed
+                      : strcmp(a, "--idle-min") == 0   ? &idle_min
+                                                       : NULL;
         if (num) {
-            if (!v || !cli_parse_double(v, num) || *num < 0) return cli_usage_error("bvh spans", "%s needs a number >= 0", a);
+            if (!v || !cli_parse_double(v, num) || *num < 0)
+                return cli_usage_error("bvh spans", "%s needs a number >= 0", a);
             ++i;
         } else if (strcmp(a, "--hips") == 0 && v) {
             hips_name = argv[++i];
@@ -247,8 +259,9 @@ static int cmd_spans(int argc, char **argv)
         }
     }
     if (!path)
-        return cli_usage_error("bvh spans", "usage: mm bvh spans FILE [--scale S] [--hips NAME] [--root-bone NAME] "
-                                            "[--low-hips 0.6] [--pad 1] [--idle-speed 0.15] [--idle-min 1]");
+        return cli_usage_error("bvh spans",
+                               "usage: mm bvh spans FILE [--scale S] [--hips NAME] [--root-bone NAME] "
+                               "[--low-hips 0.6] [--pad 1] [--idle-speed 0.15] [--idle-min 1]");
     mm_bvh bvh;
     if (load(path, &bvh)) return 1;
     mm_bvh_import_desc imp;
@@ -262,7 +275,8 @@ static int cmd_spans(int argc, char **argv)
     mm_result r = mm_bvh_to_clip(&bvh, &imp, &clip, &err);
     mm_bvh_free(&bvh);
     if (r != MM_OK) return cli_report(&err);
-    int hips = mm_skeleton_find(&clip.skeleton, hips_name), root = mm_skeleton_find(&clip.skeleton, root_name);
+    int hips = mm_skeleton_find(&clip.skeleton, hips_name),
+        root = mm_skeleton_find(&clip.skeleton, root_name);
     if (hips < 0 || root < 0) {
         fprintf(stderr, "mm: %s: no joint named '%s'\n", path, hips < 0 ? hips_name : root_name);
         mm_clip_free(&clip);
@@ -272,7 +286,7 @@ static int cmd_spans(int argc, char **argv)
     mm_xform *g = malloc(sizeof(mm_xform) * (size_t)jc);
     double *x = malloc(sizeof(double) * (size_t)n * 3);
     unsigned char *excluded = calloc((size_t)n, 1), *idle = calloc((size_t)n, 1);
-    int (*spans)[2] = malloc(sizeof(int[2]) * ((size_t)n + 1));
+    int(*spans)[2] = malloc(sizeof(int[2]) * ((size_t)n + 1));
     if (!g || !x || !excluded || !idle || !spans) {
         fprintf(stderr, "mm: out of memory\n");
         return 1;
@@ -290,12 +304,14 @@ static int cmd_spans(int argc, char **argv)
             for (int k = f - widen; k <= f + widen; ++k)
                 if (k >= 0 && k < n) excluded[k] = 1;
     /* idle: root speed (central differences over +-0.1 s) below idle_speed for idle_min seconds */
-    int h = (int)lround(0.1 * clip.fps) > 0 ? (int)lround(0.1 * clip.fps) : 1, min_len = (int)lround(idle_min * clip.fps);
+    int h = (int)lround(0.1 * clip.fps) > 0 ? (int)lround(0.1 * clip.fps) : 1,
+        min_len = (int)lround(idle_min * clip.fps);
     for (int f = 0; f < n;) {
         int e = f;
         while (e < n && !excluded[e]) {
             int a = e - h < 0 ? 0 : e - h, b = e + h >= n ? n - 1 : e + h;
-            double speed = b > a ? hypot(x[3 * b] - x[3 * a], x[3 * b + 1] - x[3 * a + 1]) * clip.fps / (b - a) : 0;
+            double speed =
+                b > a ? hypot(x[3 * b] - x[3 * a], x[3 * b + 1] - x[3 * a + 1]) * clip.fps / (b - a) : 0;
             if (speed >= idle_speed) break;
             ++e;
         }
@@ -309,9 +325,14 @@ static int cmd_spans(int argc, char **argv)
     for (int kind = 0; kind < 3; ++kind) {
         int count = 0;
         for (int f = 0; f < n;) {
-            int in = kind == 0 ? excluded[f] : kind == 1 ? (!excluded[f] && idle[f]) : (!excluded[f] && !idle[f]);
+            int in = kind == 0   ? excluded[f]
+                     : kind == 1 ? (!excluded[f] && idle[f])
+                                 : (!excluded[f] && !idle[f]);
             int e = f;
-            while (e < n && (kind == 0 ? excluded[e] : kind == 1 ? (!excluded[e] && idle[e]) : (!excluded[e] && !idle[e])) == in) ++e;
+            while (e < n && (kind == 0   ? excluded[e]
+                             : kind == 1 ? (!excluded[e] && idle[e])
+                                         : (!excluded[e] && !idle[e])) == in)
+                ++e;
             if (in && e - f >= 2) {
                 spans[count][0] = f;
                 spans[count][1] = e;
@@ -319,7 +340,10 @@ static int cmd_spans(int argc, char **argv)
             }
             f = e;
         }
-        print_spans(kind == 0 ? "excluded" : kind == 1 ? "idle" : "locomotion", (const int(*)[2])spans, count, kind == 2);
+        print_spans(kind == 0   ? "excluded"
+                    : kind == 1 ? "idle"
+                                : "locomotion",
+                    (const int(*)[2])spans, count, kind == 2);
     }
     printf("}\n");
     free(g);

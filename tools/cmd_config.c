@@ -9,7 +9,8 @@
 
 static void explain_text(const mm_config_field_doc *d)
 {
-    printf("%s  (%s%s%s; default %s)\n", d->path, d->type, d->unit[0] ? ", " : "", d->unit, d->fallback[0] ? d->fallback : "none");
+    printf("%s  (%s%s%s; default %s)\n", d->path, d->type, d->unit[0] ? ", " : "", d->unit,
+           d->fallback[0] ? d->fallback : "none");
     printf("    %s\n\n", d->help);
 }
 
@@ -18,17 +19,20 @@ static int cmd_explain(int argc, char **argv)
     const char *field = NULL;
     int markdown = 0;
     for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--markdown") == 0) markdown = 1;
-        else if (!field) field = argv[i];
-        else return cli_usage_error("config explain", "usage: mm config explain [FIELD] [--markdown]");
+        if (strcmp(argv[i], "--markdown") == 0)
+            markdown = 1;
+        else if (!field)
+            field = argv[i];
+        else
+            return cli_usage_error("config explain", "usage: mm config explain [FIELD] [--markdown]");
     }
     int n = 0;
     const mm_config_field_doc *docs = mm_config_field_docs(&n);
     if (markdown) {
         printf("| field | type | unit | default | meaning |\n|---|---|---|---|---|\n");
         for (int i = 0; i < n; ++i)
-            printf("| `%s` | %s | %s | %s | %s |\n", docs[i].path, docs[i].type, docs[i].unit, docs[i].fallback,
-                   docs[i].help);
+            printf("| `%s` | %s | %s | %s | %s |\n", docs[i].path, docs[i].type, docs[i].unit,
+                   docs[i].fallback, docs[i].help);
         return 0;
     }
     int shown = 0;
@@ -63,8 +67,9 @@ static int cmd_check(int argc, char **argv)
             ++missing;
         }
     }
-    printf("%s: %d clips, %d blend clips, %d tags, %d matched bones, %d trajectory samples%s\n", argv[1], cfg.clip_count,
-           cfg.blend_count, cfg.tag_count, cfg.bone_count, cfg.traj_count, missing ? "; some files are missing" : "");
+    printf("%s: %d clips, %d blend clips, %d tags, %d matched bones, %d trajectory samples%s\n", argv[1],
+           cfg.clip_count, cfg.blend_count, cfg.tag_count, cfg.bone_count, cfg.traj_count,
+           missing ? "; some files are missing" : "");
     mm_config_free(&cfg);
     return missing ? 1 : 0;
 }

@@ -44,7 +44,8 @@ static int cmd_build(int argc, char **argv)
             return cli_usage_error("db build", "unexpected argument '%s'", argv[i]);
         }
     }
-    if (!config || !out) return cli_usage_error("db build", "usage: mm db build CONFIG -o OUT.mmdb [--data DIR]");
+    if (!config || !out)
+        return cli_usage_error("db build", "usage: mm db build CONFIG -o OUT.mmdb [--data DIR]");
     double t0 = now_seconds();
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -77,8 +78,8 @@ static int cmd_build(int argc, char **argv)
         mm_database_free(&db);
         return cli_report(&err);
     }
-    printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out, db.frame_count,
-           db.dims, db.clip_count, db.size, now_seconds() - t0, t1 - t0, t2 - t1);
+    printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out,
+           db.frame_count, db.dims, db.clip_count, db.size, now_seconds() - t0, t1 - t0, t2 - t1);
     mm_database_free(&db);
     return 0;
 }
@@ -96,10 +97,14 @@ static int cmd_info(int argc, char **argv)
     const char *path = NULL;
     int json = 0;
     for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0) json = 1;
-        else if (argv[i][0] == '-' && argv[i][1]) return cli_usage_error("db info", "unknown option '%s'", argv[i]);
-        else if (!path) path = argv[i];
-        else return cli_usage_error("db info", "unexpected argument '%s'", argv[i]);
+        if (strcmp(argv[i], "--json") == 0)
+            json = 1;
+        else if (argv[i][0] == '-' && argv[i][1])
+            return cli_usage_error("db info", "unknown option '%s'", argv[i]);
+        else if (!path)
+            path = argv[i];
+        else
+            return cli_usage_error("db info", "unexpected argument '%s'", argv[i]);
     }
     if (!path) return cli_usage_error("db info", "usage: mm db info FILE [--json]");
     mm_database db;
@@ -114,10 +119,11 @@ static int cmd_info(int argc, char **argv)
     if (json) {
         printf("{\"file\": ");
         cli_json_string(stdout, path);
-        printf(", \"version\": %d, \"frames\": %d, \"dims\": %d, \"dims_padded\": %d, \"clips\": %d, \"joints\": %d, "
+        printf(", \"version\": %d, \"frames\": %d, \"dims\": %d, \"dims_padded\": %d, \"clips\": %d, "
+               "\"joints\": %d, "
                "\"interval\": %.9g, \"duration\": %.9g, \"bytes\": %zu, \"clip_names\": [",
-               MM_DB_VERSION, db.frame_count, db.dims, db.dims_padded, db.clip_count, db.joint_count, db.interval,
-               db.frame_count * db.interval, db.size);
+               MM_DB_VERSION, db.frame_count, db.dims, db.dims_padded, db.clip_count, db.joint_count,
+               db.interval, db.frame_count * db.interval, db.size);
         for (int c = 0; c < db.clip_count; ++c) {
             if (c) printf(", ");
             cli_json_string(stdout, db.clips[c].name);
@@ -132,16 +138,18 @@ static int cmd_info(int argc, char **argv)
             printf("%s{\"name\": ", g ? ", " : "");
             cli_json_string(stdout, db.groups[g].name);
             printf(", \"kind\": \"%s\", \"offset\": %d, \"dims\": %d, \"weight\": %.9g, \"scale\": %.9g}",
-                   mm_feature_kind_name((mm_feature_kind)db.groups[g].kind), db.groups[g].offset, db.groups[g].dims,
-                   db.groups[g].weight, db.groups[g].scale);
+                   mm_feature_kind_name((mm_feature_kind)db.groups[g].kind), db.groups[g].offset,
+                   db.groups[g].dims, db.groups[g].weight, db.groups[g].scale);
         }
-        printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"mirrored_clips\": %d, \"blend_clips\": %d}\n", idle, loops,
-               mirrored, blends);
+        printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"mirrored_clips\": %d, \"blend_clips\": %d}\n",
+               idle, loops, mirrored, blends);
     } else {
         printf("file:       %s (%zu bytes, format version %d)\n", path, db.size, MM_DB_VERSION);
-        printf("frames:     %d (%.1f s at %.6g s per frame)\n", db.frame_count, db.frame_count * db.interval, db.interval);
+        printf("frames:     %d (%.1f s at %.6g s per frame)\n", db.frame_count, db.frame_count * db.interval,
+               db.interval);
         printf("joints:     %d (joint 0: %s)\n", db.joint_count, db.joints[0].name);
-        printf("clips:      %d (%d idle, %d loop, %d mirrored, %d blend)\n", db.clip_count, idle, loops, mirrored, blends);
+        printf("clips:      %d (%d idle, %d loop, %d mirrored, %d blend)\n", db.clip_count, idle, loops,
+               mirrored, blends);
         printf("features:   %d dims (%d padded)\n", db.dims, db.dims_padded);
         for (int g = 0; g < db.group_count; ++g)
             printf("  %-34s %-21s dims %d..%d  weight %-6g scale %.4g\n", db.groups[g].name,

@@ -10,38 +10,35 @@ static const struct command {
     const char *name;
     int (*run)(int argc, char **argv);
 } commands[] = {
-    {"bvh", mm_cmd_bvh},
-    {"config", mm_cmd_config},
-    {"convert", mm_cmd_convert},
-    {"db", mm_cmd_db},
-    {"synth", mm_cmd_synth},
-    {"import", mm_cmd_import},
+    {"bvh", mm_cmd_bvh}, {"config", mm_cmd_config}, {"convert", mm_cmd_convert},
+    {"db", mm_cmd_db},   {"synth", mm_cmd_synth},   {"import", mm_cmd_import},
 };
 
 static void usage(FILE *f)
 {
-    fputs("usage: mm <command> [arguments]\n"
-          "\n"
-          "commands:\n"
-          "  bvh info FILE [--json]            joints, frames, fps, duration, channel orders, height\n"
-          "  bvh fk FILE --frame K             world position of every joint at frame K (0-based)\n"
-          "  bvh convert IN OUT [--order ZYX] [--scale S|auto] [--fps F]\n"
-          "                                    re-write, rescale and resample a BVH file\n"
-          "  bvh spans FILE [--scale S] [--low-hips 0.6] [--pad 1] [--idle-speed 0.15] [--idle-min 1]\n"
-          "                                    lying-down, idle and locomotion frame spans (JSON)\n"
-          "  config explain [FIELD] [--markdown]  what every database config field means\n"
-          "  config check CONFIG               validate a config and find its files\n"
-          "  convert BVH_DIR FBX_DIR [--batch-size 10] [--blender PATH]\n"
-          "                                    BVH files to FBX through Blender, batch-size takes per file\n"
-          "  import info FILE [--json]         the takes of a BVH, FBX, glTF or Collada file\n"
-          "  db build CONFIG -o OUT.mmdb [--data DIR]  build a motion database (clip files are looked\n"
-          "                                    for beside CONFIG, in DIR, then in $MM_DATA_DIR)\n"
-          "  db info FILE [--json]             frames, dims, clips, tags, feature groups\n"
-          "  db dump FILE                      everything in a database as deterministic text\n"
-          "  synth OUTDIR [--seed N] [--fps 60]  write the built-in procedural motion set (BVH + clips.json)\n"
-          "  version                           print the version\n"
-          "  help                              print this text\n",
-          f);
+    fputs(
+        "usage: mm <command> [arguments]\n"
+        "\n"
+        "commands:\n"
+        "  bvh info FILE [--json]            joints, frames, fps, duration, channel orders, height\n"
+        "  bvh fk FILE --frame K             world position of every joint at frame K (0-based)\n"
+        "  bvh convert IN OUT [--order ZYX] [--scale S|auto] [--fps F]\n"
+        "                                    re-write, rescale and resample a BVH file\n"
+        "  bvh spans FILE [--scale S] [--low-hips 0.6] [--pad 1] [--idle-speed 0.15] [--idle-min 1]\n"
+        "                                    lying-down, idle and locomotion frame spans (JSON)\n"
+        "  config explain [FIELD] [--markdown]  what every database config field means\n"
+        "  config check CONFIG               validate a config and find its files\n"
+        "  convert BVH_DIR FBX_DIR [--batch-size 10] [--blender PATH]\n"
+        "                                    BVH files to FBX through Blender, batch-size takes per file\n"
+        "  import info FILE [--json]         the takes of a BVH, FBX, glTF or Collada file\n"
+        "  db build CONFIG -o OUT.mmdb [--data DIR]  build a motion database (clip files are looked\n"
+        "                                    for beside CONFIG, in DIR, then in $MM_DATA_DIR)\n"
+        "  db info FILE [--json]             frames, dims, clips, tags, feature groups\n"
+        "  db dump FILE                      everything in a database as deterministic text\n"
+        "  synth OUTDIR [--seed N] [--fps 60]  write the built-in procedural motion set (BVH + clips.json)\n"
+        "  version                           print the version\n"
+        "  help                              print this text\n",
+        f);
 }
 
 int main(int argc, char **argv)

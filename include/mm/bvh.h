@@ -48,9 +48,9 @@ typedef enum mm_bvh_channel {
 const char *mm_bvh_channel_name(mm_bvh_channel c);
 
 typedef struct mm_bvh_joint_channels {
-    int first;                  /* index of the joint's first value in a frame's values */
-    int count;                  /* 0, 3 or 6 */
-    unsigned char type[6];      /* mm_bvh_channel of each, in file order */
+    int first;             /* index of the joint's first value in a frame's values */
+    int count;             /* 0, 3 or 6 */
+    unsigned char type[6]; /* mm_bvh_channel of each, in file order */
 } mm_bvh_joint_channels;
 
 typedef struct mm_bvh {
@@ -65,8 +65,8 @@ typedef struct mm_bvh {
 } mm_bvh;
 
 typedef struct mm_bvh_read_desc {
-    const char *name;                /* used in error messages; NULL: the path, or "<memory>" */
-    const mm_allocator *allocator;   /* NULL: malloc */
+    const char *name;              /* used in error messages; NULL: the path, or "<memory>" */
+    const mm_allocator *allocator; /* NULL: malloc */
 } mm_bvh_read_desc;
 
 /* Parses BVH text (not necessarily zero-terminated) of size bytes. desc may be NULL. On error
@@ -102,21 +102,20 @@ typedef struct mm_bvh_import_desc {
 mm_result mm_bvh_to_clip(const mm_bvh *bvh, const mm_bvh_import_desc *desc, mm_clip *out, mm_error *err);
 
 typedef struct mm_bvh_write_desc {
-    mm_euler_order order; /* rotation order of every joint; MM_EULER_NONE: each joint's own
-                             order from the skeleton, ZYX where it has none */
-    int precision;        /* significant digits of every number; 0: 9 (float round trip) */
+    mm_euler_order order;          /* rotation order of every joint; MM_EULER_NONE: each joint's own
+                                      order from the skeleton, ZYX where it has none */
+    int precision;                 /* significant digits of every number; 0: 9 (float round trip) */
     const mm_allocator *allocator; /* for the output buffer; NULL: malloc */
 } mm_bvh_write_desc;
 
 /* Writes clip as BVH text into a buffer allocated with desc->allocator (free with mm_free).
  * The root and every joint flagged MM_JOINT_TRANSLATES get 6 channels (positions first), the
  * others 3. Numbers are printed in the C locale whatever the process locale. */
-mm_result mm_bvh_write(const mm_clip *clip, const mm_bvh_write_desc *desc, char **out_text,
-                       size_t *out_size, mm_error *err);
+mm_result mm_bvh_write(const mm_clip *clip, const mm_bvh_write_desc *desc, char **out_text, size_t *out_size,
+                       mm_error *err);
 /* Writes to path atomically: a temporary file beside it, then a rename; nothing is left behind
  * on failure. */
-mm_result mm_bvh_save(const char *path, const mm_clip *clip, const mm_bvh_write_desc *desc,
-                      mm_error *err);
+mm_result mm_bvh_save(const char *path, const mm_clip *clip, const mm_bvh_write_desc *desc, mm_error *err);
 
 #ifdef __cplusplus
 }

@@ -24,12 +24,12 @@
 extern "C" {
 #endif
 
-#define MM_MAX_TAGS 64          /* tags are bits of a 64-bit mask */
-#define MM_TAG_NAME_MAX 32      /* including the terminating zero */
-#define MM_MAX_MATCH_BONES 16   /* bones whose position / velocity are features */
-#define MM_MAX_TRAJ_SAMPLES 16  /* trajectory sample times, past and future */
-#define MM_MAX_MIRROR_PAIRS 8   /* left/right name patterns */
-#define MM_PATH_MAX 512
+#define MM_MAX_TAGS         64 /* tags are bits of a 64-bit mask */
+#define MM_TAG_NAME_MAX     32 /* including the terminating zero */
+#define MM_MAX_MATCH_BONES  16 /* bones whose position / velocity are features */
+#define MM_MAX_TRAJ_SAMPLES 16 /* trajectory sample times, past and future */
+#define MM_MAX_MIRROR_PAIRS 8  /* left/right name patterns */
+#define MM_PATH_MAX         512
 
 typedef enum mm_clip_type { MM_CLIP_LOCOMOTION = 0, MM_CLIP_IDLE = 1 } mm_clip_type;
 
@@ -77,8 +77,8 @@ typedef struct mm_config_mirror_pair {
 
 typedef struct mm_config {
     /* Sampling and units */
-    float interval;   /* seconds between database frames (the seed's Interval); default 1/60 */
-    float scale;      /* multiplies source lengths to get metres; 0: detect (docs/bvh.md) */
+    float interval; /* seconds between database frames (the seed's Interval); default 1/60 */
+    float scale;    /* multiplies source lengths to get metres; 0: detect (docs/bvh.md) */
 
     /* Bone roles (names in the source skeleton) */
     char hips[MM_NAME_MAX];

@@ -33,11 +33,11 @@ mm_result mm_config_parse_json(const char *text, size_t size, const char *name, 
 mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text, mm_error *err);
 
 typedef struct mm_config_field_doc {
-    const char *path;    /* "features.bones[].position_weight" */
-    const char *type;    /* "number", "string", "bool", "[number]", ... */
-    const char *unit;    /* "s", "m", "m/s", "" */
+    const char *path;     /* "features.bones[].position_weight" */
+    const char *type;     /* "number", "string", "bool", "[number]", ... */
+    const char *unit;     /* "s", "m", "m/s", "" */
     const char *fallback; /* default value as text */
-    const char *help;    /* meaning, one paragraph */
+    const char *help;     /* meaning, one paragraph */
 } mm_config_field_doc;
 
 /* The documentation of every field, in file order; *count receives the number. */
@@ -45,7 +45,8 @@ const mm_config_field_doc *mm_config_field_docs(int *count);
 
 /* Resolves a clip's file path into out (size bytes). Returns MM_ERR_NOT_FOUND (err names the
  * places looked at) when no file exists there. */
-mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size, mm_error *err);
+mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size,
+                                 mm_error *err);
 
 /* Loads the source of every config clip through mm_import_clips (BVH with mm's reader, FBX, glTF
  * and Collada through assimp when built with it; the clip's take, or the file's first),

@@ -42,9 +42,9 @@
 extern "C" {
 #endif
 
-#define MM_DB_VERSION 1
-#define MM_DB_ALIGN 64        /* every array starts at a multiple of this in the buffer */
-#define MM_DB_SIMD_WIDTH 8    /* dims_padded is a multiple of this */
+#define MM_DB_VERSION     1
+#define MM_DB_ALIGN       64  /* every array starts at a multiple of this in the buffer */
+#define MM_DB_SIMD_WIDTH  8   /* dims_padded is a multiple of this */
 #define MM_DB_SMALL_BLOCK 16  /* frames per small bounding box */
 #define MM_DB_LARGE_BLOCK 128 /* frames per large bounding box */
 
@@ -57,11 +57,11 @@ enum mm_contact_bits {
 };
 
 typedef enum mm_feature_kind {
-    MM_FEATURE_BONE_POSITION = 0,  /* 3 dims: bone position in the character frame (m) */
-    MM_FEATURE_BONE_VELOCITY = 1,  /* 3 dims: bone velocity in the character frame (m/s) */
-    MM_FEATURE_ROOT_VELOCITY = 2,  /* 3 dims: simulation bone velocity in the character frame (m/s) */
-    MM_FEATURE_TRAJ_POSITION = 3,  /* 2 dims: x, z of the root at time t, character frame (m) */
-    MM_FEATURE_TRAJ_DIRECTION = 4  /* 2 dims: x, z of the facing at time t, character frame */
+    MM_FEATURE_BONE_POSITION = 0, /* 3 dims: bone position in the character frame (m) */
+    MM_FEATURE_BONE_VELOCITY = 1, /* 3 dims: bone velocity in the character frame (m/s) */
+    MM_FEATURE_ROOT_VELOCITY = 2, /* 3 dims: simulation bone velocity in the character frame (m/s) */
+    MM_FEATURE_TRAJ_POSITION = 3, /* 2 dims: x, z of the root at time t, character frame (m) */
+    MM_FEATURE_TRAJ_DIRECTION = 4 /* 2 dims: x, z of the facing at time t, character frame */
 } mm_feature_kind;
 
 /* "bone_position" ... ; NULL if invalid. */
@@ -82,14 +82,14 @@ typedef struct mm_db_clip {
     char name[MM_NAME_MAX];
     int32_t first_frame; /* index of its first frame in the database */
     int32_t frame_count;
-    int32_t type;        /* mm_clip_type */
-    int32_t loop;        /* 1: the frame after the last is the first */
-    int32_t mirrored;    /* 1: made by mirroring another clip */
-    int32_t source;      /* index of the config clip (or blend, for blends) it comes from */
-    int32_t blend_left;  /* for blend clips: database clip indices of the sources; -1 otherwise */
+    int32_t type;       /* mm_clip_type */
+    int32_t loop;       /* 1: the frame after the last is the first */
+    int32_t mirrored;   /* 1: made by mirroring another clip */
+    int32_t source;     /* index of the config clip (or blend, for blends) it comes from */
+    int32_t blend_left; /* for blend clips: database clip indices of the sources; -1 otherwise */
     int32_t blend_right;
-    float blend_weight;  /* for blend clips: weight of the left source */
-    float source_start;  /* seconds: time of its first frame in the source file */
+    float blend_weight; /* for blend clips: weight of the left source */
+    float source_start; /* seconds: time of its first frame in the source file */
 } mm_db_clip;
 
 /* The seed's PoseData of one frame, assembled by mm_database_pose. Positions and directions are
@@ -112,25 +112,25 @@ typedef struct mm_database {
     int dims, dims_padded;
     float interval; /* seconds per frame */
 
-    const mm_joint *joints;       /* [joint_count]; joint 0 is the simulation bone */
-    const mm_db_clip *clips;      /* [clip_count] */
+    const mm_joint *joints;  /* [joint_count]; joint 0 is the simulation bone */
+    const mm_db_clip *clips; /* [clip_count] */
     const char (*tag_names)[MM_TAG_NAME_MAX];
     const mm_feature_group *groups; /* [group_count] */
 
     /* Per frame */
-    const int32_t *frame_clip;    /* clip index */
-    const int32_t *frame_next;    /* next frame or -1 */
-    const uint64_t *frame_tags;   /* tag bit mask */
-    const uint8_t *contacts;      /* mm_contact_bits */
-    const mm_vec3 *root_velocity; /* simulation bone velocity in its own frame (m/s) */
+    const int32_t *frame_clip;          /* clip index */
+    const int32_t *frame_next;          /* next frame or -1 */
+    const uint64_t *frame_tags;         /* tag bit mask */
+    const uint8_t *contacts;            /* mm_contact_bits */
+    const mm_vec3 *root_velocity;       /* simulation bone velocity in its own frame (m/s) */
     const float *root_angular_velocity; /* about +Y (rad/s) */
-    const mm_quat *rotations;     /* [frame_count x joint_count] local rotations */
-    const mm_vec3 *positions;     /* [frame_count x joint_count] local translations */
+    const mm_quat *rotations;           /* [frame_count x joint_count] local rotations */
+    const mm_vec3 *positions;           /* [frame_count x joint_count] local translations */
 
     /* Features */
-    const float *features;       /* [frame_count x dims_padded], normalised */
-    const float *feature_mean;   /* [dims_padded] */
-    const float *feature_scale;  /* [dims_padded]; raw = features * scale + mean */
+    const float *features;      /* [frame_count x dims_padded], normalised */
+    const float *feature_mean;  /* [dims_padded] */
+    const float *feature_scale; /* [dims_padded]; raw = features * scale + mean */
     int small_block_count, large_block_count;
     const float *small_min, *small_max; /* [small_block_count x dims_padded] */
     const float *large_min, *large_max; /* [large_block_count x dims_padded] */
@@ -140,8 +140,8 @@ typedef struct mm_database {
     /* Storage: the whole file */
     const void *data;
     size_t size;
-    void *owned;             /* buffer to free, or NULL when the caller owns data */
-    bool mapped;             /* data is a read-only mapping of the file (unmapped by free) */
+    void *owned; /* buffer to free, or NULL when the caller owns data */
+    bool mapped; /* data is a read-only mapping of the file (unmapped by free) */
     mm_allocator allocator;
 } mm_database;
 
@@ -152,8 +152,8 @@ typedef struct mm_db_load_desc {
 } mm_db_load_desc;
 
 typedef struct mm_db_build_desc {
-    const char *config_json;       /* text to embed (the config as read); NULL: none */
-    const mm_allocator *allocator; /* NULL: malloc */
+    const char *config_json;                           /* text to embed (the config as read); NULL: none */
+    const mm_allocator *allocator;                     /* NULL: malloc */
     void (*progress)(int done, int total, void *user); /* optional, called per clip */
     void *progress_user;
 } mm_db_build_desc;

@@ -34,7 +34,7 @@
 extern "C" {
 #endif
 
-#define MM_PI 3.14159265358979323846
+#define MM_PI         3.14159265358979323846
 #define MM_DEG_TO_RAD (MM_PI / 180.0)
 #define MM_RAD_TO_DEG (180.0 / MM_PI)
 
@@ -82,10 +82,19 @@ static inline mm_vec3 mm_vec3_make(float x, float y, float z)
     r.z = z;
     return r;
 }
-static inline mm_vec3 mm_vec3_add(mm_vec3 a, mm_vec3 b) { return mm_vec3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
-static inline mm_vec3 mm_vec3_sub(mm_vec3 a, mm_vec3 b) { return mm_vec3_make(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline mm_vec3 mm_vec3_add(mm_vec3 a, mm_vec3 b)
+{
+    return mm_vec3_make(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline mm_vec3 mm_vec3_sub(mm_vec3 a, mm_vec3 b)
+{
+    return mm_vec3_make(a.x - b.x, a.y - b.y, a.z - b.z);
+}
 static inline mm_vec3 mm_vec3_scale(mm_vec3 a, float s) { return mm_vec3_make(a.x * s, a.y * s, a.z * s); }
-static inline mm_vec3 mm_vec3_mul(mm_vec3 a, mm_vec3 b) { return mm_vec3_make(a.x * b.x, a.y * b.y, a.z * b.z); }
+static inline mm_vec3 mm_vec3_mul(mm_vec3 a, mm_vec3 b)
+{
+    return mm_vec3_make(a.x * b.x, a.y * b.y, a.z * b.z);
+}
 static inline mm_vec3 mm_vec3_neg(mm_vec3 a) { return mm_vec3_make(-a.x, -a.y, -a.z); }
 static inline float mm_vec3_dot(mm_vec3 a, mm_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static inline mm_vec3 mm_vec3_cross(mm_vec3 a, mm_vec3 b)
@@ -121,13 +130,15 @@ static inline mm_quat mm_quat_identity(void) { return mm_quat_make(0.0f, 0.0f, 0
 /* a * b: the rotation b followed by a. */
 static inline mm_quat mm_quat_mul(mm_quat a, mm_quat b)
 {
-    return mm_quat_make(a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-                        a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-                        a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w,
-                        a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z);
+    return mm_quat_make(
+        a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y, a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+        a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w, a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z);
 }
 static inline mm_quat mm_quat_conj(mm_quat q) { return mm_quat_make(-q.x, -q.y, -q.z, q.w); }
-static inline float mm_quat_dot(mm_quat a, mm_quat b) { return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w; }
+static inline float mm_quat_dot(mm_quat a, mm_quat b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
+}
 static inline float mm_quat_length(mm_quat q) { return sqrtf(mm_quat_dot(q, q)); }
 /* Unit quaternion along q; a zero quaternion gives the identity. */
 static inline mm_quat mm_quat_normalize(mm_quat q)
@@ -156,10 +167,7 @@ static inline mm_vec3 mm_quat_rotate(mm_quat q, mm_vec3 v)
 /* Rotates v by the inverse of the unit quaternion q. */
 static inline mm_vec3 mm_quat_inv_rotate(mm_quat q, mm_vec3 v) { return mm_quat_rotate(mm_quat_conj(q), v); }
 /* The same rotation with w >= 0 (the hemisphere of the identity). */
-static inline mm_quat mm_quat_abs(mm_quat q)
-{
-    return q.w < 0.0f ? mm_quat_make(-q.x, -q.y, -q.z, -q.w) : q;
-}
+static inline mm_quat mm_quat_abs(mm_quat q) { return q.w < 0.0f ? mm_quat_make(-q.x, -q.y, -q.z, -q.w) : q; }
 
 /* Rotation of angle radians about axis (need not be unit; a zero axis gives the identity). */
 mm_quat mm_quat_from_axis_angle(mm_vec3 axis, float angle);

@@ -18,9 +18,9 @@
 #include "skeleton.h"
 #include "synth.h"
 
-#define MM_VERSION_MAJOR 0
-#define MM_VERSION_MINOR 1
-#define MM_VERSION_PATCH 0
+#define MM_VERSION_MAJOR  0
+#define MM_VERSION_MINOR  1
+#define MM_VERSION_PATCH  0
 #define MM_VERSION_STRING "0.1.0"
 
 #endif /* MM_MM_H */

@@ -16,22 +16,22 @@ extern "C" {
 #endif
 
 /* X(code, description) */
-#define MM_RESULT_LIST(X)                                                                     \
-    X(MM_OK, "success")                                                                       \
-    X(MM_ERR_INVALID_ARGUMENT, "invalid argument")                                            \
-    X(MM_ERR_OUT_OF_MEMORY, "out of memory")                                                  \
-    X(MM_ERR_IO, "file could not be read or written")                                         \
-    X(MM_ERR_SYNTAX, "syntax error")                                                          \
-    X(MM_ERR_UNEXPECTED_EOF, "unexpected end of input")                                       \
-    X(MM_ERR_UNKNOWN_KEYWORD, "unknown keyword")                                              \
-    X(MM_ERR_BAD_NUMBER, "malformed or non-finite number")                                    \
-    X(MM_ERR_LIMIT, "a declared size exceeds a limit")                                        \
-    X(MM_ERR_DUPLICATE_NAME, "duplicate name")                                                \
-    X(MM_ERR_CHANNELS, "invalid channel declaration")                                         \
-    X(MM_ERR_VALUE_COUNT, "wrong number of values on a motion line")                          \
-    X(MM_ERR_FRAME_COUNT, "frame count does not match the declaration")                       \
-    X(MM_ERR_OUT_OF_RANGE, "value out of range")                                              \
-    X(MM_ERR_NOT_FOUND, "not found")                                                          \
+#define MM_RESULT_LIST(X)                                                                                    \
+    X(MM_OK, "success")                                                                                      \
+    X(MM_ERR_INVALID_ARGUMENT, "invalid argument")                                                           \
+    X(MM_ERR_OUT_OF_MEMORY, "out of memory")                                                                 \
+    X(MM_ERR_IO, "file could not be read or written")                                                        \
+    X(MM_ERR_SYNTAX, "syntax error")                                                                         \
+    X(MM_ERR_UNEXPECTED_EOF, "unexpected end of input")                                                      \
+    X(MM_ERR_UNKNOWN_KEYWORD, "unknown keyword")                                                             \
+    X(MM_ERR_BAD_NUMBER, "malformed or non-finite number")                                                   \
+    X(MM_ERR_LIMIT, "a declared size exceeds a limit")                                                       \
+    X(MM_ERR_DUPLICATE_NAME, "duplicate name")                                                               \
+    X(MM_ERR_CHANNELS, "invalid channel declaration")                                                        \
+    X(MM_ERR_VALUE_COUNT, "wrong number of values on a motion line")                                         \
+    X(MM_ERR_FRAME_COUNT, "frame count does not match the declaration")                                      \
+    X(MM_ERR_OUT_OF_RANGE, "value out of range")                                                             \
+    X(MM_ERR_NOT_FOUND, "not found")                                                                         \
     X(MM_ERR_UNSUPPORTED, "not supported by this build")
 
 typedef enum mm_result {
@@ -46,13 +46,13 @@ const char *mm_result_str(mm_result r);
 /* The code's identifier ("MM_ERR_SYNTAX"); never NULL. */
 const char *mm_result_name(mm_result r);
 
-#define MM_ERROR_FILE_MAX 256
+#define MM_ERROR_FILE_MAX    256
 #define MM_ERROR_MESSAGE_MAX 256
 
 typedef struct mm_error {
     mm_result code;
-    int line;   /* 1-based; 0 when the error has no position */
-    int column; /* 1-based; 0 when the error has no position */
+    int line;                           /* 1-based; 0 when the error has no position */
+    int column;                         /* 1-based; 0 when the error has no position */
     char file[MM_ERROR_FILE_MAX];       /* file or input name; may be empty */
     char message[MM_ERROR_MESSAGE_MAX]; /* what is wrong, in words */
 } mm_error;

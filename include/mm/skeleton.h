@@ -24,7 +24,7 @@
 extern "C" {
 #endif
 
-#define MM_NAME_MAX 64     /* joint names, including the terminating zero */
+#define MM_NAME_MAX   64   /* joint names, including the terminating zero */
 #define MM_MAX_JOINTS 1024 /* a sanity bound for readers; far above any real character */
 
 enum mm_joint_flags {

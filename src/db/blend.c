@@ -49,8 +49,8 @@ static mm_result source_init(source *s, const mm_clip *clip, int loop)
     return MM_OK;
 }
 
-mm_result mm__clip_blend(const mm_clip *left, int left_loop, const mm_clip *right, int right_loop, float weight,
-                         float interval, mm_clip *out, const mm_allocator *a)
+mm_result mm__clip_blend(const mm_clip *left, int left_loop, const mm_clip *right, int right_loop,
+                         float weight, float interval, mm_clip *out, const mm_allocator *a)
 {
     if (left->skeleton.joint_count != right->skeleton.joint_count || left->frame_count < 2 ||
         right->frame_count < 2)
@@ -85,14 +85,20 @@ mm_result mm__clip_blend(const mm_clip *left, int left_loop, const mm_clip *righ
             locate(&s[k], u, &f0[k], &f1[k], &al[k]);
             /* Source speed scaled by how much faster or slower the source plays in the blend. */
             double stretch = s[k].period / period;
-            vel[k] = mm_vec3_scale(mm_vec3_lerp(s[k].velocity[f0[k]], s[k].velocity[f1[k]], al[k]), (float)stretch);
-            yaw_rate[k] = (float)(stretch * (s[k].yaw_rate[f0[k]] + (s[k].yaw_rate[f1[k]] - s[k].yaw_rate[f0[k]]) * al[k]));
+            vel[k] = mm_vec3_scale(mm_vec3_lerp(s[k].velocity[f0[k]], s[k].velocity[f1[k]], al[k]),
+                                   (float)stretch);
+            yaw_rate[k] = (float)(stretch * (s[k].yaw_rate[f0[k]] +
+                                             (s[k].yaw_rate[f1[k]] - s[k].yaw_rate[f0[k]]) * al[k]));
         }
         for (int j = 1; j < jc; ++j) {
-            mm_quat ql = mm_quat_slerp(mm_clip_rotations(left, f0[0])[j], mm_clip_rotations(left, f1[0])[j], al[0]);
-            mm_quat qr = mm_quat_slerp(mm_clip_rotations(right, f0[1])[j], mm_clip_rotations(right, f1[1])[j], al[1]);
-            mm_vec3 pl = mm_vec3_lerp(mm_clip_positions(left, f0[0])[j], mm_clip_positions(left, f1[0])[j], al[0]);
-            mm_vec3 pr = mm_vec3_lerp(mm_clip_positions(right, f0[1])[j], mm_clip_positions(right, f1[1])[j], al[1]);
+            mm_quat ql =
+                mm_quat_slerp(mm_clip_rotations(left, f0[0])[j], mm_clip_rotations(left, f1[0])[j], al[0]);
+            mm_quat qr =
+                mm_quat_slerp(mm_clip_rotations(right, f0[1])[j], mm_clip_rotations(right, f1[1])[j], al[1]);
+            mm_vec3 pl =
+                mm_vec3_lerp(mm_clip_positions(left, f0[0])[j], mm_clip_positions(left, f1[0])[j], al[0]);
+            mm_vec3 pr =
+                mm_vec3_lerp(mm_clip_positions(right, f0[1])[j], mm_clip_positions(right, f1[1])[j], al[1]);
             rot[j] = mm_quat_slerp(qr, ql, weight);
             pos[j] = mm_vec3_lerp(pr, pl, weight);
         }

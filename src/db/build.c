@@ -71,18 +71,21 @@ static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
         mm_config_range range = cc->range_count ? cc->ranges[r] : whole;
         if (range.end > src->frame_count || range.end - range.begin < 2)
             return mm_error_set(b->err, MM_ERR_OUT_OF_RANGE, 0, 0,
-                                "clips[%d] (%s).ranges[%d]: [%d, %d) does not fit the file's %d frames", ci, cc->name,
-                                r, range.begin, range.end, src->frame_count);
+                                "clips[%d] (%s).ranges[%d]: [%d, %d) does not fit the file's %d frames", ci,
+                                cc->name, r, range.begin, range.end, src->frame_count);
         mm_clip resampled;
         mm_result res = mm__clip_extract(src, range.begin, range.end, cfg->interval, &resampled, b->a);
-        if (res != MM_OK) return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot resample", ci, cc->name);
+        if (res != MM_OK)
+            return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot resample", ci, cc->name);
         built x;
         memset(&x, 0, sizeof x);
         res = mm__clip_add_root(&resampled, cfg, &x.clip, b->a, b->err);
         mm_clip_free(&resampled);
         if (res != MM_OK) return res;
-        if (ranges > 1) snprintf(x.meta.name, MM_NAME_MAX, "%.50s#%d", cc->name, r);
-        else snprintf(x.meta.name, MM_NAME_MAX, "%s", cc->name);
+        if (ranges > 1)
+            snprintf(x.meta.name, MM_NAME_MAX, "%.50s#%d", cc->name, r);
+        else
+            snprintf(x.meta.name, MM_NAME_MAX, "%s", cc->name);
         x.meta.type = cc->type;
         x.meta.loop = cc->loop;
         x.meta.source = ci;
@@ -97,7 +100,8 @@ static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
         if (cc->mirror) {
             built m = b->clips[b->count - 1];
             res = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a);
-            if (res != MM_OK) return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot mirror", ci, cc->name);
+            if (res != MM_OK)
+                return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot mirror", ci, cc->name);
             size_t len = strlen(m.meta.name);
             snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
             m.meta.mirrored = 1;
@@ -114,7 +118,8 @@ static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
 static int first_built(const builder *b, int ci, int mirrored)
 {
     for (int i = 0; i < b->count; ++i)
-        if (b->clips[i].blend < 0 && b->clips[i].meta.source == ci && b->clips[i].meta.mirrored == mirrored) return i;
+        if (b->clips[i].blend < 0 && b->clips[i].meta.source == ci && b->clips[i].meta.mirrored == mirrored)
+            return i;
     return -1;
 }
 
@@ -125,12 +130,15 @@ static mm_result process_blend(builder *b, int bi)
     int variants = cfg->clips[cb->left].mirror && cfg->clips[cb->right].mirror ? 2 : 1;
     for (int m = 0; m < variants; ++m) {
         int l = first_built(b, cb->left, m), r = first_built(b, cb->right, m);
-        if (l < 0 || r < 0) return mm_error_set(b->err, MM_ERR_NOT_FOUND, 0, 0, "blend_clips[%d]: missing source", bi);
+        if (l < 0 || r < 0)
+            return mm_error_set(b->err, MM_ERR_NOT_FOUND, 0, 0, "blend_clips[%d]: missing source", bi);
         built x;
         memset(&x, 0, sizeof x);
         int ll = b->clips[l].meta.loop, rl = b->clips[r].meta.loop;
-        mm_result res = mm__clip_blend(&b->clips[l].clip, ll, &b->clips[r].clip, rl, cb->weight, cfg->interval, &x.clip, b->a);
-        if (res != MM_OK) return mm_error_set(b->err, res, 0, 0, "blend_clips[%d] (%s): cannot blend", bi, cb->name);
+        mm_result res = mm__clip_blend(&b->clips[l].clip, ll, &b->clips[r].clip, rl, cb->weight,
+                                       cfg->interval, &x.clip, b->a);
+        if (res != MM_OK)
+            return mm_error_set(b->err, res, 0, 0, "blend_clips[%d] (%s): cannot blend", bi, cb->name);
         snprintf(x.meta.name, MM_NAME_MAX, m ? "%.48s_mirror" : "%s", cb->name);
         x.meta.type = b->clips[l].meta.type;
         x.meta.loop = ll && rl;
@@ -204,16 +212,19 @@ static mm_result check_skeletons(builder *b)
     const mm_skeleton *s0 = &b->clips[0].clip.skeleton;
     for (int i = 1; i < b->count; ++i)
         if (!match_skeleton(s0, &b->clips[i].clip, b->a))
-            return mm_error_set(b->err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                                "clip '%s' has a different skeleton from clip '%s' (joint names and parents must match)",
-                                b->clips[i].meta.name, b->clips[0].meta.name);
+            return mm_error_set(
+                b->err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                "clip '%s' has a different skeleton from clip '%s' (joint names and parents must match)",
+                b->clips[i].meta.name, b->clips[0].meta.name);
     const mm_config *cfg = b->cfg;
-    const char *roles[] = {cfg->hips, cfg->left_foot, cfg->right_foot, cfg->left_toe, cfg->right_toe,
-                           cfg->left_hand, cfg->right_hand, cfg->head};
-    const char *fields[] = {"hips", "left_foot", "right_foot", "left_toe", "right_toe", "left_hand", "right_hand", "head"};
+    const char *roles[] = {cfg->hips,      cfg->left_foot, cfg->right_foot, cfg->left_toe,
+                           cfg->right_toe, cfg->left_hand, cfg->right_hand, cfg->head};
+    const char *fields[] = {"hips",      "left_foot", "right_foot", "left_toe",
+                            "right_toe", "left_hand", "right_hand", "head"};
     for (int r = 0; r < 8; ++r)
         if (roles[r][0] && mm_skeleton_find(s0, roles[r]) < 0)
-            return mm_error_set(b->err, MM_ERR_NOT_FOUND, 0, 0, "roles.%s: no joint named '%s'", fields[r], roles[r]);
+            return mm_error_set(b->err, MM_ERR_NOT_FOUND, 0, 0, "roles.%s: no joint named '%s'", fields[r],
+                                roles[r]);
     return MM_OK;
 }
 
@@ -234,9 +245,9 @@ typedef struct arrays {
 
 static void free_arrays(arrays *x)
 {
-    void *p[] = {x->joints,        x->clips,     x->tag_names,  x->frame_clip, x->frame_next, x->frame_tags,
-                 x->contacts,      x->root_velocity, x->root_yaw_rate, x->rotations, x->positions, x->features,
-                 x->mean,          x->scale,     x->small_min,  x->small_max,  x->large_min,  x->large_max};
+    void *p[] = {x->joints,   x->clips,         x->tag_names,     x->frame_clip, x->frame_next, x->frame_tags,
+                 x->contacts, x->root_velocity, x->root_yaw_rate, x->rotations,  x->positions,  x->features,
+                 x->mean,     x->scale,         x->small_min,     x->small_max,  x->large_min,  x->large_max};
     for (size_t i = 0; i < sizeof p / sizeof p[0]; ++i) free(p[i]);
 }
 
@@ -300,10 +311,12 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
 {
     if (!out) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no output");
     memset(out, 0, sizeof *out);
-    if (!cfg || (!sources && cfg->clip_count)) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no config");
+    if (!cfg || (!sources && cfg->clip_count))
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no config");
     mm_result r = mm_config_validate(cfg, err);
     if (r != MM_OK) return r;
-    if (cfg->clip_count < 1) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
+    if (cfg->clip_count < 1)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
     builder b;
     memset(&b, 0, sizeof b);
     b.cfg = cfg;
@@ -359,11 +372,12 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     x.large_max = (float *)calloc(large * nd, 4);
     mm_xform *globals = NULL;
     int longest = 0;
-    for (int i = 0; i < b.count; ++i) longest = b.clips[i].clip.frame_count > longest ? b.clips[i].clip.frame_count : longest;
+    for (int i = 0; i < b.count; ++i)
+        longest = b.clips[i].clip.frame_count > longest ? b.clips[i].clip.frame_count : longest;
     globals = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)longest * nj);
-    if (!x.joints || !x.clips || !x.tag_names || !x.frame_clip || !x.frame_next || !x.frame_tags || !x.contacts ||
-        !x.root_velocity || !x.root_yaw_rate || !x.rotations || !x.positions || !x.features || !x.mean || !x.scale ||
-        !x.small_min || !x.small_max || !x.large_min || !x.large_max || !globals) {
+    if (!x.joints || !x.clips || !x.tag_names || !x.frame_clip || !x.frame_next || !x.frame_tags ||
+        !x.contacts || !x.root_velocity || !x.root_yaw_rate || !x.rotations || !x.positions || !x.features ||
+        !x.mean || !x.scale || !x.small_min || !x.small_max || !x.large_min || !x.large_max || !globals) {
         free(globals);
         free_arrays(&x);
         free_builder(&b);
@@ -387,7 +401,8 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
             x.frame_clip[g] = i;
             x.frame_next[g] = f + 1 < n ? g + 1 : (bc->meta.loop ? first : -1);
             if (bc->blend < 0) {
-                x.frame_tags[g] = tags_at(cfg, bc->config_clip, bc->meta.source_start + (float)f * cfg->interval);
+                x.frame_tags[g] =
+                    tags_at(cfg, bc->config_clip, bc->meta.source_start + (float)f * cfg->interval);
             } else {
                 float u = bc->meta.loop ? (float)f / n : (float)f / (float)(n - 1);
                 x.frame_tags[g] = tags_at(cfg, bc->tag_clip_left, bc->start_left + u * bc->period_left) |
@@ -398,8 +413,8 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
         memcpy(x.positions + (size_t)first * nj, c->positions, (size_t)n * nj * sizeof(mm_vec3));
         mm__detect_contacts(c, globals, heel_toe, cfg, x.contacts + first);
         mm__root_motion(c, x.root_velocity + first, x.root_yaw_rate + first);
-        mm__clip_features(c, bc->meta.loop, globals, x.root_velocity + first, x.groups, group_count, cfg->interval,
-                          x.features + (size_t)first * nd, dims_padded);
+        mm__clip_features(c, bc->meta.loop, globals, x.root_velocity + first, x.groups, group_count,
+                          cfg->interval, x.features + (size_t)first * nd, dims_padded);
         first += n;
     }
     free(globals);
@@ -418,11 +433,10 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     p.dims_padded = dims_padded;
     p.interval = cfg->interval;
     const char *json = desc && desc->config_json ? desc->config_json : "";
-    const void *data[MM__SEC_COUNT] = {x.joints,        x.clips,         x.tag_names,     x.groups,    x.frame_clip,
-                                       x.frame_next,    x.frame_tags,    x.contacts,      x.root_velocity,
-                                       x.root_yaw_rate, x.rotations,     x.positions,     x.features,  x.mean,
-                                       x.scale,         x.small_min,     x.small_max,     x.large_min, x.large_max,
-                                       json};
+    const void *data[MM__SEC_COUNT] = {
+        x.joints,   x.clips,         x.tag_names,     x.groups,    x.frame_clip, x.frame_next, x.frame_tags,
+        x.contacts, x.root_velocity, x.root_yaw_rate, x.rotations, x.positions,  x.features,   x.mean,
+        x.scale,    x.small_min,     x.small_max,     x.large_min, x.large_max,  json};
     memcpy(p.data, data, sizeof data);
     p.size[MM__SEC_CONFIG_JSON] = strlen(json) + 1;
     r = mm__db_pack(&p, desc ? desc->allocator : NULL, out, err);

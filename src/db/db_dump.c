@@ -22,13 +22,15 @@ mm_result mm_database_dump(const mm_database *db, FILE *out)
 {
     if (!db || !out || !db->data) return MM_ERR_INVALID_ARGUMENT;
     fprintf(out, "mmdb version %d\n", MM_DB_VERSION);
-    fprintf(out, "frames %d joints %d clips %d tags %d groups %d dims %d dims_padded %d interval", db->frame_count,
-            db->joint_count, db->clip_count, db->tag_count, db->group_count, db->dims, db->dims_padded);
+    fprintf(out, "frames %d joints %d clips %d tags %d groups %d dims %d dims_padded %d interval",
+            db->frame_count, db->joint_count, db->clip_count, db->tag_count, db->group_count, db->dims,
+            db->dims_padded);
     num(out, db->interval);
     fputc('\n', out);
     for (int j = 0; j < db->joint_count; ++j) {
         const mm_joint *jt = &db->joints[j];
-        fprintf(out, "joint %d %s parent %d flags %u order %d offset", j, jt->name, jt->parent, jt->flags, (int)jt->order);
+        fprintf(out, "joint %d %s parent %d flags %u order %d offset", j, jt->name, jt->parent, jt->flags,
+                (int)jt->order);
         vec(out, jt->offset);
         if (jt->has_end_site) {
             fputs(" end_site", out);
@@ -57,9 +59,9 @@ mm_result mm_database_dump(const mm_database *db, FILE *out)
     }
     for (int c = 0; c < db->clip_count; ++c) {
         const mm_db_clip *k = &db->clips[c];
-        fprintf(out, "clip %d %s first %d frames %d type %s loop %d mirrored %d source %d blend %d %d", c, k->name,
-                k->first_frame, k->frame_count, k->type == MM_CLIP_IDLE ? "idle" : "locomotion", k->loop, k->mirrored,
-                k->source, k->blend_left, k->blend_right);
+        fprintf(out, "clip %d %s first %d frames %d type %s loop %d mirrored %d source %d blend %d %d", c,
+                k->name, k->first_frame, k->frame_count, k->type == MM_CLIP_IDLE ? "idle" : "locomotion",
+                k->loop, k->mirrored, k->source, k->blend_left, k->blend_right);
         num(out, k->blend_weight);
         fputs(" start", out);
         num(out, k->source_start);

@@ -135,7 +135,8 @@ static void point_into(mm_database *db, const unsigned char *base, const mm__db_
 #undef AT
 }
 
-mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out, mm_error *err)
+mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out,
+                      mm_error *err)
 {
     size_t size[MM__SEC_COUNT];
     mm__db_section_sizes(parts, size);
@@ -189,13 +190,16 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
                           mm_error *err)
 {
     if (size < 24 || memcmp(base, mm__db_magic, 8) != 0) return BAD("not an mm database (bad magic)");
-    if (size < sizeof *h) return mm_error_set(err, MM_ERR_UNEXPECTED_EOF, 0, 0, "truncated header (%zu bytes)", size);
+    if (size < sizeof *h)
+        return mm_error_set(err, MM_ERR_UNEXPECTED_EOF, 0, 0, "truncated header (%zu bytes)", size);
     memcpy(h, base, sizeof *h);
     if (h->byte_order != MM__DB_BYTE_ORDER) return BAD("written on a machine of the other byte order");
     if (h->version != MM_DB_VERSION)
-        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "format version %u, this mm reads version %d: rebuild it",
-                            h->version, MM_DB_VERSION);
-    if (h->header_size != sizeof *h || h->section_count != MM__SEC_COUNT) return BAD("unexpected header size");
+        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
+                            "format version %u, this mm reads version %d: rebuild it", h->version,
+                            MM_DB_VERSION);
+    if (h->header_size != sizeof *h || h->section_count != MM__SEC_COUNT)
+        return BAD("unexpected header size");
     if (h->file_size != size)
         return mm_error_set(err, h->file_size > size ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, 0, 0,
                             "the header says %llu bytes, the file has %zu (truncated or padded)",
@@ -203,9 +207,10 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
     if (verify_checksum && checksum(base + 24, size - 24) != h->checksum)
         return BAD("checksum mismatch: the file is corrupted");
     if (h->frame_count < 1 || h->frame_count > MM_MAX_FRAMES || h->joint_count < 1 ||
-        h->joint_count > MM_MAX_JOINTS || h->clip_count < 1 || h->clip_count > h->frame_count || h->tag_count < 0 ||
-        h->tag_count > MM_MAX_TAGS || h->group_count < 0 || h->group_count > 4 * MM_MAX_TRAJ_SAMPLES + 64 ||
-        h->dims < 0 || h->dims_padded < h->dims || h->dims_padded % MM_DB_SIMD_WIDTH != 0 || h->dims_padded > 4096 ||
+        h->joint_count > MM_MAX_JOINTS || h->clip_count < 1 || h->clip_count > h->frame_count ||
+        h->tag_count < 0 || h->tag_count > MM_MAX_TAGS || h->group_count < 0 ||
+        h->group_count > 4 * MM_MAX_TRAJ_SAMPLES + 64 || h->dims < 0 || h->dims_padded < h->dims ||
+        h->dims_padded % MM_DB_SIMD_WIDTH != 0 || h->dims_padded > 4096 ||
         !(h->interval > 0.0f && h->interval <= 1.0f) || h->small_block != MM_DB_SMALL_BLOCK ||
         h->large_block != MM_DB_LARGE_BLOCK ||
         h->small_block_count != block_count(h->frame_count, MM_DB_SMALL_BLOCK) ||
@@ -244,22 +249,25 @@ static mm_result validate_references(const mm_database *db, mm_error *err)
         int32_t order;
         memcpy(&end_site, (const unsigned char *)jt + offsetof(mm_joint, has_end_site), 1);
         memcpy(&order, (const unsigned char *)jt + offsetof(mm_joint, order), 4);
-        if (memchr(jt->name, 0, MM_NAME_MAX) == NULL || (j == 0 ? jt->parent != -1 : (jt->parent < 0 || jt->parent >= j)))
+        if (memchr(jt->name, 0, MM_NAME_MAX) == NULL ||
+            (j == 0 ? jt->parent != -1 : (jt->parent < 0 || jt->parent >= j)))
             return BAD("joint %d: bad name or parent", j);
-        if (end_site > 1 || order < MM_EULER_NONE || order > MM_EULER_ZYX || (jt->flags & ~(unsigned)MM_JOINT_TRANSLATES))
+        if (end_site > 1 || order < MM_EULER_NONE || order > MM_EULER_ZYX ||
+            (jt->flags & ~(unsigned)MM_JOINT_TRANSLATES))
             return BAD("joint %d: bad End Site flag, rotation order or flags", j);
     }
     int expect_first = 0;
     for (int c = 0; c < db->clip_count; ++c) {
         const mm_db_clip *k = &db->clips[c];
         if (memchr(k->name, 0, MM_NAME_MAX) == NULL || k->first_frame != expect_first || k->frame_count < 1 ||
-            k->frame_count > db->frame_count - k->first_frame || (k->type != MM_CLIP_IDLE && k->type != MM_CLIP_LOCOMOTION) ||
-            k->blend_left < -1 || k->blend_left >= db->clip_count || k->blend_right < -1 ||
-            k->blend_right >= db->clip_count)
+            k->frame_count > db->frame_count - k->first_frame ||
+            (k->type != MM_CLIP_IDLE && k->type != MM_CLIP_LOCOMOTION) || k->blend_left < -1 ||
+            k->blend_left >= db->clip_count || k->blend_right < -1 || k->blend_right >= db->clip_count)
             return BAD("clip %d: bad name, frame range, type or blend sources", c);
         expect_first += k->frame_count;
     }
-    if (expect_first != db->frame_count) return BAD("clips cover %d of %d frames", expect_first, db->frame_count);
+    if (expect_first != db->frame_count)
+        return BAD("clips cover %d of %d frames", expect_first, db->frame_count);
     for (int f = 0; f < db->frame_count; ++f) {
         int c = db->frame_clip[f];
         if (c < 0 || c >= db->clip_count || f < db->clips[c].first_frame ||
@@ -272,14 +280,16 @@ static mm_result validate_references(const mm_database *db, mm_error *err)
     for (int g = 0; g < db->group_count; ++g) {
         const mm_feature_group *grp = &db->groups[g];
         if (grp->offset < 0 || grp->dims < 1 || grp->dims > 3 || grp->offset + grp->dims > db->dims ||
-            grp->kind < MM_FEATURE_BONE_POSITION || grp->kind > MM_FEATURE_TRAJ_DIRECTION ||
-            grp->bone < -1 || grp->bone >= db->joint_count || memchr(grp->name, 0, MM_NAME_MAX) == NULL)
+            grp->kind < MM_FEATURE_BONE_POSITION || grp->kind > MM_FEATURE_TRAJ_DIRECTION || grp->bone < -1 ||
+            grp->bone >= db->joint_count || memchr(grp->name, 0, MM_NAME_MAX) == NULL)
             return BAD("feature group %d is inconsistent", g);
     }
     for (int t = 0; t < db->tag_count; ++t)
-        if (memchr(db->tag_names[t], 0, MM_TAG_NAME_MAX) == NULL) return BAD("tag %d: name not terminated", t);
+        if (memchr(db->tag_names[t], 0, MM_TAG_NAME_MAX) == NULL)
+            return BAD("tag %d: name not terminated", t);
     for (int d = 0; d < db->dims_padded; ++d)
-        if (!isfinite(db->feature_mean[d]) || !(db->feature_scale[d] > 0.0f) || !isfinite(db->feature_scale[d]))
+        if (!isfinite(db->feature_mean[d]) || !(db->feature_scale[d] > 0.0f) ||
+            !isfinite(db->feature_scale[d]))
             return BAD("feature dimension %d: bad normalisation", d);
     return MM_OK;
 }
@@ -290,7 +300,8 @@ mm_result mm_database_load_memory(const void *data, size_t size, bool verify_che
     if (!out) return MM_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     if (!data || ((uintptr_t)data % MM_DB_ALIGN) != 0)
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "the buffer must be aligned to %d bytes", MM_DB_ALIGN);
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "the buffer must be aligned to %d bytes",
+                            MM_DB_ALIGN);
     mm__db_header h;
     mm_result r = validate((const unsigned char *)data, size, verify_checksum, &h, err);
     if (r != MM_OK) return r;
@@ -321,7 +332,8 @@ mm_result mm_database_load(const char *path, const mm_db_load_desc *desc, mm_dat
     }
     if ((unsigned long long)st.st_size >= MM__MAX_FILE_BYTES) {
         close(fd);
-        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "file is %lld bytes, more than allowed", (long long)st.st_size);
+        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "file is %lld bytes, more than allowed",
+                            (long long)st.st_size);
     }
     size_t size = (size_t)st.st_size;
     mm_result r;

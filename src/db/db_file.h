@@ -40,6 +40,7 @@ typedef struct mm__db_parts {
 void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT]);
 
 /* Packs parts into one aligned buffer in file layout and points out into it. */
-mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out, mm_error *err);
+mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out,
+                      mm_error *err);
 
 #endif

@@ -6,8 +6,8 @@
 
 #include "db/process.h"
 
-static void add_group(mm_feature_group *g, int *count, int *dims, const char *name, mm_feature_kind kind, int bone,
-                      float time, int n, float weight)
+static void add_group(mm_feature_group *g, int *count, int *dims, const char *name, mm_feature_kind kind,
+                      int bone, float time, int n, float weight)
 {
     mm_feature_group *x = &g[(*count)++];
     memset(x, 0, sizeof *x);
@@ -45,7 +45,8 @@ int mm__feature_layout(const mm_config *cfg, const mm_skeleton *s, mm_feature_gr
         }
     }
     if (cfg->root_velocity)
-        add_group(groups, &count, dims, "root.velocity", MM_FEATURE_ROOT_VELOCITY, 0, 0, 3, cfg->body_velocity_weight);
+        add_group(groups, &count, dims, "root.velocity", MM_FEATURE_ROOT_VELOCITY, 0, 0, 3,
+                  cfg->body_velocity_weight);
     for (int i = 0; i < cfg->traj_count; ++i) {
         snprintf(name, sizeof name, "trajectory.position@%g", cfg->traj_times[i]);
         add_group(groups, &count, dims, name, MM_FEATURE_TRAJ_POSITION, -1, cfg->traj_times[i], 2,
@@ -119,7 +120,8 @@ static ground ground_at(const mm_clip *c, int loop, int m)
 }
 
 void mm__clip_features(const mm_clip *clip, int loop, const mm_xform *globals, const mm_vec3 *root_velocity,
-                       const mm_feature_group *groups, int group_count, float interval, float *out, int stride)
+                       const mm_feature_group *groups, int group_count, float interval, float *out,
+                       int stride)
 {
     int n = clip->frame_count, jc = clip->skeleton.joint_count;
     for (int f = 0; f < n; ++f) {
@@ -133,7 +135,8 @@ void mm__clip_features(const mm_clip *clip, int loop, const mm_xform *globals, c
             mm_vec3 v;
             switch (grp->kind) {
             case MM_FEATURE_BONE_POSITION:
-                v = mm_quat_inv_rotate(root.rotation, mm_vec3_sub(g[grp->bone].translation, root.translation));
+                v = mm_quat_inv_rotate(root.rotation,
+                                       mm_vec3_sub(g[grp->bone].translation, root.translation));
                 break;
             case MM_FEATURE_BONE_VELOCITY: {
                 int a = f > 0 ? f - 1 : 0, b = f > 0 ? f : 1;
@@ -148,8 +151,10 @@ void mm__clip_features(const mm_clip *clip, int loop, const mm_xform *globals, c
             default: {
                 int k = (int)lround(grp->time / interval);
                 ground t = ground_mul(inv, ground_at(clip, loop, f + k));
-                if (grp->kind == MM_FEATURE_TRAJ_POSITION) v = mm_vec3_make((float)t.x, 0, (float)t.z);
-                else v = mm_vec3_make((float)sin(t.yaw), 0, (float)cos(t.yaw));
+                if (grp->kind == MM_FEATURE_TRAJ_POSITION)
+                    v = mm_vec3_make((float)t.x, 0, (float)t.z);
+                else
+                    v = mm_vec3_make((float)sin(t.yaw), 0, (float)cos(t.yaw));
                 dst[0] = v.x;
                 dst[1] = v.z;
                 continue;

@@ -16,6 +16,7 @@ int mm__feature_layout(const mm_config *cfg, const mm_skeleton *s, mm_feature_gr
  * a loop (accumulating the cycle's displacement and turn), otherwise the last frame's velocity
  * and facing. */
 void mm__clip_features(const mm_clip *clip, int loop, const mm_xform *globals, const mm_vec3 *root_velocity,
-                       const mm_feature_group *groups, int group_count, float interval, float *out, int stride);
+                       const mm_feature_group *groups, int group_count, float interval, float *out,
+                       int stride);
 
 #endif

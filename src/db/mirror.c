@@ -3,9 +3,9 @@
  * With the reflection M = diag(-1, 1, 1), a joint's mirrored world transform is taken from its
  * partner's: position M p, rotation M R M C, where C is a fixed per-joint correction for how the
  * skeleton's local frames are laid out: for every child k of the joint, C o_k = M o_k', with k'
- * the partner of k (so the children land where the mirrored partner's children are). For symmetric skeletons C is one of the identity and the
- * three half-turns about the axes, found exactly; otherwise the best rotation is fitted. Mirroring
- * twice gives the clip back.
+ * the partner of k (so the children land where the mirrored partner's children are). For symmetric skeletons
+ * C is one of the identity and the three half-turns about the axes, found exactly; otherwise the best
+ * rotation is fitted. Mirroring twice gives the clip back.
  */
 #include <math.h>
 #include <stdio.h>
@@ -56,8 +56,8 @@ static mm_quat reflect_rotation(mm_quat q) { return mm_quat_make(q.x, -q.y, -q.z
  * reflected offsets of their partners. */
 static mm_quat correction(const mm_skeleton *s, const int *partner, int j)
 {
-    const mm_quat candidates[4] = {mm_quat_make(0, 0, 0, 1), mm_quat_make(1, 0, 0, 0), mm_quat_make(0, 1, 0, 0),
-                                   mm_quat_make(0, 0, 1, 0)};
+    const mm_quat candidates[4] = {mm_quat_make(0, 0, 0, 1), mm_quat_make(1, 0, 0, 0),
+                                   mm_quat_make(0, 1, 0, 0), mm_quat_make(0, 0, 1, 0)};
     int jp = partner[j];
     mm_vec3 from[64], to[64];
     int n = 0;
@@ -80,7 +80,8 @@ static mm_quat correction(const mm_skeleton *s, const int *partner, int j)
     for (int i = 0; i < n; ++i) scale = fmaxf(scale, mm_vec3_length(to[i]));
     for (int c = 0; c < 4; ++c) {
         float e = 0.0f;
-        for (int i = 0; i < n; ++i) e = fmaxf(e, mm_vec3_distance(mm_quat_rotate(candidates[c], from[i]), to[i]));
+        for (int i = 0; i < n; ++i)
+            e = fmaxf(e, mm_vec3_distance(mm_quat_rotate(candidates[c], from[i]), to[i]));
         if (e < best_err) {
             best_err = e;
             best = candidates[c];
@@ -124,7 +125,8 @@ mm_result mm__clip_mirror(const mm_clip *src, const mm_config *cfg, mm_clip *out
         mm_vec3 *pos = mm_clip_positions(out, f);
         mm_global_to_local(s, mg, rot, pos);
         for (int j = 0; j < jc; ++j)
-            if (!(s->joints[j].flags & MM_JOINT_TRANSLATES) && s->joints[j].parent >= 0) pos[j] = s->joints[j].offset;
+            if (!(s->joints[j].flags & MM_JOINT_TRANSLATES) && s->joints[j].parent >= 0)
+                pos[j] = s->joints[j].offset;
     }
     free(partner);
     free(fix);

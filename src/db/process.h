@@ -32,8 +32,8 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
                             mm_error *err);
 mm_result mm__clip_mirror(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a);
 /* Clips with the simulation root as joint 0; a loop clip's frame after its last is its first. */
-mm_result mm__clip_blend(const mm_clip *left, int left_loop, const mm_clip *right, int right_loop, float weight,
-                         float interval, mm_clip *out, const mm_allocator *a);
+mm_result mm__clip_blend(const mm_clip *left, int left_loop, const mm_clip *right, int right_loop,
+                         float weight, float interval, mm_clip *out, const mm_allocator *a);
 
 /* Mirror partner of every joint (itself when it has none), from the config's name pairs. */
 void mm__mirror_map(const mm_skeleton *s, const mm_config *cfg, int *partner);

@@ -80,7 +80,8 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
     int root_bone = mm_skeleton_find(s, cfg->root_bone);
     int facing = mm_skeleton_find(s, cfg->facing_bone);
     if (root_bone < 0)
-        return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "roles.root_bone: no joint named '%s'", cfg->root_bone);
+        return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "roles.root_bone: no joint named '%s'",
+                            cfg->root_bone);
     if (facing < 0)
         return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "roles.facing_bone: no joint named '%s'",
                             cfg->facing_bone);

@@ -73,7 +73,8 @@ mm_result mm_bvh_fk(const mm_bvh *bvh, int frame, double *out_xyz)
         for (int i = 0; i < 3; ++i) {
             out_xyz[3 * j + i] = pr[3 * i] * t[0] + pr[3 * i + 1] * t[1] + pr[3 * i + 2] * t[2] + pt[i];
             for (int k = 0; k < 3; ++k)
-                rot[9 * j + 3 * i + k] = pr[3 * i] * r[k] + pr[3 * i + 1] * r[3 + k] + pr[3 * i + 2] * r[6 + k];
+                rot[9 * j + 3 * i + k] =
+                    pr[3 * i] * r[k] + pr[3 * i + 1] * r[3 + k] + pr[3 * i + 2] * r[6 + k];
         }
     }
     mm_free(&bvh->allocator, rot);
@@ -165,7 +166,8 @@ mm_result mm_bvh_to_clip(const mm_bvh *bvh, const mm_bvh_import_desc *desc, mm_c
     mm_skeleton_scale(&out->skeleton, (float)scale);
     for (int j = 0; j < out->skeleton.joint_count; ++j) {
         const double *o = &bvh->offsets[3 * j];
-        out->skeleton.joints[j].offset = mm_vec3_make((float)(o[0] * scale), (float)(o[1] * scale), (float)(o[2] * scale));
+        out->skeleton.joints[j].offset =
+            mm_vec3_make((float)(o[0] * scale), (float)(o[1] * scale), (float)(o[2] * scale));
     }
     for (int f = 0; f < bvh->frame_count; ++f)
         frame_to_local(bvh, f, scale, mm_clip_rotations(out, f), mm_clip_positions(out, f));

@@ -74,7 +74,8 @@ static token next_token(parser *ps)
     if (ps->p < ps->end && (*ps->p == '{' || *ps->p == '}')) {
         ++ps->p;
     } else {
-        while (ps->p < ps->end && !is_space(*ps->p) && *ps->p != '\n' && *ps->p != '{' && *ps->p != '}') ++ps->p;
+        while (ps->p < ps->end && !is_space(*ps->p) && *ps->p != '\n' && *ps->p != '{' && *ps->p != '}')
+            ++ps->p;
     }
     t.n = (size_t)(ps->p - t.s);
     return t;
@@ -114,8 +115,8 @@ static mm_result unexpected(parser *ps, token t, const char *expected)
 {
     char buf[64];
     if (t.n == 0)
-        return mm_error_set(ps->err, MM_ERR_UNEXPECTED_EOF, t.line, t.column, "input ends where %s was expected",
-                            expected);
+        return mm_error_set(ps->err, MM_ERR_UNEXPECTED_EOF, t.line, t.column,
+                            "input ends where %s was expected", expected);
     return mm_error_set(ps->err, MM_ERR_SYNTAX, t.line, t.column, "expected %s, found '%s'", expected,
                         token_text(t, buf, sizeof buf));
 }
@@ -138,11 +139,12 @@ static mm_result read_number(parser *ps, const char *what, double *out)
     char buf[64];
     if (st == MM__SCAN_OK && stop == t.s + t.n) return MM_OK;
     if (st == MM__SCAN_NOT_FINITE)
-        return mm_error_set(ps->err, MM_ERR_BAD_NUMBER, t.line, t.column, "%s is '%s', not a finite number", what,
-                            token_text(t, buf, sizeof buf));
+        return mm_error_set(ps->err, MM_ERR_BAD_NUMBER, t.line, t.column, "%s is '%s', not a finite number",
+                            what, token_text(t, buf, sizeof buf));
     if (st == MM__SCAN_TOO_LONG)
-        return mm_error_set(ps->err, MM_ERR_BAD_NUMBER, t.line, t.column, "%s '%s' is longer than %d characters",
-                            what, token_text(t, buf, sizeof buf), MM__SCAN_MAX_CHARS);
+        return mm_error_set(ps->err, MM_ERR_BAD_NUMBER, t.line, t.column,
+                            "%s '%s' is longer than %d characters", what, token_text(t, buf, sizeof buf),
+                            MM__SCAN_MAX_CHARS);
     return mm_error_set(ps->err, MM_ERR_BAD_NUMBER, t.line, t.column, "%s: '%s' is not a number", what,
                         token_text(t, buf, sizeof buf));
 }
@@ -157,7 +159,8 @@ static mm_result read_vec3(parser *ps, const char *what, double out[3])
 
 static int channel_from_token(token t)
 {
-    static const char *names[6] = {"Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+    static const char *names[6] = {"Xposition", "Yposition", "Zposition",
+                                   "Xrotation", "Yrotation", "Zrotation"};
     for (int i = 0; i < 6; ++i)
         if (token_is(t, names[i])) return i;
     return -1;
@@ -190,8 +193,8 @@ static mm_result read_joint_name(parser *ps, char name[MM_NAME_MAX], int *out_co
     size_t n = (size_t)(e - s);
     if (n == 0) return mm_error_set(ps->err, MM_ERR_SYNTAX, ps->line, column, "joint has no name");
     if (n >= MM_NAME_MAX)
-        return mm_error_set(ps->err, MM_ERR_LIMIT, ps->line, column, "joint name is %zu characters (at most %d)", n,
-                            MM_NAME_MAX - 1);
+        return mm_error_set(ps->err, MM_ERR_LIMIT, ps->line, column,
+                            "joint name is %zu characters (at most %d)", n, MM_NAME_MAX - 1);
     for (size_t i = 0; i < n; ++i)
         if ((unsigned char)s[i] < 32 || s[i] == 127)
             return mm_error_set(ps->err, MM_ERR_SYNTAX, ps->line, column + (int)i,
@@ -244,8 +247,8 @@ static mm_result read_channels(parser *ps, bvh_joint_tmp *j, token keyword)
         return mm_error_set(ps->err, MM_ERR_CHANNELS, t.line, t.column, "channel count '%s' is out of range",
                             token_text(t, buf, sizeof buf));
     if (st != MM__SCAN_OK || stop != t.s + t.n)
-        return mm_error_set(ps->err, MM_ERR_CHANNELS, t.line, t.column, "channel count '%s' is not an integer",
-                            token_text(t, buf, sizeof buf));
+        return mm_error_set(ps->err, MM_ERR_CHANNELS, t.line, t.column,
+                            "channel count '%s' is not an integer", token_text(t, buf, sizeof buf));
     if (count != 0 && count != 3 && count != 6)
         return mm_error_set(ps->err, MM_ERR_CHANNELS, t.line, t.column,
                             "joint '%s' declares %lld channels (0, 3 or 6 are allowed)", j->name,
@@ -268,17 +271,20 @@ static mm_result read_channels(parser *ps, bvh_joint_tmp *j, token keyword)
                                 token_text(t, buf, sizeof buf));
         }
         if (seen & (1 << c))
-            return mm_error_set(ps->err, MM_ERR_CHANNELS, t.line, t.column, "joint '%s' lists channel %s twice",
-                                j->name, mm_bvh_channel_name((mm_bvh_channel)c));
+            return mm_error_set(ps->err, MM_ERR_CHANNELS, t.line, t.column,
+                                "joint '%s' lists channel %s twice", j->name,
+                                mm_bvh_channel_name((mm_bvh_channel)c));
         seen |= 1 << c;
         j->channels.type[i] = (unsigned char)c;
-        if (c >= MM_BVH_XROTATION) ++rotations;
-        else ++positions;
+        if (c >= MM_BVH_XROTATION)
+            ++rotations;
+        else
+            ++positions;
     }
     if ((rotations != 0 && rotations != 3) || (positions != 0 && positions != 3))
         return mm_error_set(ps->err, MM_ERR_CHANNELS, keyword.line, keyword.column,
-                            "joint '%s' has %d rotation and %d position channels (each must be 0 or 3)", j->name,
-                            rotations, positions);
+                            "joint '%s' has %d rotation and %d position channels (each must be 0 or 3)",
+                            j->name, rotations, positions);
     ps->channel_count += (int)count;
     return MM_OK;
 }
@@ -321,7 +327,8 @@ static mm_result read_hierarchy(parser *ps)
         }
         if (top == -2)
             return mm_error_set(ps->err, MM_ERR_SYNTAX, t.line, t.column,
-                                "an End Site may hold only an OFFSET, found '%s'", token_text(t, buf, sizeof buf));
+                                "an End Site may hold only an OFFSET, found '%s'",
+                                token_text(t, buf, sizeof buf));
         if (token_is(t, "CHANNELS")) {
             if ((r = read_channels(ps, &ps->joints[top], t)) != MM_OK) return r;
         } else if (token_is(t, "JOINT")) {
@@ -333,8 +340,8 @@ static mm_result read_hierarchy(parser *ps)
         } else if (token_is(t, "End")) {
             if ((r = expect_word(ps, "Site")) != MM_OK) return r;
             if (ps->joints[top].has_end_site)
-                return mm_error_set(ps->err, MM_ERR_SYNTAX, t.line, t.column, "joint '%s' has a second End Site",
-                                    ps->joints[top].name);
+                return mm_error_set(ps->err, MM_ERR_SYNTAX, t.line, t.column,
+                                    "joint '%s' has a second End Site", ps->joints[top].name);
             ps->joints[top].has_end_site = 1;
             if ((r = expect_word(ps, "{")) != MM_OK) return r;
             have_offset[depth] = 0;
@@ -384,8 +391,9 @@ static mm_result read_motion_line(parser *ps, double *row, int count, int frame)
             char buf[64];
             return mm_error_set(ps->err, MM_ERR_BAD_NUMBER, ps->line, column_of(ps, p),
                                 st == MM__SCAN_NOT_FINITE ? "frame %d, value %d is '%s', not a finite number"
-                                : st == MM__SCAN_TOO_LONG ? "frame %d, value %d '%s' is too long to be a number"
-                                                          : "frame %d, value %d: '%s' is not a number",
+                                : st == MM__SCAN_TOO_LONG
+                                    ? "frame %d, value %d '%s' is too long to be a number"
+                                    : "frame %d, value %d: '%s' is not a number",
                                 frame, n + 1, token_text(t, buf, sizeof buf));
         }
         p = stop;
@@ -443,8 +451,9 @@ static mm_result read_motion(parser *ps, mm_bvh *out)
         return mm_error_set(ps->err, MM_ERR_SYNTAX, t.line, t.column, "frame count '%s' is not an integer",
                             token_text(t, buf, sizeof buf));
     if (st != MM__SCAN_OK || frames < 0 || frames > MM_MAX_FRAMES)
-        return mm_error_set(ps->err, MM_ERR_LIMIT, t.line, t.column, "frame count %s is out of range (0 to %d)",
-                            token_text(t, buf, sizeof buf), MM_MAX_FRAMES);
+        return mm_error_set(ps->err, MM_ERR_LIMIT, t.line, t.column,
+                            "frame count %s is out of range (0 to %d)", token_text(t, buf, sizeof buf),
+                            MM_MAX_FRAMES);
     int frames_line = t.line, frames_column = t.column;
     t = next_token(ps);
     if (!token_is(t, "Frame")) return unexpected(ps, t, "'Frame Time:'");
@@ -455,7 +464,8 @@ static mm_result read_motion(parser *ps, mm_bvh *out)
         return unexpected(ps, t, "'Time:'");
     }
     if (line_is_blank(ps)) /* the value must be on the same line, not taken from the first frame */
-        return mm_error_set(ps->err, MM_ERR_SYNTAX, ps->line, column_of(ps, ps->p), "Frame Time has no value");
+        return mm_error_set(ps->err, MM_ERR_SYNTAX, ps->line, column_of(ps, ps->p),
+                            "Frame Time has no value");
     skip_space_and_lines(ps);
     int time_line = ps->line, time_column = column_of(ps, ps->p);
     double frame_time = 0.0;
@@ -519,7 +529,8 @@ static mm_result build_output(parser *ps, mm_bvh *out)
     out->channels = (mm_bvh_joint_channels *)mm_alloc_array(ps->allocator, (size_t)ps->joint_count,
                                                             sizeof(mm_bvh_joint_channels));
     out->offsets = (double *)mm_alloc_array(ps->allocator, (size_t)ps->joint_count * 3, sizeof(double));
-    if (!out->channels || !out->offsets) return mm_error_set(ps->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    if (!out->channels || !out->offsets)
+        return mm_error_set(ps->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     out->channel_count = ps->channel_count;
     for (int i = 0; i < ps->joint_count; ++i) {
         const bvh_joint_tmp *src = &ps->joints[i];
@@ -535,20 +546,25 @@ static mm_result build_output(parser *ps, mm_bvh *out)
         int na = 0;
         for (int c = 0; c < src->channels.count; ++c) {
             int type = src->channels.type[c];
-            if (type >= MM_BVH_XROTATION) axes[na++] = (char)('X' + (type - MM_BVH_XROTATION));
-            else j->flags |= MM_JOINT_TRANSLATES;
+            if (type >= MM_BVH_XROTATION)
+                axes[na++] = (char)('X' + (type - MM_BVH_XROTATION));
+            else
+                j->flags |= MM_JOINT_TRANSLATES;
         }
         j->order = na == 3 ? mm_euler_order_parse(axes) : MM_EULER_NONE;
     }
     return MM_OK;
 }
 
-mm_result mm_bvh_parse(const char *text, size_t size, const mm_bvh_read_desc *desc, mm_bvh *out, mm_error *err)
+mm_result mm_bvh_parse(const char *text, size_t size, const mm_bvh_read_desc *desc, mm_bvh *out,
+                       mm_error *err)
 {
     if (!out) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no output given");
     memset(out, 0, sizeof *out);
-    if (err && desc && desc->name) mm__error_set_file(err, desc->name);
-    else if (err && !err->file[0]) mm__error_set_file(err, "<memory>");
+    if (err && desc && desc->name)
+        mm__error_set_file(err, desc->name);
+    else if (err && !err->file[0])
+        mm__error_set_file(err, "<memory>");
     if (!text && size) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no input given");
     parser ps;
     memset(&ps, 0, sizeof ps);
@@ -567,7 +583,8 @@ mm_result mm_bvh_parse(const char *text, size_t size, const mm_bvh_read_desc *de
     }
     mm_result r = read_hierarchy(&ps);
     if (r == MM_OK && ps.channel_count == 0)
-        r = mm_error_set(err, MM_ERR_CHANNELS, ps.root_line, ps.root_column, "the hierarchy declares no channels");
+        r = mm_error_set(err, MM_ERR_CHANNELS, ps.root_line, ps.root_column,
+                         "the hierarchy declares no channels");
     if (r == MM_OK) r = build_output(&ps, out);
     if (r == MM_OK) r = read_motion(&ps, out);
     mm_free(ps.allocator, ps.joints);
@@ -608,6 +625,7 @@ void mm_bvh_free(mm_bvh *bvh)
 
 const char *mm_bvh_channel_name(mm_bvh_channel c)
 {
-    static const char *names[6] = {"Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+    static const char *names[6] = {"Xposition", "Yposition", "Zposition",
+                                   "Xrotation", "Yrotation", "Zrotation"};
     return (int)c >= 0 && (int)c < 6 ? names[c] : NULL;
 }

@@ -91,9 +91,11 @@ mm_result mm_bvh_write(const mm_clip *clip, const mm_bvh_write_desc *desc, char 
     mm_result r = mm_skeleton_validate(s, err);
     if (r != MM_OK) return r;
     if (!(clip->fps > 0.0f) || !isfinite(clip->fps))
-        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "clip fps %g must be finite and positive", clip->fps);
+        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "clip fps %g must be finite and positive",
+                            clip->fps);
     if (desc && (desc->order < MM_EULER_NONE || desc->order > MM_EULER_ZYX))
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "unknown rotation order %d", (int)desc->order);
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "unknown rotation order %d",
+                            (int)desc->order);
     int precision = desc && desc->precision > 0 ? desc->precision : 9;
     if (precision > 17) precision = 17;
     int n = s->joint_count;
@@ -168,7 +170,8 @@ mm_result mm_bvh_write(const mm_clip *clip, const mm_bvh_write_desc *desc, char 
                 if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
                     mm_free(b.allocator, b.data);
                     return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0,
-                                        "frame %d, joint '%s' has a non-finite position", f, s->joints[j].name);
+                                        "frame %d, joint '%s' has a non-finite position", f,
+                                        s->joints[j].name);
                 }
                 for (int a = 0; a < 3; ++a) {
                     append_number(&b, p[a], precision);
@@ -182,8 +185,9 @@ mm_result mm_bvh_write(const mm_clip *clip, const mm_bvh_write_desc *desc, char 
                 float angle = axes[a] == 'X' ? e.x : axes[a] == 'Y' ? e.y : e.z;
                 if (!isfinite(angle)) {
                     mm_free(b.allocator, b.data);
-                    return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "frame %d, joint '%s' has a non-finite rotation",
-                                        f, s->joints[j].name);
+                    return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0,
+                                        "frame %d, joint '%s' has a non-finite rotation", f,
+                                        s->joints[j].name);
                 }
                 append_number(&b, angle * MM_RAD_TO_DEG, precision);
                 append(&b, i + 1 == n && a == 2 ? "\n" : " ", 1);

@@ -24,13 +24,16 @@ static const mm_config_field_doc docs[] = {
      "from the character's height (docs/bvh.md)."},
     {"roles.hips", "string", "", "Hips", "The pelvis joint (the source root in most skeletons)."},
     {"roles.root_bone", "string", "", "Spine2",
-     "Joint projected to the ground to give the simulation bone's position (a spine joint moves more steadily "
+     "Joint projected to the ground to give the simulation bone's position (a spine joint moves more "
+     "steadily "
      "than the hips)."},
     {"roles.facing_bone", "string", "", "Hips",
      "Joint whose forward axis, projected to the ground, gives the simulation bone's facing."},
     {"roles.forward_axis", "[number, number, number]", "", "[0, 0, 1]",
-     "The axis of facing_bone's local frame that points forward. Skeletons differ: LAFAN1's hips use [0, 1, 0]."},
-    {"roles.left_foot", "string", "", "LeftFoot", "Left ankle: the heel contact and a matched bone by default."},
+     "The axis of facing_bone's local frame that points forward. Skeletons differ: LAFAN1's hips use [0, 1, "
+     "0]."},
+    {"roles.left_foot", "string", "", "LeftFoot",
+     "Left ankle: the heel contact and a matched bone by default."},
     {"roles.right_foot", "string", "", "RightFoot", "Right ankle."},
     {"roles.left_toe", "string", "", "LeftToe", "Left toe: the toe contact."},
     {"roles.right_toe", "string", "", "RightToe", "Right toe."},
@@ -41,7 +44,8 @@ static const mm_config_field_doc docs[] = {
      "Standard deviation of the Gaussian that smooths the simulation bone's position and facing over time. "
      "0 disables smoothing."},
     {"contacts.height", "number", "m", "0.05",
-     "A heel or toe can be in contact when it is less than this above its floor (its own lowest steady height "
+     "A heel or toe can be in contact when it is less than this above its floor (its own lowest steady "
+     "height "
      "in the clip)."},
     {"contacts.speed", "number", "m/s", "0.6", "... and moves horizontally slower than this."},
     {"contacts.min_time", "number", "s", "0.1",
@@ -52,7 +56,8 @@ static const mm_config_field_doc docs[] = {
     {"features.bones[].position", "bool", "", "true", "Store the bone's position (3 dimensions)."},
     {"features.bones[].velocity", "bool", "", "true", "Store the bone's velocity (3 dimensions)."},
     {"features.bones[].position_weight", "number", "", "0.75 (feet), 0",
-     "The seed's JointPositionWeights entry: how much the position matters. Feet most, neck next, hands little."},
+     "The seed's JointPositionWeights entry: how much the position matters. Feet most, neck next, hands "
+     "little."},
     {"features.bones[].velocity_weight", "number", "", "1",
      "The seed's JointVelocityWeights entry: how much the velocity matters (helps; usually lower)."},
     {"features.trajectory_times", "[number]", "s", "[0.333, 0.667, 1.0]",
@@ -60,22 +65,28 @@ static const mm_config_field_doc docs[] = {
      "are the past (e.g. -0.33). Each time stores the root position (x, z) and facing (x, z) then."},
     {"features.root_velocity", "bool", "", "false",
      "Also store the simulation bone's velocity (3 dimensions), weighted by body_velocity_weight."},
-    {"features.body_velocity_weight", "number", "", "1", "The seed's BodyVelocityWeight: weight of the root velocity."},
+    {"features.body_velocity_weight", "number", "", "1",
+     "The seed's BodyVelocityWeight: weight of the root velocity."},
     {"features.position_multiplier", "number", "", "1",
      "The seed's PositionMultiplier: weight of the trajectory positions."},
     {"features.angle_multiplier", "number", "", "1.5",
      "The seed's AngleMultiplier: weight of the trajectory directions."},
     {"mirror_pairs", "[[string, string]]", "", "[[\"Left\", \"Right\"], [\"left\", \"right\"]]",
-     "Name patterns of left and right joints for mirroring: a joint whose name contains the left pattern pairs "
-     "with the joint named with the right pattern instead. A pattern starting with ^ matches only at the start "
+     "Name patterns of left and right joints for mirroring: a joint whose name contains the left pattern "
+     "pairs "
+     "with the joint named with the right pattern instead. A pattern starting with ^ matches only at the "
+     "start "
      "(e.g. [\"^l\", \"^r\"] for lHip / rHip)."},
     {"tags", "[string]", "", "[]",
      "Names of the tags clips may use (at most 64), e.g. the seed's Required and DoNotUse."},
     {"clips", "[object]", "", "",
-     "The clips (the seed's IdleClips and LocomotionClips). Each frame range of a clip becomes a database clip."},
-    {"clips[].name", "string", "", "the file name", "Unique name; ranges add #0, #1...; mirrors add _mirror."},
+     "The clips (the seed's IdleClips and LocomotionClips). Each frame range of a clip becomes a database "
+     "clip."},
+    {"clips[].name", "string", "", "the file name",
+     "Unique name; ranges add #0, #1...; mirrors add _mirror."},
     {"clips[].file", "string", "", "",
-     "Motion file: absolute, or relative to the config's folder, to the folder given by mm db build --data, or "
+     "Motion file: absolute, or relative to the config's folder, to the folder given by mm db build --data, "
+     "or "
      "to $MM_DATA_DIR (looked up in that order)."},
     {"clips[].take", "string", "", "the first take",
      "For files with several takes (FBX, glTF, Collada; `mm import info FILE` lists them): the take's name."},
@@ -88,7 +99,8 @@ static const mm_config_field_doc docs[] = {
     {"clips[].tags", "{string: [[number, number]]}", "s", "{}",
      "Tag ranges: for each tag name, [begin, end] times in seconds from the start of the file."},
     {"blend_clips", "[object]", "", "[]",
-     "Clips made by blending two clips on a common time base (the seed's BlendClips), from each source's first "
+     "Clips made by blending two clips on a common time base (the seed's BlendClips), from each source's "
+     "first "
      "range (and from their mirrors too when both are mirrored); loop when both loop."},
     {"blend_clips[].name", "string", "", "", "Unique name."},
     {"blend_clips[].left", "string", "", "", "Name of the left source clip."},
@@ -142,7 +154,8 @@ static mm_result get_bool(ctx *c, const cJSON *obj, const char *key, const char 
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!v) return MM_OK;
-    if (!cJSON_IsBool(v)) return FAIL(MM_ERR_SYNTAX, "%s%s%s must be true or false", where, where[0] ? "." : "", key);
+    if (!cJSON_IsBool(v))
+        return FAIL(MM_ERR_SYNTAX, "%s%s%s must be true or false", where, where[0] ? "." : "", key);
     *out = cJSON_IsTrue(v);
     return MM_OK;
 }
@@ -156,7 +169,8 @@ static mm_result copy_string(ctx *c, const cJSON *v, const char *what, char *out
     return MM_OK;
 }
 
-static mm_result get_string(ctx *c, const cJSON *obj, const char *key, const char *where, char *out, size_t size)
+static mm_result get_string(ctx *c, const cJSON *obj, const char *key, const char *where, char *out,
+                            size_t size)
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!v) return MM_OK;
@@ -176,15 +190,17 @@ static mm_result get_int(ctx *c, const cJSON *v, const char *what, int *out)
 
 static mm_result parse_roles(ctx *c, const cJSON *roles)
 {
-    static const char *const keys[] = {"hips",      "root_bone", "facing_bone", "forward_axis", "left_foot",  "right_foot",
-                                       "left_toe",  "right_toe", "left_hand",   "right_hand",   "head",       NULL};
+    static const char *const keys[] = {"hips",      "root_bone",  "facing_bone", "forward_axis",
+                                       "left_foot", "right_foot", "left_toe",    "right_toe",
+                                       "left_hand", "right_hand", "head",        NULL};
     mm_result r = check_keys(c, roles, "roles", keys);
     mm_config *cfg = c->cfg;
-    char *fields[] = {cfg->hips,     cfg->root_bone, cfg->facing_bone, cfg->left_foot, cfg->right_foot, cfg->left_toe,
-                      cfg->right_toe, cfg->left_hand, cfg->right_hand, cfg->head};
+    char *fields[] = {cfg->hips,     cfg->root_bone, cfg->facing_bone, cfg->left_foot,  cfg->right_foot,
+                      cfg->left_toe, cfg->right_toe, cfg->left_hand,   cfg->right_hand, cfg->head};
     const char *names[] = {"hips",     "root_bone", "facing_bone", "left_foot",  "right_foot",
                            "left_toe", "right_toe", "left_hand",   "right_hand", "head"};
-    for (int i = 0; i < 10 && r == MM_OK; ++i) r = get_string(c, roles, names[i], "roles", fields[i], MM_NAME_MAX);
+    for (int i = 0; i < 10 && r == MM_OK; ++i)
+        r = get_string(c, roles, names[i], "roles", fields[i], MM_NAME_MAX);
     const cJSON *axis = cJSON_GetObjectItemCaseSensitive(roles, "forward_axis");
     if (r == MM_OK && axis) {
         if (!cJSON_IsArray(axis) || cJSON_GetArraySize(axis) != 3)
@@ -203,8 +219,13 @@ static mm_result parse_roles(ctx *c, const cJSON *roles)
 
 static mm_result parse_features(ctx *c, const cJSON *f)
 {
-    static const char *const keys[] = {"bones",         "trajectory_times",     "root_velocity",    "body_velocity_weight",
-                                       "position_multiplier", "angle_multiplier", NULL};
+    static const char *const keys[] = {"bones",
+                                       "trajectory_times",
+                                       "root_velocity",
+                                       "body_velocity_weight",
+                                       "position_multiplier",
+                                       "angle_multiplier",
+                                       NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, f, "features", keys);
     if (r == MM_OK) r = get_bool(c, f, "root_velocity", "features", &cfg->root_velocity);
@@ -216,9 +237,11 @@ static mm_result parse_features(ctx *c, const cJSON *f)
     if (bones) {
         if (!cJSON_IsArray(bones)) return FAIL(MM_ERR_SYNTAX, "features.bones must be an array");
         int n = cJSON_GetArraySize(bones);
-        if (n > MM_MAX_MATCH_BONES) return FAIL(MM_ERR_LIMIT, "features.bones: %d bones (at most %d)", n, MM_MAX_MATCH_BONES);
+        if (n > MM_MAX_MATCH_BONES)
+            return FAIL(MM_ERR_LIMIT, "features.bones: %d bones (at most %d)", n, MM_MAX_MATCH_BONES);
         cfg->bone_count = n;
-        static const char *const bkeys[] = {"name", "position", "velocity", "position_weight", "velocity_weight", NULL};
+        static const char *const bkeys[] = {
+            "name", "position", "velocity", "position_weight", "velocity_weight", NULL};
         for (int i = 0; i < n; ++i) {
             const cJSON *b = cJSON_GetArrayItem(bones, i);
             char where[64];
@@ -243,7 +266,8 @@ static mm_result parse_features(ctx *c, const cJSON *f)
         if (!cJSON_IsArray(times)) return FAIL(MM_ERR_SYNTAX, "features.trajectory_times must be an array");
         int n = cJSON_GetArraySize(times);
         if (n > MM_MAX_TRAJ_SAMPLES)
-            return FAIL(MM_ERR_LIMIT, "features.trajectory_times: %d times (at most %d)", n, MM_MAX_TRAJ_SAMPLES);
+            return FAIL(MM_ERR_LIMIT, "features.trajectory_times: %d times (at most %d)", n,
+                        MM_MAX_TRAJ_SAMPLES);
         cfg->traj_count = n;
         for (int i = 0; i < n; ++i) {
             const cJSON *e = cJSON_GetArrayItem(times, i);
@@ -286,7 +310,8 @@ static mm_result parse_pair_list(ctx *c, const cJSON *arr, const char *where, in
 
 static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
 {
-    static const char *const keys[] = {"name", "file", "take", "ranges", "type", "loop", "mirror", "tags", NULL};
+    static const char *const keys[] = {"name", "file",   "take", "ranges", "type",
+                                       "loop", "mirror", "tags", NULL};
     mm_config *cfg = c->cfg;
     char where[64];
     snprintf(where, sizeof where, "clips[%d]", i);
@@ -306,9 +331,12 @@ static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
     }
     const cJSON *type = cJSON_GetObjectItemCaseSensitive(j, "type");
     if (type) {
-        if (cJSON_IsString(type) && strcmp(type->valuestring, "idle") == 0) clip->type = MM_CLIP_IDLE;
-        else if (cJSON_IsString(type) && strcmp(type->valuestring, "locomotion") == 0) clip->type = MM_CLIP_LOCOMOTION;
-        else return FAIL(MM_ERR_SYNTAX, "%s.type must be \"idle\" or \"locomotion\"", where);
+        if (cJSON_IsString(type) && strcmp(type->valuestring, "idle") == 0)
+            clip->type = MM_CLIP_IDLE;
+        else if (cJSON_IsString(type) && strcmp(type->valuestring, "locomotion") == 0)
+            clip->type = MM_CLIP_LOCOMOTION;
+        else
+            return FAIL(MM_ERR_SYNTAX, "%s.type must be \"idle\" or \"locomotion\"", where);
     }
     if ((r = get_bool(c, j, "loop", where, &clip->loop)) != MM_OK) return r;
     if ((r = get_bool(c, j, "mirror", where, &clip->mirror)) != MM_OK) return r;
@@ -318,18 +346,23 @@ static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
         snprintf(w, sizeof w, "%s.ranges", where);
         int n = cJSON_IsArray(ranges) ? cJSON_GetArraySize(ranges) : 0;
         if (n > 0) {
-            clip->ranges = (mm_config_range *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_range));
+            clip->ranges =
+                (mm_config_range *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_range));
             if (!clip->ranges) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
         }
-        if ((r = parse_pair_list(c, ranges, w, 100000, &clip->range_count, clip->ranges, NULL)) != MM_OK) return r;
+        if ((r = parse_pair_list(c, ranges, w, 100000, &clip->range_count, clip->ranges, NULL)) != MM_OK)
+            return r;
     }
     const cJSON *tags = cJSON_GetObjectItemCaseSensitive(j, "tags");
     if (tags) {
-        if (!cJSON_IsObject(tags)) return FAIL(MM_ERR_SYNTAX, "%s.tags must be an object {tag: [[begin, end], ...]}", where);
+        if (!cJSON_IsObject(tags))
+            return FAIL(MM_ERR_SYNTAX, "%s.tags must be an object {tag: [[begin, end], ...]}", where);
         int total = 0;
-        for (const cJSON *t = tags->child; t; t = t->next) total += cJSON_IsArray(t) ? cJSON_GetArraySize(t) : 0;
+        for (const cJSON *t = tags->child; t; t = t->next)
+            total += cJSON_IsArray(t) ? cJSON_GetArraySize(t) : 0;
         if (total > 0) {
-            clip->tag_ranges = (mm_config_tag_range *)mm_alloc_array(&cfg->allocator, (size_t)total, sizeof(mm_config_tag_range));
+            clip->tag_ranges = (mm_config_tag_range *)mm_alloc_array(&cfg->allocator, (size_t)total,
+                                                                     sizeof(mm_config_tag_range));
             if (!clip->tag_ranges) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
         }
         for (const cJSON *t = tags->child; t; t = t->next) {
@@ -338,7 +371,8 @@ static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
             char w[120];
             snprintf(w, sizeof w, "%s.tags.%s", where, t->string);
             int n = 0;
-            float (*times)[2] = (float(*)[2])calloc((size_t)(cJSON_IsArray(t) ? cJSON_GetArraySize(t) : 0) + 1, sizeof *times);
+            float(*times)[2] = (float(*)[2])calloc((size_t)(cJSON_IsArray(t) ? cJSON_GetArraySize(t) : 0) + 1,
+                                                   sizeof *times);
             if (!times) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
             r = parse_pair_list(c, t, w, 100000, &n, NULL, times);
             for (int k = 0; k < n && r == MM_OK; ++k) {
@@ -363,8 +397,9 @@ static int clip_index(const mm_config *cfg, const char *name)
 
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
-    static const char *const keys[] = {"interval", "scale",        "roles", "root_smoothing", "contacts", "features",
-                                       "mirror_pairs", "tags",     "clips", "blend_clips",    NULL};
+    static const char *const keys[] = {"interval", "scale",        "roles", "root_smoothing", "contacts",
+                                       "features", "mirror_pairs", "tags",  "clips",          "blend_clips",
+                                       NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
@@ -387,15 +422,21 @@ static mm_result parse_root(ctx *c, const cJSON *root)
     if (pairs) {
         int n = cJSON_IsArray(pairs) ? cJSON_GetArraySize(pairs) : -1;
         if (n < 0 || n > MM_MAX_MIRROR_PAIRS)
-            return FAIL(MM_ERR_SYNTAX, "mirror_pairs must be an array of at most %d [left, right] pairs", MM_MAX_MIRROR_PAIRS);
+            return FAIL(MM_ERR_SYNTAX, "mirror_pairs must be an array of at most %d [left, right] pairs",
+                        MM_MAX_MIRROR_PAIRS);
         cfg->mirror_pair_count = n;
         for (int i = 0; i < n; ++i) {
             const cJSON *p = cJSON_GetArrayItem(pairs, i);
             char w[40];
             snprintf(w, sizeof w, "mirror_pairs[%d]", i);
-            if (!cJSON_IsArray(p) || cJSON_GetArraySize(p) != 2) return FAIL(MM_ERR_SYNTAX, "%s must be [left, right]", w);
-            if ((r = copy_string(c, cJSON_GetArrayItem(p, 0), w, cfg->mirror_pairs[i].left, MM_NAME_MAX)) != MM_OK) return r;
-            if ((r = copy_string(c, cJSON_GetArrayItem(p, 1), w, cfg->mirror_pairs[i].right, MM_NAME_MAX)) != MM_OK) return r;
+            if (!cJSON_IsArray(p) || cJSON_GetArraySize(p) != 2)
+                return FAIL(MM_ERR_SYNTAX, "%s must be [left, right]", w);
+            if ((r = copy_string(c, cJSON_GetArrayItem(p, 0), w, cfg->mirror_pairs[i].left, MM_NAME_MAX)) !=
+                MM_OK)
+                return r;
+            if ((r = copy_string(c, cJSON_GetArrayItem(p, 1), w, cfg->mirror_pairs[i].right, MM_NAME_MAX)) !=
+                MM_OK)
+                return r;
         }
     }
     const cJSON *tags = cJSON_GetObjectItemCaseSensitive(root, "tags");
@@ -406,7 +447,9 @@ static mm_result parse_root(ctx *c, const cJSON *root)
         for (int i = 0; i < n; ++i) {
             char w[40];
             snprintf(w, sizeof w, "tags[%d]", i);
-            if ((r = copy_string(c, cJSON_GetArrayItem(tags, i), w, cfg->tag_names[i], MM_TAG_NAME_MAX)) != MM_OK) return r;
+            if ((r = copy_string(c, cJSON_GetArrayItem(tags, i), w, cfg->tag_names[i], MM_TAG_NAME_MAX)) !=
+                MM_OK)
+                return r;
             if (!cfg->tag_names[i][0]) return FAIL(MM_ERR_SYNTAX, "%s is empty", w);
             cfg->tag_count = i + 1;
             if (mm_config_tag_index(cfg, cfg->tag_names[i]) != i)
@@ -426,7 +469,8 @@ static mm_result parse_root(ctx *c, const cJSON *root)
             if ((r = parse_clip(c, cJSON_GetArrayItem(clips, i), i, &cfg->clips[i])) != MM_OK) return r;
             for (int k = 0; k < i; ++k)
                 if (strcmp(cfg->clips[k].name, cfg->clips[i].name) == 0)
-                    return FAIL(MM_ERR_DUPLICATE_NAME, "clips[%d].name '%s' is used twice", i, cfg->clips[i].name);
+                    return FAIL(MM_ERR_DUPLICATE_NAME, "clips[%d].name '%s' is used twice", i,
+                                cfg->clips[i].name);
         }
     }
     const cJSON *blends = cJSON_GetObjectItemCaseSensitive(root, "blend_clips");
@@ -434,7 +478,8 @@ static mm_result parse_root(ctx *c, const cJSON *root)
         int n = cJSON_IsArray(blends) ? cJSON_GetArraySize(blends) : -1;
         if (n < 0) return FAIL(MM_ERR_SYNTAX, "blend_clips must be an array");
         if (n > 0) {
-            cfg->blends = (mm_config_blend *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_blend));
+            cfg->blends =
+                (mm_config_blend *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_blend));
             if (!cfg->blends) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
         }
         static const char *const bkeys[] = {"name", "left", "right", "weight", NULL};
@@ -511,11 +556,15 @@ mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text,
     if (r != MM_OK) return r;
     char dir[MM_PATH_MAX];
     const char *slash = strrchr(path, '/');
-    if (slash) snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
-    else snprintf(dir, sizeof dir, ".");
+    if (slash)
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    else
+        snprintf(dir, sizeof dir, ".");
     r = mm_config_parse_json(text, size, path, dir, cfg, err);
-    if (r == MM_OK && out_text) *out_text = text;
-    else free(text);
+    if (r == MM_OK && out_text)
+        *out_text = text;
+    else
+        free(text);
     return r;
 }
 
@@ -523,7 +572,8 @@ mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text,
 
 static int file_exists(const char *path) { return access(path, R_OK) == 0; }
 
-mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size, mm_error *err)
+mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size,
+                                 mm_error *err)
 {
     if (file[0] == '/') {
         snprintf(out, size, "%s", file);
@@ -541,7 +591,8 @@ mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *o
         snprintf(out, size, "%s/%s", data, file);
         if (file_exists(out)) return MM_OK;
     }
-    return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clip file '%s' is not in %s%s%s nor in $MM_DATA_DIR (%s)", file,
+    return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0,
+                        "clip file '%s' is not in %s%s%s nor in $MM_DATA_DIR (%s)", file,
                         cfg->base_dir[0] ? cfg->base_dir : ".", cfg->data_dir[0] ? " or " : "", cfg->data_dir,
                         data && data[0] ? data : "unset");
 }
@@ -556,9 +607,10 @@ void mm_config_free_sources(const mm_config *cfg, mm_clip *clips)
 mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err)
 {
     *out_clips = NULL;
-    if (cfg->clip_count < 1) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
+    if (cfg->clip_count < 1)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
     mm_clip *clips = (mm_clip *)calloc((size_t)cfg->clip_count, sizeof(mm_clip));
-    char (*paths)[MM_PATH_MAX] = (char(*)[MM_PATH_MAX])calloc((size_t)cfg->clip_count, MM_PATH_MAX);
+    char(*paths)[MM_PATH_MAX] = (char(*)[MM_PATH_MAX])calloc((size_t)cfg->clip_count, MM_PATH_MAX);
     if (!clips || !paths) {
         free(clips);
         free(paths);
@@ -570,7 +622,8 @@ mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_e
         if (r != MM_OK) break;
         int same = -1;
         for (int k = 0; k < i && same < 0; ++k)
-            if (strcmp(paths[k], paths[i]) == 0 && strcmp(cfg->clips[k].take, cfg->clips[i].take) == 0) same = k;
+            if (strcmp(paths[k], paths[i]) == 0 && strcmp(cfg->clips[k].take, cfg->clips[i].take) == 0)
+                same = k;
         if (same >= 0) {
             r = mm_clip_copy(&clips[i], &clips[same], NULL);
             continue;
@@ -589,8 +642,8 @@ mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_e
                 if (strcmp(takes.names[t], cfg->clips[i].take) == 0) pick = t;
         }
         if (pick < 0) {
-            r = mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clips[%d] (%s): the file has no take named '%s'", i,
-                             cfg->clips[i].name, cfg->clips[i].take);
+            r = mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clips[%d] (%s): the file has no take named '%s'",
+                             i, cfg->clips[i].name, cfg->clips[i].take);
         } else {
             clips[i] = takes.clips[pick]; /* moved out of the list */
             memset(&takes.clips[pick], 0, sizeof takes.clips[pick]);

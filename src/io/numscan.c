@@ -45,11 +45,11 @@ mm__scan_status mm__scan_double(const char *p, const char *end, double *out, con
     if (p < end && (*p == '+' || *p == '-')) negative = *p++ == '-';
 
     uint64_t mantissa = 0;
-    int digits = 0;      /* significant digits accumulated into mantissa */
-    int dropped = 0;     /* significant integer digits beyond 19, not accumulated */
-    int any_digit = 0;   /* at least one digit in the integer or fraction part */
-    int exponent = 0;    /* decimal exponent applied to mantissa */
-    int truncated = 0;   /* non-zero digits were dropped: the fast path cannot be exact */
+    int digits = 0;    /* significant digits accumulated into mantissa */
+    int dropped = 0;   /* significant integer digits beyond 19, not accumulated */
+    int any_digit = 0; /* at least one digit in the integer or fraction part */
+    int exponent = 0;  /* decimal exponent applied to mantissa */
+    int truncated = 0; /* non-zero digits were dropped: the fast path cannot be exact */
 
     for (; p < end && is_digit(*p); ++p) {
         any_digit = 1;
