@@ -156,3 +156,20 @@ float mm_skeleton_estimate_height(const mm_skeleton *s, const mm_quat *local_rot
     }
     return hi - lo;
 }
+
+double mm_unit_scale_for_height(double height)
+{
+    static const double units[] = {1.0, 0.01, 0.001, 0.0254, 0.3048, 0.056444};
+    if (!(height > 0.0) || !isfinite(height)) return 0.0;
+    double best = 0.0, best_score = INFINITY;
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
+        double h = height * units[i];
+        if (h < 0.8 || h > 2.6) continue;
+        double score = fabs(log(h / 1.75));
+        if (score < best_score) {
+            best_score = score;
+            best = units[i];
+        }
+    }
+    return best;
+}

@@ -82,12 +82,10 @@ void mm_bvh_free(mm_bvh *bvh);
  * Fails with MM_ERR_OUT_OF_RANGE for a frame outside [0, frame_count). */
 mm_result mm_bvh_fk(const mm_bvh *bvh, int frame, double *out_xyz);
 
-/* Scale that converts the file's units to metres, judged from the character's height: the
- * vertical extent of the joints and End Sites at frame 0 (the rest pose if there are no frames).
- * The candidates are metres (1), centimetres (0.01), millimetres (0.001), inches (0.0254), feet
- * (0.3048) and the CMU-converter unit (0.056444); among those that give a height of 0.8 to 2.6 m
- * the one closest to 1.75 m (by ratio) wins. Returns 0 when none fits. out_height (may be NULL)
- * receives the height in file units. */
+/* Scale that converts the file's units to metres (mm_unit_scale_for_height of the character's
+ * height: the vertical extent of the joints and End Sites at frame 0, or of the rest pose if
+ * there are no frames). Returns 0 when no unit fits. out_height (may be NULL) receives the
+ * height in file units. */
 double mm_bvh_detect_scale(const mm_bvh *bvh, double *out_height);
 
 typedef struct mm_bvh_import_desc {

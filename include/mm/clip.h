@@ -13,7 +13,7 @@
  *
  * Functions: mm_clip_init mm_clip_free mm_clip_copy mm_clip_rotations mm_clip_positions
  *            mm_clip_duration mm_clip_scale mm_clip_resample mm_clip_sample
- *            mm_fk mm_clip_fk mm_global_to_local mm_skeleton_estimate_height
+ *            mm_fk mm_clip_fk mm_global_to_local mm_skeleton_estimate_height mm_unit_scale_for_height
  */
 #ifndef MM_CLIP_H
 #define MM_CLIP_H
@@ -82,6 +82,12 @@ void mm_global_to_local(const mm_skeleton *s, const mm_xform *global, mm_quat *o
  * for the rest pose. */
 float mm_skeleton_estimate_height(const mm_skeleton *s, const mm_quat *local_rotations,
                                   const mm_vec3 *local_positions);
+
+/* Scale that converts lengths in an unknown unit to metres, judged from a human character's
+ * height in that unit: among metres (1), centimetres (0.01), millimetres (0.001), inches (0.0254),
+ * feet (0.3048) and the CMU converter's unit (0.056444), those giving a height of 0.8 to 2.6 m are
+ * kept and the one closest to 1.75 m (by ratio) wins. 0 when none fits. */
+double mm_unit_scale_for_height(double height);
 
 #ifdef __cplusplus
 }

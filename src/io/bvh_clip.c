@@ -126,18 +126,7 @@ double mm_bvh_detect_scale(const mm_bvh *bvh, double *out_height)
         height = mm_skeleton_estimate_height(&bvh->skeleton, NULL, NULL);
     }
     if (out_height) *out_height = height;
-    static const double units[] = {1.0, 0.01, 0.001, 0.0254, 0.3048, 0.056444};
-    double best = 0.0, best_score = INFINITY;
-    for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
-        double h = height * units[i];
-        if (h < 0.8 || h > 2.6) continue;
-        double score = fabs(log(h / 1.75));
-        if (score < best_score) {
-            best_score = score;
-            best = units[i];
-        }
-    }
-    return best;
+    return mm_unit_scale_for_height(height);
 }
 
 mm_result mm_bvh_to_clip(const mm_bvh *bvh, const mm_bvh_import_desc *desc, mm_clip *out, mm_error *err)

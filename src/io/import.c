@@ -53,19 +53,7 @@ double mm__import_detect_unit(double height_units, double declared)
         double h = height_units * declared;
         if (h >= 0.8 && h <= 2.6) return declared;
     }
-    /* The candidates and the rule of mm_bvh_detect_scale (see docs/bvh.md). */
-    static const double units[] = {1.0, 0.01, 0.001, 0.0254, 0.3048, 0.056444};
-    double best = 0.0, best_score = INFINITY;
-    for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
-        double h = height_units * units[i];
-        if (h < 0.8 || h > 2.6) continue;
-        double score = fabs(log(h / 1.75));
-        if (score < best_score) {
-            best_score = score;
-            best = units[i];
-        }
-    }
-    return best;
+    return mm_unit_scale_for_height(height_units);
 }
 
 mm_result mm__import_apply_scale(mm_clip *clip, const mm_import_desc *desc, double declared, mm_error *err)
