@@ -121,6 +121,15 @@ static void test_circle_features(void **state)
     mm_database_pose(&db, 10, &pd);
     assert_int_equal(pd.next_id, 11);
     assert_near(pd.time, 10.0 / 60.0, 1e-6);
+    /* The seed's PoseData view: matched bones and trajectory samples, raw. */
+    assert_int_equal(pd.bone_count, 3);
+    assert_string_equal(db.joints[pd.bones[0]].name, "LeftFoot");
+    assert_near(pd.bone_positions[0].x, 0.1, 1e-5);
+    assert_near(pd.bone_velocities[2].z, speed, speed * 1e-2); /* the hips */
+    assert_int_equal(pd.traj_count, 4);
+    assert_near(pd.traj_times[2], 1.0, 1e-6);
+    assert_near(pd.traj_positions[2].z, radius * sin(omega), 1e-4);
+    assert_near(pd.traj_directions[2].x, sin(omega), 1e-5);
     mm_database_free(&db);
     mm_config_free(&cfg);
     mm_clip_free(&clip);

@@ -105,6 +105,18 @@ typedef struct mm_pose_data {
     float blend_weight;
     int blend_left, blend_right;
     unsigned contacts; /* mm_contact_bits */
+    /* Matched bones (the config's features.bones, in order), relative to the character; a
+     * quantity the database does not store is zero. */
+    int bone_count;
+    int bones[MM_MAX_MATCH_BONES]; /* joint indices */
+    mm_vec3 bone_positions[MM_MAX_MATCH_BONES];
+    mm_vec3 bone_velocities[MM_MAX_MATCH_BONES];
+    /* Trajectory samples (the config's trajectory_times, in order): positions on the ground and
+     * unit facing directions, relative to the character. */
+    int traj_count;
+    float traj_times[MM_MAX_TRAJ_SAMPLES];
+    mm_vec3 traj_positions[MM_MAX_TRAJ_SAMPLES];
+    mm_vec3 traj_directions[MM_MAX_TRAJ_SAMPLES];
 } mm_pose_data;
 
 typedef struct mm_database {

@@ -421,6 +421,32 @@ void mm_database_pose(const mm_database *db, int frame, mm_pose_data *out)
     out->blend_left = c->blend_left;
     out->blend_right = c->blend_right;
     out->contacts = db->contacts[frame];
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        float v[3] = {0, 0, 0};
+        for (int d = 0; d < grp->dims; ++d) v[d] = mm_database_feature_raw(db, frame, grp->offset + d);
+        if (grp->kind == MM_FEATURE_BONE_POSITION || grp->kind == MM_FEATURE_BONE_VELOCITY) {
+            int b = 0;
+            while (b < out->bone_count && out->bones[b] != grp->bone) ++b;
+            if (b == out->bone_count) {
+                if (b == MM_MAX_MATCH_BONES) continue;
+                out->bones[out->bone_count++] = grp->bone;
+            }
+            mm_vec3 *dst =
+                grp->kind == MM_FEATURE_BONE_POSITION ? &out->bone_positions[b] : &out->bone_velocities[b];
+            *dst = mm_vec3_make(v[0], v[1], v[2]);
+        } else if (grp->kind == MM_FEATURE_TRAJ_POSITION || grp->kind == MM_FEATURE_TRAJ_DIRECTION) {
+            int t = 0;
+            while (t < out->traj_count && out->traj_times[t] != grp->time) ++t;
+            if (t == out->traj_count) {
+                if (t == MM_MAX_TRAJ_SAMPLES) continue;
+                out->traj_times[out->traj_count++] = grp->time;
+            }
+            mm_vec3 *dst =
+                grp->kind == MM_FEATURE_TRAJ_POSITION ? &out->traj_positions[t] : &out->traj_directions[t];
+            *dst = mm_vec3_make(v[0], 0.0f, v[1]);
+        }
+    }
 }
 
 const char *mm_feature_kind_name(mm_feature_kind kind)
