@@ -15,6 +15,7 @@
 #include "import.h"
 #include "math.h"
 #include "result.h"
+#include "search.h"
 #include "skeleton.h"
 #include "synth.h"
 

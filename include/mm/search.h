@@ -1,0 +1,204 @@
+/* mm/search.h - finding the database frame that best fits a query (the seed's 动作匹配).
+ *
+ * A query is a row of normalised features, laid out like the database's (mm_search_query_*
+ * build one). The cost of a frame is the weighted squared distance of its features to the
+ * query, split into five terms (docs/search.md has the exact formula):
+ *
+ *   base = 2 (1 - r) (pose_position + pose_velocity + root_velocity)
+ *        + 2 r (traj_position + traj_direction),        r = pose_trajectory_ratio
+ *   cost = base x loop_anim_favour (frames of loop clips) x next_pose_favour (the frame after the
+ *          current one) - continuing_bias (the frame after the current one)
+ *
+ * Candidates must have every required tag, no excluded tag, the requested type, must not be
+ * within exclude_window frames of the current frame in its clip (the current frame itself never
+ * is a candidate; the frame after it always may be), nor among the last end_margin frames of a
+ * non-loop clip. Among the frames whose cost is within 1e-6
+ * (relative) of the lowest, the lowest index wins, so every method and every thread count gives
+ * the same answer.
+ *
+ * Methods: MM_SEARCH_BRUTE (every frame, a vectorised kernel), MM_SEARCH_FAST (exact: a tree of
+ * bounding boxes, built by the searcher from median splits of the features, prunes with a lower
+ * bound computed by the same kernel shape, so it returns the brute-force winner), MM_SEARCH_FACING
+ * (approximate, seed 002: only frames whose future facing is within facing_threshold of the query's, then
+ * brute force).
+ *
+ * Threads: a searcher made with threads > 1 splits one query across a pool, and
+ * mm_searcher_batch answers many queries at once; results never depend on the thread count.
+ * mm_searcher_search allocates nothing. A searcher is read-only while searching: with one thread
+ * it may serve several threads at once; with a pool, calls are serialised.
+ *
+ *   mm_searcher s;
+ *   mm_searcher_init(&s, &db, NULL, &err);
+ *   mm_search_params p;
+ *   mm_search_params_defaults(&db, &p);
+ *   p.current_frame = playing;
+ *   float query[MM_SEARCH_MAX_DIMS];
+ *   mm_search_query_from_frames(&db, playing, playing, query);   // or from a simulated pose
+ *   mm_search_result best;
+ *   mm_searcher_search(&s, query, &p, MM_SEARCH_FAST, &best, 1);
+ *   mm_searcher_free(&s);
+ *
+ * Functions: mm_search_params_defaults mm_search_query_from_frames mm_search_query_from_pose
+ *            mm_searcher_init mm_searcher_free mm_searcher_search mm_searcher_batch
+ *            mm_search_cost_terms mm_search_tag_mask mm_search_method_name
+ */
+#ifndef MM_SEARCH_H
+#define MM_SEARCH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "alloc.h"
+#include "database.h"
+#include "result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MM_SEARCH_MAX_DIMS    512 /* padded feature dimensions a searcher accepts */
+#define MM_SEARCH_MAX_THREADS 16
+
+typedef enum mm_search_method {
+    MM_SEARCH_BRUTE = 0,
+    MM_SEARCH_FAST = 1,
+    MM_SEARCH_FACING = 2
+} mm_search_method;
+
+/* "brute", "fast", "facing"; NULL if invalid. */
+const char *mm_search_method_name(mm_search_method m);
+
+/* Which clip types a search accepts. */
+typedef enum mm_search_type {
+    MM_SEARCH_ANY = 0,
+    MM_SEARCH_LOCOMOTION = 1, /* only MM_CLIP_LOCOMOTION clips */
+    MM_SEARCH_IDLE = 2        /* only MM_CLIP_IDLE clips */
+} mm_search_type;
+
+typedef struct mm_search_params {
+    /* Weights (the seed's names). mm_search_params_defaults copies them from the database. */
+    float pose_trajectory_ratio; /* r in [0, 1]: higher = more responsive, less smooth; 0.5 */
+    float joint_position_weights[MM_MAX_MATCH_BONES]; /* per matched bone, database order */
+    float joint_velocity_weights[MM_MAX_MATCH_BONES];
+    float body_velocity_weight; /* root velocity */
+    float position_multiplier;  /* trajectory positions */
+    float angle_multiplier;     /* trajectory directions */
+
+    /* Favours and bias (factors: lower = stronger preference; 1 = none). */
+    float next_pose_favour; /* the frame after current_frame; default 0.95 */
+    float loop_anim_favour; /* frames of loop clips; default 1 */
+    float continuing_bias;  /* subtracted from the cost of the frame after current_frame; default 0 */
+
+    /* Candidates */
+    int current_frame;      /* the frame playing now (excluded, and the favours refer to it); -1: none */
+    int exclude_window;     /* also exclude frames within this many frames of it in its clip; 0 */
+    int end_margin;         /* exclude the last end_margin frames of non-loop clips; 0 */
+    mm_search_type type;    /* MM_SEARCH_ANY */
+    uint64_t required_tags; /* every one of these tags must be set */
+    uint64_t excluded_tags; /* none of these may be set (DoNotUse-style) */
+
+    /* MM_SEARCH_FACING */
+    float facing_threshold; /* radians; 1.0 (about 57 degrees) */
+} mm_search_params;
+
+/* Defaults, with the weights the database was built with. */
+void mm_search_params_defaults(const mm_database *db, mm_search_params *p);
+
+/* Bit mask of a tag name, 0 if the database has no such tag. */
+uint64_t mm_search_tag_mask(const mm_database *db, const char *name);
+
+/* A query from database rows: the pose groups (bones, root velocity) of pose_frame and the
+ * trajectory groups of traj_frame. out holds db->dims_padded floats. */
+void mm_search_query_from_frames(const mm_database *db, int pose_frame, int traj_frame, float *out);
+/* A query from raw, character-frame quantities (the runtime's simulated trajectory and current
+ * pose), laid out as mm_pose_data: bone_positions / bone_velocities in the database's matched-bone
+ * order, root_velocity, and traj_positions / traj_directions at the database's trajectory times.
+ * Normalised with the database's means and scales. out holds db->dims_padded floats. */
+void mm_search_query_from_pose(const mm_database *db, const mm_pose_data *pose, float *out);
+
+typedef struct mm_search_result {
+    int frame;  /* database row; -1 when no frame passes the filters */
+    float base; /* weighted distance, before favours and bias */
+    float cost; /* after favours and bias (what is minimised) */
+} mm_search_result;
+
+/* The five cost terms of frame for query (weights and ratio applied); their sum is base. */
+typedef struct mm_search_terms {
+    float pose_position, pose_velocity, root_velocity, traj_position, traj_direction;
+} mm_search_terms;
+void mm_search_cost_terms(const mm_database *db, const float *query, const mm_search_params *p, int frame,
+                          mm_search_terms *out);
+
+typedef struct mm_searcher_desc {
+    int threads;                   /* 0 or 1: the calling thread only */
+    const mm_allocator *allocator; /* NULL: malloc */
+} mm_searcher_desc;
+
+typedef struct mm_searcher_pool mm_searcher_pool;
+
+#define MM_SEARCH_LEAF       16 /* frames per leaf of the searcher's tree, at most */
+#define MM_SEARCH_UNIT_DEPTH 5  /* the tree is split into 2^5 work units for threads */
+
+/* A node of the searcher's tree of bounding boxes (internal). */
+typedef struct mm_search_node {
+    int32_t begin, end;  /* positions in mm_searcher.order */
+    int32_t left, right; /* children, -1 for a leaf */
+    int32_t min_frame;   /* lowest frame index below */
+    uint8_t types, loop; /* type bits (1 locomotion, 2 idle); loop: bit 0 some, bit 1 all frames loop */
+    uint64_t tags_any, tags_all; /* tags set in some / in every frame below */
+} mm_search_node;
+
+typedef struct mm_searcher {
+    const mm_database *db;
+    int threads;
+    /* The tree: frames reordered by median splits of the widest dimension; their features copied
+     * in that order; per node a box (node_min / node_max, dims_padded floats each). */
+    int32_t *order;       /* position -> frame */
+    int32_t *order_clip;  /* position -> the frame's clip */
+    uint64_t *order_tags; /* position -> the frame's tags */
+    float *features;
+    mm_search_node *nodes;
+    float *node_min, *node_max;
+    int node_count;
+    int units[1 << MM_SEARCH_UNIT_DEPTH];
+    int unit_count;
+    float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */
+    int facing_group;
+    size_t memory; /* bytes of all the above */
+    mm_searcher_pool *pool;
+    void *job; /* scratch for one threaded query */
+    mm_allocator allocator;
+} mm_searcher;
+
+mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searcher_desc *desc,
+                           mm_error *err);
+void mm_searcher_free(mm_searcher *s);
+
+/* The best k frames (k >= 1) into results[0..k-1], best first: results[0] is the winner as
+ * defined above, the rest follow by cost then index; missing ones have frame -1. Returns the number
+ * found. Never allocates. */
+int mm_searcher_search(const mm_searcher *s, const float *query, const mm_search_params *p,
+                       mm_search_method method, mm_search_result *results, int k);
+
+/* What one search did, for benchmarks and tuning. */
+typedef struct mm_search_stats {
+    int frames_evaluated; /* frames whose full cost was computed (both passes) */
+    int boxes_tested;     /* bounding boxes whose lower bound was computed */
+} mm_search_stats;
+
+/* mm_searcher_search that also reports its work (stats may be NULL). */
+int mm_searcher_search_stats(const mm_searcher *s, const float *query, const mm_search_params *p,
+                             mm_search_method method, mm_search_result *results, int k,
+                             mm_search_stats *stats);
+
+/* count independent queries (rows of dims_padded floats) with their params (one each, or all
+ * the same when params_stride is 0), each answered as by mm_searcher_search with k = 1,
+ * spread over the searcher's threads. */
+void mm_searcher_batch(const mm_searcher *s, const float *queries, const mm_search_params *params,
+                       int params_stride, mm_search_method method, mm_search_result *results, int count);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_SEARCH_H */

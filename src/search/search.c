@@ -1,0 +1,881 @@
+/* Search: the cost kernel, filters and favours, brute force, the exact bounding-box search, the
+ * facing pre-filter, threads and batches. docs/search.md is the reference for the rules.
+ *
+ * Exactness: the frame cost and the box lower bound are computed by kernels of the same shape
+ * (8 lanes, the same order of additions), and every step is monotonic in float arithmetic, so a
+ * box's bound never exceeds the cost of a frame inside it. Pass 1 finds the lowest cost; pass 2
+ * finds the lowest index whose cost is within 1e-6 of it. Both passes prune with the same bounds. */
+#include <mm/search.h>
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#include "search/pool.h"
+
+#define LANES         8
+#define TIE_TOLERANCE 1e-6f
+
+const char *mm_search_method_name(mm_search_method m)
+{
+    switch (m) {
+    case MM_SEARCH_BRUTE:
+        return "brute";
+    case MM_SEARCH_FAST:
+        return "fast";
+    case MM_SEARCH_FACING:
+        return "facing";
+    default:
+        return NULL;
+    }
+}
+
+/* ---- parameters and queries ------------------------------------------------------------- */
+
+/* Index of a bone group's bone among the matched bones, in order of first appearance. */
+static int bone_slot(const mm_database *db, int group)
+{
+    int bones[MM_MAX_MATCH_BONES], count = 0;
+    for (int g = 0; g <= group; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->kind != MM_FEATURE_BONE_POSITION && grp->kind != MM_FEATURE_BONE_VELOCITY) continue;
+        int b = 0;
+        while (b < count && bones[b] != grp->bone) ++b;
+        if (b == count && count < MM_MAX_MATCH_BONES) bones[count++] = grp->bone;
+        if (g == group) return b < MM_MAX_MATCH_BONES ? b : MM_MAX_MATCH_BONES - 1;
+    }
+    return 0;
+}
+
+void mm_search_params_defaults(const mm_database *db, mm_search_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->pose_trajectory_ratio = 0.5f;
+    p->body_velocity_weight = 1.0f;
+    p->position_multiplier = 1.0f;
+    p->angle_multiplier = 1.0f;
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b)
+        p->joint_position_weights[b] = p->joint_velocity_weights[b] = 1.0f;
+    for (int g = 0; db && g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        switch (grp->kind) {
+        case MM_FEATURE_BONE_POSITION:
+            p->joint_position_weights[bone_slot(db, g)] = grp->weight;
+            break;
+        case MM_FEATURE_BONE_VELOCITY:
+            p->joint_velocity_weights[bone_slot(db, g)] = grp->weight;
+            break;
+        case MM_FEATURE_ROOT_VELOCITY:
+            p->body_velocity_weight = grp->weight;
+            break;
+        case MM_FEATURE_TRAJ_POSITION:
+            p->position_multiplier = grp->weight;
+            break;
+        case MM_FEATURE_TRAJ_DIRECTION:
+            p->angle_multiplier = grp->weight;
+            break;
+        }
+    }
+    p->next_pose_favour = 0.95f;
+    p->loop_anim_favour = 1.0f;
+    p->continuing_bias = 0.0f;
+    p->current_frame = -1;
+    p->type = MM_SEARCH_ANY;
+    p->facing_threshold = 1.0f;
+}
+
+uint64_t mm_search_tag_mask(const mm_database *db, const char *name)
+{
+    for (int t = 0; t < db->tag_count; ++t)
+        if (strcmp(db->tag_names[t], name) == 0) return (uint64_t)1 << t;
+    return 0;
+}
+
+static int is_pose_group(int kind)
+{
+    return kind == MM_FEATURE_BONE_POSITION || kind == MM_FEATURE_BONE_VELOCITY ||
+           kind == MM_FEATURE_ROOT_VELOCITY;
+}
+
+void mm_search_query_from_frames(const mm_database *db, int pose_frame, int traj_frame, float *out)
+{
+    memset(out, 0, sizeof(float) * (size_t)db->dims_padded);
+    const float *pose = db->features + (size_t)pose_frame * db->dims_padded;
+    const float *traj = db->features + (size_t)traj_frame * db->dims_padded;
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        const float *src = is_pose_group(grp->kind) ? pose : traj;
+        memcpy(out + grp->offset, src + grp->offset, sizeof(float) * (size_t)grp->dims);
+    }
+}
+
+void mm_search_query_from_pose(const mm_database *db, const mm_pose_data *pose, float *out)
+{
+    memset(out, 0, sizeof(float) * (size_t)db->dims_padded);
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        mm_vec3 v = mm_vec3_make(0, 0, 0);
+        int t = 0;
+        switch (grp->kind) {
+        case MM_FEATURE_BONE_POSITION:
+            v = pose->bone_positions[bone_slot(db, g)];
+            break;
+        case MM_FEATURE_BONE_VELOCITY:
+            v = pose->bone_velocities[bone_slot(db, g)];
+            break;
+        case MM_FEATURE_ROOT_VELOCITY:
+            v = pose->root_velocity;
+            break;
+        default:
+            while (t < pose->traj_count && pose->traj_times[t] != grp->time) ++t;
+            if (t < pose->traj_count)
+                v = grp->kind == MM_FEATURE_TRAJ_POSITION ? pose->traj_positions[t]
+                                                          : pose->traj_directions[t];
+            v = mm_vec3_make(v.x, v.z, 0); /* trajectory groups store x, z */
+            break;
+        }
+        float raw[3] = {v.x, v.y, v.z};
+        for (int d = 0; d < grp->dims; ++d) {
+            int k = grp->offset + d;
+            out[k] = (raw[d] - db->feature_mean[k]) / db->feature_scale[k];
+        }
+    }
+}
+
+/* Per-dimension weights of the cost; padding dimensions weigh 0. */
+static void dimension_weights(const mm_database *db, const mm_search_params *p, float *w)
+{
+    memset(w, 0, sizeof(float) * (size_t)db->dims_padded);
+    float r = p->pose_trajectory_ratio;
+    if (!(r >= 0.0f)) r = 0.0f; /* also NaN */
+    if (r > 1.0f) r = 1.0f;
+    float pose = 2.0f * (1.0f - r), traj = 2.0f * r;
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        float x = 0.0f;
+        switch (grp->kind) {
+        case MM_FEATURE_BONE_POSITION:
+            x = pose * p->joint_position_weights[bone_slot(db, g)];
+            break;
+        case MM_FEATURE_BONE_VELOCITY:
+            x = pose * p->joint_velocity_weights[bone_slot(db, g)];
+            break;
+        case MM_FEATURE_ROOT_VELOCITY:
+            x = pose * p->body_velocity_weight;
+            break;
+        case MM_FEATURE_TRAJ_POSITION:
+            x = traj * p->position_multiplier;
+            break;
+        case MM_FEATURE_TRAJ_DIRECTION:
+            x = traj * p->angle_multiplier;
+            break;
+        }
+        if (!(x >= 0.0f) || !isfinite(x)) x = 0.0f; /* negative or NaN weights count as 0 */
+        for (int d = 0; d < grp->dims; ++d) w[grp->offset + d] = x;
+    }
+}
+
+void mm_search_cost_terms(const mm_database *db, const float *query, const mm_search_params *p, int frame,
+                          mm_search_terms *out)
+{
+    memset(out, 0, sizeof *out);
+    if (frame < 0 || frame >= db->frame_count || db->dims_padded > MM_SEARCH_MAX_DIMS) return;
+    float w[MM_SEARCH_MAX_DIMS];
+    dimension_weights(db, p, w);
+    const float *x = db->features + (size_t)frame * db->dims_padded;
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        float sum = 0.0f;
+        for (int d = grp->offset; d < grp->offset + grp->dims; ++d)
+            sum += w[d] * (query[d] - x[d]) * (query[d] - x[d]);
+        float *term = grp->kind == MM_FEATURE_BONE_POSITION   ? &out->pose_position
+                      : grp->kind == MM_FEATURE_BONE_VELOCITY ? &out->pose_velocity
+                      : grp->kind == MM_FEATURE_ROOT_VELOCITY ? &out->root_velocity
+                      : grp->kind == MM_FEATURE_TRAJ_POSITION ? &out->traj_position
+                                                              : &out->traj_direction;
+        *term += sum;
+    }
+}
+
+/* ---- kernels ---------------------------------------------------------------------------- */
+
+/* Weighted squared distance, 8 lanes, fixed order: the same numbers whatever the compiler
+ * vectorises (no contraction in ISO C mode). */
+static inline float distance(const float *q, const float *x, const float *w, int dims)
+{
+    float acc[LANES] = {0};
+    for (int d = 0; d < dims; d += LANES)
+        for (int l = 0; l < LANES; ++l) {
+            float t = q[d + l] - x[d + l];
+            acc[l] += w[d + l] * (t * t);
+        }
+    return ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]));
+}
+
+/* Lower bound of distance() over a box: per dimension the gap from q to [lo, hi]. */
+static inline float box_distance(const float *q, const float *lo, const float *hi, const float *w, int dims)
+{
+    float acc[LANES] = {0};
+    for (int d = 0; d < dims; d += LANES)
+        for (int l = 0; l < LANES; ++l) {
+            /* at most one of the two gaps is positive, so their sum is exactly the gap */
+            float below = lo[d + l] - q[d + l], above = q[d + l] - hi[d + l];
+            float t = (below > 0.0f ? below : 0.0f) + (above > 0.0f ? above : 0.0f);
+            acc[l] += w[d + l] * (t * t);
+        }
+    return ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]));
+}
+
+/* ---- one query -------------------------------------------------------------------------- */
+
+typedef struct query_ctx {
+    const mm_searcher *s;
+    const mm_database *db;
+    const float *q;
+    const mm_search_params *p;
+    mm_search_method method;
+    float w[MM_SEARCH_MAX_DIMS];
+    uint8_t types;                     /* accepted type bits */
+    int current, next;                 /* -1 when none */
+    float loop_lo;                     /* the smallest factor a frame of a loop clip can get */
+    float query_facing[2], facing_cos; /* unit (x, z) of the query's furthest facing; cos(threshold) */
+    int use_facing;
+    int evaluated, boxes; /* work counters (single-threaded paths) */
+} query_ctx;
+
+/* Whether frame f (of clip clip_index, with tags) is a candidate. */
+static inline int accepted_with(const query_ctx *c, int f, int clip_index, uint64_t tags)
+{
+    const mm_database *db = c->db;
+    const mm_db_clip *clip = &db->clips[clip_index];
+    if (!(c->types & (1u << clip->type))) return 0;
+    if ((tags & c->p->required_tags) != c->p->required_tags || (tags & c->p->excluded_tags)) return 0;
+    if (c->current >= 0 && f != c->next && clip_index == db->frame_clip[c->current]) {
+        int d = f - c->current;
+        if (d < 0) d = -d;
+        if (d <= (c->p->exclude_window > 0 ? c->p->exclude_window : 0)) return 0;
+    }
+    if (!clip->loop && c->p->end_margin > 0 && f >= clip->first_frame + clip->frame_count - c->p->end_margin)
+        return 0;
+    if (c->use_facing) { /* angle to the query's facing within the threshold: cos above its cosine */
+        const float *d = c->s->facing + 2 * (size_t)f;
+        if (d[0] * c->query_facing[0] + d[1] * c->query_facing[1] < c->facing_cos) return 0;
+    }
+    return 1;
+}
+
+static int accepted(const query_ctx *c, int f)
+{
+    return accepted_with(c, f, c->db->frame_clip[f], c->db->frame_tags[f]);
+}
+
+/* Cost after favours and bias of an accepted frame whose features are at x. */
+static inline float frame_cost(query_ctx *c, int f, const float *x, float *base)
+{
+    const mm_database *db = c->db;
+    ++c->evaluated;
+    float b = distance(c->q, x, c->w, db->dims_padded);
+    *base = b;
+    float cost = b;
+    if (db->clips[db->frame_clip[f]].loop) cost *= c->p->loop_anim_favour;
+    if (f == c->next) cost = cost * c->p->next_pose_favour - c->p->continuing_bias;
+    return cost;
+}
+
+/* Factor bounding from below what favours can do to the frames of a node (the next frame is
+ * handled on its own). flags: bit 0 some frame loops, bit 1 every frame loops. */
+static float node_factor(const query_ctx *c, uint8_t flags)
+{
+    if (flags & 2) return c->loop_lo;
+    if (flags & 1) return c->loop_lo < 1.0f ? c->loop_lo : 1.0f;
+    return 1.0f;
+}
+
+static float tie_limit(float lowest) { return lowest + TIE_TOLERANCE * fabsf(lowest); }
+
+static int node_possible(const query_ctx *c, const mm_search_node *n)
+{
+    return (n->types & c->types) && (n->tags_any & c->p->required_tags) == c->p->required_tags &&
+           !(n->tags_all & c->p->excluded_tags);
+}
+
+static void prepare(query_ctx *c, const mm_searcher *s, const float *query, const mm_search_params *p,
+                    mm_search_method method)
+{
+    const mm_database *db = s->db;
+    c->s = s;
+    c->db = db;
+    c->q = query;
+    c->p = p;
+    c->method = method == MM_SEARCH_FAST || method == MM_SEARCH_FACING ? method : MM_SEARCH_BRUTE;
+    dimension_weights(db, p, c->w);
+    c->types = p->type == MM_SEARCH_LOCOMOTION ? 1u : p->type == MM_SEARCH_IDLE ? 2u : 3u;
+    c->current = p->current_frame >= 0 && p->current_frame < db->frame_count ? p->current_frame : -1;
+    c->next = c->current >= 0 ? db->frame_next[c->current] : -1;
+    c->loop_lo = p->loop_anim_favour;
+    if (!(c->loop_lo >= 0.0f)) c->loop_lo = 0.0f; /* a negative or NaN favour gives no bound */
+    c->use_facing = 0;
+    c->evaluated = c->boxes = 0;
+    if (c->method == MM_SEARCH_FACING) {
+        if (s->facing_group >= 0) {
+            int o = db->groups[s->facing_group].offset;
+            float x = query[o] * db->feature_scale[o] + db->feature_mean[o];
+            float z = query[o + 1] * db->feature_scale[o + 1] + db->feature_mean[o + 1],
+                  len = sqrtf(x * x + z * z);
+            c->query_facing[0] = len > 1e-6f ? x / len : 0.0f;
+            c->query_facing[1] = len > 1e-6f ? z / len : 1.0f;
+            c->facing_cos = cosf(p->facing_threshold);
+            c->use_facing = 1;
+        }
+        c->method = MM_SEARCH_BRUTE; /* the pre-filter, then every remaining frame */
+    }
+}
+
+/* ---- the search state: lowest k, and the ties of the lowest ---------------------------------- */
+
+#define MAX_TIES 16
+
+typedef struct scan_state {
+    mm_search_result *list; /* the k lowest (cost, index), in order */
+    int k, count;
+    /* k == 1: frames within the tie tolerance of the lowest so far (a frame within the tolerance
+     * of the final lowest is always among them unless they overflowed) */
+    mm_search_result ties[MAX_TIES];
+    int tie_count, overflow;
+    /* the fallback mode: the lowest frame index with a cost at or under first_limit */
+    int find_first;
+    float first_limit;
+    mm_search_result first;
+} scan_state;
+
+static float state_limit(const scan_state *st)
+{
+    if (st->find_first) return st->first_limit;
+    if (st->count < st->k) return INFINITY;
+    return st->k == 1 ? tie_limit(st->list[0].cost) : st->list[st->k - 1].cost;
+}
+
+/* Keeps the k lowest (cost, index) in order; list has room for k. */
+static void offer(mm_search_result *list, int k, int *count, int f, float cost, float base)
+{
+    int n = *count;
+    if (n == k && !(cost < list[k - 1].cost || (cost == list[k - 1].cost && f < list[k - 1].frame))) return;
+    int i = n < k ? n : k - 1;
+    while (i > 0 && (cost < list[i - 1].cost || (cost == list[i - 1].cost && f < list[i - 1].frame))) {
+        list[i] = list[i - 1];
+        --i;
+    }
+    list[i].frame = f;
+    list[i].cost = cost;
+    list[i].base = base;
+    if (n < k) *count = n + 1;
+}
+
+static void take(scan_state *st, int f, float cost, float base)
+{
+    if (st->find_first) {
+        if (cost <= st->first_limit && (st->first.frame < 0 || f < st->first.frame)) {
+            st->first.frame = f;
+            st->first.cost = cost;
+            st->first.base = base;
+        }
+        return;
+    }
+    float old_limit = state_limit(st);
+    offer(st->list, st->k, &st->count, f, cost, base);
+    if (st->k != 1) return;
+    float limit = state_limit(st);
+    if (limit < old_limit) { /* the lowest fell: drop ties no longer within reach */
+        int n = 0;
+        for (int i = 0; i < st->tie_count; ++i)
+            if (st->ties[i].cost <= limit) st->ties[n++] = st->ties[i];
+        st->tie_count = n;
+    }
+    if (cost <= limit) {
+        if (st->tie_count < MAX_TIES) {
+            st->ties[st->tie_count].frame = f;
+            st->ties[st->tie_count].cost = cost;
+            st->ties[st->tie_count].base = base;
+            ++st->tie_count;
+        } else {
+            st->overflow = 1;
+        }
+    }
+}
+
+static void state_init(scan_state *st, mm_search_result *list, int k)
+{
+    memset(st, 0, sizeof *st);
+    st->list = list;
+    st->k = k;
+    st->first.frame = -1;
+}
+
+/* ---- traversal ----------------------------------------------------------------------------
+ * The searcher orders the frames by a tree of bounding boxes (median splits of the widest
+ * dimension, leaves of at most MM_SEARCH_LEAF frames) and keeps their features in that order.
+ * Brute force and the facing filter walk the positions of a node; the exact method descends the
+ * tree nearer child first and skips a node when its lower bound (times the smallest favour its
+ * frames can get) exceeds the current limit. */
+
+static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
+{
+    const mm_searcher *s = c->s;
+    int dims = c->db->dims_padded;
+    float limit = state_limit(st);
+    for (int i = p0; i < p1; ++i) {
+        int f = s->order[i];
+        if (f == c->next || !accepted_with(c, f, s->order_clip[i], s->order_tags[i])) continue;
+        float base, cost = frame_cost(c, f, s->features + (size_t)i * dims, &base);
+        if (cost > limit && !st->find_first) continue; /* cannot enter the list nor the ties */
+        take(st, f, cost, base);
+        limit = state_limit(st);
+    }
+}
+
+static inline float node_bound(query_ctx *c, int n)
+{
+    const mm_searcher *s = c->s;
+    int dims = c->db->dims_padded;
+    ++c->boxes;
+    return box_distance(c->q, s->node_min + (size_t)n * dims, s->node_max + (size_t)n * dims, c->w, dims) *
+           node_factor(c, s->nodes[n].loop);
+}
+
+/* Visits node n, whose bound (if already known) is bound. */
+static void scan_node(query_ctx *c, int n, float bound, scan_state *st)
+{
+    const mm_searcher *s = c->s;
+    const mm_search_node *node = &s->nodes[n];
+    if (!node_possible(c, node) || bound > state_limit(st)) return;
+    if (st->find_first && st->first.frame >= 0 && node->min_frame >= st->first.frame) return; /* cannot win */
+    if (node->left < 0) {
+        scan_positions(c, node->begin, node->end, st);
+        return;
+    }
+    float bl = node_bound(c, node->left), br = node_bound(c, node->right);
+    if (bl <= br) {
+        scan_node(c, node->left, bl, st);
+        scan_node(c, node->right, br, st);
+    } else {
+        scan_node(c, node->right, br, st);
+        scan_node(c, node->left, bl, st);
+    }
+}
+
+/* Brute force and the facing filter: database frames [f0, f1) in order. */
+static void scan_frames(query_ctx *c, int f0, int f1, scan_state *st)
+{
+    const mm_database *db = c->db;
+    int dims = db->dims_padded;
+    float limit = state_limit(st);
+    for (int f = f0; f < f1; ++f) {
+        if (f == c->next || !accepted(c, f)) continue;
+        float base, cost = frame_cost(c, f, db->features + (size_t)f * dims, &base);
+        if (cost > limit && !st->find_first) continue; /* cannot enter the list nor the ties */
+        take(st, f, cost, base);
+        limit = state_limit(st);
+    }
+}
+
+/* Work units [u0, u1) of MM_SEARCH_UNITS: for the exact method subtrees of the tree, otherwise
+ * equal runs of frames; one run of units per thread. */
+static void scan_units(query_ctx *c, int u0, int u1, scan_state *st)
+{
+    if (c->method != MM_SEARCH_FAST) {
+        long n = c->db->frame_count, units = c->s->unit_count;
+        scan_frames(c, (int)(n * u0 / units), (int)(n * u1 / units), st);
+        return;
+    }
+    for (int u = u0; u < u1; ++u) {
+        int n = c->s->units[u];
+        scan_node(c, n, node_bound(c, n), st);
+    }
+}
+
+/* The next frame competes on its own: favours and bias do not fit the node bounds. */
+static void take_next(query_ctx *c, scan_state *st)
+{
+    if (c->next >= 0 && accepted(c, c->next)) {
+        const mm_database *db = c->db;
+        float base, cost = frame_cost(c, c->next, db->features + (size_t)c->next * db->dims_padded, &base);
+        take(st, c->next, cost, base);
+    }
+}
+
+/* The tie-rule winner among ties (lowest index within the limit), or frame -1. */
+static mm_search_result winner_of(const mm_search_result *ties, int n, float limit)
+{
+    mm_search_result w = {-1, INFINITY, INFINITY};
+    for (int i = 0; i < n; ++i)
+        if (ties[i].cost <= limit && (w.frame < 0 || ties[i].frame < w.frame)) w = ties[i];
+    return w;
+}
+
+/* The fallback when the ties did not fit: the lowest index at or under limit in units [u0, u1). */
+static mm_search_result first_under(query_ctx *c, int u0, int u1, float limit, int with_next)
+{
+    scan_state st;
+    state_init(&st, NULL, 0);
+    st.find_first = 1;
+    st.first_limit = limit;
+    if (with_next) take_next(c, &st);
+    scan_units(c, u0, u1, &st);
+    return st.first;
+}
+
+/* Puts w first in list (count entries), keeping the others in order. */
+static void put_first(mm_search_result *list, int count, mm_search_result w)
+{
+    if (w.frame < 0 || count == 0 || list[0].frame == w.frame) return;
+    int at = 0;
+    while (at < count && list[at].frame != w.frame) ++at;
+    if (at == count) at = count - 1; /* not among the k: it replaces the last */
+    for (; at > 0; --at) list[at] = list[at - 1];
+    list[0] = w;
+}
+
+static int search_one(query_ctx *c, mm_search_result *results, int k)
+{
+    scan_state st;
+    state_init(&st, results, k);
+    take_next(c, &st);
+    scan_units(c, 0, c->s->unit_count, &st);
+    if (st.count == 0) return 0;
+    float limit = tie_limit(results[0].cost);
+    mm_search_result w = k == 1 && !st.overflow ? winner_of(st.ties, st.tie_count, limit)
+                                                : first_under(c, 0, c->s->unit_count, limit, 1);
+    put_first(results, st.count, w);
+    return st.count;
+}
+
+/* ---- threads ---------------------------------------------------------------------------- */
+
+typedef struct parallel_job {
+    const query_ctx *c;
+    query_ctx worker_ctx[MM_SEARCH_MAX_THREADS];
+    scan_state state[MM_SEARCH_MAX_THREADS];
+    mm_search_result lowest[MM_SEARCH_MAX_THREADS];
+    mm_search_result first[MM_SEARCH_MAX_THREADS];
+    float limit;
+    int pass;
+} parallel_job;
+
+static void chunk(int n, int worker, int workers, int *a, int *b)
+{
+    *a = (int)((long)n * worker / workers);
+    *b = (int)((long)n * (worker + 1) / workers);
+}
+
+static void parallel_pass(void *ctx, int worker, int workers)
+{
+    parallel_job *job = (parallel_job *)ctx;
+    int a, b;
+    chunk(job->c->s->unit_count, worker, workers, &a, &b);
+    query_ctx *c = &job->worker_ctx[worker]; /* a private copy: the counters are written */
+    *c = *job->c;
+    if (job->pass == 1) {
+        state_init(&job->state[worker], &job->lowest[worker], 1);
+        scan_units(c, a, b, &job->state[worker]);
+    } else {
+        job->first[worker] = first_under(c, a, b, job->limit, 0);
+    }
+}
+
+/* One query, k = 1, over the pool: each thread takes a run of work units; the results are
+ * merged by the same rule, so they do not depend on the number of threads. */
+static int search_parallel(const mm_searcher *s, query_ctx *c, mm_search_result *result)
+{
+    parallel_job *job = s->job;
+    job->c = c;
+    job->pass = 1;
+    mm__pool_run(s->pool, parallel_pass, job);
+    int workers = mm__pool_size(s->pool), overflow = 0;
+    scan_state all;
+    mm_search_result lowest;
+    state_init(&all, &lowest, 1);
+    take_next(c, &all);
+    for (int t = 0; t < workers; ++t) {
+        const scan_state *st = &job->state[t];
+        for (int i = 0; i < st->tie_count; ++i)
+            take(&all, st->ties[i].frame, st->ties[i].cost, st->ties[i].base);
+        overflow |= st->overflow;
+        c->evaluated += job->worker_ctx[t].evaluated;
+        c->boxes += job->worker_ctx[t].boxes;
+    }
+    if (all.count == 0) return 0;
+    float limit = tie_limit(lowest.cost);
+    mm_search_result w = winner_of(all.ties, all.tie_count, limit);
+    if (overflow || all.overflow) {
+        job->limit = limit;
+        job->pass = 2;
+        mm__pool_run(s->pool, parallel_pass, job);
+        scan_state first;
+        state_init(&first, NULL, 0);
+        first.find_first = 1;
+        first.first_limit = limit;
+        take_next(c, &first);
+        for (int t = 0; t < workers; ++t)
+            if (job->first[t].frame >= 0)
+                take(&first, job->first[t].frame, job->first[t].cost, job->first[t].base);
+        w = first.first;
+    }
+    *result = w;
+    return w.frame >= 0;
+}
+
+int mm_searcher_search(const mm_searcher *s, const float *query, const mm_search_params *p,
+                       mm_search_method method, mm_search_result *results, int k)
+{
+    return mm_searcher_search_stats(s, query, p, method, results, k, NULL);
+}
+
+int mm_searcher_search_stats(const mm_searcher *s, const float *query, const mm_search_params *p,
+                             mm_search_method method, mm_search_result *results, int k,
+                             mm_search_stats *stats)
+{
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (!s || !s->db || !query || !p || !results || k < 1) return 0;
+    for (int i = 0; i < k; ++i) {
+        results[i].frame = -1;
+        results[i].cost = results[i].base = INFINITY;
+    }
+    query_ctx c;
+    prepare(&c, s, query, p, method);
+    int found = k > 1 || !s->pool ? search_one(&c, results, k) : search_parallel(s, &c, results);
+    if (stats) {
+        stats->frames_evaluated = c.evaluated;
+        stats->boxes_tested = c.boxes;
+    }
+    return found;
+}
+
+typedef struct batch_job {
+    const mm_searcher *s;
+    const float *queries;
+    const mm_search_params *params;
+    int params_stride, count;
+    mm_search_method method;
+    mm_search_result *results;
+} batch_job;
+
+static void batch_worker(void *ctx, int worker, int workers)
+{
+    batch_job *job = (batch_job *)ctx;
+    int a, b;
+    chunk(job->count, worker, workers, &a, &b);
+    const mm_database *db = job->s->db;
+    for (int i = a; i < b; ++i) {
+        query_ctx c;
+        prepare(&c, job->s, job->queries + (size_t)i * db->dims_padded,
+                job->params + (size_t)i * job->params_stride, job->method);
+        mm_search_result *r = &job->results[i];
+        r->frame = -1;
+        r->cost = r->base = INFINITY;
+        search_one(&c, r, 1);
+    }
+}
+
+void mm_searcher_batch(const mm_searcher *s, const float *queries, const mm_search_params *params,
+                       int params_stride, mm_search_method method, mm_search_result *results, int count)
+{
+    if (!s || !queries || !params || !results || count < 1) return;
+    batch_job job = {s, queries, params, params_stride ? 1 : 0, count, method, results};
+    mm__pool_run(s->pool, batch_worker, &job);
+}
+
+/* ---- building the tree ------------------------------------------------------------------ */
+
+typedef struct builder {
+    mm_searcher *s;
+    const mm_database *db;
+    int dims, node_count;
+    float w[MM_SEARCH_MAX_DIMS]; /* the database's default weights: splits follow what the cost weighs */
+} builder;
+
+/* Partially orders order[a..b) so the element of rank m (by feature d, then frame index) is at
+ * m, smaller before, larger after: a deterministic quickselect (middle pivot). */
+static float key(const builder *b, int f, int d) { return b->db->features[(size_t)f * b->dims + d]; }
+static int before(const builder *b, int f, int g, int d)
+{
+    float x = key(b, f, d), y = key(b, g, d);
+    return x < y || (x == y && f < g);
+}
+static void select_rank(const builder *b, int *order, int lo, int hi, int m, int d)
+{
+    while (hi - lo > 1) {
+        int pivot = order[lo + (hi - lo) / 2], i = lo, j = hi - 1;
+        while (i <= j) {
+            while (before(b, order[i], pivot, d)) ++i;
+            while (before(b, pivot, order[j], d)) --j;
+            if (i <= j) {
+                int t = order[i];
+                order[i] = order[j];
+                order[j] = t;
+                ++i;
+                --j;
+            }
+        }
+        if (m <= j)
+            hi = j + 1;
+        else if (m >= i)
+            lo = i;
+        else
+            return;
+    }
+}
+
+static int build_node(builder *b, int begin, int end)
+{
+    mm_searcher *s = b->s;
+    const mm_database *db = b->db;
+    int n = b->node_count++, dims = b->dims;
+    mm_search_node *node = &s->nodes[n];
+    node->begin = begin;
+    node->end = end;
+    node->left = node->right = -1;
+    node->min_frame = db->frame_count;
+    node->tags_all = ~(uint64_t)0;
+    node->loop = 2;
+    float *lo = s->node_min + (size_t)n * dims, *hi = s->node_max + (size_t)n * dims;
+    for (int d = 0; d < dims; ++d) {
+        lo[d] = INFINITY;
+        hi[d] = -INFINITY;
+    }
+    for (int i = begin; i < end; ++i) {
+        int f = s->order[i];
+        const float *x = db->features + (size_t)f * dims;
+        for (int d = 0; d < dims; ++d) {
+            lo[d] = x[d] < lo[d] ? x[d] : lo[d];
+            hi[d] = x[d] > hi[d] ? x[d] : hi[d];
+        }
+        const mm_db_clip *clip = &db->clips[db->frame_clip[f]];
+        node->types |= (uint8_t)(1u << clip->type);
+        node->tags_any |= db->frame_tags[f];
+        node->tags_all &= db->frame_tags[f];
+        node->loop = (uint8_t)(clip->loop ? (node->loop | 1) : (node->loop & 1));
+        if (f < node->min_frame) node->min_frame = f;
+    }
+    if (end - begin <= MM_SEARCH_LEAF) return n;
+    int split = 0;
+    float widest = -1.0f;
+    for (int d = 0; d < dims; ++d) {
+        float extent = b->w[d] * (hi[d] - lo[d]) * (hi[d] - lo[d]);
+        if (extent > widest) {
+            widest = extent;
+            split = d;
+        }
+    }
+    int mid = begin + (end - begin) / 2;
+    select_rank(b, s->order, begin, end, mid, split);
+    int left = build_node(b, begin, mid);
+    int right = build_node(b, mid, end);
+    s->nodes[n].left = left;
+    s->nodes[n].right = right;
+    return n;
+}
+
+/* ---- the searcher ----------------------------------------------------------------------- */
+
+mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searcher_desc *desc, mm_error *err)
+{
+    if (!s) return MM_ERR_INVALID_ARGUMENT;
+    memset(s, 0, sizeof *s);
+    if (!db || !db->features || db->frame_count < 1)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
+    if (db->dims_padded > MM_SEARCH_MAX_DIMS || db->dims_padded % LANES)
+        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "the database has %d feature dimensions (at most %d)",
+                            db->dims_padded, MM_SEARCH_MAX_DIMS);
+    if (desc && desc->allocator) s->allocator = *desc->allocator;
+    const mm_allocator *a = &s->allocator;
+    s->db = db;
+    size_t frames = (size_t)db->frame_count, dims = (size_t)db->dims_padded;
+    size_t max_nodes = 2 * (frames / (MM_SEARCH_LEAF / 2) + 1);
+    s->order = (int32_t *)mm_alloc_array(a, frames, sizeof(int32_t));
+    s->order_clip = (int32_t *)mm_alloc_array(a, frames, sizeof(int32_t));
+    s->order_tags = (uint64_t *)mm_alloc_array(a, frames, sizeof(uint64_t));
+    s->features = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
+    s->nodes = (mm_search_node *)mm_alloc_array(a, max_nodes, sizeof(mm_search_node));
+    s->node_min = (float *)mm_alloc_array(a, max_nodes * dims, sizeof(float));
+    s->node_max = (float *)mm_alloc_array(a, max_nodes * dims, sizeof(float));
+    s->facing = (float *)mm_alloc_array(a, 2 * frames, sizeof(float));
+    s->job = mm_alloc_array(a, 1, sizeof(parallel_job));
+    if (!s->order || !s->order_clip || !s->order_tags || !s->features || !s->nodes || !s->node_min ||
+        !s->node_max || !s->facing || !s->job) {
+        mm_searcher_free(s);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    for (size_t f = 0; f < frames; ++f) s->order[f] = (int32_t)f;
+    builder *b = (builder *)mm_alloc_array(a, 1, sizeof(builder));
+    if (!b) {
+        mm_searcher_free(s);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    b->s = s;
+    b->db = db;
+    b->dims = (int)dims;
+    mm_search_params defaults;
+    mm_search_params_defaults(db, &defaults);
+    dimension_weights(db, &defaults, b->w);
+    build_node(b, 0, (int)frames);
+    s->node_count = b->node_count;
+    mm_free(a, b);
+    for (size_t i = 0; i < frames; ++i) {
+        memcpy(s->features + i * dims, db->features + (size_t)s->order[i] * dims, dims * sizeof(float));
+        s->order_clip[i] = db->frame_clip[s->order[i]];
+        s->order_tags[i] = db->frame_tags[s->order[i]];
+    }
+    /* Work units: the nodes MM_SEARCH_UNIT_DEPTH levels down (or leaves above), left to right. */
+    int stack[64], depth[64], top = 0;
+    stack[top] = 0;
+    depth[top++] = 0;
+    while (top > 0) {
+        --top;
+        int n = stack[top], d = depth[top];
+        if (d == MM_SEARCH_UNIT_DEPTH || s->nodes[n].left < 0) {
+            s->units[s->unit_count++] = n;
+            continue;
+        }
+        stack[top] = s->nodes[n].right;
+        depth[top++] = d + 1;
+        stack[top] = s->nodes[n].left;
+        depth[top++] = d + 1;
+    }
+    /* MM_SEARCH_FACING: the yaw of each frame's furthest future trajectory direction. */
+    s->facing_group = -1;
+    for (int g = 0; g < db->group_count; ++g)
+        if (db->groups[g].kind == MM_FEATURE_TRAJ_DIRECTION &&
+            (s->facing_group < 0 || db->groups[g].time > db->groups[s->facing_group].time))
+            s->facing_group = g;
+    for (size_t f = 0; f < frames && s->facing_group >= 0; ++f) {
+        int o = db->groups[s->facing_group].offset;
+        float x = mm_database_feature_raw(db, (int)f, o), z = mm_database_feature_raw(db, (int)f, o + 1);
+        float len = sqrtf(x * x + z * z);
+        s->facing[2 * f] = len > 1e-6f ? x / len : 0.0f;
+        s->facing[2 * f + 1] = len > 1e-6f ? z / len : 1.0f;
+    }
+    s->memory = frames * (2 * sizeof(int32_t) + sizeof(uint64_t) + dims * sizeof(float) + 2 * sizeof(float)) +
+                (size_t)s->node_count * (sizeof(mm_search_node) + 2 * dims * sizeof(float));
+    int threads = desc && desc->threads > 1 ? desc->threads : 1;
+    if (threads > MM_SEARCH_MAX_THREADS) threads = MM_SEARCH_MAX_THREADS;
+    if (threads > 1) s->pool = mm__pool_create(threads, a); /* NULL: the calling thread alone */
+    s->threads = mm__pool_size(s->pool);
+    return MM_OK;
+}
+
+void mm_searcher_free(mm_searcher *s)
+{
+    if (!s) return;
+    mm__pool_destroy(s->pool);
+    const mm_allocator *a = &s->allocator;
+    mm_free(a, s->order);
+    mm_free(a, s->order_clip);
+    mm_free(a, s->order_tags);
+    mm_free(a, s->features);
+    mm_free(a, s->nodes);
+    mm_free(a, s->node_min);
+    mm_free(a, s->node_max);
+    mm_free(a, s->facing);
+    mm_free(a, s->job);
+    memset(s, 0, sizeof *s);
+}

@@ -1,0 +1,416 @@
+/* Search: the exact method and threads against brute force on a real database, and every filter
+ * and bias on small crafted databases. */
+#include <math.h>
+
+#include <mm/config_json.h>
+#include <mm/search.h>
+#include <mm/synth.h>
+
+#include "test_util.h"
+
+/* ---- a real database: LAFAN1 when MM_DATA_DIR is set, the built-in set otherwise ---------- */
+
+static mm_database real_db;
+static const char *real_name;
+
+static int build_real(void)
+{
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    mm_clip *sources = NULL;
+    int lafan = getenv("MM_DATA_DIR") != NULL;
+    real_name = lafan ? "LAFAN1" : "built-in set";
+    const char *config =
+        lafan ? MM_TEST_DATA "/../../configs/lafan1.json" : MM_TEST_DATA "/../../configs/synth.json";
+    if (mm_config_load_json(config, &cfg, NULL, &err) != MM_OK) return -1;
+    if (lafan) {
+        if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) return -1;
+    } else {
+        mm_synth_desc sd;
+        memset(&sd, 0, sizeof sd);
+        mm_synth_set set;
+        if (mm_synth_generate(&sd, &set, &err) != MM_OK) return -1;
+        sources = calloc((size_t)cfg.clip_count, sizeof(mm_clip));
+        for (int i = 0; i < cfg.clip_count; ++i)
+            for (int k = 0; k < set.clip_count; ++k)
+                if (strcmp(set.clips[k].name, cfg.clips[i].name) == 0)
+                    mm_clip_copy(&sources[i], &set.clips[k].clip, NULL);
+        mm_synth_set_free(&set);
+    }
+    mm_result r = mm_database_build(&cfg, sources, NULL, &real_db, &err);
+    if (r != MM_OK) print_error("%s\n", err.message);
+    mm_config_free_sources(&cfg, sources);
+    mm_config_free(&cfg);
+    return r == MM_OK ? 0 : -1;
+}
+
+static double normal(test_rng *r)
+{
+    double u = test_rng_uniform(r, 1e-12, 1), v = test_rng_uniform(r, 0, 1);
+    return sqrt(-2.0 * log(u)) * cos(2.0 * MM_PI * v);
+}
+
+/* Queries of the three kinds, with parameters that vary everything the search reads. */
+static void make_case(const mm_database *db, test_rng *r, int i, float *q, mm_search_params *p)
+{
+    int a = (int)test_rng_uniform(r, 0, db->frame_count), b = (int)test_rng_uniform(r, 0, db->frame_count);
+    switch (i % 3) {
+    case 0:
+        mm_search_query_from_frames(db, a, b, q);
+        break;
+    case 1:
+        mm_search_query_from_frames(db, a, a, q);
+        for (int d = 0; d < db->dims; ++d) q[d] += (float)(0.1 * normal(r));
+        break;
+    default:
+        memset(q, 0, sizeof(float) * (size_t)db->dims_padded);
+        for (int d = 0; d < db->dims; ++d) q[d] = (float)normal(r);
+    }
+    mm_search_params_defaults(db, p);
+    p->current_frame = i % 5 == 4 ? -1 : a;
+    p->pose_trajectory_ratio = (float)test_rng_uniform(r, 0, 1);
+    p->next_pose_favour = (float)test_rng_uniform(r, 0.3, 1.2);
+    p->loop_anim_favour = (float)test_rng_uniform(r, 0.5, 1.2);
+    p->continuing_bias = i % 7 == 0 ? (float)test_rng_uniform(r, 0, 2) : 0.0f;
+    p->exclude_window = i % 4 == 1 ? (int)test_rng_uniform(r, 0, 30) : 0;
+    p->end_margin = i % 6 == 2 ? (int)test_rng_uniform(r, 0, 20) : 0;
+    p->type = (mm_search_type)(i % 9 == 3   ? MM_SEARCH_IDLE
+                               : i % 9 == 5 ? MM_SEARCH_LOCOMOTION
+                                            : MM_SEARCH_ANY);
+    if (db->tag_count > 0 && i % 11 == 7) p->excluded_tags = 1;
+    p->joint_position_weights[0] = (float)test_rng_uniform(r, 0, 2);
+    p->angle_multiplier = (float)test_rng_uniform(r, 0, 3);
+}
+
+static void test_exact_equals_brute(void **state)
+{
+    (void)state;
+    const mm_database *db = &real_db;
+    mm_searcher one, two, three;
+    mm_searcher_desc d2 = {2, NULL}, d3 = {3, NULL};
+    assert_int_equal(mm_searcher_init(&one, db, NULL, NULL), MM_OK);
+    assert_int_equal(mm_searcher_init(&two, db, &d2, NULL), MM_OK);
+    assert_int_equal(mm_searcher_init(&three, db, &d3, NULL), MM_OK);
+    test_rng r = {0x1234567};
+    int n = getenv("MM_DATA_DIR") ? 1500 : 3000;
+    float q[MM_SEARCH_MAX_DIMS];
+    int found = 0;
+    for (int i = 0; i < n; ++i) {
+        mm_search_params p;
+        make_case(db, &r, i, q, &p);
+        mm_search_result brute, fast, fast2, fast3, brute2;
+        mm_searcher_search(&one, q, &p, MM_SEARCH_BRUTE, &brute, 1);
+        mm_searcher_search(&one, q, &p, MM_SEARCH_FAST, &fast, 1);
+        mm_searcher_search(&two, q, &p, MM_SEARCH_FAST, &fast2, 1);
+        mm_searcher_search(&three, q, &p, MM_SEARCH_FAST, &fast3, 1);
+        mm_searcher_search(&two, q, &p, MM_SEARCH_BRUTE, &brute2, 1);
+        if (fast.frame != brute.frame)
+            print_error("%s query %d: brute %d (%.9g), fast %d (%.9g)\n", real_name, i, brute.frame,
+                        brute.cost, fast.frame, fast.cost);
+        assert_int_equal(fast.frame, brute.frame);
+        assert_true(fast.cost == brute.cost);
+        assert_int_equal(fast2.frame, brute.frame);
+        assert_int_equal(fast3.frame, brute.frame);
+        assert_int_equal(brute2.frame, brute.frame);
+        if (brute.frame >= 0) {
+            ++found;
+            /* the winner passes the filters */
+            assert_int_not_equal(brute.frame, p.current_frame);
+            const mm_db_clip *c = &db->clips[db->frame_clip[brute.frame]];
+            if (p.type == MM_SEARCH_IDLE) assert_int_equal(c->type, MM_CLIP_IDLE);
+            if (p.type == MM_SEARCH_LOCOMOTION) assert_int_equal(c->type, MM_CLIP_LOCOMOTION);
+            assert_false(db->frame_tags[brute.frame] & p.excluded_tags);
+            /* the terms add up to the base cost */
+            mm_search_terms t;
+            mm_search_cost_terms(db, q, &p, brute.frame, &t);
+            double sum = (double)t.pose_position + t.pose_velocity + t.root_velocity + t.traj_position +
+                         t.traj_direction;
+            assert_near(sum, brute.base, 1e-4 * (1 + brute.base));
+        }
+        /* top 5 agrees too */
+        mm_search_result tb[5], tf[5];
+        int nb = mm_searcher_search(&one, q, &p, MM_SEARCH_BRUTE, tb, 5);
+        int nf = mm_searcher_search(&one, q, &p, MM_SEARCH_FAST, tf, 5);
+        assert_int_equal(nb, nf);
+        for (int k = 0; k < nb; ++k) assert_int_equal(tb[k].frame, tf[k].frame);
+        assert_int_equal(tb[0].frame, brute.frame);
+    }
+    assert_true(found > n / 2);
+    print_message("%s: %d frames, %d queries: fast (1, 2 and 3 threads) = brute force\n", real_name,
+                  db->frame_count, n);
+
+    /* The batch call gives the same answers on 1 and 2 threads. */
+    int m = 300;
+    float *qs = malloc(sizeof(float) * (size_t)m * db->dims_padded);
+    mm_search_params *ps = malloc(sizeof(mm_search_params) * (size_t)m);
+    mm_search_result *r1 = malloc(sizeof(mm_search_result) * (size_t)m),
+                     *r2 = malloc(sizeof(mm_search_result) * (size_t)m);
+    for (int i = 0; i < m; ++i) make_case(db, &r, i, qs + (size_t)i * db->dims_padded, &ps[i]);
+    mm_searcher_batch(&one, qs, ps, 1, MM_SEARCH_FAST, r1, m);
+    mm_searcher_batch(&two, qs, ps, 1, MM_SEARCH_FAST, r2, m);
+    for (int i = 0; i < m; ++i) {
+        mm_search_result single;
+        mm_searcher_search(&one, qs + (size_t)i * db->dims_padded, &ps[i], MM_SEARCH_BRUTE, &single, 1);
+        assert_int_equal(r1[i].frame, single.frame);
+        assert_int_equal(r2[i].frame, single.frame);
+    }
+    free(qs);
+    free(ps);
+    free(r1);
+    free(r2);
+    mm_searcher_free(&one);
+    mm_searcher_free(&two);
+    mm_searcher_free(&three);
+}
+
+/* ---- crafted databases -------------------------------------------------------------------- */
+
+static void make_skeleton(mm_skeleton *s)
+{
+    assert_int_equal(mm_skeleton_init(s, 8, NULL), MM_OK);
+    const char *names[8] = {"Hips",    "Spine2",     "LeftUpLeg", "LeftFoot",
+                            "LeftToe", "RightUpLeg", "RightFoot", "RightToe"};
+    const int parents[8] = {-1, 0, 0, 2, 3, 0, 5, 6};
+    const float off[8][3] = {{0, 1, 0},          {0, 0.3f, 0},  {0.1f, 0, 0},  {0, -0.9f, 0},
+                             {0, -0.05f, 0.15f}, {-0.1f, 0, 0}, {0, -0.9f, 0}, {0, -0.05f, 0.15f}};
+    for (int j = 0; j < 8; ++j) {
+        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
+        s->joints[j].parent = parents[j];
+        s->joints[j].offset = mm_vec3_make(off[j][0], off[j][1], off[j][2]);
+    }
+    s->joints[0].flags = MM_JOINT_TRANSLATES;
+}
+
+/* Walks straight at speed while the feet swing with the given phase and stride. */
+static void make_walk(mm_clip *clip, int frames, double speed, double stride)
+{
+    mm_skeleton s;
+    make_skeleton(&s);
+    assert_int_equal(mm_clip_init(clip, &s, frames, 60.0f, NULL), MM_OK);
+    mm_skeleton_free(&s);
+    for (int f = 0; f < frames; ++f) {
+        double t = f / 60.0;
+        mm_clip_positions(clip, f)[0] = mm_vec3_make(0, 1, (float)(speed * t));
+        mm_clip_rotations(clip, f)[2] =
+            mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), (float)(stride * sin(5 * t)));
+        mm_clip_rotations(clip, f)[5] =
+            mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), (float)(-stride * sin(5 * t)));
+    }
+}
+
+/* Four clips: 0 slow walk (loop), 1 the same walk again (not a loop: duplicate frames), 2 fast
+ * walk tagged Fast, 3 standing (idle). */
+static mm_database crafted;
+static mm_searcher crafted_s;
+
+static int build_crafted(void)
+{
+    mm_clip clips[4];
+    make_walk(&clips[0], 120, 1.0, 0.4);
+    make_walk(&clips[1], 120, 1.0, 0.4);
+    make_walk(&clips[2], 120, 3.0, 0.8);
+    make_walk(&clips[3], 120, 0.0, 0.0);
+    mm_config cfg;
+    mm_config_defaults(&cfg);
+    cfg.scale = 1;
+    cfg.root_smoothing = 0;
+    cfg.left_hand[0] = cfg.right_hand[0] = cfg.head[0] = 0;
+    cfg.tag_count = 1;
+    snprintf(cfg.tag_names[0], MM_TAG_NAME_MAX, "Fast");
+    cfg.clip_count = 4;
+    cfg.clips = calloc(4, sizeof(mm_config_clip));
+    for (int i = 0; i < 4; ++i) {
+        snprintf(cfg.clips[i].name, MM_NAME_MAX, "c%d", i);
+        snprintf(cfg.clips[i].file, MM_PATH_MAX, "c%d.bvh", i);
+    }
+    cfg.clips[0].loop = true;
+    cfg.clips[3].type = MM_CLIP_IDLE;
+    cfg.clips[2].tag_range_count = 1;
+    cfg.clips[2].tag_ranges = calloc(1, sizeof(mm_config_tag_range));
+    cfg.clips[2].tag_ranges[0] = (mm_config_tag_range){0, 0.0f, 10.0f};
+    mm_result r = mm_database_build(&cfg, clips, NULL, &crafted, NULL);
+    for (int i = 0; i < 4; ++i) mm_clip_free(&clips[i]);
+    mm_config_free(&cfg);
+    if (r != MM_OK) return -1;
+    return mm_searcher_init(&crafted_s, &crafted, NULL, NULL) == MM_OK ? 0 : -1;
+}
+
+static int best_of(const float *q, const mm_search_params *p)
+{
+    mm_search_result b, f;
+    mm_searcher_search(&crafted_s, q, p, MM_SEARCH_BRUTE, &b, 1);
+    mm_searcher_search(&crafted_s, q, p, MM_SEARCH_FAST, &f, 1);
+    assert_int_equal(b.frame, f.frame);
+    return b.frame;
+}
+
+static int clip_of(int f) { return f < 0 ? -1 : crafted.frame_clip[f]; }
+
+static void test_filters(void **state)
+{
+    (void)state;
+    const mm_database *db = &crafted;
+    float q[MM_SEARCH_MAX_DIMS];
+    mm_search_params p;
+    mm_search_params_defaults(db, &p);
+    p.next_pose_favour = 1.0f;
+    int slow = db->clips[0].first_frame + 50, fast = db->clips[2].first_frame + 50;
+
+    /* An exact copy of a frame finds it (cost 0), the duplicate in clip 1 loses on index. */
+    mm_search_query_from_frames(db, db->clips[1].first_frame + 50, db->clips[1].first_frame + 50, q);
+    assert_int_equal(best_of(q, &p), slow);
+    /* The current frame is never a candidate; the other copy wins. */
+    p.current_frame = slow;
+    assert_int_equal(best_of(q, &p), db->clips[1].first_frame + 50);
+    /* exclude_window only applies in the current frame's clip */
+    p.exclude_window = 10;
+    assert_int_equal(best_of(q, &p), db->clips[1].first_frame + 50);
+    p.current_frame = -1;
+    p.exclude_window = 0;
+
+    /* Type: idle only. */
+    mm_search_query_from_frames(db, fast, fast, q);
+    assert_int_equal(best_of(q, &p), fast);
+    p.type = MM_SEARCH_IDLE;
+    assert_int_equal(clip_of(best_of(q, &p)), 3);
+    p.type = MM_SEARCH_LOCOMOTION;
+    assert_int_not_equal(clip_of(best_of(q, &p)), 3);
+    p.type = MM_SEARCH_ANY;
+    /* Tags: excluding Fast moves away from clip 2; requiring it keeps to clip 2. */
+    p.excluded_tags = mm_search_tag_mask(db, "Fast");
+    assert_int_equal(p.excluded_tags, 1);
+    assert_int_not_equal(clip_of(best_of(q, &p)), 2);
+    p.excluded_tags = 0;
+    mm_search_query_from_frames(db, slow, slow, q);
+    p.required_tags = 1;
+    assert_int_equal(clip_of(best_of(q, &p)), 2);
+    p.required_tags = 0;
+    /* Requiring a tag that no idle frame has, with type idle: nothing. */
+    p.required_tags = 1;
+    p.type = MM_SEARCH_IDLE;
+    mm_search_result none;
+    assert_int_equal(mm_searcher_search(&crafted_s, q, &p, MM_SEARCH_FAST, &none, 1), 0);
+    assert_int_equal(none.frame, -1);
+    p.required_tags = 0;
+    p.type = MM_SEARCH_ANY;
+
+    /* end_margin: the last frame of a non-loop clip, searched for, is out with a margin. */
+    int last = db->clips[1].first_frame + db->clips[1].frame_count - 1;
+    mm_search_query_from_frames(db, last, last, q);
+    assert_int_equal(best_of(q, &p), last);
+    p.end_margin = 5;
+    int f = best_of(q, &p);
+    assert_true(f != last && (clip_of(f) != 1 || f < last - 4));
+    p.end_margin = 0;
+}
+
+static void test_favours_and_ratio(void **state)
+{
+    (void)state;
+    const mm_database *db = &crafted;
+    float q[MM_SEARCH_MAX_DIMS], a[MM_SEARCH_MAX_DIMS], b[MM_SEARCH_MAX_DIMS];
+    mm_search_params p;
+    mm_search_params_defaults(db, &p);
+    p.next_pose_favour = 1.0f;
+    int current = db->clips[2].first_frame + 30, next = current + 1;
+    int other = db->clips[1].first_frame + 60; /* far from the fast walk */
+    mm_search_query_from_frames(db, next, next, a);
+    mm_search_query_from_frames(db, other, other, b);
+    for (int d = 0; d < db->dims_padded; ++d)
+        q[d] = 0.45f * a[d] + 0.55f * b[d]; /* a little closer to other */
+    p.current_frame = current;
+    int plain = best_of(q, &p);
+    assert_int_not_equal(plain, next);
+    /* NextPoseFavour: the next frame's cost is multiplied by it; just under the ratio of the best
+     * cost to the next frame's, the next frame wins; just over, it does not. */
+    mm_search_result best_plain;
+    mm_searcher_search(&crafted_s, q, &p, MM_SEARCH_BRUTE, &best_plain, 1);
+    mm_search_terms tn;
+    mm_search_cost_terms(db, q, &p, next, &tn);
+    float base_next =
+        tn.pose_position + tn.pose_velocity + tn.root_velocity + tn.traj_position + tn.traj_direction;
+    assert_true(base_next > best_plain.cost);
+    p.next_pose_favour = 0.99f * best_plain.cost / base_next;
+    assert_int_equal(best_of(q, &p), next);
+    p.next_pose_favour = 1.01f * best_plain.cost / base_next;
+    assert_int_equal(best_of(q, &p), plain);
+    p.next_pose_favour = 1.0f;
+    /* The continuing bias does the same by subtraction. */
+    mm_search_result r;
+    mm_searcher_search(&crafted_s, q, &p, MM_SEARCH_BRUTE, &r, 1);
+    p.continuing_bias = r.cost; /* the next frame's base is above r.cost, but not by this much */
+    mm_search_terms t;
+    mm_search_cost_terms(db, q, &p, next, &t);
+    float next_base =
+        t.pose_position + t.pose_velocity + t.root_velocity + t.traj_position + t.traj_direction;
+    p.continuing_bias = next_base - r.cost * 0.5f;
+    assert_int_equal(best_of(q, &p), next);
+    p.continuing_bias = 0.0f;
+
+    /* LoopAnimFavour: the loop clip 0 against its non-loop duplicate in clip 1 (equal costs: the
+     * lower index, in clip 0, wins anyway); a favour above 1 penalises loops and clip 1 wins. */
+    p.current_frame = -1;
+    mm_search_query_from_frames(db, db->clips[1].first_frame + 40, db->clips[1].first_frame + 40, q);
+    for (int d = 0; d < db->dims; ++d) q[d] += 0.05f;
+    assert_int_equal(clip_of(best_of(q, &p)), 0);
+    p.loop_anim_favour = 1.5f;
+    assert_int_equal(clip_of(best_of(q, &p)), 1);
+    p.loop_anim_favour = 1.0f;
+
+    /* PoseTrajectoryRatio: 1 matches the trajectory only, 0 the pose only. */
+    int pose_frame = db->clips[3].first_frame + 10, traj_frame = db->clips[2].first_frame + 70;
+    mm_search_query_from_frames(db, pose_frame, traj_frame, q);
+    p.pose_trajectory_ratio = 1.0f;
+    int f = best_of(q, &p);
+    mm_search_cost_terms(db, q, &p, f, &t);
+    assert_near(t.traj_position + t.traj_direction, 0, 1e-6);
+    assert_near(t.pose_position + t.pose_velocity, 0, 0); /* weighted 0 */
+    p.pose_trajectory_ratio = 0.0f;
+    f = best_of(q, &p);
+    assert_int_equal(clip_of(f), 3);
+    mm_search_cost_terms(db, q, &p, f, &t);
+    assert_near(t.pose_position + t.pose_velocity + t.root_velocity, 0, 1e-6);
+}
+
+/* A query built from a PoseData view equals the one built from the frame itself. */
+static void test_query_from_pose(void **state)
+{
+    (void)state;
+    const mm_database *db = &crafted;
+    float a[MM_SEARCH_MAX_DIMS], b[MM_SEARCH_MAX_DIMS];
+    for (int f = 0; f < db->frame_count; f += 37) {
+        mm_pose_data pd;
+        mm_database_pose(db, f, &pd);
+        mm_search_query_from_pose(db, &pd, a);
+        mm_search_query_from_frames(db, f, f, b);
+        for (int d = 0; d < db->dims_padded; ++d) assert_near(a[d], b[d], 1e-4);
+    }
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    return build_real() == 0 && build_crafted() == 0 ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    mm_searcher_free(&crafted_s);
+    mm_database_free(&crafted);
+    mm_database_free(&real_db);
+    return 0;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_exact_equals_brute),
+        cmocka_unit_test(test_filters),
+        cmocka_unit_test(test_favours_and_ratio),
+        cmocka_unit_test(test_query_from_pose),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
