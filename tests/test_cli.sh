@@ -134,7 +134,28 @@ expect_exit 0 "$mm" db info "$tmp/synth.mmdb" --json
 expect_grep '"clips": 43' "$tmp/out"
 expect_grep '"tags": \["DoNotUse", "Jump"\]' "$tmp/out"
 expect_exit 1 "$mm" db build "$data/../../configs/synth.json" -o "$tmp/nosynth.mmdb"
+
 expect_grep "idle.bvh" "$tmp/err"
+
+# db search: the JSON contract, methods agree, filters, errors
+expect_exit 0 "$mm" db search "$tmp/synth.mmdb" --frame 500 --traj-from 3000 --top 3 --json
+expect_grep '^{"query": {"frame": 500, "traj_from": 3000, "method": "fast"}, "results": \[{"frame": ' "$tmp/out"
+expect_grep '"clip": "[a-z_0-9.]*", "clip_index": [0-9]*, "time": ' "$tmp/out"
+expect_grep '"terms": {"pose_position": [-0-9.e]*, "pose_velocity": [-0-9.e]*, "root_velocity": [-0-9.e]*, "traj_position": [-0-9.e]*, "traj_direction": [-0-9.e]*}' "$tmp/out"
+if [ "$(grep -o '"frame": ' "$tmp/out" | wc -l)" -eq 4 ]; then ok; else bad "--top 3 did not give 3 results"; fi
+cp "$tmp/out" "$tmp/fast.json"
+expect_exit 0 "$mm" db search "$tmp/synth.mmdb" --frame 500 --traj-from 3000 --top 3 --json --method brute
+sed 's/"method": "brute"/"method": "fast"/' "$tmp/out" >"$tmp/brute.json"
+if cmp -s "$tmp/fast.json" "$tmp/brute.json"; then ok; else bad "fast and brute give different results"; fi
+expect_exit 0 "$mm" db search "$tmp/synth.mmdb" --frame 500 --require Jump --type any
+expect_grep "jump" "$tmp/out"
+expect_exit 0 "$mm" db search "$tmp/synth.mmdb" --frame 500 --no-bias --exclude Jump
+expect_exit 1 "$mm" db search "$tmp/synth.mmdb" --frame 500 --require NoSuchTag
+expect_grep "no tag 'NoSuchTag'" "$tmp/err"
+expect_exit 1 "$mm" db search "$tmp/synth.mmdb" --frame 99999
+expect_grep "out of range" "$tmp/err"
+expect_exit 2 "$mm" db search "$tmp/synth.mmdb" --frame 1 --method slow
+expect_exit 2 "$mm" db search "$tmp/synth.mmdb"
 
 echo "test_cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

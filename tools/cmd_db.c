@@ -8,6 +8,7 @@
 
 #include <mm/config_json.h>
 #include <mm/database.h>
+#include <mm/search.h>
 
 #include "cli.h"
 #include "commands.h"
@@ -183,11 +184,161 @@ static int cmd_dump(int argc, char **argv)
     return 0;
 }
 
+static int cmd_search(int argc, char **argv)
+{
+    const char *path = NULL;
+    long frame = -1, traj = -1, top = 1;
+    int json = 0, no_bias = 0;
+    mm_search_method method = MM_SEARCH_FAST;
+    const char *type = NULL;
+    const char *require[64], *exclude[64];
+    int nreq = 0, nexc = 0;
+    const char *usage =
+        "usage: mm db search DB.mmdb --frame I [--traj-from J] [--method brute|fast|facing] [--top K] "
+        "[--type idle|locomotion|any] [--require TAG]... [--exclude TAG]... [--no-bias] [--json]";
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(a, "--frame") == 0 || strcmp(a, "--traj-from") == 0 || strcmp(a, "--top") == 0) {
+            long x;
+            if (!v || !cli_parse_int(v, strcmp(a, "--top") == 0 ? 1 : 0,
+                                     strcmp(a, "--top") == 0 ? 1000 : 0x7fffffff, &x))
+                return cli_usage_error("db search", "%s needs %s", a,
+                                       strcmp(a, "--top") == 0 ? "a number from 1 to 1000"
+                                                               : "a frame number >= 0");
+            if (strcmp(a, "--frame") == 0)
+                frame = x;
+            else if (strcmp(a, "--traj-from") == 0)
+                traj = x;
+            else
+                top = x;
+            ++i;
+        } else if (strcmp(a, "--method") == 0) {
+            if (!v) return cli_usage_error("db search", "--method needs brute, fast or facing");
+            if (strcmp(v, "brute") == 0)
+                method = MM_SEARCH_BRUTE;
+            else if (strcmp(v, "fast") == 0)
+                method = MM_SEARCH_FAST;
+            else if (strcmp(v, "facing") == 0)
+                method = MM_SEARCH_FACING;
+            else
+                return cli_usage_error("db search", "--method needs brute, fast or facing, not '%s'", v);
+            ++i;
+        } else if (strcmp(a, "--type") == 0) {
+            if (!v || (strcmp(v, "idle") && strcmp(v, "locomotion") && strcmp(v, "any")))
+                return cli_usage_error("db search", "--type needs idle, locomotion or any");
+            type = v;
+            ++i;
+        } else if (strcmp(a, "--require") == 0 || strcmp(a, "--exclude") == 0) {
+            if (!v) return cli_usage_error("db search", "%s needs a tag name", a);
+            if (strcmp(a, "--require") == 0 && nreq < 64)
+                require[nreq++] = v;
+            else if (nexc < 64)
+                exclude[nexc++] = v;
+            ++i;
+        } else if (strcmp(a, "--no-bias") == 0) {
+            no_bias = 1;
+        } else if (strcmp(a, "--json") == 0) {
+            json = 1;
+        } else if (a[0] == '-' && a[1]) {
+            return cli_usage_error("db search", "unknown option '%s'", a);
+        } else if (!path) {
+            path = a;
+        } else {
+            return cli_usage_error("db search", "unexpected argument '%s'", a);
+        }
+    }
+    if (!path || frame < 0) return cli_usage_error("db search", "%s", usage);
+    mm_database db;
+    if (load(path, &db)) return 1;
+    int status = 0;
+    mm_searcher s;
+    mm_search_result *results = NULL;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    if (frame >= db.frame_count || traj >= db.frame_count) {
+        fprintf(stderr, "mm: %s: frame %ld is out of range (the database has %d frames, 0 to %d)\n", path,
+                frame >= db.frame_count ? frame : traj, db.frame_count, db.frame_count - 1);
+        mm_database_free(&db);
+        return 1;
+    }
+    mm_search_params p;
+    mm_search_params_defaults(&db, &p);
+    p.current_frame = (int)frame;
+    const mm_db_clip *current = &db.clips[db.frame_clip[frame]];
+    p.type = !type ? (current->type == MM_CLIP_IDLE ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION)
+             : strcmp(type, "idle") == 0       ? MM_SEARCH_IDLE
+             : strcmp(type, "locomotion") == 0 ? MM_SEARCH_LOCOMOTION
+                                               : MM_SEARCH_ANY;
+    for (int i = 0; i < nreq + nexc; ++i) {
+        const char *tag = i < nreq ? require[i] : exclude[i - nreq];
+        uint64_t mask = mm_search_tag_mask(&db, tag);
+        if (!mask) {
+            fprintf(stderr, "mm: %s: the database has no tag '%s'\n", path, tag);
+            mm_database_free(&db);
+            return 1;
+        }
+        if (i < nreq)
+            p.required_tags |= mask;
+        else
+            p.excluded_tags |= mask;
+    }
+    if (no_bias) {
+        p.next_pose_favour = p.loop_anim_favour = 1.0f;
+        p.continuing_bias = 0.0f;
+    }
+    float query[MM_SEARCH_MAX_DIMS];
+    if (mm_searcher_init(&s, &db, NULL, &err) != MM_OK) {
+        snprintf(err.file, sizeof err.file, "%s", path);
+        mm_database_free(&db);
+        return cli_report(&err);
+    }
+    mm_search_query_from_frames(&db, (int)frame, traj >= 0 ? (int)traj : (int)frame, query);
+    results = malloc(sizeof(mm_search_result) * (size_t)top);
+    int found = results ? mm_searcher_search(&s, query, &p, method, results, (int)top) : 0;
+    if (json)
+        printf("{\"query\": {\"frame\": %ld, \"traj_from\": %ld, \"method\": \"%s\"}, \"results\": [", frame,
+               traj >= 0 ? traj : frame, mm_search_method_name(method));
+    else
+        printf("query: pose of frame %ld, trajectory of frame %ld, method %s, %d result%s\n", frame,
+               traj >= 0 ? traj : frame, mm_search_method_name(method), found, found == 1 ? "" : "s");
+    for (int i = 0; i < found; ++i) {
+        const mm_search_result *r = &results[i];
+        const mm_db_clip *c = &db.clips[db.frame_clip[r->frame]];
+        double t = c->source_start + (r->frame - c->first_frame) * db.interval;
+        mm_search_terms terms;
+        mm_search_cost_terms(&db, query, &p, r->frame, &terms);
+        if (json) {
+            printf("%s{\"frame\": %d, \"clip\": ", i ? ", " : "", r->frame);
+            cli_json_string(stdout, c->name);
+            printf(", \"clip_index\": %d, \"time\": %.9g, \"base\": %.9g, \"cost\": %.9g, \"terms\": "
+                   "{\"pose_position\": "
+                   "%.9g, \"pose_velocity\": %.9g, \"root_velocity\": %.9g, \"traj_position\": %.9g, "
+                   "\"traj_direction\": %.9g}}",
+                   db.frame_clip[r->frame], t, r->base, r->cost, terms.pose_position, terms.pose_velocity,
+                   terms.root_velocity, terms.traj_position, terms.traj_direction);
+        } else {
+            printf("%2d. frame %-7d %-28s t %7.3f s  cost %-10.5g base %-10.5g (pose %.4g + %.4g, root %.4g, "
+                   "trajectory %.4g + %.4g)\n",
+                   i + 1, r->frame, c->name, t, r->cost, r->base, terms.pose_position, terms.pose_velocity,
+                   terms.root_velocity, terms.traj_position, terms.traj_direction);
+        }
+    }
+    if (json)
+        printf("]}\n");
+    else if (found == 0)
+        printf("no frame passes the filters\n");
+    free(results);
+    mm_searcher_free(&s);
+    mm_database_free(&db);
+    return status;
+}
+
 int mm_cmd_db(int argc, char **argv)
 {
     if (argc < 2) return cli_usage_error("db", "usage: mm db build|info|dump ...");
     if (strcmp(argv[1], "build") == 0) return cmd_build(argc - 1, argv + 1);
     if (strcmp(argv[1], "info") == 0) return cmd_info(argc - 1, argv + 1);
     if (strcmp(argv[1], "dump") == 0) return cmd_dump(argc - 1, argv + 1);
-    return cli_usage_error("db", "unknown subcommand '%s' (build, info, dump)", argv[1]);
+    if (strcmp(argv[1], "search") == 0) return cmd_search(argc - 1, argv + 1);
+    return cli_usage_error("db", "unknown subcommand '%s' (build, info, dump, search)", argv[1]);
 }
