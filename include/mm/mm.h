@@ -16,6 +16,7 @@
 #include "math.h"
 #include "result.h"
 #include "search.h"
+#include "similarity.h"
 #include "skeleton.h"
 #include "synth.h"
 

@@ -158,8 +158,13 @@ typedef struct mm_searcher {
     uint64_t *order_tags; /* position -> the frame's tags */
     float *features;
     mm_search_node *nodes;
-    float *node_min, *node_max;
+    float *node_min, *node_max; /* in the tree's coordinates (below) */
     int node_count;
+    /* The tree's coordinates: z = basis (sqrt_w0 x - center), the principal axes of the features
+     * weighted by the database's default weights w0 (boxes along them are much tighter). */
+    float w0[MM_SEARCH_MAX_DIMS], sqrt_w0[MM_SEARCH_MAX_DIMS], unit_weights[MM_SEARCH_MAX_DIMS];
+    double center[MM_SEARCH_MAX_DIMS];
+    double *basis; /* [dims_padded x dims_padded], row-major */
     int units[1 << MM_SEARCH_UNIT_DEPTH];
     int unit_count;
     float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */

@@ -239,6 +239,8 @@ typedef struct query_ctx {
     int current, next;                 /* -1 when none */
     float loop_lo;                     /* the smallest factor a frame of a loop clip can get */
     float query_facing[2], facing_cos; /* unit (x, z) of the query's furthest facing; cos(threshold) */
+    float zq[MM_SEARCH_MAX_DIMS];      /* the query in the tree's coordinates */
+    float bound_scale;                 /* rho (1 - 1e-5): turns a box distance into a bound on the cost */
     int use_facing;
     int evaluated, boxes; /* work counters (single-threaded paths) */
 } query_ctx;
@@ -316,6 +318,25 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
     if (!(c->loop_lo >= 0.0f)) c->loop_lo = 0.0f; /* a negative or NaN favour gives no bound */
     c->use_facing = 0;
     c->evaluated = c->boxes = 0;
+    /* The tree lives in rotated, default-weighted coordinates z = V^T (sqrt(w0) x - mean). There
+     * |z(q) - z(x)|^2 is the cost with the default weights w0; for other weights the cost is at
+     * least rho times that, rho = min over dimensions of w / w0. The factor 1 - 1e-5 covers float
+     * rounding in the kernels (the boxes are widened by the rounding of the coordinates). */
+    int dims = db->dims_padded;
+    double rho = INFINITY;
+    for (int d = 0; d < dims; ++d)
+        if (s->w0[d] > 0.0f) {
+            double r = (double)c->w[d] / s->w0[d];
+            if (r < rho) rho = r;
+        }
+    if (!(rho < INFINITY)) rho = 0.0;
+    c->bound_scale = (float)(rho * (1.0 - 1e-5));
+    for (int j = 0; j < dims; ++j) {
+        double z = 0.0;
+        for (int k = 0; k < dims; ++k)
+            z += s->basis[(size_t)j * dims + k] * (s->sqrt_w0[k] * (double)query[k] - s->center[k]);
+        c->zq[j] = (float)z;
+    }
     if (c->method == MM_SEARCH_FACING) {
         if (s->facing_group >= 0) {
             int o = db->groups[s->facing_group].offset;
@@ -327,7 +348,7 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
             c->facing_cos = cosf(p->facing_threshold);
             c->use_facing = 1;
         }
-        c->method = MM_SEARCH_BRUTE; /* the pre-filter, then every remaining frame */
+        c->method = MM_SEARCH_FAST; /* the exact descent, with the pre-filter as one more rule */
     }
 }
 
@@ -418,19 +439,46 @@ static void state_init(scan_state *st, mm_search_result *list, int k)
  * tree nearer child first and skips a node when its lower bound (times the smallest favour its
  * frames can get) exceeds the current limit. */
 
+/* Distances of a run of consecutive feature rows, in a tight loop the compiler vectorises. */
+static void run_distances(const query_ctx *c, const float *x, int count, float *out)
+{
+    int dims = c->db->dims_padded;
+    const float *q = c->q, *w = c->w;
+    for (int i = 0; i < count; ++i) out[i] = distance(q, x + (size_t)i * dims, w, dims);
+}
+
+#define RUN 64 /* rows per run: distances first, then the rules for the few that can matter */
+
+/* Rows [p0, p1) of the searcher's tree order, or of the database when order is NULL. */
+static void scan_rows(query_ctx *c, const float *features, const int32_t *order, const int32_t *clips,
+                      const uint64_t *tags, int p0, int p1, scan_state *st)
+{
+    const mm_database *db = c->db;
+    int dims = db->dims_padded;
+    /* no frame but the next one (handled apart) can cost less than its base times this */
+    float least = c->loop_lo < 1.0f ? c->loop_lo : 1.0f;
+    float base[RUN];
+    for (int p = p0; p < p1; p += RUN) {
+        int n = p1 - p < RUN ? p1 - p : RUN;
+        run_distances(c, features + (size_t)p * dims, n, base);
+        c->evaluated += n;
+        for (int i = 0; i < n; ++i) {
+            float limit = state_limit(st);
+            if (base[i] * least > limit) continue; /* cannot enter the list nor the ties */
+            int at = p + i, f = order ? order[at] : at;
+            int clip = clips ? clips[at] : db->frame_clip[f];
+            if (f == c->next || !accepted_with(c, f, clip, tags ? tags[at] : db->frame_tags[f])) continue;
+            float cost = db->clips[clip].loop ? base[i] * c->p->loop_anim_favour : base[i];
+            if (cost > limit && !st->find_first) continue;
+            take(st, f, cost, base[i]);
+        }
+    }
+}
+
 static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
 {
     const mm_searcher *s = c->s;
-    int dims = c->db->dims_padded;
-    float limit = state_limit(st);
-    for (int i = p0; i < p1; ++i) {
-        int f = s->order[i];
-        if (f == c->next || !accepted_with(c, f, s->order_clip[i], s->order_tags[i])) continue;
-        float base, cost = frame_cost(c, f, s->features + (size_t)i * dims, &base);
-        if (cost > limit && !st->find_first) continue; /* cannot enter the list nor the ties */
-        take(st, f, cost, base);
-        limit = state_limit(st);
-    }
+    scan_rows(c, s->features, s->order, s->order_clip, s->order_tags, p0, p1, st);
 }
 
 static inline float node_bound(query_ctx *c, int n)
@@ -438,8 +486,9 @@ static inline float node_bound(query_ctx *c, int n)
     const mm_searcher *s = c->s;
     int dims = c->db->dims_padded;
     ++c->boxes;
-    return box_distance(c->q, s->node_min + (size_t)n * dims, s->node_max + (size_t)n * dims, c->w, dims) *
-           node_factor(c, s->nodes[n].loop);
+    return box_distance(c->zq, s->node_min + (size_t)n * dims, s->node_max + (size_t)n * dims,
+                        s->unit_weights, dims) *
+           c->bound_scale * node_factor(c, s->nodes[n].loop);
 }
 
 /* Visits node n, whose bound (if already known) is bound. */
@@ -466,16 +515,7 @@ static void scan_node(query_ctx *c, int n, float bound, scan_state *st)
 /* Brute force and the facing filter: database frames [f0, f1) in order. */
 static void scan_frames(query_ctx *c, int f0, int f1, scan_state *st)
 {
-    const mm_database *db = c->db;
-    int dims = db->dims_padded;
-    float limit = state_limit(st);
-    for (int f = f0; f < f1; ++f) {
-        if (f == c->next || !accepted(c, f)) continue;
-        float base, cost = frame_cost(c, f, db->features + (size_t)f * dims, &base);
-        if (cost > limit && !st->find_first) continue; /* cannot enter the list nor the ties */
-        take(st, f, cost, base);
-        limit = state_limit(st);
-    }
+    scan_rows(c, c->db->features, NULL, NULL, NULL, f0, f1, st);
 }
 
 /* Work units [u0, u1) of MM_SEARCH_UNITS: for the exact method subtrees of the tree, otherwise
@@ -690,12 +730,13 @@ typedef struct builder {
     mm_searcher *s;
     const mm_database *db;
     int dims, node_count;
-    float w[MM_SEARCH_MAX_DIMS]; /* the database's default weights: splits follow what the cost weighs */
+    const float *coords; /* [frames x dims] the frames in the tree's coordinates */
+    float margin;        /* boxes are widened by this: the rounding of the coordinates */
 } builder;
 
 /* Partially orders order[a..b) so the element of rank m (by feature d, then frame index) is at
  * m, smaller before, larger after: a deterministic quickselect (middle pivot). */
-static float key(const builder *b, int f, int d) { return b->db->features[(size_t)f * b->dims + d]; }
+static float key(const builder *b, int f, int d) { return b->coords[(size_t)f * b->dims + d]; }
 static int before(const builder *b, int f, int g, int d)
 {
     float x = key(b, f, d), y = key(b, g, d);
@@ -744,7 +785,7 @@ static int build_node(builder *b, int begin, int end)
     }
     for (int i = begin; i < end; ++i) {
         int f = s->order[i];
-        const float *x = db->features + (size_t)f * dims;
+        const float *x = b->coords + (size_t)f * dims;
         for (int d = 0; d < dims; ++d) {
             lo[d] = x[d] < lo[d] ? x[d] : lo[d];
             hi[d] = x[d] > hi[d] ? x[d] : hi[d];
@@ -756,13 +797,23 @@ static int build_node(builder *b, int begin, int end)
         node->loop = (uint8_t)(clip->loop ? (node->loop | 1) : (node->loop & 1));
         if (f < node->min_frame) node->min_frame = f;
     }
+    for (int d = 0; d < dims; ++d) {
+        lo[d] -= b->margin;
+        hi[d] += b->margin;
+    }
     if (end - begin <= MM_SEARCH_LEAF) return n;
     int split = 0;
-    float widest = -1.0f;
+    double widest = -1.0;
     for (int d = 0; d < dims; ++d) {
-        float extent = b->w[d] * (hi[d] - lo[d]) * (hi[d] - lo[d]);
-        if (extent > widest) {
-            widest = extent;
+        double sum = 0, sq = 0;
+        for (int i = begin; i < end; ++i) {
+            double v = b->coords[(size_t)s->order[i] * dims + d];
+            sum += v;
+            sq += v * v;
+        }
+        double mean = sum / (end - begin), var = sq / (end - begin) - mean * mean;
+        if (var > widest) {
+            widest = var;
             split = d;
         }
     }
@@ -773,6 +824,69 @@ static int build_node(builder *b, int begin, int end)
     s->nodes[n].left = left;
     s->nodes[n].right = right;
     return n;
+}
+
+/* Principal axes of the default-weighted features (cyclic Jacobi on their covariance): fills
+ * s->sqrt_w0, s->center and s->basis (row j: the j-th axis). cov is scratch of dims x dims. */
+static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
+{
+    int n = db->dims_padded;
+    double *v = s->basis; /* built as columns, transposed at the end */
+    for (int d = 0; d < n; ++d) s->sqrt_w0[d] = sqrtf(s->w0[d]);
+    for (int d = 0; d < n; ++d) s->center[d] = 0.0;
+    for (int f = 0; f < db->frame_count; ++f)
+        for (int d = 0; d < n; ++d) s->center[d] += s->sqrt_w0[d] * (double)db->features[(size_t)f * n + d];
+    for (int d = 0; d < n; ++d) s->center[d] /= db->frame_count;
+    memset(cov, 0, sizeof(double) * (size_t)n * n);
+    for (int f = 0; f < db->frame_count; ++f) {
+        const float *x = db->features + (size_t)f * n;
+        for (int i = 0; i < n; ++i) {
+            double yi = s->sqrt_w0[i] * (double)x[i] - s->center[i];
+            for (int j = i; j < n; ++j) cov[i * n + j] += yi * (s->sqrt_w0[j] * (double)x[j] - s->center[j]);
+        }
+    }
+    for (int i = 0; i < n; ++i)
+        for (int j = i; j < n; ++j) cov[j * n + i] = cov[i * n + j] /= db->frame_count;
+    for (int i = 0; i < n * n; ++i) v[i] = 0.0;
+    for (int i = 0; i < n; ++i) v[i * n + i] = 1.0;
+    for (int sweep = 0; sweep < 64; ++sweep) {
+        double off = 0.0, total = 0.0;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                total += cov[i * n + j] * cov[i * n + j];
+                if (i != j) off += cov[i * n + j] * cov[i * n + j];
+            }
+        if (off <= 1e-24 * total || off == 0.0) break;
+        for (int p = 0; p < n - 1; ++p)
+            for (int q = p + 1; q < n; ++q) {
+                double apq = cov[p * n + q];
+                if (fabs(apq) < 1e-300) continue;
+                double theta = (cov[q * n + q] - cov[p * n + p]) / (2.0 * apq);
+                double t = (theta >= 0.0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+                double c = 1.0 / sqrt(t * t + 1.0), sn = t * c;
+                for (int k = 0; k < n; ++k) { /* columns p and q */
+                    double kp = cov[k * n + p], kq = cov[k * n + q];
+                    cov[k * n + p] = c * kp - sn * kq;
+                    cov[k * n + q] = sn * kp + c * kq;
+                }
+                for (int k = 0; k < n; ++k) { /* rows p and q */
+                    double pk = cov[p * n + k], qk = cov[q * n + k];
+                    cov[p * n + k] = c * pk - sn * qk;
+                    cov[q * n + k] = sn * pk + c * qk;
+                }
+                for (int k = 0; k < n; ++k) {
+                    double kp = v[k * n + p], kq = v[k * n + q];
+                    v[k * n + p] = c * kp - sn * kq;
+                    v[k * n + q] = sn * kp + c * kq;
+                }
+            }
+    }
+    for (int i = 0; i < n; ++i) /* columns to rows */
+        for (int j = i + 1; j < n; ++j) {
+            double t = v[i * n + j];
+            v[i * n + j] = v[j * n + i];
+            v[j * n + i] = t;
+        }
 }
 
 /* ---- the searcher ----------------------------------------------------------------------- */
@@ -799,27 +913,50 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     s->node_min = (float *)mm_alloc_array(a, max_nodes * dims, sizeof(float));
     s->node_max = (float *)mm_alloc_array(a, max_nodes * dims, sizeof(float));
     s->facing = (float *)mm_alloc_array(a, 2 * frames, sizeof(float));
+    s->basis = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
     s->job = mm_alloc_array(a, 1, sizeof(parallel_job));
     if (!s->order || !s->order_clip || !s->order_tags || !s->features || !s->nodes || !s->node_min ||
-        !s->node_max || !s->facing || !s->job) {
+        !s->node_max || !s->facing || !s->job || !s->basis) {
         mm_searcher_free(s);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     }
     for (size_t f = 0; f < frames; ++f) s->order[f] = (int32_t)f;
     builder *b = (builder *)mm_alloc_array(a, 1, sizeof(builder));
-    if (!b) {
+    float *coords = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
+    double *cov = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
+    if (!b || !coords || !cov) {
+        mm_free(a, b);
+        mm_free(a, coords);
+        mm_free(a, cov);
         mm_searcher_free(s);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    mm_search_params defaults;
+    mm_search_params_defaults(db, &defaults);
+    dimension_weights(db, &defaults, s->w0);
+    principal_axes(db, s, cov);
+    double largest = 0.0;
+    for (size_t f = 0; f < frames; ++f) {
+        const float *x = db->features + f * dims;
+        for (size_t j = 0; j < dims; ++j) {
+            double z = 0.0;
+            for (size_t k = 0; k < dims; ++k)
+                z += s->basis[j * dims + k] * (s->sqrt_w0[k] * (double)x[k] - s->center[k]);
+            coords[f * dims + j] = (float)z;
+            if (fabs(z) > largest) largest = fabs(z);
+        }
     }
     b->s = s;
     b->db = db;
     b->dims = (int)dims;
-    mm_search_params defaults;
-    mm_search_params_defaults(db, &defaults);
-    dimension_weights(db, &defaults, b->w);
+    b->coords = coords;
+    b->margin = (float)(1e-5 * (1.0 + largest)); /* far above float rounding of these coordinates */
     build_node(b, 0, (int)frames);
     s->node_count = b->node_count;
     mm_free(a, b);
+    mm_free(a, coords);
+    mm_free(a, cov);
+    for (size_t d = 0; d < dims; ++d) s->unit_weights[d] = 1.0f;
     for (size_t i = 0; i < frames; ++i) {
         memcpy(s->features + i * dims, db->features + (size_t)s->order[i] * dims, dims * sizeof(float));
         s->order_clip[i] = db->frame_clip[s->order[i]];
@@ -873,6 +1010,7 @@ void mm_searcher_free(mm_searcher *s)
     mm_free(a, s->order_tags);
     mm_free(a, s->features);
     mm_free(a, s->nodes);
+    mm_free(a, s->basis);
     mm_free(a, s->node_min);
     mm_free(a, s->node_max);
     mm_free(a, s->facing);
