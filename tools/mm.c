@@ -11,7 +11,7 @@ static const struct command {
     int (*run)(int argc, char **argv);
 } commands[] = {
     {"bvh", mm_cmd_bvh}, {"config", mm_cmd_config}, {"convert", mm_cmd_convert},
-    {"db", mm_cmd_db},   {"synth", mm_cmd_synth},   {"import", mm_cmd_import},
+    {"db", mm_cmd_db},   {"synth", mm_cmd_synth},   {"import", mm_cmd_import}, {"pfnn", mm_cmd_pfnn},
 };
 
 static void usage(FILE *f)
@@ -35,6 +35,8 @@ static void usage(FILE *f)
         "                                    for beside CONFIG, in DIR, then in $MM_DATA_DIR)\n"
         "  db info FILE [--json]             frames, dims, clips, tags, feature groups\n"
         "  db dump FILE                      everything in a database as deterministic text\n"
+        "  pfnn eval --weights DIR --x X.bin --phase P [--mode constant|linear|cubic] -o Y.bin\n"
+        "                                    run the PFNN network on raw inputs (342 float32 per row)\n"
         "  synth OUTDIR [--seed N] [--fps 60]  write the built-in procedural motion set (BVH + clips.json)\n"
         "  version                           print the version\n"
         "  help                              print this text\n",

@@ -14,6 +14,7 @@
 #include "database.h"
 #include "import.h"
 #include "math.h"
+#include "pfnn.h"
 #include "result.h"
 #include "search.h"
 #include "similarity.h"

@@ -214,18 +214,18 @@ typedef struct mm_pfnn_controller mm_pfnn_controller; /* opaque */
 
 /* The character after the latest frame. World space, metres, radians. */
 typedef struct mm_pfnn_state {
-    long frame;                 /* 60 Hz frames stepped since the reset */
-    float phase;                /* radians in [0, 2 pi) */
-    mm_vec3 root_position;      /* the current trajectory point, on the ground (mean terrain height) */
-    float root_yaw;             /* facing, radians about Y (0: +Z) */
+    long frame;            /* 60 Hz frames stepped since the reset */
+    float phase;           /* radians in [0, 2 pi) */
+    mm_vec3 root_position; /* the current trajectory point, on the ground (mean terrain height) */
+    float root_yaw;        /* facing, radians about Y (0: +Z) */
     float gait[MM_PFNN_GAIT_COUNT];
-    float contacts[4];          /* the network's foot contacts: left heel, left toe, right heel, right toe */
-    mm_vec3 target_velocity;    /* the blended target, m/s */
-    mm_vec3 target_direction;   /* unit */
-    mm_vec3 joint_positions[MM_PFNN_JOINT_COUNT];  /* smoothed (what the next input sees) */
-    mm_vec3 joint_predicted[MM_PFNN_JOINT_COUNT];  /* the network's positions this frame */
-    mm_vec3 joint_velocities[MM_PFNN_JOINT_COUNT]; /* m/s */
-    mm_quat joint_rotations[MM_PFNN_JOINT_COUNT];  /* global */
+    float contacts[4];        /* the network's foot contacts: left heel, left toe, right heel, right toe */
+    mm_vec3 target_velocity;  /* the blended target, m/s */
+    mm_vec3 target_direction; /* unit */
+    mm_vec3 joint_positions[MM_PFNN_JOINT_COUNT];       /* smoothed (what the next input sees) */
+    mm_vec3 joint_predicted[MM_PFNN_JOINT_COUNT];       /* the network's positions this frame */
+    mm_vec3 joint_velocities[MM_PFNN_JOINT_COUNT];      /* m/s */
+    mm_quat joint_rotations[MM_PFNN_JOINT_COUNT];       /* global */
     mm_vec3 trajectory_positions[MM_PFNN_TRAJ_SAMPLES]; /* every 10th frame, index 6 = now */
     mm_vec3 trajectory_directions[MM_PFNN_TRAJ_SAMPLES];
     float input[MM_PFNN_INPUT_DIM];   /* the network input of the latest frame (raw) */

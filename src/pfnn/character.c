@@ -20,8 +20,8 @@ static mm_result read_exact(const char *path, size_t count, const mm_allocator *
     if (size != count * 4) {
         mm_free(a, data);
         return mm_error_set(err, size < count * 4 ? MM_ERR_UNEXPECTED_EOF : MM_ERR_VALUE_COUNT, 0, 0,
-                            "%s file: %zu bytes, expected %zu (%zu float32)", size < count * 4 ? "short" : "long",
-                            size, count * 4, count);
+                            "%s file: %zu bytes, expected %zu (%zu float32)",
+                            size < count * 4 ? "short" : "long", size, count * 4, count);
     }
     const unsigned char *p = (const unsigned char *)data;
     for (size_t i = 0; i < count; ++i) {
@@ -34,7 +34,8 @@ static mm_result read_exact(const char *path, size_t count, const mm_allocator *
     }
     mm_free(a, data);
     for (size_t i = 0; i < count; ++i)
-        if (!isfinite(out[i])) return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "value %zu is not finite", i);
+        if (!isfinite(out[i]))
+            return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "value %zu is not finite", i);
     return MM_OK;
 }
 
@@ -54,7 +55,8 @@ mm_result mm_pfnn_character_load(const char *dir, const mm_allocator *allocator,
     for (int j = 0; j < J; ++j)
         if (parents[j] != floorf(parents[j]) || parents[j] >= (float)j || parents[j] < -1.0f ||
             (j == 0) != (parents[j] < 0.0f))
-            return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "parent of joint %d is %g", j, (double)parents[j]);
+            return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "parent of joint %d is %g", j,
+                                (double)parents[j]);
     snprintf(path, sizeof path, "%s/character_xforms.bin", dir);
     mm__error_set_file(err, path);
     r = read_exact(path, J * 16, allocator, xforms, err);
@@ -69,7 +71,8 @@ mm_result mm_pfnn_character_load(const char *dir, const mm_allocator *allocator,
     if (r != MM_OK) return r;
     mm__error_set_file(err, path);
     if (bvh.skeleton.joint_count != J) {
-        r = mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "%d joints, expected %d", bvh.skeleton.joint_count, J);
+        r = mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "%d joints, expected %d", bvh.skeleton.joint_count,
+                         J);
         mm_bvh_free(&bvh);
         return r;
     }
@@ -90,7 +93,8 @@ mm_result mm_pfnn_character_load(const char *dir, const mm_allocator *allocator,
     if (r != MM_OK) return mm_error_set(err, r, 0, 0, "out of memory");
     for (int j = 0; j < J; ++j) {
         mm_joint *jt = &out->joints[j];
-        jt->offset = mm_vec3_scale(mm_vec3_make(xforms[16 * j + 3], xforms[16 * j + 7], xforms[16 * j + 11]), 0.01f);
+        jt->offset =
+            mm_vec3_scale(mm_vec3_make(xforms[16 * j + 3], xforms[16 * j + 7], xforms[16 * j + 11]), 0.01f);
         if (j == 0) jt->offset = mm_vec3_make(0.0f, 0.0f, 0.0f);
         jt->end_site = mm_vec3_scale(jt->end_site, (float)(CMU_TO_CM * 0.01));
         jt->order = MM_EULER_ZYX;

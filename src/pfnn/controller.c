@@ -208,9 +208,9 @@ mm_result mm_pfnn_controller_create(const mm_pfnn_controller_desc *desc, mm_pfnn
     if (desc->obstacle_count < 0 || desc->obstacle_count > MAX_OBSTACLES ||
         (desc->obstacle_count && !desc->obstacles))
         return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "obstacle_count must be 0..%d", MAX_OBSTACLES);
-    const float blends[] = {desc->target_blend,          desc->strafe_blend, desc->gait_blend,
-                            desc->trajectory_correction, desc->joint_smooth, desc->clearance,
-                            desc->pos_bias,              desc->dir_bias};
+    const float blends[] = {
+        desc->target_blend, desc->strafe_blend, desc->gait_blend, desc->trajectory_correction,
+        desc->joint_smooth, desc->clearance,    desc->pos_bias,   desc->dir_bias};
     for (size_t i = 0; i < sizeof blends / sizeof blends[0]; ++i)
         if (!isfinite(blends[i]) || blends[i] < 0.0f || (i < 5 && blends[i] > 1.0f))
             return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "blends must be in [0, 1], distances >= 0");
@@ -255,7 +255,8 @@ void mm_pfnn_controller_destroy(mm_pfnn_controller *ctrl)
 }
 
 /* World joint positions, velocities and rotations from a network output and the root. */
-static void pose_from_output(const float *y, mm_vec3 root, float yaw, mm_vec3 *pos, mm_vec3 *vel, mm_quat *rot)
+static void pose_from_output(const float *y, mm_vec3 root, float yaw, mm_vec3 *pos, mm_vec3 *vel,
+                             mm_quat *rot)
 {
     mm_quat rq = yaw_quat(yaw);
     for (int j = 0; j < J; ++j) {
@@ -390,7 +391,8 @@ static void update_gait(mm_pfnn_controller *c, const mm_pfnn_input *in)
             break;
         }
     }
-    for (int k = 0; k < MM_PFNN_GAIT_COUNT; ++k) c->gait[HALF][k] = lerpf(c->gait[HALF][k], target[k], c->gait_blend);
+    for (int k = 0; k < MM_PFNN_GAIT_COUNT; ++k)
+        c->gait[HALF][k] = lerpf(c->gait[HALF][k], target[k], c->gait_blend);
 }
 
 static void predict_trajectory(mm_pfnn_controller *c)
@@ -435,7 +437,8 @@ static void update_trajectory(mm_pfnn_controller *c, const float *y, float stand
     mm_vec3 move = rot_y(yaw, mm_vec3_make(y[MM_PFNN_Y_ROOT_X], 0.0f, y[MM_PFNN_Y_ROOT_Z]));
     move = mm_vec3_scale(move, stand_scale);
     c->pos[HALF] = mm_vec3_add(c->pos[HALF], move);
-    mm_vec3 d = rot_y(-stand_scale * y[MM_PFNN_Y_ROOT_TURN], mm_vec3_make(c->dir_x[HALF], 0.0f, c->dir_z[HALF]));
+    mm_vec3 d =
+        rot_y(-stand_scale * y[MM_PFNN_Y_ROOT_TURN], mm_vec3_make(c->dir_x[HALF], 0.0f, c->dir_z[HALF]));
     d = mm_vec3_normalize(d);
     c->dir_x[HALF] = d.x;
     c->dir_z[HALF] = d.z;
@@ -506,8 +509,8 @@ int mm_pfnn_controller_step(mm_pfnn_controller *c, const mm_pfnn_input *in, floa
     return n;
 }
 
-void mm_pfnn_controller_local_pose(const mm_pfnn_controller *c, const mm_skeleton *skeleton, mm_quat *rotations,
-                                   mm_vec3 *positions)
+void mm_pfnn_controller_local_pose(const mm_pfnn_controller *c, const mm_skeleton *skeleton,
+                                   mm_quat *rotations, mm_vec3 *positions)
 {
     for (int j = 0; j < J; ++j) {
         int p = skeleton && j < skeleton->joint_count ? skeleton->joints[j].parent : j - 1;

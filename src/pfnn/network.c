@@ -204,8 +204,8 @@ static mm_result read_floats(const char *dir, const char *name, size_t count, co
 }
 
 /* Reads a row-major [out][in] matrix file into the panel layout at dst. */
-static mm_result read_matrix(const char *dir, const char *name, int out_dim, int in_dim, const mm_allocator *a,
-                             float *dst, mm_error *err)
+static mm_result read_matrix(const char *dir, const char *name, int out_dim, int in_dim,
+                             const mm_allocator *a, float *dst, mm_error *err)
 {
     size_t count = (size_t)out_dim * (size_t)in_dim;
     float *tmp = (float *)mm_alloc(a, count * sizeof(float));
@@ -335,7 +335,10 @@ void mm_pfnn_network_free(mm_pfnn_network *net)
     mm_free(pa, net);
 }
 
-static mm_pfnn_mode resolve(mm_pfnn_mode mode) { return mode == MM_PFNN_MODE_DEFAULT ? MM_PFNN_MODE_CUBIC : mode; }
+static mm_pfnn_mode resolve(mm_pfnn_mode mode)
+{
+    return mode == MM_PFNN_MODE_DEFAULT ? MM_PFNN_MODE_CUBIC : mode;
+}
 
 bool mm_pfnn_network_has_mode(const mm_pfnn_network *net, mm_pfnn_mode mode)
 {
@@ -418,8 +421,9 @@ mm_result mm_pfnn_network_layer(const mm_pfnn_network *net, mm_pfnn_mode mode, f
 
 /* y[0 .. padded(out)) = sum_k coef[k] * (W_k x + b_k) for K weight sets given by their layer
  * offsets. Written for K = 1, 2, 4 and inlined with K constant. */
-static inline void layer_product(int K, const float *const *sets, size_t w_off, size_t b_off, const float *coef,
-                                 int in, int out, const float *restrict x, float *restrict y)
+static inline void layer_product(int K, const float *const *sets, size_t w_off, size_t b_off,
+                                 const float *coef, int in, int out, const float *restrict x,
+                                 float *restrict y)
 {
     int panels = padded(out) / PANEL;
     for (int p = 0; p < panels; ++p) {
