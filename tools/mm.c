@@ -10,8 +10,8 @@ static const struct command {
     const char *name;
     int (*run)(int argc, char **argv);
 } commands[] = {
-    {"bvh", mm_cmd_bvh}, {"config", mm_cmd_config}, {"convert", mm_cmd_convert},
-    {"db", mm_cmd_db},   {"synth", mm_cmd_synth},   {"import", mm_cmd_import}, {"pfnn", mm_cmd_pfnn},
+    {"bvh", mm_cmd_bvh},     {"config", mm_cmd_config}, {"convert", mm_cmd_convert}, {"db", mm_cmd_db},
+    {"synth", mm_cmd_synth}, {"import", mm_cmd_import}, {"pfnn", mm_cmd_pfnn},
 };
 
 static void usage(FILE *f)

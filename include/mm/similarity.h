@@ -59,9 +59,9 @@
 extern "C" {
 #endif
 
-#define MM_SIM_VERSION    1
-#define MM_SIM_DIMS       12   /* per-joint dimensions: position 3, rotation 6, velocity 3 */
-#define MM_SIM_MAX_WINDOW 256 /* frames */
+#define MM_SIM_VERSION     1
+#define MM_SIM_DIMS        12  /* per-joint dimensions: position 3, rotation 6, velocity 3 */
+#define MM_SIM_MAX_WINDOW  256 /* frames */
 #define MM_SIM_MAX_THREADS 64
 
 typedef enum mm_sim_measure {
@@ -79,7 +79,10 @@ enum mm_sim_channels {
 /* "cos", "euclid"; NULL if invalid. */
 const char *mm_sim_measure_name(mm_sim_measure m);
 /* True when score a is strictly better than b under measure m. */
-static inline bool mm_sim_better(mm_sim_measure m, float a, float b) { return m == MM_SIM_COSINE ? a > b : a < b; }
+static inline bool mm_sim_better(mm_sim_measure m, float a, float b)
+{
+    return m == MM_SIM_COSINE ? a > b : a < b;
+}
 
 /* Settings. Zero means default:
  *   measure     MM_SIM_COSINE
@@ -136,7 +139,8 @@ float mm_sim_window(const mm_sim_poses *p, int a, int b, int n);
 /* W of every frame pair of two clips, window p->window: out[i * frames(clip_b) + j] compares frame
  * i of clip_a with frame j of clip_b (clip-relative). out holds frames(a) x frames(b) floats.
  * threads as in mm_sim_desc (< 2: the caller's thread). */
-mm_result mm_sim_matrix(const mm_sim_poses *p, int clip_a, int clip_b, int threads, float *out, mm_error *err);
+mm_result mm_sim_matrix(const mm_sim_poses *p, int clip_a, int clip_b, int threads, float *out,
+                        mm_error *err);
 
 /* A matched frame: a database frame and its score (frame -1: none). */
 typedef struct mm_sim_match {
@@ -160,13 +164,13 @@ typedef struct mm_sim_tables {
     int fusion_rows, link_rows;               /* frames of one-shot clips, of loop clips */
     uint64_t db_checksum, db_size;            /* which database they belong to */
     float dim_weights[MM_SIM_DIMS];
-    const float *joint_weights;  /* [joint_count] as used */
-    const mm_sim_clip *clips;    /* [clip_count] */
-    const int32_t *frame_clip;   /* [frame_count] clip of each frame */
-    const int32_t *loop_clips;   /* [loop_count] database clip indices */
-    const int32_t *shot_clips;   /* [shot_count] database clip indices */
-    const mm_sim_match *fusion;  /* [fusion_rows x loop_count] */
-    const float *link;           /* [link_rows x shot_count] */
+    const float *joint_weights; /* [joint_count] as used */
+    const mm_sim_clip *clips;   /* [clip_count] */
+    const int32_t *frame_clip;  /* [frame_count] clip of each frame */
+    const int32_t *loop_clips;  /* [loop_count] database clip indices */
+    const int32_t *shot_clips;  /* [shot_count] database clip indices */
+    const mm_sim_match *fusion; /* [fusion_rows x loop_count] */
+    const float *link;          /* [link_rows x shot_count] */
 
     /* Storage: one buffer in file layout */
     const void *data;

@@ -163,21 +163,23 @@ static mm_result validate_header(const unsigned char *base, size_t size, sim_hea
         return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
                             "tables format version %u, this mm reads version %d: rebuild them", h->version,
                             MM_SIM_VERSION);
-    if (h->header_size != sizeof *h || h->section_count != MM__SIM_SEC_COUNT) return BAD("unexpected header size");
+    if (h->header_size != sizeof *h || h->section_count != MM__SIM_SEC_COUNT)
+        return BAD("unexpected header size");
     if (h->file_size != size)
         return mm_error_set(err, h->file_size > size ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, 0, 0,
                             "the header says %llu bytes, the file has %zu (truncated or padded)",
                             (unsigned long long)h->file_size, size);
     if (checksum(base + 24, size - 24) != h->checksum) return BAD("checksum mismatch: the file is corrupted");
-    if ((h->measure != MM_SIM_COSINE && h->measure != MM_SIM_EUCLIDEAN) || h->channels == 0 || h->channels > 7 ||
-        h->window < 1 || h->window > MM_SIM_MAX_WINDOW || h->joint_count < 1 || h->joint_count > MM_MAX_JOINTS ||
-        h->frame_count < 1 || h->frame_count > MM_MAX_FRAMES || h->clip_count < 1 ||
-        h->clip_count > h->frame_count || h->loop_count < 0 || h->shot_count < 0 ||
+    if ((h->measure != MM_SIM_COSINE && h->measure != MM_SIM_EUCLIDEAN) || h->channels == 0 ||
+        h->channels > 7 || h->window < 1 || h->window > MM_SIM_MAX_WINDOW || h->joint_count < 1 ||
+        h->joint_count > MM_MAX_JOINTS || h->frame_count < 1 || h->frame_count > MM_MAX_FRAMES ||
+        h->clip_count < 1 || h->clip_count > h->frame_count || h->loop_count < 0 || h->shot_count < 0 ||
         h->loop_count + h->shot_count != h->clip_count || h->fusion_rows < 0 || h->link_rows < 0 ||
         h->fusion_rows + h->link_rows != h->frame_count)
         return BAD("header counts are out of range");
     for (int i = 0; i < MM_SIM_DIMS; ++i)
-        if (!(h->dim_weights[i] >= 0.0f) || !isfinite(h->dim_weights[i])) return BAD("dim weight %d is invalid", i);
+        if (!(h->dim_weights[i] >= 0.0f) || !isfinite(h->dim_weights[i]))
+            return BAD("dim weight %d is invalid", i);
     mm__sim_parts p;
     memset(&p, 0, sizeof p);
     p.joint_count = h->joint_count;
@@ -208,15 +210,18 @@ static mm_result validate_content(const mm_sim_tables *t, mm_error *err)
     for (int c = 0; c < t->clip_count; ++c) {
         const mm_sim_clip *k = &t->clips[c];
         if (k->loop != 0 && k->loop != 1) return BAD("clip %d: loop flag %d", c, k->loop);
-        if (k->first_frame != next_frame || k->frame_count < 1 || k->frame_count > t->frame_count - k->first_frame)
-            return BAD("clip %d: frames %d + %d do not follow the previous clip", c, k->first_frame, k->frame_count);
+        if (k->first_frame != next_frame || k->frame_count < 1 ||
+            k->frame_count > t->frame_count - k->first_frame)
+            return BAD("clip %d: frames %d + %d do not follow the previous clip", c, k->first_frame,
+                       k->frame_count);
         next_frame += k->frame_count;
         const int32_t *list = k->loop ? t->loop_clips : t->shot_clips;
         int count = k->loop ? t->loop_count : t->shot_count;
         if (k->index < 0 || k->index >= count || list[k->index] != c)
             return BAD("clip %d: index %d is not its place among the %s clips", c, k->index,
                        k->loop ? "loop" : "one-shot");
-        if (k->row != rows[k->loop]) return BAD("clip %d: first row %d, expected %d", c, k->row, rows[k->loop]);
+        if (k->row != rows[k->loop])
+            return BAD("clip %d: first row %d, expected %d", c, k->row, rows[k->loop]);
         rows[k->loop] += k->frame_count;
         for (int f = k->first_frame; f < k->first_frame + k->frame_count; ++f)
             if (t->frame_clip[f] != c) return BAD("frame %d: clip %d, expected %d", f, t->frame_clip[f], c);
@@ -233,7 +238,8 @@ static mm_result validate_content(const mm_sim_tables *t, mm_error *err)
         const mm_sim_clip *k = &t->clips[t->loop_clips[l]];
         for (int r = 0; r < t->fusion_rows; ++r) {
             const mm_sim_match *m = &t->fusion[(size_t)r * (size_t)t->loop_count + (size_t)l];
-            if (m->frame < k->first_frame || m->frame >= k->first_frame + k->frame_count || !isfinite(m->score))
+            if (m->frame < k->first_frame || m->frame >= k->first_frame + k->frame_count ||
+                !isfinite(m->score))
                 return BAD("fusion row %d, loop clip %d: frame %d score %g is invalid", r, l, m->frame,
                            (double)m->score);
         }
@@ -250,14 +256,16 @@ static mm_result check_database(const mm_sim_tables *t, const mm_database *db, m
     uint64_t cs = mm__sim_db_checksum(db);
     if (t->db_checksum != cs || t->db_size != (uint64_t)db->size || t->frame_count != db->frame_count ||
         t->clip_count != db->clip_count || t->joint_count != db->joint_count)
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                            "the tables belong to another database (built for checksum %016llx, %llu bytes; this "
-                            "one is %016llx, %zu bytes): rebuild them with mm similarity build",
-                            (unsigned long long)t->db_checksum, (unsigned long long)t->db_size,
-                            (unsigned long long)cs, db->size);
+        return mm_error_set(
+            err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+            "the tables belong to another database (built for checksum %016llx, %llu bytes; this "
+            "one is %016llx, %zu bytes): rebuild them with mm similarity build",
+            (unsigned long long)t->db_checksum, (unsigned long long)t->db_size, (unsigned long long)cs,
+            db->size);
     for (int c = 0; c < t->clip_count; ++c)
         if (t->clips[c].first_frame != db->clips[c].first_frame ||
-            t->clips[c].frame_count != db->clips[c].frame_count || t->clips[c].loop != (db->clips[c].loop != 0))
+            t->clips[c].frame_count != db->clips[c].frame_count ||
+            t->clips[c].loop != (db->clips[c].loop != 0))
             return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
                                 "clip %d (%s) differs from the database's: rebuild the tables", c,
                                 db->clips[c].name);
@@ -269,7 +277,8 @@ mm_result mm_sim_tables_load_memory(const void *data, size_t size, const mm_data
 {
     memset(out, 0, sizeof *out);
     if (!data || ((uintptr_t)data & 7u))
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "tables buffer is NULL or not 8-byte aligned");
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "tables buffer is NULL or not 8-byte aligned");
     const unsigned char *base = (const unsigned char *)data;
     sim_header h;
     mm_result r = validate_header(base, size, &h, err);
@@ -324,7 +333,8 @@ void mm_sim_tables_free(mm_sim_tables *t)
 mm_sim_match mm_sim_fusion(const mm_sim_tables *t, int frame, int loop_clip)
 {
     mm_sim_match none = {-1, 0.0f};
-    if (!t || frame < 0 || frame >= t->frame_count || loop_clip < 0 || loop_clip >= t->clip_count) return none;
+    if (!t || frame < 0 || frame >= t->frame_count || loop_clip < 0 || loop_clip >= t->clip_count)
+        return none;
     const mm_sim_clip *src = &t->clips[t->frame_clip[frame]], *dst = &t->clips[loop_clip];
     if (src->loop || !dst->loop) return none;
     size_t row = (size_t)(src->row + frame - src->first_frame);
@@ -361,14 +371,16 @@ int mm_sim_link(const mm_sim_tables *t, int frame, int rows, const int *candidat
                 mm_sim_link_match *out)
 {
     mm_sim_link_match best = {-1, -1, 0, 0.0f};
-    if (t && frame >= 0 && frame < t->frame_count && t->clips[t->frame_clip[frame]].loop && t->shot_count > 0) {
+    if (t && frame >= 0 && frame < t->frame_count && t->clips[t->frame_clip[frame]].loop &&
+        t->shot_count > 0) {
         const mm_sim_clip *c = &t->clips[t->frame_clip[frame]];
         int rel = frame - c->first_frame;
         if (rows < 1) rows = 1;
         if (rows > c->frame_count) rows = c->frame_count;
         int count = candidates && candidate_count > 0 ? candidate_count : t->shot_count;
         for (int d = 0; d < rows; ++d) {
-            const float *row = t->link + (size_t)(c->row + (rel + d) % c->frame_count) * (size_t)t->shot_count;
+            const float *row =
+                t->link + (size_t)(c->row + (rel + d) % c->frame_count) * (size_t)t->shot_count;
             for (int i = 0; i < count; ++i) {
                 int clip;
                 if (candidates && candidate_count > 0) {

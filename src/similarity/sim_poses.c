@@ -13,8 +13,10 @@ static const float default_dim_weights[MM_SIM_DIMS] = {1.0f, 1.0f, 1.0f, 0.2f, 0
 const char *mm_sim_measure_name(mm_sim_measure m)
 {
     switch (m) {
-    case MM_SIM_COSINE: return "cos";
-    case MM_SIM_EUCLIDEAN: return "euclid";
+    case MM_SIM_COSINE:
+        return "cos";
+    case MM_SIM_EUCLIDEAN:
+        return "euclid";
     }
     return NULL;
 }
@@ -100,7 +102,8 @@ static void clip_vectors(mm_sim_poses *p, const mm_db_clip *c, mm_xform *g, mm_x
             }
             if (p->channels & MM_SIM_ROTATION) {
                 mm_quat r = mm_quat_mul(mm_quat_conj(root), g[j].rotation);
-                mm_vec3 x = mm_quat_rotate(r, mm_vec3_make(1, 0, 0)), y = mm_quat_rotate(r, mm_vec3_make(0, 1, 0));
+                mm_vec3 x = mm_quat_rotate(r, mm_vec3_make(1, 0, 0)),
+                        y = mm_quat_rotate(r, mm_vec3_make(0, 1, 0));
                 v[n++] = x.x * dw[3];
                 v[n++] = x.y * dw[4];
                 v[n++] = x.z * dw[5];
@@ -111,8 +114,9 @@ static void clip_vectors(mm_sim_poses *p, const mm_db_clip *c, mm_xform *g, mm_x
             if (p->channels & MM_SIM_VELOCITY) {
                 mm_vec3 vel = mm_vec3_make(0, 0, 0);
                 if (other >= 0)
-                    vel = mm_quat_inv_rotate(root, mm_vec3_scale(mm_vec3_sub(g[j].translation, h[j].translation),
-                                                                 sign / db->interval));
+                    vel = mm_quat_inv_rotate(
+                        root,
+                        mm_vec3_scale(mm_vec3_sub(g[j].translation, h[j].translation), sign / db->interval));
                 v[n++] = vel.x * dw[9];
                 v[n++] = vel.y * dw[10];
                 v[n++] = vel.z * dw[11];
@@ -167,7 +171,8 @@ mm_result mm_sim_poses_init(mm_sim_poses *p, const mm_database *db, const mm_sim
     }
     if (p->joint_count == 0) {
         mm_sim_poses_free(p);
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "mm_sim_desc.joint_weights: every weight is 0");
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "mm_sim_desc.joint_weights: every weight is 0");
     }
     p->stride = p->joint_count * p->dims;
     size_t frames = (size_t)db->frame_count;
@@ -193,7 +198,8 @@ oom:
 
 float mm_sim_pose(const mm_sim_poses *p, int a, int b)
 {
-    const float *x = p->values + (size_t)a * (size_t)p->stride, *y = p->values + (size_t)b * (size_t)p->stride;
+    const float *x = p->values + (size_t)a * (size_t)p->stride,
+                *y = p->values + (size_t)b * (size_t)p->stride;
     if (p->measure == MM_SIM_COSINE) {
         float num = 0.0f;
         for (int i = 0; i < p->stride; ++i) num += x[i] * y[i];
@@ -232,7 +238,8 @@ float mm_sim_window(const mm_sim_poses *p, int a, int b, int n)
     return (float)(sum / (double)n);
 }
 
-void mm__sim_strip(const mm_sim_poses *p, const mm_db_clip *a, const mm_db_clip *b, int i0, int rows, float *out)
+void mm__sim_strip(const mm_sim_poses *p, const mm_db_clip *a, const mm_db_clip *b, int i0, int rows,
+                   float *out)
 {
     int w = b->frame_count;
     for (int t = 0; t < rows; ++t) {
@@ -269,7 +276,8 @@ static void matrix_worker(void *ctx, int worker, int workers)
         mm__sim_strip(job->p, job->a, job->b, i0, rows + job->n - 1, s);
         for (int t = 0; t < rows; ++t)
             for (int j = 0; j < wb; ++j)
-                job->out[(size_t)(i0 + t) * (size_t)wb + (size_t)j] = mm__sim_window_cell(s, job->b, t, j, job->n);
+                job->out[(size_t)(i0 + t) * (size_t)wb + (size_t)j] =
+                    mm__sim_window_cell(s, job->b, t, j, job->n);
     }
 }
 

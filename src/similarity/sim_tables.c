@@ -74,7 +74,8 @@ static void link_unit(build_job *job, const unit *u, float *s)
     for (int t = 0; t < u->rows; ++t)
         for (int c = 0; c < shots; ++c) {
             double sum = 0.0;
-            for (int k = 0; k < n; ++k) sum += (double)s[(size_t)(t + k) * (size_t)width + (size_t)(c * n + k)];
+            for (int k = 0; k < n; ++k)
+                sum += (double)s[(size_t)(t + k) * (size_t)width + (size_t)(c * n + k)];
             job->link[(size_t)(row0 + t) * (size_t)shots + (size_t)c] = (float)(sum / (double)n);
         }
 }
@@ -95,7 +96,8 @@ static void build_worker(void *ctx, int worker, int workers)
     }
 }
 
-mm_result mm_sim_tables_build(const mm_database *db, const mm_sim_desc *desc, mm_sim_tables *out, mm_error *err)
+mm_result mm_sim_tables_build(const mm_database *db, const mm_sim_desc *desc, mm_sim_tables *out,
+                              mm_error *err)
 {
     memset(out, 0, sizeof *out);
     mm_sim_desc d;
@@ -178,7 +180,8 @@ mm_result mm_sim_tables_build(const mm_database *db, const mm_sim_desc *desc, mm
     size_t need_link = (size_t)(STRIP + n - 1) * (size_t)shots * (size_t)n;
     job.scratch_floats = need_fusion > need_link ? need_fusion : need_link;
     int threads = d.threads > 1 ? d.threads : 1;
-    if (threads > 1 && unit_count > 1) pool = mm__pool_create(threads < unit_count ? threads : unit_count, al);
+    if (threads > 1 && unit_count > 1)
+        pool = mm__pool_create(threads < unit_count ? threads : unit_count, al);
     int workers = mm__pool_size(pool);
     if (unit_count > 0) {
         scratch = (float *)mm_alloc_array(al, job.scratch_floats * (size_t)workers, sizeof(float));
