@@ -164,7 +164,7 @@ typedef struct mm_searcher {
      * weighted by the database's default weights w0 (boxes along them are much tighter). */
     float w0[MM_SEARCH_MAX_DIMS], sqrt_w0[MM_SEARCH_MAX_DIMS], unit_weights[MM_SEARCH_MAX_DIMS];
     double center[MM_SEARCH_MAX_DIMS];
-    double *basis; /* [dims_padded x dims_padded], row-major */
+    double *basis; /* [dims_padded x dims_padded], row-major, axes by decreasing variance */
     int units[1 << MM_SEARCH_UNIT_DEPTH];
     int unit_count;
     float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */

@@ -9,6 +9,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "search/pool.h"
@@ -880,6 +881,20 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
                     v[k * n + q] = sn * kp + c * kq;
                 }
             }
+    }
+    for (int i = 0; i < n; ++i) { /* axes by variance, largest first */
+        int best = i;
+        for (int j = i + 1; j < n; ++j)
+            if (cov[j * n + j] > cov[best * n + best]) best = j;
+        if (best == i) continue;
+        double t = cov[i * n + i];
+        cov[i * n + i] = cov[best * n + best];
+        cov[best * n + best] = t;
+        for (int k = 0; k < n; ++k) {
+            t = v[k * n + i];
+            v[k * n + i] = v[k * n + best];
+            v[k * n + best] = t;
+        }
     }
     for (int i = 0; i < n; ++i) /* columns to rows */
         for (int j = i + 1; j < n; ++j) {
