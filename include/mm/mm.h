@@ -19,6 +19,7 @@
 #include "search.h"
 #include "similarity.h"
 #include "skeleton.h"
+#include "spring.h"
 #include "synth.h"
 
 #define MM_VERSION_MAJOR  0

@@ -1,0 +1,94 @@
+#include <mm/spring.h>
+
+#include <math.h>
+
+/* exp(-y h) (1 + y h) = 1/2 */
+#define HALFLIFE_ROOT 1.6783469900166603
+
+double mm_spring_damping(float halflife)
+{
+    if (!(halflife > 0.0f)) return INFINITY;
+    return HALFLIFE_ROOT / (double)halflife;
+}
+
+/* One coordinate, in double: the closed form over dt. */
+static void step(double *x, double *v, double target, double y, double dt)
+{
+    if (!isfinite(y)) {
+        *x = target;
+        *v = 0.0;
+        return;
+    }
+    double j0 = *x - target, j1 = *v + j0 * y, e = exp(-y * dt);
+    *x = target + (j0 + j1 * dt) * e;
+    *v = (*v - j1 * y * dt) * e;
+}
+
+void mm_spring_update(float *x, float *v, float target, float halflife, float dt)
+{
+    if (!(dt > 0.0f)) return;
+    double xd = *x, vd = *v;
+    step(&xd, &vd, target, mm_spring_damping(halflife), dt);
+    *x = (float)xd;
+    *v = (float)vd;
+}
+
+void mm_spring_update_vec3(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, float halflife, float dt)
+{
+    mm_spring_update(&x->x, &v->x, target.x, halflife, dt);
+    mm_spring_update(&x->y, &v->y, target.y, halflife, dt);
+    mm_spring_update(&x->z, &v->z, target.z, halflife, dt);
+}
+
+void mm_spring_decay_vec3(mm_vec3 *x, mm_vec3 *v, float halflife, float dt)
+{
+    mm_spring_update_vec3(x, v, mm_vec3_make(0, 0, 0), halflife, dt);
+}
+
+void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflife, float dt)
+{
+    if (!(dt > 0.0f)) return;
+    double y = mm_spring_damping(halflife);
+    if (!isfinite(y)) {
+        *q = target;
+        *w = mm_vec3_make(0, 0, 0);
+        return;
+    }
+    /* the rotation still to go, as a rotation vector, springs to zero */
+    mm_vec3 r = mm_quat_log(mm_quat_abs(mm_quat_mul(*q, mm_quat_inverse(target))));
+    double e = exp(-y * dt);
+    double rv[3] = {r.x, r.y, r.z}, wv[3] = {w->x, w->y, w->z}, out_r[3], out_w[3];
+    for (int i = 0; i < 3; ++i) {
+        double j1 = wv[i] + rv[i] * y;
+        out_r[i] = (rv[i] + j1 * dt) * e;
+        out_w[i] = (wv[i] - j1 * y * dt) * e;
+    }
+    *q = mm_quat_normalize(
+        mm_quat_mul(mm_quat_exp(mm_vec3_make((float)out_r[0], (float)out_r[1], (float)out_r[2])), target));
+    *w = mm_vec3_make((float)out_w[0], (float)out_w[1], (float)out_w[2]);
+}
+
+void mm_spring_velocity_update(mm_vec3 *position, mm_vec3 *velocity, mm_vec3 *acceleration,
+                               mm_vec3 target_velocity, float halflife, float dt)
+{
+    if (!(dt > 0.0f)) return;
+    double y = mm_spring_damping(halflife);
+    float *p[3] = {&position->x, &position->y, &position->z};
+    float *v[3] = {&velocity->x, &velocity->y, &velocity->z};
+    float *a[3] = {&acceleration->x, &acceleration->y, &acceleration->z};
+    const float g[3] = {target_velocity.x, target_velocity.y, target_velocity.z};
+    for (int i = 0; i < 3; ++i) {
+        if (!isfinite(y)) { /* no spring: the velocity is the target at once */
+            *p[i] = (float)(*p[i] + (double)g[i] * dt);
+            *v[i] = g[i];
+            *a[i] = 0.0f;
+            continue;
+        }
+        /* v(t) = g + (j0 + j1 t) e^(-y t); x integrates it; a differentiates it */
+        double j0 = (double)*v[i] - g[i], j1 = (double)*a[i] + j0 * y, e = exp(-y * dt);
+        double x = *p[i] + g[i] * dt + j0 * (1.0 - e) / y + j1 * ((1.0 - e) / (y * y) - dt * e / y);
+        *p[i] = (float)x;
+        *v[i] = (float)(g[i] + (j0 + j1 * dt) * e);
+        *a[i] = (float)((j1 - j0 * y - j1 * y * dt) * e);
+    }
+}
