@@ -13,6 +13,7 @@
 #include "config.h"
 #include "database.h"
 #include "import.h"
+#include "input.h"
 #include "math.h"
 #include "pfnn.h"
 #include "result.h"
