@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets into build-fuzz and runs each for N seconds (default 60).
 #
 #   scripts/fuzz.sh [seconds] [target...]      e.g. scripts/fuzz.sh 300 fuzz_bvh
-#   (targets: fuzz_bvh, fuzz_config, fuzz_mmdb, fuzz_input; each has a dictionary fuzz/<name>.dict if present)
+#   (targets: fuzz_bvh, fuzz_config, fuzz_mmdb, fuzz_input, fuzz_sim; each has a dictionary fuzz/<name>.dict if present)
 #
 # Each target starts from its seed corpus fuzz/corpus/<name>/ (read only) plus a working corpus
 # in build-fuzz/corpus/<name>/ that grows from run to run. Crashes, leaks and timeouts are written
@@ -14,7 +14,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build-fuzz"
 seconds=${1:-60}
 [ $# -gt 0 ] && shift
-targets=${*:-fuzz_bvh fuzz_config fuzz_mmdb fuzz_input}
+targets=${*:-fuzz_bvh fuzz_config fuzz_mmdb fuzz_input fuzz_sim}
 
 case $seconds in
 '' | *[!0-9]*)

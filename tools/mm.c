@@ -10,8 +10,9 @@ static const struct command {
     const char *name;
     int (*run)(int argc, char **argv);
 } commands[] = {
-    {"bvh", mm_cmd_bvh},     {"config", mm_cmd_config}, {"convert", mm_cmd_convert}, {"db", mm_cmd_db},
-    {"synth", mm_cmd_synth}, {"import", mm_cmd_import}, {"pfnn", mm_cmd_pfnn},
+    {"bvh", mm_cmd_bvh},   {"config", mm_cmd_config},         {"convert", mm_cmd_convert},
+    {"db", mm_cmd_db},     {"synth", mm_cmd_synth},           {"import", mm_cmd_import},
+    {"pfnn", mm_cmd_pfnn}, {"similarity", mm_cmd_similarity},
 };
 
 static void usage(FILE *f)
@@ -38,6 +39,10 @@ static void usage(FILE *f)
         "  pfnn eval --weights DIR --x X.bin --phase P [--mode constant|linear|cubic] -o Y.bin\n"
         "                                    run the PFNN network on raw inputs (342 float32 per row)\n"
         "  synth OUTDIR [--seed N] [--fps 60]  write the built-in procedural motion set (BVH + clips.json)\n"
+        "  similarity DB --from CLIP --to CLIP -o DIR [--window N] [--measure cos|euclid] [--poor S]\n"
+        "                                    audit two clips: similarity CSV, heat-map PNG, poor frames\n"
+        "  similarity build DB [-o TABLES] [--window N] [--measure cos|euclid] [--threads N]\n"
+        "                                    fusion and link tables (default DB.sim); info TABLES [--db DB]\n"
         "  version                           print the version\n"
         "  help                              print this text\n",
         f);

@@ -239,7 +239,8 @@ void mm_pfnn_controller_destroy(mm_pfnn_controller *ctrl);
  * every trajectory point there, gait weights 0, phase 0. */
 void mm_pfnn_controller_reset(mm_pfnn_controller *ctrl, mm_vec3 position, float yaw);
 /* Advances by dt seconds in whole 60 Hz frames (the remainder carries over to the next call);
- * dt = 0 runs exactly one frame. in may be NULL (no input). Returns the number of frames run.
+ * dt = 0 runs exactly one frame; at most 600 frames per call (the rest of a longer dt is dropped).
+ * in may be NULL (no input). Returns the number of frames run.
  * Never allocates. */
 int mm_pfnn_controller_step(mm_pfnn_controller *ctrl, const mm_pfnn_input *in, float dt);
 const mm_pfnn_state *mm_pfnn_controller_state(const mm_pfnn_controller *ctrl);

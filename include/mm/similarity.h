@@ -112,12 +112,13 @@ typedef struct mm_sim_poses {
     mm_sim_measure measure;
     unsigned channels;
     int window;
-    int dims;        /* numbers per joint (3, 6, 9 or 12) */
-    int joint_count; /* active joints (weight > 0) */
-    int stride;      /* floats per frame: joint_count * dims */
+    int dims;          /* numbers per joint (3, 6, 9 or 12) */
+    int joint_count;   /* active joints (weight > 0) */
+    int joints_padded; /* joint_count rounded up to a multiple of 8 */
+    int stride;        /* floats per frame: dims x joints_padded (dimension-major, padding zero) */
     float dim_weights[MM_SIM_DIMS];
     int32_t *joints;      /* [joint_count] database joint indices of the active joints */
-    float *joint_weights; /* [joint_count] their weights */
+    float *joint_weights; /* [joints_padded] their weights, then zeros */
     float weight_sum;     /* sum of joint_weights */
     float *values;        /* [frame_count x stride] */
     uint8_t *zero;        /* cosine: [frame_count x joint_count], 1 where the vector is zero */

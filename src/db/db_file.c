@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/checksum.h"
 #include "io/file.h"
 
 static const char mm__db_magic[8] = {'M', 'M', 'D', 'B', 0, '\r', '\n', 0x1a};
@@ -50,29 +51,6 @@ _Static_assert(offsetof(mm__db_header, checksum) == 16, "header layout");
 static size_t align_up(size_t x) { return (x + MM_DB_ALIGN - 1) & ~(size_t)(MM_DB_ALIGN - 1); }
 
 static int block_count(int frames, int block) { return (frames + block - 1) / block; }
-
-/* 64-bit checksum: four independent multiply-rotate lanes over 8-byte words (fast enough to
- * verify a whole database on load), folded together with the tail and the length. */
-static uint64_t rotl64(uint64_t x, int r) { return (x << r) | (x >> (64 - r)); }
-static uint64_t checksum(const unsigned char *p, size_t n)
-{
-    const uint64_t k1 = 0x9E3779B185EBCA87ull, k2 = 0xC2B2AE3D27D4EB4Full;
-    uint64_t h[4] = {k1, k2, ~k1, ~k2};
-    size_t i = 0;
-    for (; i + 32 <= n; i += 32)
-        for (int l = 0; l < 4; ++l) {
-            uint64_t w;
-            memcpy(&w, p + i + 8 * l, 8);
-            h[l] = rotl64(h[l] + w * k2, 31) * k1;
-        }
-    uint64_t r = (uint64_t)n * k1;
-    for (int l = 0; l < 4; ++l) r = rotl64(r ^ h[l], 27) * k2 + k1;
-    for (; i < n; ++i) r = rotl64(r ^ p[i], 11) * k1;
-    r ^= r >> 33;
-    r *= k2;
-    r ^= r >> 29;
-    return r;
-}
 
 void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT])
 {
@@ -173,7 +151,7 @@ mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, 
     for (int s = 0; s < MM__SEC_COUNT; ++s)
         if (size[s] && parts->data[s]) memcpy(base + h.sections[s].offset, parts->data[s], size[s]);
     memcpy(base, &h, sizeof h);
-    h.checksum = checksum(base + 24, at - 24);
+    h.checksum = mm__checksum64(base + 24, at - 24);
     memcpy(base, &h, sizeof h);
     memset(out, 0, sizeof *out);
     if (allocator) out->allocator = *allocator;
@@ -204,7 +182,7 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
         return mm_error_set(err, h->file_size > size ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, 0, 0,
                             "the header says %llu bytes, the file has %zu (truncated or padded)",
                             (unsigned long long)h->file_size, size);
-    if (verify_checksum && checksum(base + 24, size - 24) != h->checksum)
+    if (verify_checksum && mm__checksum64(base + 24, size - 24) != h->checksum)
         return BAD("checksum mismatch: the file is corrupted");
     if (h->frame_count < 1 || h->frame_count > MM_MAX_FRAMES || h->joint_count < 1 ||
         h->joint_count > MM_MAX_JOINTS || h->clip_count < 1 || h->clip_count > h->frame_count ||

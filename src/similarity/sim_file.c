@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "io/file.h"
+#include "io/checksum.h"
 #include "similarity/sim_file.h"
 
 static const char sim_magic[8] = {'M', 'M', 'S', 'I', 'M', 0, '\n', 0x1a};
@@ -37,24 +38,6 @@ _Static_assert(sizeof(sim_header) == 256, "header layout");
 _Static_assert(sizeof(mm_sim_clip) == 20 && sizeof(mm_sim_match) == 8, "record layout");
 
 static size_t align_up(size_t x) { return (x + SIM_ALIGN - 1) & ~(size_t)(SIM_ALIGN - 1); }
-
-/* 64-bit checksum: FNV-style multiply-xor over 8-byte words with a rotate, then the tail. */
-static uint64_t checksum(const unsigned char *p, size_t n)
-{
-    uint64_t h = 0xcbf29ce484222325ull ^ (uint64_t)n;
-    size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        uint64_t w;
-        memcpy(&w, p + i, 8);
-        h = (h ^ w) * 0x100000001b3ull;
-        h ^= h >> 29;
-    }
-    for (; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdull;
-    h ^= h >> 33;
-    return h;
-}
 
 uint64_t mm__sim_db_checksum(const mm_database *db)
 {
@@ -139,7 +122,7 @@ mm_result mm__sim_pack(const mm__sim_parts *parts, const mm_allocator *allocator
     for (int s = 0; s < MM__SIM_SEC_COUNT; ++s)
         if (size[s] && parts->data[s]) memcpy(base + h.sections[s].offset, parts->data[s], size[s]);
     memcpy(base, &h, sizeof h);
-    h.checksum = checksum(base + 24, at - 24);
+    h.checksum = mm__checksum64(base + 24, at - 24);
     memcpy(base, &h, sizeof h);
     memset(out, 0, sizeof *out);
     if (allocator) out->allocator = *allocator;
@@ -169,7 +152,8 @@ static mm_result validate_header(const unsigned char *base, size_t size, sim_hea
         return mm_error_set(err, h->file_size > size ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, 0, 0,
                             "the header says %llu bytes, the file has %zu (truncated or padded)",
                             (unsigned long long)h->file_size, size);
-    if (checksum(base + 24, size - 24) != h->checksum) return BAD("checksum mismatch: the file is corrupted");
+    if (mm__checksum64(base + 24, size - 24) != h->checksum)
+        return BAD("checksum mismatch: the file is corrupted");
     if ((h->measure != MM_SIM_COSINE && h->measure != MM_SIM_EUCLIDEAN) || h->channels == 0 ||
         h->channels > 7 || h->window < 1 || h->window > MM_SIM_MAX_WINDOW || h->joint_count < 1 ||
         h->joint_count > MM_MAX_JOINTS || h->frame_count < 1 || h->frame_count > MM_MAX_FRAMES ||

@@ -4,6 +4,8 @@
 
 #include <mm/similarity.h>
 
+#define MM__SIM_LANES 8 /* joints are padded to a multiple of this; kernels sum in this many lanes */
+
 /* Clip-relative frame k frames after rel in clip c: wraps in a loop clip, holds the last frame
  * otherwise. */
 static inline int mm__sim_step(const mm_db_clip *c, int rel, int k)

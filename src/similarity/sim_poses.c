@@ -121,20 +121,21 @@ static void clip_vectors(mm_sim_poses *p, const mm_db_clip *c, mm_xform *g, mm_x
                 v[n++] = vel.y * dw[10];
                 v[n++] = vel.z * dw[11];
             }
-            float *o = out + (size_t)a * (size_t)p->dims;
+            float *o = out + a; /* dimension d at o[d * joints_padded] */
+            size_t jp = (size_t)p->joints_padded;
             if (p->measure == MM_SIM_COSINE) {
                 double sq = 0.0;
                 for (int d = 0; d < n; ++d) sq += (double)v[d] * (double)v[d];
                 if (sq < 1e-18) { /* a zero vector (the root, a joint at the root): skipped */
                     p->zero[(size_t)f * (size_t)p->joint_count + (size_t)a] = 1;
                     p->any_zero[f] = 1;
-                    for (int d = 0; d < n; ++d) o[d] = 0.0f;
+                    for (int d = 0; d < n; ++d) o[d * jp] = 0.0f;
                 } else {
                     double s = sqrt((double)p->joint_weights[a]) / sqrt(sq);
-                    for (int d = 0; d < n; ++d) o[d] = (float)(v[d] * s);
+                    for (int d = 0; d < n; ++d) o[d * jp] = (float)(v[d] * s);
                 }
             } else {
-                for (int d = 0; d < n; ++d) o[d] = v[d];
+                for (int d = 0; d < n; ++d) o[d * jp] = v[d];
             }
         }
     }
@@ -159,7 +160,8 @@ mm_result mm_sim_poses_init(mm_sim_poses *p, const mm_database *db, const mm_sim
               ((p->channels & MM_SIM_VELOCITY) ? 3 : 0);
     int jc = db->joint_count;
     p->joints = (int32_t *)mm_alloc_array(al, (size_t)jc, sizeof(int32_t));
-    p->joint_weights = (float *)mm_alloc_array(al, (size_t)jc, sizeof(float));
+    p->joint_weights =
+        (float *)mm_alloc_array(al, (size_t)jc + MM__SIM_LANES, sizeof(float)); /* zero padded */
     if (!p->joints || !p->joint_weights) goto oom;
     for (int j = 0; j < jc; ++j) {
         float w = d.joint_weights ? d.joint_weights[j] : (j == 0 ? 0.0f : 1.0f);
@@ -174,7 +176,8 @@ mm_result mm_sim_poses_init(mm_sim_poses *p, const mm_database *db, const mm_sim
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
                             "mm_sim_desc.joint_weights: every weight is 0");
     }
-    p->stride = p->joint_count * p->dims;
+    p->joints_padded = (p->joint_count + MM__SIM_LANES - 1) / MM__SIM_LANES * MM__SIM_LANES;
+    p->stride = p->joints_padded * p->dims;
     size_t frames = (size_t)db->frame_count;
     p->values = (float *)mm_alloc_array(al, frames * (size_t)p->stride, sizeof(float));
     if (!p->values) goto oom;
@@ -196,13 +199,17 @@ oom:
                         db->frame_count);
 }
 
-float mm_sim_pose(const mm_sim_poses *p, int a, int b)
+/* The kernels sum in MM__SIM_LANES independent lanes folded in a fixed order: they vectorise, and
+ * the result is the same on every machine and thread. */
+static inline float pose_kernel(const mm_sim_poses *p, int a, int b)
 {
     const float *x = p->values + (size_t)a * (size_t)p->stride,
                 *y = p->values + (size_t)b * (size_t)p->stride;
+    float acc[MM__SIM_LANES] = {0};
     if (p->measure == MM_SIM_COSINE) {
-        float num = 0.0f;
-        for (int i = 0; i < p->stride; ++i) num += x[i] * y[i];
+        for (int i = 0; i < p->stride; i += MM__SIM_LANES)
+            for (int l = 0; l < MM__SIM_LANES; ++l) acc[l] += x[i + l] * y[i + l];
+        float num = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
         float den = p->weight_sum;
         if (p->any_zero[a] || p->any_zero[b]) {
             const uint8_t *za = p->zero + (size_t)a * (size_t)p->joint_count,
@@ -213,17 +220,23 @@ float mm_sim_pose(const mm_sim_poses *p, int a, int b)
         }
         return den > 0.0f ? num / den : 0.0f;
     }
-    float sum = 0.0f;
-    for (int j = 0; j < p->joint_count; ++j) {
-        float d2 = 0.0f;
-        for (int k = 0; k < p->dims; ++k) {
-            float t = x[j * p->dims + k] - y[j * p->dims + k];
-            d2 += t * t;
+    int jp = p->joints_padded;
+    for (int j0 = 0; j0 < jp; j0 += MM__SIM_LANES) {
+        float d2[MM__SIM_LANES] = {0};
+        for (int d = 0; d < p->dims; ++d) {
+            const float *u = x + d * jp + j0, *v = y + d * jp + j0;
+            for (int l = 0; l < MM__SIM_LANES; ++l) {
+                float t = u[l] - v[l];
+                d2[l] += t * t;
+            }
         }
-        sum += p->joint_weights[j] * sqrtf(d2);
+        for (int l = 0; l < MM__SIM_LANES; ++l) acc[l] += p->joint_weights[j0 + l] * sqrtf(d2[l]);
     }
+    float sum = ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
     return sum / p->weight_sum;
 }
+
+float mm_sim_pose(const mm_sim_poses *p, int a, int b) { return pose_kernel(p, a, b); }
 
 float mm_sim_window(const mm_sim_poses *p, int a, int b, int n)
 {
@@ -249,7 +262,7 @@ void mm__sim_strip(const mm_sim_poses *p, const mm_db_clip *a, const mm_db_clip 
             memcpy(o, o - w, (size_t)w * sizeof(float));
             continue;
         }
-        for (int j = 0; j < w; ++j) o[j] = mm_sim_pose(p, fa, b->first_frame + j);
+        for (int j = 0; j < w; ++j) o[j] = pose_kernel(p, fa, b->first_frame + j);
     }
 }
 

@@ -1,0 +1,28 @@
+/* libFuzzer target: similarity tables files. Any bytes load or are refused with a message; loaded
+ * tables answer every lookup safely. */
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <mm/similarity.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    void *buf = aligned_alloc(64, (size + 64) / 64 * 64);
+    if (!buf) return 0;
+    if (size) memcpy(buf, data, size);
+    mm_sim_tables t;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    if (mm_sim_tables_load_memory(buf, size, NULL, &t, &err) == MM_OK) {
+        for (int f = -1; f <= t.frame_count; f += 1 + t.frame_count / 8)
+            for (int c = -1; c <= t.clip_count; ++c) (void)mm_sim_fusion(&t, f, c);
+    } else if (err.message[0] == 0) {
+        __builtin_trap();
+    }
+    free(buf);
+    return 0;
+}

@@ -1,0 +1,82 @@
+#!/bin/sh
+# End-to-end tests of `mm pfnn eval` on the released PFNN weights ($MM_DATA_DIR/pfnn).
+# Skipped (exit 77) when MM_DATA_DIR is unset. usage: test_pfnn_cli.sh MM_BINARY
+set -u
+mm=$1
+if [ -z "${MM_DATA_DIR:-}" ] || [ ! -d "$MM_DATA_DIR/pfnn/network" ]; then
+    echo "MM_DATA_DIR/pfnn not available: skipped"
+    exit 77
+fi
+w=$MM_DATA_DIR/pfnn
+ref=$w/reference
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+expect_exit() {
+    want=$1; shift
+    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
+    if [ "$got" -eq "$want" ]; then ok; else bad "exit $got (wanted $want): $*"; cat "$tmp/err"; fi
+}
+expect_grep() { # PATTERN FILE
+    if grep -q -- "$1" "$2"; then ok; else bad "'$1' not in $2:"; cat "$2"; fi
+}
+# expect_close A.bin B.bin TOL : same number of float32 values, all within TOL
+expect_close() {
+    od -An -v -t f4 -w4 "$1" | tr -d ' ' >"$tmp/a.txt"
+    od -An -v -t f4 -w4 "$2" | tr -d ' ' >"$tmp/b.txt"
+    if paste "$tmp/a.txt" "$tmp/b.txt" | awk -v tol="$3" '
+        function abs(v) { return v < 0 ? -v : v }
+        NF != 2 { bad = 1 } abs($1 - $2) > tol { bad = 1 } END { exit bad || NR == 0 }'; then
+        ok
+    else
+        bad "$1 and $2 differ by more than $3"
+    fi
+}
+
+for p in 0.00 1.00 2.50 4.00; do
+    for m in constant linear; do
+        for x in C_reset A_xmean; do
+            [ -f "$ref/Y_${x}_${m}_p$p.bin" ] || continue
+            expect_exit 0 "$mm" pfnn eval --weights "$w" --x "$ref/X_$x.bin" --phase $p --mode $m -o "$tmp/y.bin"
+            expect_close "$tmp/y.bin" "$ref/Y_${x}_${m}_p$p.bin" 0.001
+        done
+    done
+done
+
+# several rows; the phase wraps (1 + 2 pi); cubic mode; default weights from $MM_DATA_DIR
+cat "$ref/X_C_reset.bin" "$ref/X_A_xmean.bin" >"$tmp/x2.bin"
+expect_exit 0 "$mm" pfnn eval --x "$tmp/x2.bin" --phase 7.283185307 --mode constant -o "$tmp/y2.bin"
+cat "$ref/Y_C_reset_constant_p1.00.bin" "$ref/Y_A_xmean_constant_p1.00.bin" >"$tmp/r2.bin"
+expect_close "$tmp/y2.bin" "$tmp/r2.bin" 0.001
+expect_exit 0 "$mm" pfnn eval --weights "$w" --x "$tmp/x2.bin" --phase -5.283185307 --mode constant -o "$tmp/y3.bin"
+expect_close "$tmp/y3.bin" "$tmp/r2.bin" 0.001
+expect_exit 0 "$mm" pfnn eval --weights "$w" --x "$tmp/x2.bin" --phase 1 --mode cubic -o "$tmp/yc.bin"
+[ "$(wc -c <"$tmp/yc.bin")" -eq 2488 ] && ok || bad "cubic output is not 2 x 311 float32"
+
+# errors
+expect_exit 2 "$mm" pfnn eval --weights "$w" --x "$ref/X_C_reset.bin" --phase 1 --mode quadratic -o "$tmp/y.bin"
+expect_grep "constant, linear or cubic" "$tmp/err"
+expect_exit 2 "$mm" pfnn eval --weights "$w" --x "$ref/X_C_reset.bin" -o "$tmp/y.bin"
+expect_exit 2 "$mm" pfnn eval --weights "$w" --x "$ref/X_C_reset.bin" --phase abc -o "$tmp/y.bin"
+expect_exit 2 "$mm" pfnn
+head -c 1000 "$ref/X_C_reset.bin" >"$tmp/short.bin"
+expect_exit 1 "$mm" pfnn eval --weights "$w" --x "$tmp/short.bin" --phase 1 -o "$tmp/y.bin"
+expect_grep "short.bin: 1000 bytes is not a whole number of rows of 342" "$tmp/err"
+expect_exit 1 "$mm" pfnn eval --weights "$tmp/nowhere" --x "$ref/X_C_reset.bin" --phase 1 -o "$tmp/y.bin"
+expect_grep "nowhere/network/Xmean.bin" "$tmp/err"
+mkdir -p "$tmp/w/network"
+for f in "$w"/network/*.bin; do ln -s "$f" "$tmp/w/network/"; done
+rm "$tmp/w/network/b2_ctrl3.bin"
+head -c 1000 "$w/network/b2_ctrl3.bin" >"$tmp/w/network/b2_ctrl3.bin"
+expect_exit 1 "$mm" pfnn eval --weights "$tmp/w" --x "$ref/X_C_reset.bin" --phase 1 -o "$tmp/y.bin"
+expect_grep "b2_ctrl3.bin.*short file: 1000 bytes, expected 1244" "$tmp/err"
+rm "$tmp/w/network/W0_ctrl1.bin"
+expect_exit 1 "$mm" pfnn eval --weights "$tmp/w" --x "$ref/X_C_reset.bin" --phase 1 -o "$tmp/y.bin"
+expect_grep "W0_ctrl1.bin: cannot open" "$tmp/err"
+
+echo "test_pfnn_cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
