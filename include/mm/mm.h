@@ -22,6 +22,7 @@
 #include "skeleton.h"
 #include "spring.h"
 #include "synth.h"
+#include "trajectory.h"
 
 #define MM_VERSION_MAJOR  0
 #define MM_VERSION_MINOR  1

@@ -1,0 +1,239 @@
+#include <mm/trajectory.h>
+
+#include <math.h>
+#include <string.h>
+
+#include <mm/spring.h>
+
+static mm_gait_params gait(float forward, float side, float backward, float velocity, float rotation)
+{
+    mm_gait_params g = {forward, side, backward, velocity, rotation};
+    return g;
+}
+
+void mm_trajectory_defaults(mm_trajectory_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->gaits[MM_GAIT_WALK] = gait(1.5f, 1.1f, 1.0f, 0.25f, 0.2f);
+    d->gaits[MM_GAIT_RUN] = gait(4.0f, 2.6f, 2.2f, 0.3f, 0.25f);
+    d->gaits[MM_GAIT_CROUCH] = gait(0.9f, 0.7f, 0.6f, 0.25f, 0.2f);
+    d->gaits[MM_GAIT_JUMP] = d->gaits[MM_GAIT_RUN];
+    d->gait_halflife = 0.2f;
+    d->history_seconds = 10.0f;
+    d->history_rate = 60.0f;
+}
+
+static int sane(float v, float lo, float hi) { return isfinite(v) && v >= lo && v <= hi; }
+
+mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, const mm_allocator *allocator)
+{
+    if (!t) return MM_ERR_INVALID_ARGUMENT;
+    memset(t, 0, sizeof *t);
+    mm_trajectory_defaults(&t->desc);
+    if (desc) t->desc = *desc;
+    const mm_trajectory_desc *d = &t->desc;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        const mm_gait_params *p = &d->gaits[g];
+        if (!sane(p->forward_speed, 0, 50) || !sane(p->side_speed, 0, 50) ||
+            !sane(p->backward_speed, 0, 50) || !sane(p->velocity_halflife, 0, 60) ||
+            !sane(p->rotation_halflife, 0, 60))
+            return MM_ERR_OUT_OF_RANGE;
+    }
+    if (!sane(d->gait_halflife, 0, 60) || !sane(d->history_seconds, 0, 3600) ||
+        !sane(d->history_rate, 1, 1000))
+        return MM_ERR_OUT_OF_RANGE;
+    if (allocator) t->allocator = *allocator;
+    int capacity = (int)ceil(d->history_seconds * d->history_rate) + 2;
+    t->history_position = (mm_vec3 *)mm_alloc_array(&t->allocator, (size_t)capacity, sizeof(mm_vec3));
+    t->history_facing = (mm_quat *)mm_alloc_array(&t->allocator, (size_t)capacity, sizeof(mm_quat));
+    if (!t->history_position || !t->history_facing) {
+        mm_trajectory_free(t);
+        return MM_ERR_OUT_OF_MEMORY;
+    }
+    t->history_capacity = capacity;
+    mm_trajectory_reset(t, mm_vec3_make(0, 0, 0), mm_quat_identity());
+    return MM_OK;
+}
+
+void mm_trajectory_free(mm_trajectory *t)
+{
+    if (!t) return;
+    mm_allocator a = t->allocator;
+    mm_free(&a, t->history_position);
+    mm_free(&a, t->history_facing);
+    memset(t, 0, sizeof *t);
+}
+
+void mm_trajectory_reset(mm_trajectory *t, mm_vec3 position, mm_quat facing)
+{
+    t->position = mm_vec3_make(position.x, 0.0f, position.z);
+    t->velocity = t->acceleration = t->angular_velocity = mm_vec3_make(0, 0, 0);
+    t->facing = mm_quat_normalize(facing);
+    t->target_facing = t->facing;
+    memset(t->gait_weights, 0, sizeof t->gait_weights);
+    memset(t->gait_rates, 0, sizeof t->gait_rates);
+    t->gait_weights[MM_GAIT_WALK] = 1.0f;
+    t->time = 0.0;
+    t->history_count = 0;
+    t->history_head = -1;
+    t->history_time = 0.0;
+}
+
+/* The stick, cleaned: NaN counts as zero, longer than 1 is cut to 1. */
+static void clean_stick(const mm_input *in, float *x, float *z)
+{
+    *x = in && isfinite(in->stick[0]) ? in->stick[0] : 0.0f;
+    *z = in && isfinite(in->stick[1]) ? in->stick[1] : 0.0f;
+    float m = sqrtf(*x * *x + *z * *z);
+    if (!(m <= 1.0f)) {
+        *x /= m;
+        *z /= m;
+    }
+}
+
+static mm_quat facing_toward(float x, float z)
+{
+    return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), atan2f(x, z));
+}
+
+/* The facing the input asks for: the stick's direction, or when strafing the given facing; with
+ * neither, the last one asked for (kept, so the spring's target stays fixed). */
+static mm_quat target_facing(const mm_trajectory *t, const mm_input *in)
+{
+    float x, z;
+    clean_stick(in, &x, &z);
+    if (in && in->strafe) {
+        if (in->has_facing && isfinite(in->facing[0]) && isfinite(in->facing[1]) &&
+            in->facing[0] * in->facing[0] + in->facing[1] * in->facing[1] > 1e-8f)
+            return facing_toward(in->facing[0], in->facing[1]);
+        return t->target_facing;
+    }
+    if (x * x + z * z > 1e-4f) return facing_toward(x, z);
+    return t->target_facing;
+}
+
+static const mm_gait_params *gait_of(const mm_trajectory *t, const mm_input *in)
+{
+    int g = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
+    return &t->desc.gaits[g];
+}
+
+void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *velocity, mm_quat *facing)
+{
+    float x, z;
+    clean_stick(in, &x, &z);
+    mm_quat f = target_facing(t, in);
+    const mm_gait_params *p = gait_of(t, in);
+    /* the stick in the frame of the facing asked for; speeds on an ellipse there */
+    mm_vec3 local = mm_quat_inv_rotate(f, mm_vec3_make(x, 0, z));
+    local.x *= p->side_speed;
+    local.z *= local.z >= 0.0f ? p->forward_speed : p->backward_speed;
+    local.y = 0.0f;
+    if (velocity) *velocity = mm_quat_rotate(f, local);
+    if (facing) *facing = f;
+}
+
+/* The simulated state after dt with fixed targets: position, velocity, acceleration, facing. */
+typedef struct state {
+    mm_vec3 position, velocity, acceleration, angular_velocity;
+    mm_quat facing;
+} state;
+
+static void advance(state *s, mm_vec3 velocity, mm_quat facing, const mm_gait_params *p, float dt)
+{
+    mm_spring_velocity_update(&s->position, &s->velocity, &s->acceleration, velocity, p->velocity_halflife,
+                              dt);
+    mm_spring_update_quat(&s->facing, &s->angular_velocity, facing, p->rotation_halflife, dt);
+}
+
+static state current(const mm_trajectory *t)
+{
+    state s = {t->position, t->velocity, t->acceleration, t->angular_velocity, t->facing};
+    return s;
+}
+
+static void push_history(mm_trajectory *t, mm_vec3 position, mm_quat facing, double time)
+{
+    t->history_head = (t->history_head + 1) % t->history_capacity;
+    t->history_position[t->history_head] = position;
+    t->history_facing[t->history_head] = facing;
+    if (t->history_count < t->history_capacity) ++t->history_count;
+    t->history_time = time;
+}
+
+void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
+{
+    if (!t || !t->history_position || !(dt > 0.0f) || !isfinite(dt)) return;
+    mm_vec3 velocity;
+    mm_quat facing;
+    mm_trajectory_desired(t, in, &velocity, &facing);
+    const mm_gait_params *p = gait_of(t, in);
+    /* the history at fixed times inside (time, time + dt], each from the closed form */
+    double rate = t->desc.history_rate, end = t->time + dt;
+    double k = t->history_count ? floor(t->history_time * rate + 0.5) + 1.0 : ceil(t->time * rate - 1e-9);
+    for (; k / rate <= end + 1e-9; k += 1.0) {
+        state s = current(t);
+        float tau = (float)(k / rate - t->time);
+        if (tau > 0.0f) advance(&s, velocity, facing, p, tau);
+        push_history(t, s.position, s.facing, k / rate);
+    }
+    state s = current(t);
+    advance(&s, velocity, facing, p, dt);
+    t->position = mm_vec3_make(s.position.x, 0.0f, s.position.z);
+    t->velocity = s.velocity;
+    t->acceleration = s.acceleration;
+    t->facing = s.facing;
+    t->angular_velocity = s.angular_velocity;
+    t->target_facing = facing;
+    int g = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
+    for (int i = 0; i < MM_GAIT_COUNT; ++i)
+        mm_spring_update(&t->gait_weights[i], &t->gait_rates[i], i == g ? 1.0f : 0.0f, t->desc.gait_halflife,
+                         dt);
+    t->time = end;
+}
+
+/* The recorded state at absolute time `when` (<= now): interpolated between history samples. */
+static void past(const mm_trajectory *t, double when, mm_vec3 *position, mm_quat *facing)
+{
+    if (t->history_count == 0 || when >= t->time) {
+        *position = t->position;
+        *facing = t->facing;
+        return;
+    }
+    if (when >= t->history_time) { /* between the newest sample and now */
+        int h = t->history_head;
+        float a = (float)((when - t->history_time) / (t->time - t->history_time));
+        *position = mm_vec3_lerp(t->history_position[h], t->position, a);
+        *facing = mm_quat_slerp(t->history_facing[h], t->facing, a);
+        return;
+    }
+    double back = (t->history_time - when) * t->desc.history_rate; /* samples back from the newest */
+    double oldest = t->history_count - 1;
+    if (back >= oldest) back = oldest;
+    int i0 = (int)floor(back), i1 = i0 + 1 <= oldest ? i0 + 1 : i0;
+    float a = (float)(back - i0);
+    int cap = t->history_capacity;
+    int h0 = ((t->history_head - i0) % cap + cap) % cap, h1 = ((t->history_head - i1) % cap + cap) % cap;
+    *position = mm_vec3_lerp(t->history_position[h0], t->history_position[h1], a);
+    *facing = mm_quat_slerp(t->history_facing[h0], t->history_facing[h1], a);
+}
+
+void mm_trajectory_sample(const mm_trajectory *t, const mm_input *in, const float *times, int count,
+                          mm_vec3 *positions, mm_quat *facings)
+{
+    mm_vec3 velocity;
+    mm_quat facing;
+    mm_trajectory_desired(t, in, &velocity, &facing);
+    const mm_gait_params *p = gait_of(t, in);
+    for (int i = 0; i < count; ++i) {
+        float tau = isfinite(times[i]) ? times[i] : 0.0f;
+        if (tau <= 0.0f) {
+            past(t, t->time + tau, &positions[i], &facings[i]);
+            continue;
+        }
+        state s = current(t);
+        advance(&s, velocity, facing, p, tau);
+        positions[i] = mm_vec3_make(s.position.x, 0.0f, s.position.z);
+        facings[i] = s.facing;
+    }
+}
