@@ -157,5 +157,22 @@ expect_grep "out of range" "$tmp/err"
 expect_exit 2 "$mm" db search "$tmp/synth.mmdb" --frame 1 --method slow
 expect_exit 2 "$mm" db search "$tmp/synth.mmdb"
 
+# simulate: a character on scripted and random input; the BVH is deterministic, the metrics JSON
+# carries every documented key
+script_dir=$data/../../scripts/input
+expect_exit 0 "$mm" simulate "$tmp/synth.mmdb" --input "$script_dir/turn_90.json" --seconds 5 -o "$tmp/sim1.bvh" --metrics "$tmp/sim1.json"
+expect_exit 0 "$mm" simulate "$tmp/synth.mmdb" --input "$script_dir/turn_90.json" --seconds 5 -o "$tmp/sim2.bvh" --metrics "$tmp/sim2.json"
+if cmp -s "$tmp/sim1.bvh" "$tmp/sim2.bvh"; then ok; else bad "two simulations of one script differ"; fi
+for key in foot_slide_cm_s foot_slide_raw_cm_s traj_err_cm heading_err_deg response_s max_pop_cm db_max_pop_cm searches transitions_per_s nan_frames search_median_us search_p99_us; do
+    expect_grep "\"$key\": " "$tmp/sim1.json"
+done
+expect_grep '"nan_frames": 0' "$tmp/sim1.json"
+expect_exit 0 "$mm" bvh info "$tmp/sim1.bvh"
+expect_grep "frames: *300" "$tmp/out"
+expect_exit 0 "$mm" simulate "$tmp/synth.mmdb" --random 5 --seconds 3 --fps 30 -o "$tmp/sim3.bvh" --metrics "$tmp/sim3.json"
+expect_exit 2 "$mm" simulate "$tmp/synth.mmdb" --seconds 3 -o "$tmp/sim4.bvh"
+expect_exit 1 "$mm" simulate "$tmp/synth.mmdb" --input "$tmp/missing.json" --seconds 3 -o "$tmp/sim4.bvh"
+expect_grep "missing.json" "$tmp/err"
+
 echo "test_cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -10,6 +10,7 @@ int mm_cmd_db(int argc, char **argv);
 int mm_cmd_import(int argc, char **argv);
 int mm_cmd_pfnn(int argc, char **argv);
 int mm_cmd_similarity(int argc, char **argv);
+int mm_cmd_simulate(int argc, char **argv);
 int mm_cmd_synth(int argc, char **argv);
 
 #endif

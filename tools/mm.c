@@ -12,7 +12,7 @@ static const struct command {
 } commands[] = {
     {"bvh", mm_cmd_bvh},   {"config", mm_cmd_config},         {"convert", mm_cmd_convert},
     {"db", mm_cmd_db},     {"synth", mm_cmd_synth},           {"import", mm_cmd_import},
-    {"pfnn", mm_cmd_pfnn}, {"similarity", mm_cmd_similarity},
+    {"pfnn", mm_cmd_pfnn}, {"similarity", mm_cmd_similarity}, {"simulate", mm_cmd_simulate},
 };
 
 static void usage(FILE *f)

@@ -9,6 +9,7 @@
 
 #include "alloc.h"
 #include "bvh.h"
+#include "character.h"
 #include "clip.h"
 #include "config.h"
 #include "database.h"

@@ -1,0 +1,107 @@
+/* mm/character.h - the character that moves: input -> trajectory -> search -> transition ->
+ * pose, every tick, with no allocation.
+ *
+ * A character plays a database frame by frame (interpolating when the database interval is
+ * coarser than the tick). Every search_interval seconds, at once when the input changes sharply,
+ * and when its clip ends, it builds a query from the pose it plays and the simulated trajectory
+ * (mm/trajectory.h) and searches (mm/search.h). When the winner is not where playback goes anyway
+ * (same clip, a few frames ahead), it jumps there and hides the jump by inertialization: the
+ * difference between the old and the new pose, joint by joint, decays to zero through a
+ * critically damped spring. It asks for idle frames when the desired speed stays low (with
+ * hysteresis). The root integrates the database's root velocity and is pulled toward the
+ * simulation, within a distance and angle clamp.
+ *
+ * Many characters can share one database and one searcher (with one thread) read-only; each
+ * character owns its context.
+ *
+ *   mm_character c;
+ *   mm_character_init(&c, &db, &searcher, NULL, &err);
+ *   each tick: mm_character_update(&c, &input, dt);  read c.global (joint_count transforms)
+ *   mm_character_free(&c);
+ *
+ * Functions: mm_character_defaults mm_character_init mm_character_free mm_character_update
+ */
+#ifndef MM_CHARACTER_H
+#define MM_CHARACTER_H
+
+#include <stdbool.h>
+
+#include "database.h"
+#include "input.h"
+#include "math.h"
+#include "result.h"
+#include "search.h"
+#include "trajectory.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct mm_character_desc {
+    float search_interval;     /* s between searches; 0.1 */
+    float turn_threshold;      /* rad: a desired-direction change that searches at once; 0.5 */
+    float transition_halflife; /* s: inertialization decay; 0.1 */
+    float idle_speed;          /* m/s: desired speed under which idle is asked for; 0.15 */
+    float idle_hysteresis;     /* m/s: leave idle above idle_speed + this; 0.1 */
+    float sync_halflife;       /* s: the root is pulled toward the simulation; 0.3 */
+    float sync_max_distance;   /* m: clamp of the root's distance to the simulation; 0.3 */
+    float sync_max_angle;      /* rad: clamp of the root's facing to the simulation's; 0.6 */
+    int skip_frames;           /* the winner is "where playback goes anyway" within this many
+                                  frames ahead in the same clip; 3 */
+    mm_search_method method;   /* MM_SEARCH_FAST */
+    bool use_params;           /* use params below instead of mm_search_params_defaults with
+                                  next_pose_favour 0.8 */
+    mm_search_params params;
+    mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
+    bool has_trajectory;
+    double (*clock)(void); /* optional: seconds, to time searches (c->last_search_us) */
+    const mm_allocator *allocator;
+} mm_character_desc;
+
+void mm_character_defaults(mm_character_desc *d);
+
+typedef struct mm_character {
+    const mm_database *db;
+    const mm_searcher *searcher;
+    mm_character_desc desc;
+    mm_trajectory trajectory;
+
+    int frame;            /* database frame playing */
+    float frame_fraction; /* [0, 1): how far toward the next frame */
+    float since_search;   /* s */
+    float last_direction; /* rad: desired direction at the last search */
+    bool idle;            /* asking for idle */
+    mm_xform root;        /* the character on the ground: position and facing (joint 0) */
+
+    /* per joint (joint_count): the pose played, inertialization offsets and their velocities,
+     * the last output (for velocities), and the global output pose */
+    mm_quat *local_rotations;
+    mm_vec3 *local_positions;
+    mm_vec3 *rotation_offset, *rotation_offset_velocity; /* rotation vectors, rad and rad/s */
+    mm_vec3 *position_offset, *position_offset_velocity;
+    mm_quat *previous_rotations;
+    mm_vec3 *previous_positions;
+    mm_xform *global; /* [joint_count] world transforms, joint 0 the root */
+    float *query;     /* [dims_padded] */
+
+    /* statistics */
+    int searches, transitions;
+    float last_search_us;
+    mm_search_result last_result;
+    mm_allocator allocator;
+} mm_character;
+
+/* Allocates everything the character will ever need (no allocation happens in update). The
+ * character starts at the origin facing +Z, playing the database's first idle frame (or frame 0). */
+mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_searcher *searcher,
+                            const mm_character_desc *desc, mm_error *err);
+void mm_character_free(mm_character *c);
+
+/* One tick of dt seconds (dt <= 0 or not finite: nothing moves). Writes c->global. */
+void mm_character_update(mm_character *c, const mm_input *in, float dt);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_CHARACTER_H */

@@ -1,0 +1,176 @@
+/* The character controller on the built-in set: no allocation per tick, determinism, no NaN
+ * under long random input, and inertialization that hides a transition and then fades. */
+#include <math.h>
+
+#include <mm/character.h>
+#include <mm/input.h>
+
+#include "test_synth_db.h"
+#include "test_util.h"
+
+static mm_database db;
+static mm_searcher searcher;
+
+static long allocations;
+static void *counting_alloc(size_t size, void *user)
+{
+    (void)user;
+    ++allocations;
+    return malloc(size);
+}
+static void counting_free(void *p, void *user)
+{
+    (void)user;
+    free(p);
+}
+
+static void test_no_allocation_per_tick(void **state)
+{
+    (void)state;
+    mm_allocator a = {counting_alloc, counting_free, NULL};
+    mm_searcher s;
+    mm_searcher_desc sd = {1, &a};
+    assert_int_equal(mm_searcher_init(&s, &db, &sd, NULL), MM_OK);
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.allocator = &a;
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &s, &d, NULL), MM_OK);
+    long after_init = allocations;
+    assert_true(after_init > 0); /* the allocator is really used */
+    mm_input_script script;
+    mm_input_random_desc rd = {30.0f, 0, 0, 0, 0, NULL};
+    assert_int_equal(mm_input_script_random(&script, 3, &rd), MM_OK);
+    mm_input in;
+    for (int i = 0; i < 30 * 60; ++i) {
+        mm_input_script_sample(&script, i / 60.0f, &in);
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+    }
+    assert_int_equal(allocations, after_init);
+    assert_true(c.searches > 200);
+    mm_input_script_free(&script);
+    mm_character_free(&c);
+    mm_searcher_free(&s);
+}
+
+/* Runs seconds of random input (seed) and returns a checksum-like sum of the output; *bad counts
+ * frames with a non-finite joint. */
+static double run(uint64_t seed, float seconds, float fps, int *bad, mm_xform *last)
+{
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
+    mm_input_script script;
+    mm_input_random_desc rd = {seconds, 0, 0, 0, 0, NULL};
+    assert_int_equal(mm_input_script_random(&script, seed, &rd), MM_OK);
+    mm_input in;
+    double sum = 0.0;
+    *bad = 0;
+    int frames = (int)(seconds * fps);
+    for (int i = 0; i < frames; ++i) {
+        mm_input_script_sample(&script, i / fps, &in);
+        mm_character_update(&c, &in, 1.0f / fps);
+        int nan = 0;
+        for (int j = 0; j < db.joint_count; ++j) {
+            mm_vec3 p = c.global[j].translation;
+            nan |= !isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z) || !isfinite(c.global[j].rotation.w);
+            sum += p.x + 2.0 * p.y + 3.0 * p.z;
+        }
+        *bad += nan;
+    }
+    if (last) memcpy(last, c.global, sizeof(mm_xform) * (size_t)db.joint_count);
+    mm_input_script_free(&script);
+    mm_character_free(&c);
+    return sum;
+}
+
+static void test_deterministic_and_finite(void **state)
+{
+    (void)state;
+    int bad_a, bad_b;
+    mm_xform *a = malloc(sizeof(mm_xform) * (size_t)db.joint_count),
+             *b = malloc(sizeof(mm_xform) * (size_t)db.joint_count);
+    double sa = run(11, 60.0f, 60.0f, &bad_a, a), sb = run(11, 60.0f, 60.0f, &bad_b, b);
+    assert_true(sa == sb);
+    assert_memory_equal(a, b, sizeof(mm_xform) * (size_t)db.joint_count);
+    assert_int_equal(bad_a, 0);
+    /* twenty simulated minutes of random input at 30 Hz: no NaN anywhere */
+    int bad;
+    run(12, 1200.0f, 30.0f, &bad, NULL);
+    assert_int_equal(bad, 0);
+    free(a);
+    free(b);
+}
+
+/* From standing to walking: the first search jumps; the jump is hidden (the pose moves no more
+ * than motion does) and the offsets fade. */
+static void test_inertialization(void **state)
+{
+    (void)state;
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.search_interval = 1000.0f; /* searches only on events: the first tick and the idle change */
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    mm_input stand, walk;
+    memset(&stand, 0, sizeof stand);
+    walk = stand;
+    walk.stick[1] = 1.0f;
+    for (int i = 0; i < 60; ++i) mm_character_update(&c, &stand, 1.0f / 60.0f);
+    int before = c.transitions;
+    mm_vec3 *prev = malloc(sizeof(mm_vec3) * (size_t)db.joint_count);
+    for (int j = 0; j < db.joint_count; ++j)
+        prev[j] = mm_vec3_sub(c.global[j].translation, c.global[0].translation);
+    int transition_tick = -1;
+    float offset_at = 0.0f, largest_jump = 0.0f;
+    for (int i = 0; i < 120 && transition_tick < 0; ++i) {
+        mm_character_update(&c, &walk, 1.0f / 60.0f);
+        if (c.transitions > before) {
+            transition_tick = i;
+            for (int j = 1; j < db.joint_count; ++j)
+                offset_at = fmaxf(offset_at, mm_vec3_length(c.rotation_offset[j]));
+            for (int j = 0; j < db.joint_count; ++j) {
+                mm_vec3 now = mm_vec3_sub(c.global[j].translation, c.global[0].translation);
+                largest_jump = fmaxf(largest_jump, mm_vec3_distance(now, prev[j]));
+            }
+        }
+        for (int j = 0; j < db.joint_count; ++j)
+            prev[j] = mm_vec3_sub(c.global[j].translation, c.global[0].translation);
+    }
+    assert_true(transition_tick >= 0);
+    assert_true(offset_at > 0.01f);    /* there was something to hide */
+    assert_true(largest_jump < 0.05f); /* relative to the root, no joint moved 5 cm in one tick */
+    /* a second later (no search: interval 1000 s, input steady) the offsets are gone */
+    int transitions = c.transitions;
+    for (int i = 0; i < 60; ++i) mm_character_update(&c, &walk, 1.0f / 60.0f);
+    float offset_after = 0.0f;
+    for (int j = 1; j < db.joint_count; ++j)
+        offset_after = fmaxf(offset_after, mm_vec3_length(c.rotation_offset[j]));
+    if (c.transitions == transitions) assert_true(offset_after < 0.01f * offset_at + 1e-5f);
+    free(prev);
+    mm_character_free(&c);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    if (test_build_synth_database(&db) != 0) return -1;
+    return mm_searcher_init(&searcher, &db, NULL, NULL) == MM_OK ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    mm_searcher_free(&searcher);
+    mm_database_free(&db);
+    return 0;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_no_allocation_per_tick),
+        cmocka_unit_test(test_deterministic_and_finite),
+        cmocka_unit_test(test_inertialization),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
