@@ -40,7 +40,7 @@ extern "C" {
 typedef struct mm_character_desc {
     float search_interval;     /* s between searches; 0.1 */
     float turn_threshold;      /* rad: a desired-direction change that searches at once; 0.5 */
-    float transition_halflife; /* s: inertialization decay; 0.1 */
+    float transition_halflife; /* s: inertialization decay; 0.2 */
     float idle_speed;          /* m/s: desired speed under which idle is asked for; 0.15 */
     float idle_hysteresis;     /* m/s: leave idle above idle_speed + this; 0.1 */
     float sync_halflife;       /* s: the root is pulled toward the simulation; 0.3 */
@@ -50,7 +50,9 @@ typedef struct mm_character_desc {
                                   frames ahead in the same clip; 3 */
     mm_search_method method;   /* MM_SEARCH_FAST */
     bool use_params;           /* use params below instead of mm_search_params_defaults with
-                                  next_pose_favour 0.8 */
+                                  next_pose_favour 0.8 and the frames tagged "DoNotUse" or
+                                  "Jump" (moves the locomotion search must not pick) and the last
+                                  0.25 s of one-shot clips excluded */
     mm_search_params params;
     mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
     bool has_trajectory;

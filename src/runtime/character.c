@@ -12,7 +12,7 @@ void mm_character_defaults(mm_character_desc *d)
     memset(d, 0, sizeof *d);
     d->search_interval = 0.1f;
     d->turn_threshold = 0.5f;
-    d->transition_halflife = 0.1f;
+    d->transition_halflife = 0.2f; /* 0.1 s left hand pops of 32 cm on LAFAN1, 0.2 s 10-12 cm */
     d->idle_speed = 0.15f;
     d->idle_hysteresis = 0.1f;
     d->sync_halflife = 0.3f;
@@ -73,6 +73,9 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
         /* keep playing unless a frame is clearly better: on the built-in set 0.8 cut the
          * transitions of a straight walk from 94 to 24 in 12 s */
         c->desc.params.next_pose_favour = 0.8f;
+        c->desc.params.excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump");
+        /* the last 0.25 s of a one-shot clip only extrapolates its trajectory: not a place to go */
+        c->desc.params.end_margin = (int)ceilf(0.25f / db->interval);
     }
     mm_result r = mm_trajectory_init(&c->trajectory, c->desc.has_trajectory ? &c->desc.trajectory : NULL,
                                      &c->allocator);
