@@ -188,7 +188,9 @@ int mm_cmd_simulate(int argc, char **argv)
     }
     int contact[4];
     contact_joints(&db, contact);
-    double slide_sum[4] = {0}, slide_frames[4] = {0}, traj_err = 0.0, heading_err = 0.0, max_pop = 0.0;
+    double slide_sum[4] = {0}, slide_frames[4] = {0}, raw_sum = 0.0, traj_err = 0.0, heading_err = 0.0,
+           max_pop = 0.0;
+    mm_vec3 raw_previous[4] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     double response_sum = 0.0;
     int responses = 0, pending = 0, nan_frames = 0, search_count = 0, last_searches = 0;
     float pending_direction = 0.0f, pending_since = 0.0f, last_stick_direction = 0.0f;
@@ -242,8 +244,11 @@ int mm_cmd_simulate(int argc, char **argv)
                 mm_vec3 d = mm_vec3_sub(world[f % 3][contact[k]], world[(f + 2) % 3][contact[k]]);
                 slide_sum[k] += 100.0 * sqrt(d.x * d.x + d.z * d.z) * fps;
                 slide_frames[k] += 1;
+                mm_vec3 rd = mm_vec3_sub(c.raw_contact_positions[k], raw_previous[k]); /* before foot IK */
+                raw_sum += 100.0 * sqrt(rd.x * rd.x + rd.z * rd.z) * fps;
             }
         }
+        memcpy(raw_previous, c.raw_contact_positions, sizeof raw_previous);
         mm_vec3 e = mm_vec3_sub(c.trajectory.position, c.root.translation);
         traj_err += 100.0 * sqrt(e.x * e.x + e.z * e.z);
         heading_err +=
@@ -282,7 +287,7 @@ int mm_cmd_simulate(int argc, char **argv)
         } else {
             fprintf(m, "{\n");
             json_number(m, "foot_slide_cm_s", slide_n > 0 ? slide / slide_n : NAN, 0);
-            json_number(m, "foot_slide_raw_cm_s", slide_n > 0 ? slide / slide_n : NAN, 0);
+            json_number(m, "foot_slide_raw_cm_s", slide_n > 0 ? raw_sum / slide_n : NAN, 0);
             json_number(m, "traj_err_cm", traj_err / frames, 0);
             json_number(m, "heading_err_deg", heading_err / frames, 0);
             json_number(m, "response_s", responses ? response_sum / responses : NAN, 0);

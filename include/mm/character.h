@@ -56,7 +56,16 @@ typedef struct mm_character_desc {
     mm_search_params params;
     mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
     bool has_trajectory;
-    double (*clock)(void); /* optional: seconds, to time searches (c->last_search_us) */
+    /* Foot locking and two-bone IK: a foot whose contact label is on is held where it was planted
+     * until the animation pulls it more than unlock_radius away; released, the difference fades
+     * with foot_halflife. The legs reach the targets by two-bone IK (hip, knee, ankle), the knee
+     * bending in its animated plane, the foot keeping its animated orientation. */
+    bool no_foot_ik;                    /* turn foot locking and IK off */
+    float unlock_radius;                /* m; 0.2 */
+    float foot_halflife;                /* s; 0.1 */
+    const char *left_foot, *right_foot; /* ankle joints (the knee and hip are their parents);
+                                           "LeftFoot", "RightFoot" */
+    double (*clock)(void);              /* optional: seconds, to time searches (c->last_search_us) */
     const mm_allocator *allocator;
 } mm_character_desc;
 
@@ -84,7 +93,14 @@ typedef struct mm_character {
     mm_quat *previous_rotations;
     mm_vec3 *previous_positions;
     mm_xform *global; /* [joint_count] world transforms, joint 0 the root */
-    float *query;     /* [dims_padded] */
+
+    /* feet: ankle joints (-1 when missing), lock state, targets, and the ankle and toe positions
+     * before IK (for the foot-slide measure) */
+    int foot_joint[2];
+    bool foot_locked[2];
+    mm_vec3 foot_lock[2], foot_offset[2], foot_offset_velocity[2];
+    mm_vec3 raw_contact_positions[4]; /* left ankle, left toe, right ankle, right toe before IK */
+    float *query;                     /* [dims_padded] */
 
     /* statistics */
     int searches, transitions;

@@ -19,6 +19,10 @@ void mm_character_defaults(mm_character_desc *d)
     d->sync_max_distance = 0.3f;
     d->sync_max_angle = 0.6f;
     d->skip_frames = 3;
+    d->unlock_radius = 0.2f;
+    d->foot_halflife = 0.1f;
+    d->left_foot = "LeftFoot";
+    d->right_foot = "RightFoot";
     d->method = MM_SEARCH_FAST;
 }
 
@@ -98,6 +102,18 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
         mm_character_free(c);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     }
+    const char *feet[2] = {c->desc.left_foot ? c->desc.left_foot : "LeftFoot",
+                           c->desc.right_foot ? c->desc.right_foot : "RightFoot"};
+    for (int k = 0; k < 2; ++k) {
+        c->foot_joint[k] = -1;
+        for (int j = 0; j < db->joint_count; ++j)
+            if (strcmp(db->joints[j].name, feet[k]) == 0) c->foot_joint[k] = j;
+        /* the chain ankle <- knee <- hip must exist below the root */
+        if (c->foot_joint[k] >= 0 && (db->joints[c->foot_joint[k]].parent < 1 ||
+                                      db->joints[db->joints[c->foot_joint[k]].parent].parent < 1))
+            c->foot_joint[k] = -1;
+    }
+    c->desc.left_foot = c->desc.right_foot = NULL; /* not kept: the caller's strings */
     c->frame = 0;
     for (int k = 0; k < db->clip_count; ++k)
         if (db->clips[k].type == MM_CLIP_IDLE) {
@@ -204,6 +220,95 @@ static void search(mm_character *c, const mm_input *in, float dt)
     transition(c, best.frame, dt);
 }
 
+/* Two-bone IK: turns the hip (a) and knee (b) so that the ankle (c) reaches target, the knee
+ * bending in the plane it bends in now; the ankle keeps its world orientation. Works on the
+ * local rotations and the global transforms of the three joints. */
+static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target)
+{
+    const mm_database *db = c->db;
+    int knee = db->joints[ankle].parent, hip = db->joints[knee].parent;
+    mm_vec3 a = c->global[hip].translation, b = c->global[knee].translation, e = c->global[ankle].translation;
+    float lab = mm_vec3_distance(b, a), lcb = mm_vec3_distance(b, e);
+    if (lab < 1e-5f || lcb < 1e-5f) return;
+    float lat = mm_vec3_distance(target, a), eps = 1e-4f;
+    if (lat < eps) lat = eps;
+    if (lat > lab + lcb - eps) lat = lab + lcb - eps;
+#define CLAMPED_ACOS(x) acosf(fmaxf(-1.0f, fminf(1.0f, (x))))
+    mm_vec3 ac = mm_vec3_normalize(mm_vec3_sub(e, a)), ab = mm_vec3_normalize(mm_vec3_sub(b, a));
+    mm_vec3 ba = mm_vec3_normalize(mm_vec3_sub(a, b)), bc = mm_vec3_normalize(mm_vec3_sub(e, b));
+    mm_vec3 at = mm_vec3_normalize(mm_vec3_sub(target, a));
+    float ac_ab_0 = CLAMPED_ACOS(mm_vec3_dot(ac, ab)), ba_bc_0 = CLAMPED_ACOS(mm_vec3_dot(ba, bc));
+    float ac_at_0 = CLAMPED_ACOS(mm_vec3_dot(ac, at));
+    float ac_ab_1 = CLAMPED_ACOS((lcb * lcb - lab * lab - lat * lat) / (-2.0f * lab * lat));
+    float ba_bc_1 = CLAMPED_ACOS((lat * lat - lab * lab - lcb * lcb) / (-2.0f * lab * lcb));
+#undef CLAMPED_ACOS
+    /* the knee's bending axis. A knee bending forward turns about the character's left axis
+     * (cross(leg down, knee forward) points left); where the animated plane is noise (nearly
+     * straight leg) or would bend the knee backwards, that axis takes over. */
+    mm_vec3 bend = mm_vec3_cross(ac, ab);
+    mm_vec3 left = mm_quat_rotate(c->root.rotation, mm_vec3_make(-1, 0, 0));
+    left = mm_vec3_normalize(mm_vec3_sub(left, mm_vec3_scale(ac, mm_vec3_dot(left, ac))));
+    float straight = mm_vec3_length(bend); /* sine of the knee's bend seen from the hip */
+    float w = straight > 1e-6f ? mm_vec3_dot(mm_vec3_scale(bend, 1.0f / straight), left) : 0.0f;
+    w = w <= 0.0f ? 0.0f : fminf(1.0f, straight / 0.1f) * w; /* trust in the animated plane */
+    bend = mm_vec3_add(mm_vec3_scale(straight > 1e-6f ? mm_vec3_scale(bend, 1.0f / straight) : left, w),
+                       mm_vec3_scale(left, 1.0f - w));
+    if (mm_vec3_length(bend) < 1e-6f) return;
+    bend = mm_vec3_normalize(bend);
+    mm_vec3 swing = mm_vec3_cross(ac, at);
+    mm_quat ankle_world = c->global[ankle].rotation;
+    mm_quat a_world = c->global[hip].rotation, b_world = c->global[knee].rotation;
+    mm_quat r0 = mm_quat_from_axis_angle(mm_quat_inv_rotate(a_world, bend), ac_ab_1 - ac_ab_0);
+    mm_quat r1 = mm_quat_from_axis_angle(mm_quat_inv_rotate(b_world, bend), ba_bc_1 - ba_bc_0);
+    mm_quat r2 = mm_vec3_length(swing) > 1e-6f
+                     ? mm_quat_from_axis_angle(mm_quat_inv_rotate(a_world, mm_vec3_normalize(swing)), ac_at_0)
+                     : mm_quat_identity();
+    c->local_rotations[hip] = mm_quat_normalize(mm_quat_mul(c->local_rotations[hip], mm_quat_mul(r0, r2)));
+    c->local_rotations[knee] = mm_quat_normalize(mm_quat_mul(c->local_rotations[knee], r1));
+    int hip_parent = db->joints[hip].parent;
+    c->global[hip] =
+        mm_xform_mul(c->global[hip_parent], mm_xform_make(c->local_rotations[hip], c->local_positions[hip]));
+    c->global[knee] =
+        mm_xform_mul(c->global[hip], mm_xform_make(c->local_rotations[knee], c->local_positions[knee]));
+    /* the ankle keeps its animated world orientation */
+    c->local_rotations[ankle] =
+        mm_quat_normalize(mm_quat_mul(mm_quat_conj(c->global[knee].rotation), ankle_world));
+}
+
+/* Foot locking on the contact labels, then IK; the joints below the ankles are recomputed. */
+static void feet(mm_character *c, float dt)
+{
+    const mm_database *db = c->db;
+    const mm_character_desc *d = &c->desc;
+    unsigned label = db->contacts[c->frame];
+    for (int k = 0; k < 2; ++k) {
+        int ankle = c->foot_joint[k];
+        if (ankle < 0) continue;
+        int contact = (label >> (2 * k)) & 3u; /* heel or toe of this foot */
+        mm_vec3 animated = c->global[ankle].translation;
+        if (c->foot_locked[k] &&
+            (!contact || mm_vec3_distance(animated, c->foot_lock[k]) > d->unlock_radius)) {
+            /* release: the lock's difference fades from here (cancelling the animated foot's
+             * velocity too was measured worse: the animated foot jumps at transitions) */
+            c->foot_locked[k] = false;
+            c->foot_offset[k] = mm_vec3_sub(c->foot_lock[k], animated);
+            c->foot_offset_velocity[k] = mm_vec3_make(0, 0, 0);
+        }
+        if (!c->foot_locked[k])
+            mm_spring_decay_vec3(&c->foot_offset[k], &c->foot_offset_velocity[k], d->foot_halflife, dt);
+        mm_vec3 target = c->foot_locked[k] ? c->foot_lock[k] : mm_vec3_add(animated, c->foot_offset[k]);
+        if (!c->foot_locked[k] && contact) { /* plant where the foot is now */
+            c->foot_locked[k] = true;
+            c->foot_lock[k] = target;
+        }
+        if (target.y < 0.0f) target.y = 0.0f; /* never below the ground plane */
+        two_bone_ik(c, ankle, target);
+    }
+    for (int j = 1; j < db->joint_count; ++j) /* below the ankles */
+        c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
+                                    mm_xform_make(c->local_rotations[j], c->local_positions[j]));
+}
+
 void mm_character_update(mm_character *c, const mm_input *in, float dt)
 {
     if (!c || !c->db || !(dt > 0.0f) || !isfinite(dt)) return;
@@ -278,4 +383,13 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     c->local_rotations[0] = c->root.rotation;
     c->local_positions[0] = c->root.translation;
     compute_global(c);
+    for (int k = 0; k < 2; ++k) { /* ankle and the ankle's first child (the toe) before IK */
+        int ankle = c->foot_joint[k], toe = -1;
+        for (int j = ankle + 1; ankle >= 0 && j < db->joint_count && toe < 0; ++j)
+            if (db->joints[j].parent == ankle) toe = j;
+        c->raw_contact_positions[2 * k] = ankle >= 0 ? c->global[ankle].translation : mm_vec3_make(0, 0, 0);
+        c->raw_contact_positions[2 * k + 1] =
+            toe >= 0 ? c->global[toe].translation : c->raw_contact_positions[2 * k];
+    }
+    if (!d->no_foot_ik) feet(c, dt);
 }
