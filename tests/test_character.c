@@ -5,7 +5,7 @@
 #include <mm/character.h>
 #include <mm/input.h>
 
-#include "test_synth_db.h"
+#include "test_databases.h"
 #include "test_util.h"
 
 static mm_database db;

@@ -2,10 +2,9 @@
  * and bias on small crafted databases. */
 #include <math.h>
 
-#include <mm/config_json.h>
 #include <mm/search.h>
-#include <mm/synth.h>
 
+#include "test_databases.h"
 #include "test_util.h"
 
 /* ---- a real database: LAFAN1 when MM_DATA_DIR is set, the built-in set otherwise ---------- */
@@ -15,35 +14,10 @@ static const char *real_name;
 
 static int build_real(void)
 {
-    mm_error err;
-    memset(&err, 0, sizeof err);
-    mm_config cfg;
-    memset(&cfg, 0, sizeof cfg);
-    mm_clip *sources = NULL;
-    int lafan = getenv("MM_DATA_DIR") != NULL;
+    int lafan = 0;
+    int r = test_build_real_database(&real_db, &lafan);
     real_name = lafan ? "LAFAN1" : "built-in set";
-    const char *config =
-        lafan ? MM_TEST_DATA "/../../configs/lafan1.json" : MM_TEST_DATA "/../../configs/synth.json";
-    if (mm_config_load_json(config, &cfg, NULL, &err) != MM_OK) return -1;
-    if (lafan) {
-        if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) return -1;
-    } else {
-        mm_synth_desc sd;
-        memset(&sd, 0, sizeof sd);
-        mm_synth_set set;
-        if (mm_synth_generate(&sd, &set, &err) != MM_OK) return -1;
-        sources = calloc((size_t)cfg.clip_count, sizeof(mm_clip));
-        for (int i = 0; i < cfg.clip_count; ++i)
-            for (int k = 0; k < set.clip_count; ++k)
-                if (strcmp(set.clips[k].name, cfg.clips[i].name) == 0)
-                    mm_clip_copy(&sources[i], &set.clips[k].clip, NULL);
-        mm_synth_set_free(&set);
-    }
-    mm_result r = mm_database_build(&cfg, sources, NULL, &real_db, &err);
-    if (r != MM_OK) print_error("%s\n", err.message);
-    mm_config_free_sources(&cfg, sources);
-    mm_config_free(&cfg);
-    return r == MM_OK ? 0 : -1;
+    return r;
 }
 
 static double normal(test_rng *r)

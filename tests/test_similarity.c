@@ -9,6 +9,7 @@
 #include <mm/similarity.h>
 #include <mm/synth.h>
 
+#include "test_databases.h"
 #include "test_util.h"
 
 /* Hips 1 m up, a spine joint, feet and toes; the feet pitch (about X) by angles that the motion
@@ -458,34 +459,10 @@ static void test_file(void **state)
 /* Real motion: the built-in set (or LAFAN1 with MM_DATA_DIR). */
 static int build_real(mm_database *db, bool *lafan)
 {
-    mm_error err;
-    memset(&err, 0, sizeof err);
-    mm_config cfg;
-    memset(&cfg, 0, sizeof cfg);
-    mm_clip *sources = NULL;
-    *lafan = getenv("MM_DATA_DIR") != NULL && *getenv("MM_DATA_DIR");
-    const char *config =
-        *lafan ? MM_TEST_DATA "/../../configs/lafan1.json" : MM_TEST_DATA "/../../configs/synth.json";
-    if (mm_config_load_json(config, &cfg, NULL, &err) != MM_OK) return -1;
-    if (*lafan) {
-        if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) return -1;
-    } else {
-        mm_synth_desc sd;
-        memset(&sd, 0, sizeof sd);
-        mm_synth_set set;
-        if (mm_synth_generate(&sd, &set, &err) != MM_OK) return -1;
-        sources = calloc((size_t)cfg.clip_count, sizeof(mm_clip));
-        for (int i = 0; i < cfg.clip_count; ++i)
-            for (int k = 0; k < set.clip_count; ++k)
-                if (strcmp(set.clips[k].name, cfg.clips[i].name) == 0)
-                    mm_clip_copy(&sources[i], &set.clips[k].clip, NULL);
-        mm_synth_set_free(&set);
-    }
-    mm_result r = mm_database_build(&cfg, sources, NULL, db, &err);
-    if (r != MM_OK) print_error("%s\n", err.message);
-    mm_config_free_sources(&cfg, sources);
-    mm_config_free(&cfg);
-    return r == MM_OK ? 0 : -1;
+    int is_lafan = 0;
+    int r = test_build_real_database(db, &is_lafan);
+    *lafan = is_lafan != 0;
+    return r;
 }
 
 static void test_real(void **state)

@@ -1,0 +1,63 @@
+/* test_databases.h - real databases for tests: the built-in motion set (configs/synth.json over
+ * mm_synth_generate, no files written), or LAFAN1 (configs/lafan1.json) when MM_DATA_DIR is set. */
+#ifndef MM_TEST_DATABASES_H
+#define MM_TEST_DATABASES_H
+
+#include <stdlib.h>
+#include <string.h>
+
+#include <mm/config_json.h>
+#include <mm/database.h>
+#include <mm/synth.h>
+
+/* Builds configs/<name>.json; for "synth" the sources come from mm_synth_generate. */
+static inline int test_build_config_database(const char *name, mm_database *db)
+{
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    char path[512], *text = NULL;
+    snprintf(path, sizeof path, "%s/../../configs/%s.json", MM_TEST_DATA, name);
+    if (mm_config_load_json(path, &cfg, &text, &err) != MM_OK) return -1;
+    mm_clip *sources = NULL;
+    if (strcmp(name, "synth") == 0) {
+        mm_synth_desc sd;
+        memset(&sd, 0, sizeof sd);
+        mm_synth_set set;
+        if (mm_synth_generate(&sd, &set, &err) != MM_OK) return -1;
+        sources = (mm_clip *)calloc((size_t)cfg.clip_count, sizeof(mm_clip));
+        for (int i = 0; i < cfg.clip_count; ++i)
+            for (int k = 0; k < set.clip_count; ++k)
+                if (strcmp(set.clips[k].name, cfg.clips[i].name) == 0)
+                    mm_clip_copy(&sources[i], &set.clips[k].clip, NULL);
+        mm_synth_set_free(&set);
+    } else if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) {
+        mm_config_free(&cfg);
+        free(text);
+        return -1;
+    }
+    mm_db_build_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.config_json = text;
+    mm_result r = mm_database_build(&cfg, sources, &desc, db, &err);
+    mm_config_free_sources(&cfg, sources);
+    mm_config_free(&cfg);
+    free(text);
+    return r == MM_OK ? 0 : -1;
+}
+
+static inline int test_build_synth_database(mm_database *db)
+{
+    return test_build_config_database("synth", db);
+}
+
+/* LAFAN1 when MM_DATA_DIR is set (*lafan = 1), the built-in set otherwise. */
+static inline int test_build_real_database(mm_database *db, int *lafan)
+{
+    const char *dir = getenv("MM_DATA_DIR");
+    *lafan = dir && *dir;
+    return test_build_config_database(*lafan ? "lafan1" : "synth", db);
+}
+
+#endif
