@@ -3,7 +3,7 @@
 # usage: test_format.sh SOURCE_DIR
 cd "$1" || exit 1
 command -v clang-format >/dev/null 2>&1 || { echo "clang-format not installed: skipped"; exit 77; }
-files=$(find include src tools tests bench fuzz -name '*.[ch]' -o -name '*.cpp')
+files=$(find include src tools tests bench fuzz examples -name '*.[ch]' -o -name '*.cpp')
 if clang-format --dry-run --Werror $files 2>"${TMPDIR:-/tmp}/mm_format.$$"; then
     echo "test_format: $(echo "$files" | wc -l) files follow .clang-format"
     rm -f "${TMPDIR:-/tmp}/mm_format.$$"
