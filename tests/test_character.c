@@ -150,6 +150,72 @@ static void test_inertialization(void **state)
     mm_character_free(&c);
 }
 
+static int pose_finite(const mm_character *c)
+{
+    for (int j = 0; j < c->db->joint_count; ++j) {
+        mm_vec3 p = c->global[j].translation;
+        mm_quat q = c->global[j].rotation;
+        if (!isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z) || !isfinite(q.x) || !isfinite(q.w)) return 0;
+    }
+    return 1;
+}
+
+/* Bad input never gives a NaN pose: NaN and huge sticks, dt of 0, -1, NaN and 1 s, unknown
+ * gaits, filters that exclude every frame, and a tiny database (two clips of a few frames). */
+static void test_robust(void **state)
+{
+    (void)state;
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    const float sticks[4][2] = {{NAN, 1}, {1e30f, -1e30f}, {INFINITY, 0}, {0.3f, 0.4f}};
+    const float dts[5] = {0.0f, -1.0f, NAN, 1.0f, 1.0f / 60.0f};
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 5; ++k) {
+            in.stick[0] = sticks[i][0];
+            in.stick[1] = sticks[i][1];
+            in.gait = (mm_gait)(i == 2 ? 77 : i % 2);
+            mm_character_update(&c, &in, dts[k]);
+            assert_true(pose_finite(&c));
+        }
+    mm_character_free(&c);
+
+    /* every frame excluded: the character keeps playing what it plays */
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.use_params = true;
+    mm_search_params_defaults(&db, &d.params);
+    d.params.required_tags = (uint64_t)1 << 63;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    in.stick[0] = 0;
+    in.stick[1] = 1;
+    for (int i = 0; i < 120; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    assert_true(pose_finite(&c));
+    assert_int_equal(c.transitions, 0);
+    assert_int_equal(c.last_result.frame, -1);
+    mm_character_free(&c);
+
+    /* a tiny database */
+    mm_database tiny;
+    assert_int_equal(test_build_config_database("../tests/data/configs/cmu_style", &tiny), 0);
+    mm_searcher ts;
+    assert_int_equal(mm_searcher_init(&ts, &tiny, NULL, NULL), MM_OK);
+    mm_character_desc td;
+    mm_character_defaults(&td);
+    td.left_foot = td.right_foot = "NoSuchJoint"; /* no feet: no IK, still fine */
+    assert_int_equal(mm_character_init(&c, &tiny, &ts, &td, NULL), MM_OK);
+    for (int i = 0; i < 600; ++i) {
+        in.stick[0] = sinf(i * 0.05f);
+        in.stick[1] = cosf(i * 0.05f);
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        assert_true(pose_finite(&c));
+    }
+    mm_character_free(&c);
+    mm_searcher_free(&ts);
+    mm_database_free(&tiny);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -171,6 +237,7 @@ int main(void)
         cmocka_unit_test(test_no_allocation_per_tick),
         cmocka_unit_test(test_deterministic_and_finite),
         cmocka_unit_test(test_inertialization),
+        cmocka_unit_test(test_robust),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
