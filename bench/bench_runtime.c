@@ -1,0 +1,116 @@
+/* bench_runtime: the tick cost of characters sharing one database, and how many tick at 60 Hz on
+ * the machine's cores. LAFAN1 (configs/lafan1.json via $MM_DATA_DIR) or the built-in set.
+ * usage: bench_runtime [CHARACTERS]   Prints figures; never fails on speed. */
+#define _POSIX_C_SOURCE 200809L
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <mm/character.h>
+#include <mm/input.h>
+
+#include "../tests/test_databases.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+typedef struct crowd {
+    mm_character *c;
+    mm_input_script *scripts;
+    int first, count, ticks;
+    double seconds;
+} crowd;
+
+static void *tick_crowd(void *p)
+{
+    crowd *w = (crowd *)p;
+    double start = now();
+    for (int t = 0; t < w->ticks; ++t)
+        for (int i = w->first; i < w->first + w->count; ++i) {
+            mm_input in;
+            mm_input_script_sample(&w->scripts[i], t / 60.0f, &in);
+            mm_character_update(&w->c[i], &in, 1.0f / 60.0f);
+        }
+    w->seconds = now() - start;
+    return NULL;
+}
+
+int main(int argc, char **argv)
+{
+    int n = argc > 1 ? atoi(argv[1]) : 200;
+    if (n < 1) n = 1;
+    mm_database db;
+    int lafan = 0;
+    if (test_build_real_database(&db, &lafan) != 0) return 1;
+    mm_searcher s;
+    if (mm_searcher_init(&s, &db, NULL, NULL) != MM_OK) return 1;
+    printf("database: %s, %d frames\n", lafan ? "LAFAN1" : "built-in set", db.frame_count);
+    mm_character *c = calloc((size_t)n, sizeof(mm_character));
+    mm_input_script *scripts = calloc((size_t)n, sizeof(mm_input_script));
+    for (int i = 0; i < n; ++i) {
+        mm_input_random_desc rd = {20.0f, 0, 0, 0, 0, NULL};
+        mm_input_script_random(&scripts[i], (uint64_t)i + 1, &rd);
+        if (mm_character_init(&c[i], &db, &s, NULL, NULL) != MM_OK) return 1;
+    }
+    /* one character alone: ticks with and without a search */
+    {
+        mm_character one;
+        mm_character_init(&one, &db, &s, NULL, NULL);
+        double with = 0, without = 0;
+        int nw = 0, nwo = 0;
+        for (int t = 0; t < 60 * 20; ++t) {
+            mm_input in;
+            mm_input_script_sample(&scripts[0], t / 60.0f, &in);
+            int before = one.searches;
+            double a = now();
+            mm_character_update(&one, &in, 1.0f / 60.0f);
+            double e = now() - a;
+            if (one.searches != before)
+                with += e, ++nw;
+            else
+                without += e, ++nwo;
+        }
+        printf("one character: %.1f us per tick without a search, %.1f us with (%d searches in 20 s)\n",
+               1e6 * without / nwo, 1e6 * with / nw, nw);
+        mm_character_free(&one);
+    }
+    /* the crowd, 10 s of game time, on 1 and 2 threads */
+    for (int threads = 1; threads <= 2; ++threads) {
+        pthread_t th[2];
+        crowd w[2];
+        for (int k = 0; k < threads; ++k) {
+            w[k].c = c;
+            w[k].scripts = scripts;
+            w[k].first = n * k / threads;
+            w[k].count = n * (k + 1) / threads - w[k].first;
+            w[k].ticks = 600;
+            pthread_create(&th[k], NULL, tick_crowd, &w[k]);
+        }
+        double longest = 0;
+        for (int k = 0; k < threads; ++k) {
+            pthread_join(th[k], NULL);
+            if (w[k].seconds > longest) longest = w[k].seconds;
+        }
+        double per_tick = longest / 600.0;
+        printf("%d characters, %d thread%s: %.2f ms per 60 Hz tick (%.1f us per character); %d characters "
+               "fit in "
+               "16.7 ms\n",
+               n, threads, threads > 1 ? "s" : "", 1e3 * per_tick, 1e6 * per_tick * threads / n,
+               (int)(n * (1.0 / 60.0) / per_tick));
+    }
+    for (int i = 0; i < n; ++i) {
+        mm_character_free(&c[i]);
+        mm_input_script_free(&scripts[i]);
+    }
+    free(c);
+    free(scripts);
+    mm_searcher_free(&s);
+    mm_database_free(&db);
+    return 0;
+}
