@@ -50,7 +50,7 @@ typedef struct mm_character_desc {
                                   frames ahead in the same clip; 3 */
     mm_search_method method;   /* MM_SEARCH_FAST */
     bool use_params;           /* use params below instead of mm_search_params_defaults with
-                                  next_pose_favour 0.8 and the frames tagged "DoNotUse" or
+                                  next_pose_favour 0.6 and the frames tagged "DoNotUse" or
                                   "Jump" (moves the locomotion search must not pick) and the last
                                   0.25 s of one-shot clips excluded */
     mm_search_params params;

@@ -74,9 +74,9 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     c->searcher = searcher;
     if (!c->desc.use_params) {
         mm_search_params_defaults(db, &c->desc.params);
-        /* keep playing unless a frame is clearly better: on the built-in set 0.8 cut the
-         * transitions of a straight walk from 94 to 24 in 12 s */
-        c->desc.params.next_pose_favour = 0.8f;
+        /* keep playing unless a frame is clearly better: on LAFAN1's straight walk 0.6 made
+         * 3 transitions per second instead of 5 (0.8), half the foot slide and pops */
+        c->desc.params.next_pose_favour = 0.6f;
         c->desc.params.excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump");
         /* the last 0.25 s of a one-shot clip only extrapolates its trajectory: not a place to go */
         c->desc.params.end_margin = (int)ceilf(0.25f / db->interval);
