@@ -150,6 +150,40 @@ static void test_inertialization(void **state)
     mm_character_free(&c);
 }
 
+/* The gait asked for steers matching: walking never plays a frame tagged Run, running never one
+ * tagged Walk (the built-in set tags its clips by gait). */
+static void test_gait_tags(void **state)
+{
+    (void)state;
+    uint64_t walk = mm_search_tag_mask(&db, "Walk"), run = mm_search_tag_mask(&db, "Run");
+    assert_true(walk && run);
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    int walked = 0, ran = 0;
+    for (int i = 0; i < 1200; ++i) {
+        in.gait = (i / 300) % 2 ? MM_GAIT_RUN : MM_GAIT_WALK;
+        in.stick[0] = sinf(i * 0.01f);
+        in.stick[1] = cosf(i * 0.01f);
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        uint64_t tags = db.frame_tags[c.frame];
+        if (i % 300 < 30) continue; /* the first searches after a change may still be running their course */
+        if (c.last_result.frame >= 0) {
+            uint64_t picked = db.frame_tags[c.last_result.frame];
+            if (in.gait == MM_GAIT_WALK)
+                assert_false(picked & run);
+            else
+                assert_false(picked & walk);
+        }
+        walked += in.gait == MM_GAIT_WALK && (tags & walk);
+        ran += in.gait == MM_GAIT_RUN && (tags & run);
+    }
+    assert_true(walked > 100 && ran > 100);
+    mm_character_free(&c);
+}
+
 static int pose_finite(const mm_character *c)
 {
     for (int j = 0; j < c->db->joint_count; ++j) {
@@ -238,6 +272,7 @@ int main(void)
         cmocka_unit_test(test_deterministic_and_finite),
         cmocka_unit_test(test_inertialization),
         cmocka_unit_test(test_robust),
+        cmocka_unit_test(test_gait_tags),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

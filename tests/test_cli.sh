@@ -132,7 +132,7 @@ expect_exit 0 "$mm" synth "$tmp/synth/set"
 expect_exit 0 "$mm" db build "$data/../../configs/synth.json" --data "$tmp/synth/set" -o "$tmp/synth.mmdb"
 expect_exit 0 "$mm" db info "$tmp/synth.mmdb" --json
 expect_grep '"clips": 43' "$tmp/out"
-expect_grep '"tags": \["DoNotUse", "Jump"\]' "$tmp/out"
+expect_grep '"tags": \["DoNotUse", "Jump", "Walk", "Run"\]' "$tmp/out"
 expect_exit 1 "$mm" db build "$data/../../configs/synth.json" -o "$tmp/nosynth.mmdb"
 
 expect_grep "idle.bvh" "$tmp/err"

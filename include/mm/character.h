@@ -12,7 +12,8 @@
  * simulation, within a distance and angle clamp.
  *
  * Many characters can share one database and one searcher (with one thread) read-only; each
- * character owns its context.
+ * character owns its context. The gait asked for steers matching through tags named after the
+ * gaits ("Walk", "Run", "Crouch", "Jump"): frames tagged with another gait are left out.
  *
  *   mm_character c;
  *   mm_character_init(&c, &db, &searcher, NULL, &err);
@@ -99,8 +100,9 @@ typedef struct mm_character {
     int foot_joint[2];
     bool foot_locked[2];
     mm_vec3 foot_lock[2], foot_offset[2], foot_offset_velocity[2];
-    mm_vec3 raw_contact_positions[4]; /* left ankle, left toe, right ankle, right toe before IK */
-    float *query;                     /* [dims_padded] */
+    mm_vec3 raw_contact_positions[4];  /* left ankle, left toe, right ankle, right toe before IK */
+    uint64_t gait_tags[MM_GAIT_COUNT]; /* tags named after each gait ("Walk", "Run", ...) */
+    float *query;                      /* [dims_padded] */
 
     /* statistics */
     int searches, transitions;

@@ -3,6 +3,7 @@
 #include <mm/character.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include <mm/spring.h>
@@ -114,6 +115,12 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
             c->foot_joint[k] = -1;
     }
     c->desc.left_foot = c->desc.right_foot = NULL; /* not kept: the caller's strings */
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        char name[16];
+        snprintf(name, sizeof name, "%s", mm_gait_name((mm_gait)g));
+        name[0] = (char)(name[0] - 'a' + 'A'); /* "Walk" */
+        c->gait_tags[g] = mm_search_tag_mask(db, name) | mm_search_tag_mask(db, mm_gait_name((mm_gait)g));
+    }
     c->frame = 0;
     for (int k = 0; k < db->clip_count; ++k)
         if (db->clips[k].type == MM_CLIP_IDLE) {
@@ -206,6 +213,11 @@ static void search(mm_character *c, const mm_input *in, float dt)
     int has_idle = 0;
     for (int k = 0; k < db->clip_count && !has_idle; ++k) has_idle = db->clips[k].type == MM_CLIP_IDLE;
     p.type = !has_idle ? MM_SEARCH_ANY : c->idle ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION;
+    /* the gait influences matching through tags named after the gaits ("Walk", "Run", ...):
+     * frames tagged with another gait than the one asked for are left out */
+    int gait = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g)
+        if (g != gait) p.excluded_tags |= c->gait_tags[g];
     mm_search_result best;
     double start = c->desc.clock ? c->desc.clock() : 0.0;
     int found = mm_searcher_search(c->searcher, c->query, &p, c->desc.method, &best, 1);
