@@ -184,6 +184,43 @@ static void test_gait_tags(void **state)
     mm_character_free(&c);
 }
 
+/* Angle correction at full speed: a character facing 0.2 rad off the walking direction turns
+ * toward it at angle_revise_speed at most (0.5 rad/s: 0.125 rad in 0.25 s); with 0 it does not. */
+static float facing_error_after(float revise_speed)
+{
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.sync_halflife = 1e6f;  /* no pull toward the simulation: only the correction turns */
+    d.sync_max_angle = 3.0f; /* and no clamp */
+    d.angle_revise_speed = revise_speed;
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    for (int i = 0; i < 120; ++i) mm_character_update(&c, &in, 1.0f / 60.0f); /* up to full speed */
+    /* from here no search (matching would turn the character too: by picking turning clips) */
+    c.desc.search_interval = 1e6f;
+    c.desc.turn_threshold = 10.0f;
+    c.root.rotation = mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.2f), c.root.rotation);
+    for (int i = 0; i < 15; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    mm_vec3 f = mm_quat_rotate(c.root.rotation, mm_vec3_make(0, 0, 1));
+    float error = fabsf(atan2f(f.x, f.z));
+    mm_character_free(&c);
+    return error;
+}
+
+static void test_angle_correction(void **state)
+{
+    (void)state;
+    float corrected = facing_error_after(0.5f), left = facing_error_after(0.0f);
+    print_message("facing error after 0.25 s: %.3f rad with correction, %.3f without\n", corrected, left);
+    assert_true(left > 0.15f);
+    /* turned back, but never faster than the revise speed allows (0.125 rad in 0.25 s) */
+    assert_true(left - corrected > 0.05f);
+    assert_true(left - corrected < 0.125f + 0.01f);
+}
+
 static int pose_finite(const mm_character *c)
 {
     for (int j = 0; j < c->db->joint_count; ++j) {
@@ -273,6 +310,7 @@ int main(void)
         cmocka_unit_test(test_inertialization),
         cmocka_unit_test(test_robust),
         cmocka_unit_test(test_gait_tags),
+        cmocka_unit_test(test_angle_correction),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

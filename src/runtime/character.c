@@ -19,6 +19,8 @@ void mm_character_defaults(mm_character_desc *d)
     d->sync_halflife = 0.3f;
     d->sync_max_distance = 0.3f;
     d->sync_max_angle = 0.6f;
+    d->angle_threshold = 0.35f;
+    d->angle_revise_speed = 0.5f;
     d->skip_frames = 3;
     d->unlock_radius = 0.2f;
     d->foot_halflife = 0.1f;
@@ -388,6 +390,18 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     float dist = mm_vec3_length(off);
     if (dist > d->sync_max_distance)
         position = mm_vec3_add(t->position, mm_vec3_scale(off, d->sync_max_distance / dist));
+    /* angle correction at full speed (seed 000): a small error between the character's facing
+     * and the one asked for is turned away at a bounded rate, as the animation alone may never
+     * quite line up */
+    mm_quat wanted;
+    mm_trajectory_desired(t, in, NULL, &wanted);
+    int gait = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
+    float full = t->desc.gaits[gait].forward_speed;
+    float error = wrap(yaw_of(wanted) - yaw);
+    if (full > 0.0f && mm_vec3_length(t->velocity) >= 0.9f * full && fabsf(error) < d->angle_threshold) {
+        float step = d->angle_revise_speed * dt;
+        yaw += error > step ? step : error < -step ? -step : error;
+    }
     float angle = wrap(yaw - yaw_of(t->facing));
     if (fabsf(angle) > d->sync_max_angle)
         yaw = yaw_of(t->facing) + (angle > 0 ? d->sync_max_angle : -d->sync_max_angle);
