@@ -49,7 +49,7 @@ typedef struct mm_character_desc {
     float sync_max_angle;      /* rad: clamp of the root's facing to the simulation's; 0.6 */
     float angle_threshold;     /* rad: at full speed, a facing error below this is corrected
                                   (the seed's AngleThreshold); 0.35 */
-    float angle_revise_speed;  /* rad/s: how fast (the seed's AngleReviseSpeed); 0.5 */
+    float angle_revise_speed;  /* rad/s: how fast (the seed's AngleReviseSpeed); 0: off */
     int skip_frames;           /* the winner is "where playback goes anyway" within this many
                                   frames ahead in the same clip; 3 */
     mm_search_method method;   /* MM_SEARCH_FAST */
