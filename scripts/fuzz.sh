@@ -38,6 +38,7 @@ for t in $targets; do
     artifacts="$build/artifacts/$name"
     log="$build/$t.log"
     mkdir -p "$work" "$artifacts"
+    [ -d "$seeds" ] || seeds="" # no committed seeds: libFuzzer starts from the dictionary
     stamp="$build/$t.start"
     : >"$stamp"
     echo "== $t: $seconds s (log: $log)"
@@ -45,7 +46,7 @@ for t in $targets; do
     dict=""
     [ -f "$root/fuzz/$name.dict" ] && dict="-dict=$root/fuzz/$name.dict"
     # shellcheck disable=SC2086
-    "$build/fuzz/$t" "$work" "$seeds" $dict -max_total_time="$seconds" -max_len=32768 \
+    "$build/fuzz/$t" "$work" $seeds $dict -max_total_time="$seconds" -max_len=32768 \
         -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1 || rc=$?
     # The last status line reads "#RUNS <event> cov: C ft: F corp: N/SIZE ... exec/s: E rss: R".
     last=$(grep -E '^#[0-9]+' "$log" | tail -n 1 || true)

@@ -12,10 +12,11 @@
 
 #include <cmocka.h>
 
-/* Path of a file in tests/data, in a static buffer. */
+/* Path of a file in tests/data, in a static buffer; an absolute path is returned as it is. */
 static inline const char *test_data_path(const char *relative)
 {
-    static char buf[1024];
+    if (relative[0] == '/') return relative;
+    static char buf[2048];
     snprintf(buf, sizeof buf, "%s/%s", MM_TEST_DATA, relative);
     return buf;
 }
@@ -27,6 +28,39 @@ static inline const char *test_shared_data(const char *relative, char *buf, size
     if (!dir || !*dir) return NULL;
     snprintf(buf, size, "%s/%s", dir, relative);
     return buf;
+}
+
+/* A short take of the CMU skeleton (31 joints, ZYX channels, 120 fps, inches-like units), cut
+ * from the shared data: the header and the first 4 frames of CMU_TAKE_SOURCE, written as it is
+ * to MM_TEST_OUT/name. Returns that path (static buffer), or NULL without MM_DATA_DIR. */
+#ifndef MM_TEST_OUT
+#define MM_TEST_OUT "."
+#endif
+#define CMU_TAKE_SOURCE "pfnn/bvh/LocomotionFlat09_000.bvh"
+#define CMU_TAKE_FRAMES 4
+static inline const char *test_cmu_take(const char *name)
+{
+    static char out_path[1024], line[1 << 16];
+    char source[1024];
+    if (!test_shared_data(CMU_TAKE_SOURCE, source, sizeof source)) return NULL;
+    snprintf(out_path, sizeof out_path, "%s/%s", MM_TEST_OUT, name);
+    FILE *in = fopen(source, "rb"), *out = fopen(out_path, "wb");
+    if (!in || !out) {
+        fprintf(stderr, "cannot copy %s to %s\n", source, out_path);
+        exit(1);
+    }
+    int motion_lines = -1; /* counts frames after the Frame Time line */
+    while (motion_lines < CMU_TAKE_FRAMES && fgets(line, sizeof line, in)) {
+        if (strncmp(line, "Frames:", 7) == 0)
+            fprintf(out, "Frames: %d\n", CMU_TAKE_FRAMES);
+        else
+            fputs(line, out);
+        if (motion_lines >= 0) ++motion_lines;
+        if (strncmp(line, "Frame Time:", 11) == 0) motion_lines = 0;
+    }
+    fclose(in);
+    fclose(out);
+    return out_path;
 }
 
 /* For test programs that need the shared motion capture: when MM_DATA_DIR is unset, say so and
