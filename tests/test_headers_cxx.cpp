@@ -2,6 +2,8 @@
 #include <mm/config_json.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
+#include <mm/render.h>
+#include <mm/view.h>
 
 #include <cmath>
 #include <cstdio>
@@ -15,6 +17,10 @@ int main()
         return 1;
     }
     if (mm_result_str(MM_ERR_SYNTAX)[0] == 0) return 1;
+    mm_camera cam;
+    mm_camera_defaults(&cam);
+    float px = 0.0f, py = 0.0f;
+    if (!mm_camera_project(&cam, 64, 64, cam.target, &px, &py) || std::fabs(px - 32.0f) > 1e-3f) return 1;
     std::printf("headers compile and link as C++\n");
     return 0;
 }

@@ -60,3 +60,13 @@ void cli_json_string(FILE *f, const char *s)
     }
     fputc('"', f);
 }
+
+int cli_parse_size(const char *s, int *width, int *height)
+{
+    long w = 0, h = 0;
+    char tail = 0;
+    if (sscanf(s, "%ldx%ld%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096) return 0;
+    *width = (int)w;
+    *height = (int)h;
+    return 1;
+}

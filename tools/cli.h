@@ -17,6 +17,8 @@ int cli_usage_error(const char *command, const char *fmt, ...)
 /* Parses a whole argument as a finite double / int in range; 0 on failure. */
 int cli_parse_double(const char *s, double *out);
 int cli_parse_int(const char *s, long min, long max, long *out);
+/* Parses WIDTHxHEIGHT (each 16 to 4096); 0 on failure. */
+int cli_parse_size(const char *s, int *width, int *height);
 /* Writes s as a JSON string literal (quotes and escapes included). */
 void cli_json_string(FILE *f, const char *s);
 

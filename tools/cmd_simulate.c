@@ -1,6 +1,7 @@
 /* mm simulate DB (--input SCRIPT | --random SEED) --seconds T [--fps F] -o OUT.bvh --metrics OUT.json
- * Runs one character over scripted or random input; writes its motion and the metrics of
- * docs/metrics.md. */
+ *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
+ * Runs one character over scripted or random input; writes its motion, the metrics of
+ * docs/metrics.md and, on request, a video of it rendered headless. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -12,9 +13,12 @@
 #include <mm/config_json.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
+#include <mm/render.h>
+#include <mm/view.h>
 
 #include "cli.h"
 #include "commands.h"
+#include "sim_video.h"
 
 static double now(void)
 {
@@ -109,12 +113,13 @@ static void json_number(FILE *f, const char *key, double v, int last)
 
 int mm_cmd_simulate(int argc, char **argv)
 {
-    const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL;
+    const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL;
     long seed = -1;
-    double seconds = 0.0, fps = 60.0;
+    double seconds = 0.0, fps = 60.0, video_fps = 30.0;
+    int width = 640, height = 360;
     const char *usage =
         "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED) --seconds T [--fps F] -o OUT.bvh "
-        "--metrics OUT.json";
+        "--metrics OUT.json [--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--input") == 0 && v)
@@ -135,7 +140,17 @@ int mm_cmd_simulate(int argc, char **argv)
             out = argv[++i];
         else if (strcmp(a, "--metrics") == 0 && v)
             metrics = argv[++i];
-        else if (a[0] == '-' && a[1])
+        else if (strcmp(a, "--video") == 0 && v)
+            video_path = argv[++i];
+        else if (strcmp(a, "--size") == 0 && v) {
+            if (!cli_parse_size(v, &width, &height))
+                return cli_usage_error("simulate", "--size needs WIDTHxHEIGHT, each 16 to 4096");
+            ++i;
+        } else if (strcmp(a, "--video-fps") == 0 && v) {
+            if (!cli_parse_double(v, &video_fps) || video_fps < 1 || video_fps > 240)
+                return cli_usage_error("simulate", "--video-fps needs 1 to 240");
+            ++i;
+        } else if (a[0] == '-' && a[1])
             return cli_usage_error("simulate", "unknown or incomplete option '%s'\n%s", a, usage);
         else if (!db_path)
             db_path = a;
@@ -186,6 +201,21 @@ int mm_cmd_simulate(int argc, char **argv)
         fprintf(stderr, "mm: out of memory\n");
         return 1;
     }
+    int status = 0;
+    sim_video video;
+    memset(&video, 0, sizeof video);
+    if (video_path &&
+        sim_video_open(&video, video_path, width, height, video_fps, 1.0 / fps, &db, &err) != MM_OK) {
+        status = cli_report(&err);
+        for (int k = 0; k < 3; ++k) free(world[k]);
+        free(search_us);
+        mm_clip_free(&clip);
+        mm_character_free(&c);
+        mm_searcher_free(&searcher);
+        mm_input_script_free(&script);
+        mm_database_free(&db);
+        return status;
+    }
     int contact[4];
     contact_joints(&db, contact);
     double slide_sum[4] = {0}, slide_frames[4] = {0}, raw_sum = 0.0, traj_err = 0.0, heading_err = 0.0,
@@ -216,6 +246,8 @@ int mm_cmd_simulate(int argc, char **argv)
         if (stick_on) last_stick_direction = stick_direction;
         had_stick = stick_on;
         mm_character_update(&c, &in, dt);
+        if (video_path && status == 0 && sim_video_tick(&video, &c, &in, &err) != MM_OK)
+            status = cli_report(&err);
         if (c.searches != last_searches) {
             search_us[search_count++] = c.last_search_us;
             last_searches = c.searches;
@@ -265,12 +297,14 @@ int mm_cmd_simulate(int argc, char **argv)
             }
         }
     }
+    int video_frames = 0;
+    if (video_path && sim_video_close(&video, status != 0, &video_frames, &err) != MM_OK && status == 0)
+        status = cli_report(&err);
+    if (video_path && status == 0) printf("%s: %d video frames\n", video_path, video_frames);
     mm_bvh_write_desc wd;
     memset(&wd, 0, sizeof wd);
     snprintf(err.file, sizeof err.file, "%s", out);
-    r = mm_bvh_save(out, &clip, &wd, &err);
-    int status = 0;
-    if (r != MM_OK) status = cli_report(&err);
+    if (status == 0 && mm_bvh_save(out, &clip, &wd, &err) != MM_OK) status = cli_report(&err);
     double slide = 0.0, slide_n = 0.0;
     for (int k = 0; k < 4; ++k) {
         slide += slide_sum[k];

@@ -9,8 +9,10 @@ int mm_cmd_convert(int argc, char **argv);
 int mm_cmd_db(int argc, char **argv);
 int mm_cmd_import(int argc, char **argv);
 int mm_cmd_pfnn(int argc, char **argv);
+int mm_cmd_render(int argc, char **argv);
 int mm_cmd_similarity(int argc, char **argv);
 int mm_cmd_simulate(int argc, char **argv);
 int mm_cmd_synth(int argc, char **argv);
+int mm_cmd_view(int argc, char **argv);
 
 #endif

@@ -6,13 +6,28 @@
 
 #include "commands.h"
 
+#ifndef MM_HAVE_GLFW
+int mm_cmd_view(int argc, char **argv)
+{
+    (void)argc;
+    (void)argv;
+    fputs("mm: this mm was built without GLFW, so it has no viewer: apt-get install libglfw3-dev and rebuild "
+          "(mm render and mm simulate --video draw without a window)\n",
+          stderr);
+    return 1;
+}
+#endif
+
 static const struct command {
     const char *name;
     int (*run)(int argc, char **argv);
 } commands[] = {
-    {"bvh", mm_cmd_bvh},   {"config", mm_cmd_config},         {"convert", mm_cmd_convert},
-    {"db", mm_cmd_db},     {"synth", mm_cmd_synth},           {"import", mm_cmd_import},
-    {"pfnn", mm_cmd_pfnn}, {"similarity", mm_cmd_similarity}, {"simulate", mm_cmd_simulate},
+    {"bvh", mm_cmd_bvh},           {"config", mm_cmd_config},
+    {"convert", mm_cmd_convert},   {"db", mm_cmd_db},
+    {"synth", mm_cmd_synth},       {"import", mm_cmd_import},
+    {"pfnn", mm_cmd_pfnn},         {"similarity", mm_cmd_similarity},
+    {"simulate", mm_cmd_simulate}, {"render", mm_cmd_render},
+    {"view", mm_cmd_view},
 };
 
 static void usage(FILE *f)

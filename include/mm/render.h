@@ -1,0 +1,166 @@
+/* mm/render.h - seeing the character: camera, scene description, OpenGL 3.3 renderer, offscreen
+ * rendering (no display needed), PNG images and video. Library mm_render.
+ *
+ * The scene is plain data (bones, debug lines, markers, overlay text) so that whatever the source
+ * (a character, a BVH clip) it draws the same way in the viewer's window and headless:
+ *
+ *   mm_offscreen *o;
+ *   mm_offscreen_create(640, 360, &o, &err);
+ *   mm_camera cam;  mm_camera_defaults(&cam);
+ *   mm_render_scene scene = {...};
+ *   const uint8_t *rgb = mm_offscreen_render(o, &cam, &scene);   (w x h x 3, top row first)
+ *   mm_png_write("frame.png", rgb, 640, 360, &err);
+ *   mm_offscreen_destroy(o);
+ *
+ * The camera orbits a target point: yaw 0 puts it on the -Z side looking toward +Z (behind a
+ * character facing +Z), pitch lifts it above the horizon. Images use pixel coordinates with x to
+ * the right and y down, pixel (i, j) covering [i, i+1) x [j, j+1).
+ *
+ * Functions: mm_camera_defaults mm_camera_eye mm_camera_view_matrix mm_camera_projection_matrix
+ *            mm_camera_project mm_camera_orbit mm_camera_zoom mm_camera_follow
+ *            mm_renderer_create mm_renderer_destroy mm_renderer_draw mm_renderer_read_pixels
+ *            mm_offscreen_create mm_offscreen_render mm_offscreen_destroy
+ *            mm_png_write mm_png_read_size mm_video_open mm_video_write mm_video_close
+ *            mm_video_encoder_available mm_text_measure mm_render_find_head
+ */
+#ifndef MM_RENDER_H
+#define MM_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "math.h"
+#include "result.h"
+#include "skeleton.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- camera (pure math) ---- */
+
+typedef struct mm_camera {
+    mm_vec3 target;      /* the point looked at */
+    float yaw;           /* rad about +Y; 0: the eye is on the -Z side of the target */
+    float pitch;         /* rad above the horizon, clamped to [-0.2, 1.5] by mm_camera_orbit */
+    float distance;      /* m from the target, clamped to [0.5, 50] by mm_camera_zoom */
+    float fov_y;         /* rad, vertical field of view */
+    float z_near, z_far; /* m */
+} mm_camera;
+
+/* Target (0, 0.9, 0), yaw 0.6, pitch 0.22, distance 4.2, 45 degree field of view, near 0.05, far 200. */
+void mm_camera_defaults(mm_camera *c);
+mm_vec3 mm_camera_eye(const mm_camera *c);
+/* Column-major 4x4 matrices (OpenGL's layout): m[col * 4 + row]. */
+void mm_camera_view_matrix(const mm_camera *c, float m[16]);
+void mm_camera_projection_matrix(const mm_camera *c, float aspect, float m[16]);
+/* Where world point p lands in a width x height image (pixels, x right, y down). False when p
+ * is not in front of the camera (then px, py are left unchanged). */
+bool mm_camera_project(const mm_camera *c, int width, int height, mm_vec3 p, float *px, float *py);
+/* Mouse orbit: angles added, pitch clamped. */
+void mm_camera_orbit(mm_camera *c, float dyaw, float dpitch);
+/* Distance multiplied by factor (wheel), clamped. */
+void mm_camera_zoom(mm_camera *c, float factor);
+/* The target approaches p exponentially: half the distance every halflife seconds, whatever
+ * the tick (two ticks of dt equal one of 2 dt). dt <= 0 or a non-finite p leave it; halflife
+ * <= 0 jumps to p. */
+void mm_camera_follow(mm_camera *c, mm_vec3 p, float halflife, float dt);
+
+/* ---- scene ---- */
+
+typedef struct mm_rgba {
+    float r, g, b, a;
+} mm_rgba;
+
+typedef struct mm_render_line {
+    mm_vec3 a, b;
+    mm_rgba color;
+} mm_render_line;
+
+typedef struct mm_render_marker { /* a small sphere: trajectory samples, contacts */
+    mm_vec3 position;
+    float radius;
+    mm_rgba color;
+} mm_render_marker;
+
+typedef struct mm_render_scene {
+    /* the character: world transforms of joint_count joints and their parents (-1: none);
+     * every joint is a sphere, every joint-to-parent segment a capsule of bone_radius */
+    int joint_count;
+    const int *parents;
+    const mm_xform *global;
+    int first_joint;             /* joints before this are not drawn (a database's simulation
+                                    bone on the ground); bones to them neither */
+    float bone_radius;           /* m; 0: 0.03 */
+    int head_joint;              /* drawn as a 0.1 m sphere (0: none; see mm_render_find_head) */
+    mm_rgba body_color;          /* alpha 0: a default grey-blue */
+    const mm_rgba *joint_colors; /* optional per joint (highlighted bones); NULL: body_color */
+    const int *shadow_joints;    /* joints casting a contact shadow on the ground; NULL: all */
+    int shadow_joint_count;
+    const mm_render_line *lines; /* debug lines, drawn over the ground, depth-tested */
+    int line_count;
+    const mm_render_marker *markers;
+    int marker_count;
+    const char *overlay; /* text at the top left, '\n' separates lines; NULL: none */
+    bool no_ground;      /* skip the ground grid */
+} mm_render_scene;
+
+/* The joint named like a head ("Head", "head", "HEAD"; the first such), or 0 when none. */
+int mm_render_find_head(const mm_joint *joints, int count);
+
+/* Size in pixels of text drawn by the renderer (the built-in 5x7 font at 2x: glyph cells of
+ * 12 x 18 pixels per character, lines 18 pixels apart). */
+void mm_text_measure(const char *text, int *width, int *height);
+
+/* ---- OpenGL renderer ---- */
+
+typedef void (*mm_gl_proc)(void);
+typedef mm_gl_proc (*mm_gl_loader)(const char *name);
+
+typedef struct mm_renderer mm_renderer;
+
+/* Needs a current OpenGL 3.3 core (or later) context; load looks up its functions. */
+mm_result mm_renderer_create(mm_gl_loader load, mm_renderer **out, mm_error *err);
+void mm_renderer_destroy(mm_renderer *r);
+/* Draws into the current framebuffer's width x height viewport, clearing it first. */
+void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int height,
+                      const mm_render_scene *scene);
+
+/* Reads the current framebuffer's width x height pixels into rgb (top row first, 3 bytes each). */
+void mm_renderer_read_pixels(mm_renderer *r, int width, int height, uint8_t *rgb);
+
+/* ---- offscreen (OSMesa: software, no display) ---- */
+
+typedef struct mm_offscreen mm_offscreen;
+
+/* An OpenGL context of width x height (1..4096) that draws into memory, with a renderer. */
+mm_result mm_offscreen_create(int width, int height, mm_offscreen **out, mm_error *err);
+/* Draws the scene; returns width x height x 3 bytes of RGB, top row first, owned by o and valid
+ * until the next call. NULL if the context was lost. */
+const uint8_t *mm_offscreen_render(mm_offscreen *o, const mm_camera *cam, const mm_render_scene *scene);
+void mm_offscreen_destroy(mm_offscreen *o);
+
+/* ---- images and video ---- */
+
+/* Writes an 8-bit RGB PNG (rows top first) through a temporary file renamed into place. */
+mm_result mm_png_write(const char *path, const uint8_t *rgb, int width, int height, mm_error *err);
+
+typedef struct mm_video mm_video;
+
+/* True when ffmpeg can be run (PATH, or $MM_FFMPEG). */
+bool mm_video_encoder_available(void);
+/* A path ending in .mp4 or .gif is encoded by ffmpeg (H.264 yuv420p / palette GIF) into a
+ * temporary file renamed into place by mm_video_close; any other path is a directory that
+ * receives frame_00000.png, frame_00001.png, ... Width and height must be even for .mp4. */
+mm_result mm_video_open(const char *path, int width, int height, float fps, mm_video **out, mm_error *err);
+mm_result mm_video_write(mm_video *v, const uint8_t *rgb, mm_error *err);
+/* Finishes the file; frames counts what was written. On error (or abort) nothing is left behind
+ * for an encoded file. Always frees v. */
+mm_result mm_video_close(mm_video *v, bool abort, int *frames, mm_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_RENDER_H */

@@ -1,0 +1,112 @@
+/* mm/view.h - what the viewer and headless rendering show of a character, without OpenGL: the
+ * scene (body and debug drawing), the overlay text, and keyboard / gamepad input mapped to
+ * mm_input relative to the camera. Library mm_render.
+ *
+ *   mm_view v;
+ *   mm_view_init(&v, &db, &err);
+ *   each frame: mm_view_update(&v, &character, &input, &flags, fps);  draw v.scene
+ *   mm_view_free(&v);
+ *
+ * Functions: mm_view_flags_defaults mm_view_init mm_view_free mm_view_update mm_view_overlay
+ *            mm_view_input mm_view_tuning_init mm_view_tuning_select mm_view_tuning_step
+ *            mm_view_tuning_text
+ */
+#ifndef MM_VIEW_H
+#define MM_VIEW_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "character.h"
+#include "database.h"
+#include "input.h"
+#include "render.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct mm_view_flags {
+    bool predicted;     /* the simulated future trajectory (the seed's "Show tra pre"), orange */
+    bool matched;       /* the trajectory of the frame playing (the seed's "Show tra anim"), green */
+    bool past;          /* the recorded past trajectory, blue */
+    bool contacts;      /* feet: red spheres while locked, the lock point on the ground */
+    bool matched_bones; /* the bones the search matches, highlighted */
+    bool velocities;    /* matched bones' velocities and the root velocity, as arrows (0.1 s) */
+    bool overlay;       /* the text panel */
+} mm_view_flags;
+
+/* Predicted, matched, past, contacts and overlay on; matched bones and velocities off. */
+void mm_view_flags_defaults(mm_view_flags *f);
+
+#define MM_VIEW_OVERLAY_MAX 1024
+
+typedef struct mm_view {
+    mm_render_scene scene; /* what to draw; points into the arrays below and the character */
+    const mm_database *db;
+    int *parents;
+    mm_rgba *joint_colors;
+    mm_render_line *lines;
+    mm_render_marker *markers;
+    int line_capacity, marker_capacity;
+    char overlay[MM_VIEW_OVERLAY_MAX];
+} mm_view;
+
+mm_result mm_view_init(mm_view *v, const mm_database *db, mm_error *err);
+void mm_view_free(mm_view *v);
+/* Rebuilds v->scene for the character's current state (in: the input of this tick; fps: the
+ * display rate shown in the overlay, 0 to leave it out). */
+void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const mm_view_flags *flags,
+                    float fps);
+
+/* The overlay text: clip, frame and time; gait, speed, idle; the last search's cost and its five
+ * terms; search time and counts; fps (when > 0). Returns the length written (truncated to n). */
+size_t mm_view_overlay(char *out, size_t n, const mm_character *c, const mm_input *in, float fps);
+
+/* Keyboard and gamepad state, as the viewer reads it. */
+typedef struct mm_view_keys {
+    bool forward, back, left, right; /* WASD or arrows */
+    bool run, strafe, crouch;        /* shift, a strafe key, a crouch key */
+    float pad_stick[2];              /* gamepad left stick: x right, y forward, in [-1, 1] */
+    bool pad_run, pad_strafe;
+} mm_view_keys;
+
+/* Input relative to the camera: forward is where the camera looks, flattened on the ground, right
+ * is the screen's right. Keys give a full stick (diagonals normalised); the gamepad stick, past a
+ * 0.15 dead zone rescaled to [0, 1], replaces the keys when moved. Strafing faces the camera's
+ * forward. Non-finite pad values count as zero. */
+void mm_view_input(const mm_view_keys *k, float camera_yaw, mm_input *out);
+
+/* Live tuning: a list of the character's cost weights (mm_search_params), favours, search and
+ * transition timing, and trajectory parameters per gait (the trajectory's own copy, which is
+ * what its update reads), one of them selected, changed in steps. */
+#define MM_VIEW_TUNING_MAX 48
+
+typedef struct mm_view_tuning_entry {
+    char name[48];
+    float *value;
+    float step; /* added per step, or the factor per step when multiply */
+    bool multiply;
+    float min, max; /* the value is kept within */
+} mm_view_tuning_entry;
+
+typedef struct mm_view_tuning {
+    mm_view_tuning_entry entries[MM_VIEW_TUNING_MAX];
+    int count, selected;
+} mm_view_tuning;
+
+/* Points the entries at c's values (c must outlive t and not move). */
+void mm_view_tuning_init(mm_view_tuning *t, mm_character *c);
+/* Moves the selection by delta entries, wrapping around. */
+void mm_view_tuning_select(mm_view_tuning *t, int delta);
+/* Changes the selected value by direction steps (negative: down), clamped to its range. */
+void mm_view_tuning_step(mm_view_tuning *t, int direction);
+/* The selected entry with its neighbours, one per line, the selected one marked '>'. Returns the
+ * length written (truncated to n). */
+size_t mm_view_tuning_text(const mm_view_tuning *t, char *out, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_VIEW_H */

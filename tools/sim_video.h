@@ -1,0 +1,28 @@
+/* sim_video.h - the video of a simulated character (mm simulate --video): headless frames of the
+ * character with its debug drawing, the camera following it. */
+#ifndef MM_TOOLS_SIM_VIDEO_H
+#define MM_TOOLS_SIM_VIDEO_H
+
+#include <mm/character.h>
+#include <mm/render.h>
+#include <mm/view.h>
+
+typedef struct sim_video {
+    mm_offscreen *offscreen;
+    mm_video *video;
+    mm_view view;
+    mm_view_flags flags;
+    mm_camera camera;
+    double tick_seconds, next_frame, frame_seconds, time;
+    int frames;
+} sim_video;
+
+/* Opens the output (see mm_video_open) for ticks of tick_seconds, frames every 1 / video_fps s. */
+mm_result sim_video_open(sim_video *s, const char *path, int width, int height, double video_fps,
+                         double tick_seconds, const mm_database *db, mm_error *err);
+/* Called after every tick: draws a frame when one is due. */
+mm_result sim_video_tick(sim_video *s, const mm_character *c, const mm_input *in, mm_error *err);
+/* Finishes (or, with abort, removes) the output; frames receives the count written. */
+mm_result sim_video_close(sim_video *s, int abort, int *frames, mm_error *err);
+
+#endif
