@@ -76,6 +76,53 @@ int mm_config_tag_index(const mm_config *c, const char *name)
 static int finite_positive(float v) { return isfinite(v) && v > 0.0f; }
 static int finite_nonneg(float v) { return isfinite(v) && v >= 0.0f; }
 
+/* The runtime tuning: only the fields that are set. */
+static mm_result validate_runtime(const mm_runtime_config *rt, mm_error *err)
+{
+#define FAIL(...) return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, __VA_ARGS__)
+    unsigned s = rt->set;
+    if ((s & MM_RUNTIME_POSE_TRAJECTORY_RATIO) &&
+        !(isfinite(rt->pose_trajectory_ratio) && rt->pose_trajectory_ratio >= 0.0f &&
+          rt->pose_trajectory_ratio <= 1.0f))
+        FAIL("runtime.pose_trajectory_ratio: %g is outside [0, 1]", rt->pose_trajectory_ratio);
+    if ((s & MM_RUNTIME_NEXT_POSE_FAVOUR) && !finite_positive(rt->next_pose_favour))
+        FAIL("runtime.next_pose_favour: %g must be positive", rt->next_pose_favour);
+    if ((s & MM_RUNTIME_LOOP_ANIM_FAVOUR) && !finite_positive(rt->loop_anim_favour))
+        FAIL("runtime.loop_anim_favour: %g must be positive", rt->loop_anim_favour);
+    if ((s & MM_RUNTIME_CONTINUING_BIAS) && !finite_nonneg(rt->continuing_bias))
+        FAIL("runtime.continuing_bias: %g must be >= 0", rt->continuing_bias);
+    if ((s & MM_RUNTIME_SEARCH_INTERVAL) &&
+        !(finite_positive(rt->search_interval) && rt->search_interval <= 10.0f))
+        FAIL("runtime.search_interval: %g s is out of range (above 0, at most 10 s)", rt->search_interval);
+    if ((s & MM_RUNTIME_TRANSITION_HALFLIFE) &&
+        !(finite_positive(rt->transition_halflife) && rt->transition_halflife <= 60.0f))
+        FAIL("runtime.transition_halflife: %g s is out of range (above 0, at most 60 s)",
+             rt->transition_halflife);
+    if ((s & MM_RUNTIME_IDLE_SPEED) && !(finite_nonneg(rt->idle_speed) && rt->idle_speed <= 50.0f))
+        FAIL("runtime.idle_speed: %g m/s is out of range (0 to 50 m/s)", rt->idle_speed);
+    const mm_runtime_gait *gaits[3] = {&rt->walk, &rt->run, &rt->crouch};
+    static const char *const gait_names[3] = {"walk", "run", "crouch"};
+    for (int g = 0; g < 3; ++g) {
+        const mm_runtime_gait *p = gaits[g];
+        const float speeds[3] = {p->forward_speed, p->side_speed, p->backward_speed};
+        static const char *const speed_names[3] = {"forward_speed", "side_speed", "backward_speed"};
+        for (int k = 0; k < 3; ++k)
+            if ((p->set & (MM_RUNTIME_FORWARD_SPEED << k)) &&
+                !(finite_nonneg(speeds[k]) && speeds[k] <= 50.0f))
+                FAIL("runtime.%s.%s: %g m/s is out of range (0 to 50 m/s)", gait_names[g], speed_names[k],
+                     speeds[k]);
+        const float lives[2] = {p->velocity_halflife, p->rotation_halflife};
+        static const char *const life_names[2] = {"velocity_halflife", "rotation_halflife"};
+        for (int k = 0; k < 2; ++k)
+            if ((p->set & (MM_RUNTIME_VELOCITY_HALFLIFE << k)) &&
+                !(finite_positive(lives[k]) && lives[k] <= 60.0f))
+                FAIL("runtime.%s.%s: %g s is out of range (above 0, at most 60 s)", gait_names[g],
+                     life_names[k], lives[k]);
+    }
+    return MM_OK;
+#undef FAIL
+}
+
 mm_result mm_config_validate(const mm_config *c, mm_error *err)
 {
 #define FAIL(...) return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, __VA_ARGS__)
@@ -147,6 +194,6 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
         if (!(isfinite(b->weight) && b->weight >= 0.0f && b->weight <= 1.0f))
             FAIL("blend_clips[%d] (%s): weight %g is outside [0, 1]", i, b->name, b->weight);
     }
-    return MM_OK;
+    return validate_runtime(&c->runtime, err);
 #undef FAIL
 }

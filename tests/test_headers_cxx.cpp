@@ -1,5 +1,6 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
 #include <mm/config_json.h>
+#include <mm/distance.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
 #include <mm/render.h>

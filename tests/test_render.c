@@ -457,6 +457,69 @@ static void test_overlay_text_of_a_character(void **state)
     mm_database_free(&db);
 }
 
+static void test_tuning_steps_select_and_clamp(void **state)
+{
+    (void)state;
+    mm_database db;
+    assert_int_equal(test_build_synth_database(&db), 0);
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    mm_character ch;
+    assert_int_equal(mm_character_init(&ch, &db, &searcher, NULL, NULL), MM_OK);
+    mm_view_tuning t;
+    mm_view_tuning_init(&t, &ch);
+    /* 4 weights, 2 per matched bone, 4 favours and timings, 5 per gait for walk and run */
+    mm_pose_data pose;
+    mm_database_pose(&db, 0, &pose);
+    assert_int_equal(t.count, 4 + 2 * pose.bone_count + 4 + 10);
+    assert_ptr_equal(t.entries[0].value, &ch.desc.params.pose_trajectory_ratio);
+    /* the ratio: steps of 0.05 within [0, 1] */
+    float r0 = ch.desc.params.pose_trajectory_ratio;
+    mm_view_tuning_step(&t, 1);
+    assert_float_equal(ch.desc.params.pose_trajectory_ratio, r0 + 0.05f, 1e-6f);
+    mm_view_tuning_step(&t, 100);
+    assert_float_equal(ch.desc.params.pose_trajectory_ratio, 1.0f, 0.0f);
+    /* a weight: by factors of 1.25, down to 0 never below, and back up from zero */
+    mm_view_tuning_select(&t, 1);
+    assert_ptr_equal(t.entries[t.selected].value, &ch.desc.params.body_velocity_weight);
+    float w0 = ch.desc.params.body_velocity_weight;
+    mm_view_tuning_step(&t, -2);
+    assert_float_equal(ch.desc.params.body_velocity_weight, w0 / 1.5625f, 1e-6f * (1.0f + w0));
+    ch.desc.params.body_velocity_weight = 0.0f;
+    mm_view_tuning_step(&t, -1);
+    assert_float_equal(ch.desc.params.body_velocity_weight, 0.0f, 0.0f);
+    mm_view_tuning_step(&t, 1);
+    assert_float_equal(ch.desc.params.body_velocity_weight, 0.1f, 1e-6f);
+    /* selection wraps both ways; the last entries are the run gait's, in the trajectory's copy */
+    mm_view_tuning_select(&t, -2);
+    assert_int_equal(t.selected, t.count - 1);
+    assert_ptr_equal(t.entries[t.selected].value, &ch.trajectory.desc.gaits[MM_GAIT_RUN].rotation_halflife);
+    mm_view_tuning_select(&t, 1);
+    assert_int_equal(t.selected, 0);
+    /* the text: five lines, the selected one in the middle and marked */
+    char text[512];
+    mm_view_tuning_text(&t, text, sizeof text);
+    int lines = 1;
+    for (const char *p = text; *p; ++p) lines += *p == '\n';
+    assert_int_equal(lines, 5);
+    assert_non_null(strstr(text, "> pose_trajectory_ratio"));
+    assert_true(strstr(text, "run.rotation_halflife") < strstr(text, "> pose_trajectory_ratio"));
+    /* a tuned walk speed changes what the trajectory asks for */
+    for (int i = 0; i < t.count; ++i)
+        if (strcmp(t.entries[i].name, "walk.forward_speed") == 0) t.selected = i;
+    mm_view_tuning_step(&t, -5); /* 1.5 m/s - 0.5 */
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    mm_vec3 v;
+    mm_trajectory_desired(&ch.trajectory, &in, &v, NULL);
+    assert_float_equal(mm_vec3_length(v), ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1e-5f);
+    assert_float_equal(ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1.0f, 1e-5f);
+    mm_character_free(&ch);
+    mm_searcher_free(&searcher);
+    mm_database_free(&db);
+}
+
 int main(void)
 {
     mm_error err;
@@ -477,6 +540,7 @@ int main(void)
         cmocka_unit_test(test_overlay_glyph_pixels),
         cmocka_unit_test(test_video_folder_and_errors),
         cmocka_unit_test(test_overlay_text_of_a_character),
+        cmocka_unit_test(test_tuning_steps_select_and_clamp),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     mm_offscreen_destroy(offscreen);

@@ -154,22 +154,36 @@ static int present(window *win, const mm_render_scene *scene, const char *screen
 
 /* ---- database mode ---- */
 
-/* The character's settings: the defaults, with the runtime tuning of the database's config. */
-static mm_result desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err)
+/* The character's settings: the defaults with the runtime tuning of a config: the one given with
+ * --config (where tuning is saved), else the one embedded in the database. */
+static mm_result desc_from_config(mm_character_desc *d, const mm_database *db, const char *config,
+                                  mm_error *err)
 {
-    (void)db;
-    (void)err;
     mm_character_defaults(d);
-    return MM_OK;
+    mm_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    mm_result r = MM_OK;
+    if (config)
+        r = mm_config_load_json(config, &cfg, NULL, err);
+    else if (db->config_json && db->config_json[0])
+        r = mm_config_parse_json(db->config_json, strlen(db->config_json), "the database's config", NULL,
+                                 &cfg, err);
+    else
+        return MM_OK;
+    if (r == MM_OK) mm_character_desc_apply_config(d, db, &cfg);
+    mm_config_free(&cfg);
+    return r;
 }
 
+/* The live values: the search parameters are c->desc's own; the trajectory's are its copy. */
 static mm_result save_tuning(mm_character *c, const mm_database *db, const char *config, mm_error *err)
 {
-    (void)c;
-    (void)db;
-    (void)config;
-    return mm_error_set(err, MM_ERR_UNSUPPORTED, 0, 0, "saving is not there yet");
+    c->desc.trajectory = c->trajectory.desc;
+    c->desc.has_trajectory = true;
+    return mm_config_save_tuning(config, db, &c->desc, err);
 }
+
+static double monotonic_seconds(void) { return glfwGetTime(); }
 
 static const char *db_help = "WASD/arrows move  shift run  Q strafe  C crouch  mouse orbit  wheel zoom\n"
                              "1 future  2 matched  3 past  4 contacts  5 bones  6 velocities  H text\n"
@@ -215,7 +229,7 @@ static int view_database(const options *o)
     memset(&view, 0, sizeof view);
     mm_view_tuning tuning;
     int status = 0;
-    if (desc_from_database(&desc, &db, &err) != MM_OK ||
+    if (desc_from_config(&desc, &db, o->config, &err) != MM_OK ||
         mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK) {
         mm_database_free(&db);
         mm_input_script_free(&script);
@@ -229,6 +243,7 @@ static int view_database(const options *o)
     mm_view_tuning_init(&tuning, &c);
     window win;
     if ((status = open_window(&win, o, "mm view")) != 0) goto done_character;
+    c.desc.clock = monotonic_seconds; /* GLFW's clock works once a window is open */
     mm_view_flags flags;
     mm_view_flags_defaults(&flags);
     bool text = true;
@@ -377,13 +392,6 @@ static void timeline(char *out, const float (*ranges)[2], int count, double t, d
     out[COLUMNS] = 0;
 }
 
-static mm_result save_clip_tags(const char *config, const char *clip, const char *tag,
-                                const float (*ranges)[2], int count, mm_error *err)
-{
-    (void)config, (void)clip, (void)tag, (void)ranges, (void)count;
-    return mm_error_set(err, MM_ERR_UNSUPPORTED, 0, 0, "saving tag ranges is not in this build yet");
-}
-
 static const char *clip_help = "space play/pause  left/right step  [ ] 1 s  up/down speed  home/end\n"
                                "T next tag  B begin  E end  X delete at playhead  S save to config";
 
@@ -470,8 +478,9 @@ static int view_clip(const options *o)
                         }
                 if (take(&win, GLFW_KEY_S) && tags.cfg.tag_count > 0) {
                     const char *name = tags.cfg.clips[tags.clip].name;
-                    if (save_clip_tags(o->config, name, tags.cfg.tag_names[g],
-                                       (const float(*)[2])tags.ranges[g], tags.counts[g], &err) != MM_OK)
+                    if (mm_config_save_clip_tags(o->config, name, tags.cfg.tag_names[g],
+                                                 (const float(*)[2])tags.ranges[g], tags.counts[g],
+                                                 &err) != MM_OK)
                         snprintf(message, sizeof message, "not saved: %.200s", err.message);
                     else
                         snprintf(message, sizeof message, "saved %s of %s into %.150s", tags.cfg.tag_names[g],

@@ -20,7 +20,11 @@
  *   each tick: mm_character_update(&c, &input, dt);  read c.global (joint_count transforms)
  *   mm_character_free(&c);
  *
- * Functions: mm_character_defaults mm_character_init mm_character_free mm_character_update
+ * A database's config may carry runtime tuning (mm_config.runtime, the config's "runtime" object):
+ * mm_character_desc_apply_config writes it into a desc.
+ *
+ * Functions: mm_character_defaults mm_character_default_params mm_character_desc_apply_config
+ *            mm_character_init mm_character_free mm_character_update
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -74,6 +78,19 @@ typedef struct mm_character_desc {
 } mm_character_desc;
 
 void mm_character_defaults(mm_character_desc *d);
+
+/* The search parameters mm_character_init uses when desc->use_params is false. */
+void mm_character_default_params(const mm_database *db, mm_search_params *p);
+
+/* Makes d's search parameters and trajectory explicit and applies cfg's tuning: when
+ * d->use_params is false, d->params becomes mm_character_default_params (and use_params true);
+ * when d->has_trajectory is false, d->trajectory becomes mm_trajectory_defaults (and
+ * has_trajectory true). Then cfg's feature weights (features.bones[].position_weight /
+ * velocity_weight matched by bone name, body_velocity_weight, position_multiplier,
+ * angle_multiplier; only for the feature groups db has) and every field set in cfg->runtime are
+ * written into d. With the config db was built from, and no runtime fields set, the character
+ * behaves exactly as with d unchanged. cfg may be NULL (only the first step). */
+void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg);
 
 typedef struct mm_character {
     const mm_database *db;

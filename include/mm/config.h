@@ -1,5 +1,5 @@
 /* mm/config.h - what a database is built from: sampling, bone roles, matched features, clips,
- * tags and blend clips.
+ * tags and blend clips; and the runtime tuning a database carries along.
  *
  * The config is plain C data. It is usually read from JSON (mm/config_json.h, in the mm_io
  * library); docs/config.md documents every field with its meaning, unit and default, and
@@ -75,6 +75,49 @@ typedef struct mm_config_mirror_pair {
     char left[MM_NAME_MAX], right[MM_NAME_MAX]; /* name substrings, e.g. "Left" / "Right" */
 } mm_config_mirror_pair;
 
+/* Runtime tuning a config may carry (its "runtime" object): what the character controller and
+ * the search use at run time, so that a database brings its tuning along. Nothing here changes
+ * the database; a field whose bit is not in `set` is not set and keeps the runtime's default
+ * (mm_character_desc_apply_config in mm/character.h applies the set ones). */
+enum mm_runtime_field {
+    MM_RUNTIME_POSE_TRAJECTORY_RATIO = 1u << 0,
+    MM_RUNTIME_NEXT_POSE_FAVOUR = 1u << 1,
+    MM_RUNTIME_LOOP_ANIM_FAVOUR = 1u << 2,
+    MM_RUNTIME_CONTINUING_BIAS = 1u << 3,
+    MM_RUNTIME_SEARCH_INTERVAL = 1u << 4,
+    MM_RUNTIME_TRANSITION_HALFLIFE = 1u << 5,
+    MM_RUNTIME_IDLE_SPEED = 1u << 6
+};
+enum mm_runtime_gait_field {
+    MM_RUNTIME_FORWARD_SPEED = 1u << 0,
+    MM_RUNTIME_SIDE_SPEED = 1u << 1,
+    MM_RUNTIME_BACKWARD_SPEED = 1u << 2,
+    MM_RUNTIME_VELOCITY_HALFLIFE = 1u << 3,
+    MM_RUNTIME_ROTATION_HALFLIFE = 1u << 4
+};
+
+/* One gait's speeds and half-lives (the fields of mm_gait_params, mm/trajectory.h). */
+typedef struct mm_runtime_gait {
+    unsigned set;            /* mm_runtime_gait_field bits of the fields given */
+    float forward_speed;     /* m/s, >= 0 */
+    float side_speed;        /* m/s, >= 0 */
+    float backward_speed;    /* m/s, >= 0 */
+    float velocity_halflife; /* s, > 0 */
+    float rotation_halflife; /* s, > 0 */
+} mm_runtime_gait;
+
+typedef struct mm_runtime_config {
+    unsigned set;                /* mm_runtime_field bits of the fields given */
+    float pose_trajectory_ratio; /* [0, 1] (mm_search_params) */
+    float next_pose_favour;      /* > 0 */
+    float loop_anim_favour;      /* > 0 */
+    float continuing_bias;       /* >= 0 */
+    float search_interval;       /* s, > 0 (mm_character_desc) */
+    float transition_halflife;   /* s, > 0 */
+    float idle_speed;            /* m/s, >= 0 */
+    mm_runtime_gait walk, run, crouch;
+} mm_runtime_config;
+
 typedef struct mm_config {
     /* Sampling and units */
     float interval; /* seconds between database frames (the seed's Interval); default 1/60 */
@@ -122,6 +165,9 @@ typedef struct mm_config {
     mm_config_clip *clips;
     int blend_count;
     mm_config_blend *blends;
+
+    /* Runtime tuning (not used to build the database); zeroed: nothing set */
+    mm_runtime_config runtime;
 
     char base_dir[MM_PATH_MAX]; /* folder relative clip paths start from (the config's folder) */
     char data_dir[MM_PATH_MAX]; /* another folder for relative clip paths, looked at after base_dir

@@ -10,14 +10,17 @@
  *
  * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
  *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
+ *            mm_config_save_tuning mm_config_save_clip_tags
  */
 #ifndef MM_CONFIG_JSON_H
 #define MM_CONFIG_JSON_H
 
 #include <stddef.h>
 
+#include "character.h"
 #include "clip.h"
 #include "config.h"
+#include "database.h"
 #include "result.h"
 
 #ifdef __cplusplus
@@ -54,6 +57,31 @@ mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *o
  * is read once. *out_clips is an array of cfg->clip_count clips. */
 mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err);
 void mm_config_free_sources(const mm_config *cfg, mm_clip *clips);
+
+/* Saving tuned values back into a config file. The file is read and changed in place: every
+ * other field keeps its value and order (the file is re-printed with two-space indentation,
+ * arrays of numbers on one line, numbers in their shortest form), the result is checked as a
+ * config, and written atomically (a temporary file and a rename: a failure leaves the file as it
+ * was). Errors name the file (err->file) and the field or clip. */
+
+/* Writes d's tuning: the `runtime` object with every field (d's search parameters, or
+ * mm_character_default_params when d->use_params is false; d's search_interval,
+ * transition_halflife and idle_speed; the walk, run and crouch gaits of d->trajectory, or of
+ * mm_trajectory_defaults when d->has_trajectory is false), and the feature weights under
+ * `features`: features.bones[].position_weight / velocity_weight from d's
+ * joint_position_weights / joint_velocity_weights, matched by bone name in db's matched-bone
+ * order, and body_velocity_weight, position_multiplier, angle_multiplier, each only where db has
+ * the feature group. When the config lists no bones (the defaults), the default bones are
+ * written out. */
+mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, const mm_character_desc *d,
+                                mm_error *err);
+
+/* Replaces the tag ranges [begin, end] (seconds from the start of the source file) of tag in the
+ * config clip named clip_name (its name as the config gives it, or the one derived from its file)
+ * with ranges[0..range_count-1]; range_count 0 removes the tag from the clip. A tag not yet in
+ * the top-level `tags` list is added to it. */
+mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_name, const char *tag,
+                                   const float (*ranges)[2], int range_count, mm_error *err);
 
 #ifdef __cplusplus
 }

@@ -106,6 +106,47 @@ static const mm_config_field_doc docs[] = {
     {"blend_clips[].left", "string", "", "", "Name of the left source clip."},
     {"blend_clips[].right", "string", "", "", "Name of the right source clip."},
     {"blend_clips[].weight", "number", "", "0.5", "Weight of the left clip; the right gets 1 - weight."},
+    {"runtime", "object", "", "{}",
+     "Runtime tuning the database carries along (it changes nothing in the database): the character's and "
+     "its search's parameters, saved by a viewer's live tuning. A field left out keeps the runtime's "
+     "default."},
+    {"runtime.pose_trajectory_ratio", "number", "", "0.5",
+     "The seed's PoseTrajectoryRatio, in [0, 1]: higher follows the trajectory more (more responsive, less "
+     "smooth)."},
+    {"runtime.next_pose_favour", "number", "", "0.6",
+     "The seed's NextPoseFavour, above 0: factor on the cost of the frame after the one playing; lower keeps "
+     "playing."},
+    {"runtime.loop_anim_favour", "number", "", "1",
+     "The seed's LoopAnimFavour, above 0: factor on the cost of frames of loop clips; lower prefers loops."},
+    {"runtime.continuing_bias", "number", "", "0",
+     "At least 0: subtracted from the cost of the frame after the one playing; a jump must gain this much."},
+    {"runtime.search_interval", "number", "s", "0.1",
+     "Seconds between searches (a sharp input change or a clip's end searches at once)."},
+    {"runtime.transition_halflife", "number", "s", "0.2",
+     "Half-life of the inertialization that hides a jump to another frame: longer is smoother and slower."},
+    {"runtime.idle_speed", "number", "m/s", "0.15",
+     "Desired speed under which the character asks for idle frames."},
+    {"runtime.walk", "object", "", "", "The walk gait's speeds and half-lives (fields below)."},
+    {"runtime.walk.forward_speed", "number", "m/s", "1.5",
+     "Speed at full stick, straight ahead (at least 0)."},
+    {"runtime.walk.side_speed", "number", "m/s", "1.1", "Speed at full stick, sideways (strafing)."},
+    {"runtime.walk.backward_speed", "number", "m/s", "1", "Speed at full stick, backwards (strafing)."},
+    {"runtime.walk.velocity_halflife", "number", "s", "0.25",
+     "How quickly the velocity follows the stick (the seed's acceleration and drag); above 0."},
+    {"runtime.walk.rotation_halflife", "number", "s", "0.2",
+     "How quickly the facing follows (the seed's angular speed); above 0."},
+    {"runtime.run", "object", "", "", "The run gait: the fields of runtime.walk."},
+    {"runtime.run.forward_speed", "number", "m/s", "4", "As runtime.walk.forward_speed."},
+    {"runtime.run.side_speed", "number", "m/s", "2.6", "As runtime.walk.side_speed."},
+    {"runtime.run.backward_speed", "number", "m/s", "2.2", "As runtime.walk.backward_speed."},
+    {"runtime.run.velocity_halflife", "number", "s", "0.3", "As runtime.walk.velocity_halflife."},
+    {"runtime.run.rotation_halflife", "number", "s", "0.25", "As runtime.walk.rotation_halflife."},
+    {"runtime.crouch", "object", "", "", "The crouch gait: the fields of runtime.walk."},
+    {"runtime.crouch.forward_speed", "number", "m/s", "0.9", "As runtime.walk.forward_speed."},
+    {"runtime.crouch.side_speed", "number", "m/s", "0.7", "As runtime.walk.side_speed."},
+    {"runtime.crouch.backward_speed", "number", "m/s", "0.6", "As runtime.walk.backward_speed."},
+    {"runtime.crouch.velocity_halflife", "number", "s", "0.25", "As runtime.walk.velocity_halflife."},
+    {"runtime.crouch.rotation_halflife", "number", "s", "0.2", "As runtime.walk.rotation_halflife."},
 };
 
 const mm_config_field_doc *mm_config_field_docs(int *count)
@@ -388,6 +429,54 @@ static mm_result parse_clip(ctx *c, const cJSON *j, int i, mm_config_clip *clip)
     return MM_OK;
 }
 
+/* A number that sets bit in *set when present. */
+static mm_result get_set_number(ctx *c, const cJSON *obj, const char *key, const char *where, float *out,
+                                unsigned *set, unsigned bit)
+{
+    if (!cJSON_GetObjectItemCaseSensitive(obj, key)) return MM_OK;
+    mm_result r = get_number(c, obj, key, where, out);
+    if (r == MM_OK) *set |= bit;
+    return r;
+}
+
+static mm_result parse_runtime(ctx *c, const cJSON *rt)
+{
+    static const char *const keys[] = {"pose_trajectory_ratio",
+                                       "next_pose_favour",
+                                       "loop_anim_favour",
+                                       "continuing_bias",
+                                       "search_interval",
+                                       "transition_halflife",
+                                       "idle_speed",
+                                       "walk",
+                                       "run",
+                                       "crouch",
+                                       NULL};
+    static const char *const gkeys[] = {"forward_speed",     "side_speed",        "backward_speed",
+                                        "velocity_halflife", "rotation_halflife", NULL};
+    mm_runtime_config *o = &c->cfg->runtime;
+    mm_result r = check_keys(c, rt, "runtime", keys);
+    float *values[] = {
+        &o->pose_trajectory_ratio, &o->next_pose_favour,    &o->loop_anim_favour, &o->continuing_bias,
+        &o->search_interval,       &o->transition_halflife, &o->idle_speed};
+    for (int i = 0; i < 7 && r == MM_OK; ++i)
+        r = get_set_number(c, rt, keys[i], "runtime", values[i], &o->set, 1u << i);
+    mm_runtime_gait *gaits[3] = {&o->walk, &o->run, &o->crouch};
+    for (int g = 0; g < 3 && r == MM_OK; ++g) {
+        const cJSON *j = cJSON_GetObjectItemCaseSensitive(rt, keys[7 + g]);
+        if (!j) continue;
+        char where[32];
+        snprintf(where, sizeof where, "runtime.%s", keys[7 + g]);
+        mm_runtime_gait *p = gaits[g];
+        float *fields[] = {&p->forward_speed, &p->side_speed, &p->backward_speed, &p->velocity_halflife,
+                           &p->rotation_halflife};
+        r = check_keys(c, j, where, gkeys);
+        for (int k = 0; k < 5 && r == MM_OK; ++k)
+            r = get_set_number(c, j, gkeys[k], where, fields[k], &p->set, 1u << k);
+    }
+    return r;
+}
+
 static int clip_index(const mm_config *cfg, const char *name)
 {
     for (int i = 0; i < cfg->clip_count; ++i)
@@ -397,9 +486,9 @@ static int clip_index(const mm_config *cfg, const char *name)
 
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
-    static const char *const keys[] = {"interval", "scale",        "roles", "root_smoothing", "contacts",
-                                       "features", "mirror_pairs", "tags",  "clips",          "blend_clips",
-                                       NULL};
+    static const char *const keys[] = {"interval", "scale",       "roles",        "root_smoothing",
+                                       "contacts", "features",    "mirror_pairs", "tags",
+                                       "clips",    "blend_clips", "runtime",      NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
@@ -473,6 +562,8 @@ static mm_result parse_root(ctx *c, const cJSON *root)
                                 cfg->clips[i].name);
         }
     }
+    const cJSON *runtime = cJSON_GetObjectItemCaseSensitive(root, "runtime");
+    if (runtime && (r = parse_runtime(c, runtime)) != MM_OK) return r;
     const cJSON *blends = cJSON_GetObjectItemCaseSensitive(root, "blend_clips");
     if (blends) {
         int n = cJSON_IsArray(blends) ? cJSON_GetArraySize(blends) : -1;

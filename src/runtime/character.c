@@ -29,6 +29,91 @@ void mm_character_defaults(mm_character_desc *d)
     d->method = MM_SEARCH_FAST;
 }
 
+void mm_character_default_params(const mm_database *db, mm_search_params *p)
+{
+    mm_search_params_defaults(db, p);
+    /* keep playing unless a frame is clearly better: on LAFAN1's straight walk 0.6 made
+     * 3 transitions per second instead of 5 (0.8), half the foot slide and pops */
+    p->next_pose_favour = 0.6f;
+    p->excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump");
+    /* the last 0.25 s of a one-shot clip only extrapolates its trajectory: not a place to go */
+    p->end_margin = (int)ceilf(0.25f / db->interval);
+}
+
+/* Index of a bone group's bone among the database's matched bones (mm_pose_data.bones order). */
+static int matched_bone_slot(const mm_database *db, int group)
+{
+    int bones[MM_MAX_MATCH_BONES], count = 0;
+    for (int g = 0; g <= group; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->kind != MM_FEATURE_BONE_POSITION && grp->kind != MM_FEATURE_BONE_VELOCITY) continue;
+        int b = 0;
+        while (b < count && bones[b] != grp->bone) ++b;
+        if (b == count) {
+            if (count == MM_MAX_MATCH_BONES) return -1;
+            bones[count++] = grp->bone;
+        }
+        if (g == group) return b;
+    }
+    return -1;
+}
+
+void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg)
+{
+    if (!d || !db) return;
+    if (!d->use_params) {
+        mm_character_default_params(db, &d->params);
+        d->use_params = true;
+    }
+    if (!d->has_trajectory) {
+        mm_trajectory_defaults(&d->trajectory);
+        d->has_trajectory = true;
+    }
+    if (!cfg) return;
+    mm_search_params *p = &d->params;
+    for (int g = 0; g < db->group_count; ++g) { /* the feature weights, as the database's groups */
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->kind == MM_FEATURE_BONE_POSITION || grp->kind == MM_FEATURE_BONE_VELOCITY) {
+            int slot = matched_bone_slot(db, g);
+            const char *name =
+                grp->bone >= 0 && grp->bone < db->joint_count ? db->joints[grp->bone].name : "";
+            for (int b = 0; b < cfg->bone_count && slot >= 0; ++b) {
+                if (strcmp(cfg->bones[b].name, name) != 0) continue;
+                if (grp->kind == MM_FEATURE_BONE_POSITION && (cfg->bones[b].features & MM_MATCH_POSITION))
+                    p->joint_position_weights[slot] = cfg->bones[b].position_weight;
+                if (grp->kind == MM_FEATURE_BONE_VELOCITY && (cfg->bones[b].features & MM_MATCH_VELOCITY))
+                    p->joint_velocity_weights[slot] = cfg->bones[b].velocity_weight;
+                break;
+            }
+        } else if (grp->kind == MM_FEATURE_ROOT_VELOCITY) {
+            p->body_velocity_weight = cfg->body_velocity_weight;
+        } else if (grp->kind == MM_FEATURE_TRAJ_POSITION) {
+            p->position_multiplier = cfg->position_multiplier;
+        } else if (grp->kind == MM_FEATURE_TRAJ_DIRECTION) {
+            p->angle_multiplier = cfg->angle_multiplier;
+        }
+    }
+    const mm_runtime_config *rt = &cfg->runtime;
+    if (rt->set & MM_RUNTIME_POSE_TRAJECTORY_RATIO) p->pose_trajectory_ratio = rt->pose_trajectory_ratio;
+    if (rt->set & MM_RUNTIME_NEXT_POSE_FAVOUR) p->next_pose_favour = rt->next_pose_favour;
+    if (rt->set & MM_RUNTIME_LOOP_ANIM_FAVOUR) p->loop_anim_favour = rt->loop_anim_favour;
+    if (rt->set & MM_RUNTIME_CONTINUING_BIAS) p->continuing_bias = rt->continuing_bias;
+    if (rt->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = rt->search_interval;
+    if (rt->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = rt->transition_halflife;
+    if (rt->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = rt->idle_speed;
+    const mm_runtime_gait *from[3] = {&rt->walk, &rt->run, &rt->crouch};
+    const mm_gait to[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
+    for (int g = 0; g < 3; ++g) {
+        const mm_runtime_gait *s = from[g];
+        mm_gait_params *t = &d->trajectory.gaits[to[g]];
+        if (s->set & MM_RUNTIME_FORWARD_SPEED) t->forward_speed = s->forward_speed;
+        if (s->set & MM_RUNTIME_SIDE_SPEED) t->side_speed = s->side_speed;
+        if (s->set & MM_RUNTIME_BACKWARD_SPEED) t->backward_speed = s->backward_speed;
+        if (s->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = s->velocity_halflife;
+        if (s->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = s->rotation_halflife;
+    }
+}
+
 static float yaw_of(mm_quat q)
 {
     mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
@@ -75,15 +160,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     if (c->desc.allocator) c->allocator = *c->desc.allocator;
     c->db = db;
     c->searcher = searcher;
-    if (!c->desc.use_params) {
-        mm_search_params_defaults(db, &c->desc.params);
-        /* keep playing unless a frame is clearly better: on LAFAN1's straight walk 0.6 made
-         * 3 transitions per second instead of 5 (0.8), half the foot slide and pops */
-        c->desc.params.next_pose_favour = 0.6f;
-        c->desc.params.excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump");
-        /* the last 0.25 s of a one-shot clip only extrapolates its trajectory: not a place to go */
-        c->desc.params.end_margin = (int)ceilf(0.25f / db->interval);
-    }
+    if (!c->desc.use_params) mm_character_default_params(db, &c->desc.params);
     mm_result r = mm_trajectory_init(&c->trajectory, c->desc.has_trajectory ? &c->desc.trajectory : NULL,
                                      &c->allocator);
     if (r != MM_OK) return mm_error_set(err, r, 0, 0, "trajectory: bad parameters");

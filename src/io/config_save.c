@@ -1,0 +1,452 @@
+/* Writing tuned values back into a config file: the runtime tuning and feature weights, and clip
+ * tag ranges. The file is read with cJSON, changed in place (every other field kept, in its
+ * order), printed with two-space indentation (arrays of numbers on one line), checked by parsing
+ * it as a config, and written atomically. */
+#define _POSIX_C_SOURCE 200809L
+#include <mm/config_json.h>
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/file.h"
+
+/* ---- printing --------------------------------------------------------------------------- */
+
+typedef struct text_buf {
+    char *data;
+    size_t size, capacity;
+    int failed;
+} text_buf;
+
+static void put(text_buf *b, const char *s, size_t n)
+{
+    if (b->failed) return;
+    if (b->size + n + 1 > b->capacity) {
+        size_t cap = b->capacity ? b->capacity : 4096;
+        while (b->size + n + 1 > cap) cap *= 2;
+        char *p = (char *)realloc(b->data, cap);
+        if (!p) {
+            b->failed = 1;
+            return;
+        }
+        b->data = p;
+        b->capacity = cap;
+    }
+    memcpy(b->data + b->size, s, n);
+    b->size += n;
+    b->data[b->size] = 0;
+}
+
+static void puts_(text_buf *b, const char *s) { put(b, s, strlen(s)); }
+
+static void put_indent(text_buf *b, int indent)
+{
+    for (int i = 0; i < indent; ++i) put(b, " ", 1);
+}
+
+static void put_string(text_buf *b, const char *s)
+{
+    put(b, "\"", 1);
+    for (const unsigned char *p = (const unsigned char *)(s ? s : ""); *p; ++p) {
+        char esc[8];
+        switch (*p) {
+        case '"':
+            puts_(b, "\\\"");
+            break;
+        case '\\':
+            puts_(b, "\\\\");
+            break;
+        case '\b':
+            puts_(b, "\\b");
+            break;
+        case '\f':
+            puts_(b, "\\f");
+            break;
+        case '\n':
+            puts_(b, "\\n");
+            break;
+        case '\r':
+            puts_(b, "\\r");
+            break;
+        case '\t':
+            puts_(b, "\\t");
+            break;
+        default:
+            if (*p < 0x20) {
+                snprintf(esc, sizeof esc, "\\u%04x", *p);
+                puts_(b, esc);
+            } else {
+                put(b, (const char *)p, 1);
+            }
+        }
+    }
+    put(b, "\"", 1);
+}
+
+/* The shortest decimal that reads back as the same double. */
+static void put_number(text_buf *b, double v)
+{
+    char s[40];
+    if (!isfinite(v)) {
+        puts_(b, "null"); /* never valid in a config: the check after printing refuses it */
+        return;
+    }
+    for (int digits = 1; digits <= 17; ++digits) {
+        snprintf(s, sizeof s, "%.*g", digits, v);
+        if (strtod(s, NULL) == v) break;
+    }
+    puts_(b, s);
+}
+
+/* Scalars, and arrays holding only scalars and such arrays, print on one line. */
+static int is_flat(const cJSON *v)
+{
+    if (cJSON_IsObject(v)) return v->child == NULL;
+    if (cJSON_IsArray(v))
+        for (const cJSON *e = v->child; e; e = e->next)
+            if (!is_flat(e)) return 0;
+    return 1;
+}
+
+static void put_value(text_buf *b, const cJSON *v, int indent)
+{
+    if (cJSON_IsObject(v)) {
+        if (!v->child) {
+            puts_(b, "{}");
+            return;
+        }
+        puts_(b, "{\n");
+        for (const cJSON *e = v->child; e; e = e->next) {
+            put_indent(b, indent + 2);
+            put_string(b, e->string);
+            puts_(b, ": ");
+            put_value(b, e, indent + 2);
+            puts_(b, e->next ? ",\n" : "\n");
+        }
+        put_indent(b, indent);
+        puts_(b, "}");
+    } else if (cJSON_IsArray(v)) {
+        int flat = is_flat(v);
+        puts_(b, flat ? "[" : "[\n");
+        for (const cJSON *e = v->child; e; e = e->next) {
+            if (!flat) put_indent(b, indent + 2);
+            put_value(b, e, indent + 2);
+            if (e->next) puts_(b, flat ? ", " : ",\n");
+        }
+        if (!flat && v->child) {
+            puts_(b, "\n");
+            put_indent(b, indent);
+        }
+        puts_(b, "]");
+    } else if (cJSON_IsString(v)) {
+        put_string(b, v->valuestring);
+    } else if (cJSON_IsNumber(v)) {
+        put_number(b, v->valuedouble);
+    } else if (cJSON_IsBool(v)) {
+        puts_(b, cJSON_IsTrue(v) ? "true" : "false");
+    } else {
+        puts_(b, "null");
+    }
+}
+
+/* ---- editing ---------------------------------------------------------------------------- */
+
+/* A float as the double of its shortest decimal form (0.6f is written 0.6, not 0.60000002). */
+static double short_double(float f)
+{
+    char s[32];
+    for (int digits = 1; digits <= 9; ++digits) {
+        snprintf(s, sizeof s, "%.*g", digits, (double)f);
+        if (strtof(s, NULL) == f) return strtod(s, NULL);
+    }
+    return (double)f;
+}
+
+/* Sets obj[key] to a number, in place when the key exists. 0: out of memory. */
+static int set_number(cJSON *obj, const char *key, float value)
+{
+    cJSON *n = cJSON_CreateNumber(short_double(value));
+    if (!n) return 0;
+    if (cJSON_GetObjectItemCaseSensitive(obj, key))
+        return cJSON_ReplaceItemInObjectCaseSensitive(obj, key, n);
+    return cJSON_AddItemToObject(obj, key, n);
+}
+
+/* obj[key] when it is an object; else a new object there (replacing what was). NULL: no memory. */
+static cJSON *object_at(cJSON *obj, const char *key)
+{
+    cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (cJSON_IsObject(v)) return v;
+    cJSON *o = cJSON_CreateObject();
+    if (!o) return NULL;
+    int ok = v ? cJSON_ReplaceItemInObjectCaseSensitive(obj, key, o) : cJSON_AddItemToObject(obj, key, o);
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+/* The config file: its text checked as a config (errors name the file, and the line for JSON
+ * syntax), and its JSON tree. */
+static mm_result load_doc(const char *path, mm_config *cfg, cJSON **out_root, mm_error *err)
+{
+    *out_root = NULL;
+    memset(cfg, 0, sizeof *cfg);
+    mm_result r = mm_config_load_json(path, cfg, NULL, err);
+    if (r != MM_OK) return r;
+    char *text = NULL;
+    size_t size = 0;
+    r = mm__read_file(path, NULL, &text, &size, err);
+    if (r == MM_OK) {
+        *out_root = cJSON_ParseWithLength(text, size);
+        if (!*out_root)
+            r = mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "not valid JSON");
+        else if (!cJSON_IsObject(*out_root))
+            r = mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "the config must be an object");
+    }
+    free(text);
+    if (r != MM_OK) {
+        cJSON_Delete(*out_root);
+        *out_root = NULL;
+        mm_config_free(cfg);
+    }
+    return r;
+}
+
+/* Prints root, checks the result is a valid config and writes it atomically. Deletes root. */
+static mm_result save_doc(const char *path, cJSON *root, mm_error *err)
+{
+    text_buf b = {NULL, 0, 0, 0};
+    put_value(&b, root, 0);
+    puts_(&b, "\n");
+    cJSON_Delete(root);
+    mm__error_set_file(err, path);
+    if (b.failed) {
+        free(b.data);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    mm_config check;
+    memset(&check, 0, sizeof check);
+    mm_result r = mm_config_parse_json(b.data, b.size, path, NULL, &check, err);
+    mm_config_free(&check);
+    if (r == MM_OK) r = mm__write_file_atomic(path, b.data, b.size, err);
+    free(b.data);
+    return r;
+}
+
+static mm_result no_memory(cJSON *root, mm_config *cfg, mm_error *err)
+{
+    cJSON_Delete(root);
+    mm_config_free(cfg);
+    return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+}
+
+/* ---- tuning ----------------------------------------------------------------------------- */
+
+/* Slot of a database bone group's bone among the matched bones (mm_pose_data.bones order), -1
+ * past the limit. */
+static int bone_slot(const mm_database *db, int group)
+{
+    int bones[MM_MAX_MATCH_BONES], count = 0;
+    for (int g = 0; g <= group; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->kind != MM_FEATURE_BONE_POSITION && grp->kind != MM_FEATURE_BONE_VELOCITY) continue;
+        int b = 0;
+        while (b < count && bones[b] != grp->bone) ++b;
+        if (b == count) {
+            if (count == MM_MAX_MATCH_BONES) return -1;
+            bones[count++] = grp->bone;
+        }
+        if (g == group) return b;
+    }
+    return -1;
+}
+
+/* The database's group of kind for the joint named name (any joint when name is NULL), or -1. */
+static int find_group(const mm_database *db, int kind, const char *name)
+{
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->kind != kind) continue;
+        if (!name) return g;
+        if (grp->bone >= 0 && grp->bone < db->joint_count && strcmp(db->joints[grp->bone].name, name) == 0)
+            return g;
+    }
+    return -1;
+}
+
+/* Writes the weights of the bones the database matches into bone (a features.bones entry). */
+static int set_bone_weights(cJSON *bone, const mm_database *db, const mm_search_params *p, const char *name)
+{
+    int g = find_group(db, MM_FEATURE_BONE_POSITION, name), slot = g >= 0 ? bone_slot(db, g) : -1;
+    if (slot >= 0 && !set_number(bone, "position_weight", p->joint_position_weights[slot])) return 0;
+    g = find_group(db, MM_FEATURE_BONE_VELOCITY, name);
+    slot = g >= 0 ? bone_slot(db, g) : -1;
+    if (slot >= 0 && !set_number(bone, "velocity_weight", p->joint_velocity_weights[slot])) return 0;
+    return 1;
+}
+
+mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, const mm_character_desc *d,
+                                mm_error *err)
+{
+    mm__error_set_file(err, config_path);
+    if (!config_path || !db || !d)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "a config path, database and desc are needed");
+    mm_search_params params;
+    if (d->use_params)
+        params = d->params;
+    else
+        mm_character_default_params(db, &params);
+    mm_trajectory_desc traj;
+    if (d->has_trajectory)
+        traj = d->trajectory;
+    else
+        mm_trajectory_defaults(&traj);
+
+    mm_config cfg;
+    cJSON *root = NULL;
+    mm_result r = load_doc(config_path, &cfg, &root, err);
+    if (r != MM_OK) return r;
+
+    /* features: the weights the search uses, for the groups the database has */
+    cJSON *features = object_at(root, "features");
+    if (!features) return no_memory(root, &cfg, err);
+    cJSON *bones = cJSON_GetObjectItemCaseSensitive(features, "bones");
+    if (!bones) { /* the default bones: write them out to hold the weights */
+        bones = cJSON_AddArrayToObject(features, "bones");
+        for (int i = 0; bones && i < cfg.bone_count; ++i) {
+            const mm_config_bone *cb = &cfg.bones[i];
+            cJSON *o = cJSON_CreateObject();
+            if (!o || !cJSON_AddItemToArray(bones, o)) {
+                cJSON_Delete(o);
+                return no_memory(root, &cfg, err);
+            }
+            if (!cJSON_AddStringToObject(o, "name", cb->name) ||
+                (!(cb->features & MM_MATCH_POSITION) && !cJSON_AddFalseToObject(o, "position")) ||
+                (!(cb->features & MM_MATCH_VELOCITY) && !cJSON_AddFalseToObject(o, "velocity")) ||
+                ((cb->features & MM_MATCH_POSITION) &&
+                 !set_number(o, "position_weight", cb->position_weight)) ||
+                ((cb->features & MM_MATCH_VELOCITY) &&
+                 !set_number(o, "velocity_weight", cb->velocity_weight)))
+                return no_memory(root, &cfg, err);
+        }
+        if (!bones) return no_memory(root, &cfg, err);
+    }
+    for (int i = 0; i < cfg.bone_count; ++i) { /* array entry i is cfg.bones[i] */
+        cJSON *o = cJSON_GetArrayItem(bones, i);
+        if (o && !set_bone_weights(o, db, &params, cfg.bones[i].name)) return no_memory(root, &cfg, err);
+    }
+    if ((find_group(db, MM_FEATURE_ROOT_VELOCITY, NULL) >= 0 &&
+         !set_number(features, "body_velocity_weight", params.body_velocity_weight)) ||
+        (find_group(db, MM_FEATURE_TRAJ_POSITION, NULL) >= 0 &&
+         !set_number(features, "position_multiplier", params.position_multiplier)) ||
+        (find_group(db, MM_FEATURE_TRAJ_DIRECTION, NULL) >= 0 &&
+         !set_number(features, "angle_multiplier", params.angle_multiplier)))
+        return no_memory(root, &cfg, err);
+
+    /* runtime: every field */
+    cJSON *rt = object_at(root, "runtime");
+    if (!rt || !set_number(rt, "pose_trajectory_ratio", params.pose_trajectory_ratio) ||
+        !set_number(rt, "next_pose_favour", params.next_pose_favour) ||
+        !set_number(rt, "loop_anim_favour", params.loop_anim_favour) ||
+        !set_number(rt, "continuing_bias", params.continuing_bias) ||
+        !set_number(rt, "search_interval", d->search_interval) ||
+        !set_number(rt, "transition_halflife", d->transition_halflife) ||
+        !set_number(rt, "idle_speed", d->idle_speed))
+        return no_memory(root, &cfg, err);
+    static const char *const gait_keys[3] = {"walk", "run", "crouch"};
+    static const mm_gait gaits[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
+    for (int g = 0; g < 3; ++g) {
+        const mm_gait_params *gp = &traj.gaits[gaits[g]];
+        cJSON *o = object_at(rt, gait_keys[g]);
+        if (!o || !set_number(o, "forward_speed", gp->forward_speed) ||
+            !set_number(o, "side_speed", gp->side_speed) ||
+            !set_number(o, "backward_speed", gp->backward_speed) ||
+            !set_number(o, "velocity_halflife", gp->velocity_halflife) ||
+            !set_number(o, "rotation_halflife", gp->rotation_halflife))
+            return no_memory(root, &cfg, err);
+    }
+    mm_config_free(&cfg);
+    return save_doc(config_path, root, err);
+}
+
+/* ---- clip tags -------------------------------------------------------------------------- */
+
+mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_name, const char *tag,
+                                   const float (*ranges)[2], int range_count, mm_error *err)
+{
+    mm__error_set_file(err, config_path);
+    if (!config_path || !clip_name || !tag)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "a config path, clip name and tag are needed");
+    if (!tag[0] || strlen(tag) >= MM_TAG_NAME_MAX)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "tag '%s': names have 1 to %d characters",
+                            tag, MM_TAG_NAME_MAX - 1);
+    if (range_count < 0 || (range_count > 0 && !ranges))
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "tag '%s': %d ranges given", tag,
+                            range_count);
+    mm_config cfg;
+    cJSON *root = NULL;
+    mm_result r = load_doc(config_path, &cfg, &root, err);
+    if (r != MM_OK) return r;
+    int clip = -1;
+    for (int i = 0; i < cfg.clip_count && clip < 0; ++i)
+        if (strcmp(cfg.clips[i].name, clip_name) == 0) clip = i;
+    int declared = mm_config_tag_index(&cfg, tag) >= 0;
+    mm_config_free(&cfg);
+    if (clip < 0) {
+        cJSON_Delete(root);
+        return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clips: no clip named '%s'", clip_name);
+    }
+    cJSON *item = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "clips"), clip);
+    if (range_count == 0) {
+        cJSON *tags = cJSON_GetObjectItemCaseSensitive(item, "tags");
+        if (cJSON_IsObject(tags)) cJSON_DeleteItemFromObjectCaseSensitive(tags, tag);
+        return save_doc(config_path, root, err);
+    }
+    if (!declared) { /* add the name to the top-level list */
+        cJSON *names = cJSON_GetObjectItemCaseSensitive(root, "tags");
+        if (!names) names = cJSON_AddArrayToObject(root, "tags");
+        cJSON *s = cJSON_CreateString(tag);
+        if (!names || !s || !cJSON_AddItemToArray(names, s)) {
+            cJSON_Delete(s);
+            return no_memory(root, NULL, err);
+        }
+    }
+    cJSON *tags = object_at(item, "tags");
+    cJSON *list = cJSON_CreateArray();
+    if (!tags || !list) {
+        cJSON_Delete(list);
+        return no_memory(root, NULL, err);
+    }
+    for (int i = 0; i < range_count; ++i) {
+        cJSON *pair = cJSON_CreateArray();
+        cJSON *b = cJSON_CreateNumber(short_double(ranges[i][0]));
+        cJSON *e = cJSON_CreateNumber(short_double(ranges[i][1]));
+        int ok = pair && b && e && cJSON_AddItemToArray(pair, b);
+        if (ok) b = NULL;
+        ok = ok && cJSON_AddItemToArray(pair, e);
+        if (ok) e = NULL;
+        ok = ok && cJSON_AddItemToArray(list, pair);
+        if (!ok) {
+            cJSON_Delete(b);
+            cJSON_Delete(e);
+            if (pair) cJSON_Delete(pair);
+            cJSON_Delete(list);
+            return no_memory(root, NULL, err);
+        }
+    }
+    int ok = cJSON_GetObjectItemCaseSensitive(tags, tag)
+                 ? cJSON_ReplaceItemInObjectCaseSensitive(tags, tag, list)
+                 : cJSON_AddItemToObject(tags, tag, list);
+    if (!ok) {
+        cJSON_Delete(list);
+        return no_memory(root, NULL, err);
+    }
+    return save_doc(config_path, root, err);
+}
