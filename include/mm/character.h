@@ -64,13 +64,19 @@ typedef struct mm_character_desc {
     mm_search_params params;
     mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
     bool has_trajectory;
-    /* Foot locking and two-bone IK: a foot whose contact label is on is held where it was planted
-     * until the animation pulls it more than unlock_radius away; released, the difference fades
-     * with foot_halflife. The legs reach the targets by two-bone IK (hip, knee, ankle), the knee
-     * bending in its animated plane, the foot keeping its animated orientation. */
+    /* Foot locking and two-bone IK, on the contact labels of the frame playing: while the heel
+     * label is on, the ankle is held where it was planted; while only the toe label is on, the
+     * toe is held and the ankle rolls about it as animated; with both, the foot also keeps its
+     * yaw. A lock the animation pulls more than unlock_radius away is planted again where the
+     * foot is (it creeps after the animation); released, the difference fades with
+     * foot_halflife. The hips come down (at most max_hip_drop) where the legs cannot reach their
+     * targets. The legs reach them by two-bone IK (hip, knee, ankle), the knee bending in its
+     * animated plane, the foot keeping its animated orientation (turned by the held yaw). */
     bool no_foot_ik;                    /* turn foot locking and IK off */
     float unlock_radius;                /* m; 0.2 */
     float foot_halflife;                /* s; 0.1 */
+    float max_hip_drop;                 /* m: how far the hips may be lowered so that the legs
+                                           reach their targets; 0.1 (0: never) */
     const char *left_foot, *right_foot; /* ankle joints (the knee and hip are their parents);
                                            "LeftFoot", "RightFoot" */
     double (*clock)(void);              /* optional: seconds, to time searches (c->last_search_us) */
@@ -104,6 +110,10 @@ typedef struct mm_character {
     float last_direction; /* rad: desired direction at the last search */
     bool idle;            /* asking for idle */
     mm_xform root;        /* the character on the ground: position and facing (joint 0) */
+    /* root motion played (database root velocity in the character's frame, m/s, and yaw rate,
+     * rad/s, plus their inertialization offsets, which decay like the joints') */
+    mm_vec3 root_velocity, root_velocity_offset, root_velocity_offset_rate;
+    float root_yaw_rate, root_yaw_rate_offset, root_yaw_rate_offset_rate;
 
     /* per joint (joint_count): the pose played, inertialization offsets and their velocities,
      * the last output (for velocities), and the global output pose */
@@ -115,11 +125,22 @@ typedef struct mm_character {
     mm_vec3 *previous_positions;
     mm_xform *global; /* [joint_count] world transforms, joint 0 the root */
 
-    /* feet: ankle joints (-1 when missing), lock state, targets, and the ankle and toe positions
-     * before IK (for the foot-slide measure) */
-    int foot_joint[2];
-    bool foot_locked[2];
-    mm_vec3 foot_lock[2], foot_offset[2], foot_offset_velocity[2];
+    /* the animated pose (database plus inertialization) of this tick and the last, before foot
+     * IK: transitions are inertialized on it, so that IK does not leak into the offsets */
+    mm_quat *pose_rotations, *pose_previous_rotations;
+    mm_vec3 *pose_positions, *pose_previous_positions;
+
+    /* feet: ankle and toe joints (-1 when missing), the joint lowered when the legs cannot reach
+     * (-1: none), lock state and targets, and the ankle and toe positions before IK (for the
+     * foot-slide measure). foot_locked/foot_lock: the foot is held, and where its ankle is held
+     * this tick. The heel lock holds the ankle; the toe lock holds the toe, the ankle turning
+     * about it as animated; with both, the foot also keeps its yaw (foot_yaw: the yaw added to
+     * the animated foot, rad). */
+    int foot_joint[2], toe_joint[2], pelvis_joint;
+    bool foot_locked[2], heel_locked[2], toe_locked[2];
+    mm_vec3 foot_lock[2], heel_lock[2], toe_lock[2], foot_offset[2], foot_offset_velocity[2];
+    float foot_yaw[2], foot_yaw_velocity[2];
+    float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 raw_contact_positions[4];  /* left ankle, left toe, right ankle, right toe before IK */
     uint64_t gait_tags[MM_GAIT_COUNT]; /* tags named after each gait ("Walk", "Run", ...) */
     float *query;                      /* [dims_padded] */

@@ -24,6 +24,7 @@ void mm_character_defaults(mm_character_desc *d)
     d->skip_frames = 3;
     d->unlock_radius = 0.2f;
     d->foot_halflife = 0.1f;
+    d->max_hip_drop = 0.1f;
     d->left_foot = "LeftFoot";
     d->right_foot = "RightFoot";
     d->method = MM_SEARCH_FAST;
@@ -137,6 +138,16 @@ static void play_pose(const mm_character *c, mm_quat *rot, mm_vec3 *pos)
     }
 }
 
+/* The database's root motion at the playhead: that of the frame interval it is in (the root
+ * velocity of a frame is the motion from the frame before to it). */
+static void play_root(const mm_character *c, mm_vec3 *velocity, float *yaw_rate)
+{
+    const mm_database *db = c->db;
+    int next = db->frame_next[c->frame] >= 0 ? db->frame_next[c->frame] : c->frame;
+    *velocity = db->root_velocity[next];
+    *yaw_rate = db->root_angular_velocity[next];
+}
+
 static void compute_global(mm_character *c)
 {
     const mm_database *db = c->db;
@@ -175,23 +186,37 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     c->position_offset = (mm_vec3 *)mm_alloc_array(a, n, sizeof(mm_vec3));
     c->position_offset_velocity = (mm_vec3 *)mm_alloc_array(a, n, sizeof(mm_vec3));
     c->global = (mm_xform *)mm_alloc_array(a, n, sizeof(mm_xform));
+    c->pose_rotations = (mm_quat *)mm_alloc_array(a, n, sizeof(mm_quat));
+    c->pose_previous_rotations = (mm_quat *)mm_alloc_array(a, n, sizeof(mm_quat));
+    c->pose_positions = (mm_vec3 *)mm_alloc_array(a, n, sizeof(mm_vec3));
+    c->pose_previous_positions = (mm_vec3 *)mm_alloc_array(a, n, sizeof(mm_vec3));
     c->query = (float *)mm_alloc_array(a, (size_t)db->dims_padded, sizeof(float));
     if (!c->local_rotations || !c->local_positions || !c->previous_rotations || !c->previous_positions ||
         !c->rotation_offset || !c->rotation_offset_velocity || !c->position_offset ||
-        !c->position_offset_velocity || !c->global || !c->query) {
+        !c->position_offset_velocity || !c->global || !c->pose_rotations || !c->pose_previous_rotations ||
+        !c->pose_positions || !c->pose_previous_positions || !c->query) {
         mm_character_free(c);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     }
     const char *feet[2] = {c->desc.left_foot ? c->desc.left_foot : "LeftFoot",
                            c->desc.right_foot ? c->desc.right_foot : "RightFoot"};
+    c->pelvis_joint = -1;
     for (int k = 0; k < 2; ++k) {
-        c->foot_joint[k] = -1;
+        c->foot_joint[k] = c->toe_joint[k] = -1;
         for (int j = 0; j < db->joint_count; ++j)
             if (strcmp(db->joints[j].name, feet[k]) == 0) c->foot_joint[k] = j;
         /* the chain ankle <- knee <- hip must exist below the root */
         if (c->foot_joint[k] >= 0 && (db->joints[c->foot_joint[k]].parent < 1 ||
                                       db->joints[db->joints[c->foot_joint[k]].parent].parent < 1))
             c->foot_joint[k] = -1;
+        int ankle = c->foot_joint[k]; /* the toe: the ankle's first child */
+        for (int j = ankle + 1; ankle >= 0 && j < db->joint_count && c->toe_joint[k] < 0; ++j)
+            if (db->joints[j].parent == ankle) c->toe_joint[k] = j;
+    }
+    if (c->foot_joint[0] >= 0 && c->foot_joint[1] >= 0) { /* the pelvis: the parent both legs hang from */
+        int left = db->joints[db->joints[db->joints[c->foot_joint[0]].parent].parent].parent;
+        int right = db->joints[db->joints[db->joints[c->foot_joint[1]].parent].parent].parent;
+        if (left == right && left >= 1) c->pelvis_joint = left;
     }
     c->desc.left_foot = c->desc.right_foot = NULL; /* not kept: the caller's strings */
     for (int g = 0; g < MM_GAIT_COUNT; ++g) {
@@ -213,6 +238,10 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     play_pose(c, c->local_rotations, c->local_positions);
     memcpy(c->previous_rotations, c->local_rotations, n * sizeof(mm_quat));
     memcpy(c->previous_positions, c->local_positions, n * sizeof(mm_vec3));
+    memcpy(c->pose_rotations, c->local_rotations, n * sizeof(mm_quat));
+    memcpy(c->pose_positions, c->local_positions, n * sizeof(mm_vec3));
+    memcpy(c->pose_previous_rotations, c->local_rotations, n * sizeof(mm_quat));
+    memcpy(c->pose_previous_positions, c->local_positions, n * sizeof(mm_vec3));
     compute_global(c);
     return MM_OK;
 }
@@ -231,6 +260,10 @@ void mm_character_free(mm_character *c)
                  c->position_offset,
                  c->position_offset_velocity,
                  c->global,
+                 c->pose_rotations,
+                 c->pose_previous_rotations,
+                 c->pose_positions,
+                 c->pose_previous_positions,
                  c->query};
     for (size_t i = 0; i < sizeof p / sizeof p[0]; ++i) mm_free(a, p[i]);
     memset(c, 0, sizeof *c);
@@ -254,8 +287,11 @@ static void build_query(mm_character *c, const mm_input *in)
     mm_search_query_from_pose(c->db, &pd, c->query);
 }
 
-/* Jumps to frame `to`, keeping the output pose where it is: the difference becomes an offset that
- * decays (inertialization). Joint 0 (the root) is driven by root motion and left out. */
+/* Jumps to frame `to`, keeping the animated pose where it is: the difference becomes an offset that
+ * decays (inertialization). The pose is the one before foot IK: IK is a layer on top, continuous
+ * by itself (its locks and offsets carry over), and taking it into the offsets would make the
+ * animated feet drift from their locks as the offsets decay. Joint 0 (the root) is driven by root
+ * motion and left out. */
 static void transition(mm_character *c, int to, float dt)
 {
     const mm_database *db = c->db;
@@ -265,21 +301,30 @@ static void transition(mm_character *c, int to, float dt)
     const mm_quat *dst = mm_database_rotations(db, to), *dst0 = mm_database_rotations(db, before);
     const mm_vec3 *dpos = mm_database_positions(db, to), *dpos0 = mm_database_positions(db, before);
     float inv_interval = before == to ? 0.0f : 1.0f / db->interval, inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
+    const mm_quat *now_r = c->pose_rotations, *last_r = c->pose_previous_rotations;
+    const mm_vec3 *now_p = c->pose_positions, *last_p = c->pose_previous_positions;
     for (int j = 1; j < db->joint_count; ++j) {
-        /* the output's velocity (from the last two outputs) minus the new frame's */
-        mm_vec3 w_out = mm_vec3_scale(mm_quat_log(mm_quat_abs(mm_quat_mul(
-                                          c->local_rotations[j], mm_quat_inverse(c->previous_rotations[j])))),
-                                      inv_dt);
+        /* the animated pose's velocity (from the last two ticks) minus the new frame's */
+        mm_vec3 w_out = mm_vec3_scale(
+            mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
         mm_vec3 w_dst = mm_vec3_scale(mm_quat_log(mm_quat_abs(mm_quat_mul(dst[j], mm_quat_inverse(dst0[j])))),
                                       inv_interval);
-        c->rotation_offset[j] =
-            mm_quat_log(mm_quat_abs(mm_quat_mul(c->local_rotations[j], mm_quat_inverse(dst[j]))));
+        c->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(dst[j]))));
         c->rotation_offset_velocity[j] = mm_vec3_sub(w_out, w_dst);
-        mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(c->local_positions[j], c->previous_positions[j]), inv_dt);
+        mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
         mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(dpos[j], dpos0[j]), inv_interval);
-        c->position_offset[j] = mm_vec3_sub(c->local_positions[j], dpos[j]);
+        c->position_offset[j] = mm_vec3_sub(now_p[j], dpos[j]);
         c->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
     }
+    /* the root's motion too: the velocity and yaw rate played continue and blend into the new
+     * frame's (a jump in root velocity would move every joint at once) */
+    mm_vec3 v;
+    float w;
+    play_root(c, &v, &w);
+    c->root_velocity_offset = mm_vec3_sub(c->root_velocity, v);
+    c->root_velocity_offset_rate = mm_vec3_make(0, 0, 0);
+    c->root_yaw_rate_offset = c->root_yaw_rate - w;
+    c->root_yaw_rate_offset_rate = 0.0f;
     ++c->transitions;
 }
 
@@ -312,9 +357,9 @@ static void search(mm_character *c, const mm_input *in, float dt)
 }
 
 /* Two-bone IK: turns the hip (a) and knee (b) so that the ankle (c) reaches target, the knee
- * bending in the plane it bends in now; the ankle keeps its world orientation. Works on the
- * local rotations and the global transforms of the three joints. */
-static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target)
+ * bending in the plane it bends in now; the ankle takes the world orientation ankle_world. Works
+ * on the local rotations and the global transforms of the three joints. */
+static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target, mm_quat ankle_world)
 {
     const mm_database *db = c->db;
     int knee = db->joints[ankle].parent, hip = db->joints[knee].parent;
@@ -347,7 +392,6 @@ static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target)
     if (mm_vec3_length(bend) < 1e-6f) return;
     bend = mm_vec3_normalize(bend);
     mm_vec3 swing = mm_vec3_cross(ac, at);
-    mm_quat ankle_world = c->global[ankle].rotation;
     mm_quat a_world = c->global[hip].rotation, b_world = c->global[knee].rotation;
     mm_quat r0 = mm_quat_from_axis_angle(mm_quat_inv_rotate(a_world, bend), ac_ab_1 - ac_ab_0);
     mm_quat r1 = mm_quat_from_axis_angle(mm_quat_inv_rotate(b_world, bend), ba_bc_1 - ba_bc_0);
@@ -361,40 +405,122 @@ static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target)
         mm_xform_mul(c->global[hip_parent], mm_xform_make(c->local_rotations[hip], c->local_positions[hip]));
     c->global[knee] =
         mm_xform_mul(c->global[hip], mm_xform_make(c->local_rotations[knee], c->local_positions[knee]));
-    /* the ankle keeps its animated world orientation */
     c->local_rotations[ankle] =
         mm_quat_normalize(mm_quat_mul(mm_quat_conj(c->global[knee].rotation), ankle_world));
 }
 
-/* Foot locking on the contact labels, then IK; the joints below the ankles are recomputed. */
+/* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
+ * ankle-to-toe vector (turned by the foot's yaw), so that the foot rolls about its planted toe as
+ * animated; or, free, the animated ankle. */
+static mm_vec3 foot_source(const mm_character *c, int k, mm_vec3 ankle, mm_vec3 toe)
+{
+    if (c->heel_locked[k]) return c->heel_lock[k];
+    if (c->toe_locked[k])
+        return mm_vec3_sub(c->toe_lock[k], mm_quat_rotate(yaw_quat(c->foot_yaw[k]), mm_vec3_sub(toe, ankle)));
+    return ankle;
+}
+
+/* The angle (rad) about +Y that turns the horizontal direction of u onto that of v. */
+static float yaw_between(mm_vec3 u, mm_vec3 v)
+{
+    if (u.x * u.x + u.z * u.z < 1e-8f || v.x * v.x + v.z * v.z < 1e-8f) return 0.0f;
+    return wrap(atan2f(v.x, v.z) - atan2f(u.x, u.z));
+}
+
+/* Foot locking on the contact labels, lowering the hips where the legs cannot reach, then IK; the
+ * joints below are recomputed. Every change of what a foot follows (a lock made or released) is
+ * carried by foot_offset, which decays: the ankle never jumps. */
 static void feet(mm_character *c, float dt)
 {
     const mm_database *db = c->db;
     const mm_character_desc *d = &c->desc;
     unsigned label = db->contacts[c->frame];
+    mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}};
+    mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
     for (int k = 0; k < 2; ++k) {
-        int ankle = c->foot_joint[k];
+        int ankle = c->foot_joint[k], toe = c->toe_joint[k];
         if (ankle < 0) continue;
-        int contact = (label >> (2 * k)) & 3u; /* heel or toe of this foot */
-        mm_vec3 animated = c->global[ankle].translation;
-        if (c->foot_locked[k] &&
-            (!contact || mm_vec3_distance(animated, c->foot_lock[k]) > d->unlock_radius)) {
-            /* release: the lock's difference fades from here (cancelling the animated foot's
-             * velocity too was measured worse: the animated foot jumps at transitions) */
-            c->foot_locked[k] = false;
-            c->foot_offset[k] = mm_vec3_sub(c->foot_lock[k], animated);
+        mm_vec3 a = c->global[ankle].translation, t = toe >= 0 ? c->global[toe].translation : a;
+        int heel_on = (label >> (2 * k)) & 1u, toe_on = (label >> (2 * k + 1)) & 1u;
+        if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
+        mm_vec3 before = foot_source(c, k, a, t);
+        if ((c->heel_locked[k] || c->toe_locked[k]) && mm_vec3_distance(before, a) > d->unlock_radius) {
+            /* pulled too far from the animation: released, and planted again below where the
+             * foot now is, one spring step toward the animation (the foot creeps after it;
+             * releasing it for the rest of the contact was measured worse: it then slides back
+             * at the spring's pace) */
+            c->heel_locked[k] = c->toe_locked[k] = false;
+        }
+        if (!heel_on) c->heel_locked[k] = false;
+        if (!toe_on) c->toe_locked[k] = false;
+        c->foot_offset[k] = mm_vec3_add(c->foot_offset[k], mm_vec3_sub(before, foot_source(c, k, a, t)));
+        mm_spring_decay_vec3(&c->foot_offset[k], &c->foot_offset_velocity[k], d->foot_halflife, dt);
+        mm_vec3 out = mm_vec3_add(foot_source(c, k, a, t), c->foot_offset[k]);
+        int planted = 0; /* plant where the foot is now */
+        if (heel_on && !c->heel_locked[k]) {
+            c->heel_locked[k] = true;
+            c->heel_lock[k] = out;
+            planted = 1;
+        }
+        if (toe_on && !c->toe_locked[k]) {
+            c->toe_locked[k] = true;
+            c->toe_lock[k] = mm_vec3_add(out, mm_quat_rotate(yaw_quat(c->foot_yaw[k]), mm_vec3_sub(t, a)));
+            planted = 1;
+        }
+        if (planted) { /* held exactly from here */
+            c->foot_offset[k] =
+                c->heel_locked[k] ? mm_vec3_make(0, 0, 0) : mm_vec3_sub(out, foot_source(c, k, a, t));
             c->foot_offset_velocity[k] = mm_vec3_make(0, 0, 0);
         }
-        if (!c->foot_locked[k])
-            mm_spring_decay_vec3(&c->foot_offset[k], &c->foot_offset_velocity[k], d->foot_halflife, dt);
-        mm_vec3 target = c->foot_locked[k] ? c->foot_lock[k] : mm_vec3_add(animated, c->foot_offset[k]);
-        if (!c->foot_locked[k] && contact) { /* plant where the foot is now */
-            c->foot_locked[k] = true;
-            c->foot_lock[k] = target;
+        if (c->heel_locked[k] && c->toe_locked[k]) {
+            /* both planted: the foot keeps the yaw it was planted with */
+            float yaw = yaw_between(mm_vec3_sub(t, a), mm_vec3_sub(c->toe_lock[k], c->heel_lock[k]));
+            c->foot_yaw_velocity[k] = wrap(yaw - c->foot_yaw[k]) / dt;
+            c->foot_yaw[k] = yaw;
+        } else {
+            mm_spring_update(&c->foot_yaw[k], &c->foot_yaw_velocity[k], 0.0f, d->foot_halflife, dt);
         }
-        if (target.y < 0.0f) target.y = 0.0f; /* never below the ground plane */
-        two_bone_ik(c, ankle, target);
+        target[k] = mm_vec3_add(foot_source(c, k, a, t), c->foot_offset[k]);
+        if (target[k].y < 0.0f) target[k].y = 0.0f; /* never below the ground plane */
+        orientation[k] = mm_quat_mul(yaw_quat(c->foot_yaw[k]), c->global[ankle].rotation);
+        c->foot_locked[k] = c->heel_locked[k] || c->toe_locked[k];
+        c->foot_lock[k] = target[k];
     }
+    /* the hips come down as far as the legs need to reach their targets (never below what they
+     * need, rising back through a spring) */
+    int pelvis = c->pelvis_joint;
+    if (pelvis >= 0 && d->max_hip_drop > 0.0f) {
+        float need = 0.0f;
+        for (int k = 0; k < 2; ++k) {
+            int ankle = c->foot_joint[k];
+            int knee = db->joints[ankle].parent, hip = db->joints[knee].parent;
+            mm_vec3 h = c->global[hip].translation;
+            float length = mm_vec3_distance(h, c->global[knee].translation) +
+                           mm_vec3_distance(c->global[knee].translation, c->global[ankle].translation);
+            float reach = 0.998f * length;
+            float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
+            float down =
+                across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : d->max_hip_drop;
+            need = fmaxf(need, down);
+        }
+        need = fminf(need, d->max_hip_drop);
+        float last = c->hip_drop;
+        mm_spring_update(&c->hip_drop, &c->hip_drop_velocity, need, d->foot_halflife, dt);
+        if (c->hip_drop < need) {
+            c->hip_drop = need;
+            c->hip_drop_velocity = (need - last) / dt;
+        }
+        if (c->hip_drop > 0.0f) {
+            mm_vec3 down = mm_quat_inv_rotate(c->global[db->joints[pelvis].parent].rotation,
+                                              mm_vec3_make(0.0f, -c->hip_drop, 0.0f));
+            c->local_positions[pelvis] = mm_vec3_add(c->local_positions[pelvis], down);
+            for (int j = pelvis; j < db->joint_count; ++j)
+                c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
+                                            mm_xform_make(c->local_rotations[j], c->local_positions[j]));
+        }
+    }
+    for (int k = 0; k < 2; ++k)
+        if (c->foot_joint[k] >= 0) two_bone_ik(c, c->foot_joint[k], target[k], orientation[k]);
     for (int j = 1; j < db->joint_count; ++j) /* below the ankles */
         c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
                                     mm_xform_make(c->local_rotations[j], c->local_positions[j]));
@@ -439,22 +565,36 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     }
 
     /* the pose: the database's at the playhead plus the decaying offsets */
-    memcpy(c->previous_rotations, c->local_rotations, sizeof(mm_quat) * (size_t)db->joint_count);
-    memcpy(c->previous_positions, c->local_positions, sizeof(mm_vec3) * (size_t)db->joint_count);
-    play_pose(c, c->local_rotations, c->local_positions);
+    size_t n = (size_t)db->joint_count;
+    memcpy(c->previous_rotations, c->local_rotations, sizeof(mm_quat) * n);
+    memcpy(c->previous_positions, c->local_positions, sizeof(mm_vec3) * n);
+    memcpy(c->pose_previous_rotations, c->pose_rotations, sizeof(mm_quat) * n);
+    memcpy(c->pose_previous_positions, c->pose_positions, sizeof(mm_vec3) * n);
+    play_pose(c, c->pose_rotations, c->pose_positions);
     for (int j = 1; j < db->joint_count; ++j) {
         mm_spring_decay_vec3(&c->rotation_offset[j], &c->rotation_offset_velocity[j], d->transition_halflife,
                              dt);
         mm_spring_decay_vec3(&c->position_offset[j], &c->position_offset_velocity[j], d->transition_halflife,
                              dt);
-        c->local_rotations[j] =
-            mm_quat_normalize(mm_quat_mul(mm_quat_exp(c->rotation_offset[j]), c->local_rotations[j]));
-        c->local_positions[j] = mm_vec3_add(c->local_positions[j], c->position_offset[j]);
+        c->pose_rotations[j] =
+            mm_quat_normalize(mm_quat_mul(mm_quat_exp(c->rotation_offset[j]), c->pose_rotations[j]));
+        c->pose_positions[j] = mm_vec3_add(c->pose_positions[j], c->position_offset[j]);
     }
+    memcpy(c->local_rotations, c->pose_rotations, sizeof(mm_quat) * n);
+    memcpy(c->local_positions, c->pose_positions, sizeof(mm_vec3) * n);
 
-    /* root motion: the database's root velocity, then pulled toward the simulation and clamped */
-    mm_vec3 v = mm_quat_rotate(c->root.rotation, db->root_velocity[c->frame]);
-    float yaw = yaw_of(c->root.rotation) + db->root_angular_velocity[c->frame] * dt;
+    /* root motion: the database's root velocity (inertialized), then pulled toward the simulation
+     * and clamped */
+    mm_vec3 played;
+    float yaw_rate;
+    play_root(c, &played, &yaw_rate);
+    mm_spring_decay_vec3(&c->root_velocity_offset, &c->root_velocity_offset_rate, d->transition_halflife, dt);
+    mm_spring_update(&c->root_yaw_rate_offset, &c->root_yaw_rate_offset_rate, 0.0f, d->transition_halflife,
+                     dt);
+    c->root_velocity = mm_vec3_add(played, c->root_velocity_offset);
+    c->root_yaw_rate = yaw_rate + c->root_yaw_rate_offset;
+    mm_vec3 v = mm_quat_rotate(c->root.rotation, c->root_velocity);
+    float yaw = yaw_of(c->root.rotation) + c->root_yaw_rate * dt;
     mm_vec3 position = mm_vec3_add(c->root.translation, mm_vec3_scale(v, dt));
     const mm_trajectory *t = &c->trajectory;
     float pull = d->sync_halflife > 0.0f ? 1.0f - exp2f(-dt / d->sync_halflife) : 1.0f;
@@ -487,9 +627,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     c->local_positions[0] = c->root.translation;
     compute_global(c);
     for (int k = 0; k < 2; ++k) { /* ankle and the ankle's first child (the toe) before IK */
-        int ankle = c->foot_joint[k], toe = -1;
-        for (int j = ankle + 1; ankle >= 0 && j < db->joint_count && toe < 0; ++j)
-            if (db->joints[j].parent == ankle) toe = j;
+        int ankle = c->foot_joint[k], toe = c->toe_joint[k];
         c->raw_contact_positions[2 * k] = ankle >= 0 ? c->global[ankle].translation : mm_vec3_make(0, 0, 0);
         c->raw_contact_positions[2 * k + 1] =
             toe >= 0 ? c->global[toe].translation : c->raw_contact_positions[2 * k];
