@@ -1,17 +1,19 @@
 #!/bin/sh
-# Builds the libFuzzer targets into build-fuzz and runs each for N seconds (default 60).
+# Builds the libFuzzer targets into build-fuzz (or $MM_FUZZ_BUILD) and runs each for N seconds
+# (default 60).
 #
 #   scripts/fuzz.sh [seconds] [target...]      e.g. scripts/fuzz.sh 300 fuzz_bvh
 #   (targets: fuzz_bvh, fuzz_config, fuzz_mmdb, fuzz_input, fuzz_sim; each has a dictionary fuzz/<name>.dict if present)
 #
-# Each target starts from its seed corpus fuzz/corpus/<name>/ (read only) plus a working corpus
-# in build-fuzz/corpus/<name>/ that grows from run to run. Crashes, leaks and timeouts are written
+# Each target starts from its seed corpus fuzz/corpus/<name>/ (read only; the mmdb and sim seeds
+# are made from the built-in motion set by fuzz/make_seeds.sh) plus a working corpus in
+# build-fuzz/corpus/<name>/ that grows from run to run. Crashes, leaks and timeouts are written
 # to build-fuzz/artifacts/<name>/; add each one to the seed corpus or a test once it is fixed.
 # Prints executions per second and coverage per target; exits non-zero when anything was found.
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)
-build="$root/build-fuzz"
+build=${MM_FUZZ_BUILD:-$root/build-fuzz}
 seconds=${1:-60}
 [ $# -gt 0 ] && shift
 targets=${*:-fuzz_bvh fuzz_config fuzz_mmdb fuzz_input fuzz_sim}

@@ -78,5 +78,28 @@ rm "$tmp/w/network/W0_ctrl1.bin"
 expect_exit 1 "$mm" pfnn eval --weights "$tmp/w" --x "$ref/X_C_reset.bin" --phase 1 -o "$tmp/y.bin"
 expect_grep "W0_ctrl1.bin: cannot open" "$tmp/err"
 
+# mm pfnn run: a straight walk on a shipped input script, measured like mm simulate
+scripts=$(cd "$(dirname "$0")/../scripts/input" && pwd)
+expect_exit 0 "$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" --seconds 5 --mode linear \
+    -o "$tmp/walk.bvh" --metrics "$tmp/walk.json"
+expect_grep "walk.bvh: 300 frames at 60 fps (linear)" "$tmp/out"
+expect_grep "Frames: 300" "$tmp/walk.bvh"
+for key in foot_slide_cm_s traj_err_cm heading_err_deg response_s max_pop_cm frame_median_us memory_mb; do
+    expect_grep "\"$key\"" "$tmp/walk.json"
+done
+expect_grep '"nan_frames": 0,' "$tmp/walk.json"
+# the root walked forward (+Z) between 3.5 and 9 m in the 4 s of stick (the demo walks 1.5 m/s at most)
+z=$("$mm" bvh fk "$tmp/walk.bvh" --frame 299 | awk 'NR == 1 {print $4}')
+awk -v z="$z" 'BEGIN {exit !(z > 3.5 && z < 9)}' && ok || bad "walked to z = $z m"
+# the same run twice gives the same bytes
+"$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" --seconds 5 --mode linear -o "$tmp/walk2.bvh" >/dev/null
+cmp -s "$tmp/walk.bvh" "$tmp/walk2.bvh" && ok || bad "two runs differ"
+expect_exit 2 "$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" -o "$tmp/x.bvh"
+expect_exit 2 "$mm" pfnn run --weights "$w" --random 1 --input "$scripts/straight_walk.json" --seconds 1 -o "$tmp/x.bvh"
+expect_exit 2 "$mm" pfnn run --weights "$w" --random 1 --seconds 1 --mode quadratic -o "$tmp/x.bvh"
+expect_exit 1 "$mm" pfnn run --weights "$w" --input "$tmp/none.json" --seconds 1 -o "$tmp/x.bvh"
+expect_grep "none.json" "$tmp/err"
+[ ! -e "$tmp/x.bvh" ] && ok || bad "x.bvh written by a failed run"
+
 echo "test_pfnn_cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,9 +1,13 @@
+#define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 int cli_report(const mm_error *err)
 {
@@ -44,6 +48,41 @@ int cli_parse_int(const char *s, long min, long max, long *out)
     if (*end || errno || v < min || v > max) return 0;
     *out = v;
     return 1;
+}
+
+FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
+{
+    struct stat st;
+    if (!path[0]) {
+        fprintf(stderr, "mm: cannot create a file: no file name given\n");
+        return NULL;
+    }
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) { /* the rename would fail only at the end */
+        fprintf(stderr, "mm: %s: cannot create: %s\n", path, strerror(EISDIR));
+        return NULL;
+    }
+    int n = snprintf(tmp, tmp_size, "%s.tmp%ld", path, (long)getpid());
+    if (n < 0 || (size_t)n >= tmp_size) {
+        fprintf(stderr, "mm: %s: cannot create: the path is too long\n", path);
+        return NULL;
+    }
+    FILE *f = fopen(tmp, "wb");
+    if (!f) fprintf(stderr, "mm: %s: cannot create: %s\n", path, strerror(errno));
+    return f;
+}
+
+int cli_commit(FILE *f, const char *tmp, const char *path, int failed)
+{
+    errno = 0;
+    int bad = ferror(f) != 0;
+    bad |= fclose(f) != 0;
+    if (failed || bad || rename(tmp, path) != 0) {
+        if (!failed)
+            fprintf(stderr, "mm: %s: cannot write: %s\n", path, errno ? strerror(errno) : "write error");
+        remove(tmp);
+        return 1;
+    }
+    return 0;
 }
 
 void cli_json_string(FILE *f, const char *s)

@@ -19,6 +19,13 @@ int cli_parse_double(const char *s, double *out);
 int cli_parse_int(const char *s, long min, long max, long *out);
 /* Parses WIDTHxHEIGHT (each 16 to 4096); 0 on failure. */
 int cli_parse_size(const char *s, int *width, int *height);
+/* Output files that appear whole or not at all. cli_create opens a temporary file beside path for
+ * writing and puts its name in tmp (tmp_size bytes); NULL after printing "mm: PATH: ..." when it
+ * cannot. cli_commit closes f and renames the temporary file to path; when failed is non-zero, or
+ * anything fails, it removes the temporary file instead. Returns 0 when path was written, else 1
+ * (after printing "mm: PATH: cannot write: ...", unless failed was given). */
+FILE *cli_create(const char *path, char *tmp, size_t tmp_size);
+int cli_commit(FILE *f, const char *tmp, const char *path, int failed);
 /* Writes s as a JSON string literal (quotes and escapes included). */
 void cli_json_string(FILE *f, const char *s);
 

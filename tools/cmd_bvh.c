@@ -246,10 +246,10 @@ static int cmd_spans(int argc, char **argv)
             if (!v || !cli_parse_double(v, num) || *num < 0)
                 return cli_usage_error("bvh spans", "%s needs a number >= 0", a);
             ++i;
-        } else if (strcmp(a, "--hips") == 0 && v) {
-            hips_name = argv[++i];
-        } else if (strcmp(a, "--root-bone") == 0 && v) {
-            root_name = argv[++i];
+        } else if (strcmp(a, "--hips") == 0 || strcmp(a, "--root-bone") == 0) {
+            if (!v) return cli_usage_error("bvh spans", "%s needs a joint name", a);
+            *(strcmp(a, "--hips") == 0 ? &hips_name : &root_name) = v;
+            ++i;
         } else if (a[0] == '-' && a[1]) {
             return cli_usage_error("bvh spans", "unknown option '%s'", a);
         } else if (!path) {
@@ -297,15 +297,20 @@ static int cmd_spans(int argc, char **argv)
         x[3 * f + 1] = g[root].translation.z;
         x[3 * f + 2] = g[hips].translation.y;
     }
-    /* excluded: hips low, widened by pad seconds on each side */
-    int widen = (int)lround(pad * clip.fps);
-    for (int f = 0; f < n; ++f)
-        if (x[3 * f + 2] < low)
-            for (int k = f - widen; k <= f + widen; ++k)
-                if (k >= 0 && k < n) excluded[k] = 1;
+    /* excluded: hips low, widened by pad seconds on each side: within widen frames of the last low
+     * frame before or the next one after (pad and idle_min may be huge: clamped to the clip) */
+    int widen = (int)lround(fmin(pad * clip.fps, (double)n));
+    for (int f = 0, last = -1; f < n; ++f) {
+        if (x[3 * f + 2] < low) last = f;
+        if (last >= 0 && f - last <= widen) excluded[f] = 1;
+    }
+    for (int f = n - 1, next = -1; f >= 0; --f) {
+        if (x[3 * f + 2] < low) next = f;
+        if (next >= 0 && next - f <= widen) excluded[f] = 1;
+    }
     /* idle: root speed (central differences over +-0.1 s) below idle_speed for idle_min seconds */
     int h = (int)lround(0.1 * clip.fps) > 0 ? (int)lround(0.1 * clip.fps) : 1,
-        min_len = (int)lround(idle_min * clip.fps);
+        min_len = (int)lround(fmin(idle_min * clip.fps, (double)n + 1.0));
     for (int f = 0; f < n;) {
         int e = f;
         while (e < n && !excluded[e]) {

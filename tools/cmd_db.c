@@ -230,9 +230,11 @@ static int cmd_search(int argc, char **argv)
             ++i;
         } else if (strcmp(a, "--require") == 0 || strcmp(a, "--exclude") == 0) {
             if (!v) return cli_usage_error("db search", "%s needs a tag name", a);
-            if (strcmp(a, "--require") == 0 && nreq < 64)
+            int req = strcmp(a, "--require") == 0;
+            if ((req ? nreq : nexc) == 64) return cli_usage_error("db search", "%s: at most 64 tags", a);
+            if (req)
                 require[nreq++] = v;
-            else if (nexc < 64)
+            else
                 exclude[nexc++] = v;
             ++i;
         } else if (strcmp(a, "--no-bias") == 0) {

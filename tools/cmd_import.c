@@ -81,5 +81,6 @@ static int cmd_info(int argc, char **argv)
 int mm_cmd_import(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "info") == 0) return cmd_info(argc - 1, argv + 1);
+    if (argc >= 2) return cli_usage_error("import", "unknown subcommand '%s' (info)\n%s", argv[1], USAGE);
     return cli_usage_error("import", USAGE);
 }

@@ -141,12 +141,14 @@ static int cmd_eval(int argc, char **argv)
     mm_pfnn_network_free(net);
     free(xdata);
     if (!rc) {
-        FILE *f = fopen(ypath, "wb");
-        int ok = f && fwrite(ydata, 1, rows * row_out, f) == rows * row_out;
-        if (f) ok &= fclose(f) == 0;
-        if (!ok) {
-            fprintf(stderr, "mm: %s: cannot write: %s\n", ypath, strerror(errno));
+        char tmp[4096 + 32];
+        FILE *f = cli_create(ypath, tmp, sizeof tmp);
+        if (!f) {
             rc = 1;
+        } else {
+            int ok = fwrite(ydata, 1, rows * row_out, f) == rows * row_out;
+            if (!ok) fprintf(stderr, "mm: %s: cannot write: %s\n", ypath, strerror(errno));
+            rc = cli_commit(f, tmp, ypath, !ok);
         }
     }
     free(ydata);
@@ -156,5 +158,8 @@ static int cmd_eval(int argc, char **argv)
 int mm_cmd_pfnn(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "eval") == 0) return cmd_eval(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "run") == 0) return mm_cmd_pfnn_run(argc - 1, argv + 1);
+    if (argc >= 2)
+        return cli_usage_error("pfnn", "unknown subcommand '%s' (eval, run)\n%s", argv[1], EVAL_USAGE);
     return cli_usage_error("pfnn", "%s", EVAL_USAGE);
 }

@@ -72,6 +72,7 @@ static int shared_option(const char *cmd, int argc, char **argv, int *i, sim_opt
             else
                 return cli_usage_error(cmd, "--channels: unknown '%s' (pos, rot, vel)", t), -1;
         }
+        if (!ch) return cli_usage_error(cmd, "--channels needs a list such as pos,rot,vel"), -1;
         o->desc.channels = ch;
     } else {
         return 0;
@@ -87,7 +88,8 @@ static int load_db(const char *path, mm_database *db)
     return 0;
 }
 
-/* PNG writer: 8-bit RGB, stored (uncompressed) deflate blocks, so no library is needed. */
+/* PNG writer: 8-bit RGB, stored (uncompressed) deflate blocks, so no library is needed. Returns 1,
+ * or 0 after printing the error. */
 static uint32_t crc_table[256];
 static void crc_init(void)
 {
@@ -126,7 +128,10 @@ static int write_png(const char *path, const unsigned char *rgb, int w, int h)
     size_t raw_size = (size_t)h * (size_t)(3 * w + 1);
     size_t blocks = (raw_size + 65534) / 65535;
     unsigned char *z = malloc(2 + raw_size + 5 * blocks + 4);
-    if (!z) return 0;
+    if (!z) {
+        fprintf(stderr, "mm: %s: out of memory\n", path);
+        return 0;
+    }
     size_t at = 0;
     z[at++] = 0x78; /* deflate, 32K window */
     z[at++] = 0x01; /* no compression preset; (0x7801 % 31 == 0) */
@@ -134,6 +139,7 @@ static int write_png(const char *path, const unsigned char *rgb, int w, int h)
     size_t done = 0;
     unsigned char *raw = malloc(raw_size);
     if (!raw) {
+        fprintf(stderr, "mm: %s: out of memory\n", path);
         free(z);
         return 0;
     }
@@ -161,7 +167,8 @@ static int write_png(const char *path, const unsigned char *rgb, int w, int h)
     at += 4;
     free(raw);
     crc_init();
-    FILE *f = fopen(path, "wb");
+    char tmp[4096 + 32];
+    FILE *f = cli_create(path, tmp, sizeof tmp);
     int ok = f != NULL;
     if (ok) {
         static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
@@ -175,7 +182,8 @@ static int write_png(const char *path, const unsigned char *rgb, int w, int h)
         ihdr[12] = 0; /* no interlace */
         ok = fwrite(sig, 1, 8, f) == 8 && write_chunk(f, "IHDR", ihdr, 13) && write_chunk(f, "IDAT", z, at) &&
              write_chunk(f, "IEND", NULL, 0);
-        ok = fclose(f) == 0 && ok;
+        if (!ok) fprintf(stderr, "mm: %s: cannot write: %s\n", path, strerror(errno));
+        ok = cli_commit(f, tmp, path, !ok) == 0;
     }
     free(z);
     return ok;
@@ -216,10 +224,10 @@ static int cmd_audit(int argc, char **argv)
         int r = shared_option(cmd, argc, argv, &i, &o);
         if (r < 0) return 2;
         if (r) continue;
-        if (strcmp(argv[i], "--from") == 0 && i + 1 < argc) {
-            from = argv[++i];
-        } else if (strcmp(argv[i], "--to") == 0 && i + 1 < argc) {
-            to = argv[++i];
+        if (strcmp(argv[i], "--from") == 0 || strcmp(argv[i], "--to") == 0) {
+            if (i + 1 >= argc) return cli_usage_error(cmd, "%s needs a clip name", argv[i]);
+            *(strcmp(argv[i], "--from") == 0 ? &from : &to) = argv[i + 1];
+            ++i;
         } else if (strcmp(argv[i], "--poor") == 0) {
             if (i + 1 >= argc || !cli_parse_double(argv[i + 1], &poor))
                 return cli_usage_error(cmd, "--poor needs a score");
@@ -236,6 +244,11 @@ static int cmd_audit(int argc, char **argv)
         return cli_usage_error(cmd, "usage: mm similarity DB.mmdb --from CLIP --to CLIP [--window N] "
                                     "[--measure cos|euclid] [--channels pos,rot,vel] [--poor S] -o DIR");
     if (isnan(poor)) poor = o.desc.measure == MM_SIM_COSINE ? 0.95 : 0.10;
+    char path[4096], tmp[4096 + 32];
+    if (strlen(o.output) + sizeof "/similarity.csv" > sizeof path) {
+        fprintf(stderr, "mm: %s: the path is too long\n", o.output);
+        return 1;
+    }
     mm_database db;
     if (load_db(db_path, &db)) return 1;
     int ca = mm_database_find_clip(&db, from), cb = mm_database_find_clip(&db, to);
@@ -260,14 +273,10 @@ static int cmd_audit(int argc, char **argv)
         goto done;
     }
     if (make_dir(o.output)) goto done;
-    char path[4096];
     /* CSV: one row per frame of --from, one column per frame of --to */
     snprintf(path, sizeof path, "%s/similarity.csv", o.output);
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "mm: %s: %s\n", path, strerror(errno));
-        goto done;
-    }
+    FILE *f = cli_create(path, tmp, sizeof tmp);
+    if (!f) goto done;
     fprintf(f, "frame");
     for (int j = 0; j < nb; ++j) fprintf(f, ",%d", j);
     fputc('\n', f);
@@ -276,17 +285,11 @@ static int cmd_audit(int argc, char **argv)
         for (int j = 0; j < nb; ++j) fprintf(f, ",%.6f", (double)m[(size_t)i * (size_t)nb + (size_t)j]);
         fputc('\n', f);
     }
-    if (fclose(f) != 0) {
-        fprintf(stderr, "mm: %s: write failed\n", path);
-        goto done;
-    }
+    if (cli_commit(f, tmp, path, 0)) goto done;
     /* best match per row; poor rows */
     snprintf(path, sizeof path, "%s/poor.csv", o.output);
-    f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "mm: %s: %s\n", path, strerror(errno));
-        goto done;
-    }
+    f = cli_create(path, tmp, sizeof tmp);
+    if (!f) goto done;
     fprintf(f, "frame,best_frame,score\n");
     int poor_count = 0;
     float lo = m[0], hi = m[0];
@@ -305,14 +308,14 @@ static int cmd_audit(int argc, char **argv)
             ++poor_count;
         }
     }
-    if (fclose(f) != 0) {
-        fprintf(stderr, "mm: %s: write failed\n", path);
-        goto done;
-    }
+    if (cli_commit(f, tmp, path, 0)) goto done;
     /* heat map: rows = --from frames (top to bottom), columns = --to frames; bright = similar */
     int w = nb < MAX_IMAGE ? nb : MAX_IMAGE, h = na < MAX_IMAGE ? na : MAX_IMAGE;
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
-    if (!rgb) goto done;
+    if (!rgb) {
+        fprintf(stderr, "mm: out of memory for a %d x %d image\n", w, h);
+        goto done;
+    }
     double range = hi > lo ? (double)hi - (double)lo : 1.0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -323,10 +326,7 @@ static int cmd_audit(int argc, char **argv)
     snprintf(path, sizeof path, "%s/similarity.png", o.output);
     int ok = write_png(path, rgb, w, h);
     free(rgb);
-    if (!ok) {
-        fprintf(stderr, "mm: %s: write failed\n", path);
-        goto done;
-    }
+    if (!ok) goto done;
     printf("%s (%d frames) -> %s (%d frames): %s, window %d\n", from, na, to, nb,
            mm_sim_measure_name(p.measure), p.window);
     printf("scores from %.6f to %.6f; mean best match %.6f\n", (double)lo, (double)hi, mean_best / na);
@@ -372,7 +372,11 @@ static int cmd_build(int argc, char **argv)
         return cli_usage_error(cmd, "usage: mm similarity build DB.mmdb [-o TABLES] [--window N] "
                                     "[--measure cos|euclid] [--channels pos,rot,vel] [--threads N]");
     char out[4096];
-    snprintf(out, sizeof out, "%s%s", o.output ? o.output : db_path, o.output ? "" : ".sim");
+    if (snprintf(out, sizeof out, "%s%s", o.output ? o.output : db_path, o.output ? "" : ".sim") >=
+        (int)sizeof out) {
+        fprintf(stderr, "mm: %s: the path is too long\n", o.output ? o.output : db_path);
+        return 1;
+    }
     mm_database db;
     if (load_db(db_path, &db)) return 1;
     mm_error err;
@@ -397,14 +401,16 @@ static int cmd_info(int argc, char **argv)
 {
     const char *cmd = "similarity info", *path = NULL, *db_path = NULL;
     for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--db") == 0 && i + 1 < argc)
+        if (strcmp(argv[i], "--db") == 0) {
+            if (i + 1 >= argc) return cli_usage_error(cmd, "--db needs a database file");
             db_path = argv[++i];
-        else if (argv[i][0] == '-' && argv[i][1])
+        } else if (argv[i][0] == '-' && argv[i][1]) {
             return cli_usage_error(cmd, "unknown option '%s'", argv[i]);
-        else if (path)
+        } else if (path) {
             return cli_usage_error(cmd, "unexpected argument '%s'", argv[i]);
-        else
+        } else {
             path = argv[i];
+        }
     }
     if (!path) return cli_usage_error(cmd, "usage: mm similarity info TABLES [--db DB.mmdb]");
     mm_database db;

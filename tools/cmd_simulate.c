@@ -18,19 +18,17 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "motion_metrics.h"
 #include "sim_video.h"
+
+/* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
+#define SIM_MAX_FRAMES 2160000
 
 static double now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare_float(const void *a, const void *b)
-{
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
 }
 
 static float yaw_of(mm_quat q)
@@ -103,14 +101,6 @@ static double database_max_pop(const mm_database *db, float fps)
     return worst;
 }
 
-static void json_number(FILE *f, const char *key, double v, int last)
-{
-    if (isfinite(v))
-        fprintf(f, "  \"%s\": %.6g%s\n", key, v, last ? "" : ",");
-    else
-        fprintf(f, "  \"%s\": null%s\n", key, last ? "" : ",");
-}
-
 int mm_cmd_simulate(int argc, char **argv)
 {
     const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL;
@@ -159,6 +149,10 @@ int mm_cmd_simulate(int argc, char **argv)
     }
     if (!db_path || (!input) == (seed < 0) || seconds <= 0 || !out)
         return cli_usage_error("simulate", "%s", usage);
+    if (seconds * fps > SIM_MAX_FRAMES)
+        return cli_usage_error("simulate",
+                               "--seconds %g at --fps %g is %.0f frames, more than the %d allowed", seconds,
+                               fps, floor(seconds * fps), SIM_MAX_FRAMES);
     mm_error err;
     memset(&err, 0, sizeof err);
     mm_database db;
@@ -180,6 +174,15 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_character c;
     mm_character_desc desc;
     mm_character_defaults(&desc);
+    /* the runtime tuning saved in the database's config (docs/config.md, "runtime") */
+    if (db.config_json && db.config_json[0]) {
+        mm_config cfg;
+        memset(&cfg, 0, sizeof cfg);
+        if (mm_config_parse_json(db.config_json, strlen(db.config_json), "embedded", NULL, &cfg, NULL) ==
+            MM_OK)
+            mm_character_desc_apply_config(&desc, &db, &cfg);
+        mm_config_free(&cfg);
+    }
     desc.clock = now;
     if (mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK ||
         mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK) {
@@ -194,108 +197,57 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_clip clip;
     r = mm_clip_init(&clip, &skel, frames, (float)fps, NULL);
     mm_skeleton_free(&skel);
-    float *search_us = malloc(sizeof(float) * (size_t)frames * 2 + 8);
-    mm_vec3 *world[3];
-    for (int k = 0; k < 3; ++k) world[k] = malloc(sizeof(mm_vec3) * (size_t)n);
-    if (r != MM_OK || !search_us || !world[0] || !world[1] || !world[2]) {
-        fprintf(stderr, "mm: out of memory\n");
-        return 1;
-    }
+    int contact[4];
+    contact_joints(&db, contact);
+    motion_metrics mx;
+    mm_vec3 *world = malloc(sizeof(mm_vec3) * (size_t)n);
+    int metrics_ok = motion_metrics_init(&mx, n, contact, fps, frames) == 0 && world;
     int status = 0;
+    /* the metrics go to a temporary file, opened now so that a bad path fails before the run and
+     * no motion is written without its metrics */
+    char metrics_tmp[4096 + 32];
+    FILE *m = NULL;
+    if (r != MM_OK || !metrics_ok) {
+        fprintf(stderr, "mm: out of memory for %d frames of %d joints\n", frames, n);
+        status = 1;
+        goto done;
+    }
+    if (metrics && !(m = cli_create(metrics, metrics_tmp, sizeof metrics_tmp))) {
+        status = 1;
+        goto done;
+    }
     sim_video video;
     memset(&video, 0, sizeof video);
     if (video_path &&
         sim_video_open(&video, video_path, width, height, video_fps, 1.0 / fps, &db, &err) != MM_OK) {
         status = cli_report(&err);
-        for (int k = 0; k < 3; ++k) free(world[k]);
-        free(search_us);
-        mm_clip_free(&clip);
-        mm_character_free(&c);
-        mm_searcher_free(&searcher);
-        mm_input_script_free(&script);
-        mm_database_free(&db);
-        return status;
+        goto done;
     }
-    int contact[4];
-    contact_joints(&db, contact);
-    double slide_sum[4] = {0}, slide_frames[4] = {0}, raw_sum = 0.0, traj_err = 0.0, heading_err = 0.0,
-           max_pop = 0.0;
-    mm_vec3 raw_previous[4] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    double response_sum = 0.0;
-    int responses = 0, pending = 0, nan_frames = 0, search_count = 0, last_searches = 0;
-    float pending_direction = 0.0f, pending_since = 0.0f, last_stick_direction = 0.0f;
-    int had_stick = 0;
-    mm_vec3 previous_root = c.root.translation;
+    int last_searches = 0;
     float dt = (float)(1.0 / fps);
     for (int f = 0; f < frames; ++f) {
-        float t = (float)(f / fps);
+        double t = f / fps;
         mm_input in;
-        mm_input_script_sample(&script, t, &in);
-        /* a stick turn of more than 45 degrees while the desired speed is above 0.5 m/s */
+        mm_input_script_sample(&script, (float)t, &in);
         mm_vec3 desired;
         mm_trajectory_desired(&c.trajectory, &in, &desired, NULL);
-        float stick_direction = atan2f(in.stick[0], in.stick[1]);
-        int stick_on = in.stick[0] * in.stick[0] + in.stick[1] * in.stick[1] > 0.01f;
-        if (stick_on && had_stick && mm_vec3_length(desired) > 0.5f &&
-            fabsf(remainderf(stick_direction - last_stick_direction, (float)(2 * MM_PI))) >
-                (float)(MM_PI / 4)) {
-            pending = 1;
-            pending_direction = atan2f(desired.x, desired.z);
-            pending_since = t;
-        }
-        if (stick_on) last_stick_direction = stick_direction;
-        had_stick = stick_on;
+        motion_metrics_input(&mx, t, &in, desired);
+        double start = now();
         mm_character_update(&c, &in, dt);
+        float frame_us = (float)(1e6 * (now() - start));
         if (video_path && status == 0 && sim_video_tick(&video, &c, &in, &err) != MM_OK)
             status = cli_report(&err);
         if (c.searches != last_searches) {
-            search_us[search_count++] = c.last_search_us;
+            motion_metrics_search(&mx, c.last_search_us);
             last_searches = c.searches;
         }
         /* the pose as BVH: joint 0 carries the root */
         memcpy(mm_clip_rotations(&clip, f), c.local_rotations, sizeof(mm_quat) * (size_t)n);
         memcpy(mm_clip_positions(&clip, f), c.local_positions, sizeof(mm_vec3) * (size_t)n);
-        int bad = 0;
-        for (int j = 0; j < n; ++j) {
-            mm_vec3 p = c.global[j].translation;
-            bad |= !isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z);
-            world[f % 3][j] = p;
-        }
-        nan_frames += bad;
-        if (f >= 2)
-            for (int j = 0; j < n; ++j) {
-                mm_vec3 d =
-                    mm_vec3_add(mm_vec3_sub(world[f % 3][j], mm_vec3_scale(world[(f + 2) % 3][j], 2.0f)),
-                                world[(f + 1) % 3][j]);
-                max_pop = fmax(max_pop, 100.0 * mm_vec3_length(d));
-            }
-        if (f >= 1) {
-            unsigned label = db.contacts[c.frame];
-            for (int k = 0; k < 4; ++k) {
-                if (contact[k] < 0 || !(label & (1u << k))) continue;
-                mm_vec3 d = mm_vec3_sub(world[f % 3][contact[k]], world[(f + 2) % 3][contact[k]]);
-                slide_sum[k] += 100.0 * sqrt(d.x * d.x + d.z * d.z) * fps;
-                slide_frames[k] += 1;
-                mm_vec3 rd = mm_vec3_sub(c.raw_contact_positions[k], raw_previous[k]); /* before foot IK */
-                raw_sum += 100.0 * sqrt(rd.x * rd.x + rd.z * rd.z) * fps;
-            }
-        }
-        memcpy(raw_previous, c.raw_contact_positions, sizeof raw_previous);
-        mm_vec3 e = mm_vec3_sub(c.trajectory.position, c.root.translation);
-        traj_err += 100.0 * sqrt(e.x * e.x + e.z * e.z);
-        heading_err +=
-            fabs(remainderf(yaw_of(c.trajectory.facing) - yaw_of(c.root.rotation), (float)(2 * MM_PI))) *
-            MM_RAD_TO_DEG;
-        mm_vec3 v = mm_vec3_sub(c.root.translation, previous_root);
-        previous_root = c.root.translation;
-        if (pending && v.x * v.x + v.z * v.z > 1e-10) {
-            float a = fabsf(remainderf(atan2f(v.x, v.z) - pending_direction, (float)(2 * MM_PI)));
-            if (a < (float)(20 * MM_DEG_TO_RAD)) {
-                response_sum += t + dt - pending_since;
-                ++responses;
-                pending = 0;
-            }
-        }
+        for (int j = 0; j < n; ++j) world[j] = c.global[j].translation;
+        motion_metrics_frame(&mx, t, world, db.contacts[c.frame], c.raw_contact_positions,
+                             c.trajectory.position, yaw_of(c.trajectory.facing), c.root.translation,
+                             yaw_of(c.root.rotation), frame_us);
     }
     int video_frames = 0;
     if (video_path && sim_video_close(&video, status != 0, &video_frames, &err) != MM_OK && status == 0)
@@ -305,43 +257,25 @@ int mm_cmd_simulate(int argc, char **argv)
     memset(&wd, 0, sizeof wd);
     snprintf(err.file, sizeof err.file, "%s", out);
     if (status == 0 && mm_bvh_save(out, &clip, &wd, &err) != MM_OK) status = cli_report(&err);
-    double slide = 0.0, slide_n = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        slide += slide_sum[k];
-        slide_n += slide_frames[k];
+    if (m && status != 0) {
+        cli_commit(m, metrics_tmp, metrics, 1);
+        m = NULL;
+    } else if (m) {
+        motion_metrics_extra x = {database_max_pop(&db, (float)fps), c.searches, c.transitions / seconds,
+                                  (double)(db.size + searcher.memory) / (1024.0 * 1024.0)};
+        motion_metrics_write_json(&mx, m, &x);
+        status = cli_commit(m, metrics_tmp, metrics, 0);
+        m = NULL;
     }
-    qsort(search_us, (size_t)search_count, sizeof(float), compare_float);
-    double median = search_count ? search_us[search_count / 2] : NAN;
-    double p99 = search_count ? search_us[(int)(0.99 * (search_count - 1))] : NAN;
-    if (metrics && status == 0) {
-        FILE *m = fopen(metrics, "w");
-        if (!m) {
-            fprintf(stderr, "mm: %s: cannot write the metrics\n", metrics);
-            status = 1;
-        } else {
-            fprintf(m, "{\n");
-            json_number(m, "foot_slide_cm_s", slide_n > 0 ? slide / slide_n : NAN, 0);
-            json_number(m, "foot_slide_raw_cm_s", slide_n > 0 ? raw_sum / slide_n : NAN, 0);
-            json_number(m, "traj_err_cm", traj_err / frames, 0);
-            json_number(m, "heading_err_deg", heading_err / frames, 0);
-            json_number(m, "response_s", responses ? response_sum / responses : NAN, 0);
-            json_number(m, "max_pop_cm", max_pop, 0);
-            json_number(m, "db_max_pop_cm", database_max_pop(&db, (float)fps), 0);
-            json_number(m, "searches", c.searches, 0);
-            json_number(m, "transitions_per_s", c.transitions / seconds, 0);
-            json_number(m, "nan_frames", nan_frames, 0);
-            json_number(m, "search_median_us", median, 0);
-            json_number(m, "search_p99_us", p99, 1);
-            fprintf(m, "}\n");
-            status = fclose(m) == 0 ? 0 : 1;
-        }
-    }
-    printf("%s: %d frames at %g fps, %d searches, %d transitions, foot slide %.2f cm/s, trajectory error "
-           "%.2f cm\n",
-           out, frames, fps, c.searches, c.transitions, slide_n > 0 ? slide / slide_n : 0.0,
-           traj_err / frames);
-    for (int k = 0; k < 3; ++k) free(world[k]);
-    free(search_us);
+    if (status == 0)
+        printf("%s: %d frames at %g fps, %d searches, %d transitions, foot slide %.2f cm/s, trajectory error "
+               "%.2f cm\n",
+               out, frames, fps, c.searches, c.transitions, motion_metrics_foot_slide(&mx),
+               motion_metrics_traj_err(&mx));
+done:
+    if (m) cli_commit(m, metrics_tmp, metrics, 1); /* a failure before the metrics were written */
+    free(world);
+    motion_metrics_free(&mx);
     mm_clip_free(&clip);
     mm_character_free(&c);
     mm_searcher_free(&searcher);

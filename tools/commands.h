@@ -9,6 +9,8 @@ int mm_cmd_convert(int argc, char **argv);
 int mm_cmd_db(int argc, char **argv);
 int mm_cmd_import(int argc, char **argv);
 int mm_cmd_pfnn(int argc, char **argv);
+/* mm pfnn run (tools/cmd_pfnn_run.c) */
+int mm_cmd_pfnn_run(int argc, char **argv);
 int mm_cmd_render(int argc, char **argv);
 int mm_cmd_similarity(int argc, char **argv);
 int mm_cmd_simulate(int argc, char **argv);

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 void mm__error_set_file(mm_error *err, const char *name)
@@ -22,6 +23,12 @@ mm_result mm__read_file(const char *path, const mm_allocator *allocator, char **
     if (!path) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no file name given");
     FILE *f = fopen(path, "rb");
     if (!f) return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot open: %s", strerror(errno));
+    /* a folder opens for reading on Linux and then reports an absurd size: name it instead */
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return mm_error_set(err, MM_ERR_IO, 0, 0, "is a folder, not a file");
+    }
     mm_result r = MM_OK;
     char *data = NULL;
     long size = -1;

@@ -1,0 +1,307 @@
+#!/bin/sh
+# The bad-input matrix of the mm program's arguments: missing, empty, garbage, truncated and folder
+# inputs for every command that reads a file; unknown options and options without their value;
+# numbers that are not numbers, NaN, Inf, negative or absurd; outputs in folders that do not exist.
+# Each must exit 1 or 2 (never 0, never a crash, a hang or a sanitizer report) with a message
+# "mm: ..." or "mm COMMAND: ..." naming the file or the option, and leave no output and no
+# temporary file behind. Absurd values that are valid must not crash or hang either.
+# usage: test_cli_bad_input.sh MM_BINARY SOURCE_DIR
+set -u
+mm=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# run CMD... : CMD with stdout to $tmp/out, stderr to $tmp/err, at most 120 s; sets $got
+limit=""
+command -v timeout >/dev/null 2>&1 && limit="timeout 120"
+run() {
+    # shellcheck disable=SC2086
+    $limit "$@" >"$tmp/out" 2>"$tmp/err" </dev/null
+    got=$?
+}
+sanitizer_report() { grep -q -e 'Sanitizer' -e 'runtime error' "$tmp/err"; }
+
+# fails NAME CMD... : CMD exits 1 or 2, stderr has a line "mm[ COMMAND]: ..." holding NAME
+fails() {
+    name=$1
+    shift
+    run "$@"
+    if [ "$got" -ne 1 ] && [ "$got" -ne 2 ]; then
+        bad "exit $got (wanted 1 or 2): $*"
+        head -n 5 "$tmp/err"
+    elif sanitizer_report; then
+        bad "sanitizer report: $*"
+        head -n 20 "$tmp/err"
+    elif ! grep '^mm[a-z ]*: ' "$tmp/err" | grep -q -F -e "$name"; then
+        bad "no message 'mm: ...' naming '$name': $*"
+        head -n 5 "$tmp/err"
+    else
+        ok
+    fi
+    if [ -n "${o:-}" ] && [ -n "$(ls -A "$o")" ]; then
+        bad "output left behind ($(find "$o" ! -path "$o" | tr '\n' ' ')): $*"
+        rm -rf "${o:?}"/* "${o:?}"/.[!.]*
+    fi
+}
+# succeeds CMD... : CMD exits 0 without a sanitizer report
+succeeds() {
+    run "$@"
+    if [ "$got" -ne 0 ]; then
+        bad "exit $got (wanted 0): $*"
+        head -n 5 "$tmp/err"
+    elif sanitizer_report; then
+        bad "sanitizer report: $*"
+        head -n 20 "$tmp/err"
+    else
+        ok
+    fi
+}
+# values OPTION 'VALUE...' CMD... : each value (and no value at all) after CMD OPTION fails naming OPTION
+values() {
+    option=$1
+    list=$2
+    shift 2
+    for v in $list; do
+        fails "$option" "$@" "$option" "$v"
+    done
+    fails "$option" "$@" "$option" ""
+    fails "$option" "$@" "$option"
+}
+# names OPTION CMD... : OPTION without its value fails naming it; an empty value fails
+names() {
+    option=$1
+    shift
+    fails "$option" "$@" "$option"
+    fails "" "$@" "$option" ""
+}
+not_numbers="abc nan -inf 1e999 5x"
+not_ints="$not_numbers 1.5 -1 99999999999999999999"
+
+# --- inputs: the built-in motion set, a tiny database of it, its tables ---------------------------
+chain=$src/tests/data/bvh/chain2.bvh
+script=$src/scripts/input/turn_90.json
+if ! "$mm" synth "$tmp/set" >/dev/null; then
+    echo "test_cli_bad_input: mm synth failed"
+    exit 1
+fi
+cat >"$tmp/db.json" <<'EOF'
+{"interval": 0.1, "scale": 1, "tags": ["Walk"],
+ "clips": [{"name": "idle", "file": "idle.bvh", "type": "idle", "loop": true, "ranges": [[0, 24]]},
+           {"name": "walk", "file": "walk_1.40.bvh", "mirror": true, "ranges": [[0, 24]],
+            "tags": {"Walk": [[0.0, 0.3]]}}]}
+EOF
+succeeds "$mm" db build "$tmp/db.json" --data "$tmp/set" -o "$tmp/db.mmdb"
+db=$tmp/db.mmdb
+succeeds "$mm" similarity build "$db" -o "$tmp/db.sim"
+sim=$tmp/db.sim
+if [ ! -s "$db" ] || [ ! -s "$sim" ]; then
+    echo "test_cli_bad_input: cannot make the database"
+    exit 1
+fi
+
+# outputs that must never appear go to $tmp/o (checked empty at the end); $tmp/no/dir is missing
+mkdir "$tmp/o"
+o=$tmp/o
+nodir=$tmp/no/dir
+
+# --- bad files, for every command that reads one ---------------------------------------------------
+: >"$tmp/empty"
+printf '\001\377\376GARBAGE\000\033[31m\r\n\200{[<' >"$tmp/garbage"
+for ext in bvh json mmdb sim fbx gltf glb dae bin; do cp "$tmp/garbage" "$tmp/garbage.$ext"; done
+head -c 1000 "$db" >"$tmp/truncated.mmdb"
+head -c 100 "$sim" >"$tmp/truncated.sim"
+head -c 200 "$tmp/set/idle.bvh" >"$tmp/truncated.bvh"
+printf '{"keys": [{"t": 0.0, "stick": [0, 1' >"$tmp/truncated.json"
+mkdir "$tmp/folder"
+readers() { # FILE: every command that reads FILE fails naming it
+    f=$1
+    fails "$f" "$mm" bvh info "$f"
+    fails "$f" "$mm" bvh info "$f" --json
+    fails "$f" "$mm" bvh fk "$f" --frame 0
+    fails "$f" "$mm" bvh spans "$f"
+    fails "$f" "$mm" bvh convert "$f" "$o/convert.bvh"
+    fails "$f" "$mm" import info "$f"
+    fails "$f" "$mm" config check "$f"
+    fails "$f" "$mm" db build "$f" -o "$o/build.mmdb"
+    fails "$f" "$mm" db info "$f"
+    fails "$f" "$mm" db dump "$f"
+    fails "$f" "$mm" db search "$f" --frame 0
+    fails "$f" "$mm" simulate "$f" --random 1 --seconds 1 -o "$o/sim.bvh" --metrics "$o/sim.json"
+    fails "$f" "$mm" simulate "$db" --input "$f" --seconds 1 -o "$o/sim.bvh" --metrics "$o/sim.json"
+    fails "$f" "$mm" similarity "$f" --from idle --to walk -o "$o/audit"
+    fails "$f" "$mm" similarity build "$f" -o "$o/build.sim"
+    fails "$f" "$mm" similarity info "$f"
+    fails "$f" "$mm" similarity info "$sim" --db "$f"
+    fails "$f" "$mm" pfnn eval --weights "$tmp/no_weights" --x "$f" --phase 0 -o "$o/y.bin"
+    fails "$f" "$mm" render "$f" -o "$o/frames" --seconds 0.1
+}
+for f in "$tmp/missing" "$tmp/empty" "$tmp/garbage" "$tmp/folder"; do readers "$f"; done
+# a folder where a file is expected is called one
+fails "is a folder" "$mm" bvh info "$tmp/folder"
+# garbage named like each format, to the commands that go by the name
+for ext in bvh fbx gltf glb dae; do
+    fails "$tmp/garbage.$ext" "$mm" import info "$tmp/garbage.$ext"
+done
+fails "$tmp/garbage.bvh" "$mm" bvh info "$tmp/garbage.bvh"
+fails "$tmp/garbage.json" "$mm" db build "$tmp/garbage.json" -o "$o/build.mmdb"
+fails "$tmp/garbage.json" "$mm" simulate "$db" --input "$tmp/garbage.json" --seconds 1 -o "$o/sim.bvh"
+fails "$tmp/garbage.mmdb" "$mm" db info "$tmp/garbage.mmdb"
+fails "$tmp/garbage.sim" "$mm" similarity info "$tmp/garbage.sim"
+fails "$tmp/garbage.bin" "$mm" pfnn eval --weights "$tmp/no_weights" --x "$tmp/garbage.bin" --phase 0 -o "$o/y.bin"
+for f in "$tmp/truncated.mmdb" "$tmp/truncated.sim" "$tmp/truncated.bvh" "$tmp/truncated.json"; do readers "$f"; done
+# a file that does parse, given to the wrong command
+fails "$db" "$mm" similarity info "$db"
+fails "$sim" "$mm" db info "$sim"
+fails "$script" "$mm" db info "$script"
+fails "$chain" "$mm" config check "$chain"
+fails "$chain" "$mm" simulate "$db" --input "$chain" --seconds 1 -o "$o/sim.bvh"
+# the x input of pfnn eval must be whole rows before the weights are read
+head -c 1368 /dev/zero >"$tmp/row.bin"
+fails "$tmp/no_weights" "$mm" pfnn eval --weights "$tmp/no_weights" --x "$tmp/row.bin" --phase 0 -o "$o/y.bin"
+# mm convert reads every BVH of the folder before it runs Blender (here: the mm program itself)
+mkdir "$tmp/bvh_in"
+cp "$tmp/garbage" "$tmp/bvh_in/a.bvh"
+fails "$tmp/bvh_in/a.bvh" "$mm" convert "$tmp/bvh_in" "$o/fbx" --blender "$mm"
+fails "$tmp/missing" "$mm" convert "$tmp/missing" "$o/fbx" --blender "$mm"
+fails "$tmp/empty" "$mm" convert "$tmp/empty" "$o/fbx" --blender "$mm"
+fails "$tmp/no_blender" "$mm" convert "$tmp/bvh_in" "$o/fbx" --blender "$tmp/no_blender"
+
+# --- configs and input scripts with bad numbers ------------------------------------------------------
+for v in 0 -0.1 1e999 '"fast"' null; do
+    printf '{"interval": %s, "clips": [{"file": "idle.bvh"}]}' "$v" >"$tmp/interval.json"
+    fails "$tmp/interval.json" "$mm" config check "$tmp/interval.json"
+    fails "$tmp/interval.json" "$mm" db build "$tmp/interval.json" --data "$tmp/set" -o "$o/build.mmdb"
+done
+printf '{"clips": [{"file": "idle.bvh", "name": "a"}, {"file": "idle.bvh", "name": "a"}]}' >"$tmp/dup.json"
+fails "$tmp/dup.json" "$mm" db build "$tmp/dup.json" --data "$tmp/set" -o "$o/build.mmdb"
+printf '{"features": {"bones": [{"name": "NoSuchBone"}]}, "clips": [{"file": "idle.bvh"}]}' >"$tmp/bone.json"
+fails "$tmp/bone.json" "$mm" db build "$tmp/bone.json" --data "$tmp/set" -o "$o/build.mmdb"
+for v in 1e999 -1e999 '"x"' '[1]'; do
+    printf '{"keys": [{"t": 0.0, "stick": [0, %s]}]}' "$v" >"$tmp/stick.json"
+    fails "$tmp/stick.json" "$mm" simulate "$db" --input "$tmp/stick.json" --seconds 1 -o "$o/sim.bvh"
+    printf '{"keys": [{"t": %s, "stick": [0, 1]}]}' "$v" >"$tmp/time.json"
+    fails "$tmp/time.json" "$mm" simulate "$db" --input "$tmp/time.json" --seconds 1 -o "$o/sim.bvh"
+done
+
+# --- commands, subcommands and unknown options -------------------------------------------------------
+for c in bvh db config import pfnn simulate synth convert; do fails "$c" "$mm" "$c"; done
+for c in bvh db config import pfnn; do fails "nope" "$mm" "$c" nope; done
+fails "nope" "$mm" nope
+fails "--bogus" "$mm" bvh info "$chain" --bogus
+fails "--bogus" "$mm" bvh fk "$chain" --frame 0 --bogus
+fails "--bogus" "$mm" bvh convert "$chain" "$o/c.bvh" --bogus
+fails "--bogus" "$mm" bvh spans "$chain" --bogus
+fails "--bogus" "$mm" import info "$chain" --bogus
+fails "--bogus" "$mm" config explain --bogus
+fails "--bogus" "$mm" db build "$tmp/db.json" -o "$o/b.mmdb" --bogus
+fails "--bogus" "$mm" db info "$db" --bogus
+fails "--bogus" "$mm" db search "$db" --frame 0 --bogus
+fails "--bogus" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --bogus
+fails "--bogus" "$mm" synth "$o/synth" --bogus
+fails "--bogus" "$mm" similarity "$db" --from idle --to walk -o "$o/audit" --bogus
+fails "--bogus" "$mm" similarity build "$db" -o "$o/b.sim" --bogus
+fails "--bogus" "$mm" similarity info "$sim" --bogus
+fails "--bogus" "$mm" pfnn eval --x "$tmp/row.bin" --phase 0 -o "$o/y.bin" --bogus
+fails "--bogus" "$mm" convert "$tmp/bvh_in" "$o/fbx" --bogus
+fails "extra" "$mm" bvh info "$chain" extra
+fails "extra" "$mm" db search "$db" --frame 0 extra
+fails "extra" "$mm" similarity build "$db" extra
+
+# --- options without their value, and values that are not what the option needs ------------------
+values --frame "$not_ints" "$mm" bvh fk "$chain"
+values --order "XYZW ZZZ 1" "$mm" bvh convert "$chain" "$o/c.bvh"
+values --scale "$not_numbers 0 -1 -0.5" "$mm" bvh convert "$chain" "$o/c.bvh"
+values --fps "$not_numbers 0 -1 10001 1e300" "$mm" bvh convert "$chain" "$o/c.bvh"
+for opt in --scale --low-hips --pad --idle-speed --idle-min; do
+    values "$opt" "$not_numbers -1 -1e300" "$mm" bvh spans "$chain"
+done
+names --hips "$mm" bvh spans "$chain"
+names --root-bone "$mm" bvh spans "$chain"
+values --scale "$not_numbers 0 -1" "$mm" import info "$chain"
+values --fps "$not_numbers 0 -1 10001" "$mm" import info "$chain"
+names -o "$mm" db build "$tmp/db.json"
+names --data "$mm" db build "$tmp/db.json" -o "$o/b.mmdb"
+values --frame "$not_ints" "$mm" db search "$db"
+values --traj-from "$not_ints" "$mm" db search "$db" --frame 0
+values --top "$not_ints 0 1001" "$mm" db search "$db" --frame 0
+values --method "slow BRUTE" "$mm" db search "$db" --frame 0
+values --type "walk" "$mm" db search "$db" --frame 0
+names --require "$mm" db search "$db" --frame 0
+names --exclude "$mm" db search "$db" --frame 0
+values --seconds "$not_numbers 0 -1 36001 1e300" "$mm" simulate "$db" --random 1 -o "$o/s.bvh"
+values --fps "$not_numbers 0 -1 0.5 1001 1e300" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh"
+values --random "$not_ints" "$mm" simulate "$db" --seconds 1 -o "$o/s.bvh"
+names --input "$mm" simulate "$db" --seconds 1 -o "$o/s.bvh"
+names -o "$mm" simulate "$db" --random 1 --seconds 1
+names --metrics "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh"
+values --seed "$not_ints -0" "$mm" synth "$o/synth"
+values --fps "$not_numbers 0 -1 9 241 1e300" "$mm" synth "$o/synth"
+values --window "$not_ints 0 257 1e9" "$mm" similarity "$db" --from idle --to walk -o "$o/audit"
+values --threads "$not_ints 0 65 1e9" "$mm" similarity "$db" --from idle --to walk -o "$o/audit"
+values --measure "manhattan COS" "$mm" similarity "$db" --from idle --to walk -o "$o/audit"
+values --channels "position pos,,x rot;vel" "$mm" similarity "$db" --from idle --to walk -o "$o/audit"
+values --poor "$not_numbers" "$mm" similarity "$db" --from idle --to walk -o "$o/audit"
+names --from "$mm" similarity "$db" --to walk -o "$o/audit"
+names --to "$mm" similarity "$db" --from idle -o "$o/audit"
+names -o "$mm" similarity "$db" --from idle --to walk
+values --window "$not_ints 0 257" "$mm" similarity build "$db" -o "$o/b.sim"
+values --threads "$not_ints 0 65" "$mm" similarity build "$db" -o "$o/b.sim"
+names -o "$mm" similarity build "$db"
+names --db "$mm" similarity info "$sim"
+values --phase "$not_numbers" "$mm" pfnn eval --weights "$tmp/no_weights" --x "$tmp/row.bin" -o "$o/y.bin"
+values --mode "quartic" "$mm" pfnn eval --weights "$tmp/no_weights" --x "$tmp/row.bin" --phase 0 -o "$o/y.bin"
+values --batch-size "$not_ints 0" "$mm" convert "$tmp/bvh_in" "$o/fbx" --blender "$mm"
+names --blender "$mm" convert "$tmp/bvh_in" "$o/fbx"
+# more of a repeated option than the command holds
+set -- "$mm" db search "$db" --frame 0
+i=0
+while [ $i -lt 65 ]; do
+    set -- "$@" --require Walk
+    i=$((i + 1))
+done
+fails "--require" "$@"
+
+# --- valid but absurd values: an error naming the option or file, or a result; no crash, no hang --
+fails "$chain" "$mm" bvh fk "$chain" --frame 2147483647
+fails "$db" "$mm" db search "$db" --frame 2147483647
+fails "$db" "$mm" db search "$db" --frame 0 --traj-from 2147483647
+succeeds "$mm" db search "$db" --frame 0 --top 1000
+fails "--seconds" "$mm" simulate "$db" --random 1 --seconds 36000 --fps 1000 -o "$o/s.bvh" --metrics "$o/s.json"
+succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --low-hips 100 --pad 1e7
+succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --low-hips 100 --pad 1e300
+succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --low-hips 100 --pad 99999999999
+succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --idle-min 1e300 --idle-speed 1e300
+succeeds "$mm" similarity build "$db" --window 256 --threads 64 -o "$tmp/big_window.sim"
+
+# --- outputs that cannot be written: nothing is left behind ------------------------------------------
+fails "$nodir/c.bvh" "$mm" bvh convert "$chain" "$nodir/c.bvh"
+fails "$nodir/b.mmdb" "$mm" db build "$tmp/db.json" --data "$tmp/set" -o "$nodir/b.mmdb"
+fails "$nodir/s.bvh" "$mm" simulate "$db" --random 1 --seconds 1 -o "$nodir/s.bvh" --metrics "$o/s.json"
+fails "$nodir/s.json" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --metrics "$nodir/s.json"
+fails "$nodir/audit" "$mm" similarity "$db" --from idle --to walk -o "$nodir/audit"
+fails "$nodir/b.sim" "$mm" similarity build "$db" -o "$nodir/b.sim"
+fails "$tmp/garbage" "$mm" synth "$tmp/garbage/set"
+fails "$tmp/garbage" "$mm" synth "$tmp/garbage"
+# an output that is a folder
+fails "$tmp/folder" "$mm" bvh convert "$chain" "$tmp/folder"
+fails "$tmp/folder" "$mm" db build "$tmp/db.json" --data "$tmp/set" -o "$tmp/folder"
+fails "$tmp/folder" "$mm" similarity build "$db" -o "$tmp/folder"
+fails "$tmp/folder" "$mm" simulate "$db" --random 1 --seconds 1 -o "$tmp/folder" --metrics "$o/s.json"
+fails "$tmp/folder" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --metrics "$tmp/folder"
+# a path longer than any file name
+long=$tmp/$(printf '%0300d' 0)/$(printf '%04000d' 0)
+fails "the path is too long" "$mm" similarity build "$db" -o "$long/x.sim"
+fails "the path is too long" "$mm" similarity "$db" --from idle --to walk -o "$long"
+
+if [ -z "$(ls -A "$o")" ]; then ok; else bad "a failed command left output behind: $(ls -A "$o")"; fi
+leftovers=$(find "$tmp" -name '*.tmp*')
+if [ -z "$leftovers" ]; then ok; else bad "temporary files left behind: $leftovers"; fi
+
+echo "test_cli_bad_input: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

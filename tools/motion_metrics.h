@@ -1,0 +1,56 @@
+/* motion_metrics.h - the quality metrics of docs/metrics.md, measured the same way for every
+ * controller (mm simulate: motion matching; mm pfnn run: the neural controller), frame by frame. */
+#ifndef MM_TOOLS_MOTION_METRICS_H
+#define MM_TOOLS_MOTION_METRICS_H
+
+#include <stdio.h>
+
+#include <mm/input.h>
+#include <mm/math.h>
+
+typedef struct motion_metrics {
+    int joint_count;
+    double fps;
+    int contact_joint[4]; /* left heel, left toe, right heel, right toe (-1: none) */
+    mm_vec3 *world[3];    /* the last three frames' joint positions */
+    mm_vec3 raw_previous[4];
+    long frames;
+    double slide_sum, slide_frames, raw_sum, traj_err, heading_err, max_pop;
+    int nan_frames;
+    /* response: time from a sharp stick turn to the root moving within 20 degrees of it */
+    double response_sum;
+    int responses, pending, had_stick;
+    float pending_direction, pending_since, last_stick_direction;
+    mm_vec3 previous_root;
+    /* per-frame controller cost and search times (us), kept for medians */
+    float *frame_us, *search_us;
+    long frame_capacity, search_count;
+} motion_metrics;
+
+/* Room for frames frames of joint_count joints at fps; contact_joint: see above. 0 on success. */
+int motion_metrics_init(motion_metrics *m, int joint_count, const int contact_joint[4], double fps,
+                        long frames);
+void motion_metrics_free(motion_metrics *m);
+
+/* Before the controller's update of frame t: the input and the desired velocity it gives (for
+ * the response measure). */
+void motion_metrics_input(motion_metrics *m, double t, const mm_input *in, mm_vec3 desired_velocity);
+/* After it: world joint positions; which contact labels are on (bits: left heel, left toe, right
+ * heel, right toe); the contact joints before foot IK (NULL: the same as world); the desired
+ * path's position and yaw (the trajectory simulation) and the character's root and yaw; the
+ * controller's cost of this frame (us). */
+void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, unsigned contacts,
+                          const mm_vec3 *raw_contacts, mm_vec3 sim_position, float sim_yaw, mm_vec3 root,
+                          float root_yaw, float frame_us);
+void motion_metrics_search(motion_metrics *m, float us);
+
+typedef struct motion_metrics_extra { /* what only the caller knows; NAN: null */
+    double db_max_pop_cm, searches, transitions_per_s, memory_mb;
+} motion_metrics_extra;
+
+/* The metrics as JSON (docs/metrics.md's keys). */
+void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_extra *extra);
+double motion_metrics_foot_slide(const motion_metrics *m);
+double motion_metrics_traj_err(const motion_metrics *m);
+
+#endif
