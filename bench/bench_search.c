@@ -143,8 +143,11 @@ int main(int argc, char **argv)
         printf("  facing (approximate) agrees with brute force on %.1f%% of queries\n", 100.0 * agree / n);
     }
     printf("\nexact method vs brute force: %d mismatches in %d queries\n", mismatches, 3 * n);
-    printf("acceleration structure: %d nodes, %.1f MB (of which %.1f MB the features in tree order)\n",
-           s.node_count, s.memory / 1e6, (double)db.frame_count * dims * 4 / 1e6);
+    printf(
+        "acceleration structure: %d nodes of %d lanes, boxes on %d of %d axes, %.1f MB (of which %.1f MB the "
+        "features in tree order)\n",
+        s.node_count, MM_SEARCH_WIDTH, s.tree_dims, dims, s.memory / 1e6,
+        (double)db.frame_count * dims * 4 / 1e6);
 
     /* Batch throughput, kind (b), on 1 and 2 threads. */
     mm_search_result *res = malloc(sizeof(mm_search_result) * (size_t)n);

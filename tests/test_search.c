@@ -351,6 +351,161 @@ static void test_favours_and_ratio(void **state)
     assert_near(t.pose_position + t.pose_velocity + t.root_velocity, 0, 1e-6);
 }
 
+/* ---- the searcher's tree ------------------------------------------------------------------ */
+
+/* Checks lane l of node n and everything below: its frames lie inside its box (in the tree's
+ * coordinates, on the axes the boxes use) and match its summaries; returns the frames seen. */
+static int check_lane(const mm_searcher *s, int n, int l, int depth)
+{
+    const mm_database *db = s->db;
+    const mm_search_node *node = &s->nodes[n];
+    int dims = db->dims_padded, td = s->tree_dims;
+    assert_true(depth < 64);
+    assert_true(node->begin[l] < node->end[l]);
+    const float *lo = s->node_min + (size_t)n * td * MM_SEARCH_WIDTH;
+    const float *hi = s->node_max + (size_t)n * td * MM_SEARCH_WIDTH;
+    for (int p = node->begin[l]; p < node->end[l]; ++p) {
+        int f = s->order[p];
+        assert_true(f >= node->min_frame[l]);
+        assert_int_equal(s->order_tags[p], db->frame_tags[f]);
+        assert_int_equal(s->order_clip[p], db->frame_clip[f]);
+        assert_true(node->types[l] & (1u << db->clips[db->frame_clip[f]].type));
+        assert_int_equal(db->frame_tags[f] & ~node->tags_any[l], 0);
+        assert_int_equal(node->tags_all[l] & ~db->frame_tags[f], 0);
+        if (db->clips[db->frame_clip[f]].loop)
+            assert_true(node->loop[l] & 1);
+        else
+            assert_false(node->loop[l] & 2);
+        assert_memory_equal(s->features + (size_t)p * dims, db->features + (size_t)f * dims,
+                            sizeof(float) * (size_t)dims);
+        for (int j = 0; j < td; ++j) {
+            double z = 0.0;
+            for (int k = 0; k < dims; ++k)
+                z += s->basis[(size_t)k * dims + j] *
+                     (s->sqrt_w0[k] * (double)db->features[(size_t)f * dims + k] - s->center[k]);
+            assert_true(z >= lo[j * MM_SEARCH_WIDTH + l] && z <= hi[j * MM_SEARCH_WIDTH + l]);
+        }
+    }
+    if (node->child[l] < 0) {
+        assert_true(node->end[l] - node->begin[l] <= MM_SEARCH_LEAF);
+        return node->end[l] - node->begin[l];
+    }
+    /* the child's lanes split this lane's positions, in order */
+    const mm_search_node *child = &s->nodes[node->child[l]];
+    assert_true(child->count >= 1 && child->count <= MM_SEARCH_WIDTH);
+    int at = node->begin[l], seen = 0;
+    for (int i = 0; i < child->count; ++i) {
+        assert_int_equal(child->begin[i], at);
+        at = child->end[i];
+        seen += check_lane(s, node->child[l], i, depth + 1);
+    }
+    assert_int_equal(at, node->end[l]);
+    return seen;
+}
+
+/* The tree covers every frame once, each lane's box holds its frames, and the work units tile
+ * the frames in order. */
+static void check_tree(const mm_searcher *s)
+{
+    const mm_database *db = s->db;
+    assert_true(s->tree_dims >= 1 && s->tree_dims <= db->dims_padded && s->tree_dims % 4 == 0);
+    char *seen = calloc((size_t)db->frame_count, 1);
+    for (int p = 0; p < db->frame_count; ++p) {
+        assert_true(s->order[p] >= 0 && s->order[p] < db->frame_count);
+        assert_false(seen[s->order[p]]);
+        seen[s->order[p]] = 1;
+    }
+    free(seen);
+    const mm_search_node *root = &s->nodes[0];
+    int at = 0, total = 0;
+    for (int l = 0; l < root->count; ++l) {
+        assert_int_equal(root->begin[l], at);
+        at = root->end[l];
+        total += check_lane(s, 0, l, 0);
+    }
+    assert_int_equal(at, db->frame_count);
+    assert_int_equal(total, db->frame_count);
+    assert_true(s->unit_count >= 1 && s->unit_count <= MM_SEARCH_MAX_UNITS);
+    at = 0;
+    for (int u = 0; u < s->unit_count; ++u) {
+        const mm_search_node *n = &s->nodes[s->units[u] / MM_SEARCH_WIDTH];
+        int l = s->units[u] % MM_SEARCH_WIDTH;
+        assert_true(l < n->count);
+        assert_int_equal(n->begin[l], at);
+        at = n->end[l];
+    }
+    assert_int_equal(at, db->frame_count);
+}
+
+static void test_tree(void **state)
+{
+    (void)state;
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, &real_db, NULL, NULL), MM_OK);
+    check_tree(&s);
+    mm_searcher_free(&s);
+    check_tree(&crafted_s);
+}
+
+/* A database of one walk of the given length (a loop) and a standing clip half as long. */
+static int build_small(mm_database *db, int frames)
+{
+    mm_clip clips[2];
+    make_walk(&clips[0], frames, 1.3, 0.5);
+    make_walk(&clips[1], frames / 2 + 1, 0.0, 0.1);
+    mm_config cfg;
+    mm_config_defaults(&cfg);
+    cfg.scale = 1;
+    cfg.root_smoothing = 0;
+    cfg.left_hand[0] = cfg.right_hand[0] = cfg.head[0] = 0;
+    cfg.clip_count = 2;
+    cfg.clips = calloc(2, sizeof(mm_config_clip));
+    for (int i = 0; i < 2; ++i) {
+        snprintf(cfg.clips[i].name, MM_NAME_MAX, "s%d", i);
+        snprintf(cfg.clips[i].file, MM_PATH_MAX, "s%d.bvh", i);
+    }
+    cfg.clips[0].loop = true;
+    cfg.clips[1].type = MM_CLIP_IDLE;
+    mm_result r = mm_database_build(&cfg, clips, NULL, db, NULL);
+    for (int i = 0; i < 2; ++i) mm_clip_free(&clips[i]);
+    mm_config_free(&cfg);
+    return r == MM_OK ? 0 : -1;
+}
+
+/* Trees of every shape (a single leaf, a root with few lanes, uneven splits) give the brute-force
+ * winner, on one thread and over a pool (work units that are leaves). */
+static void test_small_trees(void **state)
+{
+    (void)state;
+    const int lengths[] = {2, 9, 17, 23, 40, 77, 150, 333};
+    test_rng r = {0xBEEF};
+    for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; ++i) {
+        mm_database db;
+        assert_int_equal(build_small(&db, lengths[i]), 0);
+        mm_searcher one, two;
+        mm_searcher_desc d2 = {2, NULL};
+        assert_int_equal(mm_searcher_init(&one, &db, NULL, NULL), MM_OK);
+        assert_int_equal(mm_searcher_init(&two, &db, &d2, NULL), MM_OK);
+        check_tree(&one);
+        check_tree(&two);
+        float q[MM_SEARCH_MAX_DIMS];
+        for (int k = 0; k < 120; ++k) {
+            mm_search_params p;
+            make_case(&db, &r, k, q, &p);
+            mm_search_result brute, fast, fast2;
+            mm_searcher_search(&one, q, &p, MM_SEARCH_BRUTE, &brute, 1);
+            mm_searcher_search(&one, q, &p, MM_SEARCH_FAST, &fast, 1);
+            mm_searcher_search(&two, q, &p, MM_SEARCH_FAST, &fast2, 1);
+            assert_int_equal(fast.frame, brute.frame);
+            assert_int_equal(fast2.frame, brute.frame);
+            if (brute.frame >= 0) assert_true(fast.cost == brute.cost);
+        }
+        mm_searcher_free(&one);
+        mm_searcher_free(&two);
+        mm_database_free(&db);
+    }
+}
+
 /* A query built from a PoseData view equals the one built from the frame itself. */
 static void test_query_from_pose(void **state)
 {
@@ -388,6 +543,8 @@ int main(void)
         cmocka_unit_test(test_filters),
         cmocka_unit_test(test_favours_and_ratio),
         cmocka_unit_test(test_query_from_pose),
+        cmocka_unit_test(test_tree),
+        cmocka_unit_test(test_small_trees),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -18,7 +18,7 @@
  *
  * Methods: MM_SEARCH_BRUTE (every frame, a vectorised kernel), MM_SEARCH_FAST (exact: a tree of
  * bounding boxes, built by the searcher from median splits of the features, prunes with a lower
- * bound computed by the same kernel shape, so it returns the brute-force winner), MM_SEARCH_FACING
+ * bound that never exceeds a frame's cost, so it returns the brute-force winner), MM_SEARCH_FACING
  * (approximate, seed 002: only frames whose future facing is within facing_threshold of the query's, then
  * brute force).
  *
@@ -137,22 +137,29 @@ typedef struct mm_searcher_desc {
 typedef struct mm_searcher_pool mm_searcher_pool;
 
 #define MM_SEARCH_LEAF       16 /* frames per leaf of the searcher's tree, at most */
-#define MM_SEARCH_UNIT_DEPTH 5  /* the tree is split into 2^5 work units for threads */
+#define MM_SEARCH_WIDTH      4  /* children per node of the searcher's tree, at most */
+#define MM_SEARCH_UNIT_DEPTH 5  /* the tree is split into about 2^5 work units for threads */
+#define MM_SEARCH_MAX_UNITS  (2 << MM_SEARCH_UNIT_DEPTH)
 
-/* A node of the searcher's tree of bounding boxes (internal). */
+/* A node of the searcher's tree (internal): up to MM_SEARCH_WIDTH children ("lanes"), whose
+ * boxes are stored lane by lane per dimension (node_min / node_max) so that one pass bounds them
+ * all. A lane is another node or a leaf: the frames at positions [begin, end) of the tree order. */
 typedef struct mm_search_node {
-    int32_t begin, end;  /* positions in mm_searcher.order */
-    int32_t left, right; /* children, -1 for a leaf */
-    int32_t min_frame;   /* lowest frame index below */
-    uint8_t types, loop; /* type bits (1 locomotion, 2 idle); loop: bit 0 some, bit 1 all frames loop */
-    uint64_t tags_any, tags_all; /* tags set in some / in every frame below */
+    int32_t child[MM_SEARCH_WIDTH];                                /* the lane's node, -1 for a leaf */
+    int32_t begin[MM_SEARCH_WIDTH], end[MM_SEARCH_WIDTH];          /* positions in mm_searcher.order */
+    int32_t min_frame[MM_SEARCH_WIDTH];                            /* lowest frame index below */
+    uint64_t tags_any[MM_SEARCH_WIDTH], tags_all[MM_SEARCH_WIDTH]; /* tags set in some / every frame */
+    uint8_t types[MM_SEARCH_WIDTH];                                /* type bits (1 locomotion, 2 idle) */
+    uint8_t loop[MM_SEARCH_WIDTH]; /* bit 0: some frame loops, bit 1: all frames loop */
+    int32_t count;                 /* lanes used */
 } mm_search_node;
 
 typedef struct mm_searcher {
     const mm_database *db;
     int threads;
     /* The tree: frames reordered by median splits of the widest dimension; their features copied
-     * in that order; per node a box (node_min / node_max, dims_padded floats each). */
+     * in that order; per node the boxes of its lanes (node_min / node_max: tree_dims x
+     * MM_SEARCH_WIDTH floats each, [axis][lane]). Node 0 is the root. */
     int32_t *order;       /* position -> frame */
     int32_t *order_clip;  /* position -> the frame's clip */
     uint64_t *order_tags; /* position -> the frame's tags */
@@ -160,12 +167,15 @@ typedef struct mm_searcher {
     mm_search_node *nodes;
     float *node_min, *node_max; /* in the tree's coordinates (below) */
     int node_count;
-    /* The tree's coordinates: z = basis (sqrt_w0 x - center), the principal axes of the features
-     * weighted by the database's default weights w0 (boxes along them are much tighter). */
-    float w0[MM_SEARCH_MAX_DIMS], sqrt_w0[MM_SEARCH_MAX_DIMS], unit_weights[MM_SEARCH_MAX_DIMS];
+    /* The tree's coordinates: z = basis^T (sqrt_w0 x - center), the principal axes of the
+     * features weighted by the database's default weights w0 (boxes along them are much tighter). */
+    float w0[MM_SEARCH_MAX_DIMS], sqrt_w0[MM_SEARCH_MAX_DIMS];
     double center[MM_SEARCH_MAX_DIMS];
-    double *basis; /* [dims_padded x dims_padded], row-major, axes by decreasing variance */
-    int units[1 << MM_SEARCH_UNIT_DEPTH];
+    int tree_dims; /* the axes the boxes use: all but those of padding, a multiple of 4 */
+    double *basis; /* [dims_padded x dims_padded]: basis[k * dims_padded + j] is component k of
+                    * axis j; axes by decreasing variance, those of padding (dimensions of
+                    * default weight 0) last */
+    int units[MM_SEARCH_MAX_UNITS]; /* work units: node * MM_SEARCH_WIDTH + lane */
     int unit_count;
     float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */
     int facing_group;

@@ -1,10 +1,11 @@
 /* Search: the cost kernel, filters and favours, brute force, the exact bounding-box search, the
  * facing pre-filter, threads and batches. docs/search.md is the reference for the rules.
  *
- * Exactness: the frame cost and the box lower bound are computed by kernels of the same shape
- * (8 lanes, the same order of additions), and every step is monotonic in float arithmetic, so a
- * box's bound never exceeds the cost of a frame inside it. Pass 1 finds the lowest cost; pass 2
- * finds the lowest index whose cost is within 1e-6 of it. Both passes prune with the same bounds. */
+ * Exactness: every frame's cost comes from one kernel (8 lanes, a fixed order of additions). The
+ * exact search skips a box only when a lower bound of the cost of every frame in it, computed in
+ * the tree's rotated coordinates and scaled down by 1 - 1e-5 (more than the float rounding of
+ * either computation), exceeds the limit. Pass 1 finds the lowest cost; pass 2 finds the lowest
+ * index whose cost is within 1e-6 of it. Both passes prune with the same bounds. */
 #include <mm/search.h>
 
 #include <float.h>
@@ -13,6 +14,10 @@
 #include <string.h>
 
 #include "search/pool.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #define LANES         8
 #define TIE_TOLERANCE 1e-6f
@@ -213,19 +218,39 @@ static inline float distance(const float *q, const float *x, const float *w, int
     return ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]));
 }
 
-/* Lower bound of distance() over a box: per dimension the gap from q to [lo, hi]. */
-static inline float box_distance(const float *q, const float *lo, const float *hi, const float *w, int dims)
+/* Lower bounds of the default-weight distance over the boxes of a node's lanes, in the tree's
+ * coordinates (unit weights): per dimension the gap from q to [lo, hi], the lanes side by side.
+ * The terms are non-negative, so any order of additions is within float rounding of the exact
+ * sum, which the bound's factor 1 - 1e-5 covers. */
+#if defined(__SSE2__) && MM_SEARCH_WIDTH == 4
+static inline void lane_bounds(const float *q, const float *lo, const float *hi, int dims, float *out)
 {
-    float acc[LANES] = {0};
-    for (int d = 0; d < dims; d += LANES)
-        for (int l = 0; l < LANES; ++l) {
-            /* at most one of the two gaps is positive, so their sum is exactly the gap */
-            float below = lo[d + l] - q[d + l], above = q[d + l] - hi[d + l];
-            float t = (below > 0.0f ? below : 0.0f) + (above > 0.0f ? above : 0.0f);
-            acc[l] += w[d + l] * (t * t);
+    __m128 acc[4] = {_mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps()};
+    const __m128 zero = _mm_setzero_ps();
+    for (int d = 0; d < dims; d += 4)
+        for (int h = 0; h < 4; ++h) {
+            __m128 x = _mm_loadu_ps(q + (d + h) * 4);
+            __m128 below = _mm_sub_ps(_mm_loadu_ps(lo + (d + h) * 4), x);
+            __m128 above = _mm_sub_ps(x, _mm_loadu_ps(hi + (d + h) * 4));
+            __m128 t = _mm_max_ps(_mm_max_ps(below, above), zero); /* at most one gap is positive */
+            acc[h] = _mm_add_ps(acc[h], _mm_mul_ps(t, t));
         }
-    return ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]));
+    _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(acc[0], acc[1]), _mm_add_ps(acc[2], acc[3])));
 }
+#else
+static inline void lane_bounds(const float *q, const float *lo, const float *hi, int dims, float *out)
+{
+    float acc[MM_SEARCH_WIDTH] = {0};
+    for (int d = 0; d < dims; ++d)
+        for (int l = 0; l < MM_SEARCH_WIDTH; ++l) {
+            int i = d * MM_SEARCH_WIDTH + l;
+            float below = lo[i] - q[i], above = q[i] - hi[i];
+            float t = (below > 0.0f ? below : 0.0f) + (above > 0.0f ? above : 0.0f); /* one is 0 */
+            acc[l] += t * t;
+        }
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] = acc[l];
+}
+#endif
 
 /* ---- one query -------------------------------------------------------------------------- */
 
@@ -241,7 +266,8 @@ typedef struct query_ctx {
     float loop_lo;                     /* the smallest factor a frame of a loop clip can get */
     float query_facing[2], facing_cos; /* unit (x, z) of the query's furthest facing; cos(threshold) */
     float zq[MM_SEARCH_MAX_DIMS];      /* the query in the tree's coordinates */
-    float bound_scale;                 /* rho (1 - 1e-5): turns a box distance into a bound on the cost */
+    float zq_lanes[MM_SEARCH_MAX_DIMS * MM_SEARCH_WIDTH]; /* the same, each repeated per lane */
+    float bound_scale; /* rho (1 - 1e-5): turns a box distance into a bound on the cost */
     int use_facing;
     int evaluated, boxes; /* work counters (single-threaded paths) */
 } query_ctx;
@@ -296,10 +322,23 @@ static float node_factor(const query_ctx *c, uint8_t flags)
 
 static float tie_limit(float lowest) { return lowest + TIE_TOLERANCE * fabsf(lowest); }
 
-static int node_possible(const query_ctx *c, const mm_search_node *n)
+/* Whether some frame under lane l of node n can be a candidate (by type and tags). */
+static inline int lane_possible(const query_ctx *c, const mm_search_node *n, int l)
 {
-    return (n->types & c->types) && (n->tags_any & c->p->required_tags) == c->p->required_tags &&
-           !(n->tags_all & c->p->excluded_tags);
+    return (n->types[l] & c->types) && (n->tags_any[l] & c->p->required_tags) == c->p->required_tags &&
+           !(n->tags_all[l] & c->p->excluded_tags);
+}
+
+/* z = basis^T (sqrt_w0 x - center): a point in the tree's coordinates (the sum for each axis
+ * in the order of the components). */
+static void rotate(const mm_searcher *s, const float *x, int dims, double *z)
+{
+    for (int j = 0; j < dims; ++j) z[j] = 0.0;
+    for (int k = 0; k < dims; ++k) {
+        double y = s->sqrt_w0[k] * (double)x[k] - s->center[k];
+        const double *axis = s->basis + (size_t)k * dims;
+        for (int j = 0; j < dims; ++j) z[j] += axis[j] * y;
+    }
 }
 
 static void prepare(query_ctx *c, const mm_searcher *s, const float *query, const mm_search_params *p,
@@ -332,12 +371,11 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
         }
     if (!(rho < INFINITY)) rho = 0.0;
     c->bound_scale = (float)(rho * (1.0 - 1e-5));
-    for (int j = 0; j < dims; ++j) {
-        double z = 0.0;
-        for (int k = 0; k < dims; ++k)
-            z += s->basis[(size_t)j * dims + k] * (s->sqrt_w0[k] * (double)query[k] - s->center[k]);
-        c->zq[j] = (float)z;
-    }
+    double zq[MM_SEARCH_MAX_DIMS];
+    rotate(s, query, dims, zq);
+    for (int j = 0; j < dims; ++j) c->zq[j] = (float)zq[j];
+    for (int j = 0; j < s->tree_dims; ++j)
+        for (int l = 0; l < MM_SEARCH_WIDTH; ++l) c->zq_lanes[j * MM_SEARCH_WIDTH + l] = c->zq[j];
     if (c->method == MM_SEARCH_FACING) {
         if (s->facing_group >= 0) {
             int o = db->groups[s->facing_group].offset;
@@ -434,11 +472,12 @@ static void state_init(scan_state *st, mm_search_result *list, int k)
 }
 
 /* ---- traversal ----------------------------------------------------------------------------
- * The searcher orders the frames by a tree of bounding boxes (median splits of the widest
- * dimension, leaves of at most MM_SEARCH_LEAF frames) and keeps their features in that order.
- * Brute force and the facing filter walk the positions of a node; the exact method descends the
- * tree nearer child first and skips a node when its lower bound (times the smallest favour its
- * frames can get) exceeds the current limit. */
+ * The searcher orders the frames by a tree of bounding boxes (median splits of the widest axis,
+ * leaves of at most MM_SEARCH_LEAF frames, pairs of levels merged into nodes of up to four lanes)
+ * and keeps their features in that order. Brute force and the facing filter walk the positions of
+ * a node; the exact method bounds the lanes of a node in one pass, visits them nearest first and
+ * skips a lane when its lower bound (times the smallest favour its frames can get) exceeds the
+ * current limit. */
 
 /* Distances of a run of consecutive feature rows, in a tight loop the compiler vectorises. */
 static void run_distances(const query_ctx *c, const float *x, int count, float *out)
@@ -482,35 +521,52 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
     scan_rows(c, s->features, s->order, s->order_clip, s->order_tags, p0, p1, st);
 }
 
-static inline float node_bound(query_ctx *c, int n)
-{
-    const mm_searcher *s = c->s;
-    int dims = c->db->dims_padded;
-    ++c->boxes;
-    return box_distance(c->zq, s->node_min + (size_t)n * dims, s->node_max + (size_t)n * dims,
-                        s->unit_weights, dims) *
-           c->bound_scale * node_factor(c, s->nodes[n].loop);
-}
-
-/* Visits node n, whose bound (if already known) is bound. */
-static void scan_node(query_ctx *c, int n, float bound, scan_state *st)
+/* Bounds of the lanes of node n: the least cost any frame under a lane can have, favours
+ * included (the next frame is handled on its own). */
+static inline void node_bounds(query_ctx *c, int n, float *out)
 {
     const mm_searcher *s = c->s;
     const mm_search_node *node = &s->nodes[n];
-    if (!node_possible(c, node) || bound > state_limit(st)) return;
-    if (st->find_first && st->first.frame >= 0 && node->min_frame >= st->first.frame) return; /* cannot win */
-    if (node->left < 0) {
-        scan_positions(c, node->begin, node->end, st);
-        return;
+    size_t at = (size_t)n * s->tree_dims * MM_SEARCH_WIDTH;
+    lane_bounds(c->zq_lanes, s->node_min + at, s->node_max + at, s->tree_dims, out);
+    c->boxes += node->count;
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] *= c->bound_scale * node_factor(c, node->loop[l]);
+}
+
+static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st);
+
+/* Visits the lanes of node n whose frames can matter, nearest first. */
+static void expand(query_ctx *c, int n, scan_state *st)
+{
+    const mm_search_node *node = &c->s->nodes[n];
+    float bounds[MM_SEARCH_WIDTH];
+    node_bounds(c, n, bounds);
+    float limit = state_limit(st);
+    int idx[MM_SEARCH_WIDTH], m = 0;
+    for (int l = 0; l < node->count; ++l) { /* the lanes that can matter, by bound */
+        if (bounds[l] > limit || !lane_possible(c, node, l)) continue;
+        int i = m++;
+        while (i > 0 && bounds[idx[i - 1]] > bounds[l]) {
+            idx[i] = idx[i - 1];
+            --i;
+        }
+        idx[i] = l;
     }
-    float bl = node_bound(c, node->left), br = node_bound(c, node->right);
-    if (bl <= br) {
-        scan_node(c, node->left, bl, st);
-        scan_node(c, node->right, br, st);
-    } else {
-        scan_node(c, node->right, br, st);
-        scan_node(c, node->left, bl, st);
-    }
+    for (int i = 0; i < m; ++i) visit_lane(c, n, idx[i], bounds[idx[i]], st);
+}
+
+/* Visits lane l of node n, whose bound is known (the limit may have fallen since): its frames, or
+ * its node's lanes. */
+static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st)
+{
+    const mm_search_node *node = &c->s->nodes[n];
+    if (bound > state_limit(st)) return;
+    if (st->find_first && st->first.frame >= 0 && node->min_frame[l] >= st->first.frame)
+        return; /* cannot win */
+    if (node->child[l] < 0)
+        scan_positions(c, node->begin[l], node->end[l], st);
+    else
+        expand(c, node->child[l], st);
 }
 
 /* Brute force and the facing filter: database frames [f0, f1) in order. */
@@ -519,18 +575,26 @@ static void scan_frames(query_ctx *c, int f0, int f1, scan_state *st)
     scan_rows(c, c->db->features, NULL, NULL, NULL, f0, f1, st);
 }
 
-/* Work units [u0, u1) of MM_SEARCH_UNITS: for the exact method subtrees of the tree, otherwise
- * equal runs of frames; one run of units per thread. */
+/* Work units [u0, u1) of the searcher: for the exact method lanes of the tree, otherwise equal
+ * runs of frames; one run of units per thread. All units: the whole tree from its root. */
 static void scan_units(query_ctx *c, int u0, int u1, scan_state *st)
 {
+    const mm_searcher *s = c->s;
     if (c->method != MM_SEARCH_FAST) {
-        long n = c->db->frame_count, units = c->s->unit_count;
+        long n = c->db->frame_count, units = s->unit_count;
         scan_frames(c, (int)(n * u0 / units), (int)(n * u1 / units), st);
         return;
     }
+    if (u0 == 0 && u1 == s->unit_count) {
+        expand(c, 0, st);
+        return;
+    }
     for (int u = u0; u < u1; ++u) {
-        int n = c->s->units[u];
-        scan_node(c, n, node_bound(c, n), st);
+        int n = s->units[u] / MM_SEARCH_WIDTH, l = s->units[u] % MM_SEARCH_WIDTH;
+        float bounds[MM_SEARCH_WIDTH];
+        node_bounds(c, n, bounds);
+        c->boxes -= s->nodes[n].count - 1; /* one lane's bound is used */
+        if (lane_possible(c, &s->nodes[n], l)) visit_lane(c, n, l, bounds[l], st);
     }
 }
 
@@ -727,12 +791,21 @@ void mm_searcher_batch(const mm_searcher *s, const float *queries, const mm_sear
 
 /* ---- building the tree ------------------------------------------------------------------ */
 
+/* The builder's binary tree, collapsed into the searcher's wide tree at the end. */
+typedef struct bin_node {
+    int32_t begin, end, left, right, min_frame, depth, height;
+    uint8_t types, loop;
+    uint64_t tags_any, tags_all;
+} bin_node;
+
 typedef struct builder {
     mm_searcher *s;
     const mm_database *db;
-    int dims, node_count;
+    int dims, node_count, wide_count;
     const float *coords; /* [frames x dims] the frames in the tree's coordinates */
     float margin;        /* boxes are widened by this: the rounding of the coordinates */
+    bin_node *bin;       /* the binary tree, with boxes bin_min / bin_max (dims floats each) */
+    float *bin_min, *bin_max;
 } builder;
 
 /* Partially orders order[a..b) so the element of rank m (by feature d, then frame index) is at
@@ -767,19 +840,21 @@ static void select_rank(const builder *b, int *order, int lo, int hi, int m, int
     }
 }
 
-static int build_node(builder *b, int begin, int end)
+static int build_node(builder *b, int begin, int end, int depth)
 {
     mm_searcher *s = b->s;
     const mm_database *db = b->db;
     int n = b->node_count++, dims = b->dims;
-    mm_search_node *node = &s->nodes[n];
+    bin_node *node = &b->bin[n];
+    memset(node, 0, sizeof *node);
     node->begin = begin;
     node->end = end;
     node->left = node->right = -1;
+    node->depth = depth;
     node->min_frame = db->frame_count;
     node->tags_all = ~(uint64_t)0;
     node->loop = 2;
-    float *lo = s->node_min + (size_t)n * dims, *hi = s->node_max + (size_t)n * dims;
+    float *lo = b->bin_min + (size_t)n * dims, *hi = b->bin_max + (size_t)n * dims;
     for (int d = 0; d < dims; ++d) {
         lo[d] = INFINITY;
         hi[d] = -INFINITY;
@@ -820,19 +895,96 @@ static int build_node(builder *b, int begin, int end)
     }
     int mid = begin + (end - begin) / 2;
     select_rank(b, s->order, begin, end, mid, split);
-    int left = build_node(b, begin, mid);
-    int right = build_node(b, mid, end);
-    s->nodes[n].left = left;
-    s->nodes[n].right = right;
+    int left = build_node(b, begin, mid, depth + 1);
+    int right = build_node(b, mid, end, depth + 1);
+    b->bin[n].left = left;
+    b->bin[n].right = right;
+    int h = b->bin[left].height > b->bin[right].height ? b->bin[left].height : b->bin[right].height;
+    b->bin[n].height = h + 1;
     return n;
 }
 
+/* The lanes of binary node n in the wide tree: its grandchildren, except where a child is a leaf
+ * or of even height (those stay lanes themselves, so that the nodes just above the leaves have
+ * four leaves each). A leaf root is its own single lane. */
+static int lanes_of(const builder *b, int n, int *lanes)
+{
+    const bin_node *node = &b->bin[n];
+    if (node->left < 0) {
+        lanes[0] = n;
+        return 1;
+    }
+    int count = 0, children[2] = {node->left, node->right};
+    for (int i = 0; i < 2; ++i) {
+        const bin_node *c = &b->bin[children[i]];
+        if (c->left < 0 || c->height % 2 == 0) {
+            lanes[count++] = children[i];
+        } else {
+            lanes[count++] = c->left;
+            lanes[count++] = c->right;
+        }
+    }
+    return count;
+}
+
+static int count_wide(const builder *b, int n)
+{
+    int lanes[MM_SEARCH_WIDTH], count = lanes_of(b, n, lanes), total = 1;
+    for (int l = 0; l < count; ++l)
+        if (b->bin[lanes[l]].left >= 0) total += count_wide(b, lanes[l]);
+    return total;
+}
+
+/* Makes the wide node of binary node n (and those below) and lists the work units in it (unless
+ * it is inside one already); returns its index. */
+static int make_wide(builder *b, int n, int in_unit)
+{
+    mm_searcher *s = b->s;
+    int w = b->wide_count++, dims = s->tree_dims;
+    int lanes[MM_SEARCH_WIDTH], count = lanes_of(b, n, lanes);
+    mm_search_node *node = &s->nodes[w];
+    memset(node, 0, sizeof *node);
+    node->count = count;
+    float *lo = s->node_min + (size_t)w * dims * MM_SEARCH_WIDTH,
+          *hi = s->node_max + (size_t)w * dims * MM_SEARCH_WIDTH;
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) {
+        node->child[l] = -1;
+        for (int d = 0; d < dims; ++d) /* unused lanes: empty boxes (never visited: count) */
+            lo[d * MM_SEARCH_WIDTH + l] = hi[d * MM_SEARCH_WIDTH + l] = INFINITY;
+    }
+    for (int l = 0; l < count; ++l) {
+        const bin_node *x = &b->bin[lanes[l]];
+        node->begin[l] = x->begin;
+        node->end[l] = x->end;
+        node->min_frame[l] = x->min_frame;
+        node->tags_any[l] = x->tags_any;
+        node->tags_all[l] = x->tags_all;
+        node->types[l] = x->types;
+        node->loop[l] = x->loop;
+        for (int d = 0; d < dims; ++d) {
+            lo[d * MM_SEARCH_WIDTH + l] = b->bin_min[(size_t)lanes[l] * b->dims + d];
+            hi[d * MM_SEARCH_WIDTH + l] = b->bin_max[(size_t)lanes[l] * b->dims + d];
+        }
+    }
+    for (int l = 0; l < count; ++l) {
+        const bin_node *x = &b->bin[lanes[l]];
+        /* work units: the first lanes at depth MM_SEARCH_UNIT_DEPTH or deeper, and leaves above */
+        int unit = !in_unit && (x->left < 0 || x->depth >= MM_SEARCH_UNIT_DEPTH);
+        if (unit) s->units[s->unit_count++] = w * MM_SEARCH_WIDTH + l;
+        if (x->left >= 0) {
+            int child = make_wide(b, lanes[l], in_unit || unit);
+            s->nodes[w].child[l] = child;
+        }
+    }
+    return w;
+}
+
 /* Principal axes of the default-weighted features (cyclic Jacobi on their covariance): fills
- * s->sqrt_w0, s->center and s->basis (row j: the j-th axis). cov is scratch of dims x dims. */
+ * s->sqrt_w0, s->center and s->basis (column j: the j-th axis). cov is scratch of dims x dims. */
 static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
 {
     int n = db->dims_padded;
-    double *v = s->basis; /* built as columns, transposed at the end */
+    double *v = s->basis; /* column j: the j-th axis */
     for (int d = 0; d < n; ++d) s->sqrt_w0[d] = sqrtf(s->w0[d]);
     for (int d = 0; d < n; ++d) s->center[d] = 0.0;
     for (int f = 0; f < db->frame_count; ++f)
@@ -882,26 +1034,39 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
                 }
             }
     }
-    for (int i = 0; i < n; ++i) { /* axes by variance, largest first */
+    /* Axes that only involve dimensions of default weight 0 (padding) are 0 for every frame and
+     * every query: they go last, and the boxes leave them out. The others by variance, largest
+     * first. */
+    int used = 0;
+    unsigned char padding[MM_SEARCH_MAX_DIMS];
+    for (int j = 0; j < n; ++j) {
+        padding[j] = 1;
+        for (int k = 0; k < n && padding[j]; ++k)
+            if (s->w0[k] > 0.0f && v[k * n + j] != 0.0) padding[j] = 0;
+        used += !padding[j];
+    }
+    for (int i = 0; i < n; ++i) {
         int best = i;
         for (int j = i + 1; j < n; ++j)
-            if (cov[j * n + j] > cov[best * n + best]) best = j;
+            if (padding[j] < padding[best] ||
+                (padding[j] == padding[best] && cov[j * n + j] > cov[best * n + best]))
+                best = j;
         if (best == i) continue;
         double t = cov[i * n + i];
         cov[i * n + i] = cov[best * n + best];
         cov[best * n + best] = t;
+        unsigned char pt = padding[i];
+        padding[i] = padding[best];
+        padding[best] = pt;
         for (int k = 0; k < n; ++k) {
             t = v[k * n + i];
             v[k * n + i] = v[k * n + best];
             v[k * n + best] = t;
         }
     }
-    for (int i = 0; i < n; ++i) /* columns to rows */
-        for (int j = i + 1; j < n; ++j) {
-            double t = v[i * n + j];
-            v[i * n + j] = v[j * n + i];
-            v[j * n + i] = t;
-        }
+    s->tree_dims = (used + 3) / 4 * 4; /* a multiple of 4 (extra axes only tighten the bounds) */
+    if (s->tree_dims > n) s->tree_dims = n;
+    if (s->tree_dims < 4) s->tree_dims = n < 4 ? n : 4;
 }
 
 /* ---- the searcher ----------------------------------------------------------------------- */
@@ -919,79 +1084,68 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     const mm_allocator *a = &s->allocator;
     s->db = db;
     size_t frames = (size_t)db->frame_count, dims = (size_t)db->dims_padded;
-    size_t max_nodes = 2 * (frames / (MM_SEARCH_LEAF / 2) + 1);
+    size_t max_bin = 2 * (frames / (MM_SEARCH_LEAF / 2) + 1);
     s->order = (int32_t *)mm_alloc_array(a, frames, sizeof(int32_t));
     s->order_clip = (int32_t *)mm_alloc_array(a, frames, sizeof(int32_t));
     s->order_tags = (uint64_t *)mm_alloc_array(a, frames, sizeof(uint64_t));
     s->features = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
-    s->nodes = (mm_search_node *)mm_alloc_array(a, max_nodes, sizeof(mm_search_node));
-    s->node_min = (float *)mm_alloc_array(a, max_nodes * dims, sizeof(float));
-    s->node_max = (float *)mm_alloc_array(a, max_nodes * dims, sizeof(float));
     s->facing = (float *)mm_alloc_array(a, 2 * frames, sizeof(float));
     s->basis = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
     s->job = mm_alloc_array(a, 1, sizeof(parallel_job));
-    if (!s->order || !s->order_clip || !s->order_tags || !s->features || !s->nodes || !s->node_min ||
-        !s->node_max || !s->facing || !s->job || !s->basis) {
-        mm_searcher_free(s);
-        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-    }
-    for (size_t f = 0; f < frames; ++f) s->order[f] = (int32_t)f;
     builder *b = (builder *)mm_alloc_array(a, 1, sizeof(builder));
     float *coords = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
     double *cov = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
-    if (!b || !coords || !cov) {
-        mm_free(a, b);
-        mm_free(a, coords);
-        mm_free(a, cov);
-        mm_searcher_free(s);
-        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-    }
-    mm_search_params defaults;
-    mm_search_params_defaults(db, &defaults);
-    dimension_weights(db, &defaults, s->w0);
-    principal_axes(db, s, cov);
-    double largest = 0.0;
-    for (size_t f = 0; f < frames; ++f) {
-        const float *x = db->features + f * dims;
-        for (size_t j = 0; j < dims; ++j) {
-            double z = 0.0;
-            for (size_t k = 0; k < dims; ++k)
-                z += s->basis[j * dims + k] * (s->sqrt_w0[k] * (double)x[k] - s->center[k]);
-            coords[f * dims + j] = (float)z;
-            if (fabs(z) > largest) largest = fabs(z);
+    bin_node *bin = (bin_node *)mm_alloc_array(a, max_bin, sizeof(bin_node));
+    float *bin_min = (float *)mm_alloc_array(a, max_bin * dims, sizeof(float));
+    float *bin_max = (float *)mm_alloc_array(a, max_bin * dims, sizeof(float));
+    int ok = s->order && s->order_clip && s->order_tags && s->features && s->facing && s->job && s->basis &&
+             b && coords && cov && bin && bin_min && bin_max;
+    if (ok) {
+        for (size_t f = 0; f < frames; ++f) s->order[f] = (int32_t)f;
+        mm_search_params defaults;
+        mm_search_params_defaults(db, &defaults);
+        dimension_weights(db, &defaults, s->w0);
+        principal_axes(db, s, cov);
+        double largest = 0.0, z[MM_SEARCH_MAX_DIMS];
+        for (size_t f = 0; f < frames; ++f) {
+            rotate(s, db->features + f * dims, (int)dims, z);
+            for (size_t j = 0; j < dims; ++j) {
+                coords[f * dims + j] = (float)z[j];
+                if (fabs(z[j]) > largest) largest = fabs(z[j]);
+            }
         }
+        memset(b, 0, sizeof *b);
+        b->s = s;
+        b->db = db;
+        b->dims = (int)dims;
+        b->coords = coords;
+        b->margin = (float)(1e-5 * (1.0 + largest)); /* far above float rounding of these coordinates */
+        b->bin = bin;
+        b->bin_min = bin_min;
+        b->bin_max = bin_max;
+        build_node(b, 0, (int)frames, 0);
+        s->node_count = count_wide(b, 0);
+        size_t boxes = (size_t)s->node_count * s->tree_dims * MM_SEARCH_WIDTH;
+        s->nodes = (mm_search_node *)mm_alloc_array(a, (size_t)s->node_count, sizeof(mm_search_node));
+        s->node_min = (float *)mm_alloc_array(a, boxes, sizeof(float));
+        s->node_max = (float *)mm_alloc_array(a, boxes, sizeof(float));
+        ok = s->nodes && s->node_min && s->node_max;
+        if (ok) make_wide(b, 0, 0);
     }
-    b->s = s;
-    b->db = db;
-    b->dims = (int)dims;
-    b->coords = coords;
-    b->margin = (float)(1e-5 * (1.0 + largest)); /* far above float rounding of these coordinates */
-    build_node(b, 0, (int)frames);
-    s->node_count = b->node_count;
     mm_free(a, b);
     mm_free(a, coords);
     mm_free(a, cov);
-    for (size_t d = 0; d < dims; ++d) s->unit_weights[d] = 1.0f;
+    mm_free(a, bin);
+    mm_free(a, bin_min);
+    mm_free(a, bin_max);
+    if (!ok) {
+        mm_searcher_free(s);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
     for (size_t i = 0; i < frames; ++i) {
         memcpy(s->features + i * dims, db->features + (size_t)s->order[i] * dims, dims * sizeof(float));
         s->order_clip[i] = db->frame_clip[s->order[i]];
         s->order_tags[i] = db->frame_tags[s->order[i]];
-    }
-    /* Work units: the nodes MM_SEARCH_UNIT_DEPTH levels down (or leaves above), left to right. */
-    int stack[64], depth[64], top = 0;
-    stack[top] = 0;
-    depth[top++] = 0;
-    while (top > 0) {
-        --top;
-        int n = stack[top], d = depth[top];
-        if (d == MM_SEARCH_UNIT_DEPTH || s->nodes[n].left < 0) {
-            s->units[s->unit_count++] = n;
-            continue;
-        }
-        stack[top] = s->nodes[n].right;
-        depth[top++] = d + 1;
-        stack[top] = s->nodes[n].left;
-        depth[top++] = d + 1;
     }
     /* MM_SEARCH_FACING: the yaw of each frame's furthest future trajectory direction. */
     s->facing_group = -1;
@@ -1007,7 +1161,9 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         s->facing[2 * f + 1] = len > 1e-6f ? z / len : 1.0f;
     }
     s->memory = frames * (2 * sizeof(int32_t) + sizeof(uint64_t) + dims * sizeof(float) + 2 * sizeof(float)) +
-                (size_t)s->node_count * (sizeof(mm_search_node) + 2 * dims * sizeof(float));
+                (size_t)s->node_count *
+                    (sizeof(mm_search_node) + 2 * (size_t)s->tree_dims * MM_SEARCH_WIDTH * sizeof(float)) +
+                dims * dims * sizeof(double);
     int threads = desc && desc->threads > 1 ? desc->threads : 1;
     if (threads > MM_SEARCH_MAX_THREADS) threads = MM_SEARCH_MAX_THREADS;
     if (threads > 1) s->pool = mm__pool_create(threads, a); /* NULL: the calling thread alone */
