@@ -1,6 +1,7 @@
 /* libFuzzer target: the .mmdb loader. Any bytes must load or be refused; a loaded database must
- * be safe to read everywhere (the dump reads every array). The checksum is skipped for most
- * inputs so the fuzzer reaches the structural checks behind it. */
+ * be safe to read everywhere (the dump reads every array; the distance curves are read through
+ * their own functions). The checksum is skipped for most inputs so the fuzzer reaches the
+ * structural checks behind it. */
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -28,6 +29,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         mm_pose_data pd;
         for (int f = 0; f < db.frame_count; f += 1 + db.frame_count / 16) mm_database_pose(&db, f, &pd);
+        /* the distance curves passed validation: the readers must be safe on them */
+        for (int c = 0; c < db.clip_count && c < 64; ++c) {
+            mm_distance_curve curve;
+            if (mm_database_distance_curve(&db, c, &curve) != MM_OK) continue;
+            float t = 0.37f * mm_distance_duration(&curve), at;
+            (void)mm_distance_signed(&curve, t);
+            (void)mm_distance_time_after(&curve, t, 0.5f);
+            (void)mm_distance_match_to_target(&curve, mm_distance_segment_at(&curve, t), 0.25f, &at);
+        }
     } else if (err.message[0] == 0) {
         __builtin_trap();
     }

@@ -267,6 +267,55 @@ static void test_robust(void **state)
     assert_int_equal(c.last_result.frame, -1);
     mm_character_free(&c);
 
+    /* a database of one clip (the built-in walk loop alone): every search can only pick it */
+    {
+        mm_config cfg;
+        memset(&cfg, 0, sizeof cfg);
+        char path[512];
+        snprintf(path, sizeof path, "%s/../../configs/synth.json", MM_TEST_DATA);
+        assert_int_equal(mm_config_load_json(path, &cfg, NULL, NULL), MM_OK);
+        int walk = -1;
+        for (int i = 0; i < cfg.clip_count; ++i)
+            if (strcmp(cfg.clips[i].name, "walk_1.40") == 0) walk = i;
+        assert_true(walk >= 0);
+        mm_synth_desc sd;
+        memset(&sd, 0, sizeof sd);
+        mm_synth_set set;
+        assert_int_equal(mm_synth_generate(&sd, &set, NULL), MM_OK);
+        mm_clip source;
+        memset(&source, 0, sizeof source);
+        for (int k = 0; k < set.clip_count; ++k)
+            if (strcmp(set.clips[k].name, "walk_1.40") == 0) mm_clip_copy(&source, &set.clips[k].clip, NULL);
+        mm_synth_set_free(&set);
+        /* build from that clip only, unmirrored, no blends */
+        mm_config_clip only = cfg.clips[walk];
+        only.mirror = false;
+        mm_config one_cfg = cfg;
+        one_cfg.clips = &only;
+        one_cfg.clip_count = 1;
+        one_cfg.blend_count = 0;
+        mm_database one;
+        assert_int_equal(mm_database_build(&one_cfg, &source, NULL, &one, NULL), MM_OK);
+        assert_int_equal(one.clip_count, 1);
+        mm_searcher os;
+        assert_int_equal(mm_searcher_init(&os, &one, NULL, NULL), MM_OK);
+        assert_int_equal(mm_character_init(&c, &one, &os, NULL, NULL), MM_OK);
+        for (int i = 0; i < 1200; ++i) {
+            float a = i * 0.01f;
+            in.stick[0] = i % 300 < 150 ? sinf(a) : 0.0f;
+            in.stick[1] = i % 300 < 150 ? cosf(a) : 0.0f;
+            in.gait = (mm_gait)(i / 200 % 2);
+            mm_character_update(&c, &in, 1.0f / 60.0f);
+            assert_true(pose_finite(&c));
+            assert_true(c.frame >= 0 && c.frame < one.frame_count);
+        }
+        mm_character_free(&c);
+        mm_searcher_free(&os);
+        mm_database_free(&one);
+        mm_clip_free(&source);
+        mm_config_free(&cfg);
+    }
+
     /* a tiny database: 4 frames of a take in the shared data, and their mirror */
     if (!getenv("MM_DATA_DIR")) return;
     mm_database tiny;

@@ -142,6 +142,10 @@ expect_exit 0 "$mm" db build "$data/../../configs/synth.json" --data "$tmp/synth
 expect_exit 0 "$mm" db info "$tmp/synth.mmdb" --json
 expect_grep '"clips": 43' "$tmp/out"
 expect_grep '"tags": \["DoNotUse", "Jump", "Walk", "Run"\]' "$tmp/out"
+expect_grep '"distance": {"segments": [0-9]*, "stops": [1-9][0-9]*, "pivots": [0-9]*, "no_stop": [0-9]*, "starts": [1-9]' "$tmp/out"
+expect_exit 0 "$mm" db info "$tmp/synth.mmdb"
+expect_grep '^distance: .* segments (.* stops, .* pivots, .* without a stop), .* clips start from rest' "$tmp/out"
+expect_grep '^  clip  23 walk_stop .* 1 stop$' "$tmp/out"
 expect_exit 1 "$mm" db build "$data/../../configs/synth.json" -o "$tmp/nosynth.mmdb"
 
 expect_grep "idle.bvh" "$tmp/err"

@@ -4,6 +4,7 @@
 #include <mm/database.h>
 
 #include "db/process.h"
+#include "test_databases.h"
 #include "test_util.h"
 
 /* A small symmetric skeleton with identity rest frames: hips 1 m up, a spine joint above,
@@ -470,6 +471,17 @@ static void test_bad_files(void **state)
     expect_refused(&db, 100, none, 1, MM_ERR_UNEXPECTED_EOF, "truncated header");
     expect_refused(&db, db.size - 64, none, 1, MM_ERR_UNEXPECTED_EOF, "truncated");
     expect_refused(&db, db.size, 12, 1, MM_ERR_OUT_OF_RANGE, "version");
+    { /* a file of format version 1 (before the distance curves) asks to be rebuilt */
+        unsigned char *old = aligned_alloc(MM_DB_ALIGN, (db.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
+        memcpy(old, db.data, db.size);
+        old[12] = 1;
+        mm_database out;
+        mm_error e;
+        memset(&e, 0, sizeof e);
+        assert_int_equal(mm_database_load_memory(old, db.size, true, &out, &e), MM_ERR_OUT_OF_RANGE);
+        assert_string_equal(e.message, "format version 1, this mm reads version 2: rebuild it");
+        free(old);
+    }
     expect_refused(&db, db.size, db.size / 2, 1, MM_ERR_SYNTAX, "checksum");
     expect_refused(&db, db.size, db.size - 1, 1, MM_ERR_SYNTAX, "checksum");
     /* Without the checksum, structural damage is still caught: a frame count that does not match
@@ -479,6 +491,21 @@ static void test_bad_files(void **state)
     size_t end_site =
         (size_t)((const char *)db.joints - (const char *)db.data) + offsetof(mm_joint, has_end_site);
     expect_refused(&db, db.size, end_site, 0, MM_ERR_SYNTAX, "bad End Site flag");
+    /* Damaged distance curves are refused, naming the section (checksum skipped): a segment's
+     * marker far outside its clip, a kind out of range, a travelled distance that turns NaN or
+     * jumps so the curve is no longer monotonic. */
+    size_t segments = (size_t)((const char *)db.distance_segments - (const char *)db.data);
+    expect_refused(&db, db.size, segments + offsetof(mm_distance_segment, marker_frame) + 3, 0, MM_ERR_SYNTAX,
+                   "distance curves: clip 0 (clip0): segment 0: bad frames");
+    expect_refused(&db, db.size, segments + offsetof(mm_distance_segment, kind) + 2, 0, MM_ERR_SYNTAX,
+                   "distance curves: clip 0 (clip0)");
+    size_t travelled = (size_t)((const char *)db.distance_travelled - (const char *)db.data);
+    expect_refused(&db, db.size, travelled + 4 * 50 + 3, 0, MM_ERR_SYNTAX, "distance curves: clip 0");
+    size_t dclips = (size_t)((const char *)db.distance_clips - (const char *)db.data);
+    expect_refused(&db, db.size, dclips + sizeof(mm_db_distance_clip) + 3, 0, MM_ERR_SYNTAX,
+                   "distance curves: clip 1");
+    /* With the checksum the same damage is caught first. */
+    expect_refused(&db, db.size, travelled + 4 * 50 + 3, 1, MM_ERR_SYNTAX, "checksum");
     /* Every truncation fails cleanly. */
     for (size_t n = 0; n < db.size; n += 97) {
         unsigned char *copy = aligned_alloc(MM_DB_ALIGN, (db.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
@@ -494,6 +521,120 @@ static void test_bad_files(void **state)
     assert_int_equal(mm_database_load("/nonexistent/x.mmdb", NULL, &out, &err), MM_ERR_IO);
     assert_string_equal(err.file, "/nonexistent/x.mmdb");
     mm_database_free(&db);
+}
+
+/* The curve of clip c made afresh from the database's own simulation bone path. */
+static void fresh_curve(const mm_database *db, int c, mm_distance_curve *out)
+{
+    const mm_db_clip *k = &db->clips[c];
+    float *xyz = malloc(sizeof(float) * 3 * (size_t)k->frame_count);
+    assert_non_null(xyz);
+    for (int f = 0; f < k->frame_count; ++f) {
+        mm_vec3 p = mm_database_positions(db, k->first_frame + f)[0];
+        xyz[3 * f] = p.x;
+        xyz[3 * f + 1] = p.y;
+        xyz[3 * f + 2] = p.z;
+    }
+    mm_distance_desc d;
+    memset(&d, 0, sizeof d);
+    d.positions = xyz;
+    d.components = 3;
+    d.frame_count = k->frame_count;
+    d.fps = 1.0f / db->interval;
+    d.loop = k->loop;
+    assert_int_equal(mm_distance_curve_build(out, &d, NULL), MM_OK);
+    free(xyz);
+}
+
+/* Root speed (m/s) at frame f of clip c, as the curves measure it: the mean of the two adjacent
+ * ground steps (one at the ends of a one-shot) times the frame rate. */
+static float root_speed(const mm_database *db, int c, int f)
+{
+    const mm_db_clip *k = &db->clips[c];
+    double sum = 0.0;
+    int steps = 0;
+    for (int s = f - 1; s <= f; ++s) {
+        if (s < 0 || s + 1 >= k->frame_count) continue;
+        mm_vec3 a = mm_database_positions(db, k->first_frame + s)[0];
+        mm_vec3 b = mm_database_positions(db, k->first_frame + s + 1)[0];
+        sum += hypot((double)b.x - a.x, (double)b.z - a.z);
+        ++steps;
+    }
+    return steps ? (float)(sum / steps / db->interval) : 0.0f;
+}
+
+/* The stored curves (read back through a validating load) are the curves made afresh from each
+ * clip's root path, bit for bit; walk_stop of the built-in set stops where its root is slowest. */
+static void test_distance_curves(void **state)
+{
+    (void)state;
+    mm_database built;
+    assert_int_equal(test_build_synth_database(&built), 0);
+    void *copy = aligned_alloc(MM_DB_ALIGN, (built.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
+    memcpy(copy, built.data, built.size);
+    mm_database db;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_load_memory(copy, built.size, true, &db, &err), MM_OK);
+    int segments = 0;
+    for (int c = 0; c < db.clip_count; ++c) {
+        mm_distance_curve stored, fresh;
+        assert_int_equal(mm_database_distance_curve(&db, c, &stored), MM_OK);
+        assert_null(stored.block);
+        assert_int_equal(mm_distance_curve_validate(&stored, NULL), MM_OK);
+        fresh_curve(&db, c, &fresh);
+        assert_int_equal(stored.frame_count, fresh.frame_count);
+        assert_int_equal(stored.loop, fresh.loop);
+        assert_true(stored.fps == fresh.fps);
+        assert_true(stored.path_length == fresh.path_length);
+        assert_int_equal(stored.segment_count, fresh.segment_count);
+        assert_memory_equal(stored.travelled, fresh.travelled, sizeof(float) * (size_t)fresh.frame_count);
+        assert_memory_equal(stored.distance, fresh.distance, sizeof(float) * (size_t)fresh.frame_count);
+        assert_memory_equal(stored.segments, fresh.segments,
+                            sizeof(mm_distance_segment) * (size_t)fresh.segment_count);
+        assert_true(db.distance_clips[c].stop_speed == MM_DISTANCE_STOP_SPEED_DEFAULT);
+        segments += fresh.segment_count;
+        mm_distance_curve_free(&fresh);
+    }
+    assert_int_equal(segments, db.distance_segment_count);
+    mm_distance_curve bad;
+    assert_int_equal(mm_database_distance_curve(&db, db.clip_count, &bad), MM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(mm_database_distance_curve(&db, -1, &bad), MM_ERR_INVALID_ARGUMENT);
+
+    int c = mm_database_find_clip(&db, "walk_stop");
+    assert_true(c >= 0);
+    assert_int_equal(db.clips[c].loop, 0);
+    mm_distance_curve curve;
+    assert_int_equal(mm_database_distance_curve(&db, c, &curve), MM_OK);
+    int stop = -1;
+    for (int g = 0; g < curve.segment_count; ++g)
+        if (curve.segments[g].kind == MM_DISTANCE_STOP) stop = g;
+    assert_true(stop >= 0);
+    int marker = curve.segments[stop].marker_frame;
+    float lowest = INFINITY, at_marker = root_speed(&db, c, marker);
+    int slowest = -1;
+    for (int f = 0; f < curve.frame_count; ++f)
+        if (root_speed(&db, c, f) < lowest) {
+            lowest = root_speed(&db, c, f);
+            slowest = f;
+        }
+    print_message("walk_stop: marker frame %d speed %.4f m/s; slowest frame %d %.4f m/s; %d frames\n", marker,
+                  at_marker, slowest, lowest, curve.frame_count);
+    /* The marker is the slowest frame of the clip (the curves take the first frame within a quarter
+     * of the stop speed of the slowest, moved on while the speed keeps falling); the root walks
+     * at 1.4 m/s until 2.5 s before it. */
+    assert_true(at_marker < MM_DISTANCE_STOP_SPEED_DEFAULT);
+    assert_true(at_marker <= lowest + 0.25f * MM_DISTANCE_STOP_SPEED_DEFAULT);
+    assert_int_equal(marker, slowest);
+    int before = marker - (int)lroundf(2.5f / db.interval);
+    assert_true(before >= 0);
+    assert_true(root_speed(&db, c, before) > 1.0f);
+    for (int f = before; f < marker; ++f) assert_true(root_speed(&db, c, f) > at_marker);
+    /* 0 at the marker, the path still to go before it. */
+    assert_true(curve.distance[marker] == 0.0f);
+    assert_true(curve.distance[before] < -1.0f);
+    free(copy);
+    mm_database_free(&built);
 }
 
 static void test_bad_configs(void **state)
@@ -541,6 +682,7 @@ int main(void)
         cmocka_unit_test(test_tags_and_ranges),
         cmocka_unit_test(test_save_load_round_trip),
         cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_distance_curves),
         cmocka_unit_test(test_bad_configs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -93,6 +93,27 @@ static int load(const char *path, mm_database *db)
     return 0;
 }
 
+/* Distance segments per kind over the database, and the one-shot clips that start from rest (their
+ * root's first step is slower than the curve's stop speed: start clips, matched by distance from
+ * their first frame). */
+typedef struct distance_summary {
+    int segments, stops, pivots, none, starts;
+} distance_summary;
+
+static void clip_distance_counts(const mm_database *db, int c, distance_summary *s)
+{
+    mm_distance_curve curve;
+    if (mm_database_distance_curve(db, c, &curve) != MM_OK) return;
+    s->segments += curve.segment_count;
+    for (int g = 0; g < curve.segment_count; ++g) {
+        s->stops += curve.segments[g].kind == MM_DISTANCE_STOP;
+        s->pivots += curve.segments[g].kind == MM_DISTANCE_PIVOT;
+        s->none += curve.segments[g].kind == MM_DISTANCE_NONE;
+    }
+    float first_speed = (curve.travelled[1] - curve.travelled[0]) * curve.fps;
+    s->starts += !curve.loop && first_speed < db->distance_clips[c].stop_speed;
+}
+
 static int cmd_info(int argc, char **argv)
 {
     const char *path = NULL;
@@ -111,7 +132,9 @@ static int cmd_info(int argc, char **argv)
     mm_database db;
     if (load(path, &db)) return 1;
     int idle = 0, loops = 0, mirrored = 0, blends = 0;
+    distance_summary dist = {0, 0, 0, 0, 0};
     for (int c = 0; c < db.clip_count; ++c) {
+        clip_distance_counts(&db, c, &dist);
         idle += db.clips[c].type == MM_CLIP_IDLE;
         loops += db.clips[c].loop != 0;
         mirrored += db.clips[c].mirrored != 0;
@@ -142,8 +165,10 @@ static int cmd_info(int argc, char **argv)
                    mm_feature_kind_name((mm_feature_kind)db.groups[g].kind), db.groups[g].offset,
                    db.groups[g].dims, db.groups[g].weight, db.groups[g].scale);
         }
-        printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"mirrored_clips\": %d, \"blend_clips\": %d}\n",
-               idle, loops, mirrored, blends);
+        printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"mirrored_clips\": %d, \"blend_clips\": %d, "
+               "\"distance\": {\"segments\": %d, \"stops\": %d, \"pivots\": %d, \"no_stop\": %d, "
+               "\"starts\": %d}}\n",
+               idle, loops, mirrored, blends, dist.segments, dist.stops, dist.pivots, dist.none, dist.starts);
     } else {
         printf("file:       %s (%zu bytes, format version %d)\n", path, db.size, MM_DB_VERSION);
         printf("frames:     %d (%.1f s at %.6g s per frame)\n", db.frame_count, db.frame_count * db.interval,
@@ -156,14 +181,22 @@ static int cmd_info(int argc, char **argv)
             printf("  %-34s %-21s dims %d..%d  weight %-6g scale %.4g\n", db.groups[g].name,
                    mm_feature_kind_name((mm_feature_kind)db.groups[g].kind), db.groups[g].offset,
                    db.groups[g].offset + db.groups[g].dims - 1, db.groups[g].weight, db.groups[g].scale);
+        printf("distance:   %d segments (%d stops, %d pivots, %d without a stop), %d clips start from rest\n",
+               dist.segments, dist.stops, dist.pivots, dist.none, dist.starts);
         printf("tags:      ");
         for (int t = 0; t < db.tag_count; ++t) printf(" %s", db.tag_names[t]);
         printf("%s\n", db.tag_count ? "" : " none");
         for (int c = 0; c < db.clip_count; ++c) {
             const mm_db_clip *k = &db.clips[c];
-            printf("  clip %3d %-32s frames %6d..%-6d %-10s%s%s\n", c, k->name, k->first_frame,
+            distance_summary one = {0, 0, 0, 0, 0};
+            clip_distance_counts(&db, c, &one);
+            printf("  clip %3d %-32s frames %6d..%-6d %-10s path %7.2f m", c, k->name, k->first_frame,
                    k->first_frame + k->frame_count - 1, k->type == MM_CLIP_IDLE ? "idle" : "locomotion",
-                   k->loop ? " loop" : "", k->blend_left >= 0 ? " blend" : "");
+                   db.distance_clips[c].path_length);
+            if (one.stops) printf(" %d stop%s", one.stops, one.stops == 1 ? "" : "s");
+            if (one.pivots) printf(" %d pivot%s", one.pivots, one.pivots == 1 ? "" : "s");
+            printf("%s%s%s\n", one.starts ? " start" : "", k->loop ? " loop" : "",
+                   k->blend_left >= 0 ? " blend" : "");
         }
     }
     mm_database_free(&db);

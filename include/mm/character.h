@@ -158,7 +158,11 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
                             const mm_character_desc *desc, mm_error *err);
 void mm_character_free(mm_character *c);
 
-/* One tick of dt seconds (dt <= 0 or not finite: nothing moves). Writes c->global. */
+/* One tick of dt seconds (dt <= 0 or not finite: nothing moves; a dt of 1 s is one long step).
+ * Writes c->global. A NaN, infinite or oversized stick counts as zero or is clamped to the unit
+ * circle; when no frame passes the search's filters the character keeps playing what it plays
+ * (c->last_result.frame is -1); a database of one clip works the same way. The pose is never
+ * NaN (tested with hostile input, and by bench_soak over a simulated hour). */
 void mm_character_update(mm_character *c, const mm_input *in, float dt);
 
 #ifdef __cplusplus

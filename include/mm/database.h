@@ -21,7 +21,11 @@
  *
  * Functions: mm_database_build mm_database_save mm_database_write mm_database_load
  *            mm_database_load_memory mm_database_free mm_database_pose mm_database_find_clip
- *            mm_database_dump mm_feature_kind_name
+ *            mm_database_dump mm_feature_kind_name mm_database_distance_curve
+ *
+ * Distance curves (mm/distance.h): each clip's root (joint 0) path measured at build time by
+ * mm_distance_curve_build (stop speed MM_DISTANCE_STOP_SPEED_DEFAULT), stored as flat arrays and
+ * read through mm_database_distance_curve, which makes a view into the buffer (no allocation).
  */
 #ifndef MM_DATABASE_H
 #define MM_DATABASE_H
@@ -34,6 +38,7 @@
 #include "alloc.h"
 #include "clip.h"
 #include "config.h"
+#include "distance.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"
@@ -42,7 +47,7 @@
 extern "C" {
 #endif
 
-#define MM_DB_VERSION     1
+#define MM_DB_VERSION     2
 #define MM_DB_ALIGN       64  /* every array starts at a multiple of this in the buffer */
 #define MM_DB_SIMD_WIDTH  8   /* dims_padded is a multiple of this */
 #define MM_DB_SMALL_BLOCK 16  /* frames per small bounding box */
@@ -91,6 +96,15 @@ typedef struct mm_db_clip {
     float blend_weight; /* for blend clips: weight of the left source */
     float source_start; /* seconds: time of its first frame in the source file */
 } mm_db_clip;
+
+/* Where a clip's distance curve lives in the database's distance arrays (16 bytes, stored as it
+ * is). A clip of a single frame has no curve: segment_count 0. */
+typedef struct mm_db_distance_clip {
+    int32_t first_segment; /* index of its first segment in mm_database.distance_segments */
+    int32_t segment_count; /* >= 1 (0 only for a clip of one frame) */
+    float path_length;     /* m: the curve's path_length */
+    float stop_speed;      /* m/s: the stop threshold the curve was built with */
+} mm_db_distance_clip;
 
 /* The seed's PoseData of one frame, assembled by mm_database_pose. Positions and directions are
  * in the character frame of that frame; units m, m/s, rad/s. */
@@ -149,6 +163,14 @@ typedef struct mm_database {
 
     const char *config_json; /* the config the database was built from (zero-terminated) */
 
+    /* Distance curves of the clips' root paths (read them with mm_database_distance_curve) */
+    const mm_db_distance_clip *distance_clips;    /* [clip_count] */
+    const float *distance_travelled;              /* [frame_count] m from the clip's first frame */
+    const float *distance_signed;                 /* [frame_count] m to the segment's marker */
+    const mm_distance_segment *distance_segments; /* [distance_segment_count], clip by clip; frames
+                                                   * are relative to the clip's first frame */
+    int distance_segment_count;
+
     /* Storage: the whole file */
     const void *data;
     size_t size;
@@ -191,6 +213,10 @@ void mm_database_free(mm_database *db);
 void mm_database_pose(const mm_database *db, int frame, mm_pose_data *out);
 /* Clip index by name, or -1. */
 int mm_database_find_clip(const mm_database *db, const char *name);
+/* A view of clip's distance curve into the database (block NULL: do not free it; it lives as long
+ * as db). Loading validated it. MM_ERR_INVALID_ARGUMENT for a bad clip index, MM_ERR_OUT_OF_RANGE
+ * for a clip of a single frame (no curve); *out is zeroed then. */
+mm_result mm_database_distance_curve(const mm_database *db, int clip, mm_distance_curve *out);
 /* Local rotations / translations of a frame ([joint_count] each). */
 static inline const mm_quat *mm_database_rotations(const mm_database *db, int frame)
 {

@@ -228,6 +228,70 @@ static mm_result check_skeletons(builder *b)
     return MM_OK;
 }
 
+/* The distance curves of every clip's root (joint 0) path, laid out as the file stores them. */
+typedef struct distance_arrays {
+    mm_db_distance_clip *clips;
+    float *travelled, *distance;
+    mm_distance_segment *segments;
+    int segment_count, segment_capacity;
+} distance_arrays;
+
+static void free_distance(distance_arrays *d)
+{
+    free(d->clips);
+    free(d->travelled);
+    free(d->distance);
+    free(d->segments);
+}
+
+/* Builds clip i's curve from its simulation bone's positions (scratch holds frame_count vec3s). */
+static mm_result clip_distance(const builder *b, int i, int first, mm_vec3 *scratch, distance_arrays *d)
+{
+    const mm_clip *c = &b->clips[i].clip;
+    int n = c->frame_count;
+    mm_db_distance_clip *dc = &d->clips[i];
+    dc->first_segment = d->segment_count;
+    dc->stop_speed = MM_DISTANCE_STOP_SPEED_DEFAULT;
+    if (n < 2) return MM_OK; /* a single frame: no curve (travelled 0, no segment) */
+    for (int f = 0; f < n; ++f) scratch[f] = mm_clip_positions(c, f)[0];
+    mm_distance_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.positions = &scratch[0].x;
+    desc.components = 3;
+    desc.frame_count = n;
+    desc.fps = 1.0f / b->cfg->interval;
+    desc.loop = b->clips[i].meta.loop;
+    desc.stop_speed = dc->stop_speed;
+    mm_distance_curve curve;
+    mm_error e;
+    memset(&e, 0, sizeof e);
+    mm_result r = mm_distance_curve_build(&curve, &desc, &e);
+    if (r != MM_OK)
+        return mm_error_set(b->err, r, 0, 0, "clip '%s': cannot build its distance curve: %s",
+                            b->clips[i].meta.name, e.message);
+    if (d->segment_count + curve.segment_count > d->segment_capacity) {
+        int cap = d->segment_capacity ? 2 * d->segment_capacity : 64;
+        while (cap < d->segment_count + curve.segment_count) cap *= 2;
+        mm_distance_segment *grown =
+            (mm_distance_segment *)realloc(d->segments, sizeof(mm_distance_segment) * (size_t)cap);
+        if (!grown) {
+            mm_distance_curve_free(&curve);
+            return mm_error_set(b->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+        }
+        d->segments = grown;
+        d->segment_capacity = cap;
+    }
+    memcpy(d->segments + d->segment_count, curve.segments,
+           sizeof(mm_distance_segment) * (size_t)curve.segment_count);
+    memcpy(d->travelled + first, curve.travelled, sizeof(float) * (size_t)n);
+    memcpy(d->distance + first, curve.distance, sizeof(float) * (size_t)n);
+    dc->segment_count = curve.segment_count;
+    dc->path_length = curve.path_length;
+    d->segment_count += curve.segment_count;
+    mm_distance_curve_free(&curve);
+    return MM_OK;
+}
+
 typedef struct arrays {
     mm_joint *joints;
     mm_db_clip *clips;
@@ -370,15 +434,25 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     x.small_max = (float *)calloc(small * nd, 4);
     x.large_min = (float *)calloc(large * nd, 4);
     x.large_max = (float *)calloc(large * nd, 4);
+    distance_arrays dist;
+    memset(&dist, 0, sizeof dist);
+    dist.clips = (mm_db_distance_clip *)calloc((size_t)b.count, sizeof(mm_db_distance_clip));
+    dist.travelled = (float *)calloc(nf, 4);
+    dist.distance = (float *)calloc(nf, 4);
     mm_xform *globals = NULL;
+    mm_vec3 *root_path = NULL;
     int longest = 0;
     for (int i = 0; i < b.count; ++i)
         longest = b.clips[i].clip.frame_count > longest ? b.clips[i].clip.frame_count : longest;
     globals = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)longest * nj);
-    if (!x.joints || !x.clips || !x.tag_names || !x.frame_clip || !x.frame_next || !x.frame_tags ||
-        !x.contacts || !x.root_velocity || !x.root_yaw_rate || !x.rotations || !x.positions || !x.features ||
-        !x.mean || !x.scale || !x.small_min || !x.small_max || !x.large_min || !x.large_max || !globals) {
+    root_path = (mm_vec3 *)malloc(sizeof(mm_vec3) * (size_t)longest);
+    if (!dist.clips || !dist.travelled || !dist.distance || !root_path || !x.joints || !x.clips ||
+        !x.tag_names || !x.frame_clip || !x.frame_next || !x.frame_tags || !x.contacts || !x.root_velocity ||
+        !x.root_yaw_rate || !x.rotations || !x.positions || !x.features || !x.mean || !x.scale ||
+        !x.small_min || !x.small_max || !x.large_min || !x.large_max || !globals) {
         free(globals);
+        free(root_path);
+        free_distance(&dist);
         free_arrays(&x);
         free_builder(&b);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for %d frames", frames);
@@ -415,9 +489,17 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
         mm__root_motion(c, x.root_velocity + first, x.root_yaw_rate + first);
         mm__clip_features(c, bc->meta.loop, globals, x.root_velocity + first, x.groups, group_count,
                           cfg->interval, x.features + (size_t)first * nd, dims_padded);
+        if ((r = clip_distance(&b, i, first, root_path, &dist)) != MM_OK) break;
         first += n;
     }
     free(globals);
+    free(root_path);
+    if (r != MM_OK) {
+        free_distance(&dist);
+        free_arrays(&x);
+        free_builder(&b);
+        return r;
+    }
     normalise(&x, frames, dims_padded, group_count);
     bounds(x.features, frames, dims_padded, MM_DB_SMALL_BLOCK, x.small_min, x.small_max);
     bounds(x.features, frames, dims_padded, MM_DB_LARGE_BLOCK, x.large_min, x.large_max);
@@ -434,12 +516,15 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     p.interval = cfg->interval;
     const char *json = desc && desc->config_json ? desc->config_json : "";
     const void *data[MM__SEC_COUNT] = {
-        x.joints,   x.clips,         x.tag_names,     x.groups,    x.frame_clip, x.frame_next, x.frame_tags,
-        x.contacts, x.root_velocity, x.root_yaw_rate, x.rotations, x.positions,  x.features,   x.mean,
-        x.scale,    x.small_min,     x.small_max,     x.large_min, x.large_max,  json};
+        x.joints,     x.clips,    x.tag_names,     x.groups,        x.frame_clip,  x.frame_next,
+        x.frame_tags, x.contacts, x.root_velocity, x.root_yaw_rate, x.rotations,   x.positions,
+        x.features,   x.mean,     x.scale,         x.small_min,     x.small_max,   x.large_min,
+        x.large_max,  json,       dist.clips,      dist.travelled,  dist.distance, dist.segments};
     memcpy(p.data, data, sizeof data);
     p.size[MM__SEC_CONFIG_JSON] = strlen(json) + 1;
+    p.size[MM__SEC_DISTANCE_SEGMENTS] = sizeof(mm_distance_segment) * (size_t)dist.segment_count;
     r = mm__db_pack(&p, desc ? desc->allocator : NULL, out, err);
+    free_distance(&dist);
     free_arrays(&x);
     free_builder(&b);
     return r;

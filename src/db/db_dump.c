@@ -67,12 +67,32 @@ mm_result mm_database_dump(const mm_database *db, FILE *out)
         num(out, k->source_start);
         fputc('\n', out);
     }
+    static const char *kinds[] = {"none", "stop", "pivot"};
+    for (int c = 0; c < db->clip_count; ++c) {
+        const mm_db_distance_clip *d = &db->distance_clips[c];
+        fprintf(out, "distance %d path_length", c);
+        num(out, d->path_length);
+        fputs(" stop_speed", out);
+        num(out, d->stop_speed);
+        fprintf(out, " segments %d first %d\n", d->segment_count, d->first_segment);
+        for (int s = 0; s < d->segment_count; ++s) {
+            const mm_distance_segment *g = &db->distance_segments[d->first_segment + s];
+            fprintf(out, "  segment %d first %d frames %d marker %d kind %s marker_travelled", s,
+                    g->first_frame, g->frame_count, g->marker_frame, kinds[g->kind]);
+            num(out, g->marker_travelled);
+            fputc('\n', out);
+        }
+    }
     for (int f = 0; f < db->frame_count; ++f) {
         fprintf(out, "frame %d clip %d next %d tags %llx contacts %x root_velocity", f, db->frame_clip[f],
                 db->frame_next[f], (unsigned long long)db->frame_tags[f], db->contacts[f]);
         vec(out, db->root_velocity[f]);
         fputs(" yaw_rate", out);
         num(out, db->root_angular_velocity[f]);
+        fputs(" travelled", out);
+        num(out, db->distance_travelled[f]);
+        fputs(" distance", out);
+        num(out, db->distance_signed[f]);
         fputs(" features", out);
         for (int d = 0; d < db->dims; ++d) num(out, mm_database_feature_raw(db, f, d));
         fputc('\n', out);

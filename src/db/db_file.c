@@ -45,6 +45,8 @@ _Static_assert(sizeof(mm_joint) == 104, "mm_joint layout changed: bump MM_DB_VER
 _Static_assert(offsetof(mm_joint, end_site) == 92, "mm_joint layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_db_clip) == 104, "mm_db_clip layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_feature_group) == 92, "mm_feature_group layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_db_distance_clip) == 16, "mm_db_distance_clip layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_distance_segment) == 20, "mm_distance_segment layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_quat) == 16 && sizeof(mm_vec3) == 12, "vector layout");
 _Static_assert(offsetof(mm__db_header, checksum) == 16, "header layout");
 
@@ -75,6 +77,11 @@ void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT])
     size[MM__SEC_SMALL_MIN] = size[MM__SEC_SMALL_MAX] = sb * d * 4;
     size[MM__SEC_LARGE_MIN] = size[MM__SEC_LARGE_MAX] = lb * d * 4;
     size[MM__SEC_CONFIG_JSON] = p->size[MM__SEC_CONFIG_JSON]; /* free size, zero-terminated */
+    size[MM__SEC_DISTANCE_CLIPS] = (size_t)p->clip_count * sizeof(mm_db_distance_clip);
+    size[MM__SEC_DISTANCE_TRAVELLED] = f * 4;
+    size[MM__SEC_DISTANCE_SIGNED] = f * 4;
+    /* free size: a whole number of segments, checked against the clips on load */
+    size[MM__SEC_DISTANCE_SEGMENTS] = p->size[MM__SEC_DISTANCE_SEGMENTS];
 }
 
 static void point_into(mm_database *db, const unsigned char *base, const mm__db_header *h)
@@ -110,6 +117,12 @@ static void point_into(mm_database *db, const unsigned char *base, const mm__db_
     db->large_min = (const float *)AT(MM__SEC_LARGE_MIN);
     db->large_max = (const float *)AT(MM__SEC_LARGE_MAX);
     db->config_json = (const char *)AT(MM__SEC_CONFIG_JSON);
+    db->distance_clips = (const mm_db_distance_clip *)AT(MM__SEC_DISTANCE_CLIPS);
+    db->distance_travelled = (const float *)AT(MM__SEC_DISTANCE_TRAVELLED);
+    db->distance_signed = (const float *)AT(MM__SEC_DISTANCE_SIGNED);
+    db->distance_segments = (const mm_distance_segment *)AT(MM__SEC_DISTANCE_SEGMENTS);
+    db->distance_segment_count =
+        (int)(h->sections[MM__SEC_DISTANCE_SEGMENTS].size / sizeof(mm_distance_segment));
 #undef AT
 }
 
@@ -203,6 +216,7 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
     p.group_count = h->group_count;
     p.dims_padded = h->dims_padded;
     p.size[MM__SEC_CONFIG_JSON] = (size_t)h->sections[MM__SEC_CONFIG_JSON].size;
+    p.size[MM__SEC_DISTANCE_SEGMENTS] = (size_t)h->sections[MM__SEC_DISTANCE_SEGMENTS].size;
     size_t want[MM__SEC_COUNT];
     mm__db_section_sizes(&p, want);
     for (int s = 0; s < MM__SEC_COUNT; ++s) {
@@ -214,6 +228,11 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
     const unsigned char *json = base + h->sections[MM__SEC_CONFIG_JSON].offset;
     size_t json_size = (size_t)h->sections[MM__SEC_CONFIG_JSON].size;
     if (json_size < 1 || json[json_size - 1] != 0) return BAD("embedded config is not terminated");
+    uint64_t segments = h->sections[MM__SEC_DISTANCE_SEGMENTS].size;
+    if (segments % sizeof(mm_distance_segment) != 0 ||
+        segments / sizeof(mm_distance_segment) > (uint64_t)h->frame_count)
+        return BAD("distance curves: the segments section is not a whole number of segments, at most one "
+                   "per frame");
     return MM_OK;
 }
 
@@ -272,6 +291,81 @@ static mm_result validate_references(const mm_database *db, mm_error *err)
     return MM_OK;
 }
 
+/* The view of clip c's curve (valid or not: validate_distance checks it). */
+static void distance_view(const mm_database *db, int c, mm_distance_curve *out)
+{
+    const mm_db_clip *k = &db->clips[c];
+    const mm_db_distance_clip *d = &db->distance_clips[c];
+    memset(out, 0, sizeof *out);
+    out->frame_count = k->frame_count;
+    out->loop = k->loop != 0;
+    out->fps = 1.0f / db->interval;
+    out->path_length = d->path_length;
+    out->segment_count = d->segment_count;
+    out->travelled = db->distance_travelled + k->first_frame;
+    out->distance = db->distance_signed + k->first_frame;
+    out->segments = db->distance_segments + d->first_segment;
+}
+
+/* Distance curves: the clips' segment ranges tile the segments section in order; each curve passes
+ * mm_distance_curve_validate. Segment frame ranges are bounded here first, so the validator's
+ * sums cannot overflow on a crafted file. */
+static mm_result validate_distance(const mm_database *db, mm_error *err)
+{
+    int64_t next = 0;
+    for (int c = 0; c < db->clip_count; ++c) {
+        const mm_db_clip *k = &db->clips[c];
+        const mm_db_distance_clip *d = &db->distance_clips[c];
+        int n = k->frame_count;
+        if (d->first_segment != next || d->segment_count < (n >= 2 ? 1 : 0) || d->segment_count > n ||
+            (n < 2 && d->segment_count != 0) ||
+            d->segment_count > db->distance_segment_count - d->first_segment)
+            return BAD("distance curves: clip %d (%s): bad segment range", c, k->name);
+        if (!(d->stop_speed > 0.0f) || !isfinite(d->stop_speed))
+            return BAD("distance curves: clip %d (%s): bad stop speed", c, k->name);
+        next += d->segment_count;
+        if (n < 2) {
+            if (db->distance_travelled[k->first_frame] != 0.0f ||
+                db->distance_signed[k->first_frame] != 0.0f || d->path_length != 0.0f)
+                return BAD("distance curves: clip %d (%s): a clip of one frame has no curve", c, k->name);
+            continue;
+        }
+        int64_t covered = 0;
+        for (int s = 0; s < d->segment_count; ++s) {
+            const mm_distance_segment *g = &db->distance_segments[d->first_segment + s];
+            if (g->first_frame < 0 || g->first_frame >= n || g->frame_count < 1 || g->frame_count > n ||
+                g->marker_frame < 0 || g->marker_frame >= n)
+                return BAD("distance curves: clip %d (%s): segment %d: bad frames", c, k->name, s);
+            covered += g->frame_count;
+        }
+        if (covered != n)
+            return BAD("distance curves: clip %d (%s): the segments cover %lld of %d frames", c, k->name,
+                       (long long)covered, n);
+        mm_distance_curve view;
+        distance_view(db, c, &view);
+        mm_error e;
+        memset(&e, 0, sizeof e);
+        if (mm_distance_curve_validate(&view, &e) != MM_OK) {
+            const char *why = e.message;
+            if (strncmp(why, "distance curve: ", 16) == 0) why += 16;
+            return BAD("distance curves: clip %d (%s): %s", c, k->name, why);
+        }
+    }
+    if (next != db->distance_segment_count)
+        return BAD("distance curves: the clips use %lld of %d segments", (long long)next,
+                   db->distance_segment_count);
+    return MM_OK;
+}
+
+mm_result mm_database_distance_curve(const mm_database *db, int clip, mm_distance_curve *out)
+{
+    if (out) memset(out, 0, sizeof *out);
+    if (!db || !out || !db->data || clip < 0 || clip >= db->clip_count) return MM_ERR_INVALID_ARGUMENT;
+    if (db->distance_clips[clip].segment_count < 1) return MM_ERR_OUT_OF_RANGE;
+    distance_view(db, clip, out);
+    return MM_OK;
+}
+
 mm_result mm_database_load_memory(const void *data, size_t size, bool verify_checksum, mm_database *out,
                                   mm_error *err)
 {
@@ -287,6 +381,7 @@ mm_result mm_database_load_memory(const void *data, size_t size, bool verify_che
     memset(&db, 0, sizeof db);
     point_into(&db, (const unsigned char *)data, &h);
     r = validate_references(&db, err);
+    if (r == MM_OK) r = validate_distance(&db, err);
     if (r != MM_OK) return r;
     db.data = data;
     db.size = size;
