@@ -3,7 +3,7 @@
 # (default 60).
 #
 #   scripts/fuzz.sh [seconds] [target...]      e.g. scripts/fuzz.sh 300 fuzz_bvh
-#   (targets: fuzz_bvh, fuzz_config, fuzz_mmdb, fuzz_input, fuzz_sim; each has a dictionary fuzz/<name>.dict if present)
+#   (targets: fuzz_bvh, fuzz_config, fuzz_mmdb, fuzz_input, fuzz_sim, fuzz_scene; each has a dictionary fuzz/<name>.dict if present)
 #
 # Each target starts from its seed corpus fuzz/corpus/<name>/ (read only; the mmdb and sim seeds
 # are made from the built-in motion set by fuzz/make_seeds.sh) plus a working corpus in
@@ -16,7 +16,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${MM_FUZZ_BUILD:-$root/build-fuzz}
 seconds=${1:-60}
 [ $# -gt 0 ] && shift
-targets=${*:-fuzz_bvh fuzz_config fuzz_mmdb fuzz_input fuzz_sim}
+targets=${*:-fuzz_bvh fuzz_config fuzz_mmdb fuzz_input fuzz_sim fuzz_scene}
 
 case $seconds in
 '' | *[!0-9]*)

@@ -4,6 +4,8 @@
 #include <mm/input_json.h>
 #include <mm/mm.h>
 #include <mm/render.h>
+#include <mm/scene_json.h>
+#include <mm/target_match.h>
 #include <mm/view.h>
 
 #include <cmath>
@@ -18,6 +20,19 @@ int main()
         return 1;
     }
     if (mm_result_str(MM_ERR_SYNTAX)[0] == 0) return 1;
+    static mm_scene scene;
+    mm_scene_init(&scene, 0.0f);
+    mm_scene_hit hit;
+    if (!mm_scene_raycast(&scene, mm_vec3_make(0.0f, 1.0f, 0.0f), mm_vec3_make(0.0f, -1.0f, 0.0f), 2.0f,
+                          &hit) ||
+        std::fabs(hit.distance - 1.0f) > 1e-6f)
+        return 1;
+    mm_target_match match;
+    mm_target_match_init(&match, 0, mm_vec3_make(1.0f, 0.0f, 0.0f), mm_quat_identity(), 0.0f, 1.0f);
+    mm_xform correction;
+    if (!mm_target_match_step(&match, 0.0f, 1.0f, mm_xform_identity(), &correction) ||
+        std::fabs(correction.translation.x - 1.0f) > 1e-6f)
+        return 1;
     mm_camera cam;
     mm_camera_defaults(&cam);
     float px = 0.0f, py = 0.0f;

@@ -1,0 +1,133 @@
+/* mm/scene.h - a static scene of boxes on a flat ground, and the ray queries the moves need.
+ *
+ * A scene is a ground plane at height `ground` (the solid half-space y <= ground) and up to
+ * MM_SCENE_MAX_BOXES boxes. A box stands upright: `position` is the centre of its BOTTOM face
+ * (so a box resting on the ground has position.y == ground), `size` its full extents along its
+ * own x, y and z axes, and `yaw` its rotation in radians about +Y (right-handed: a yaw of pi/2
+ * turns the box's +Z axis to world +X). Boxes are closed solids: a ray that touches an edge or
+ * runs along a face hits it. Everything is in metres, Y up; a scene is a plain struct the caller
+ * owns, and no function here allocates.
+ *
+ * Rays: mm_scene_raycast returns the nearest hit of a ray with the boxes and the ground. A ray
+ * that starts inside a box (or below the ground) hits at distance 0, at its origin, with the
+ * normal facing back along the ray and `inside` set; a ray starting on a surface and leaving it
+ * does not hit that surface.
+ *
+ * Queries for the moves (seed 000, 三.4): a ground probe (the surface a foot would stand on) and
+ * an obstacle measure (the wall ahead: its distance, height and depth, found with rays).
+ *
+ * Loading scenes from JSON is in mm/scene_json.h (the mm_io library); the format and these
+ * functions are described in docs/scene.md.
+ *
+ * Functions: mm_scene_init mm_scene_add_box mm_scene_box_centre mm_scene_raycast
+ *            mm_scene_ground_probe mm_scene_measure_obstacle
+ */
+#ifndef MM_SCENE_H
+#define MM_SCENE_H
+
+#include <stdbool.h>
+
+#include "math.h"
+#include "result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MM_SCENE_MAX_BOXES 256
+/* The largest coordinate or size a scene accepts (metres); keeps the ray arithmetic finite. */
+#define MM_SCENE_MAX_EXTENT 1.0e6f
+
+typedef struct mm_scene_box {
+    mm_vec3 position; /* centre of the bottom face, metres */
+    mm_vec3 size;     /* full extents along the box's x, y, z (>= 0), metres */
+    float yaw;        /* radians about +Y */
+} mm_scene_box;
+
+typedef struct mm_scene {
+    float ground; /* height of the ground plane, metres */
+    int box_count;
+    mm_scene_box boxes[MM_SCENE_MAX_BOXES];
+} mm_scene;
+
+typedef struct mm_scene_hit {
+    mm_vec3 point;  /* where the ray hit */
+    mm_vec3 normal; /* unit normal of the surface hit, facing the ray's origin */
+    float distance; /* metres along the ray from its origin (0 when it starts inside) */
+    int box;        /* index of the box hit; -1 for the ground */
+    bool inside;    /* the ray started inside the solid hit */
+} mm_scene_hit;
+
+/* An empty scene with the ground at the given height. */
+void mm_scene_init(mm_scene *scene, float ground);
+
+/* Adds a box (see the top of this file for the meaning of the fields). MM_ERR_LIMIT when the
+ * scene is full; MM_ERR_OUT_OF_RANGE for a non-finite value, a negative size or a value beyond
+ * MM_SCENE_MAX_EXTENT. */
+mm_result mm_scene_add_box(mm_scene *scene, mm_vec3 position, mm_vec3 size, float yaw);
+
+/* The centre of a box's volume (its position raised by half its height). */
+mm_vec3 mm_scene_box_centre(const mm_scene_box *box);
+
+/* The nearest hit of the ray origin + t * direction, 0 <= t <= max_distance (direction need not
+ * be unit: distances are along the normalised direction; max_distance may be INFINITY). Returns
+ * false (hit untouched) when nothing is hit, when direction is zero, or for non-finite input.
+ * When a box and the ground are hit at the same distance the box is reported; between boxes,
+ * the lowest index; at an edge or a corner the normal is that of the face entered along x, then
+ * y, then z. hit may be NULL. */
+bool mm_scene_raycast(const mm_scene *scene, mm_vec3 origin, mm_vec3 direction, float max_distance,
+                      mm_scene_hit *hit);
+
+/* The ground under a point: the highest surface, among the ground and the box tops whose
+ * footprint contains (point.x, point.z), whose height lies within [point.y - max_drop,
+ * point.y + step_height]. It is what a ray cast straight down from step_height above the point
+ * meets first, except that a box whose top is above that window is a wall, not ground, and is
+ * passed through. max_drop may be INFINITY. On success hit->point is (point.x, height,
+ * point.z), hit->normal is +Y, hit->distance is point.y - height (negative for a step up) and
+ * hit->box the box (-1 for the ground). Returns false when no surface is in the window. */
+bool mm_scene_ground_probe(const mm_scene *scene, mm_vec3 point, float step_height, float max_drop,
+                           mm_scene_hit *hit);
+
+#define MM_OBSTACLE_MAX_PROBES 16
+
+/* How an obstacle is looked for. Zero fields take the defaults in brackets. */
+typedef struct mm_obstacle_desc {
+    float max_distance;         /* how far ahead to look, metres [1.5] */
+    float max_height;           /* the height-measuring ray starts this far above the feet [3] */
+    float max_depth;            /* depth measured at most this far past the near face [5] */
+    const float *probe_heights; /* heights above the feet of the forward rays [0.3 0.7 1.1 1.5 1.9] */
+    int probe_count;            /* at most MM_OBSTACLE_MAX_PROBES; 0 with NULL: the default list */
+} mm_obstacle_desc;
+
+typedef struct mm_obstacle {
+    mm_scene_hit hit; /* the forward ray's hit on the near face (box >= 0) */
+    int probe;        /* index of the probe height whose ray hit nearest (the lowest of equals) */
+    float distance;   /* horizontal distance from the feet to the near face, metres */
+    float floor;      /* height of the surface in front of the near face (where it stands) */
+    float top;        /* world height of the obstacle's top over the near face */
+    float height;     /* top - floor: how high it is above the ground at the hit, metres */
+    float depth;      /* extent along the direction from the near face to the far face, metres */
+    bool too_high;    /* no top below feet + max_height: top and height are clamped to it */
+    bool too_deep;    /* not left within max_depth: depth is max_depth */
+} mm_obstacle;
+
+/* Measures the first obstacle ahead, with rays, as the vault needs it (seed 000, 三.4):
+ *  1. forward rays, one per probe height above `feet`, along `forward` projected onto the
+ *     ground plane, find the nearest box face within max_distance (the ground is not an
+ *     obstacle);
+ *  2. a ray along the direction from the hit point, through the obstacle, finds where it is
+ *     left: the depth. Boxes that touch or overlap along the way count as one obstacle (joined
+ *     walls in a row);
+ *  3. a ray straight up from just inside the near face finds where the solid ends: the top
+ *     (again through boxes stacked on it), clamped to feet.y + max_height; a ray straight down
+ *     from 1 mm in front of the face, at the hit height, finds the floor it stands on.
+ * Returns false (out untouched) when nothing is ahead, when forward has no horizontal part, or
+ * for non-finite input. desc may be NULL (defaults). */
+bool mm_scene_measure_obstacle(const mm_scene *scene, mm_vec3 feet, mm_vec3 forward,
+                               const mm_obstacle_desc *desc, mm_obstacle *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_SCENE_H */
