@@ -337,6 +337,176 @@ static void test_robust(void **state)
     mm_database_free(&tiny);
 }
 
+/* Distance matching on a loop: walking straight at a constant speed on the built-in set, the
+ * character keeps playing loop clips (cycles), at the play rate desired speed / clip speed within
+ * the clamp, and (with warping) the stride scale makes up the rest within its clamp. */
+static void test_distance_matching_cycle(void **state)
+{
+    (void)state;
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.distance_matching = true;
+    d.warping = true;
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 0.8f;
+    in.gait = MM_GAIT_WALK;
+    int cycles = 0, ticks = 0, clamped = 0;
+    for (int i = 0; i < 600; ++i) {
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        assert_true(pose_finite(&c));
+        if (i < 120) continue; /* up to speed */
+        ++ticks;
+        if (c.playback != MM_PLAYBACK_CYCLE) continue;
+        ++cycles;
+        int clip = db.frame_clip[c.frame];
+        assert_true(db.clips[clip].loop);
+        /* the rate was set before this tick's search: compare with the clip it was set for when
+         * no transition happened this tick */
+        mm_distance_curve curve;
+        assert_int_equal(mm_database_distance_curve(&db, clip, &curve), MM_OK);
+        float speed = sqrtf(c.trajectory.velocity.x * c.trajectory.velocity.x +
+                            c.trajectory.velocity.z * c.trajectory.velocity.z);
+        float want = speed / mm_distance_clip_speed(&curve);
+        float expect = fminf(fmaxf(want, d.rate_min), d.rate_max);
+        assert_true(c.play_rate >= d.rate_min - 1e-6f && c.play_rate <= d.rate_max + 1e-6f);
+        if (c.last_result.frame >= 0 && db.frame_clip[c.last_result.frame] != clip) continue;
+        if (fabsf(c.play_rate - expect) > 1e-4f) continue; /* a transition into this clip this tick */
+        clamped += want != expect;
+        float scale = fminf(fmaxf(want / c.play_rate, d.stride_min), d.stride_max);
+        assert_true(fabsf(c.stride_scale - scale) < 1e-4f);
+    }
+    printf("cycle ticks %d of %d, clamped %d, last rate %.3f scale %.3f\n", cycles, ticks, clamped,
+           (double)c.play_rate, (double)c.stride_scale);
+    assert_true(cycles > ticks * 9 / 10);
+    mm_character_free(&c);
+}
+
+/* Each tick's play rate in a loop equals desired speed / clip speed within the clamp: checked at
+ * several stick lengths (and so speeds; slower than this the built-in set plays its one-shot
+ * start and stop clips), with a narrower clamp, warping off. */
+static void test_distance_matching_rate(void **state)
+{
+    (void)state;
+    const float sticks[4] = {0.7f, 0.8f, 0.9f, 1.0f};
+    int total = 0;
+    for (int s = 0; s < 4; ++s) {
+        mm_character_desc d;
+        mm_character_defaults(&d);
+        d.distance_matching = true;
+        d.rate_min = 0.5f;
+        d.rate_max = 1.1f;
+        mm_character c;
+        assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+        mm_input in;
+        memset(&in, 0, sizeof in);
+        in.stick[1] = sticks[s];
+        int checked = 0;
+        for (int i = 0; i < 300; ++i) {
+            int clip = db.frame_clip[c.frame]; /* the clip the rate is set for */
+            mm_character_update(&c, &in, 1.0f / 60.0f);
+            if (c.playback != MM_PLAYBACK_CYCLE || db.frame_clip[c.frame] != clip) continue;
+            mm_distance_curve curve;
+            assert_int_equal(mm_database_distance_curve(&db, clip, &curve), MM_OK);
+            float speed = sqrtf(c.trajectory.velocity.x * c.trajectory.velocity.x +
+                                c.trajectory.velocity.z * c.trajectory.velocity.z);
+            float expect = fminf(fmaxf(speed / mm_distance_clip_speed(&curve), 0.5f), 1.1f);
+            assert_true(fabsf(c.play_rate - expect) < 1e-5f);
+            assert_true(c.stride_scale == 1.0f); /* warping off */
+            ++checked;
+        }
+        printf("stick %.1f: %d ticks checked, rate %.3f\n", (double)sticks[s], checked, (double)c.play_rate);
+        total += checked;
+        mm_character_free(&c);
+    }
+    assert_true(total > 300);
+}
+
+/* Both switches off (the default) is the controller as it was: the same poses, bit for bit, over
+ * 600 ticks of random input whatever the distance parameters, rate 1 and no warping; and only
+ * the switches change anything. */
+static void test_distance_switches_off(void **state)
+{
+    (void)state;
+    mm_character_desc base, off, on;
+    mm_character_defaults(&base);
+    assert_false(base.distance_matching);
+    assert_false(base.warping);
+    off = base;
+    off.rate_min = 0.1f, off.rate_max = 3.0f, off.stride_min = 0.5f, off.stride_max = 2.0f;
+    on = base;
+    on.distance_matching = on.warping = true;
+    mm_character a, b, e;
+    assert_int_equal(mm_character_init(&a, &db, &searcher, NULL, NULL), MM_OK);
+    assert_int_equal(mm_character_init(&b, &db, &searcher, &off, NULL), MM_OK);
+    assert_int_equal(mm_character_init(&e, &db, &searcher, &on, NULL), MM_OK);
+    mm_input_script script;
+    mm_input_random_desc rd = {10.0f, 0, 0, 0, 0, NULL};
+    assert_int_equal(mm_input_script_random(&script, 5, &rd), MM_OK);
+    mm_input in;
+    int differ = 0;
+    size_t n = sizeof(mm_xform) * (size_t)db.joint_count;
+    for (int i = 0; i < 600; ++i) {
+        mm_input_script_sample(&script, i / 60.0f, &in);
+        mm_character_update(&a, &in, 1.0f / 60.0f);
+        mm_character_update(&b, &in, 1.0f / 60.0f);
+        mm_character_update(&e, &in, 1.0f / 60.0f);
+        assert_memory_equal(a.global, b.global, n);
+        assert_memory_equal(a.local_rotations, b.local_rotations, sizeof(mm_quat) * (size_t)db.joint_count);
+        assert_true(a.play_rate == 1.0f && a.stride_scale == 1.0f && a.playback == MM_PLAYBACK_CLOCK);
+        differ += memcmp(a.global, e.global, n) != 0;
+    }
+    assert_true(differ > 0); /* the switches do something */
+    mm_input_script_free(&script);
+    mm_character_free(&a);
+    mm_character_free(&b);
+    mm_character_free(&e);
+}
+
+/* With both switches on: hostile input never gives a NaN pose, and no tick allocates. */
+static void test_distance_robust(void **state)
+{
+    (void)state;
+    mm_allocator al = {counting_alloc, counting_free, NULL};
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.distance_matching = d.warping = true;
+    d.allocator = &al;
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    long after_init = allocations;
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    const float sticks[4][2] = {{NAN, 1}, {1e30f, -1e30f}, {INFINITY, 0}, {0.3f, 0.4f}};
+    const float dts[5] = {0.0f, -1.0f, NAN, 1.0f, 1.0f / 60.0f};
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 5; ++k) {
+            in.stick[0] = sticks[i][0];
+            in.stick[1] = sticks[i][1];
+            in.gait = (mm_gait)(i == 2 ? 77 : i % 2);
+            mm_character_update(&c, &in, dts[k]);
+            assert_true(pose_finite(&c));
+            assert_true(isfinite(c.play_rate) && isfinite(c.stride_scale));
+        }
+    /* random input with a hostile tick now and then, and stops, starts, turns, gait changes */
+    mm_input_script script;
+    mm_input_random_desc rd = {120.0f, 0, 0, 0, 0, NULL};
+    assert_int_equal(mm_input_script_random(&script, 21, &rd), MM_OK);
+    for (int i = 0; i < 120 * 60; ++i) {
+        mm_input_script_sample(&script, i / 60.0f, &in);
+        float dt = 1.0f / 60.0f;
+        if (i % 97 == 0) in.stick[i % 2] = i % 3 ? NAN : 1e30f;
+        if (i % 211 == 0) dt = i % 2 ? 1.0f : 1e-7f;
+        mm_character_update(&c, &in, dt);
+        assert_true(pose_finite(&c));
+    }
+    assert_int_equal(allocations, after_init);
+    mm_input_script_free(&script);
+    mm_character_free(&c);
+}
+
 /* Foot locking holds planted feet: walking on the built-in set along a slowly turning stick, a
  * locked foot's ankle is where its lock says (the legs reach it: the hips come down where they
  * must), and over the ticks a heel label stays on and the foot stays locked the heel (ankle)
@@ -423,6 +593,10 @@ int main(void)
         cmocka_unit_test(test_gait_tags),
         cmocka_unit_test(test_angle_correction),
         cmocka_unit_test(test_feet_hold),
+        cmocka_unit_test(test_distance_matching_cycle),
+        cmocka_unit_test(test_distance_matching_rate),
+        cmocka_unit_test(test_distance_switches_off),
+        cmocka_unit_test(test_distance_robust),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -1,4 +1,5 @@
 /* mm simulate DB (--input SCRIPT | --random SEED) --seconds T [--fps F] -o OUT.bvh --metrics OUT.json
+ *             [--distance-matching on|off] [--warping on|off]
  *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
  * Runs one character over scripted or random input; writes its motion, the metrics of
  * docs/metrics.md and, on request, a video of it rendered headless. */
@@ -107,9 +108,11 @@ int mm_cmd_simulate(int argc, char **argv)
     long seed = -1;
     double seconds = 0.0, fps = 60.0, video_fps = 30.0;
     int width = 640, height = 360;
+    int distance_matching = -1, warping = -1; /* -1: the controller's default */
     const char *usage =
         "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED) --seconds T [--fps F] -o OUT.bvh "
-        "--metrics OUT.json [--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]]";
+        "--metrics OUT.json [--distance-matching on|off] [--warping on|off] "
+        "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--input") == 0 && v)
@@ -139,6 +142,14 @@ int mm_cmd_simulate(int argc, char **argv)
         } else if (strcmp(a, "--video-fps") == 0 && v) {
             if (!cli_parse_double(v, &video_fps) || video_fps < 1 || video_fps > 240)
                 return cli_usage_error("simulate", "--video-fps needs 1 to 240");
+            ++i;
+        } else if ((strcmp(a, "--distance-matching") == 0 || strcmp(a, "--warping") == 0) && v) {
+            int on = strcmp(v, "on") == 0 ? 1 : strcmp(v, "off") == 0 ? 0 : -1;
+            if (on < 0) return cli_usage_error("simulate", "%s needs on or off\n%s", a, usage);
+            if (a[2] == 'd')
+                distance_matching = on;
+            else
+                warping = on;
             ++i;
         } else if (a[0] == '-' && a[1])
             return cli_usage_error("simulate", "unknown or incomplete option '%s'\n%s", a, usage);
@@ -184,6 +195,8 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_config_free(&cfg);
     }
     desc.clock = now;
+    if (distance_matching >= 0) desc.distance_matching = distance_matching != 0;
+    if (warping >= 0) desc.warping = warping != 0;
     if (mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK ||
         mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK) {
         mm_input_script_free(&script);

@@ -20,6 +20,10 @@
  *   each tick: mm_character_update(&c, &input, dt);  read c.global (joint_count transforms)
  *   mm_character_free(&c);
  *
+ * Distance matching and stride warping (docs/distance.md, "In the controller") are switched by
+ * desc.distance_matching and desc.warping, both off by default (measured on LAFAN1: no gain in raw
+ * foot slide); frames tagged "NoDistanceMatching" play by the clock either way.
+ *
  * A database's config may carry runtime tuning (mm_config.runtime, the config's "runtime" object):
  * mm_character_desc_apply_config writes it into a desc.
  *
@@ -79,7 +83,17 @@ typedef struct mm_character_desc {
                                            reach their targets; 0.1 (0: never) */
     const char *left_foot, *right_foot; /* ankle joints (the knee and hip are their parents);
                                            "LeftFoot", "RightFoot" */
-    double (*clock)(void);              /* optional: seconds, to time searches (c->last_search_us) */
+    /* Distance matching and stride warping (mm/distance.h, docs/distance.md "In the controller"),
+     * on the database's distance curves. Off: the clock drives playback at rate 1, as before.
+     * Frames tagged "NoDistanceMatching" always play at rate 1, unwarped. */
+    bool distance_matching;       /* one-shot clips advance by the distance the simulated root travelled;
+                                     stops and pivots match to the predicted stop or pivot point; loops
+                                     play at desired speed / clip speed; false */
+    bool warping;                 /* stride warping: the legs stretched along the movement by the speed
+                                     the clamped play rate leaves over; false */
+    float rate_min, rate_max;     /* play-rate clamp; 0.75, 1.25 ((0, 0): no clamp) */
+    float stride_min, stride_max; /* stride-scale clamp; 0.8, 1.2 ((0, 0): no clamp) */
+    double (*clock)(void);        /* optional: seconds, to time searches (c->last_search_us) */
     const mm_allocator *allocator;
 } mm_character_desc;
 
@@ -97,6 +111,15 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p);
  * written into d. With the config db was built from, and no runtime fields set, the character
  * behaves exactly as with d unchanged. cfg may be NULL (only the first step). */
 void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg);
+
+/* How the clip time advanced this tick (mm_character.playback). */
+typedef enum mm_character_playback {
+    MM_PLAYBACK_CLOCK = 0,    /* rate 1: distance matching off, tagged off, or a stop played out */
+    MM_PLAYBACK_DISTANCE = 1, /* advanced by the distance travelled (starts, and on to a stop) */
+    MM_PLAYBACK_STOP = 2,     /* matched to the predicted stop point */
+    MM_PLAYBACK_PIVOT = 3,    /* matched to the predicted pivot point */
+    MM_PLAYBACK_CYCLE = 4,    /* a loop at desired speed / clip speed */
+} mm_character_playback;
 
 typedef struct mm_character {
     const mm_database *db;
@@ -143,7 +166,13 @@ typedef struct mm_character {
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 raw_contact_positions[4];  /* left ankle, left toe, right ankle, right toe before IK */
     uint64_t gait_tags[MM_GAIT_COUNT]; /* tags named after each gait ("Walk", "Run", ...) */
-    float *query;                      /* [dims_padded] */
+    /* distance matching and warping: how playback advanced this tick (mm_character_playback),
+     * the play rate (1 without distance matching) and the stride scale (1: not warped), the
+     * pelvis drop stride warping needed, and the tag that turns both off per frame */
+    int playback;
+    float play_rate, stride_scale, stride_drop;
+    uint64_t no_distance_tag;
+    float *query; /* [dims_padded] */
 
     /* statistics */
     int searches, transitions;

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <mm/distance.h>
 #include <mm/spring.h>
 
 void mm_character_defaults(mm_character_desc *d)
@@ -28,6 +29,12 @@ void mm_character_defaults(mm_character_desc *d)
     d->left_foot = "LeftFoot";
     d->right_foot = "RightFoot";
     d->method = MM_SEARCH_FAST;
+    d->distance_matching = false; /* measured on LAFAN1: docs/distance.md "In the controller" */
+    d->warping = false;
+    d->rate_min = MM_DISTANCE_RATE_MIN_DEFAULT;
+    d->rate_max = MM_DISTANCE_RATE_MAX_DEFAULT;
+    d->stride_min = 0.8f;
+    d->stride_max = 1.2f;
 }
 
 void mm_character_default_params(const mm_database *db, mm_search_params *p)
@@ -144,8 +151,10 @@ static void play_root(const mm_character *c, mm_vec3 *velocity, float *yaw_rate)
 {
     const mm_database *db = c->db;
     int next = db->frame_next[c->frame] >= 0 ? db->frame_next[c->frame] : c->frame;
-    *velocity = db->root_velocity[next];
-    *yaw_rate = db->root_angular_velocity[next];
+    /* distance matching plays the clip at play_rate and stride warping stretches the steps by
+     * stride_scale: the root moves as much faster (both are exactly 1 when off) */
+    *velocity = mm_vec3_scale(db->root_velocity[next], c->play_rate * c->stride_scale);
+    *yaw_rate = db->root_angular_velocity[next] * c->play_rate;
 }
 
 static void compute_global(mm_character *c)
@@ -232,6 +241,8 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
             break;
         }
     c->idle = true;
+    c->play_rate = c->stride_scale = 1.0f;
+    c->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");
     c->root = mm_xform_identity();
     c->since_search = INFINITY; /* search on the first tick */
     c->last_result.frame = -1;
@@ -526,16 +537,161 @@ static void feet(mm_character *c, float dt)
                                     mm_xform_make(c->local_rotations[j], c->local_positions[j]));
 }
 
+/* Distance matching (docs/distance.md, "In the controller"): the play rate of this tick and the
+ * stride scale that warping is to make up. travelled: the simulated root's ground displacement
+ * this tick (m). Sets c->playback, c->play_rate and c->stride_scale; never NaN, no allocation. */
+static void distance_playback(mm_character *c, const mm_input *in, float dt, float travelled)
+{
+    const mm_database *db = c->db;
+    const mm_character_desc *d = &c->desc;
+    c->playback = MM_PLAYBACK_CLOCK;
+    c->play_rate = 1.0f;
+    c->stride_scale = 1.0f;
+    if (c->db->frame_tags && (db->frame_tags[c->frame] & c->no_distance_tag)) return;
+    int clip = db->frame_clip[c->frame];
+    mm_distance_curve curve; /* idle clips play by the clock: standing still is no reason to slow */
+    if (db->clips[clip].type == MM_CLIP_IDLE || mm_database_distance_curve(db, clip, &curve) != MM_OK) return;
+    const mm_trajectory *t = &c->trajectory;
+    float speed = sqrtf(t->velocity.x * t->velocity.x + t->velocity.z * t->velocity.z);
+    if (!isfinite(speed)) speed = 0.0f;
+    if (!isfinite(travelled) || travelled < 0.0f) travelled = 0.0f;
+    float time = ((float)(c->frame - db->clips[clip].first_frame) + c->frame_fraction) / curve.fps;
+    float rate = 1.0f;
+    if (curve.loop) {
+        /* a cycle: desired speed / the clip's average speed, clamped */
+        float clip_speed = mm_distance_clip_speed(&curve);
+        if (d->distance_matching) {
+            mm_distance_play_rate(speed, clip_speed, d->rate_min, d->rate_max, &rate);
+            c->playback = MM_PLAYBACK_CYCLE;
+        }
+        mm_distance_stride_scale(speed, clip_speed, rate, d->stride_min, d->stride_max, &c->stride_scale);
+    } else {
+        int segment = mm_distance_segment_at(&curve, time);
+        int kind = curve.segments[segment].kind;
+        float before = mm_distance_signed(&curve, time); /* < 0: the stop or pivot is ahead */
+        mm_vec3 desired;
+        mm_trajectory_desired(t, in, &desired, NULL);
+        float wanted = sqrtf(desired.x * desired.x + desired.z * desired.z);
+        mm_distance_prediction stop, pivot;
+        memset(&stop, 0, sizeof stop);
+        memset(&pivot, 0, sizeof pivot);
+        if (kind != MM_DISTANCE_NONE && before < 0.0f)
+            mm_distance_predict_trajectory(t, in, 0.0f, &stop, &pivot);
+        float target = -1.0f;
+        if (kind == MM_DISTANCE_STOP && before < 0.0f && stop.found && wanted < d->idle_speed &&
+            mm_distance_match_to_target(&curve, segment, stop.distance, &target) == MM_OK) {
+            c->playback = MM_PLAYBACK_STOP; /* braking: the clip's stop where the character's is */
+        } else if (kind == MM_DISTANCE_PIVOT && before < 0.0f && pivot.found &&
+                   mm_distance_match_to_target(&curve, segment, pivot.distance, &target) == MM_OK) {
+            c->playback = MM_PLAYBACK_PIVOT;
+        } else if (kind == MM_DISTANCE_STOP && before >= 0.0f) {
+            c->playback = MM_PLAYBACK_CLOCK; /* past the stop: played out */
+        } else {
+            float next;
+            mm_distance_advance(&curve, time, travelled, dt, d->rate_min, d->rate_max, &next, &rate);
+            c->playback = MM_PLAYBACK_DISTANCE;
+        }
+        if (c->playback == MM_PLAYBACK_STOP || c->playback == MM_PLAYBACK_PIVOT) {
+            /* toward the matched time, never backwards, within the clamp */
+            rate = (target - time) / dt;
+            if (d->rate_min > 0.0f || d->rate_max > 0.0f) rate = fminf(fmaxf(rate, d->rate_min), d->rate_max);
+            if (!(rate >= 0.0f)) rate = 0.0f;
+        }
+        if (!d->distance_matching) rate = 1.0f, c->playback = MM_PLAYBACK_CLOCK; /* warping only */
+        /* what the clip's root covers at that rate */
+        float clip_travel =
+            mm_distance_travelled(&curve, time + rate * dt) - mm_distance_travelled(&curve, time);
+        if (clip_travel > 1e-4f && speed > 0.05f) {
+            float scale = travelled / clip_travel;
+            if (d->stride_min > 0.0f || d->stride_max > 0.0f)
+                scale = fminf(fmaxf(scale, d->stride_min), d->stride_max);
+            c->stride_scale = isfinite(scale) && scale > 0.0f ? scale : 1.0f;
+        }
+    }
+    c->play_rate = isfinite(rate) && rate >= 0.0f ? fminf(rate, 16.0f) : 1.0f;
+    if (!d->warping || !(speed > 0.05f)) c->stride_scale = 1.0f;
+}
+
+/* Stride warping: the legs of the animated pose stretched along the simulated movement by
+ * c->stride_scale about their hips (mm_warp_stride), the pelvis lowered as far as they need; the
+ * feet keep their animated world orientation. Foot locking and IK then work on this pose. */
+static void stride_warp(mm_character *c)
+{
+    const mm_database *db = c->db;
+    c->stride_drop = 0.0f;
+    if (c->stride_scale == 1.0f || c->foot_joint[0] < 0 || c->foot_joint[1] < 0 || c->pelvis_joint < 0)
+        return;
+    mm_vec3 direction = c->trajectory.velocity;
+    direction.y = 0.0f;
+    if (!(mm_vec3_length(direction) > 1e-3f)) return;
+    mm_leg_pose legs[2];
+    int joint[2][3];
+    for (int k = 0; k < 2; ++k) {
+        int ankle = c->foot_joint[k], knee = db->joints[ankle].parent, hip = db->joints[knee].parent;
+        joint[k][0] = hip, joint[k][1] = knee, joint[k][2] = ankle;
+        legs[k].hip = c->global[hip].translation;
+        legs[k].knee = c->global[knee].translation;
+        legs[k].foot = c->global[ankle].translation;
+    }
+    mm_leg_warp out[2];
+    float drop = 0.0f;
+    if (mm_warp_stride(legs, 2, direction, c->stride_scale, 0.0f, out, &drop) != MM_OK) return;
+    if (!(drop >= 0.0f) || drop > 1.0f) return;
+    mm_quat knee_world[2], ankle_world[2];
+    for (int k = 0; k < 2; ++k) {
+        knee_world[k] = c->global[joint[k][1]].rotation;
+        ankle_world[k] = c->global[joint[k][2]].rotation;
+    }
+    int pelvis = c->pelvis_joint;
+    if (drop > 0.0f) {
+        mm_vec3 down = mm_quat_inv_rotate(c->global[db->joints[pelvis].parent].rotation,
+                                          mm_vec3_make(0.0f, -drop, 0.0f));
+        c->local_positions[pelvis] = mm_vec3_add(c->local_positions[pelvis], down);
+        c->stride_drop = drop;
+    }
+    for (int j = pelvis; j < db->joint_count; ++j)
+        c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
+                                    mm_xform_make(c->local_rotations[j], c->local_positions[j]));
+    for (int k = 0; k < 2; ++k) {
+        int hip = joint[k][0], knee = joint[k][1], ankle = joint[k][2];
+        mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out[k].thigh, c->global[hip].rotation));
+        c->local_rotations[hip] = mm_quat_normalize(
+            mm_quat_mul(mm_quat_conj(c->global[db->joints[hip].parent].rotation), hip_world));
+        c->global[hip] = mm_xform_mul(c->global[db->joints[hip].parent],
+                                      mm_xform_make(c->local_rotations[hip], c->local_positions[hip]));
+        mm_quat knee_new = mm_quat_normalize(mm_quat_mul(out[k].shin, knee_world[k]));
+        c->local_rotations[knee] =
+            mm_quat_normalize(mm_quat_mul(mm_quat_conj(c->global[hip].rotation), knee_new));
+        c->global[knee] =
+            mm_xform_mul(c->global[hip], mm_xform_make(c->local_rotations[knee], c->local_positions[knee]));
+        c->local_rotations[ankle] =
+            mm_quat_normalize(mm_quat_mul(mm_quat_conj(c->global[knee].rotation), ankle_world[k]));
+    }
+    for (int j = 1; j < db->joint_count; ++j)
+        c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
+                                    mm_xform_make(c->local_rotations[j], c->local_positions[j]));
+}
+
 void mm_character_update(mm_character *c, const mm_input *in, float dt)
 {
     if (!c || !c->db || !(dt > 0.0f) || !isfinite(dt)) return;
     const mm_database *db = c->db;
     const mm_character_desc *d = &c->desc;
+    mm_vec3 sim_before = c->trajectory.position;
     mm_trajectory_update(&c->trajectory, in, dt);
 
-    /* playback */
+    /* playback: by the clock, or by distance matching */
     int ended = 0;
-    c->frame_fraction += dt / db->interval;
+    if (d->distance_matching || d->warping) {
+        float dx = c->trajectory.position.x - sim_before.x, dz = c->trajectory.position.z - sim_before.z;
+        distance_playback(c, in, dt, sqrtf(dx * dx + dz * dz));
+        c->frame_fraction += c->play_rate * dt / db->interval;
+    } else {
+        c->playback = MM_PLAYBACK_CLOCK;
+        c->play_rate = 1.0f;
+        c->stride_scale = 1.0f;
+        c->frame_fraction += dt / db->interval;
+    }
     while (c->frame_fraction >= 1.0f) {
         c->frame_fraction -= 1.0f;
         int next = db->frame_next[c->frame];
@@ -626,7 +782,8 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     c->local_rotations[0] = c->root.rotation;
     c->local_positions[0] = c->root.translation;
     compute_global(c);
-    for (int k = 0; k < 2; ++k) { /* ankle and the ankle's first child (the toe) before IK */
+    if (d->warping) stride_warp(c);
+    for (int k = 0; k < 2; ++k) { /* ankle and the ankle's first child (the toe) before IK (after warping) */
         int ankle = c->foot_joint[k], toe = c->toe_joint[k];
         c->raw_contact_positions[2 * k] = ankle >= 0 ? c->global[ankle].translation : mm_vec3_make(0, 0, 0);
         c->raw_contact_positions[2 * k + 1] =
