@@ -13,14 +13,15 @@
  * (x - mean) / scale where scale is the feature group's spread (the mean standard deviation of
  * its dimensions). Weights are NOT baked in: the search multiplies by them, so tuning needs no
  * rebuild. Padding dimensions are 0. Bounding boxes over blocks of MM_DB_SMALL_BLOCK and
- * MM_DB_LARGE_BLOCK consecutive frames (never spanning clips' ends... they may: a box only
- * bounds) give the search a cheap lower bound.
+ * MM_DB_LARGE_BLOCK consecutive frames (a block may span the end of one clip and the start of
+ * the next: a box only bounds) give frame-order tools a cheap lower bound.
  *
  * Character frame: positions and directions are expressed relative to the simulation bone:
- * x to the character's right... no: x is the character's local X, z its forward, y up.
+ * x is the character's local X (its left, since it faces +Z with Y up), z its forward, y up.
  *
  * Functions: mm_database_build mm_database_save mm_database_write mm_database_load
- *            mm_database_load_memory mm_database_free mm_database_pose mm_database_find_clip
+ *            mm_database_load_memory mm_database_free mm_database_pose mm_database_matched_bone
+ *            mm_database_find_clip
  *            mm_database_dump mm_feature_kind_name mm_database_distance_curve
  *
  * Distance curves (mm/distance.h): each clip's root (joint 0) path measured at build time by
@@ -211,6 +212,9 @@ void mm_database_free(mm_database *db);
 
 /* The seed's PoseData of frame (0 <= frame < frame_count). */
 void mm_database_pose(const mm_database *db, int frame, mm_pose_data *out);
+/* Index of feature group's bone among the matched bones (mm_pose_data.bones order, the order of
+ * mm_search_params' joint weights); -1 when group is not a bone group or past the limit. */
+int mm_database_matched_bone(const mm_database *db, int group);
 /* Clip index by name, or -1. */
 int mm_database_find_clip(const mm_database *db, const char *name);
 /* A view of clip's distance curve into the database (block NULL: do not free it; it lives as long

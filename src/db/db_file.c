@@ -473,6 +473,26 @@ int mm_database_find_clip(const mm_database *db, const char *name)
     return -1;
 }
 
+int mm_database_matched_bone(const mm_database *db, int group)
+{
+    if (group < 0 || group >= db->group_count) return -1;
+    int kind = db->groups[group].kind;
+    if (kind != MM_FEATURE_BONE_POSITION && kind != MM_FEATURE_BONE_VELOCITY) return -1;
+    int bones[MM_MAX_MATCH_BONES], count = 0;
+    for (int g = 0; g <= group; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->kind != MM_FEATURE_BONE_POSITION && grp->kind != MM_FEATURE_BONE_VELOCITY) continue;
+        int b = 0;
+        while (b < count && bones[b] != grp->bone) ++b;
+        if (b == count) {
+            if (count == MM_MAX_MATCH_BONES) return -1;
+            bones[count++] = grp->bone;
+        }
+        if (g == group) return b;
+    }
+    return -1;
+}
+
 void mm_database_pose(const mm_database *db, int frame, mm_pose_data *out)
 {
     memset(out, 0, sizeof *out);

@@ -247,25 +247,6 @@ static mm_result no_memory(cJSON *root, mm_config *cfg, mm_error *err)
 
 /* ---- tuning ----------------------------------------------------------------------------- */
 
-/* Slot of a database bone group's bone among the matched bones (mm_pose_data.bones order), -1
- * past the limit. */
-static int bone_slot(const mm_database *db, int group)
-{
-    int bones[MM_MAX_MATCH_BONES], count = 0;
-    for (int g = 0; g <= group; ++g) {
-        const mm_feature_group *grp = &db->groups[g];
-        if (grp->kind != MM_FEATURE_BONE_POSITION && grp->kind != MM_FEATURE_BONE_VELOCITY) continue;
-        int b = 0;
-        while (b < count && bones[b] != grp->bone) ++b;
-        if (b == count) {
-            if (count == MM_MAX_MATCH_BONES) return -1;
-            bones[count++] = grp->bone;
-        }
-        if (g == group) return b;
-    }
-    return -1;
-}
-
 /* The database's group of kind for the joint named name (any joint when name is NULL), or -1. */
 static int find_group(const mm_database *db, int kind, const char *name)
 {
@@ -282,10 +263,11 @@ static int find_group(const mm_database *db, int kind, const char *name)
 /* Writes the weights of the bones the database matches into bone (a features.bones entry). */
 static int set_bone_weights(cJSON *bone, const mm_database *db, const mm_search_params *p, const char *name)
 {
-    int g = find_group(db, MM_FEATURE_BONE_POSITION, name), slot = g >= 0 ? bone_slot(db, g) : -1;
+    int g = find_group(db, MM_FEATURE_BONE_POSITION, name),
+        slot = g >= 0 ? mm_database_matched_bone(db, g) : -1;
     if (slot >= 0 && !set_number(bone, "position_weight", p->joint_position_weights[slot])) return 0;
     g = find_group(db, MM_FEATURE_BONE_VELOCITY, name);
-    slot = g >= 0 ? bone_slot(db, g) : -1;
+    slot = g >= 0 ? mm_database_matched_bone(db, g) : -1;
     if (slot >= 0 && !set_number(bone, "velocity_weight", p->joint_velocity_weights[slot])) return 0;
     return 1;
 }

@@ -48,24 +48,6 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p)
     p->end_margin = (int)ceilf(0.25f / db->interval);
 }
 
-/* Index of a bone group's bone among the database's matched bones (mm_pose_data.bones order). */
-static int matched_bone_slot(const mm_database *db, int group)
-{
-    int bones[MM_MAX_MATCH_BONES], count = 0;
-    for (int g = 0; g <= group; ++g) {
-        const mm_feature_group *grp = &db->groups[g];
-        if (grp->kind != MM_FEATURE_BONE_POSITION && grp->kind != MM_FEATURE_BONE_VELOCITY) continue;
-        int b = 0;
-        while (b < count && bones[b] != grp->bone) ++b;
-        if (b == count) {
-            if (count == MM_MAX_MATCH_BONES) return -1;
-            bones[count++] = grp->bone;
-        }
-        if (g == group) return b;
-    }
-    return -1;
-}
-
 void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg)
 {
     if (!d || !db) return;
@@ -82,7 +64,7 @@ void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db,
     for (int g = 0; g < db->group_count; ++g) { /* the feature weights, as the database's groups */
         const mm_feature_group *grp = &db->groups[g];
         if (grp->kind == MM_FEATURE_BONE_POSITION || grp->kind == MM_FEATURE_BONE_VELOCITY) {
-            int slot = matched_bone_slot(db, g);
+            int slot = mm_database_matched_bone(db, g);
             const char *name =
                 grp->bone >= 0 && grp->bone < db->joint_count ? db->joints[grp->bone].name : "";
             for (int b = 0; b < cfg->bone_count && slot >= 0; ++b) {
