@@ -4,23 +4,7 @@
 set -u
 mm=$1
 data=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
-
-# expect_exit CODE CMD... : runs CMD, stdout to $tmp/out, stderr to $tmp/err
-expect_exit() {
-    want=$1; shift
-    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
-    if [ "$got" -eq "$want" ]; then ok; else bad "exit $got (wanted $want): $*"; cat "$tmp/err"; fi
-}
-expect_grep() { # PATTERN FILE
-    if grep -q -- "$1" "$2"; then ok; else bad "'$1' not in $2:"; cat "$2"; fi
-}
+. "$(dirname "$0")/cli_checks.sh"
 # expect_value FILE JOINT X Y Z : the fk line of JOINT is within 1e-9 of X Y Z
 expect_value() {
     if awk -v j="$2" -v x="$3" -v y="$4" -v z="$5" '
@@ -187,5 +171,4 @@ expect_exit 2 "$mm" simulate "$tmp/synth.mmdb" --seconds 3 -o "$tmp/sim4.bvh"
 expect_exit 1 "$mm" simulate "$tmp/synth.mmdb" --input "$tmp/missing.json" --seconds 3 -o "$tmp/sim4.bvh"
 expect_grep "missing.json" "$tmp/err"
 
-echo "test_cli: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish test_cli

@@ -5,21 +5,7 @@
 set -u
 mm=$1
 src=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
-expect_exit() { # CODE CMD... : stdout to $tmp/out, stderr to $tmp/err
-    want=$1; shift
-    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
-    if [ "$got" -eq "$want" ]; then ok; else bad "exit $got (wanted $want): $*"; cat "$tmp/err"; fi
-}
-expect_grep() { # PATTERN FILE
-    if grep -q -- "$1" "$2"; then ok; else bad "'$1' not in $2:"; cat "$2"; fi
-}
+. "$(dirname "$0")/cli_checks.sh"
 # the width and height of a PNG, from its IHDR chunk
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{printf "%dx%d", $3 * 256 + $4, $7 * 256 + $8}'; }
 expect_png() { # FILE WxH
@@ -75,5 +61,4 @@ expect_exit 2 "$mm" view "$tmp/s.mmdb" --screenshot "$tmp/x.png"
 expect_exit 1 "$mm" view --clip "$tmp/synth/walk_1.40.bvh" --config "$src/configs/synth.json" --clip-name nosuch
 expect_grep "no clip named nosuch" "$tmp/err"
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish test_render_cli

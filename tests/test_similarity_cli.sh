@@ -4,21 +4,7 @@
 set -u
 mm=$1
 src=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
-expect_exit() { # CODE CMD... : stdout to $tmp/out, stderr to $tmp/err
-    want=$1; shift
-    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
-    if [ "$got" -eq "$want" ]; then ok; else bad "exit $got (wanted $want): $*"; cat "$tmp/err"; fi
-}
-expect_grep() { # PATTERN FILE
-    if grep -q -- "$1" "$2"; then ok; else bad "'$1' not in $2:"; cat "$2"; fi
-}
+. "$(dirname "$0")/cli_checks.sh"
 
 # a database of the built-in set
 expect_exit 0 "$mm" synth "$tmp/synth"
@@ -81,5 +67,4 @@ expect_exit 2 "$mm" similarity build "$db" --bogus
 expect_exit 1 "$mm" similarity "$db" --from nope --to idle -o "$tmp/c"
 expect_grep "no clip named 'nope'" "$tmp/err"
 
-echo "test_similarity_cli: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish test_similarity_cli

@@ -20,6 +20,7 @@
 
 #include "io/checksum.h"
 #include "io/file.h"
+#include "io/sections.h"
 
 static const char mm__db_magic[8] = {'M', 'M', 'D', 'B', 0, '\r', '\n', 0x1a};
 #define MM__DB_BYTE_ORDER 0x01020304u
@@ -35,9 +36,7 @@ typedef struct mm__db_header {
     int32_t small_block, large_block, small_block_count, large_block_count;
     float interval;
     uint32_t section_count;
-    struct {
-        uint64_t offset, size;
-    } sections[MM__SEC_COUNT];
+    mm__section sections[MM__SEC_COUNT];
 } mm__db_header;
 
 /* The file stores these structs as they are: their layout is part of the format. */
@@ -49,8 +48,6 @@ _Static_assert(sizeof(mm_db_distance_clip) == 16, "mm_db_distance_clip layout ch
 _Static_assert(sizeof(mm_distance_segment) == 20, "mm_distance_segment layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_quat) == 16 && sizeof(mm_vec3) == 12, "vector layout");
 _Static_assert(offsetof(mm__db_header, checksum) == 16, "header layout");
-
-static size_t align_up(size_t x) { return (x + MM_DB_ALIGN - 1) & ~(size_t)(MM_DB_ALIGN - 1); }
 
 static int block_count(int frames, int block) { return (frames + block - 1) / block; }
 
@@ -150,22 +147,13 @@ mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, 
     h.large_block_count = block_count(parts->frame_count, MM_DB_LARGE_BLOCK);
     h.interval = parts->interval;
     h.section_count = MM__SEC_COUNT;
-    size_t at = align_up(sizeof h);
-    for (int s = 0; s < MM__SEC_COUNT; ++s) {
-        h.sections[s].offset = at;
-        h.sections[s].size = size[s];
-        at = align_up(at + size[s]);
-    }
+    size_t at = mm__sections_layout(sizeof h, MM_DB_ALIGN, size, MM__SEC_COUNT, h.sections);
     h.file_size = at;
-    unsigned char *raw = (unsigned char *)mm_alloc(allocator, at + MM_DB_ALIGN);
-    if (!raw) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%zu bytes)", at);
-    unsigned char *base = raw + (align_up((size_t)(uintptr_t)raw) - (size_t)(uintptr_t)raw); /* aligned */
-    memset(base, 0, at); /* padding bytes are zero: the same inputs give the same file */
-    for (int s = 0; s < MM__SEC_COUNT; ++s)
-        if (size[s] && parts->data[s]) memcpy(base + h.sections[s].offset, parts->data[s], size[s]);
-    memcpy(base, &h, sizeof h);
-    h.checksum = mm__checksum64(base + 24, at - 24);
-    memcpy(base, &h, sizeof h);
+    unsigned char *raw;
+    unsigned char *base =
+        mm__sections_pack(allocator, at, MM_DB_ALIGN, h.sections, parts->data, MM__SEC_COUNT, &raw);
+    if (!base) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%zu bytes)", at);
+    h.checksum = mm__sections_seal(base, at, &h, sizeof h);
     memset(out, 0, sizeof *out);
     if (allocator) out->allocator = *allocator;
     out->owned = raw;
@@ -424,12 +412,12 @@ mm_result mm_database_load(const char *path, const mm_db_load_desc *desc, mm_dat
             return MM_OK;
         }
     }
-    unsigned char *raw = (unsigned char *)mm_alloc(allocator, size + MM_DB_ALIGN);
-    if (!raw) {
+    unsigned char *raw;
+    unsigned char *base = mm__alloc_aligned(allocator, size, MM_DB_ALIGN, &raw);
+    if (!base) {
         close(fd);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%zu bytes)", size);
     }
-    unsigned char *base = raw + (align_up((size_t)(uintptr_t)raw) - (size_t)(uintptr_t)raw);
     size_t got = 0;
     while (got < size) {
         ssize_t n = read(fd, base + got, size - got);

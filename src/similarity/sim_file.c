@@ -6,6 +6,7 @@
 
 #include "io/file.h"
 #include "io/checksum.h"
+#include "io/sections.h"
 #include "similarity/sim_file.h"
 
 static const char sim_magic[8] = {'M', 'M', 'S', 'I', 'M', 0, '\n', 0x1a};
@@ -26,9 +27,7 @@ typedef struct sim_header {
     uint32_t section_count;
     uint64_t db_checksum, db_size;
     float dim_weights[MM_SIM_DIMS];
-    struct {
-        uint64_t offset, size;
-    } sections[MM__SIM_SEC_COUNT];
+    mm__section sections[MM__SIM_SEC_COUNT];
 } sim_header;
 
 _Static_assert(offsetof(sim_header, checksum) == 16, "header layout");
@@ -36,8 +35,6 @@ _Static_assert(offsetof(sim_header, db_checksum) == 80, "header layout");
 _Static_assert(offsetof(sim_header, sections) == 144, "header layout");
 _Static_assert(sizeof(sim_header) == 256, "header layout");
 _Static_assert(sizeof(mm_sim_clip) == 20 && sizeof(mm_sim_match) == 8, "record layout");
-
-static size_t align_up(size_t x) { return (x + SIM_ALIGN - 1) & ~(size_t)(SIM_ALIGN - 1); }
 
 uint64_t mm__sim_db_checksum(const mm_database *db)
 {
@@ -108,22 +105,13 @@ mm_result mm__sim_pack(const mm__sim_parts *parts, const mm_allocator *allocator
     h.db_checksum = parts->db_checksum;
     h.db_size = parts->db_size;
     memcpy(h.dim_weights, parts->dim_weights, sizeof h.dim_weights);
-    size_t at = align_up(sizeof h);
-    for (int s = 0; s < MM__SIM_SEC_COUNT; ++s) {
-        h.sections[s].offset = at;
-        h.sections[s].size = size[s];
-        at = align_up(at + size[s]);
-    }
+    size_t at = mm__sections_layout(sizeof h, SIM_ALIGN, size, MM__SIM_SEC_COUNT, h.sections);
     h.file_size = at;
-    unsigned char *raw = (unsigned char *)mm_alloc(allocator, at + SIM_ALIGN);
-    if (!raw) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%zu bytes)", at);
-    unsigned char *base = raw + (align_up((size_t)(uintptr_t)raw) - (size_t)(uintptr_t)raw);
-    memset(base, 0, at);
-    for (int s = 0; s < MM__SIM_SEC_COUNT; ++s)
-        if (size[s] && parts->data[s]) memcpy(base + h.sections[s].offset, parts->data[s], size[s]);
-    memcpy(base, &h, sizeof h);
-    h.checksum = mm__checksum64(base + 24, at - 24);
-    memcpy(base, &h, sizeof h);
+    unsigned char *raw;
+    unsigned char *base =
+        mm__sections_pack(allocator, at, SIM_ALIGN, h.sections, parts->data, MM__SIM_SEC_COUNT, &raw);
+    if (!base) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory (%zu bytes)", at);
+    h.checksum = mm__sections_seal(base, at, &h, sizeof h);
     memset(out, 0, sizeof *out);
     if (allocator) out->allocator = *allocator;
     out->owned = raw;
