@@ -200,6 +200,113 @@ static void test_resolve_paths(void **state)
     assert_non_null(strstr(err.message, "bvh/chain2.bvh"));
 }
 
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* "extends": the base's clips and tags first, this file's appended, objects merged field by
+ * field, other fields replaced; the merged text reads without the base; cycles and missing bases
+ * are errors naming the file; clips written into the extending file stay in it. */
+static void test_extends(void **state)
+{
+    (void)state;
+    char base[512], derived[512], a[512], b[512], missing[512];
+    snprintf(base, sizeof base, "%s/extends_base.json", MM_TEST_OUT);
+    snprintf(derived, sizeof derived, "%s/extends_derived.json", MM_TEST_OUT);
+    snprintf(a, sizeof a, "%s/extends_a.json", MM_TEST_OUT);
+    snprintf(b, sizeof b, "%s/extends_b.json", MM_TEST_OUT);
+    snprintf(missing, sizeof missing, "%s/extends_missing.json", MM_TEST_OUT);
+    write_text(
+        base,
+        "{\"interval\": 0.02, \"scale\": 0.01, \"roles\": {\"hips\": \"Pelvis\", \"head\": \"Skull\"},\n"
+        " \"tags\": [\"DoNotUse\"],\n"
+        " \"clips\": [{\"name\": \"walk\", \"file\": \"walk.bvh\", \"tags\": {\"DoNotUse\": [[1, 2]]}}]}\n");
+    write_text(derived,
+               "{\"extends\": \"extends_base.json\", \"interval\": 0.05, \"roles\": {\"head\": \"Head\"},\n"
+               " \"tags\": [\"DoNotUse\", \"Jump\", \"TakeOff\"],\n"
+               " \"clips\": [{\"name\": \"hop\", \"file\": \"hop.bvh\", \"ranges\": [[10, 40]],\n"
+               "   \"tags\": {\"Jump\": [[0.5, 1.2]], \"TakeOff\": [[0.5, 0.5]]}}]}\n");
+    mm_config c;
+    memset(&c, 0, sizeof c);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    char *text = NULL;
+    assert_int_equal(mm_config_load_json(derived, &c, &text, &err), MM_OK);
+    assert_int_equal(c.clip_count, 2);
+    assert_string_equal(c.clips[0].name, "walk");
+    assert_string_equal(c.clips[1].name, "hop");
+    assert_float_equal(c.interval, 0.05f, 0); /* replaced */
+    assert_float_equal(c.scale, 0.01f, 0);    /* from the base */
+    assert_string_equal(c.hips, "Pelvis");    /* roles merged field by field */
+    assert_string_equal(c.head, "Head");
+    assert_int_equal(c.tag_count, 3); /* DoNotUse once */
+    int jump = mm_config_tag_index(&c, "Jump"), take_off = mm_config_tag_index(&c, "TakeOff");
+    assert_true(jump >= 0 && take_off >= 0);
+    assert_int_equal(c.clips[1].tag_range_count, 2);
+    for (int i = 0; i < 2; ++i) { /* a one-frame tag range [t, t] is accepted */
+        const mm_config_tag_range *r = &c.clips[1].tag_ranges[i];
+        if (r->tag == take_off) assert_float_equal(r->end, r->begin, 0);
+    }
+    assert_string_equal(c.clips[0].file, "walk.bvh");
+    mm_config_free(&c);
+    /* the text for a database is the merged config: it reads alone */
+    assert_non_null(text);
+    assert_null(strstr(text, "extends"));
+    assert_int_equal(mm_config_parse_json(text, strlen(text), "embedded", NULL, &c, &err), MM_OK);
+    assert_int_equal(c.clip_count, 2);
+    assert_float_equal(c.interval, 0.05f, 0);
+    mm_config_free(&c);
+    free(text);
+
+    /* clips written into the extending file land in it; writing again replaces, not duplicates */
+    mm_config_named_range tags[2];
+    memset(tags, 0, sizeof tags);
+    snprintf(tags[0].tag, sizeof tags[0].tag, "Drop");
+    tags[0].begin = 3.0f, tags[0].end = 3.5f;
+    snprintf(tags[1].tag, sizeof tags[1].tag, "Landing");
+    tags[1].begin = tags[1].end = 3.5f;
+    mm_config_saved_clip sc = {"drop_1", "drop.bvh", 80, 120, MM_CLIP_LOCOMOTION, true, tags, 2};
+    for (int pass = 0; pass < 2; ++pass) assert_int_equal(mm_config_save_clip(derived, &sc, &err), MM_OK);
+    assert_int_equal(mm_config_load_json(derived, &c, NULL, &err), MM_OK);
+    assert_int_equal(c.clip_count, 3);
+    assert_string_equal(c.clips[2].name, "drop_1");
+    assert_true(c.clips[2].mirror);
+    assert_int_equal(c.clips[2].ranges[0].begin, 80);
+    assert_int_equal(c.clips[2].tag_range_count, 2);
+    assert_true(mm_config_tag_index(&c, "Drop") >= 0 && mm_config_tag_index(&c, "Landing") >= 0);
+    mm_config_free(&c);
+    sc.name = "walk"; /* the base's clip */
+    assert_int_equal(mm_config_save_clip(derived, &sc, &err), MM_ERR_DUPLICATE_NAME);
+    static const float range[1][2] = {{0.1f, 0.2f}};
+    assert_int_equal(mm_config_save_clip_tags(derived, "walk", "DoNotUse", range, 1, &err),
+                     MM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(mm_config_save_clip_tags(derived, "hop", "Jump", range, 1, &err), MM_OK);
+    assert_int_equal(mm_config_load_json(derived, &c, NULL, &err), MM_OK);
+    assert_float_equal(c.clips[1].tag_ranges[c.clips[1].tag_ranges[0].tag == jump ? 0 : 1].begin, 0.1f,
+                       1e-6f);
+    mm_config_free(&c);
+
+    /* a cycle, a missing base */
+    write_text(a, "{\"extends\": \"extends_b.json\", \"clips\": []}\n");
+    write_text(b, "{\"extends\": \"extends_a.json\"}\n");
+    assert_int_not_equal(mm_config_load_json(a, &c, NULL, &err), MM_OK);
+    assert_non_null(strstr(err.message, "cycle"));
+    write_text(missing, "{\"extends\": \"no_such_base.json\"}\n");
+    assert_int_equal(mm_config_load_json(missing, &c, NULL, &err), MM_ERR_NOT_FOUND);
+    assert_non_null(strstr(err.message, "no_such_base.json"));
+    assert_non_null(strstr(err.file, "extends_missing.json"));
+    write_text(missing, "{\"extends\": 3}\n");
+    assert_int_equal(mm_config_load_json(missing, &c, NULL, &err), MM_ERR_SYNTAX);
+    /* an error in the base names the base */
+    write_text(base, "{\"intervall\": 0.02}\n");
+    assert_int_equal(mm_config_load_json(derived, &c, NULL, &err), MM_ERR_UNKNOWN_KEYWORD);
+    assert_int_equal(mm_config_load_json(base, &c, NULL, &err), MM_ERR_UNKNOWN_KEYWORD);
+}
+
 /* docs/config.md holds the same table that `mm config explain --markdown` prints. */
 static void test_docs_in_sync(void **state)
 {
@@ -225,9 +332,13 @@ static void test_docs_in_sync(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_every_field),        cmocka_unit_test(test_errors_name_the_field),
-        cmocka_unit_test(test_json_syntax_errors), cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_resolve_paths),      cmocka_unit_test(test_docs_in_sync),
+        cmocka_unit_test(test_every_field),
+        cmocka_unit_test(test_errors_name_the_field),
+        cmocka_unit_test(test_json_syntax_errors),
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_resolve_paths),
+        cmocka_unit_test(test_docs_in_sync),
+        cmocka_unit_test(test_extends),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -3,6 +3,8 @@
 #include <mm/distance.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
+#include <mm/move_detect.h>
+#include <mm/moves.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
 #include <mm/target_match.h>
@@ -10,6 +12,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 int main()
 {
@@ -33,6 +36,8 @@ int main()
     if (!mm_target_match_step(&match, 0.0f, 1.0f, mm_xform_identity(), &correction) ||
         std::fabs(correction.translation.x - 1.0f) > 1e-6f)
         return 1;
+    if (std::string(mm_move_kind_name(MM_MOVE_VAULT_LOW)) != "vault_low") return 1;
+    if (std::string(mm_move_kind_tag(MM_MOVE_VAULT_HIGH)) != "VaultHigh") return 1;
     mm_camera cam;
     mm_camera_defaults(&cam);
     float px = 0.0f, py = 0.0f;

@@ -60,6 +60,48 @@ static void test_sampling(void **state)
     mm_input_script_free(&s);
 }
 
+/* "jump": true presses the button on exactly one tick: the one whose interval holds the key. */
+static void test_jump_presses(void **state)
+{
+    (void)state;
+    const char *text =
+        "{\"keys\": [{\"t\": 0, \"stick\": [0, 0], \"jump\": true}, {\"t\": 0.5, \"stick\": [0, 1]},"
+        " {\"t\": 1.0, \"stick\": [0, 1], \"jump\": true}, {\"t\": 1.01, \"stick\": [0, 1], "
+        "\"jump\": true}]}";
+    mm_input_script s;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_input_script_parse_json(text, strlen(text), "jump", &s, &err), MM_OK);
+    assert_true(s.keys[0].input.jump && !s.keys[1].input.jump && s.keys[2].input.jump);
+    int presses = 0, first = -1, second = -1;
+    float dt = 1.0f / 60.0f;
+    for (int f = 0; f < 120; ++f) {
+        mm_input in;
+        mm_input_script_sample_tick(&s, (float)f * dt, dt, &in);
+        if (!in.jump) continue;
+        if (presses == 0) first = f;
+        if (presses == 1) second = f;
+        ++presses;
+    }
+    /* the keys at 1.0 and 1.01 s fall into ticks 60 and 61: three presses in all */
+    assert_int_equal(presses, 3);
+    assert_int_equal(first, 0);
+    assert_int_equal(second, 60);
+    mm_input in; /* plain sampling reports the key's flag as long as it holds */
+    mm_input_script_sample(&s, 0.3f, &in);
+    assert_true(in.jump);
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    assert_int_equal(mm_input_script_write_json(&s, f), MM_OK);
+    rewind(f);
+    char back[1024];
+    size_t n = fread(back, 1, sizeof back - 1, f);
+    back[n] = 0;
+    fclose(f);
+    assert_non_null(strstr(back, "\"jump\": true"));
+    mm_input_script_free(&s);
+}
+
 static void test_random(void **state)
 {
     (void)state;
@@ -145,8 +187,10 @@ static void test_errors(void **state)
                  "keys[0].gait");
     expect_error("{\"keys\": [{\"t\": 0, \"stick\": [0, 1], \"facing\": [0, 0]}]}", MM_ERR_OUT_OF_RANGE,
                  "keys[0].facing must not be zero");
-    expect_error("{\"keys\": [{\"t\": 0, \"stick\": [0, 1], \"jump\": true}]}", MM_ERR_UNKNOWN_KEYWORD,
-                 "keys[0].jump: unknown field");
+    expect_error("{\"keys\": [{\"t\": 0, \"stick\": [0, 1], \"jumps\": true}]}", MM_ERR_UNKNOWN_KEYWORD,
+                 "keys[0].jumps: unknown field");
+    expect_error("{\"keys\": [{\"t\": 0, \"stick\": [0, 1], \"jump\": 1}]}", MM_ERR_SYNTAX,
+                 "keys[0].jump must be true or false");
     mm_input_script s;
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -157,9 +201,8 @@ static void test_errors(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_shipped_scripts),
-        cmocka_unit_test(test_sampling),
-        cmocka_unit_test(test_random),
+        cmocka_unit_test(test_shipped_scripts), cmocka_unit_test(test_sampling),
+        cmocka_unit_test(test_random),          cmocka_unit_test(test_jump_presses),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,7 +1,8 @@
 /* Rendering: the camera against hand-computed projections, the font and text layout, PNG files
  * decoded back, and headless frames whose pixels are checked against the geometry (a sphere
  * covers the disc its projection predicts, the character lies where its joints project, the
- * overlay's glyph pixels are where the font says). */
+ * overlay's glyph pixels are where the font says, a scene box covers the hull of its projected
+ * corners). */
 #include <math.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -520,6 +521,120 @@ static void test_tuning_steps_select_and_clamp(void **state)
     mm_database_free(&db);
 }
 
+/* ---- scene boxes ---- */
+
+static void test_box_corners_by_hand(void **state)
+{
+    (void)state;
+    /* yaw 90 degrees: the box's +Z turns to world +X and its +X to world -Z */
+    mm_render_box b = {{1.0f, 0.5f, 2.0f}, {2.0f, 1.0f, 4.0f}, (float)(MM_PI / 2), {0, 0, 0, 0}};
+    mm_vec3 c[8];
+    mm_render_box_corners(&b, c);
+    /* corner i: local x = -1 or +1 (bit 0), y = 0 or 1 (bit 1), z = -2 or +2 (bit 2);
+       world = position + (z, y, -x) */
+    for (int i = 0; i < 8; ++i) {
+        float x = i & 1 ? 1.0f : -1.0f, y = i & 2 ? 1.0f : 0.0f, z = i & 4 ? 2.0f : -2.0f;
+        assert_float_equal(c[i].x, 1.0f + z, 1e-5f);
+        assert_float_equal(c[i].y, 0.5f + y, 1e-6f);
+        assert_float_equal(c[i].z, 2.0f - x, 1e-5f);
+    }
+    /* the scene's boxes become render boxes with the same placement */
+    mm_scene scene;
+    mm_scene_init(&scene, 0.25f);
+    assert_int_equal(mm_scene_add_box(&scene, mm_vec3_make(0, 0.25f, 3), mm_vec3_make(4, 1, 0.4f), 0.3f),
+                     MM_OK);
+    assert_int_equal(mm_scene_add_box(&scene, mm_vec3_make(5, 0.25f, 3), mm_vec3_make(1, 2.2f, 1), -0.5f),
+                     MM_OK);
+    mm_render_box out[2];
+    assert_int_equal(mm_view_scene_boxes(&scene, out, 1), 2); /* capacity 1: one written, 2 counted */
+    assert_float_equal(out[0].size.x, 4.0f, 0);
+    assert_float_equal(out[0].yaw, 0.3f, 0);
+    assert_true(out[0].color.a > 0.0f);
+    mm_view v;
+    memset(&v, 0, sizeof v);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_view_set_scene(&v, &scene, &err), MM_OK);
+    assert_int_equal(v.box_count, 2);
+    assert_float_equal(v.boxes[1].position.x, 5.0f, 0);
+    assert_float_equal(v.boxes[1].size.y, 2.2f, 0);
+    assert_float_equal(v.ground, 0.25f, 0);
+    assert_int_equal(mm_view_set_scene(&v, NULL, &err), MM_OK);
+    assert_int_equal(v.box_count, 0);
+    assert_null(v.boxes);
+}
+
+/* Twice the signed area of the triangle (o, a, b). */
+static double cross2(const double *o, const double *a, const double *b)
+{
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+static void test_box_covers_its_projected_hull(void **state)
+{
+    (void)state;
+    mm_camera c = straight_camera();
+    c.pitch = 0.35f; /* from above: the top face shows too */
+    mm_render_box b = {{0.1f, 0.4f, 0.2f}, {1.0f, 0.9f, 0.6f}, 0.6f, {0.8f, 0.6f, 0.4f, 1.0f}};
+    mm_render_scene s;
+    memset(&s, 0, sizeof s);
+    s.no_ground = true;
+    s.boxes = &b;
+    s.box_count = 1;
+    const uint8_t *rgb = mm_offscreen_render(offscreen, &c, &s);
+    assert_non_null(rgb);
+    /* the projected corners' convex hull (monotone chain) is what the box covers */
+    mm_vec3 corner[8];
+    mm_render_box_corners(&b, corner);
+    double p[8][2], hull[16][2];
+    for (int i = 0; i < 8; ++i) {
+        float px, py;
+        assert_true(mm_camera_project(&c, W, H, corner[i], &px, &py));
+        p[i][0] = px, p[i][1] = py;
+    }
+    for (int i = 1; i < 8; ++i) /* sort by x, then y */
+        for (int k = i; k > 0 && (p[k][0] < p[k - 1][0] || (p[k][0] == p[k - 1][0] && p[k][1] < p[k - 1][1]));
+             --k) {
+            double t0 = p[k][0], t1 = p[k][1];
+            p[k][0] = p[k - 1][0], p[k][1] = p[k - 1][1];
+            p[k - 1][0] = t0, p[k - 1][1] = t1;
+        }
+    int n = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        int start = n;
+        for (int j = 0; j < 8; ++j) {
+            int i = pass ? 7 - j : j;
+            while (n >= start + 2 && cross2(hull[n - 2], hull[n - 1], p[i]) <= 0) --n;
+            hull[n][0] = p[i][0], hull[n][1] = p[i][1];
+            ++n;
+        }
+        --n; /* the last point starts the other half */
+    }
+    double area = 0.0;
+    for (int i = 0; i < n; ++i) area += 0.5 * cross2(hull[0], hull[i], hull[(i + 1) % n]);
+    area = fabs(area);
+    double count = 0;
+    int outside = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            if (is_background(rgb, x, y)) continue;
+            ++count;
+            /* no covered pixel lies more than 1.5 px outside the hull */
+            double q[2] = {x + 0.5, y + 0.5};
+            for (int i = 0; i < n; ++i) {
+                const double *a = hull[i], *e = hull[(i + 1) % n];
+                double len = hypot(e[0] - a[0], e[1] - a[1]);
+                if (len > 0 && cross2(a, e, q) / len < -1.5) { /* the hull runs counter-clockwise in y-down */
+                    ++outside;
+                    break;
+                }
+            }
+        }
+    assert_true(area > 1000.0);
+    assert_int_equal(outside, 0);
+    assert_true(fabs(count - area) < 0.05 * area);
+}
+
 int main(void)
 {
     mm_error err;
@@ -541,6 +656,8 @@ int main(void)
         cmocka_unit_test(test_video_folder_and_errors),
         cmocka_unit_test(test_overlay_text_of_a_character),
         cmocka_unit_test(test_tuning_steps_select_and_clamp),
+        cmocka_unit_test(test_box_corners_by_hand),
+        cmocka_unit_test(test_box_covers_its_projected_hull),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     mm_offscreen_destroy(offscreen);

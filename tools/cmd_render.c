@@ -1,6 +1,7 @@
 /* mm render FILE.bvh -o OUT [--size WxH] [--fps F] [--from S] [--seconds T] [--scale S|auto]
+ *           [--scene SCENE.json]
  * Draws a BVH clip headless (OSMesa) into an MP4 or GIF (through ffmpeg) or a folder of PNG
- * frames; the camera follows the root. */
+ * frames, with a scene's boxes when given; the camera follows the root. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,23 +9,27 @@
 
 #include <mm/mm.h>
 #include <mm/render.h>
+#include <mm/scene_json.h>
+#include <mm/view.h>
 
 #include "cli.h"
 #include "commands.h"
 
 int mm_cmd_render(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL;
+    const char *in = NULL, *out = NULL, *scene_path = NULL;
     int width = 640, height = 360;
     double fps = 30.0, from = 0.0, seconds = -1.0, scale = 0.0;
     int auto_scale = 1;
     const char *usage =
         "usage: mm render FILE.bvh -o OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--fps 30] [--from S] "
-        "[--seconds T] [--scale S|auto]";
+        "[--seconds T] [--scale S|auto] [--scene SCENE.json]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "-o") == 0 && v)
             out = argv[++i];
+        else if (strcmp(a, "--scene") == 0 && v)
+            scene_path = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
             if (!cli_parse_size(v, &width, &height))
                 return cli_usage_error("render", "--size needs WIDTHxHEIGHT, each 16 to 4096");
@@ -59,6 +64,13 @@ int mm_cmd_render(int argc, char **argv)
     if (!in || !out) return cli_usage_error("render", "%s", usage);
     mm_error err;
     memset(&err, 0, sizeof err);
+    static mm_scene obstacles; /* large: kept off the stack */
+    static mm_render_box boxes[MM_SCENE_MAX_BOXES];
+    int box_count = 0;
+    if (scene_path) {
+        if (mm_scene_load_json(scene_path, &obstacles, &err) != MM_OK) return cli_report(&err);
+        box_count = mm_view_scene_boxes(&obstacles, boxes, MM_SCENE_MAX_BOXES);
+    }
     mm_bvh bvh;
     if (mm_bvh_load(in, NULL, &bvh, &err) != MM_OK) return cli_report(&err);
     mm_bvh_import_desc imp;
@@ -100,6 +112,9 @@ int mm_cmd_render(int argc, char **argv)
         scene.parents = parents;
         scene.global = global;
         scene.head_joint = mm_render_find_head(clip.skeleton.joints, n);
+        scene.boxes = boxes;
+        scene.box_count = box_count;
+        scene.ground_height = scene_path ? obstacles.ground : 0.0f;
         char overlay[256];
         scene.overlay = overlay;
         for (int f = 0; f < frames && status == 0; ++f) {

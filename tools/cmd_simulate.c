@@ -1,8 +1,9 @@
 /* mm simulate DB (--input SCRIPT | --random SEED) --seconds T [--fps F] -o OUT.bvh --metrics OUT.json
- *             [--distance-matching on|off] [--warping on|off]
+ *             [--scene SCENE.json] [--distance-matching on|off] [--warping on|off]
  *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
  * Runs one character over scripted or random input; writes its motion, the metrics of
- * docs/metrics.md and, on request, a video of it rendered headless. */
+ * docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move layer
+ * (mm/moves.h: jump, vault, climb, drop-down) runs around the character. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -14,7 +15,9 @@
 #include <mm/config_json.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
+#include <mm/moves.h>
 #include <mm/render.h>
+#include <mm/scene_json.h>
 #include <mm/view.h>
 
 #include "cli.h"
@@ -104,14 +107,15 @@ static double database_max_pop(const mm_database *db, float fps)
 
 int mm_cmd_simulate(int argc, char **argv)
 {
-    const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL;
+    const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL,
+               *scene_path = NULL;
     long seed = -1;
     double seconds = 0.0, fps = 60.0, video_fps = 30.0;
     int width = 640, height = 360;
     int distance_matching = -1, warping = -1; /* -1: the controller's default */
     const char *usage =
         "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED) --seconds T [--fps F] -o OUT.bvh "
-        "--metrics OUT.json [--distance-matching on|off] [--warping on|off] "
+        "--metrics OUT.json [--scene SCENE.json] [--distance-matching on|off] [--warping on|off] "
         "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -133,6 +137,8 @@ int mm_cmd_simulate(int argc, char **argv)
             out = argv[++i];
         else if (strcmp(a, "--metrics") == 0 && v)
             metrics = argv[++i];
+        else if (strcmp(a, "--scene") == 0 && v)
+            scene_path = argv[++i];
         else if (strcmp(a, "--video") == 0 && v)
             video_path = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
@@ -166,6 +172,8 @@ int mm_cmd_simulate(int argc, char **argv)
                                fps, floor(seconds * fps), SIM_MAX_FRAMES);
     mm_error err;
     memset(&err, 0, sizeof err);
+    static mm_scene scene; /* about 7 KB: not on the stack */
+    if (scene_path && mm_scene_load_json(scene_path, &scene, &err) != MM_OK) return cli_report(&err);
     mm_database db;
     if (mm_database_load(db_path, NULL, &db, &err) != MM_OK) return cli_report(&err);
     mm_input_script script;
@@ -203,6 +211,8 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_database_free(&db);
         return cli_report(&err);
     }
+    mm_moves moves; /* without a scene: plain locomotion */
+    mm_moves_init(&moves, &db, scene_path ? &scene : NULL, NULL, NULL);
     int frames = (int)floor(seconds * fps + 1e-6), n = db.joint_count;
     mm_skeleton skel;
     mm_skeleton_init(&skel, n, NULL);
@@ -215,6 +225,7 @@ int mm_cmd_simulate(int argc, char **argv)
     motion_metrics mx;
     mm_vec3 *world = malloc(sizeof(mm_vec3) * (size_t)n);
     int metrics_ok = motion_metrics_init(&mx, n, contact, fps, frames) == 0 && world;
+    if (metrics_ok && scene_path) motion_metrics_scene(&mx, &scene);
     int status = 0;
     /* the metrics go to a temporary file, opened now so that a bad path fails before the run and
      * no motion is written without its metrics */
@@ -232,7 +243,8 @@ int mm_cmd_simulate(int argc, char **argv)
     sim_video video;
     memset(&video, 0, sizeof video);
     if (video_path &&
-        sim_video_open(&video, video_path, width, height, video_fps, 1.0 / fps, &db, &err) != MM_OK) {
+        (sim_video_open(&video, video_path, width, height, video_fps, 1.0 / fps, &db, &err) != MM_OK ||
+         (scene_path && sim_video_set_scene(&video, &scene, &err) != MM_OK))) {
         status = cli_report(&err);
         goto done;
     }
@@ -241,13 +253,16 @@ int mm_cmd_simulate(int argc, char **argv)
     for (int f = 0; f < frames; ++f) {
         double t = f / fps;
         mm_input in;
-        mm_input_script_sample(&script, (float)t, &in);
+        mm_input_script_sample_tick(&script, (float)t, (float)(1.0 / fps), &in);
         mm_vec3 desired;
         mm_trajectory_desired(&c.trajectory, &in, &desired, NULL);
         motion_metrics_input(&mx, t, &in, desired);
         double start = now();
-        mm_character_update(&c, &in, dt);
+        mm_moves_update(&moves, &c, &in, dt);
         float frame_us = (float)(1e6 * (now() - start));
+        if (moves.finished)
+            motion_metrics_move(&mx, mm_move_kind_name(moves.last.kind), moves.last.t_start, moves.last.t_end,
+                                moves.last.target_error_cm);
         if (video_path && status == 0 && sim_video_tick(&video, &c, &in, &err) != MM_OK)
             status = cli_report(&err);
         if (c.searches != last_searches) {

@@ -1,4 +1,5 @@
 /* mm view DB.mmdb [--config CONFIG] | mm view --clip FILE.bvh [--config CONFIG] [--clip-name NAME]
+ * (either with [--scene SCENE.json]: its boxes are drawn)
  * The interactive viewer (GLFW + OpenGL 3.3): drive a character on a database with keyboard or
  * gamepad, watch the debug drawing, tune the cost weights and trajectory parameters live and save
  * them into the config; or inspect a clip: play, scrub, step, and edit its tag ranges.
@@ -15,6 +16,7 @@
 #include <mm/input_json.h>
 #include <mm/mm.h>
 #include <mm/render.h>
+#include <mm/scene_json.h>
 #include <mm/view.h>
 
 #include "cli.h"
@@ -23,7 +25,8 @@
 #define TICK (1.0 / 60.0)
 
 typedef struct options {
-    const char *db, *clip, *config, *clip_name, *input, *screenshot;
+    const char *db, *clip, *config, *clip_name, *input, *screenshot, *scene_path;
+    const mm_scene *scene; /* loaded from scene_path; NULL: none */
     int width, height;
     long frames; /* 0: until the window closes */
 } options;
@@ -236,7 +239,7 @@ static int view_database(const options *o)
         return cli_report(&err);
     }
     if (mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK ||
-        mm_view_init(&view, &db, &err) != MM_OK) {
+        mm_view_init(&view, &db, &err) != MM_OK || mm_view_set_scene(&view, o->scene, &err) != MM_OK) {
         status = cli_report(&err);
         goto done_data;
     }
@@ -433,6 +436,10 @@ static int view_clip(const options *o)
         scene.parents = parents;
         scene.global = global;
         scene.head_joint = mm_render_find_head(clip.skeleton.joints, n);
+        static mm_render_box boxes[MM_SCENE_MAX_BOXES];
+        scene.boxes = boxes;
+        scene.box_count = mm_view_scene_boxes(o->scene, boxes, MM_SCENE_MAX_BOXES);
+        scene.ground_height = o->scene ? o->scene->ground : 0.0f;
         double duration = mm_clip_duration(&clip), t = 0.0, speed = 1.0, last = glfwGetTime();
         bool playing = true;
         static char overlay[8192];
@@ -533,7 +540,8 @@ int mm_cmd_view(int argc, char **argv)
     o.height = 720;
     const char *usage =
         "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] | mm view --clip FILE.bvh "
-        "[--config CONFIG.json] [--clip-name NAME]  [--size 1280x720] [--frames N --screenshot OUT.png]";
+        "[--config CONFIG.json] [--clip-name NAME]  [--scene SCENE.json] [--size 1280x720] "
+        "[--frames N --screenshot OUT.png]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--clip") == 0 && v)
@@ -544,6 +552,8 @@ int mm_cmd_view(int argc, char **argv)
             o.clip_name = argv[++i];
         else if (strcmp(a, "--input") == 0 && v)
             o.input = argv[++i];
+        else if (strcmp(a, "--scene") == 0 && v)
+            o.scene_path = argv[++i];
         else if (strcmp(a, "--screenshot") == 0 && v)
             o.screenshot = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
@@ -563,5 +573,12 @@ int mm_cmd_view(int argc, char **argv)
     }
     if ((!o.db) == (!o.clip)) return cli_usage_error("view", "%s", usage);
     if (o.screenshot && !o.frames) return cli_usage_error("view", "--screenshot needs --frames N");
+    static mm_scene scene; /* large: kept off the stack */
+    if (o.scene_path) {
+        mm_error err;
+        memset(&err, 0, sizeof err);
+        if (mm_scene_load_json(o.scene_path, &scene, &err) != MM_OK) return cli_report(&err);
+        o.scene = &scene;
+    }
     return o.clip ? view_clip(&o) : view_database(&o);
 }

@@ -27,7 +27,7 @@ static const struct command {
     {"synth", mm_cmd_synth},       {"import", mm_cmd_import},
     {"pfnn", mm_cmd_pfnn},         {"similarity", mm_cmd_similarity},
     {"simulate", mm_cmd_simulate}, {"render", mm_cmd_render},
-    {"view", mm_cmd_view},
+    {"view", mm_cmd_view},         {"moves", mm_cmd_moves},
 };
 
 static void usage(FILE *f)
@@ -51,6 +51,9 @@ static void usage(FILE *f)
         "                                    for beside CONFIG, in DIR, then in $MM_DATA_DIR)\n"
         "  db info FILE [--json]             frames, dims, clips, tags, feature groups\n"
         "  db dump FILE                      everything in a database as deterministic text\n"
+        "  moves detect FILE.bvh [--config CONFIG] [--json] [--write CONFIG.json] [--as NAME] [--no-mirror]\n"
+        "                                    jumps, vaults, climbs and drops with their events; --write\n"
+        "                                    adds them to a config as tagged clips\n"
         "  pfnn eval --weights DIR --x X.bin --phase P [--mode constant|linear|cubic] -o Y.bin\n"
         "                                    run the PFNN network on raw inputs (342 float32 per row)\n"
         "  synth OUTDIR [--seed N] [--fps 60]  write the built-in procedural motion set (BVH + clips.json)\n"

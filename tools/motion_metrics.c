@@ -5,6 +5,8 @@
 
 #include "motion_metrics.h"
 
+#include <mm/moves.h>
+
 int motion_metrics_init(motion_metrics *m, int joint_count, const int contact_joint[4], double fps,
                         long frames)
 {
@@ -62,6 +64,10 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
         now[j] = p;
     }
     m->nan_frames += bad;
+    if (m->scene && !bad) {
+        double depth = mm_moves_penetration(m->scene, world, n);
+        if (depth > m->penetration_max) m->penetration_max = depth;
+    }
     if (f >= 2)
         for (int j = 0; j < n; ++j) {
             mm_vec3 d = mm_vec3_add(mm_vec3_sub(now[j], mm_vec3_scale(before[j], 2.0f)), before2[j]);
@@ -96,6 +102,19 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
         }
     }
     if (f < m->frame_capacity) m->frame_us[f] = frame_us;
+}
+
+void motion_metrics_scene(motion_metrics *m, const mm_scene *scene) { m->scene = scene; }
+
+void motion_metrics_move(motion_metrics *m, const char *kind, double t_start, double t_end,
+                         double target_error_cm)
+{
+    if (m->move_count >= MOTION_METRICS_MAX_MOVES) return;
+    m->moves[m->move_count].kind = kind;
+    m->moves[m->move_count].t_start = t_start;
+    m->moves[m->move_count].t_end = t_end;
+    m->moves[m->move_count].target_error_cm = target_error_cm;
+    ++m->move_count;
 }
 
 void motion_metrics_search(motion_metrics *m, float us)
@@ -156,6 +175,17 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "search_median_us", search_median, 0);
     json_number(f, "search_p99_us", search_p99, 0);
     json_number(f, "frame_median_us", frame_median, 0);
-    json_number(f, "memory_mb", x ? x->memory_mb : NAN, 1);
+    json_number(f, "memory_mb", x ? x->memory_mb : NAN, 0);
+    json_number(f, "penetration_max_cm", m->scene ? 100.0 * m->penetration_max : NAN, 0);
+    fprintf(f, "  \"moves\": [");
+    for (int k = 0; k < m->move_count; ++k) {
+        fprintf(f, "%s\n    {\"kind\": \"%s\", \"t_start\": %.6g, \"t_end\": %.6g, \"target_error_cm\": ",
+                k ? "," : "", m->moves[k].kind, m->moves[k].t_start, m->moves[k].t_end);
+        if (isfinite(m->moves[k].target_error_cm))
+            fprintf(f, "%.6g}", m->moves[k].target_error_cm);
+        else
+            fprintf(f, "null}");
+    }
+    fprintf(f, "%s]\n", m->move_count ? "\n  " : "");
     fprintf(f, "}\n");
 }

@@ -7,6 +7,9 @@
 
 #include <mm/input.h>
 #include <mm/math.h>
+#include <mm/scene.h>
+
+#define MOTION_METRICS_MAX_MOVES 1024
 
 typedef struct motion_metrics {
     int joint_count;
@@ -25,6 +28,15 @@ typedef struct motion_metrics {
     /* per-frame controller cost and search times (us), kept for medians */
     float *frame_us, *search_us;
     long frame_capacity, search_count;
+    /* moves (mm/moves.h): the scene (NULL: none), the deepest any joint went into a box (m), the
+     * moves performed */
+    const mm_scene *scene;
+    double penetration_max;
+    int move_count;
+    struct {
+        const char *kind;
+        double t_start, t_end, target_error_cm;
+    } moves[MOTION_METRICS_MAX_MOVES];
 } motion_metrics;
 
 /* Room for frames frames of joint_count joints at fps; contact_joint: see above. 0 on success. */
@@ -43,6 +55,11 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
                           const mm_vec3 *raw_contacts, mm_vec3 sim_position, float sim_yaw, mm_vec3 root,
                           float root_yaw, float frame_us);
 void motion_metrics_search(motion_metrics *m, float us);
+/* The scene the character moves in (penetration_max_cm is measured against its boxes). */
+void motion_metrics_scene(motion_metrics *m, const mm_scene *scene);
+/* A move performed (kind: a static string); the first MOTION_METRICS_MAX_MOVES are kept. */
+void motion_metrics_move(motion_metrics *m, const char *kind, double t_start, double t_end,
+                         double target_error_cm);
 
 typedef struct motion_metrics_extra { /* what only the caller knows; NAN: null */
     double db_max_pop_cm, searches, transitions_per_s, memory_mb;

@@ -23,6 +23,11 @@ mm_result sim_video_open(sim_video *s, const char *path, int width, int height, 
     return MM_OK;
 }
 
+mm_result sim_video_set_scene(sim_video *s, const mm_scene *scene, mm_error *err)
+{
+    return mm_view_set_scene(&s->view, scene, err);
+}
+
 mm_result sim_video_tick(sim_video *s, const mm_character *c, const mm_input *in, mm_error *err)
 {
     if (!s->video) return MM_OK;

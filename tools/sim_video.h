@@ -5,6 +5,7 @@
 
 #include <mm/character.h>
 #include <mm/render.h>
+#include <mm/scene.h>
 #include <mm/view.h>
 
 typedef struct sim_video {
@@ -20,6 +21,9 @@ typedef struct sim_video {
 /* Opens the output (see mm_video_open) for ticks of tick_seconds, frames every 1 / video_fps s. */
 mm_result sim_video_open(sim_video *s, const char *path, int width, int height, double video_fps,
                          double tick_seconds, const mm_database *db, mm_error *err);
+/* Draws the scene's boxes (and its ground height) in every later frame; NULL removes them. The
+ * boxes are copied: scene need not outlive the call. */
+mm_result sim_video_set_scene(sim_video *s, const mm_scene *scene, mm_error *err);
 /* Called after every tick: draws a frame when one is due. */
 mm_result sim_video_tick(sim_video *s, const mm_character *c, const mm_input *in, mm_error *err);
 /* Finishes (or, with abort, removes) the output; frames receives the count written. */

@@ -27,8 +27,14 @@
  * A database's config may carry runtime tuning (mm_config.runtime, the config's "runtime" object):
  * mm_character_desc_apply_config writes it into a desc.
  *
+ * Moves (mm/moves.h) play a clip through mm_character_play_move: no search until its end frame,
+ * root motion as animated (not pulled toward the simulation); the move layer may change c->root
+ * between ticks (the body moves with it) and mm_character_shift_root moves the root under a
+ * pose that stays where it is. The root's height is kept from tick to tick (0 unless changed).
+ *
  * Functions: mm_character_defaults mm_character_default_params mm_character_desc_apply_config
- *            mm_character_init mm_character_free mm_character_update
+ *            mm_character_init mm_character_free mm_character_update mm_character_play_move
+ *            mm_character_move_playing mm_character_shift_root
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -62,8 +68,9 @@ typedef struct mm_character_desc {
                                   frames ahead in the same clip; 3 */
     mm_search_method method;   /* MM_SEARCH_FAST */
     bool use_params;           /* use params below instead of mm_search_params_defaults with
-                                  next_pose_favour 0.6 and the frames tagged "DoNotUse" or
-                                  "Jump" (moves the locomotion search must not pick) and the last
+                                  next_pose_favour 0.6 and the frames tagged "DoNotUse",
+                                  "Jump", "VaultLow", "VaultHigh", "Climb" or "Drop" (moves
+                                  the locomotion search must not pick) and the last
                                   0.25 s of one-shot clips excluded */
     mm_search_params params;
     mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
@@ -174,6 +181,12 @@ typedef struct mm_character {
     uint64_t no_distance_tag;
     float *query; /* [dims_padded] */
 
+    /* a move (mm_character_play_move): one to start on the next update (at move_frame), one
+     * playing, the frame where it hands back to matching, its transition half-life */
+    bool move_pending, move_playing;
+    int move_frame, move_end;
+    float move_halflife;
+
     /* statistics */
     int searches, transitions;
     float last_search_us;
@@ -193,6 +206,21 @@ void mm_character_free(mm_character *c);
  * (c->last_result.frame is -1); a database of one clip works the same way. The pose is never
  * NaN (tested with hostile input, and by bench_soak over a simulated hour). */
 void mm_character_update(mm_character *c, const mm_input *in, float dt);
+
+/* Plays a move: on the next update the character goes to database frame `frame` through an
+ * inertialized transition of half-life `halflife` (<= 0: desc.transition_halflife) and plays on
+ * by the clock, without searching, until the playhead reaches end_frame (in frame's clip; past
+ * the clip's end: to its end), when it searches at once (hands back to matching). While a move
+ * plays, the root follows the clip's root motion only (no pull toward the simulation, no
+ * clamps). A frame out of range stops the move being played (the next update searches). */
+void mm_character_play_move(mm_character *c, int frame, int end_frame, float halflife);
+
+/* True from mm_character_play_move until the move hands back to matching. */
+bool mm_character_move_playing(const mm_character *c);
+
+/* Moves the root by delta (world, metres) while the body stays where it is: the difference is
+ * taken into the offsets of the root's children, which decay as a transition's do. */
+void mm_character_shift_root(mm_character *c, mm_vec3 delta);
 
 #ifdef __cplusplus
 }

@@ -10,7 +10,7 @@
  *
  * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
  *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
- *            mm_config_save_tuning mm_config_save_clip_tags
+ *            mm_config_save_tuning mm_config_save_clip_tags mm_config_save_clip
  */
 #ifndef MM_CONFIG_JSON_H
 #define MM_CONFIG_JSON_H
@@ -82,6 +82,29 @@ mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, 
  * the top-level `tags` list is added to it. */
 mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_name, const char *tag,
                                    const float (*ranges)[2], int range_count, mm_error *err);
+
+/* A tag range by name: [begin, end] seconds from the start of the source file (begin == end tags
+ * the one frame at that time). */
+typedef struct mm_config_named_range {
+    char tag[MM_TAG_NAME_MAX];
+    float begin, end;
+} mm_config_named_range;
+
+/* A clip as mm_config_save_clip writes it: one frame range [begin, end) of file. */
+typedef struct mm_config_saved_clip {
+    const char *name;
+    const char *file; /* as the config should name it (e.g. "lafan1/obstacles1_subject1.bvh") */
+    int begin, end;   /* source frames, half-open */
+    mm_clip_type type;
+    bool mirror;
+    const mm_config_named_range *tags;
+    int tag_count;
+} mm_config_saved_clip;
+
+/* Adds a clip to the config file (at the end of its own `clips`), or replaces the clip of that
+ * name, so that writing the same clips again changes nothing; tag names not yet listed are added
+ * to `tags`. A name belonging to a clip of the config this one extends is MM_ERR_DUPLICATE_NAME. */
+mm_result mm_config_save_clip(const char *config_path, const mm_config_saved_clip *clip, mm_error *err);
 
 #ifdef __cplusplus
 }

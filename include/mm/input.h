@@ -4,11 +4,13 @@
  * JSON (mm/input_json.h) in the form
  *   {"keys": [{"t": 0.0, "stick": [x, z], "gait": "walk", "strafe": false, "facing": [x, z]}, ...]}
  * with the stick's x to the right and z forward in world space, magnitude at most 1, and facing
- * optional (the direction to face while strafing). mm_input_script_random makes scripts of the
- * same form from a seed.
+ * optional (the direction to face while strafing). A key may carry "jump": true, one press of
+ * the jump button at the key's time (mm/moves.h). mm_input_script_random makes scripts of the
+ * same form from a seed (it never presses jump).
  *
  * Functions: mm_input_script_init mm_input_script_free mm_input_script_validate
- *            mm_input_script_sample mm_input_script_random mm_gait_name mm_gait_parse
+ *            mm_input_script_sample mm_input_script_sample_tick mm_input_script_random mm_gait_name
+ * mm_gait_parse
  */
 #ifndef MM_INPUT_H
 #define MM_INPUT_H
@@ -37,6 +39,7 @@ typedef struct mm_input {
     bool strafe;
     bool has_facing;
     float facing[2]; /* x, z: the direction to face when strafing (unit) */
+    bool jump;       /* the jump button: pressed on this tick (mm_input_script_sample_tick) */
 } mm_input;
 
 typedef struct mm_input_key {
@@ -59,6 +62,10 @@ mm_result mm_input_script_validate(const mm_input_script *s, mm_error *err);
 /* The input at time t: the last key at or before t; before the first key (or with no key), the
  * neutral input (stick 0, walk, no strafe). */
 void mm_input_script_sample(const mm_input_script *s, float t, mm_input *out);
+/* The input of the tick that ends at time t and lasted dt seconds: mm_input_script_sample at t,
+ * with jump true only when a key carrying "jump" has its time in (t - dt, t] (the first tick,
+ * t - dt < 0, includes time 0): each such key presses the button on exactly one tick. */
+void mm_input_script_sample_tick(const mm_input_script *s, float t, float dt, mm_input *out);
 
 typedef struct mm_input_random_desc {
     float seconds;       /* length; 0: 60 */

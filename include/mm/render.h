@@ -21,7 +21,7 @@
  *            mm_renderer_create mm_renderer_destroy mm_renderer_draw mm_renderer_read_pixels
  *            mm_offscreen_create mm_offscreen_render mm_offscreen_destroy
  *            mm_png_write mm_png_read_size mm_video_open mm_video_write mm_video_close
- *            mm_video_encoder_available mm_text_measure mm_render_find_head
+ *            mm_video_encoder_available mm_text_measure mm_render_find_head mm_render_box_corners
  */
 #ifndef MM_RENDER_H
 #define MM_RENDER_H
@@ -84,6 +84,18 @@ typedef struct mm_render_marker { /* a small sphere: trajectory samples, contact
     mm_rgba color;
 } mm_render_marker;
 
+typedef struct mm_render_box { /* a solid, lit box standing upright (a scene's obstacle) */
+    mm_vec3 position;          /* centre of the bottom face, m */
+    mm_vec3 size;              /* full extents along the box's own x, y, z, m */
+    float yaw;                 /* rad about +Y: a yaw of pi/2 turns the box's +Z axis to world +X */
+    mm_rgba color;             /* alpha 0: a default sand colour */
+} mm_render_box;
+
+/* The box's 8 corners in world space: corner i is at local x = -size.x/2 or +size.x/2 (bit 0 of
+ * i), y = 0 or size.y (bit 1), z = -size.z/2 or +size.z/2 (bit 2), turned by yaw and moved to
+ * position. The renderer draws the box's faces and edges through the same transform. */
+void mm_render_box_corners(const mm_render_box *box, mm_vec3 out[8]);
+
 typedef struct mm_render_scene {
     /* the character: world transforms of joint_count joints and their parents (-1: none);
      * every joint is a sphere, every joint-to-parent segment a capsule of bone_radius */
@@ -102,8 +114,11 @@ typedef struct mm_render_scene {
     int line_count;
     const mm_render_marker *markers;
     int marker_count;
-    const char *overlay; /* text at the top left, '\n' separates lines; NULL: none */
-    bool no_ground;      /* skip the ground grid */
+    const char *overlay;        /* text at the top left, '\n' separates lines; NULL: none */
+    bool no_ground;             /* skip the ground grid */
+    const mm_render_box *boxes; /* obstacles, drawn solid and lit with dark edges */
+    int box_count;
+    float ground_height; /* m: the height of the ground grid (0 by default) */
 } mm_render_scene;
 
 /* The joint named like a head ("Head", "head", "HEAD"; the first such), or 0 when none. */

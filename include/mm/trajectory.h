@@ -20,7 +20,7 @@
  * Units: metres, seconds, radians; Y up; facing is a rotation about +Y (identity faces +Z).
  *
  * Functions: mm_trajectory_defaults mm_trajectory_init mm_trajectory_free mm_trajectory_reset
- *            mm_trajectory_update mm_trajectory_sample mm_trajectory_desired
+ *            mm_trajectory_teleport mm_trajectory_update mm_trajectory_sample mm_trajectory_desired
  */
 #ifndef MM_TRAJECTORY_H
 #define MM_TRAJECTORY_H
@@ -76,6 +76,11 @@ mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, c
 void mm_trajectory_free(mm_trajectory *t);
 /* Back to a standing state at position (y ignored) with facing; the history is cleared. */
 void mm_trajectory_reset(mm_trajectory *t, mm_vec3 position, mm_quat facing);
+/* Moves the simulation to position (y ignored) facing `facing` without stopping it: velocity,
+ * acceleration and the facing spring's state carry on, the recorded past moves by the same
+ * offset (its shape kept; facings unchanged). Used after a move (mm/moves.h) that carried the
+ * character away from the simulation. Non-finite input does nothing. */
+void mm_trajectory_teleport(mm_trajectory *t, mm_vec3 position, mm_quat facing);
 
 /* The velocity and facing the input asks for, given the current facing (targets of the springs). */
 void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *velocity, mm_quat *facing);

@@ -8,8 +8,8 @@
  *   mm_view_free(&v);
  *
  * Functions: mm_view_flags_defaults mm_view_init mm_view_free mm_view_update mm_view_overlay
- *            mm_view_input mm_view_tuning_init mm_view_tuning_select mm_view_tuning_step
- *            mm_view_tuning_text
+ *            mm_view_scene_boxes mm_view_set_scene mm_view_input mm_view_tuning_init mm_view_tuning_select
+ * mm_view_tuning_step mm_view_tuning_text
  */
 #ifndef MM_VIEW_H
 #define MM_VIEW_H
@@ -21,6 +21,7 @@
 #include "database.h"
 #include "input.h"
 #include "render.h"
+#include "scene.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -50,6 +51,9 @@ typedef struct mm_view {
     mm_render_marker *markers;
     int line_capacity, marker_capacity;
     char overlay[MM_VIEW_OVERLAY_MAX];
+    mm_render_box *boxes; /* the scene set by mm_view_set_scene (owned) */
+    int box_count;
+    float ground; /* its ground height */
 } mm_view;
 
 mm_result mm_view_init(mm_view *v, const mm_database *db, mm_error *err);
@@ -58,6 +62,14 @@ void mm_view_free(mm_view *v);
  * display rate shown in the overlay, 0 to leave it out). */
 void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const mm_view_flags *flags,
                     float fps);
+
+/* The render boxes of a scene's boxes: the same position, size and yaw, in alternating sand
+ * tones so that joined boxes stay apart. Writes min(box_count, capacity) boxes; returns the
+ * scene's box count (0 for NULL). */
+int mm_view_scene_boxes(const mm_scene *scene, mm_render_box *out, int capacity);
+/* Draws the scene's boxes, and the ground at its height, in every later mm_view_update (the
+ * boxes are copied; NULL removes them). */
+mm_result mm_view_set_scene(mm_view *v, const mm_scene *scene, mm_error *err);
 
 /* The overlay text: clip, frame and time; gait, speed, idle; the last search's cost and its five
  * terms; search time and counts; fps (when > 0). Returns the length written (truncated to n). */

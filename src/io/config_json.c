@@ -1,5 +1,6 @@
 /* Database configs in JSON (cJSON), their documentation table, and loading the clips they name. */
 #define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE   700 /* realpath */
 #include <mm/config_json.h>
 
 #include <cjson/cJSON.h>
@@ -16,6 +17,11 @@
 /* ---- documentation ---------------------------------------------------------------------- */
 
 static const mm_config_field_doc docs[] = {
+    {"extends", "string", "", "none",
+     "A base config this one adds to: a path relative to this file's folder (or absolute). Its clips, "
+     "blend clips and tag names come first and this file's are appended; objects (roles, contacts, features, "
+     "runtime) are merged field by field and any other field given here replaces the base's. Bases may "
+     "extend others; a cycle or a missing file is an error."},
     {"interval", "number", "s", "0.0166667 (1/60)",
      "Seconds between database frames (the seed's Interval: 0.05 gives 20 frames per second of animation). "
      "Every clip is resampled to it, rotations by slerp."},
@@ -486,9 +492,9 @@ static int clip_index(const mm_config *cfg, const char *name)
 
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
-    static const char *const keys[] = {"interval", "scale",       "roles",        "root_smoothing",
-                                       "contacts", "features",    "mirror_pairs", "tags",
-                                       "clips",    "blend_clips", "runtime",      NULL};
+    static const char *const keys[] = {"interval", "scale",        "roles", "root_smoothing", "contacts",
+                                       "features", "mirror_pairs", "tags",  "clips",          "blend_clips",
+                                       "runtime",  "extends",      NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
@@ -611,31 +617,202 @@ static void position_of(const char *text, size_t offset, int *line, int *column)
     }
 }
 
-mm_result mm_config_parse_json(const char *text, size_t size, const char *name, const char *base_dir,
-                               mm_config *cfg, mm_error *err)
+/* ---- extends ---------------------------------------------------------------------------- */
+
+#define MM_EXTENDS_MAX_DEPTH 16
+
+/* The canonical path of an existing file into out (truncated to MM_PATH_MAX); 0 when it does not
+ * exist. */
+static int real_path(const char *path, char *out)
+{
+    char *p = realpath(path, NULL);
+    if (!p) return 0;
+    snprintf(out, MM_PATH_MAX, "%s", p);
+    free(p);
+    return 1;
+}
+
+/* Folder of a path ("." when it has none). */
+static void folder_of(const char *path, char *out, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (slash)
+        snprintf(out, size, "%.*s", (int)(slash - path), path);
+    else
+        snprintf(out, size, ".");
+}
+
+/* JSON text to a tree; a syntax error names the line and column. */
+static mm_result parse_tree(const char *text, size_t size, cJSON **out, mm_error *err)
+{
+    const char *end = NULL;
+    *out = cJSON_ParseWithLengthOpts(text, size, &end, 0);
+    if (*out) return MM_OK;
+    int line, column;
+    size_t at = end && end >= text && end <= text + size ? (size_t)(end - text) : 0;
+    position_of(text, at, &line, &column);
+    return mm_error_set(err, size == 0 ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, line, column,
+                        size == 0 ? "the file is empty" : "not valid JSON here");
+}
+
+/* Moves what over adds into base: clips and blend_clips appended, tag names added when new,
+ * objects merged key by key (recursively), anything else replaced. Consumes over. 0: no memory. */
+static int merge_into(cJSON *base, cJSON *over, int top)
+{
+    while (over->child) {
+        cJSON *item = cJSON_DetachItemViaPointer(over, over->child);
+        const char *key = item->string;
+        cJSON *have = cJSON_GetObjectItemCaseSensitive(base, key);
+        if (top && strcmp(key, "extends") == 0) {
+            cJSON_Delete(item);
+            continue;
+        }
+        if (have && top && cJSON_IsArray(have) && cJSON_IsArray(item) &&
+            (strcmp(key, "clips") == 0 || strcmp(key, "blend_clips") == 0 || strcmp(key, "tags") == 0)) {
+            int tags = strcmp(key, "tags") == 0;
+            while (item->child) {
+                cJSON *e = cJSON_DetachItemViaPointer(item, item->child);
+                int dup = 0;
+                if (tags && cJSON_IsString(e))
+                    for (const cJSON *t = have->child; t && !dup; t = t->next)
+                        dup = cJSON_IsString(t) && strcmp(t->valuestring, e->valuestring) == 0;
+                if (dup)
+                    cJSON_Delete(e);
+                else
+                    cJSON_AddItemToArray(have, e);
+            }
+            cJSON_Delete(item);
+        } else if (have && cJSON_IsObject(have) && cJSON_IsObject(item)) {
+            int ok = merge_into(have, item, 0);
+            cJSON_Delete(item);
+            if (!ok) return 0;
+        } else if (have) {
+            if (!cJSON_ReplaceItemViaPointer(base, have, item)) {
+                cJSON_Delete(item);
+                return 0;
+            }
+        } else if (!cJSON_AddItemToObject(base, key, item)) {
+            cJSON_Delete(item);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* The config tree of text with its "extends" chain resolved. chain: the real paths of the files
+ * being read (for cycles), depth of them. The error's file is the file at fault. */
+static mm_result resolve_tree(const char *text, size_t size, const char *name, const char *base_dir,
+                              char (*chain)[MM_PATH_MAX], int depth, cJSON **out, int *extended,
+                              mm_error *err)
+{
+    *out = NULL;
+    mm__error_set_file(err, name);
+    cJSON *root = NULL;
+    mm_result r = parse_tree(text, size, &root, err);
+    if (r != MM_OK) return r;
+    const cJSON *ext = cJSON_GetObjectItemCaseSensitive(root, "extends");
+    if (!ext || !cJSON_IsObject(root)) {
+        *out = root;
+        return MM_OK;
+    }
+    if (!cJSON_IsString(ext) || !ext->valuestring[0]) {
+        cJSON_Delete(root);
+        return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "extends must be the path of a config file");
+    }
+    char path[MM_PATH_MAX], real[MM_PATH_MAX];
+    if (ext->valuestring[0] == '/' || !base_dir)
+        snprintf(path, sizeof path, "%s", ext->valuestring);
+    else
+        snprintf(path, sizeof path, "%s/%s", base_dir, ext->valuestring);
+    if (!real_path(path, real)) {
+        mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "extends: '%s' does not exist", path);
+        cJSON_Delete(root);
+        return MM_ERR_NOT_FOUND;
+    }
+    for (int i = 0; i < depth; ++i)
+        if (strcmp(chain[i], real) == 0) {
+            cJSON_Delete(root);
+            return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "extends: '%s' extends itself (a cycle)",
+                                path);
+        }
+    if (depth >= MM_EXTENDS_MAX_DEPTH) {
+        cJSON_Delete(root);
+        return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "extends: more than %d configs deep",
+                            MM_EXTENDS_MAX_DEPTH);
+    }
+    snprintf(chain[depth], MM_PATH_MAX, "%s", real);
+    char *base_text = NULL, dir[MM_PATH_MAX];
+    size_t base_size = 0;
+    r = mm__read_file(path, NULL, &base_text, &base_size, err);
+    if (r != MM_OK) {
+        cJSON_Delete(root);
+        return r;
+    }
+    folder_of(path, dir, sizeof dir);
+    cJSON *base = NULL;
+    r = resolve_tree(base_text, base_size, path, dir, chain, depth + 1, &base, extended, err);
+    free(base_text);
+    if (r == MM_OK && !cJSON_IsObject(base))
+        r = mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "the config must be an object");
+    if (r != MM_OK) {
+        cJSON_Delete(root);
+        cJSON_Delete(base);
+        return r;
+    }
+    mm__error_set_file(err, name);
+    int ok = merge_into(base, root, 1);
+    cJSON_Delete(root);
+    if (!ok) {
+        cJSON_Delete(base);
+        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    *extended = 1;
+    *out = base;
+    return MM_OK;
+}
+
+/* Parses text (resolving extends) into cfg; *out_flat receives the merged config as text when it
+ * extends another (malloc'd), else NULL. */
+static mm_result parse_config(const char *text, size_t size, const char *name, const char *base_dir,
+                              mm_config *cfg, char **out_flat, mm_error *err)
 {
     mm_allocator keep = cfg ? cfg->allocator : (mm_allocator){0};
+    if (out_flat) *out_flat = NULL;
     if (!cfg) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no config given");
     mm_config_defaults(cfg);
     cfg->allocator = keep;
-    mm__error_set_file(err, name ? name : "<config>");
+    if (!name) name = "<config>";
+    mm__error_set_file(err, name);
     if (base_dir) snprintf(cfg->base_dir, sizeof cfg->base_dir, "%s", base_dir);
     if (!text) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no text given");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, 0);
-    if (!root) {
-        int line, column;
-        size_t at = end && end >= text && end <= text + size ? (size_t)(end - text) : 0;
-        position_of(text, at, &line, &column);
-        return mm_error_set(err, size == 0 ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, line, column,
-                            size == 0 ? "the file is empty" : "not valid JSON here");
-    }
+    char chain[MM_EXTENDS_MAX_DEPTH + 1][MM_PATH_MAX];
+    int depth = 0, extended = 0;
+    if (real_path(name, chain[0])) depth = 1;
+    cJSON *root = NULL;
+    mm_result r = resolve_tree(text, size, name, base_dir, chain, depth, &root, &extended, err);
+    if (r != MM_OK) return r;
     ctx c = {cfg, err};
-    mm_result r = parse_root(&c, root);
+    r = parse_root(&c, root);
+    if (r == MM_OK && extended && out_flat) {
+        *out_flat = cJSON_Print(root);
+        if (!*out_flat) r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
     cJSON_Delete(root);
     if (r == MM_OK) r = mm_config_validate(cfg, err);
-    if (r != MM_OK) mm_config_free(cfg);
+    if (r != MM_OK) {
+        mm_config_free(cfg);
+        if (out_flat) {
+            free(*out_flat);
+            *out_flat = NULL;
+        }
+    }
     return r;
+}
+
+mm_result mm_config_parse_json(const char *text, size_t size, const char *name, const char *base_dir,
+                               mm_config *cfg, mm_error *err)
+{
+    return parse_config(text, size, name, base_dir, cfg, NULL, err);
 }
 
 mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text, mm_error *err)
@@ -646,16 +823,20 @@ mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text,
     mm_result r = mm__read_file(path, NULL, &text, &size, err);
     if (r != MM_OK) return r;
     char dir[MM_PATH_MAX];
-    const char *slash = strrchr(path, '/');
-    if (slash)
-        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
-    else
-        snprintf(dir, sizeof dir, ".");
-    r = mm_config_parse_json(text, size, path, dir, cfg, err);
-    if (r == MM_OK && out_text)
-        *out_text = text;
-    else
+    folder_of(path, dir, sizeof dir);
+    char *flat = NULL;
+    r = parse_config(text, size, path, dir, cfg, out_text ? &flat : NULL, err);
+    if (r == MM_OK && out_text) {
+        /* a config that extends another is embedded whole, so it reads without its base */
+        if (flat) {
+            free(text);
+            *out_text = flat;
+        } else {
+            *out_text = text;
+        }
+    } else {
         free(text);
+    }
     return r;
 }
 

@@ -231,7 +231,13 @@ static mm_result save_doc(const char *path, cJSON *root, mm_error *err)
     }
     mm_config check;
     memset(&check, 0, sizeof check);
-    mm_result r = mm_config_parse_json(b.data, b.size, path, NULL, &check, err);
+    char dir[MM_PATH_MAX]; /* for a base config named by "extends" */
+    const char *slash = strrchr(path, '/');
+    if (slash)
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    else
+        snprintf(dir, sizeof dir, ".");
+    mm_result r = mm_config_parse_json(b.data, b.size, path, dir, &check, err);
     mm_config_free(&check);
     if (r == MM_OK) r = mm__write_file_atomic(path, b.data, b.size, err);
     free(b.data);
@@ -380,11 +386,19 @@ mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_nam
     for (int i = 0; i < cfg.clip_count && clip < 0; ++i)
         if (strcmp(cfg.clips[i].name, clip_name) == 0) clip = i;
     int declared = mm_config_tag_index(&cfg, tag) >= 0;
+    /* a config that extends another lists its own clips after the base's */
+    int inherited = cfg.clip_count - cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(root, "clips"));
     mm_config_free(&cfg);
     if (clip < 0) {
         cJSON_Delete(root);
         return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "clips: no clip named '%s'", clip_name);
     }
+    if (clip < inherited) {
+        cJSON_Delete(root);
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "clips: '%s' comes from the config this one extends: edit that one", clip_name);
+    }
+    clip -= inherited;
     cJSON *item = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "clips"), clip);
     if (range_count == 0) {
         cJSON *tags = cJSON_GetObjectItemCaseSensitive(item, "tags");
@@ -428,6 +442,101 @@ mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_nam
                  : cJSON_AddItemToObject(tags, tag, list);
     if (!ok) {
         cJSON_Delete(list);
+        return no_memory(root, NULL, err);
+    }
+    return save_doc(config_path, root, err);
+}
+
+/* ---- whole clips ------------------------------------------------------------------------ */
+
+/* Appends a string to the array unless it is there. 0: no memory. */
+static int add_name(cJSON *names, const char *name)
+{
+    for (const cJSON *e = names->child; e; e = e->next)
+        if (cJSON_IsString(e) && strcmp(e->valuestring, name) == 0) return 1;
+    cJSON *s = cJSON_CreateString(name);
+    if (!s || !cJSON_AddItemToArray(names, s)) {
+        cJSON_Delete(s);
+        return 0;
+    }
+    return 1;
+}
+
+/* The clip object for c, or NULL when out of memory. */
+static cJSON *clip_object(const mm_config_saved_clip *c)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON *ranges = cJSON_CreateArray(), *range = cJSON_CreateArray();
+    int ok = o && ranges && range && cJSON_AddStringToObject(o, "name", c->name) &&
+             cJSON_AddStringToObject(o, "file", c->file);
+    ok = ok && cJSON_AddItemToArray(range, cJSON_CreateNumber(c->begin)) &&
+         cJSON_AddItemToArray(range, cJSON_CreateNumber(c->end)) && cJSON_AddItemToArray(ranges, range);
+    if (ok) range = NULL;
+    ok = ok && cJSON_AddItemToObject(o, "ranges", ranges);
+    if (ok) ranges = NULL;
+    if (ok && c->type == MM_CLIP_IDLE) ok = cJSON_AddStringToObject(o, "type", "idle") != NULL;
+    if (ok && c->mirror) ok = cJSON_AddTrueToObject(o, "mirror") != NULL;
+    cJSON *tags = ok && c->tag_count > 0 ? cJSON_AddObjectToObject(o, "tags") : NULL;
+    if (c->tag_count > 0 && !tags) ok = 0;
+    for (int i = 0; ok && i < c->tag_count; ++i) {
+        const mm_config_named_range *t = &c->tags[i];
+        cJSON *list = cJSON_GetObjectItemCaseSensitive(tags, t->tag);
+        if (!list) list = cJSON_AddArrayToObject(tags, t->tag);
+        cJSON *pair = cJSON_CreateArray();
+        ok = list && pair && cJSON_AddItemToArray(pair, cJSON_CreateNumber(short_double(t->begin))) &&
+             cJSON_AddItemToArray(pair, cJSON_CreateNumber(short_double(t->end))) &&
+             cJSON_AddItemToArray(list, pair);
+        if (!ok) cJSON_Delete(pair);
+    }
+    cJSON_Delete(range);
+    cJSON_Delete(ranges);
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+mm_result mm_config_save_clip(const char *config_path, const mm_config_saved_clip *clip, mm_error *err)
+{
+    mm__error_set_file(err, config_path);
+    if (!config_path || !clip || !clip->name || !clip->name[0] || !clip->file || !clip->file[0])
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "a config path and a clip name and file are needed");
+    if (clip->tag_count < 0 || (clip->tag_count > 0 && !clip->tags))
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clip '%s': %d tag ranges given", clip->name,
+                            clip->tag_count);
+    for (int i = 0; i < clip->tag_count; ++i)
+        if (!clip->tags[i].tag[0])
+            return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clip '%s': tag range %d has no tag name",
+                                clip->name, i);
+    mm_config cfg;
+    cJSON *root = NULL;
+    mm_result r = load_doc(config_path, &cfg, &root, err);
+    if (r != MM_OK) return r;
+    cJSON *clips = cJSON_GetObjectItemCaseSensitive(root, "clips");
+    int own = cJSON_IsArray(clips) ? cJSON_GetArraySize(clips) : 0, inherited = cfg.clip_count - own, at = -1;
+    for (int i = 0; i < cfg.clip_count && at < 0; ++i)
+        if (strcmp(cfg.clips[i].name, clip->name) == 0) at = i;
+    mm_config_free(&cfg);
+    if (at >= 0 && at < inherited) {
+        cJSON_Delete(root);
+        return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0,
+                            "clips: '%s' is a clip of the config this one extends", clip->name);
+    }
+    if (!clips) clips = cJSON_AddArrayToObject(root, "clips");
+    cJSON *names = cJSON_GetObjectItemCaseSensitive(root, "tags");
+    if (!names && clip->tag_count > 0) names = cJSON_AddArrayToObject(root, "tags");
+    cJSON *o = clip_object(clip);
+    int ok = clips && o && (clip->tag_count == 0 || names);
+    for (int i = 0; ok && i < clip->tag_count; ++i) ok = add_name(names, clip->tags[i].tag);
+    if (ok && at >= 0) { /* the clip of that name is replaced */
+        ok = cJSON_ReplaceItemInArray(clips, at - inherited, o);
+    } else if (ok) {
+        ok = cJSON_AddItemToArray(clips, o);
+    }
+    if (!ok) {
+        cJSON_Delete(o);
         return no_memory(root, NULL, err);
     }
     return save_doc(config_path, root, err);

@@ -25,7 +25,7 @@ static mm_result pair(const cJSON *v, const char *what, int i, float out[2], mm_
 
 static mm_result parse_key(const cJSON *j, int i, mm_input_key *k, mm_error *err)
 {
-    static const char *const known[] = {"t", "stick", "gait", "strafe", "facing"};
+    static const char *const known[] = {"t", "stick", "gait", "strafe", "facing", "jump"};
     if (!cJSON_IsObject(j)) return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "keys[%d] must be an object", i);
     for (const cJSON *it = j->child; it; it = it->next) {
         int ok = 0;
@@ -55,6 +55,12 @@ static mm_result parse_key(const cJSON *j, int i, mm_input_key *k, mm_error *err
         if (!cJSON_IsBool(strafe))
             return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "keys[%d].strafe must be true or false", i);
         k->input.strafe = cJSON_IsTrue(strafe);
+    }
+    const cJSON *jump = cJSON_GetObjectItemCaseSensitive(j, "jump");
+    if (jump) {
+        if (!cJSON_IsBool(jump))
+            return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "keys[%d].jump must be true or false", i);
+        k->input.jump = cJSON_IsTrue(jump);
     }
     const cJSON *facing = cJSON_GetObjectItemCaseSensitive(j, "facing");
     if (facing) {
@@ -139,6 +145,7 @@ mm_result mm_input_script_write_json(const mm_input_script *s, FILE *out)
         fprintf(out, "  {\"t\": %s, \"stick\": [%s, %s], \"gait\": \"%s\"", a, b, c,
                 mm_gait_name(k->input.gait));
         if (k->input.strafe) fputs(", \"strafe\": true", out);
+        if (k->input.jump) fputs(", \"jump\": true", out);
         if (k->input.has_facing) {
             mm__format_number(b, sizeof b, k->input.facing[0], 9);
             mm__format_number(c, sizeof c, k->input.facing[1], 9);

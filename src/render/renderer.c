@@ -17,6 +17,7 @@ struct mm_renderer {
     GLuint lit, ground, flat, text;            /* programs */
     GLuint sphere_vao, sphere_vbo, sphere_ibo; /* unit sphere */
     GLuint cylinder_vao, cylinder_vbo;         /* unit cylinder, y in [0, 1] */
+    GLuint cube_vao, cube_vbo;                 /* unit box, x and z in [-0.5, 0.5], y in [0, 1] */
     GLuint ground_vao, ground_vbo;             /* one quad, moved under the camera */
     GLuint dynamic_vao, dynamic_vbo;           /* lines and text, refilled every draw */
     GLuint font_texture;
@@ -26,6 +27,7 @@ struct mm_renderer {
 };
 
 static const mm_rgba default_body = {0.62f, 0.68f, 0.78f, 1.0f};
+static const mm_rgba default_box = {0.80f, 0.64f, 0.46f, 1.0f};
 static const float fog_color[3] = {0.80f, 0.84f, 0.88f};
 
 /* ---- shaders ---- */
@@ -63,10 +65,10 @@ static const char *lit_fs =
 static const char *ground_vs = "#version 330 core\n"
                                "layout(location = 0) in vec3 a_pos;\n"
                                "uniform mat4 u_view_proj;\n"
-                               "uniform vec2 u_offset;\n"
+                               "uniform vec3 u_offset;\n"
                                "out vec3 v_world;\n"
                                "void main() {\n"
-                               "  v_world = a_pos + vec3(u_offset.x, 0.0, u_offset.y);\n"
+                               "  v_world = a_pos + u_offset;\n"
                                "  gl_Position = u_view_proj * vec4(v_world, 1.0);\n"
                                "}\n";
 
@@ -255,6 +257,34 @@ static void make_meshes(mm_renderer *r)
     gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * (size_t)nc * 6), cv, GL_STATIC_DRAW);
     vertex_layout(gl, 6, 3, 3);
 
+    /* unit box: 6 faces of 2 triangles, each vertex with its face's normal */
+    float bv[36 * 6];
+    int nb = 0;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            float sign = side ? 1.0f : -1.0f;
+            int u = (axis + 1) % 3, w = (axis + 2) % 3;
+            /* counter-clockwise seen from outside: (u, w) order flips with the side */
+            float quad[6][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, -1}, {1, 1}, {-1, 1}};
+            for (int k = 0; k < 6; ++k) {
+                float p[3], n[3] = {0, 0, 0};
+                p[axis] = 0.5f * sign;
+                p[u] = 0.5f * quad[k][side ? 0 : 1];
+                p[w] = 0.5f * quad[k][side ? 1 : 0];
+                n[axis] = sign;
+                float *o = bv + nb * 6;
+                o[0] = p[0], o[1] = p[1] + 0.5f, o[2] = p[2];
+                o[3] = n[0], o[4] = n[1], o[5] = n[2];
+                ++nb;
+            }
+        }
+    gl->GenVertexArrays(1, &r->cube_vao);
+    gl->BindVertexArray(r->cube_vao);
+    gl->GenBuffers(1, &r->cube_vbo);
+    gl->BindBuffer(GL_ARRAY_BUFFER, r->cube_vbo);
+    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof bv, bv, GL_STATIC_DRAW);
+    vertex_layout(gl, 6, 3, 3);
+
     /* ground: 400 m square, two triangles, moved under the camera target in 1 m steps */
     const float h = 200.0f;
     float gv[18] = {-h, 0, -h, -h, 0, h, h, 0, -h, h, 0, -h, -h, 0, h, h, 0, h};
@@ -325,11 +355,12 @@ void mm_renderer_destroy(mm_renderer *r)
     GLuint programs[4] = {r->lit, r->ground, r->flat, r->text};
     for (int i = 0; i < 4; ++i)
         if (programs[i]) gl->DeleteProgram(programs[i]);
-    GLuint vaos[4] = {r->sphere_vao, r->cylinder_vao, r->ground_vao, r->dynamic_vao};
-    GLuint vbos[5] = {r->sphere_vbo, r->sphere_ibo, r->cylinder_vbo, r->ground_vbo, r->dynamic_vbo};
+    GLuint vaos[5] = {r->sphere_vao, r->cylinder_vao, r->ground_vao, r->dynamic_vao, r->cube_vao};
+    GLuint vbos[6] = {r->sphere_vbo, r->sphere_ibo,  r->cylinder_vbo,
+                      r->ground_vbo, r->dynamic_vbo, r->cube_vbo};
     if (r->sphere_vao) {
-        gl->DeleteVertexArrays(4, vaos);
-        gl->DeleteBuffers(5, vbos);
+        gl->DeleteVertexArrays(5, vaos);
+        gl->DeleteBuffers(6, vbos);
     }
     if (r->font_texture) gl->DeleteTextures(1, &r->font_texture);
     free(r->scratch);
@@ -404,6 +435,76 @@ static void draw_bone(mm_renderer *r, GLint u_model, GLint u_normal, GLint u_col
     r->gl.Uniform4f(u_color, color.r, color.g, color.b, color.a);
     r->gl.BindVertexArray(r->cylinder_vao);
     r->gl.DrawArrays(GL_TRIANGLES, 0, r->cylinder_vertex_count);
+}
+
+void mm_render_box_corners(const mm_render_box *box, mm_vec3 out[8])
+{
+    float c = cosf(box->yaw), s = sinf(box->yaw);
+    for (int i = 0; i < 8; ++i) {
+        float x = (i & 1 ? 0.5f : -0.5f) * box->size.x, y = i & 2 ? box->size.y : 0.0f,
+              z = (i & 4 ? 0.5f : -0.5f) * box->size.z;
+        /* rotation about +Y: +Z turns toward +X */
+        out[i] = mm_vec3_make(box->position.x + c * x + s * z, box->position.y + y,
+                              box->position.z - s * x + c * z);
+    }
+}
+
+static bool box_drawable(const mm_render_box *b)
+{
+    return isfinite(b->position.x) && isfinite(b->position.y) && isfinite(b->position.z) &&
+           isfinite(b->size.x) && isfinite(b->size.y) && isfinite(b->size.z) && isfinite(b->yaw) &&
+           b->size.x >= 0.0f && b->size.y >= 0.0f && b->size.z >= 0.0f;
+}
+
+static void draw_box(mm_renderer *r, GLint u_model, GLint u_normal, GLint u_color, const mm_render_box *b)
+{
+    if (!box_drawable(b)) return;
+    float m[16], n[16];
+    /* a flat plate (a size of 0) is drawn 2 mm thick: the normal matrix divides by the sizes */
+    mm_vec3 size = mm_vec3_make(fmaxf(b->size.x, 0.002f), fmaxf(b->size.y, 0.002f), fmaxf(b->size.z, 0.002f));
+    model_matrices(mm_quat_from_axis_angle(mm_vec3_make(0.0f, 1.0f, 0.0f), b->yaw), size, b->position, m, n);
+    mm_rgba color = b->color.a > 0.0f ? b->color : default_box;
+    r->gl.UniformMatrix4fv(u_model, 1, GL_FALSE, m);
+    r->gl.UniformMatrix4fv(u_normal, 1, GL_FALSE, n);
+    r->gl.Uniform4f(u_color, color.r, color.g, color.b, color.a);
+    r->gl.BindVertexArray(r->cube_vao);
+    r->gl.DrawArrays(GL_TRIANGLES, 0, 36);
+}
+
+static float *scratch(mm_renderer *r, size_t floats);
+static void upload_dynamic(mm_renderer *r, const float *data, size_t floats, int first_size, int second_size);
+
+/* The 12 edges of every box, dark, so that faces of the same shade stay apart. */
+static void draw_box_edges(mm_renderer *r, const float view_proj[16], const mm_render_scene *s)
+{
+    static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                     {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+    float *v = scratch(r, (size_t)s->box_count * 24 * 7);
+    if (!v) return;
+    int n = 0;
+    for (int i = 0; i < s->box_count; ++i) {
+        if (!box_drawable(&s->boxes[i])) continue;
+        /* on a box 1 cm larger, so that the faces do not hide the edges in the depth test */
+        mm_render_box grown = s->boxes[i];
+        grown.size = mm_vec3_add(grown.size, mm_vec3_make(0.01f, 0.01f, 0.01f));
+        grown.position.y -= 0.005f;
+        mm_vec3 c[8];
+        mm_render_box_corners(&grown, c);
+        for (int e = 0; e < 12; ++e)
+            for (int k = 0; k < 2; ++k) {
+                mm_vec3 p = c[edges[e][k]];
+                float *o = v + (size_t)n * 7;
+                o[0] = p.x, o[1] = p.y, o[2] = p.z;
+                o[3] = 0.22f, o[4] = 0.17f, o[5] = 0.12f, o[6] = 1.0f;
+                ++n;
+            }
+    }
+    if (n == 0) return;
+    mm_gl *gl = &r->gl;
+    gl->UseProgram(r->flat);
+    gl->UniformMatrix4fv(gl->GetUniformLocation(r->flat, "u_view_proj"), 1, GL_FALSE, view_proj);
+    upload_dynamic(r, v, (size_t)n * 7, 3, 4);
+    gl->DrawArrays(GL_LINES, 0, n);
 }
 
 static float *scratch(mm_renderer *r, size_t floats)
@@ -537,7 +638,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
             if (j < first || j >= s->joint_count || !s->global) continue;
             mm_vec3 p = s->global[j].translation;
             if (!finite3(p)) continue;
-            float h = fmaxf(p.y, 0.0f), strength = 0.45f * fmaxf(0.0f, 1.0f - h / 1.2f);
+            float h = fmaxf(p.y - s->ground_height, 0.0f), strength = 0.45f * fmaxf(0.0f, 1.0f - h / 1.2f);
             if (strength <= 0.0f) continue;
             shadows[count][0] = p.x, shadows[count][1] = p.z;
             shadows[count][2] = 0.10f + 0.25f * h, shadows[count][3] = strength;
@@ -545,8 +646,8 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
         }
         gl->UseProgram(r->ground);
         gl->UniformMatrix4fv(gl->GetUniformLocation(r->ground, "u_view_proj"), 1, GL_FALSE, view_proj);
-        gl->Uniform2f(gl->GetUniformLocation(r->ground, "u_offset"), floorf(cam->target.x),
-                      floorf(cam->target.z));
+        gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_offset"), floorf(cam->target.x),
+                      isfinite(s->ground_height) ? s->ground_height : 0.0f, floorf(cam->target.z));
         gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_eye"), eye.x, eye.y, eye.z);
         gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_fog"), fog_color[0], fog_color[1], fog_color[2]);
         if (count) gl->Uniform4fv(gl->GetUniformLocation(r->ground, "u_shadows"), count, &shadows[0][0]);
@@ -575,6 +676,10 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
     for (int i = 0; i < s->marker_count && s->markers; ++i)
         draw_sphere(r, u_model, u_normal, u_color, s->markers[i].position, s->markers[i].radius,
                     s->markers[i].color);
+    if (s->boxes && s->box_count > 0) {
+        for (int i = 0; i < s->box_count; ++i) draw_box(r, u_model, u_normal, u_color, &s->boxes[i]);
+        draw_box_edges(r, view_proj, s);
+    }
     draw_lines(r, view_proj, s);
     draw_overlay(r, width, height, s->overlay);
     gl->BindVertexArray(0);

@@ -46,6 +46,7 @@ mm_result mm_view_init(mm_view *v, const mm_database *db, mm_error *err)
 
 void mm_view_free(mm_view *v)
 {
+    free(v->boxes);
     free(v->parents);
     free(v->joint_colors);
     free(v->lines);
@@ -104,6 +105,9 @@ void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const
     s->body_color = body_color;
     s->lines = v->lines;
     s->markers = v->markers;
+    s->boxes = v->boxes;
+    s->box_count = v->box_count;
+    s->ground_height = v->ground;
     mm_input none;
     memset(&none, 0, sizeof none);
     if (!in) in = &none;
@@ -176,6 +180,40 @@ void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const
         mm_view_overlay(v->overlay, sizeof v->overlay, c, in, fps);
         s->overlay = v->overlay;
     }
+}
+
+int mm_view_scene_boxes(const mm_scene *scene, mm_render_box *out, int capacity)
+{
+    if (!scene) return 0;
+    static const mm_rgba tones[2] = {{0.80f, 0.64f, 0.46f, 1.0f}, {0.70f, 0.55f, 0.40f, 1.0f}};
+    for (int i = 0; i < scene->box_count && i < capacity && out; ++i) {
+        const mm_scene_box *b = &scene->boxes[i];
+        out[i].position = b->position;
+        out[i].size = b->size;
+        out[i].yaw = b->yaw;
+        out[i].color = tones[i & 1];
+    }
+    return scene->box_count;
+}
+
+mm_result mm_view_set_scene(mm_view *v, const mm_scene *scene, mm_error *err)
+{
+    free(v->boxes);
+    v->boxes = NULL;
+    v->box_count = 0;
+    v->ground = 0.0f;
+    if (!scene) return MM_OK;
+    int n = scene->box_count;
+    if (n < 0 || n > MM_SCENE_MAX_BOXES)
+        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "the scene has %d boxes (at most %d)", n,
+                            MM_SCENE_MAX_BOXES);
+    if (n > 0) {
+        v->boxes = malloc(sizeof(mm_render_box) * (size_t)n);
+        if (!v->boxes) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    }
+    v->box_count = mm_view_scene_boxes(scene, v->boxes, n);
+    v->ground = scene->ground;
+    return MM_OK;
 }
 
 static size_t append(char *out, size_t n, size_t at, const char *fmt, ...)

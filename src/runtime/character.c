@@ -43,7 +43,10 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p)
     /* keep playing unless a frame is clearly better: on LAFAN1's straight walk 0.6 made
      * 3 transitions per second instead of 5 (0.8), half the foot slide and pops */
     p->next_pose_favour = 0.6f;
-    p->excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump");
+    /* the moves (mm/moves.h) play their clips themselves: never a place for locomotion to go */
+    p->excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump") |
+                       mm_search_tag_mask(db, "VaultLow") | mm_search_tag_mask(db, "VaultHigh") |
+                       mm_search_tag_mask(db, "Climb") | mm_search_tag_mask(db, "Drop");
     /* the last 0.25 s of a one-shot clip only extrapolates its trajectory: not a place to go */
     p->end_margin = (int)ceilf(0.25f / db->interval);
 }
@@ -662,9 +665,9 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_vec3 sim_before = c->trajectory.position;
     mm_trajectory_update(&c->trajectory, in, dt);
 
-    /* playback: by the clock, or by distance matching */
+    /* playback: by the clock, or by distance matching (never during a move) */
     int ended = 0;
-    if (d->distance_matching || d->warping) {
+    if ((d->distance_matching || d->warping) && !c->move_playing && !c->move_pending) {
         float dx = c->trajectory.position.x - sim_before.x, dz = c->trajectory.position.z - sim_before.z;
         distance_playback(c, in, dt, sqrtf(dx * dx + dz * dz));
         c->frame_fraction += c->play_rate * dt / db->interval;
@@ -697,10 +700,20 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
         c->idle = true, idle_changed = 1;
     int turned = speed > 0.3f && fabsf(wrap(direction - c->last_direction)) > d->turn_threshold;
     c->since_search += dt;
-    if (c->since_search >= d->search_interval || turned || idle_changed || ended) {
+    if (c->move_pending) { /* a move starts: no search until it hands back */
+        c->move_pending = false;
+        c->move_playing = true;
+        transition(c, c->move_frame, dt);
+    } else if (c->move_playing && (ended || db->frame_clip[c->frame] != db->frame_clip[c->move_frame] ||
+                                   c->frame >= c->move_end)) {
+        c->move_playing = false; /* played out: back to matching at once */
+        c->since_search = INFINITY;
+    }
+    if (!c->move_playing && (c->since_search >= d->search_interval || turned || idle_changed || ended)) {
         search(c, in, dt);
         if (speed > 0.3f) c->last_direction = direction;
     }
+    float halflife = c->move_playing && c->move_halflife > 0.0f ? c->move_halflife : d->transition_halflife;
 
     /* the pose: the database's at the playhead plus the decaying offsets */
     size_t n = (size_t)db->joint_count;
@@ -710,10 +723,8 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     memcpy(c->pose_previous_positions, c->pose_positions, sizeof(mm_vec3) * n);
     play_pose(c, c->pose_rotations, c->pose_positions);
     for (int j = 1; j < db->joint_count; ++j) {
-        mm_spring_decay_vec3(&c->rotation_offset[j], &c->rotation_offset_velocity[j], d->transition_halflife,
-                             dt);
-        mm_spring_decay_vec3(&c->position_offset[j], &c->position_offset_velocity[j], d->transition_halflife,
-                             dt);
+        mm_spring_decay_vec3(&c->rotation_offset[j], &c->rotation_offset_velocity[j], halflife, dt);
+        mm_spring_decay_vec3(&c->position_offset[j], &c->position_offset_velocity[j], halflife, dt);
         c->pose_rotations[j] =
             mm_quat_normalize(mm_quat_mul(mm_quat_exp(c->rotation_offset[j]), c->pose_rotations[j]));
         c->pose_positions[j] = mm_vec3_add(c->pose_positions[j], c->position_offset[j]);
@@ -726,16 +737,17 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_vec3 played;
     float yaw_rate;
     play_root(c, &played, &yaw_rate);
-    mm_spring_decay_vec3(&c->root_velocity_offset, &c->root_velocity_offset_rate, d->transition_halflife, dt);
-    mm_spring_update(&c->root_yaw_rate_offset, &c->root_yaw_rate_offset_rate, 0.0f, d->transition_halflife,
-                     dt);
+    mm_spring_decay_vec3(&c->root_velocity_offset, &c->root_velocity_offset_rate, halflife, dt);
+    mm_spring_update(&c->root_yaw_rate_offset, &c->root_yaw_rate_offset_rate, 0.0f, halflife, dt);
     c->root_velocity = mm_vec3_add(played, c->root_velocity_offset);
     c->root_yaw_rate = yaw_rate + c->root_yaw_rate_offset;
     mm_vec3 v = mm_quat_rotate(c->root.rotation, c->root_velocity);
     float yaw = yaw_of(c->root.rotation) + c->root_yaw_rate * dt;
     mm_vec3 position = mm_vec3_add(c->root.translation, mm_vec3_scale(v, dt));
     const mm_trajectory *t = &c->trajectory;
-    float pull = d->sync_halflife > 0.0f ? 1.0f - exp2f(-dt / d->sync_halflife) : 1.0f;
+    /* a move plays the clip's root motion alone (the move layer corrects it): no pull, no clamps */
+    int free_root = c->move_playing;
+    float pull = free_root ? 0.0f : d->sync_halflife > 0.0f ? 1.0f - exp2f(-dt / d->sync_halflife) : 1.0f;
     mm_vec3 gap = mm_vec3_sub(t->position, position);
     gap.y = 0.0f;
     position = mm_vec3_add(position, mm_vec3_scale(gap, pull));
@@ -743,7 +755,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_vec3 off = mm_vec3_sub(position, t->position);
     off.y = 0.0f;
     float dist = mm_vec3_length(off);
-    if (dist > d->sync_max_distance)
+    if (!free_root && dist > d->sync_max_distance)
         position = mm_vec3_add(t->position, mm_vec3_scale(off, d->sync_max_distance / dist));
     /* angle correction at full speed (seed 000): a small error between the character's facing
      * and the one asked for is turned away at a bounded rate, as the animation alone may never
@@ -753,14 +765,16 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     int gait = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
     float full = t->desc.gaits[gait].forward_speed;
     float error = wrap(yaw_of(wanted) - yaw);
-    if (full > 0.0f && mm_vec3_length(t->velocity) >= 0.9f * full && fabsf(error) < d->angle_threshold) {
+    if (!free_root && full > 0.0f && mm_vec3_length(t->velocity) >= 0.9f * full &&
+        fabsf(error) < d->angle_threshold) {
         float step = d->angle_revise_speed * dt;
         yaw += error > step ? step : error < -step ? -step : error;
     }
     float angle = wrap(yaw - yaw_of(t->facing));
-    if (fabsf(angle) > d->sync_max_angle)
+    if (!free_root && fabsf(angle) > d->sync_max_angle)
         yaw = yaw_of(t->facing) + (angle > 0 ? d->sync_max_angle : -d->sync_max_angle);
-    c->root = mm_xform_make(yaw_quat(wrap(yaw)), mm_vec3_make(position.x, 0.0f, position.z));
+    /* the height is kept: 0 on flat ground, or where the move layer put the character */
+    c->root = mm_xform_make(yaw_quat(wrap(yaw)), mm_vec3_make(position.x, c->root.translation.y, position.z));
     c->local_rotations[0] = c->root.rotation;
     c->local_positions[0] = c->root.translation;
     compute_global(c);
@@ -772,4 +786,39 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
             toe >= 0 ? c->global[toe].translation : c->raw_contact_positions[2 * k];
     }
     if (!d->no_foot_ik) feet(c, dt);
+}
+
+void mm_character_play_move(mm_character *c, int frame, int end_frame, float halflife)
+{
+    if (!c || !c->db) return;
+    if (frame < 0 || frame >= c->db->frame_count) { /* nothing to play: back to matching */
+        c->move_pending = c->move_playing = false;
+        c->since_search = INFINITY;
+        return;
+    }
+    c->move_pending = true;
+    c->move_frame = frame;
+    c->move_end = end_frame;
+    c->move_halflife = isfinite(halflife) && halflife > 0.0f ? halflife : 0.0f;
+}
+
+bool mm_character_move_playing(const mm_character *c) { return c && (c->move_pending || c->move_playing); }
+
+void mm_character_shift_root(mm_character *c, mm_vec3 delta)
+{
+    if (!c || !c->db || !isfinite(delta.x) || !isfinite(delta.y) || !isfinite(delta.z)) return;
+    const mm_database *db = c->db;
+    c->root.translation = mm_vec3_add(c->root.translation, delta);
+    mm_vec3 local = mm_quat_inv_rotate(c->root.rotation, delta);
+    for (int j = 1; j < db->joint_count; ++j) {
+        if (db->joints[j].parent != 0) continue;
+        /* the child keeps its world place: its local position, and the offset that carries it */
+        c->position_offset[j] = mm_vec3_sub(c->position_offset[j], local);
+        c->local_positions[j] = mm_vec3_sub(c->local_positions[j], local);
+        c->previous_positions[j] = mm_vec3_sub(c->previous_positions[j], local);
+        c->pose_positions[j] = mm_vec3_sub(c->pose_positions[j], local);
+        c->pose_previous_positions[j] = mm_vec3_sub(c->pose_previous_positions[j], local);
+    }
+    c->local_positions[0] = c->root.translation;
+    compute_global(c);
 }

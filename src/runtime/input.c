@@ -63,12 +63,11 @@ mm_result mm_input_script_validate(const mm_input_script *s, mm_error *err)
     return MM_OK;
 }
 
-void mm_input_script_sample(const mm_input_script *s, float t, mm_input *out)
+/* The last key with k.t <= t (-1: none, or t NaN). */
+static int last_key(const mm_input_script *s, float t)
 {
-    memset(out, 0, sizeof *out);
-    out->gait = MM_GAIT_WALK;
-    if (!s || s->key_count == 0 || !(t >= s->keys[0].t)) return; /* before the first key, or NaN */
-    int lo = 0, hi = s->key_count - 1;                           /* the last key with k.t <= t */
+    if (!s || s->key_count == 0 || !(t >= s->keys[0].t)) return -1;
+    int lo = 0, hi = s->key_count - 1;
     while (lo < hi) {
         int mid = (lo + hi + 1) / 2;
         if (s->keys[mid].t <= t)
@@ -76,7 +75,28 @@ void mm_input_script_sample(const mm_input_script *s, float t, mm_input *out)
         else
             hi = mid - 1;
     }
-    *out = s->keys[lo].input;
+    return lo;
+}
+
+void mm_input_script_sample(const mm_input_script *s, float t, mm_input *out)
+{
+    memset(out, 0, sizeof *out);
+    out->gait = MM_GAIT_WALK;
+    int k = last_key(s, t); /* before the first key, or NaN: neutral */
+    if (k >= 0) *out = s->keys[k].input;
+}
+
+void mm_input_script_sample_tick(const mm_input_script *s, float t, float dt, mm_input *out)
+{
+    mm_input_script_sample(s, t, out);
+    out->jump = false;
+    if (!isfinite(dt) || !(dt >= 0.0f)) return;
+    float from = t - dt;
+    /* the keys in (from, t]; a first tick (from < 0) takes a key at time 0 too */
+    for (int k = last_key(s, t); k >= 0 && !out->jump; --k) {
+        if (s->keys[k].t <= from && !(from < 0.0f && s->keys[k].t <= 0.0f)) break;
+        out->jump = s->keys[k].input.jump;
+    }
 }
 
 /* A small seeded generator (xorshift64*): the same seed, the same script, everywhere. */

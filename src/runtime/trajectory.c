@@ -64,6 +64,20 @@ void mm_trajectory_free(mm_trajectory *t)
     memset(t, 0, sizeof *t);
 }
 
+void mm_trajectory_teleport(mm_trajectory *t, mm_vec3 position, mm_quat facing)
+{
+    if (!t || !isfinite(position.x) || !isfinite(position.z) || !isfinite(facing.x) || !isfinite(facing.y) ||
+        !isfinite(facing.z) || !isfinite(facing.w) || mm_quat_length(facing) < 1e-6f)
+        return;
+    mm_vec3 delta = mm_vec3_make(position.x - t->position.x, 0.0f, position.z - t->position.z);
+    t->position = mm_vec3_make(position.x, 0.0f, position.z);
+    t->facing = mm_quat_normalize(facing);
+    for (int k = 0; k < t->history_count; ++k) {
+        int h = (t->history_head - k + t->history_capacity) % t->history_capacity;
+        t->history_position[h] = mm_vec3_add(t->history_position[h], delta);
+    }
+}
+
 void mm_trajectory_reset(mm_trajectory *t, mm_vec3 position, mm_quat facing)
 {
     t->position = mm_vec3_make(position.x, 0.0f, position.z);

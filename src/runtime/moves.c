@@ -1,0 +1,733 @@
+/* The move layer: jump, vault, climb and drop-down on top of a character (mm/moves.h). No
+ * allocation: everything lives in mm_moves. */
+#include <mm/moves.h>
+
+#include <math.h>
+#include <string.h>
+
+#include <mm/search.h>
+#include <mm/trajectory.h>
+
+static const char *const kind_names[MM_MOVE_KIND_COUNT] = {"jump", "vault_low", "vault_high", "climb",
+                                                           "drop"};
+static const char *const kind_tags[MM_MOVE_KIND_COUNT] = {"Jump", "VaultLow", "VaultHigh", "Climb", "Drop"};
+
+const char *mm_move_kind_name(mm_move_kind kind)
+{
+    return (int)kind >= 0 && kind < MM_MOVE_KIND_COUNT ? kind_names[kind] : NULL;
+}
+
+void mm_moves_defaults(mm_moves_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->max_jump_height = 1.2f;
+    d->jump_start_offset = 0.45f;
+    d->rise_start = 0.0f;
+    d->fall_start = 0.55f;
+    d->step_height = 0.3f;
+    d->ledge_probe = 0.45f;
+    d->trigger_slack = 0.1f;
+    d->low_max_height = 1.5f;
+    d->high_max_height = 2.6f;
+    d->short_max_depth = 1.0f;
+    d->landing_margin = 0.5f;
+    d->recover_time = 0.35f;
+    d->transition_halflife = 0.12f;
+    d->gravity = 9.81f;
+    d->radius = 0.4f;
+    d->cooldown = 0.25f;
+    d->left_hand = "LeftHand";
+    d->right_hand = "RightHand";
+    d->left_foot = "LeftFoot";
+    d->right_foot = "RightFoot";
+}
+
+static float yaw_of(mm_quat q)
+{
+    mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
+    return atan2f(f.x, f.z);
+}
+
+static mm_quat yaw_quat(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), yaw); }
+
+static float clampf(float v, float lo, float hi) { return v < lo ? lo : v > hi ? hi : v; }
+
+static mm_vec3 flat(mm_vec3 v) { return mm_vec3_make(v.x, 0.0f, v.z); }
+
+static int find_joint(const mm_database *db, const char *name)
+{
+    for (int j = 0; name && j < db->joint_count; ++j)
+        if (strcmp(db->joints[j].name, name) == 0) return j;
+    return -1;
+}
+
+/* A joint's transform relative to the root (joint 0) at a database frame. */
+static mm_xform bone_in_root(const mm_database *db, int frame, int joint)
+{
+    mm_xform x = mm_xform_identity();
+    const mm_quat *r = mm_database_rotations(db, frame);
+    const mm_vec3 *p = mm_database_positions(db, frame);
+    for (int j = joint; j > 0; j = db->joints[j].parent) x = mm_xform_mul(mm_xform_make(r[j], p[j]), x);
+    return x;
+}
+
+/* Where the clip's ground is at a frame, relative to the root: the lower ankle less the standing
+ * ankle height (a clip recorded on a box is 1 m up there). */
+static float clip_ground(const mm_moves *m, int frame)
+{
+    float y = INFINITY;
+    for (int k = 0; k < 2; ++k)
+        if (m->foot[k] >= 0) y = fminf(y, bone_in_root(m->db, frame, m->foot[k]).translation.y);
+    return isfinite(y) ? y - m->ankle_height : 0.0f;
+}
+
+/* The clip's ground over frames [f0, f1] (one clip): the lowest, so that a foot landing toes
+ * first or a heel raised does not count as ground. */
+static float clip_ground_span(const mm_moves *m, int f0, int f1)
+{
+    float g = INFINITY;
+    for (int f = f0; f <= f1 && f < m->db->frame_count; ++f) g = fminf(g, clip_ground(m, f));
+    return isfinite(g) ? g : clip_ground(m, f0);
+}
+
+/* The root after playing `seconds` from the playhead (frame, fraction), starting at root, as the
+ * character integrates root motion (the velocity of the frame an interval leads to). */
+static mm_xform advance_root(const mm_database *db, int frame, float fraction, float seconds, mm_xform root)
+{
+    float yaw = yaw_of(root.rotation);
+    mm_vec3 p = root.translation;
+    float left = seconds / db->interval;
+    for (int guard = 0; left > 1e-6f && guard < 100000; ++guard) {
+        int next = db->frame_next[frame];
+        if (next < 0) break;
+        float step = fminf(1.0f - fraction, left), h = step * db->interval;
+        mm_vec3 v = flat(mm_quat_rotate(yaw_quat(yaw), db->root_velocity[next]));
+        p = mm_vec3_add(p, mm_vec3_scale(v, h));
+        yaw += db->root_angular_velocity[next] * h;
+        left -= step;
+        fraction += step;
+        if (fraction >= 1.0f - 1e-6f) fraction = 0.0f, frame = next;
+    }
+    return mm_xform_make(yaw_quat(yaw), p);
+}
+
+/* The first span of frames carrying tag (a clip that is not a mirror preferred). */
+static int find_span(const mm_database *db, uint64_t tag, int *first, int *last)
+{
+    if (!tag || !db->frame_tags) return 0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int f = 0; f < db->frame_count; ++f) {
+            if (!(db->frame_tags[f] & tag)) continue;
+            int clip = db->frame_clip[f];
+            if (pass == 0 && db->clips[clip].mirrored) continue;
+            int e = f;
+            while (e + 1 < db->frame_count && db->frame_clip[e + 1] == clip && (db->frame_tags[e + 1] & tag))
+                ++e;
+            *first = f;
+            *last = e;
+            return 1;
+        }
+    return 0;
+}
+
+static int find_event(const mm_database *db, uint64_t tag, int first, int last)
+{
+    for (int f = first; tag && db->frame_tags && f <= last; ++f)
+        if (db->frame_tags[f] & tag) return f;
+    return -1;
+}
+
+static void setup_clip(mm_moves *m, mm_move_kind kind)
+{
+    const mm_database *db = m->db;
+    mm_move_clip *mc = &m->clips[kind];
+    memset(mc, 0, sizeof *mc);
+    mc->clip = mc->take_off = mc->hand_plant = mc->landing = mc->hand = -1;
+    int first, last;
+    if (!find_span(db, mm_search_tag_mask(db, kind_tags[kind]), &first, &last) || last - first < 4) return;
+    /* the tag may cover the move alone: the clip around it gives the approach and the recovery */
+    const mm_db_clip *clip = &db->clips[db->frame_clip[first]];
+    int clip_first = clip->first_frame, clip_last = clip->first_frame + clip->frame_count - 1;
+    int e0 = first - 2 > clip_first ? first - 2 : clip_first,
+        e1 = last + 2 < clip_last ? last + 2 : clip_last;
+    mc->first = first;
+    mc->last = clip_last;
+    mc->take_off = find_event(db, mm_search_tag_mask(db, "TakeOff"), e0, e1);
+    mc->hand_plant = find_event(db, mm_search_tag_mask(db, "HandPlant"), e0, e1);
+    mc->landing = find_event(db, mm_search_tag_mask(db, "Landing"), e0, e1);
+    if (mc->take_off < 0 || mc->landing < 0) { /* the longest run without foot contact: the flight */
+        int best = 0, best_start = -1;
+        for (int f = first; f <= last;) {
+            if (db->contacts[f] != 0) {
+                ++f;
+                continue;
+            }
+            int e = f;
+            while (e + 1 <= last && db->contacts[e + 1] == 0) ++e;
+            if (e - f + 1 > best && f > first && e < last) best = e - f + 1, best_start = f;
+            f = e + 1;
+        }
+        if (best >= 3) {
+            if (mc->take_off < 0) mc->take_off = best_start - 1;
+            if (mc->landing < 0) mc->landing = best_start + best;
+        }
+    }
+    if (mc->landing < 0) {
+        if (mc->hand_plant < 0) return; /* nothing to aim at */
+        mc->landing = last - (int)(m->desc.recover_time / db->interval);
+    }
+    if (mc->landing <= first || (mc->hand_plant >= 0 && mc->hand_plant >= mc->landing)) return;
+    if (mc->take_off >= mc->landing) mc->take_off = -1;
+    /* start jump_start_offset before the first event (take-off or hand plant), within the clip */
+    int event = mc->take_off >= 0 ? mc->take_off : mc->landing;
+    if (mc->hand_plant >= 0 && mc->hand_plant < event) event = mc->hand_plant;
+    int lead = event - (int)lroundf(m->desc.jump_start_offset / db->interval);
+    mc->start = lead > clip_first ? lead : clip_first;
+    if (mc->start >= event) mc->start = event > clip_first ? event - 1 : clip_first;
+    if (mc->hand_plant >= 0 && mc->hand_plant <= mc->start) mc->hand_plant = -1;
+    mm_xform start_root = mm_xform_identity();
+    if (mc->hand_plant >= 0) { /* the hand planted: the lower one */
+        float low = INFINITY;
+        for (int k = 0; k < 2; ++k) {
+            if (m->hand[k] < 0) continue;
+            float y = bone_in_root(db, mc->hand_plant, m->hand[k]).translation.y;
+            if (y < low) low = y, mc->hand = m->hand[k];
+        }
+        if (mc->hand >= 0) {
+            mm_xform r = advance_root(db, mc->start, 0.0f, (float)(mc->hand_plant - mc->start) * db->interval,
+                                      start_root);
+            mc->plant_distance =
+                mm_xform_apply_point(r, bone_in_root(db, mc->hand_plant, mc->hand).translation).z;
+        } else {
+            mc->hand_plant = -1;
+        }
+    }
+    mm_xform land =
+        advance_root(db, mc->start, 0.0f, (float)(mc->landing - mc->start) * db->interval, start_root);
+    mc->land_distance = land.translation.z;
+    mc->rise = clip_ground(m, mc->landing) - clip_ground(m, mc->start);
+    mc->onto = mc->rise > 0.4f;
+    mc->clip = db->frame_clip[first];
+}
+
+mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scene, const mm_moves_desc *desc,
+                        mm_error *err)
+{
+    if (!m) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no move layer given");
+    memset(m, 0, sizeof *m);
+    if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "the move layer needs a database");
+    mm_moves_defaults(&m->desc);
+    if (desc) m->desc = *desc;
+    mm_moves_desc *d = &m->desc;
+    const float *check[] = {
+        &d->max_jump_height,     &d->jump_start_offset, &d->rise_start,     &d->fall_start,
+        &d->step_height,         &d->ledge_probe,       &d->trigger_slack,  &d->low_max_height,
+        &d->high_max_height,     &d->short_max_depth,   &d->landing_margin, &d->recover_time,
+        &d->transition_halflife, &d->gravity,           &d->radius,         &d->cooldown};
+    for (size_t i = 0; i < sizeof check / sizeof check[0]; ++i)
+        if (!isfinite(*check[i]) || *check[i] < 0.0f || *check[i] > 100.0f)
+            return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "move parameter %d out of range", (int)i);
+    if (d->rise_start > 1.0f || d->fall_start > 1.0f || d->rise_start > d->fall_start)
+        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
+                            "rise_start and fall_start must be fractions with rise_start <= fall_start");
+    m->db = db;
+    m->scene = scene;
+    m->kind = MM_MOVE_NONE;
+    m->since_move = INFINITY;
+    m->hand[0] = find_joint(db, d->left_hand ? d->left_hand : "LeftHand");
+    m->hand[1] = find_joint(db, d->right_hand ? d->right_hand : "RightHand");
+    m->foot[0] = find_joint(db, d->left_foot ? d->left_foot : "LeftFoot");
+    m->foot[1] = find_joint(db, d->right_foot ? d->right_foot : "RightFoot");
+    d->left_hand = d->right_hand = d->left_foot = d->right_foot = NULL; /* the caller's strings */
+    int stand = 0; /* the standing ankle height: the first idle frame's lower ankle */
+    for (int k = 0; k < db->clip_count; ++k)
+        if (db->clips[k].type == MM_CLIP_IDLE) {
+            stand = db->clips[k].first_frame;
+            break;
+        }
+    m->ankle_height = 0.0f;
+    float y = INFINITY;
+    for (int k = 0; k < 2; ++k)
+        if (m->foot[k] >= 0) y = fminf(y, bone_in_root(db, stand, m->foot[k]).translation.y);
+    if (isfinite(y)) m->ankle_height = y;
+    int any = 0;
+    for (int k = 0; k < MM_MOVE_KIND_COUNT; ++k) {
+        setup_clip(m, (mm_move_kind)k);
+        any |= m->clips[k].clip >= 0;
+    }
+    m->enabled = scene != NULL && any;
+    return MM_OK;
+}
+
+static const mm_move_clip *clip_of(const mm_moves *m, mm_move_kind kind)
+{
+    if ((int)kind < 0 || kind >= MM_MOVE_KIND_COUNT) return NULL;
+    if (m->clips[kind].clip >= 0) return &m->clips[kind];
+    if (kind == MM_MOVE_DROP && m->clips[MM_MOVE_JUMP].clip >= 0)
+        return &m->clips[MM_MOVE_JUMP]; /* jump down */
+    return NULL;
+}
+
+mm_move_kind mm_moves_choose(const mm_moves *m, const mm_obstacle *o)
+{
+    if (!m || !o || !isfinite(o->height) || !isfinite(o->depth)) return MM_MOVE_NONE;
+    const mm_moves_desc *d = &m->desc;
+    float h = o->height;
+    if (h <= d->step_height || o->too_high || h > d->high_max_height) return MM_MOVE_NONE;
+    int low = h <= d->low_max_height;
+    int short_side = !o->too_deep && o->depth <= d->short_max_depth;
+    mm_move_kind vault = low ? MM_MOVE_VAULT_LOW : MM_MOVE_VAULT_HIGH;
+    const mm_move_clip *v = clip_of(m, vault), *climb = clip_of(m, MM_MOVE_CLIMB);
+    /* the short side: over it (a vault that lands beyond); else onto it (then the drop-down) */
+    if (short_side && v && !v->onto) return vault;
+    if (climb) return MM_MOVE_CLIMB;
+    if (v && v->onto) return vault; /* a vault that ends on top: onto it */
+    if (h <= d->max_jump_height && clip_of(m, MM_MOVE_JUMP)) return MM_MOVE_JUMP; /* jump onto it */
+    if (short_side && v) return vault;
+    return MM_MOVE_NONE;
+}
+
+float mm_moves_penetration(const mm_scene *scene, const mm_vec3 *points, int count)
+{
+    float worst = 0.0f;
+    if (!scene || !points) return 0.0f;
+    for (int b = 0; b < scene->box_count; ++b) {
+        const mm_scene_box *box = &scene->boxes[b];
+        float s = sinf(box->yaw), c = cosf(box->yaw), hx = 0.5f * box->size.x, hz = 0.5f * box->size.z;
+        for (int i = 0; i < count; ++i) {
+            mm_vec3 p = mm_vec3_sub(points[i], box->position);
+            /* into the box's frame: turn by -yaw about +Y */
+            float lx = c * p.x - s * p.z, lz = s * p.x + c * p.z;
+            float depth = fminf(fminf(hx - fabsf(lx), hz - fabsf(lz)), fminf(p.y, box->size.y - p.y));
+            if (depth > worst) worst = depth;
+        }
+    }
+    return worst;
+}
+
+/* Is there ground within step height at p? Its height in *h. */
+static int ground_at(const mm_moves *m, mm_vec3 p, float step, float drop, float *h)
+{
+    mm_scene_hit hit;
+    if (!mm_scene_ground_probe(m->scene, p, step, drop, &hit)) return 0;
+    *h = hit.point.y;
+    return 1;
+}
+
+static float clip_time(const mm_moves *m, const mm_character *c)
+{
+    return ((float)(c->frame - m->start_frame) + c->frame_fraction) * m->db->interval;
+}
+
+static float schedule(const mm_moves *m, float t)
+{
+    if (m->key_count == 0) return 0.0f;
+    if (t <= m->key_time[0]) return m->key_y[0];
+    for (int k = 0; k + 1 < m->key_count; ++k) {
+        float t0 = m->key_time[k], t1 = m->key_time[k + 1];
+        if (t >= t1) continue;
+        float u = t1 > t0 ? clampf((t - t0) / (t1 - t0), 0.0f, 1.0f) : 1.0f;
+        float s = m->key_shape[k] == 1   ? u * u * (3.0f - 2.0f * u)
+                  : m->key_shape[k] == 2 ? u * u
+                  : m->key_shape[k] == 3 ? 1.0f - (1.0f - u) * (1.0f - u)
+                                         : u;
+        return m->key_y[k] + (m->key_y[k + 1] - m->key_y[k]) * s;
+    }
+    return m->key_y[m->key_count - 1];
+}
+
+static void add_key(mm_moves *m, float t, float y, int shape)
+{
+    if (m->key_count >= 6) return;
+    if (m->key_count > 0 && t < m->key_time[m->key_count - 1]) t = m->key_time[m->key_count - 1];
+    m->key_time[m->key_count] = t;
+    m->key_y[m->key_count] = y;
+    m->key_shape[m->key_count] = shape;
+    ++m->key_count;
+}
+
+static int end_frame(const mm_moves *m, const mm_move_clip *mc)
+{
+    int end = mc->landing + (int)lroundf(m->desc.recover_time / m->db->interval);
+    return end > mc->last ? mc->last : end;
+}
+
+/* Starts a move: the root lowered under the body to the clip's ground (the pose kept), the clip
+ * asked for, the state reset. Returns the root height the schedule starts from. */
+static float begin(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_move_clip *mc)
+{
+    float g0 = clip_ground_span(m, mc->start, mc->take_off > mc->start ? mc->take_off : mc->start + 6);
+    mm_character_shift_root(c, mm_vec3_make(0.0f, -g0, 0.0f));
+    int end = end_frame(m, mc);
+    mm_character_play_move(c, mc->start, end, m->desc.transition_halflife);
+    m->kind = kind;
+    m->start_frame = mc->start;
+    m->started = false;
+    m->match_on[0] = m->match_on[1] = false;
+    m->key_count = 0;
+    m->hand_error = m->land_error = 0.0f;
+    m->current.kind = kind;
+    m->current.t_start = (float)m->time;
+    m->current.t_end = m->current.t_start;
+    m->current.target_error_cm = 0.0f;
+    return c->root.translation.y;
+}
+
+/* Room for the body standing at p on a surface at height h: no box within the collider's radius
+ * at the knees and the chest. */
+static int clear_at(const mm_moves *m, mm_vec3 p, float h)
+{
+    float r = m->desc.radius;
+    mm_vec3 pts[10];
+    int n = 0;
+    for (int k = 0; k < 2; ++k) {
+        float y = h + (k ? 1.2f : 0.4f);
+        pts[n++] = mm_vec3_make(p.x, y, p.z);
+        pts[n++] = mm_vec3_make(p.x + r, y, p.z);
+        pts[n++] = mm_vec3_make(p.x - r, y, p.z);
+        pts[n++] = mm_vec3_make(p.x, y, p.z + r);
+        pts[n++] = mm_vec3_make(p.x, y, p.z - r);
+    }
+    return mm_moves_penetration(m->scene, pts, n) <= 0.0f;
+}
+
+/* The landing of a jump or a drop along the root's facing: past a ledge, across a gap, onto a
+ * wall in the way, always where the body has room. 0 when there is nowhere to land (a jump at a
+ * ledge with no ground across: the caller drops instead). */
+static int plan_landing(const mm_moves *m, const mm_character *c, const mm_move_clip *mc, int drop,
+                        mm_vec3 *land, float *over)
+{
+    *over = NAN;
+    const mm_moves_desc *d = &m->desc;
+    mm_vec3 root = c->root.translation, f = mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1));
+    float y = root.y, dist = fmaxf(mc->land_distance, 0.2f), h;
+    if (drop) { /* the ledge: where the ground falls away */
+        float ledge = -1.0f;
+        for (float s = 0.0f; s <= d->ledge_probe + 0.3f && ledge < 0.0f; s += 0.05f)
+            if (!ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->step_height, d->step_height, &h))
+                ledge = s;
+        if (ledge >= 0.0f) dist = fmaxf(dist, ledge + 0.35f);
+    } else {
+        /* a gap before the natural landing: land past it, where the ground is within reach */
+        float ledge = -1.0f, across = -1.0f;
+        for (float s = 0.0f; s <= dist + 0.6f && ledge < 0.0f; s += 0.05f)
+            if (!ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
+                ledge = s;
+        for (float s = ledge; ledge >= 0.0f && s <= 3.0f && across < 0.0f; s += 0.05f)
+            if (ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
+                across = s;
+        if (ledge >= 0.0f && across < 0.0f) return 0;
+        if (across >= 0.0f) dist = fmaxf(dist, across + 0.4f);
+        mm_obstacle o;
+        mm_obstacle_desc od;
+        memset(&od, 0, sizeof od);
+        od.max_distance = dist + 0.6f;
+        if (mm_scene_measure_obstacle(m->scene, root, f, &od, &o) && o.top - y > d->step_height) {
+            if (o.top - y > d->max_jump_height) return 0; /* a wall too high to jump onto */
+            float near = o.distance, far = o.distance + o.depth;
+            if (o.depth >= 0.65f) {
+                dist = clampf(dist, near + 0.35f, far - 0.3f); /* onto it */
+            } else {                                           /* too thin to stand on: over it */
+                dist = fmaxf(dist, far + d->landing_margin);
+                *over = o.top;
+            }
+        }
+    }
+    mm_vec3 p = mm_vec3_add(root, mm_vec3_scale(f, dist));
+    /* where the body has room (not inside a wall, not against a gap's far side): on ahead */
+    for (float extra = 0.0f; extra <= 1.5f; extra += 0.1f) {
+        mm_vec3 q = mm_vec3_add(p, mm_vec3_scale(f, extra));
+        if (!ground_at(m, mm_vec3_make(q.x, y, q.z), d->max_jump_height, INFINITY, &h)) return 0;
+        if (clear_at(m, q, h)) {
+            *land = mm_vec3_make(q.x, h, q.z);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* over: the height of a wall to clear on the way (NAN: none). */
+static void start_jump(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_move_clip *mc, mm_vec3 land,
+                       float over)
+{
+    const mm_moves_desc *d = &m->desc;
+    float dt_frame = m->db->interval;
+    float y0 = begin(m, c, kind, mc);
+    float t_to = (float)(mc->take_off - mc->start) * dt_frame,
+          t_land = (float)(mc->landing - mc->start) * dt_frame;
+    float flight = t_land - t_to, y_land = land.y - clip_ground_span(m, mc->landing, end_frame(m, mc));
+    m->land_target = land;
+    mm_target_match_init(&m->match[1], 0, land, c->root.rotation, fmaxf(0.0f, t_to - 0.1f), t_land);
+    m->match[1].position_weight = mm_vec3_make(1.0f, 0.0f, 1.0f);
+    m->match[1].rotation_weight = 0.0f;
+    m->match_on[1] = true;
+    add_key(m, 0.0f, y0, 0);
+    if (isfinite(over)) { /* over a wall: the feet clear its top at the fall moment */
+        int apex = mc->take_off + (int)lroundf(d->fall_start * flight / dt_frame);
+        float feet = INFINITY;
+        for (int k = 0; k < 2; ++k)
+            if (m->foot[k] >= 0) feet = fminf(feet, bone_in_root(m->db, apex, m->foot[k]).translation.y);
+        float y_apex = fmaxf(y0, over + 0.1f - (isfinite(feet) ? feet : 0.0f));
+        add_key(m, t_to + d->rise_start * flight, y0, 3);
+        add_key(m, t_to + d->fall_start * flight, y_apex, 2);
+    } else if (y_land >= y0) { /* up: risen by the fall moment */
+        add_key(m, t_to + d->rise_start * flight, y0, 3);
+        add_key(m, t_to + d->fall_start * flight, y_land, 0);
+    } else { /* down: falling from take-off, as under gravity */
+        add_key(m, t_to, y0, 2);
+    }
+    add_key(m, t_land, y_land, 0);
+}
+
+static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_move_clip *mc,
+                        const mm_obstacle *o)
+{
+    const mm_database *db = m->db;
+    const mm_moves_desc *d = &m->desc;
+    mm_vec3 n = flat(o->hit.normal);
+    if (mm_vec3_length(n) < 1e-4f) return;
+    mm_vec3 f = mm_vec3_scale(mm_vec3_normalize(n), -1.0f);
+    float facing = atan2f(f.x, f.z);
+    mm_quat face = yaw_quat(facing);
+    mm_vec3 q = mm_vec3_make(o->hit.point.x, 0.0f, o->hit.point.z); /* on the near face */
+    /* where the clip would land, measured from its hand plant (or from where it starts) */
+    mm_xform land_rel = advance_root(db, mc->start, 0.0f, (float)(mc->landing - mc->start) * db->interval,
+                                     mm_xform_identity());
+    float from_face = mc->hand_plant >= 0 ? mc->land_distance - mc->plant_distance + 0.08f
+                                          : mc->land_distance - o->distance;
+    float dist = mc->onto || kind == MM_MOVE_CLIMB
+                     ? (o->depth >= 0.65f ? clampf(from_face, 0.35f, o->depth - 0.3f) : 0.5f * o->depth)
+                     : fmaxf(from_face, o->depth + d->landing_margin);
+    mm_vec3 p = mm_vec3_add(mm_vec3_add(q, mm_vec3_scale(f, dist)),
+                            mm_quat_rotate(face, mm_vec3_make(land_rel.translation.x, 0.0f, 0.0f)));
+    float h;
+    if (!ground_at(m, mm_vec3_make(p.x, o->top, p.z), 0.05f, INFINITY, &h)) return;
+    float y0 = begin(m, c, kind, mc);
+    float t_land = (float)(mc->landing - mc->start) * db->interval,
+          y_land = h - clip_ground_span(m, mc->landing, end_frame(m, mc));
+    m->land_target = mm_vec3_make(p.x, h, p.z);
+    add_key(m, 0.0f, y0, 1);
+    float t_plant = 0.0f;
+    if (mc->hand_plant >= 0) {
+        t_plant = (float)(mc->hand_plant - mc->start) * db->interval;
+        mm_vec3 hand = bone_in_root(db, mc->hand_plant, mc->hand).translation;
+        mm_xform plant_rel = advance_root(db, mc->start, 0.0f, t_plant, mm_xform_identity());
+        mm_vec3 hand_rel = mm_xform_apply_point(plant_rel, hand);
+        m->hand_target = mm_vec3_add(mm_vec3_add(q, mm_vec3_scale(f, 0.08f)),
+                                     mm_quat_rotate(face, mm_vec3_make(hand_rel.x, 0.0f, 0.0f)));
+        m->hand_target.y = o->top;
+        mm_target_match_init(&m->match[0], mc->hand, m->hand_target, face, 0.0f, t_plant);
+        m->match[0].position_weight = mm_vec3_make(1.0f, 0.0f, 1.0f);
+        m->match_on[0] = true;
+        float y_plant = o->top - hand.y;
+        add_key(m, t_plant, y_plant, y_land < y_plant ? 2 : 1);
+    }
+    mm_target_match_init(&m->match[1], 0, m->land_target, face, t_plant, t_land);
+    m->match[1].position_weight = mm_vec3_make(1.0f, 0.0f, 1.0f);
+    m->match_on[1] = true;
+    add_key(m, t_land, y_land, 0);
+}
+
+/* The predicted transform at clip time `end` of the matched bone (joint 0: the root) if no
+ * further correction were applied: position of the bone, facing of the root. */
+static mm_xform predict(const mm_moves *m, const mm_character *c, int bone, float now, float end)
+{
+    const mm_database *db = m->db;
+    mm_xform r = advance_root(db, c->frame, c->frame_fraction, fmaxf(0.0f, end - now), c->root);
+    int frame = m->start_frame + (int)lroundf(end / db->interval);
+    if (frame >= db->frame_count || db->frame_clip[frame] != db->frame_clip[m->start_frame]) frame = c->frame;
+    mm_vec3 p = bone > 0 ? mm_xform_apply_point(r, bone_in_root(db, frame, bone).translation) : r.translation;
+    return mm_xform_make(r.rotation, p);
+}
+
+static void before_move(mm_moves *m, mm_character *c, float dt)
+{
+    if (!m->started) return; /* the character starts playing it on this update */
+    float t = clip_time(m, c);
+    for (int k = 0; k < 2; ++k) {
+        if (!m->match_on[k]) continue;
+        mm_xform correction;
+        mm_xform pred = predict(m, c, m->match[k].bone, t, m->match[k].end_time);
+        if (mm_target_match_step(&m->match[k], t, dt, pred, &correction))
+            c->root = mm_xform_mul(correction, c->root);
+    }
+    c->root.translation.y = schedule(m, t + dt);
+    mm_trajectory_teleport(&c->trajectory, c->root.translation, c->root.rotation);
+}
+
+static float lower_ankle(const mm_character *c)
+{
+    return fminf(c->raw_contact_positions[0].y, c->raw_contact_positions[2].y);
+}
+
+static void after_move(mm_moves *m, mm_character *c, float t_before)
+{
+    const mm_database *db = m->db;
+    if (!m->started) {
+        if (!c->move_playing) { /* it did not start: give up */
+            m->kind = MM_MOVE_NONE;
+            return;
+        }
+        m->started = true;
+        t_before = -1.0f;
+    }
+    float t = clip_time(m, c);
+    const mm_move_clip *mc = clip_of(m, m->kind);
+    if (mc && mc->hand_plant >= 0 && m->match_on[0]) {
+        float tp = (float)(mc->hand_plant - mc->start) * db->interval;
+        if (t_before < tp && t >= tp)
+            m->hand_error = mm_vec3_distance(c->global[mc->hand].translation, m->hand_target);
+    }
+    if (mc) {
+        float tl = (float)(mc->landing - mc->start) * db->interval;
+        if (t_before < tl && t >= tl) {
+            float dx = c->root.translation.x - m->land_target.x,
+                  dz = c->root.translation.z - m->land_target.z;
+            m->land_error = sqrtf(dx * dx + dz * dz);
+        }
+    }
+    if (mm_character_move_playing(c) && t < 30.0f) return;
+    /* handed back: the root onto the ground under the body, the simulation to the root */
+    float feet = lower_ankle(c) - m->ankle_height, h;
+    mm_vec3 r = c->root.translation;
+    if (mm_vec3_length(flat(mm_vec3_sub(r, m->land_target))) < 1.0f) /* the feet on the ground aimed at */
+        m->land_error =
+            sqrtf(m->land_error * m->land_error + (feet - m->land_target.y) * (feet - m->land_target.y));
+    if (ground_at(m, mm_vec3_make(r.x, feet, r.z), m->desc.step_height, INFINITY, &h))
+        mm_character_shift_root(c, mm_vec3_make(0.0f, h - r.y, 0.0f));
+    mm_trajectory_teleport(&c->trajectory, c->root.translation, c->root.rotation);
+    m->current.t_end = (float)m->time;
+    m->current.target_error_cm = 100.0f * fmaxf(m->hand_error, m->land_error);
+    m->last = m->current;
+    m->finished = true;
+    ++m->count;
+    m->kind = MM_MOVE_NONE;
+    m->since_move = 0.0f;
+    m->fall_velocity = 0.0f;
+}
+
+/* Locomotion on the scene, before the character's update: on the ground (steps followed, falls
+ * under gravity) and out of the walls. */
+static void keep_on_ground(mm_moves *m, mm_character *c, float dt)
+{
+    const mm_moves_desc *d = &m->desc;
+    mm_vec3 r = c->root.translation;
+    float h;
+    if (ground_at(m, r, d->step_height, INFINITY, &h)) {
+        if (h > r.y + 1e-4f) { /* a step up: the body follows through the pose's offsets */
+            mm_character_shift_root(c, mm_vec3_make(0.0f, h - r.y, 0.0f));
+            m->fall_velocity = 0.0f;
+        } else if (r.y - h > 1e-4f) { /* nothing under the feet: fall */
+            m->fall_velocity += d->gravity * dt;
+            c->root.translation.y = fmaxf(h, r.y - m->fall_velocity * dt);
+            if (c->root.translation.y <= h) m->fall_velocity = 0.0f;
+        } else {
+            m->fall_velocity = 0.0f;
+        }
+    }
+    /* the collider: a circle about the root against the walls (boxes whose top is above a step) */
+    const mm_scene *s = m->scene;
+    for (int b = 0; b < s->box_count; ++b) {
+        const mm_scene_box *box = &s->boxes[b];
+        float y = c->root.translation.y;
+        if (box->position.y + box->size.y <= y + d->step_height || box->position.y >= y + 1.8f) continue;
+        float sn = sinf(box->yaw), cs = cosf(box->yaw), hx = 0.5f * box->size.x, hz = 0.5f * box->size.z;
+        for (int which = 0; which < 2; ++which) { /* the root, and the simulation with it */
+            mm_vec3 *p = which == 0 ? &c->root.translation : &c->trajectory.position;
+            float px = p->x - box->position.x, pz = p->z - box->position.z;
+            float lx = cs * px - sn * pz, lz = sn * px + cs * pz;
+            float cx = clampf(lx, -hx, hx), cz = clampf(lz, -hz, hz);
+            float ex = lx - cx, ez = lz - cz, e = sqrtf(ex * ex + ez * ez);
+            if (e >= d->radius) continue;
+            if (e > 1e-6f) {
+                ex *= (d->radius - e) / e, ez *= (d->radius - e) / e;
+            } else if (hx - fabsf(lx) < hz - fabsf(lz)) { /* inside: out through the nearer side */
+                ex = (lx >= 0.0f ? 1.0f : -1.0f) * (hx - fabsf(lx) + d->radius), ez = 0.0f;
+            } else {
+                ez = (lz >= 0.0f ? 1.0f : -1.0f) * (hz - fabsf(lz) + d->radius), ex = 0.0f;
+            }
+            p->x += cs * ex + sn * ez; /* back to the world: turn by +yaw */
+            p->z += -sn * ex + cs * ez;
+        }
+    }
+}
+
+/* After the character's update in locomotion: a move to start? */
+static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int pressed)
+{
+    const mm_moves_desc *d = &m->desc;
+    if (m->since_move < d->cooldown) return;
+    mm_vec3 root = c->root.translation, desired = mm_vec3_make(0, 0, 0), land;
+    if (in) mm_trajectory_desired(&c->trajectory, in, &desired, NULL);
+    desired = flat(desired);
+    float speed = mm_vec3_length(desired), h;
+    mm_vec3 facing = flat(mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1)));
+    mm_vec3 dir = speed > 0.3f ? mm_vec3_scale(desired, 1.0f / speed) : mm_vec3_normalize(facing);
+    int moving = speed > 0.5f && m->fall_velocity == 0.0f;
+    mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
+    int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
+    const mm_move_clip *drop = clip_of(m, MM_MOVE_DROP), *jump = clip_of(m, MM_MOVE_JUMP);
+    /* the jump key: a jump (across a gap, onto a wall); at a ledge with nothing across, a drop */
+    float over;
+    if (pressed && jump && plan_landing(m, c, jump, 0, &land, &over)) {
+        start_jump(m, c, MM_MOVE_JUMP, jump, land, over);
+        return;
+    }
+    if ((pressed || (moving && ledge)) && drop) {
+        int near_ledge = ledge;
+        for (float s = 0.05f; s <= d->ledge_probe + 0.3f && !near_ledge; s += 0.05f)
+            near_ledge = !ground_at(m, mm_vec3_add(root, mm_vec3_scale(mm_vec3_normalize(facing), s)),
+                                    d->step_height, d->step_height, &h);
+        if (near_ledge && (pressed || mm_vec3_dot(dir, mm_vec3_normalize(facing)) > 0.7f)) {
+            if (plan_landing(m, c, drop, 1, &land, &over)) start_jump(m, c, MM_MOVE_DROP, drop, land, over);
+            return;
+        }
+    }
+    if (!moving) return;
+    float reach = 0.0f; /* the farthest any move starts from a wall */
+    for (int k = 0; k < MM_MOVE_KIND_COUNT; ++k)
+        if (m->clips[k].clip >= 0) reach = fmaxf(reach, fmaxf(m->clips[k].plant_distance, 0.7f));
+    mm_obstacle o;
+    mm_obstacle_desc od;
+    memset(&od, 0, sizeof od);
+    od.max_distance = reach + d->trigger_slack + 0.05f;
+    if (!mm_scene_measure_obstacle(m->scene, root, dir, &od, &o)) return;
+    mm_vec3 n = flat(o.hit.normal);
+    if (mm_vec3_length(n) < 1e-4f || mm_vec3_dot(dir, mm_vec3_normalize(n)) > -0.7f)
+        return; /* not toward it */
+    mm_move_kind kind = mm_moves_choose(m, &o);
+    const mm_move_clip *mc = clip_of(m, kind);
+    if (!mc) return;
+    if (kind == MM_MOVE_JUMP) { /* a jump onto it, close to the wall, facing it */
+        if (o.distance > 0.7f || mm_vec3_dot(mm_vec3_normalize(facing), mm_vec3_normalize(n)) > -0.9f) return;
+        if (plan_landing(m, c, mc, 0, &land, &over)) start_jump(m, c, MM_MOVE_JUMP, mc, land, over);
+        return;
+    }
+    if (o.distance > fmaxf(mc->plant_distance, 0.3f) + d->trigger_slack) return;
+    start_vault(m, c, kind, mc, &o);
+}
+
+void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
+{
+    if (!m || !c) return;
+    if (!m->enabled || !m->scene || c->db != m->db || !(dt > 0.0f) || !isfinite(dt)) {
+        if (m) m->finished = false;
+        mm_character_update(c, in, dt);
+        return;
+    }
+    m->finished = false;
+    m->time += dt;
+    int pressed = in && in->jump && !m->jump_held;
+    m->jump_held = in && in->jump;
+    if (m->kind != MM_MOVE_NONE) {
+        float t_before = m->started ? clip_time(m, c) : -1.0f;
+        before_move(m, c, dt);
+        mm_character_update(c, in, dt);
+        after_move(m, c, t_before);
+        return;
+    }
+    m->since_move += dt;
+    keep_on_ground(m, c, dt);
+    mm_character_update(c, in, dt);
+    look_for_move(m, c, in, pressed);
+}
