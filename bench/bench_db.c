@@ -1,4 +1,5 @@
-/* bench_db: database build time and peak memory, bytes per frame, load time.
+/* bench_db: database build time (with 1, 2 and 4 threads, median of 3) and peak memory, bytes per
+ * frame, load time.
  * usage: bench_db [CONFIG]   (default: configs/lafan1.json; clips found through $MM_DATA_DIR)
  * Prints figures; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L
@@ -64,11 +65,36 @@ int main(int argc, char **argv)
         return 1;
     }
     double t2 = now();
+    /* the same build on 1, 2 and 4 threads: its time, and its bytes (which must not change) */
+    double by_threads[3];
+    for (int k = 0; k < 3; ++k) {
+        double runs[3];
+        for (int i = 0; i < 3; ++i) {
+            mm_database other;
+            desc.threads = 1 << k;
+            double a = now();
+            if (mm_database_build(&cfg, sources, &desc, &other, &err) != MM_OK) {
+                fprintf(stderr, "bench_db: build: %s\n", err.message);
+                return 1;
+            }
+            runs[i] = now() - a;
+            if (other.size != db.size || memcmp(other.data, db.data, db.size) != 0) {
+                fprintf(stderr, "bench_db: the build on %d threads gave other bytes\n", desc.threads);
+                return 1;
+            }
+            mm_database_free(&other);
+        }
+        qsort(runs, 3, sizeof(double), compare);
+        by_threads[k] = runs[1];
+    }
     printf("config           %s\n", config);
     printf("read sources     %.3f s (%d clips)\n", t1 - t0, cfg.clip_count);
     printf("build            %.3f s for %d frames, %d clips, %d dims (%.1f us per frame)\n", t2 - t1,
            db.frame_count, db.clip_count, db.dims, 1e6 * (t2 - t1) / db.frame_count);
     printf("total            %.3f s (target: under 10 s on one core)\n", t2 - t0);
+    printf("build threads    1: %.3f s, 2: %.3f s (x%.2f), 4: %.3f s (x%.2f), same bytes (median of 3)\n",
+           by_threads[0], by_threads[1], by_threads[0] / by_threads[1], by_threads[2],
+           by_threads[0] / by_threads[2]);
     printf("peak memory      %.1f MiB (%.1f MiB after reading the sources)\n", peak_mib(), mem_sources);
     printf("file size        %zu bytes, %.1f bytes per frame (features %zu, pose %zu)\n", db.size,
            (double)db.size / db.frame_count, sizeof(float) * (size_t)db.dims_padded,

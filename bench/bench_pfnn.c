@@ -55,12 +55,14 @@ static double time_evals(const mm_pfnn_network *net, mm_pfnn_mode mode, const fl
     return rounds[2];
 }
 
-static double time_controller(const mm_pfnn_network *net, mm_pfnn_mode mode, int frames)
+static double time_controller(const mm_pfnn_network *net, mm_pfnn_mode mode, mm_pfnn_symmetry symmetry,
+                              int frames)
 {
     mm_pfnn_controller_desc cd;
     memset(&cd, 0, sizeof cd);
     cd.network = net;
     cd.mode = mode;
+    cd.symmetry = symmetry;
     cd.height = mm_pfnn_height_slopes;
     mm_pfnn_obstacle obs[4];
     memset(obs, 0, sizeof obs);
@@ -112,8 +114,10 @@ int main(int argc, char **argv)
     }
     fclose(f);
     printf("bench_pfnn: %d evaluations x 5 rounds per figure (median round), one thread\n", evals);
-    printf("%-9s %8s %8s %13s %13s %13s %16s\n", "mode", "load s", "MiB", "us/eval step", "us/eval rand",
-           "us/eval fixed", "controller us/f");
+    /* controller us/f: mirror-averaged (the default, two evaluations a frame) and the network as
+       released (one) */
+    printf("%-9s %8s %8s %13s %13s %13s %16s %16s\n", "mode", "load s", "MiB", "us/eval step", "us/eval rand",
+           "us/eval fixed", "ctrl us/f mirror", "ctrl us/f raw");
     for (int m = MM_PFNN_MODE_CONSTANT; m <= MM_PFNN_MODE_CUBIC; ++m) {
         mm_pfnn_network_desc d;
         memset(&d, 0, sizeof d);
@@ -131,10 +135,12 @@ int main(int argc, char **argv)
         double step = time_evals(net, (mm_pfnn_mode)m, x, evals, 0);
         double rnd = time_evals(net, (mm_pfnn_mode)m, x, evals, 1);
         double fixed = time_evals(net, (mm_pfnn_mode)m, x, evals, 2);
-        double ctrl = time_controller(net, (mm_pfnn_mode)m, 5 * evals > 6000 ? 6000 : 5 * evals);
-        printf("%-9s %8.3f %8.1f %13.1f %13.1f %13.1f %16.1f\n", mm_pfnn_mode_name((mm_pfnn_mode)m), load,
-               (double)mm_pfnn_network_bytes(net, (mm_pfnn_mode)m) / (1024.0 * 1024.0), step, rnd, fixed,
-               ctrl);
+        int frames = 5 * evals > 6000 ? 6000 : 5 * evals;
+        double ctrl = time_controller(net, (mm_pfnn_mode)m, MM_PFNN_SYMMETRY_MIRROR, frames);
+        double raw = time_controller(net, (mm_pfnn_mode)m, MM_PFNN_SYMMETRY_NONE, frames);
+        printf("%-9s %8.3f %8.1f %13.1f %13.1f %13.1f %16.1f %16.1f\n", mm_pfnn_mode_name((mm_pfnn_mode)m),
+               load, (double)mm_pfnn_network_bytes(net, (mm_pfnn_mode)m) / (1024.0 * 1024.0), step, rnd,
+               fixed, ctrl, raw);
         mm_pfnn_network_free(net);
     }
     return 0;

@@ -302,6 +302,43 @@ static int line_of_joint(const text *t, int index)
     return line;
 }
 
+/* Hexadecimal (and C99 hex-float) numbers: BVH files never hold them, strtod would take them; every
+ * place a number goes refuses them with the line and column of the token. */
+static void test_hex_numbers(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *find, *replace;
+        mm_result code;
+        int line, column;
+    } cases[] = {
+        {"OFFSET 0 90.5 -1", "OFFSET 0x10 90.5 -1", MM_ERR_BAD_NUMBER, 4, 9},
+        {"OFFSET 10 -45 0", "OFFSET 10 -0x2D 0", MM_ERR_BAD_NUMBER, 8, 13},
+        {"Frames: 3", "Frames: 0x3", MM_ERR_SYNTAX, 21, 9},
+        {"Frame Time: 0.0333333", "Frame Time: 0x1p-5", MM_ERR_BAD_NUMBER, 22, 13},
+        {"1.5 91 -2e-1", "1.5 0x5B -2e-1", MM_ERR_BAD_NUMBER, 25, 5},
+        {"2 92 0 0 0 0 0 0 5", "2 92 0 0 0 0 0 0 0X5", MM_ERR_BAD_NUMBER, 26, 18},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        const char *at = strstr(valid_bvh, cases[i].find);
+        assert_non_null(at);
+        char buf[sizeof valid_bvh + 32];
+        size_t head = (size_t)(at - valid_bvh);
+        snprintf(buf, sizeof buf, "%.*s%s%s", (int)head, valid_bvh, cases[i].replace,
+                 at + strlen(cases[i].find));
+        mm_bvh bvh;
+        mm_error err;
+        mm_result r = parse_exact(buf, strlen(buf), NULL, &bvh, &err);
+        assert_clean_failure(r, &err, &bvh);
+        if (r != cases[i].code || err.line != cases[i].line || err.column != cases[i].column)
+            print_error("case %zu: %d at %d:%d: %s\n", i, (int)r, err.line, err.column, err.message);
+        assert_int_equal(r, cases[i].code);
+        assert_int_equal(err.line, cases[i].line);
+        assert_int_equal(err.column, cases[i].column);
+        assert_non_null(strchr(err.message, 'x') ? strchr(err.message, 'x') : strchr(err.message, 'X'));
+    }
+}
+
 static void test_deep_nesting(void **state)
 {
     (void)state;
@@ -647,15 +684,11 @@ static void test_allocation_failures(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_corpus),
-        cmocka_unit_test(test_valid_reference_parses),
-        cmocka_unit_test(test_argument_errors),
-        cmocka_unit_test(test_deep_nesting),
-        cmocka_unit_test(test_too_many_joints),
-        cmocka_unit_test(test_huge_line),
-        cmocka_unit_test(test_every_truncation),
-        cmocka_unit_test(test_random_mutations),
-        cmocka_unit_test(test_allocation_failures),
+        cmocka_unit_test(test_corpus),           cmocka_unit_test(test_valid_reference_parses),
+        cmocka_unit_test(test_argument_errors),  cmocka_unit_test(test_hex_numbers),
+        cmocka_unit_test(test_deep_nesting),     cmocka_unit_test(test_too_many_joints),
+        cmocka_unit_test(test_huge_line),        cmocka_unit_test(test_every_truncation),
+        cmocka_unit_test(test_random_mutations), cmocka_unit_test(test_allocation_failures),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

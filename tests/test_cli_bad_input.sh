@@ -80,7 +80,8 @@ names() {
     fails "$option" "$@" "$option"
     fails "" "$@" "$option" ""
 }
-not_numbers="abc nan -inf 1e999 5x"
+# hexadecimal is not taken (strtod would), nor a number that a float turns into 0 or infinity
+not_numbers="abc nan -inf 1e999 5x 0x10 0X1p3 1e 1e-300 1e39"
 not_ints="$not_numbers 1.5 -1 99999999999999999999"
 
 # --- inputs: the built-in motion set, a tiny database of it, its tables ---------------------------
@@ -189,6 +190,42 @@ for v in 1e999 -1e999 '"x"' '[1]'; do
     fails "$tmp/time.json" "$mm" simulate "$db" --input "$tmp/time.json" --seconds 1 -o "$o/sim.bvh"
 done
 
+# numbers in hexadecimal: BVH files never hold them and JSON forbids them; each is refused with
+# the file, line and column
+bvh=$tmp/set/idle.bvh
+first_frame=$(($(grep -n '^Frame Time' "$bvh" | cut -d: -f1) + 1))
+sed "${first_frame}s/^[^ ]*/0x10/" "$bvh" >"$tmp/hex_motion.bvh"
+sed '0,/OFFSET [^ ]*/s//OFFSET 0x10/' "$bvh" >"$tmp/hex_offset.bvh"
+sed 's/^Frame Time: .*/Frame Time: 0x1p-5/' "$bvh" >"$tmp/hex_time.bvh"
+sed 's/^Frames: .*/Frames: 0x10/' "$bvh" >"$tmp/hex_frames.bvh"
+offset_line=$(grep -n 'OFFSET' "$bvh" | head -1 | cut -d: -f1)
+fails "$tmp/hex_motion.bvh:$first_frame:1:" "$mm" bvh info "$tmp/hex_motion.bvh"
+fails "$tmp/hex_offset.bvh:$offset_line:" "$mm" bvh convert "$tmp/hex_offset.bvh" "$o/c.bvh"
+fails "$tmp/hex_time.bvh:$((first_frame - 1)):" "$mm" bvh info "$tmp/hex_time.bvh"
+fails "$tmp/hex_frames.bvh:$((first_frame - 2)):" "$mm" bvh fk "$tmp/hex_frames.bvh" --frame 0
+cp "$tmp/hex_motion.bvh" "$tmp/set_hex.bvh"
+printf '{"clips": [{"file": "%s"}]}' "$tmp/set_hex.bvh" >"$tmp/hex_clip.json"
+fails "$tmp/set_hex.bvh:$first_frame:1:" "$mm" db build "$tmp/hex_clip.json" -o "$o/build.mmdb"
+printf '{"interval": 0x10, "clips": [{"file": "idle.bvh"}]}' >"$tmp/hex.json"
+fails "$tmp/hex.json:1:" "$mm" config check "$tmp/hex.json"
+fails "$tmp/hex.json:1:" "$mm" db build "$tmp/hex.json" --data "$tmp/set" -o "$o/build.mmdb"
+printf '{"keys": [{"t": 0.0, "stick": [0, 0x1]}]}' >"$tmp/hex_keys.json"
+fails "$tmp/hex_keys.json:1:" "$mm" simulate "$db" --input "$tmp/hex_keys.json" --seconds 1 -o "$o/sim.bvh"
+# config names: a tag listed twice, a clip tag not declared, a role naming no joint
+printf '{"tags": ["Walk", "Walk"], "clips": [{"file": "idle.bvh"}]}' >"$tmp/dup_tag.json"
+fails "$tmp/dup_tag.json" "$mm" db build "$tmp/dup_tag.json" --data "$tmp/set" -o "$o/build.mmdb"
+printf '{"tags": ["Walk"], "clips": [{"file": "idle.bvh", "tags": {"Run": [[0, 1]]}}]}' >"$tmp/tag.json"
+fails "$tmp/tag.json" "$mm" db build "$tmp/tag.json" --data "$tmp/set" -o "$o/build.mmdb"
+printf '{"roles": {"hips": "NoHips"}, "clips": [{"file": "idle.bvh"}]}' >"$tmp/role.json"
+fails "NoHips" "$mm" db build "$tmp/role.json" --data "$tmp/set" -o "$o/build.mmdb"
+# input scripts: times that go back or below 0, an unknown version field
+for keys in '{"t": 0.0, "stick": [0, 1]}, {"t": 0.0, "stick": [0, 1]}' '{"t": -1, "stick": [0, 1]}'; do
+    printf '{"keys": [%s]}' "$keys" >"$tmp/keys.json"
+    fails "$tmp/keys.json" "$mm" simulate "$db" --input "$tmp/keys.json" --seconds 1 -o "$o/sim.bvh"
+done
+printf '{"version": 99, "keys": [{"t": 0.0, "stick": [0, 1]}]}' >"$tmp/keys.json"
+fails "$tmp/keys.json" "$mm" simulate "$db" --input "$tmp/keys.json" --seconds 1 -o "$o/sim.bvh"
+
 # --- commands, subcommands and unknown options -------------------------------------------------------
 for c in bvh db config import pfnn simulate synth convert; do fails "$c" "$mm" "$c"; done
 for c in bvh db config import pfnn; do fails "nope" "$mm" "$c" nope; done
@@ -227,6 +264,7 @@ values --scale "$not_numbers 0 -1" "$mm" import info "$chain"
 values --fps "$not_numbers 0 -1 10001" "$mm" import info "$chain"
 names -o "$mm" db build "$tmp/db.json"
 names --data "$mm" db build "$tmp/db.json" -o "$o/b.mmdb"
+values --threads "$not_ints 0 65" "$mm" db build "$tmp/db.json" --data "$tmp/set" -o "$o/b.mmdb"
 values --frame "$not_ints" "$mm" db search "$db"
 values --traj-from "$not_ints" "$mm" db search "$db" --frame 0
 values --top "$not_ints 0 1001" "$mm" db search "$db" --frame 0
@@ -274,9 +312,11 @@ fails "$db" "$mm" db search "$db" --frame 0 --traj-from 2147483647
 succeeds "$mm" db search "$db" --frame 0 --top 1000
 fails "--seconds" "$mm" simulate "$db" --random 1 --seconds 36000 --fps 1000 -o "$o/s.bvh" --metrics "$o/s.json"
 succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --low-hips 100 --pad 1e7
-succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --low-hips 100 --pad 1e300
+fails "--pad" "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --low-hips 100 --pad 1e300
 succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --low-hips 100 --pad 99999999999
-succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --idle-min 1e300 --idle-speed 1e300
+succeeds "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --idle-min 1e30 --idle-speed 1e30
+succeeds "$mm" db build "$tmp/db.json" --data "$tmp/set" -o "$tmp/db64.mmdb" --threads 64
+if cmp -s "$db" "$tmp/db64.mmdb"; then ok; else bad "db build --threads 64 gave other bytes"; fi
 succeeds "$mm" similarity build "$db" --window 256 --threads 64 -o "$tmp/big_window.sim"
 
 # --- outputs that cannot be written: nothing is left behind ------------------------------------------
@@ -288,6 +328,21 @@ fails "$nodir/audit" "$mm" similarity "$db" --from idle --to walk -o "$nodir/aud
 fails "$nodir/b.sim" "$mm" similarity build "$db" -o "$nodir/b.sim"
 fails "$tmp/garbage" "$mm" synth "$tmp/garbage/set"
 fails "$tmp/garbage" "$mm" synth "$tmp/garbage"
+# several outputs appear together or not at all: the one that cannot be written keeps the others out
+if "$mm" render "$chain" -o "$tmp/can_render" --size 32x32 --seconds 0.05 >/dev/null 2>&1; then
+    fails "$tmp/folder" "$mm" simulate "$db" --random 1 --seconds 0.5 -o "$tmp/folder" --metrics "$o/s.json" \
+        --video "$o/frames" --size 32x32
+    fails "$nodir/s.bvh" "$mm" simulate "$db" --random 1 --seconds 0.5 -o "$nodir/s.bvh" --metrics "$o/s.json" \
+        --video "$o/v.gif" --size 32x32
+    fails "$nodir/v.gif" "$mm" simulate "$db" --random 1 --seconds 0.5 -o "$o/s.bvh" --metrics "$o/s.json" \
+        --video "$nodir/v.gif" --size 32x32
+fi
+mkdir -p "$tmp/audit_out/similarity.png"
+fails "similarity.png" "$mm" similarity "$db" --from idle --to walk -o "$tmp/audit_out"
+if [ ! -e "$tmp/audit_out/similarity.csv" ] && [ ! -e "$tmp/audit_out/poor.csv" ]; then ok; else bad "audit CSV left beside a failed PNG"; fi
+mkdir -p "$tmp/synth_out/clips.json"
+fails "clips.json" "$mm" synth "$tmp/synth_out"
+if [ -z "$(find "$tmp/synth_out" -name '*.bvh')" ]; then ok; else bad "mm synth left BVH files beside a failed clips.json"; fi
 # an output that is a folder
 fails "$tmp/folder" "$mm" bvh convert "$chain" "$tmp/folder"
 fails "$tmp/folder" "$mm" db build "$tmp/db.json" --data "$tmp/set" -o "$tmp/folder"

@@ -253,6 +253,41 @@ static void test_contacts(void **state)
     mm_clip_free(&clip);
 }
 
+/* A skeleton whose hips frame has its left-right axis along local z: the hips need a half-turn
+ * about y to mirror (the only one of the four candidates that maps the legs and the spine), and
+ * the legs below, with a single child straight down, fit both that half-turn and the identity.
+ * Each must take its parent's half-turn: then a pose that is its own mirror (the rest pose)
+ * keeps its local rotations, and transitions between a clip and a mirrored clip do not see a
+ * half-turn in every leg joint. */
+static void test_mirror_chain(void **state)
+{
+    (void)state;
+    mm_skeleton s;
+    assert_int_equal(mm_skeleton_init(&s, 5, NULL), MM_OK);
+    const char *names[5] = {"Hips", "Spine", "LeftUpLeg", "LeftLeg", "RightUpLeg"};
+    const int parents[5] = {-1, 0, 0, 2, 0};
+    const float off[5][3] = {{0, 1, 0}, {0, 0.3f, 0}, {0, 0, 0.1f}, {0, -0.45f, 0}, {0, 0, -0.1f}};
+    for (int j = 0; j < 5; ++j) {
+        snprintf(s.joints[j].name, MM_NAME_MAX, "%s", names[j]);
+        s.joints[j].parent = parents[j];
+        s.joints[j].offset = mm_vec3_make(off[j][0], off[j][1], off[j][2]);
+    }
+    s.joints[0].flags = MM_JOINT_TRANSLATES;
+    mm_clip clip, mirrored;
+    assert_int_equal(mm_clip_init(&clip, &s, 2, 30.0f, NULL), MM_OK); /* rest pose: identity */
+    mm_skeleton_free(&s);
+    mm_config cfg;
+    test_config(&cfg, 1);
+    assert_int_equal(mm__clip_mirror(&clip, &cfg, &mirrored, NULL), MM_OK);
+    const mm_quat half_y = mm_quat_make(0, 1, 0, 0);
+    assert_true(fabsf(mm_quat_dot(mm_clip_rotations(&mirrored, 0)[0], half_y)) > 1 - 1e-6f);
+    for (int j = 1; j < 5; ++j) /* LeftLeg has no partner: it too keeps the parent's correction */
+        assert_true(fabsf(mm_clip_rotations(&mirrored, 0)[j].w) > 1 - 1e-6f);
+    mm_config_free(&cfg);
+    mm_clip_free(&mirrored);
+    mm_clip_free(&clip);
+}
+
 /* Mirroring: the mirrored clip's joints are the reflected partners, and mirroring twice is the
  * identity. */
 static void test_mirror(void **state)
@@ -637,6 +672,75 @@ static void test_distance_curves(void **state)
     mm_database_free(&built);
 }
 
+static void count_progress(int done, int total, void *user)
+{
+    int *calls = (int *)user;
+    assert_true(done >= 1 && done <= total);
+    if (done == total) ++calls[1];
+    ++calls[0];
+}
+
+/* Threads change no byte: 8 clips of different lengths (mirrored, so each config clip makes two
+ * database clips) built on 1 to 7 threads. A failing clip is reported as on one thread: the
+ * first in clip order, whichever thread met it first. */
+static void test_threads(void **state)
+{
+    (void)state;
+    enum { CLIPS = 8 };
+    mm_clip clips[CLIPS];
+    for (int i = 0; i < CLIPS; ++i)
+        make_motion(&clips[i], 40 + 23 * i, 60.0f, i % 2 ? 1.5 + i : 0.0, 1.0 + 0.2 * i);
+    mm_config cfg;
+    test_config(&cfg, CLIPS);
+    for (int i = 0; i < CLIPS; ++i) cfg.clips[i].mirror = i % 3 == 0;
+    mm_db_build_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.config_json = "{}";
+    mm_database one;
+    int calls[2] = {0, 0};
+    desc.progress = count_progress;
+    desc.progress_user = calls;
+    assert_int_equal(mm_database_build(&cfg, clips, &desc, &one, NULL), MM_OK);
+    assert_int_equal(calls[1], 1); /* the last clip is reported once */
+    for (int t = 2; t <= 7; ++t) {
+        mm_database db;
+        calls[0] = calls[1] = 0;
+        desc.threads = t;
+        assert_int_equal(mm_database_build(&cfg, clips, &desc, &db, NULL), MM_OK);
+        assert_int_equal(calls[1], 1);
+        assert_int_equal(db.size, one.size);
+        assert_memory_equal(db.data, one.data, one.size);
+        mm_database_free(&db);
+    }
+    mm_database_free(&one);
+
+    /* clips 2 and 6 ask for frames their files lack: clip 2 is named, on any thread count */
+    mm_config_range bad = {0, 1000};
+    cfg.clips[2].range_count = cfg.clips[6].range_count = 1;
+    cfg.clips[2].ranges = cfg.clips[6].ranges = &bad;
+    for (int t = 1; t <= 4; ++t) {
+        mm_database db;
+        mm_error err;
+        memset(&err, 0, sizeof err);
+        snprintf(err.file, sizeof err.file, "threads.json");
+        desc.threads = t;
+        assert_int_equal(mm_database_build(&cfg, clips, &desc, &db, &err), MM_ERR_OUT_OF_RANGE);
+        assert_string_equal(err.file, "threads.json");
+        assert_non_null(strstr(err.message, "clips[2] (clip2).ranges[0]"));
+    }
+    cfg.clips[2].range_count = cfg.clips[6].range_count = 0;
+    cfg.clips[2].ranges = cfg.clips[6].ranges = NULL;
+
+    /* a thread count out of range */
+    mm_database db;
+    desc.threads = MM_DB_MAX_THREADS + 1;
+    assert_int_equal(mm_database_build(&cfg, clips, &desc, &db, NULL), MM_ERR_INVALID_ARGUMENT);
+    desc.threads = -1;
+    assert_int_equal(mm_database_build(&cfg, clips, &desc, &db, NULL), MM_ERR_INVALID_ARGUMENT);
+    mm_config_free(&cfg);
+    for (int i = 0; i < CLIPS; ++i) mm_clip_free(&clips[i]);
+}
+
 static void test_bad_configs(void **state)
 {
     (void)state;
@@ -678,12 +782,14 @@ int main(void)
         cmocka_unit_test(test_normalisation_and_bounds),
         cmocka_unit_test(test_contacts),
         cmocka_unit_test(test_mirror),
+        cmocka_unit_test(test_mirror_chain),
         cmocka_unit_test(test_blend_speed),
         cmocka_unit_test(test_tags_and_ranges),
         cmocka_unit_test(test_save_load_round_trip),
         cmocka_unit_test(test_bad_files),
         cmocka_unit_test(test_distance_curves),
         cmocka_unit_test(test_bad_configs),
+        cmocka_unit_test(test_threads),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

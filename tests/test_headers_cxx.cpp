@@ -3,6 +3,7 @@
 #include <mm/distance.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
+#include <mm/mixer.h>
 #include <mm/move_detect.h>
 #include <mm/moves.h>
 #include <mm/render.h>
@@ -38,6 +39,11 @@ int main()
         return 1;
     if (std::string(mm_move_kind_name(MM_MOVE_VAULT_LOW)) != "vault_low") return 1;
     if (std::string(mm_move_kind_tag(MM_MOVE_VAULT_HIGH)) != "VaultHigh") return 1;
+    mm_mixer mixer;
+    mm_mixer_init(&mixer, 0, 0.0f);
+    if (!mm_mixer_start(&mixer, 1, 0.0f, 0.2f, false) ||
+        std::fabs(mm_mixer_weight_sum(&mixer) - 1.0f) > 1e-6f)
+        return 1;
     mm_camera cam;
     mm_camera_defaults(&cam);
     float px = 0.0f, py = 0.0f;

@@ -282,11 +282,13 @@ static int finite_state(const mm_pfnn_state *s)
     return 1;
 }
 
-static mm_pfnn_controller *make_controller(mm_pfnn_mode mode, mm_pfnn_height_fn height,
-                                           const mm_pfnn_obstacle *obstacles, int count)
+static mm_pfnn_controller *make_controller_sym(mm_pfnn_mode mode, mm_pfnn_height_fn height,
+                                               const mm_pfnn_obstacle *obstacles, int count,
+                                               mm_pfnn_symmetry symmetry)
 {
     mm_pfnn_controller_desc cd = {0};
     cd.network = g_net;
+    cd.symmetry = symmetry;
     cd.mode = mode;
     cd.height = height;
     cd.obstacles = obstacles;
@@ -295,6 +297,12 @@ static mm_pfnn_controller *make_controller(mm_pfnn_mode mode, mm_pfnn_height_fn 
     mm_error err = {0};
     assert_int_equal(mm_pfnn_controller_create(&cd, &c, &err), MM_OK);
     return c;
+}
+
+static mm_pfnn_controller *make_controller(mm_pfnn_mode mode, mm_pfnn_height_fn height,
+                                           const mm_pfnn_obstacle *obstacles, int count)
+{
+    return make_controller_sym(mode, height, obstacles, count, MM_PFNN_SYMMETRY_DEFAULT);
 }
 
 static void test_reset_input(void **state)
@@ -325,40 +333,104 @@ static double unwrap_step(double a, double b)
     return d;
 }
 
-static void test_straight_walk(void **state)
+/* Walks straight along +Z at 1.5 m/s (the demo's walking speed): 5 s to settle, then 20 s measured.
+ * Returns the forward and sideways (+X: the character's left) speeds, m/s. */
+static void straight_walk(mm_pfnn_symmetry symmetry, double *forward, double *sideways, double *rate,
+                          double *min_step, double *max_step, double *mean_step, const mm_pfnn_state **out)
 {
-    (void)state;
-    NEED_DATA();
-    mm_pfnn_controller *c = make_controller(MM_PFNN_MODE_CUBIC, NULL, NULL, 0);
+    mm_pfnn_controller *c = make_controller_sym(MM_PFNN_MODE_CUBIC, NULL, NULL, 0, symmetry);
     mm_pfnn_input in = {0};
-    in.velocity = mm_vec3_make(0.0f, 0.0f, 1.5f); /* the demo's walking speed */
-    const int warm = 300, frames = 600;
+    in.velocity = mm_vec3_make(0.0f, 0.0f, 1.5f);
+    const int warm = 300, frames = 1200;
     for (int f = 0; f < warm; ++f) mm_pfnn_controller_step(c, &in, 0.0f);
     const mm_pfnn_state *s = mm_pfnn_controller_state(c);
     mm_vec3 start = s->root_position;
-    double phase = s->phase, advance = 0.0, min_step = 1e9, max_step = -1e9;
+    double phase = s->phase, advance = 0.0;
+    *min_step = 1e9;
+    *max_step = -1e9;
     for (int f = 0; f < frames; ++f) {
         mm_pfnn_controller_step(c, &in, 1.0f / 60.0f);
         double d = unwrap_step(phase, s->phase);
         phase = s->phase;
         advance += d;
-        min_step = fmin(min_step, d);
-        max_step = fmax(max_step, d);
+        *min_step = fmin(*min_step, d);
+        *max_step = fmax(*max_step, d);
     }
     double secs = frames / 60.0;
-    double forward = (s->root_position.z - start.z) / secs,
-           sideways = fabs(s->root_position.x - start.x) / secs;
-    double rate = advance / TWO_PI / secs;
+    *forward = (s->root_position.z - start.z) / secs;
+    *sideways = (s->root_position.x - start.x) / secs;
+    *rate = advance / TWO_PI / secs;
+    *mean_step = advance / frames;
+    static mm_pfnn_state last;
+    last = *s;
+    *out = &last;
+    mm_pfnn_controller_destroy(c);
+}
+
+static void test_straight_walk(void **state)
+{
+    (void)state;
+    NEED_DATA();
+    double forward, sideways, rate, min_step, max_step, mean_step;
+    const mm_pfnn_state *s;
+    straight_walk(MM_PFNN_SYMMETRY_DEFAULT, &forward, &sideways, &rate, &min_step, &max_step, &mean_step, &s);
     printf(
-        "straight walk: forward %.3f m/s, sideways %.3f m/s, facing %.3f rad, phase %.3f cycles/s (per frame "
+        "straight walk: forward %.3f m/s, sideways %.4f m/s, facing %.3f rad, phase %.3f cycles/s (per frame "
         "%.4f..%.4f rad), gait walk %.2f stand %.2f\n",
         forward, sideways, s->root_yaw, rate, min_step, max_step, s->gait[1], s->gait[0]);
     assert_true(forward > 1.0 && forward < 2.0);
-    assert_true(sideways < 0.3);
+    assert_true(fabs(sideways) < 0.02); /* over 20 s: under 40 cm */
     assert_true(fabs(s->root_yaw) < 0.1);
     assert_true(rate > 0.6 && rate < 1.4);
-    assert_true(min_step > 0.25 * (advance / frames) && max_step < 4.0 * (advance / frames));
-    mm_pfnn_controller_destroy(c);
+    assert_true(min_step > 0.25 * mean_step && max_step < 4.0 * mean_step);
+}
+
+/* The drift the released network causes without the mirror averaging: the same walk with the
+ * network as released goes steadily to the character's right (-X), so the averaging, not some
+ * other change, is what keeps the walk straight. */
+static void test_drift_is_the_networks_asymmetry(void **state)
+{
+    (void)state;
+    NEED_DATA();
+    double forward, sideways, rate, min_step, max_step, mean_step;
+    const mm_pfnn_state *s;
+    straight_walk(MM_PFNN_SYMMETRY_NONE, &forward, &sideways, &rate, &min_step, &max_step, &mean_step, &s);
+    printf("straight walk, network as released: forward %.3f m/s, sideways %.4f m/s\n", forward, sideways);
+    assert_true(sideways < -0.04); /* twice the bound the default is held to, and to the right */
+}
+
+/* Walking along +Z, then asked to go 90 degrees to the right (-X when facing +Z): the character
+ * turns right and ends facing -X (yaw -pi/2) within 20 degrees. And the same to the left. */
+static void test_turn_90(void **state)
+{
+    (void)state;
+    NEED_DATA();
+    for (int side = -1; side <= 1; side += 2) {
+        mm_pfnn_controller *c = make_controller(MM_PFNN_MODE_CUBIC, NULL, NULL, 0);
+        mm_pfnn_input in = {0};
+        in.velocity = mm_vec3_make(0.0f, 0.0f, 1.5f);
+        for (int f = 0; f < 180; ++f) mm_pfnn_controller_step(c, &in, 0.0f);
+        const mm_pfnn_state *s = mm_pfnn_controller_state(c);
+        mm_vec3 at_turn = s->root_position;
+        in.velocity = mm_vec3_make((float)side * 1.5f, 0.0f, 0.0f);
+        double yaw_min = 0.0, yaw_max = 0.0;
+        for (int f = 0; f < 300; ++f) {
+            mm_pfnn_controller_step(c, &in, 0.0f);
+            yaw_min = fmin(yaw_min, s->root_yaw);
+            yaw_max = fmax(yaw_max, s->root_yaw);
+        }
+        double target = side * MM_PI / 2.0, err_deg = fabs(s->root_yaw - target) * 180.0 / MM_PI;
+        printf("turn 90 %s: final yaw %.3f rad (target %.3f, off by %.1f deg), moved x %.2f m\n",
+               side < 0 ? "right" : "left", s->root_yaw, target, err_deg, s->root_position.x - at_turn.x);
+        assert_true(err_deg < 20.0);
+        /* it turned the short way, never past the other side */
+        if (side < 0)
+            assert_true(yaw_max < 0.2);
+        else
+            assert_true(yaw_min > -0.2);
+        assert_true(side * (s->root_position.x - at_turn.x) > 3.0);
+        mm_pfnn_controller_destroy(c);
+    }
 }
 
 static void test_fk_matches_prediction(void **state)
@@ -537,11 +609,18 @@ static void test_obstacles_and_slopes(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_spline_control_points), cmocka_unit_test(test_load_errors),
-        cmocka_unit_test(test_reference_outputs),     cmocka_unit_test(test_control_points_exact),
-        cmocka_unit_test(test_cubic_between_samples), cmocka_unit_test(test_reset_input),
-        cmocka_unit_test(test_straight_walk),         cmocka_unit_test(test_fk_matches_prediction),
-        cmocka_unit_test(test_determinism),           cmocka_unit_test(test_obstacles_and_slopes),
+        cmocka_unit_test(test_spline_control_points),
+        cmocka_unit_test(test_load_errors),
+        cmocka_unit_test(test_reference_outputs),
+        cmocka_unit_test(test_control_points_exact),
+        cmocka_unit_test(test_cubic_between_samples),
+        cmocka_unit_test(test_reset_input),
+        cmocka_unit_test(test_straight_walk),
+        cmocka_unit_test(test_drift_is_the_networks_asymmetry),
+        cmocka_unit_test(test_turn_90),
+        cmocka_unit_test(test_fk_matches_prediction),
+        cmocka_unit_test(test_determinism),
+        cmocka_unit_test(test_obstacles_and_slopes),
         cmocka_unit_test(test_ten_minutes_random),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -91,6 +91,15 @@ expect_grep '"nan_frames": 0,' "$tmp/walk.json"
 # the root walked forward (+Z) between 3.5 and 9 m in the 4 s of stick (the demo walks 1.5 m/s at most)
 z=$("$mm" bvh fk "$tmp/walk.bvh" --frame 299 | awk 'NR == 1 {print $4}')
 awk -v z="$z" 'BEGIN {exit !(z > 3.5 && z < 9)}' && ok || bad "walked to z = $z m"
+# ... and straight: the hips within 15 cm of x = 0 (the network as released drifts right, to -x)
+x=$("$mm" bvh fk "$tmp/walk.bvh" --frame 299 | awk 'NR == 1 {print $2}')
+awk -v x="$x" 'BEGIN {exit !(x > -0.15 && x < 0.15)}' && ok || bad "walked sideways to x = $x m"
+expect_exit 0 "$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" --seconds 5 --mode linear \
+    --symmetry none -o "$tmp/raw.bvh"
+x=$("$mm" bvh fk "$tmp/raw.bvh" --frame 299 | awk 'NR == 1 {print $2}')
+awk -v x="$x" 'BEGIN {exit !(x < -0.15)}' && ok || bad "the released network walked to x = $x m"
+expect_exit 2 "$mm" pfnn run --weights "$w" --random 1 --seconds 1 --symmetry left -o "$tmp/x.bvh"
+expect_grep "symmetry must be mirror or none" "$tmp/err"
 # the same run twice gives the same bytes
 "$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" --seconds 5 --mode linear -o "$tmp/walk2.bvh" >/dev/null
 cmp -s "$tmp/walk.bvh" "$tmp/walk2.bvh" && ok || bad "two runs differ"

@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -28,13 +29,33 @@ int cli_usage_error(const char *command, const char *fmt, ...)
     return 2;
 }
 
+/* 1 when s is [+-]digits[.digits][(e|E)[+-]digits] (or [+-].digits...): strtod would also take
+ * hexadecimal, "inf", "nan" and leading spaces, which no option means. */
+static int is_decimal(const char *s)
+{
+    int digits = 0;
+    if (*s == '+' || *s == '-') ++s;
+    for (; *s >= '0' && *s <= '9'; ++s) ++digits;
+    if (*s == '.')
+        for (++s; *s >= '0' && *s <= '9'; ++s) ++digits;
+    if (!digits) return 0;
+    if (*s == 'e' || *s == 'E') {
+        ++s;
+        if (*s == '+' || *s == '-') ++s;
+        if (*s < '0' || *s > '9') return 0;
+        while (*s >= '0' && *s <= '9') ++s;
+    }
+    return *s == 0;
+}
+
 int cli_parse_double(const char *s, double *out)
 {
-    if (!s || !*s) return 0;
+    if (!s || !is_decimal(s)) return 0;
     char *end = NULL;
     errno = 0;
     double v = strtod(s, &end);
-    if (*end || errno || !isfinite(v)) return 0;
+    /* every option ends up in a float: one that would become 0 or infinite there is refused */
+    if (*end || errno || !isfinite(v) || fabs(v) > FLT_MAX || (v != 0.0 && fabs(v) < FLT_MIN)) return 0;
     *out = v;
     return 1;
 }
@@ -71,18 +92,37 @@ FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
     return f;
 }
 
-int cli_commit(FILE *f, const char *tmp, const char *path, int failed)
+int cli_finish(FILE *f, const char *tmp, const char *path)
 {
     errno = 0;
     int bad = ferror(f) != 0;
     bad |= fclose(f) != 0;
-    if (failed || bad || rename(tmp, path) != 0) {
-        if (!failed)
-            fprintf(stderr, "mm: %s: cannot write: %s\n", path, errno ? strerror(errno) : "write error");
+    if (bad) {
+        fprintf(stderr, "mm: %s: cannot write: %s\n", path, errno ? strerror(errno) : "write error");
         remove(tmp);
         return 1;
     }
     return 0;
+}
+
+int cli_publish(const char *tmp, const char *path)
+{
+    if (rename(tmp, path) != 0) {
+        fprintf(stderr, "mm: %s: cannot write: %s\n", path, strerror(errno));
+        remove(tmp);
+        return 1;
+    }
+    return 0;
+}
+
+int cli_commit(FILE *f, const char *tmp, const char *path, int failed)
+{
+    if (failed) {
+        fclose(f);
+        remove(tmp);
+        return 1;
+    }
+    return cli_finish(f, tmp, path) || cli_publish(tmp, path);
 }
 
 void cli_json_string(FILE *f, const char *s)
@@ -108,4 +148,10 @@ int cli_parse_size(const char *s, int *width, int *height)
     *width = (int)w;
     *height = (int)h;
     return 1;
+}
+
+long cli_default_threads(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 8 ? 8 : n;
 }

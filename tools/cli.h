@@ -14,9 +14,13 @@ int cli_usage_error(const char *command, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
-/* Parses a whole argument as a finite double / int in range; 0 on failure. */
+/* Parses a whole argument as a decimal number (no hexadecimal, inf or nan) that a float holds
+ * without becoming 0 or infinite (0, or a magnitude from FLT_MIN to FLT_MAX) / a decimal int in
+ * range; 0 on failure. */
 int cli_parse_double(const char *s, double *out);
 int cli_parse_int(const char *s, long min, long max, long *out);
+/* The default thread count of the commands that take --threads: the online cores, 1 to 8. */
+long cli_default_threads(void);
 /* Parses WIDTHxHEIGHT (each 16 to 4096); 0 on failure. */
 int cli_parse_size(const char *s, int *width, int *height);
 /* Output files that appear whole or not at all. cli_create opens a temporary file beside path for
@@ -26,6 +30,12 @@ int cli_parse_size(const char *s, int *width, int *height);
  * (after printing "mm: PATH: cannot write: ...", unless failed was given). */
 FILE *cli_create(const char *path, char *tmp, size_t tmp_size);
 int cli_commit(FILE *f, const char *tmp, const char *path, int failed);
+/* The two halves of cli_commit, for commands that write several outputs which must appear together
+ * or not at all: cli_finish every one (closes f; 0 when all was written, else prints, removes tmp
+ * and returns 1), and only when all succeeded cli_publish each (the rename; on failure prints,
+ * removes tmp and returns 1); otherwise remove() the finished temporary files. */
+int cli_finish(FILE *f, const char *tmp, const char *path);
+int cli_publish(const char *tmp, const char *path);
 /* Writes s as a JSON string literal (quotes and escapes included). */
 void cli_json_string(FILE *f, const char *s);
 

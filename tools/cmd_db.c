@@ -30,6 +30,7 @@ static void progress(int done, int total, void *user)
 static int cmd_build(int argc, char **argv)
 {
     const char *config = NULL, *out = NULL, *data = NULL;
+    long threads = cli_default_threads();
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--output") == 0) {
             if (i + 1 >= argc) return cli_usage_error("db build", "-o needs a file name");
@@ -37,6 +38,11 @@ static int cmd_build(int argc, char **argv)
         } else if (strcmp(argv[i], "--data") == 0) {
             if (i + 1 >= argc) return cli_usage_error("db build", "--data needs a folder");
             data = argv[++i];
+        } else if (strcmp(argv[i], "--threads") == 0) {
+            if (i + 1 >= argc || !cli_parse_int(argv[i + 1], 1, MM_DB_MAX_THREADS, &threads))
+                return cli_usage_error("db build", "--threads needs a number from 1 to %d",
+                                       MM_DB_MAX_THREADS);
+            ++i;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return cli_usage_error("db build", "unknown option '%s'", argv[i]);
         } else if (!config) {
@@ -46,7 +52,8 @@ static int cmd_build(int argc, char **argv)
         }
     }
     if (!config || !out)
-        return cli_usage_error("db build", "usage: mm db build CONFIG -o OUT.mmdb [--data DIR]");
+        return cli_usage_error("db build",
+                               "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N]");
     double t0 = now_seconds();
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -66,6 +73,7 @@ static int cmd_build(int argc, char **argv)
     memset(&desc, 0, sizeof desc);
     desc.config_json = text;
     desc.progress = progress;
+    desc.threads = (int)threads;
     mm_database db;
     snprintf(err.file, sizeof err.file, "%s", config);
     mm_result r = mm_database_build(&cfg, sources, &desc, &db, &err);

@@ -1,5 +1,5 @@
 /* mm pfnn run [--weights DIR] (--input SCRIPT.json | --random SEED) --seconds T [--mode M]
- *             -o OUT.bvh [--metrics OUT.json]
+ *             [--symmetry mirror|none] -o OUT.bvh [--metrics OUT.json]
  * The neural controller (seed 004) on the same input scripts as mm simulate, measured with the
  * same metrics: the desired velocity comes from the same trajectory simulation (mm/trajectory.h),
  * whose path is also the reference for the trajectory and heading errors. */
@@ -19,7 +19,7 @@
 
 #define RUN_USAGE                                                                                            \
     "usage: mm pfnn run [--weights DIR] (--input SCRIPT.json | --random SEED) --seconds T "                  \
-    "[--mode constant|linear|cubic] -o OUT.bvh [--metrics OUT.json]"
+    "[--mode constant|linear|cubic] [--symmetry mirror|none] -o OUT.bvh [--metrics OUT.json]"
 
 static double now_seconds(void)
 {
@@ -51,6 +51,7 @@ static mm_pfnn_gait pfnn_gait(mm_gait g)
 int mm_cmd_pfnn_run(int argc, char **argv)
 {
     const char *dir = NULL, *input = NULL, *out = NULL, *metrics = NULL, *mode_name = "cubic";
+    mm_pfnn_symmetry symmetry = MM_PFNN_SYMMETRY_MIRROR;
     long seed = -1;
     double seconds = 0.0;
     for (int i = 1; i < argc; ++i) {
@@ -69,7 +70,14 @@ int mm_cmd_pfnn_run(int argc, char **argv)
                 return cli_usage_error("pfnn run", "--seconds needs a number in (0, 36000]");
         } else if (strcmp(a, "--mode") == 0)
             mode_name = v;
-        else if (strcmp(a, "-o") == 0)
+        else if (strcmp(a, "--symmetry") == 0) {
+            if (strcmp(v, "mirror") == 0)
+                symmetry = MM_PFNN_SYMMETRY_MIRROR;
+            else if (strcmp(v, "none") == 0)
+                symmetry = MM_PFNN_SYMMETRY_NONE;
+            else
+                return cli_usage_error("pfnn run", "--symmetry must be mirror or none, not '%s'", v);
+        } else if (strcmp(a, "-o") == 0)
             out = v;
         else if (strcmp(a, "--metrics") == 0)
             metrics = v;
@@ -131,6 +139,7 @@ int mm_cmd_pfnn_run(int argc, char **argv)
     memset(&cd, 0, sizeof cd);
     cd.network = net;
     cd.mode = mode;
+    cd.symmetry = symmetry;
     if (mm_pfnn_controller_create(&cd, &ctrl, &err) != MM_OK ||
         mm_trajectory_init(&traj, NULL, NULL) != MM_OK ||
         mm_clip_init(&clip, &skel, frames, (float)fps, NULL) != MM_OK) {

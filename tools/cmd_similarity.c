@@ -123,7 +123,9 @@ static int write_chunk(FILE *f, const char *type, const unsigned char *data, siz
     return fwrite(head, 1, 8, f) == 8 && (n == 0 || fwrite(data, 1, n, f) == n) && fwrite(tail, 1, 4, f) == 4;
 }
 
-static int write_png(const char *path, const unsigned char *rgb, int w, int h)
+/* Writes the PNG to a temporary file beside path (named in tmp) and closes it; 1 on success. The
+ * caller renames it (cli_publish) or removes it. */
+static int write_png(const char *path, char *tmp, size_t tmp_size, const unsigned char *rgb, int w, int h)
 {
     size_t raw_size = (size_t)h * (size_t)(3 * w + 1);
     size_t blocks = (raw_size + 65534) / 65535;
@@ -167,8 +169,7 @@ static int write_png(const char *path, const unsigned char *rgb, int w, int h)
     at += 4;
     free(raw);
     crc_init();
-    char tmp[4096 + 32];
-    FILE *f = cli_create(path, tmp, sizeof tmp);
+    FILE *f = cli_create(path, tmp, tmp_size);
     int ok = f != NULL;
     if (ok) {
         static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
@@ -183,7 +184,7 @@ static int write_png(const char *path, const unsigned char *rgb, int w, int h)
         ok = fwrite(sig, 1, 8, f) == 8 && write_chunk(f, "IHDR", ihdr, 13) && write_chunk(f, "IDAT", z, at) &&
              write_chunk(f, "IEND", NULL, 0);
         if (!ok) fprintf(stderr, "mm: %s: cannot write: %s\n", path, strerror(errno));
-        ok = cli_commit(f, tmp, path, !ok) == 0;
+        ok = ok ? cli_finish(f, tmp, path) == 0 : (cli_commit(f, tmp, path, 1), 0);
     }
     free(z);
     return ok;
@@ -244,8 +245,11 @@ static int cmd_audit(int argc, char **argv)
         return cli_usage_error(cmd, "usage: mm similarity DB.mmdb --from CLIP --to CLIP [--window N] "
                                     "[--measure cos|euclid] [--channels pos,rot,vel] [--poor S] -o DIR");
     if (isnan(poor)) poor = o.desc.measure == MM_SIM_COSINE ? 0.95 : 0.10;
-    char path[4096], tmp[4096 + 32];
-    if (strlen(o.output) + sizeof "/similarity.csv" > sizeof path) {
+    /* the three outputs are written to temporary files and renamed only when all were written */
+    enum { CSV, POOR, PNG, OUTPUTS };
+    char paths[OUTPUTS][4096], tmps[OUTPUTS][4096 + 32];
+    int finished = 0;
+    if (strlen(o.output) + sizeof "/similarity.csv" > sizeof paths[0]) {
         fprintf(stderr, "mm: %s: the path is too long\n", o.output);
         return 1;
     }
@@ -274,8 +278,10 @@ static int cmd_audit(int argc, char **argv)
     }
     if (make_dir(o.output)) goto done;
     /* CSV: one row per frame of --from, one column per frame of --to */
-    snprintf(path, sizeof path, "%s/similarity.csv", o.output);
-    FILE *f = cli_create(path, tmp, sizeof tmp);
+    snprintf(paths[CSV], sizeof paths[CSV], "%s/similarity.csv", o.output);
+    snprintf(paths[POOR], sizeof paths[POOR], "%s/poor.csv", o.output);
+    snprintf(paths[PNG], sizeof paths[PNG], "%s/similarity.png", o.output);
+    FILE *f = cli_create(paths[CSV], tmps[CSV], sizeof tmps[CSV]);
     if (!f) goto done;
     fprintf(f, "frame");
     for (int j = 0; j < nb; ++j) fprintf(f, ",%d", j);
@@ -285,10 +291,10 @@ static int cmd_audit(int argc, char **argv)
         for (int j = 0; j < nb; ++j) fprintf(f, ",%.6f", (double)m[(size_t)i * (size_t)nb + (size_t)j]);
         fputc('\n', f);
     }
-    if (cli_commit(f, tmp, path, 0)) goto done;
+    if (cli_finish(f, tmps[CSV], paths[CSV])) goto done;
+    finished = 1;
     /* best match per row; poor rows */
-    snprintf(path, sizeof path, "%s/poor.csv", o.output);
-    f = cli_create(path, tmp, sizeof tmp);
+    f = cli_create(paths[POOR], tmps[POOR], sizeof tmps[POOR]);
     if (!f) goto done;
     fprintf(f, "frame,best_frame,score\n");
     int poor_count = 0;
@@ -308,7 +314,8 @@ static int cmd_audit(int argc, char **argv)
             ++poor_count;
         }
     }
-    if (cli_commit(f, tmp, path, 0)) goto done;
+    if (cli_finish(f, tmps[POOR], paths[POOR])) goto done;
+    finished = 2;
     /* heat map: rows = --from frames (top to bottom), columns = --to frames; bright = similar */
     int w = nb < MAX_IMAGE ? nb : MAX_IMAGE, h = na < MAX_IMAGE ? na : MAX_IMAGE;
     unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
@@ -323,10 +330,18 @@ static int cmd_audit(int argc, char **argv)
             double v = ((double)m[(size_t)i * (size_t)nb + (size_t)j] - lo) / range;
             colour(p.measure == MM_SIM_COSINE ? v : 1.0 - v, rgb + ((size_t)y * (size_t)w + (size_t)x) * 3);
         }
-    snprintf(path, sizeof path, "%s/similarity.png", o.output);
-    int ok = write_png(path, rgb, w, h);
+    int ok = write_png(paths[PNG], tmps[PNG], sizeof tmps[PNG], rgb, w, h);
     free(rgb);
     if (!ok) goto done;
+    finished = 3;
+    for (int k = 0; k < OUTPUTS; ++k)
+        if (cli_publish(tmps[k], paths[k]) != 0) {
+            while (k-- > 0) remove(paths[k]);
+            for (k = 0; k < OUTPUTS; ++k) remove(tmps[k]); /* the ones not yet renamed */
+            finished = 0;
+            goto done;
+        }
+    finished = 0;
     printf("%s (%d frames) -> %s (%d frames): %s, window %d\n", from, na, to, nb,
            mm_sim_measure_name(p.measure), p.window);
     printf("scores from %.6f to %.6f; mean best match %.6f\n", (double)lo, (double)hi, mean_best / na);
@@ -335,6 +350,7 @@ static int cmd_audit(int argc, char **argv)
     printf("wrote %s/similarity.csv, %s/similarity.png (%d x %d)\n", o.output, o.output, w, h);
     status = 0;
 done:
+    for (int k = 0; k < finished; ++k) remove(tmps[k]);
     free(m);
     mm_sim_poses_free(&p);
     mm_database_free(&db);

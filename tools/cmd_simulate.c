@@ -1,6 +1,7 @@
 /* mm simulate DB (--input SCRIPT | --random SEED) --seconds T [--fps F] -o OUT.bvh --metrics OUT.json
  *             [--scene SCENE.json] [--distance-matching on|off] [--warping on|off]
  *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
+ *             [--transition inertialize|crossfade] [--crossfade-time S]
  * Runs one character over scripted or random input; writes its motion, the metrics of
  * docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move layer
  * (mm/moves.h: jump, vault, climb, drop-down) runs around the character. */
@@ -110,13 +111,14 @@ int mm_cmd_simulate(int argc, char **argv)
     const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL,
                *scene_path = NULL;
     long seed = -1;
-    double seconds = 0.0, fps = 60.0, video_fps = 30.0;
+    double seconds = 0.0, fps = 60.0, video_fps = 30.0, crossfade_time = -1.0;
     int width = 640, height = 360;
-    int distance_matching = -1, warping = -1; /* -1: the controller's default */
+    int distance_matching = -1, warping = -1, transition = -1; /* -1: the controller's default */
     const char *usage =
         "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED) --seconds T [--fps F] -o OUT.bvh "
         "--metrics OUT.json [--scene SCENE.json] [--distance-matching on|off] [--warping on|off] "
-        "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]]";
+        "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]] "
+        "[--transition inertialize|crossfade] [--crossfade-time S]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--input") == 0 && v)
@@ -156,6 +158,17 @@ int mm_cmd_simulate(int argc, char **argv)
                 distance_matching = on;
             else
                 warping = on;
+            ++i;
+        } else if (strcmp(a, "--transition") == 0 && v) {
+            transition = strcmp(v, "inertialize") == 0 ? MM_TRANSITION_INERTIALIZE
+                         : strcmp(v, "crossfade") == 0 ? MM_TRANSITION_CROSSFADE
+                                                       : -1;
+            if (transition < 0)
+                return cli_usage_error("simulate", "--transition needs inertialize or crossfade\n%s", usage);
+            ++i;
+        } else if (strcmp(a, "--crossfade-time") == 0 && v) {
+            if (!cli_parse_double(v, &crossfade_time) || crossfade_time < 0 || crossfade_time > 10)
+                return cli_usage_error("simulate", "--crossfade-time needs seconds in [0, 10]");
             ++i;
         } else if (a[0] == '-' && a[1])
             return cli_usage_error("simulate", "unknown or incomplete option '%s'\n%s", a, usage);
@@ -205,6 +218,8 @@ int mm_cmd_simulate(int argc, char **argv)
     desc.clock = now;
     if (distance_matching >= 0) desc.distance_matching = distance_matching != 0;
     if (warping >= 0) desc.warping = warping != 0;
+    if (transition >= 0) desc.transition_mode = (mm_transition_mode)transition;
+    if (crossfade_time >= 0) desc.crossfade_time = (float)crossfade_time;
     if (mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK ||
         mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK) {
         mm_input_script_free(&script);
@@ -227,16 +242,18 @@ int mm_cmd_simulate(int argc, char **argv)
     int metrics_ok = motion_metrics_init(&mx, n, contact, fps, frames) == 0 && world;
     if (metrics_ok && scene_path) motion_metrics_scene(&mx, &scene);
     int status = 0;
-    /* the metrics go to a temporary file, opened now so that a bad path fails before the run and
-     * no motion is written without its metrics */
-    char metrics_tmp[4096 + 32];
-    FILE *m = NULL;
+    /* the motion and the metrics go to temporary files, opened now so that a bad path fails before
+     * the run; they are renamed into place only when they and the video were all written, so a
+     * failure leaves none of the outputs */
+    char metrics_tmp[4096 + 32], bvh_tmp[4096 + 32];
+    FILE *m = NULL, *bf = NULL;
     if (r != MM_OK || !metrics_ok) {
         fprintf(stderr, "mm: out of memory for %d frames of %d joints\n", frames, n);
         status = 1;
         goto done;
     }
-    if (metrics && !(m = cli_create(metrics, metrics_tmp, sizeof metrics_tmp))) {
+    if (!(bf = cli_create(out, bvh_tmp, sizeof bvh_tmp)) ||
+        (metrics && !(m = cli_create(metrics, metrics_tmp, sizeof metrics_tmp)))) {
         status = 1;
         goto done;
     }
@@ -277,34 +294,72 @@ int mm_cmd_simulate(int argc, char **argv)
                              c.trajectory.position, yaw_of(c.trajectory.facing), c.root.translation,
                              yaw_of(c.root.rotation), frame_us);
     }
-    int video_frames = 0;
-    if (video_path && sim_video_close(&video, status != 0, &video_frames, &err) != MM_OK && status == 0)
-        status = cli_report(&err);
-    if (video_path && status == 0) printf("%s: %d video frames\n", video_path, video_frames);
     mm_bvh_write_desc wd;
     memset(&wd, 0, sizeof wd);
     snprintf(err.file, sizeof err.file, "%s", out);
-    if (status == 0 && mm_bvh_save(out, &clip, &wd, &err) != MM_OK) status = cli_report(&err);
-    if (m && status != 0) {
-        cli_commit(m, metrics_tmp, metrics, 1);
-        m = NULL;
-    } else if (m) {
+    char *text = NULL;
+    size_t size = 0;
+    if (status == 0 && mm_bvh_write(&clip, &wd, &text, &size, &err) != MM_OK) status = cli_report(&err);
+    if (status == 0) fwrite(text, 1, size, bf);
+    free(text);
+    if (status == 0 && m) {
         motion_metrics_extra x = {database_max_pop(&db, (float)fps), c.searches, c.transitions / seconds,
                                   (double)(db.size + searcher.memory) / (1024.0 * 1024.0)};
         motion_metrics_write_json(&mx, m, &x);
-        status = cli_commit(m, metrics_tmp, metrics, 0);
-        m = NULL;
     }
+    /* close the temporary files, finish the video, and only then rename: a failure at any step
+     * leaves none of the outputs */
+    int bvh_done = 0, metrics_done = 0, video_done = 0, video_frames = 0;
+    if (status == 0)
+        bvh_done = cli_finish(bf, bvh_tmp, out) == 0;
+    else
+        cli_commit(bf, bvh_tmp, out, 1);
+    bf = NULL;
+    if (!bvh_done) status = 1;
+    if (m) {
+        if (status == 0)
+            metrics_done = cli_finish(m, metrics_tmp, metrics) == 0;
+        else
+            cli_commit(m, metrics_tmp, metrics, 1);
+        m = NULL;
+        if (!metrics_done) status = 1;
+    }
+    if (video_path) {
+        if (sim_video_close(&video, status != 0, &video_frames, &err) != MM_OK && status == 0)
+            status = cli_report(&err);
+        video_done = status == 0;
+    }
+    if (status == 0) {
+        bvh_done = 0; /* cli_publish renames the temporary file or removes it */
+        if (cli_publish(bvh_tmp, out) != 0) {
+            status = 1;
+        } else if (metrics_done) {
+            metrics_done = 0;
+            if (cli_publish(metrics_tmp, metrics) != 0) {
+                status = 1;
+                remove(out);
+            }
+        }
+    }
+    if (status != 0) {
+        if (bvh_done) remove(bvh_tmp);
+        if (metrics_done) remove(metrics_tmp);
+        if (video_done) remove(video_path); /* an encoded file (a folder of frames stays) */
+    }
+    if (video_path && status == 0) printf("%s: %d video frames\n", video_path, video_frames);
     if (status == 0)
         printf("%s: %d frames at %g fps, %d searches, %d transitions, foot slide %.2f cm/s, trajectory error "
                "%.2f cm\n",
                out, frames, fps, c.searches, c.transitions, motion_metrics_foot_slide(&mx),
                motion_metrics_traj_err(&mx));
 done:
-    if (m) cli_commit(m, metrics_tmp, metrics, 1); /* a failure before the metrics were written */
+    if (m) cli_commit(m, metrics_tmp, metrics, 1); /* a failure before the outputs were written */
+    if (bf) cli_commit(bf, bvh_tmp, out, 1);
     free(world);
     motion_metrics_free(&mx);
     mm_clip_free(&clip);
+    if (status == 0 && desc.transition_mode == MM_TRANSITION_CROSSFADE)
+        printf("%s: crossfade, %d transitions cancelled\n", out, c.cancelled_transitions);
     mm_character_free(&c);
     mm_searcher_free(&searcher);
     mm_input_script_free(&script);

@@ -80,18 +80,9 @@ static double clip_seconds(const mm_synth_clip *c)
     return (double)(c->loop ? c->clip.frame_count : c->clip.frame_count - 1) / (double)c->clip.fps;
 }
 
-static int write_json(const char *path, const mm_synth_set *set, uint64_t seed, float fps)
+/* clips.json into f; non-zero when a range list could not be made (the caller checks f itself). */
+static int write_json(FILE *f, const mm_synth_set *set, uint64_t seed, float fps)
 {
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
-        fprintf(stderr, "mm synth: path too long\n");
-        return 1;
-    }
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        fprintf(stderr, "mm synth: cannot write '%s': %s\n", tmp, strerror(errno));
-        return 1;
-    }
     int bad = 0;
     double total = 0.0;
     long frames = 0;
@@ -137,14 +128,71 @@ static int write_json(const char *path, const mm_synth_set *set, uint64_t seed, 
         fprintf(f, "}}%s\n", i + 1 < set->clip_count ? "," : "");
     }
     fprintf(f, "  ]\n}\n");
-    if (ferror(f)) bad = 1;
-    if (fclose(f) != 0) bad = 1;
-    if (bad || rename(tmp, path) != 0) {
-        fprintf(stderr, "mm synth: cannot write '%s'\n", path);
-        remove(tmp);
+    return bad;
+}
+
+/* Writes file i of the set (its clips' BVH, then clips.json) to f. */
+static int write_file(FILE *f, const mm_synth_set *set, int i, uint64_t seed, float fps, const char *path)
+{
+    if (i == set->clip_count) return write_json(f, set, seed, fps);
+    char *text = NULL;
+    size_t size = 0;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    snprintf(err.file, sizeof err.file, "%s", path);
+    if (mm_bvh_write(&set->clips[i].clip, NULL, &text, &size, &err) != MM_OK) {
+        cli_report(&err);
         return 1;
     }
+    fwrite(text, 1, size, f);
+    free(text);
     return 0;
+}
+
+/* Every file goes to a temporary file beside it; they are renamed into place only when all of
+ * them were written, so a failure leaves none of them. */
+static int write_set(const char *outdir, const mm_synth_set *set, uint64_t seed, float fps)
+{
+    enum { PATH_MAX_ = 4096 };
+    int n = set->clip_count + 1, finished = 0, rc = 0;
+    char(*paths)[PATH_MAX_] = (char(*)[PATH_MAX_])calloc((size_t)n, PATH_MAX_);
+    char(*tmps)[PATH_MAX_ + 32] = (char(*)[PATH_MAX_ + 32]) calloc((size_t)n, PATH_MAX_ + 32);
+    if (!paths || !tmps) {
+        fprintf(stderr, "mm synth: out of memory\n");
+        rc = 1;
+    }
+    for (int i = 0; i < n && rc == 0; ++i) {
+        int len = i < set->clip_count ? snprintf(paths[i], PATH_MAX_, "%s/%s.bvh", outdir, set->clips[i].name)
+                                      : snprintf(paths[i], PATH_MAX_, "%s/clips.json", outdir);
+        if (len < 0 || len >= PATH_MAX_) {
+            fprintf(stderr, "mm synth: %s: path too long\n", outdir);
+            rc = 1;
+            break;
+        }
+        FILE *f = cli_create(paths[i], tmps[i], sizeof tmps[i]);
+        if (!f) {
+            rc = 1;
+            break;
+        }
+        if (write_file(f, set, i, seed, fps, paths[i]) != 0) {
+            cli_commit(f, tmps[i], paths[i], 1);
+            rc = 1;
+        } else if (cli_finish(f, tmps[i], paths[i]) != 0) {
+            rc = 1;
+        } else {
+            finished = i + 1;
+        }
+    }
+    int published = 0;
+    for (; rc == 0 && published < n; ++published)
+        if (cli_publish(tmps[published], paths[published]) != 0) rc = 1;
+    if (rc != 0) {
+        for (int i = 0; i + 1 < published; ++i) remove(paths[i]); /* the last one failed: nothing to remove */
+        for (int i = published; i < finished; ++i) remove(tmps[i]);
+    }
+    free(paths);
+    free(tmps);
+    return rc;
 }
 
 int mm_cmd_synth(int argc, char **argv)
@@ -184,22 +232,7 @@ int mm_cmd_synth(int argc, char **argv)
     memset(&err, 0, sizeof err);
     if (mm_synth_generate(&desc, &set, &err) != MM_OK) return cli_report(&err);
 
-    int rc = 0;
-    char path[4096];
-    for (int i = 0; i < set.clip_count && rc == 0; ++i) {
-        if (snprintf(path, sizeof path, "%s/%s.bvh", outdir, set.clips[i].name) >= (int)sizeof path) {
-            fprintf(stderr, "mm synth: path too long\n");
-            rc = 1;
-            break;
-        }
-        if (mm_bvh_save(path, &set.clips[i].clip, NULL, &err) != MM_OK) rc = cli_report(&err);
-    }
-    if (rc == 0) {
-        if (snprintf(path, sizeof path, "%s/clips.json", outdir) >= (int)sizeof path)
-            rc = 1;
-        else
-            rc = write_json(path, &set, seed, (float)fps);
-    }
+    int rc = write_set(outdir, &set, seed, (float)fps);
     if (rc == 0) {
         double total = 0.0;
         for (int i = 0; i < set.clip_count; ++i) total += clip_seconds(&set.clips[i]);

@@ -7,9 +7,9 @@
  * (mm/trajectory.h) and searches (mm/search.h). When the winner is not where playback goes anyway
  * (same clip, a few frames ahead), it jumps there and hides the jump by inertialization: the
  * difference between the old and the new pose, joint by joint, decays to zero through a
- * critically damped spring. It asks for idle frames when the desired speed stays low (with
- * hysteresis). The root integrates the database's root velocity and is pulled toward the
- * simulation, within a distance and angle clamp.
+ * critically damped spring. It asks for idle frames when the desired speed stays low and the
+ * simulated character has slowed down (with hysteresis). The root integrates the database's root
+ * velocity and is pulled toward the simulation, within a distance and angle clamp.
  *
  * Many characters can share one database and one searcher (with one thread) read-only; each
  * character owns its context. The gait asked for steers matching through tags named after the
@@ -23,6 +23,9 @@
  * Distance matching and stride warping (docs/distance.md, "In the controller") are switched by
  * desc.distance_matching and desc.warping, both off by default (measured on LAFAN1: no gain in raw
  * foot slide); frames tagged "NoDistanceMatching" play by the clock either way.
+ *
+ * Instead of inertialization, transitions may go through seed 000's five-slot crossfade mixer
+ * (desc.transition_mode, mm/mixer.h, docs/transitions.md).
  *
  * A database's config may carry runtime tuning (mm_config.runtime, the config's "runtime" object):
  * mm_character_desc_apply_config writes it into a desc.
@@ -44,6 +47,7 @@
 #include "database.h"
 #include "input.h"
 #include "math.h"
+#include "mixer.h"
 #include "result.h"
 #include "search.h"
 #include "trajectory.h"
@@ -52,11 +56,19 @@
 extern "C" {
 #endif
 
+/* How a transition hides the jump (docs/transitions.md). */
+typedef enum mm_transition_mode {
+    MM_TRANSITION_INERTIALIZE = 0, /* offsets decaying through a spring (transition_halflife) */
+    MM_TRANSITION_CROSSFADE = 1,   /* mm_mixer: each slot plays on, weights linear over crossfade_time;
+                                      a winner the mixer cancels is dropped (cancelled_transitions) */
+} mm_transition_mode;
+
 typedef struct mm_character_desc {
     float search_interval;     /* s between searches; 0.1 */
     float turn_threshold;      /* rad: a desired-direction change that searches at once; 0.5 */
     float transition_halflife; /* s: inertialization decay; 0.2 */
-    float idle_speed;          /* m/s: desired speed under which idle is asked for; 0.15 */
+    float idle_speed;          /* m/s: desired speed under which idle is asked for, once the
+                                  simulated speed is under idle_speed + idle_hysteresis too; 0.15 */
     float idle_hysteresis;     /* m/s: leave idle above idle_speed + this; 0.1 */
     float sync_halflife;       /* s: the root is pulled toward the simulation; 0.3 */
     float sync_max_distance;   /* m: clamp of the root's distance to the simulation; 0.3 */
@@ -75,16 +87,21 @@ typedef struct mm_character_desc {
     mm_search_params params;
     mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
     bool has_trajectory;
+    /* Transitions (docs/transitions.md): inertialization (transition_halflife) or seed 000's
+     * crossfade mixer, whose transitions take crossfade_time (s; 0.2) */
+    mm_transition_mode transition_mode; /* MM_TRANSITION_INERTIALIZE */
+    float crossfade_time;
     /* Foot locking and two-bone IK, on the contact labels of the frame playing: while the heel
      * label is on, the ankle is held where it was planted; while only the toe label is on, the
-     * toe is held and the ankle rolls about it as animated; with both, the foot also keeps its
-     * yaw. A lock the animation pulls more than unlock_radius away is planted again where the
-     * foot is (it creeps after the animation); released, the difference fades with
-     * foot_halflife. The hips come down (at most max_hip_drop) where the legs cannot reach their
-     * targets. The legs reach them by two-bone IK (hip, knee, ankle), the knee bending in its
-     * animated plane, the foot keeping its animated orientation (turned by the held yaw). */
+     * toe is held and the ankle rolls about it as animated; with both, the foot turns (at most
+     * 0.8 rad from its animated orientation) so that the toe stays on its lock too. A lock the
+     * animation pulls more than unlock_radius away is planted again where the foot is (it creeps
+     * after the animation); released, the difference fades with foot_halflife. The hips come
+     * down (at most max_hip_drop) where the legs cannot reach their targets. The legs reach them
+     * by two-bone IK (hip, knee, ankle), the knee bending in its animated plane, the foot keeping
+     * its animated orientation (turned by the foot's turn). */
     bool no_foot_ik;                    /* turn foot locking and IK off */
-    float unlock_radius;                /* m; 0.2 */
+    float unlock_radius;                /* m; 0.4 */
     float foot_halflife;                /* s; 0.1 */
     float max_hip_drop;                 /* m: how far the hips may be lowered so that the legs
                                            reach their targets; 0.1 (0: never) */
@@ -164,12 +181,13 @@ typedef struct mm_character {
      * (-1: none), lock state and targets, and the ankle and toe positions before IK (for the
      * foot-slide measure). foot_locked/foot_lock: the foot is held, and where its ankle is held
      * this tick. The heel lock holds the ankle; the toe lock holds the toe, the ankle turning
-     * about it as animated; with both, the foot also keeps its yaw (foot_yaw: the yaw added to
-     * the animated foot, rad). */
+     * about it as animated; with both, the foot turns so that the toe stays on its lock too
+     * (foot_turn: the rotation added to the animated foot, a rotation vector, rad; it fades
+     * once a lock is let go). */
     int foot_joint[2], toe_joint[2], pelvis_joint;
     bool foot_locked[2], heel_locked[2], toe_locked[2];
     mm_vec3 foot_lock[2], heel_lock[2], toe_lock[2], foot_offset[2], foot_offset_velocity[2];
-    float foot_yaw[2], foot_yaw_velocity[2];
+    mm_vec3 foot_turn[2], foot_turn_velocity[2];
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 raw_contact_positions[4];  /* left ankle, left toe, right ankle, right toe before IK */
     uint64_t gait_tags[MM_GAIT_COUNT]; /* tags named after each gait ("Walk", "Run", ...) */
@@ -192,6 +210,13 @@ typedef struct mm_character {
     float last_search_us;
     mm_search_result last_result;
     mm_allocator allocator;
+    /* crossfade mode: the mixer (its slot 0 is frame and frame_fraction), the slots' poses
+     * ([MM_MIXER_SLOTS * joint_count]; rotations one pose more, the blend's reference) and the
+     * search winners the mixer cancelled */
+    mm_mixer mixer;
+    mm_quat *slot_rotations;
+    mm_vec3 *slot_positions;
+    int cancelled_transitions;
 } mm_character;
 
 /* Allocates everything the character will ever need (no allocation happens in update). The

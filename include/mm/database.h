@@ -187,11 +187,16 @@ typedef struct mm_db_load_desc {
 } mm_db_load_desc;
 
 typedef struct mm_db_build_desc {
-    const char *config_json;                           /* text to embed (the config as read); NULL: none */
-    const mm_allocator *allocator;                     /* NULL: malloc */
-    void (*progress)(int done, int total, void *user); /* optional, called per clip */
+    const char *config_json;       /* text to embed (the config as read); NULL: none */
+    const mm_allocator *allocator; /* NULL: malloc */
+    void (*progress)(int done, int total,
+                     void *user); /* optional, called per clip (from the calling thread) */
     void *progress_user;
+    int threads; /* 0 or 1: the calling thread alone; at most MM_DB_MAX_THREADS. The bytes never depend on it
+                  */
 } mm_db_build_desc;
+
+#define MM_DB_MAX_THREADS 64
 
 /* Builds a database. sources[i] is config->clips[i]'s file, loaded, in metres (scale applied),
  * at any frame rate. The result owns one buffer in file layout. */

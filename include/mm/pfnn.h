@@ -189,12 +189,25 @@ typedef struct mm_pfnn_input {
     mm_pfnn_gait gait; /* gait while moving (crouch also applies standing) */
 } mm_pfnn_input;
 
+/* How the controller uses the network's left/right symmetry. The released network is slightly
+ * asymmetric: fed a perfectly straight walk it steps 0.07 cm per frame to its right, and the
+ * demo's loop (the future trajectory is the network's own prediction) amplifies that into a
+ * steady 0.2 m/s sideways drift. Averaging each output with the mirror image of the output for
+ * the mirrored input (at phase + pi: the other foot) cancels it, at twice the network cost. */
+typedef enum mm_pfnn_symmetry {
+    MM_PFNN_SYMMETRY_DEFAULT = 0, /* mirror-averaged */
+    MM_PFNN_SYMMETRY_MIRROR,      /* y = (f(x, p) + M f(M x, p + pi)) / 2 */
+    MM_PFNN_SYMMETRY_NONE         /* the network as released (the demo; drifts to the right) */
+} mm_pfnn_symmetry;
+
 /* Defaults (0): mode cubic; start at the origin facing +Z; flat ground; no obstacles; clearance
- * 0.3 m; target_blend 0.1; strafe_blend 0.1; gait_blend 0.1; trajectory_correction 1 (the future
- * trajectory fully replaced by the network's, as in the demo); joint_smooth 0.5 (posture = half
- * previous position + velocity, half predicted, as the seed says); pos_bias 0.5 and dir_bias 2
- * (exponents shaping how fast the predicted trajectory bends toward the target; strafing moves them
- * to 1 and 0.5). All blends are per 60 Hz frame, in (0, 1]. */
+ * 0.3 m; target_blend 0.1; strafe_blend 0.1; gait_blend 0.1; trajectory_correction 0.5 (the
+ * future trajectory moved half way toward the network's each frame; 1 replaces it, as the demo
+ * does); joint_smooth 0.5 (posture = half previous position + velocity, half predicted, as the
+ * seed says); pos_bias 2 and dir_bias 5 (exponents shaping how fast the predicted trajectory bends
+ * toward the target: the demo's "responsive" values; its default 0.5 and 2 let the network's own
+ * trajectory dominate, so a slow walk can settle into walking backwards; strafing moves them to
+ * 1 and 0.5); symmetry mirror-averaged. All blends are per 60 Hz frame, in (0, 1]. */
 typedef struct mm_pfnn_controller_desc {
     const mm_pfnn_network *network; /* required; must outlive the controller */
     mm_pfnn_mode mode;              /* must be prepared in the network */
@@ -207,6 +220,7 @@ typedef struct mm_pfnn_controller_desc {
     float clearance;                   /* metres the trajectory keeps from obstacles */
     float target_blend, strafe_blend, gait_blend, trajectory_correction, joint_smooth;
     float pos_bias, dir_bias;
+    mm_pfnn_symmetry symmetry;
     const mm_allocator *allocator; /* NULL: malloc */
 } mm_pfnn_controller_desc;
 

@@ -4,15 +4,21 @@
  * clips are made from their sources' first range. Every database clip is resampled to the
  * interval and gets the simulation bone; then contacts, root motion and raw features are
  * computed per clip, features are normalised per group over the whole database, and bounding
- * boxes are taken over blocks of frames. Single-threaded and free of any state but its inputs:
- * the same inputs give the same bytes. */
+ * boxes are taken over blocks of frames. Free of any state but its inputs: the same inputs give
+ * the same bytes, with any number of threads. Threads (mm_db_build_desc.threads) take whole units
+ * of work (a config clip, a database clip, a feature dimension, a block of frames) from a shared
+ * counter, write their results to fixed places, and every sum runs in one thread in frame order,
+ * so the work split never changes a bit; lists (clips, distance segments) are joined afterwards
+ * in index order, and an error is reported for the first failing unit in that order. */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "db/db_file.h"
 #include "db/features.h"
 #include "db/process.h"
+#include "search/pool.h"
 
 typedef struct built {
     mm_clip clip;
@@ -228,29 +234,140 @@ static mm_result check_skeletons(builder *b)
     return MM_OK;
 }
 
+/* Runs unit(ctx, u, worker) for every u in [0, count) on the pool's threads (the caller alone
+ * without a pool): each thread takes the next unit from a shared counter, so uneven units
+ * balance themselves; results must go to places fixed by u. */
+typedef void (*unit_fn)(void *ctx, int unit, int worker);
+
+typedef struct par_job {
+    atomic_int next;
+    int count;
+    unit_fn fn;
+    void *ctx;
+} par_job;
+
+static void par_worker(void *ctx, int worker, int workers)
+{
+    (void)workers;
+    par_job *j = (par_job *)ctx;
+    for (int u; (u = atomic_fetch_add(&j->next, 1)) < j->count;) j->fn(j->ctx, u, worker);
+}
+
+static void par_for(mm_searcher_pool *pool, int count, unit_fn fn, void *ctx)
+{
+    par_job j;
+    atomic_init(&j.next, 0);
+    j.count = count;
+    j.fn = fn;
+    j.ctx = ctx;
+    mm__pool_run(pool, par_worker, &j);
+}
+
+/* Copies a unit's error into the caller's, keeping the file name the caller put there. */
+static mm_result pass_error(mm_error *to, const mm_error *from, mm_result r)
+{
+    return mm_error_set(to, r, from->line, from->column, "%s", from->message);
+}
+
+/* Stage 1: each config clip's database clips (ranges, mirrors) into its own list. */
+typedef struct source_job {
+    const mm_config *cfg;
+    const mm_clip *sources;
+    builder *parts;   /* [clip_count] */
+    mm_error *errors; /* [clip_count] */
+    mm_result *results;
+    const mm_db_build_desc *desc;
+    atomic_int done;
+    int total, reported; /* progress: reported only by the calling thread (worker 0) */
+} source_job;
+
+static void source_unit(void *ctx, int ci, int worker)
+{
+    source_job *j = (source_job *)ctx;
+    builder *part = &j->parts[ci];
+    part->cfg = j->cfg;
+    part->err = &j->errors[ci];
+    j->results[ci] = process_config_clip(part, ci, &j->sources[ci]);
+    int done = atomic_fetch_add(&j->done, 1) + 1;
+    if (worker == 0 && j->desc && j->desc->progress) {
+        j->desc->progress(done, j->total, j->desc->progress_user);
+        j->reported = done;
+    }
+}
+
+static mm_result process_sources(builder *b, const mm_clip *sources, const mm_db_build_desc *desc,
+                                 mm_searcher_pool *pool)
+{
+    int n = b->cfg->clip_count;
+    source_job j;
+    memset(&j, 0, sizeof j);
+    j.cfg = b->cfg;
+    j.sources = sources;
+    j.parts = (builder *)calloc((size_t)n, sizeof(builder));
+    j.errors = (mm_error *)calloc((size_t)n, sizeof(mm_error));
+    j.results = (mm_result *)calloc((size_t)n, sizeof(mm_result));
+    j.desc = desc;
+    atomic_init(&j.done, 0);
+    j.total = n + b->cfg->blend_count;
+    mm_result r = MM_OK;
+    if (!j.parts || !j.errors || !j.results) {
+        r = mm_error_set(b->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    } else {
+        par_for(pool, n, source_unit, &j);
+        if (desc && desc->progress && j.reported < n) desc->progress(n, j.total, desc->progress_user);
+        int count = 0;
+        for (int i = 0; i < n && r == MM_OK; ++i) {
+            if (j.results[i] != MM_OK) r = pass_error(b->err, &j.errors[i], j.results[i]);
+            count += j.parts[i].count;
+        }
+        if (r == MM_OK &&
+            !(b->clips = (built *)malloc(sizeof(built) * (size_t)(count + 2 * b->cfg->blend_count))))
+            r = mm_error_set(b->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+        if (r == MM_OK) {
+            b->capacity = count + 2 * b->cfg->blend_count;
+            for (int i = 0; i < n; ++i) { /* the clips move; their lists go */
+                memcpy(b->clips + b->count, j.parts[i].clips, sizeof(built) * (size_t)j.parts[i].count);
+                b->count += j.parts[i].count;
+                free(j.parts[i].clips);
+            }
+        }
+    }
+    if (r != MM_OK && j.parts)
+        for (int i = 0; i < n; ++i) free_builder(&j.parts[i]);
+    free(j.parts);
+    free(j.errors);
+    free(j.results);
+    return r;
+}
+
 /* The distance curves of every clip's root (joint 0) path, laid out as the file stores them. */
 typedef struct distance_arrays {
     mm_db_distance_clip *clips;
     float *travelled, *distance;
     mm_distance_segment *segments;
-    int segment_count, segment_capacity;
+    mm_distance_curve *curves; /* [clip count] while building */
+    int segment_count;
 } distance_arrays;
 
-static void free_distance(distance_arrays *d)
+static void free_distance(distance_arrays *d, int clip_count)
 {
+    if (d->curves)
+        for (int i = 0; i < clip_count; ++i) mm_distance_curve_free(&d->curves[i]);
+    free(d->curves);
     free(d->clips);
     free(d->travelled);
     free(d->distance);
     free(d->segments);
 }
 
-/* Builds clip i's curve from its simulation bone's positions (scratch holds frame_count vec3s). */
-static mm_result clip_distance(const builder *b, int i, int first, mm_vec3 *scratch, distance_arrays *d)
+/* Builds clip i's curve from its simulation bone's positions (scratch holds frame_count vec3s)
+ * into d->curves[i], its travelled and signed distances into place; segments are joined later. */
+static mm_result clip_distance(const builder *b, int i, int first, mm_vec3 *scratch, distance_arrays *d,
+                               mm_error *err)
 {
     const mm_clip *c = &b->clips[i].clip;
     int n = c->frame_count;
     mm_db_distance_clip *dc = &d->clips[i];
-    dc->first_segment = d->segment_count;
     dc->stop_speed = MM_DISTANCE_STOP_SPEED_DEFAULT;
     if (n < 2) return MM_OK; /* a single frame: no curve (travelled 0, no segment) */
     for (int f = 0; f < n; ++f) scratch[f] = mm_clip_positions(c, f)[0];
@@ -262,33 +379,35 @@ static mm_result clip_distance(const builder *b, int i, int first, mm_vec3 *scra
     desc.fps = 1.0f / b->cfg->interval;
     desc.loop = b->clips[i].meta.loop;
     desc.stop_speed = dc->stop_speed;
-    mm_distance_curve curve;
+    mm_distance_curve *curve = &d->curves[i];
     mm_error e;
     memset(&e, 0, sizeof e);
-    mm_result r = mm_distance_curve_build(&curve, &desc, &e);
+    mm_result r = mm_distance_curve_build(curve, &desc, &e);
     if (r != MM_OK)
-        return mm_error_set(b->err, r, 0, 0, "clip '%s': cannot build its distance curve: %s",
+        return mm_error_set(err, r, 0, 0, "clip '%s': cannot build its distance curve: %s",
                             b->clips[i].meta.name, e.message);
-    if (d->segment_count + curve.segment_count > d->segment_capacity) {
-        int cap = d->segment_capacity ? 2 * d->segment_capacity : 64;
-        while (cap < d->segment_count + curve.segment_count) cap *= 2;
-        mm_distance_segment *grown =
-            (mm_distance_segment *)realloc(d->segments, sizeof(mm_distance_segment) * (size_t)cap);
-        if (!grown) {
-            mm_distance_curve_free(&curve);
-            return mm_error_set(b->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-        }
-        d->segments = grown;
-        d->segment_capacity = cap;
+    memcpy(d->travelled + first, curve->travelled, sizeof(float) * (size_t)n);
+    memcpy(d->distance + first, curve->distance, sizeof(float) * (size_t)n);
+    dc->segment_count = curve->segment_count;
+    dc->path_length = curve->path_length;
+    return MM_OK;
+}
+
+/* Joins the clips' segments in clip order. */
+static mm_result join_segments(distance_arrays *d, int clip_count, mm_error *err)
+{
+    int total = 0;
+    for (int i = 0; i < clip_count; ++i) total += d->clips[i].segment_count;
+    d->segments = (mm_distance_segment *)malloc(sizeof(mm_distance_segment) * (size_t)(total ? total : 1));
+    if (!d->segments) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    for (int i = 0; i < clip_count; ++i) {
+        d->clips[i].first_segment = d->segment_count;
+        if (d->clips[i].segment_count)
+            memcpy(d->segments + d->segment_count, d->curves[i].segments,
+                   sizeof(mm_distance_segment) * (size_t)d->clips[i].segment_count);
+        d->segment_count += d->clips[i].segment_count;
+        mm_distance_curve_free(&d->curves[i]);
     }
-    memcpy(d->segments + d->segment_count, curve.segments,
-           sizeof(mm_distance_segment) * (size_t)curve.segment_count);
-    memcpy(d->travelled + first, curve.travelled, sizeof(float) * (size_t)n);
-    memcpy(d->distance + first, curve.distance, sizeof(float) * (size_t)n);
-    dc->segment_count = curve.segment_count;
-    dc->path_length = curve.path_length;
-    d->segment_count += curve.segment_count;
-    mm_distance_curve_free(&curve);
     return MM_OK;
 }
 
@@ -315,28 +434,124 @@ static void free_arrays(arrays *x)
     for (size_t i = 0; i < sizeof p / sizeof p[0]; ++i) free(p[i]);
 }
 
-/* Normalisation: per-dimension mean; per-group scale = mean standard deviation of its
- * dimensions (1 for a group that does not vary). Padding dimensions: mean 0, scale 1. */
-static void normalise(arrays *x, int frames, int dims_padded, int group_count)
+/* Stage 2: each database clip's frames (poses, tags, contacts, root motion, raw features,
+ * distance curve) into its rows. */
+typedef struct clip_job {
+    const builder *b;
+    arrays *x;
+    distance_arrays *dist;
+    const int *first; /* [clip count] first database frame */
+    const int *heel_toe;
+    int group_count, dims_padded, longest;
+    mm_xform *globals;   /* [workers x longest x joints] */
+    mm_vec3 *root_paths; /* [workers x longest] */
+    mm_error *errors;    /* [clip count] */
+    mm_result *results;
+} clip_job;
+
+static void clip_unit(void *ctx, int i, int worker)
 {
+    clip_job *j = (clip_job *)ctx;
+    const mm_config *cfg = j->b->cfg;
+    arrays *x = j->x;
+    const built *bc = &j->b->clips[i];
+    const mm_clip *c = &bc->clip;
+    size_t nj = (size_t)c->skeleton.joint_count, nd = (size_t)j->dims_padded;
+    mm_xform *globals = j->globals + (size_t)worker * (size_t)j->longest * nj;
+    int n = c->frame_count, first = j->first[i];
+    x->clips[i] = bc->meta;
+    x->clips[i].first_frame = first;
+    x->clips[i].frame_count = n;
+    for (int f = 0; f < n; ++f) {
+        mm_clip_fk(c, f, globals + (size_t)f * nj);
+        int g = first + f;
+        x->frame_clip[g] = i;
+        x->frame_next[g] = f + 1 < n ? g + 1 : (bc->meta.loop ? first : -1);
+        if (bc->blend < 0) {
+            x->frame_tags[g] =
+                tags_at(cfg, bc->config_clip, bc->meta.source_start + (float)f * cfg->interval);
+        } else {
+            float u = bc->meta.loop ? (float)f / n : (float)f / (float)(n - 1);
+            x->frame_tags[g] = tags_at(cfg, bc->tag_clip_left, bc->start_left + u * bc->period_left) |
+                               tags_at(cfg, bc->tag_clip_right, bc->start_right + u * bc->period_right);
+        }
+    }
+    memcpy(x->rotations + (size_t)first * nj, c->rotations, (size_t)n * nj * sizeof(mm_quat));
+    memcpy(x->positions + (size_t)first * nj, c->positions, (size_t)n * nj * sizeof(mm_vec3));
+    mm__detect_contacts(c, globals, j->heel_toe, cfg, x->contacts + first);
+    mm__root_motion(c, x->root_velocity + first, x->root_yaw_rate + first);
+    mm__clip_features(c, bc->meta.loop, globals, x->root_velocity + first, x->groups, j->group_count,
+                      cfg->interval, x->features + (size_t)first * nd, j->dims_padded);
+    j->results[i] = clip_distance(j->b, i, first, j->root_paths + (size_t)worker * (size_t)j->longest,
+                                  j->dist, &j->errors[i]);
+}
+
+/* Stage 3: normalisation: per-dimension mean; per-group scale = mean standard deviation of its
+ * dimensions (1 for a group that does not vary). Padding dimensions: mean 0, scale 1. A unit
+ * is MM_DB_SIMD_WIDTH dimensions, each summed in frame order in doubles; then blocks of frames
+ * are normalised. */
+#define NORM_FRAMES 1024
+
+typedef struct norm_job {
+    arrays *x;
+    int frames, dims, dims_padded;
+    double *deviation; /* [dims_padded] */
+} norm_job;
+
+static void moments_unit(void *ctx, int u, int worker)
+{
+    (void)worker;
+    norm_job *j = (norm_job *)ctx;
+    const float *feat = j->x->features;
+    size_t stride = (size_t)j->dims_padded;
+    int d0 = u * MM_DB_SIMD_WIDTH, d1 = d0 + MM_DB_SIMD_WIDTH < j->dims ? d0 + MM_DB_SIMD_WIDTH : j->dims;
+    double sum[MM_DB_SIMD_WIDTH] = {0}, sq[MM_DB_SIMD_WIDTH] = {0}, mean[MM_DB_SIMD_WIDTH];
+    for (int f = 0; f < j->frames; ++f)
+        for (int d = d0; d < d1; ++d) sum[d - d0] += feat[(size_t)f * stride + (size_t)d];
+    for (int d = d0; d < d1; ++d) mean[d - d0] = sum[d - d0] / j->frames;
+    for (int f = 0; f < j->frames; ++f)
+        for (int d = d0; d < d1; ++d) {
+            double v = feat[(size_t)f * stride + (size_t)d] - mean[d - d0];
+            sq[d - d0] += v * v;
+        }
+    for (int d = d0; d < d1; ++d) {
+        j->x->mean[d] = (float)mean[d - d0];
+        j->deviation[d] = sqrt(sq[d - d0] / j->frames);
+    }
+}
+
+static void apply_unit(void *ctx, int u, int worker)
+{
+    (void)worker;
+    norm_job *j = (norm_job *)ctx;
+    const arrays *x = j->x;
+    int f1 = (u + 1) * NORM_FRAMES < j->frames ? (u + 1) * NORM_FRAMES : j->frames;
+    for (int f = u * NORM_FRAMES; f < f1; ++f)
+        for (int d = 0; d < j->dims_padded; ++d) {
+            float *v = &x->features[(size_t)f * (size_t)j->dims_padded + (size_t)d];
+            *v = (*v - x->mean[d]) / x->scale[d];
+        }
+}
+
+static mm_result normalise(arrays *x, int frames, int dims, int dims_padded, int group_count,
+                           mm_searcher_pool *pool, mm_error *err)
+{
+    norm_job j;
+    j.x = x;
+    j.frames = frames;
+    j.dims = dims;
+    j.dims_padded = dims_padded;
+    j.deviation = (double *)calloc((size_t)dims_padded, sizeof(double));
+    if (!j.deviation) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     for (int d = 0; d < dims_padded; ++d) {
         x->mean[d] = 0.0f;
         x->scale[d] = 1.0f;
     }
+    par_for(pool, (dims + MM_DB_SIMD_WIDTH - 1) / MM_DB_SIMD_WIDTH, moments_unit, &j);
     for (int g = 0; g < group_count; ++g) {
         const mm_feature_group *grp = &x->groups[g];
         double spread = 0.0;
-        for (int d = grp->offset; d < grp->offset + grp->dims; ++d) {
-            double sum = 0.0, sq = 0.0;
-            for (int f = 0; f < frames; ++f) sum += x->features[(size_t)f * dims_padded + d];
-            double mean = sum / frames;
-            for (int f = 0; f < frames; ++f) {
-                double v = x->features[(size_t)f * dims_padded + d] - mean;
-                sq += v * v;
-            }
-            x->mean[d] = (float)mean;
-            spread += sqrt(sq / frames);
-        }
+        for (int d = grp->offset; d < grp->offset + grp->dims; ++d) spread += j.deviation[d];
         spread /= grp->dims;
         /* Below 1e-5 (m, m/s or unit vectors) a group does not vary: float noise must not be
          * blown up into features. */
@@ -344,17 +559,24 @@ static void normalise(arrays *x, int frames, int dims_padded, int group_count)
         x->groups[g].scale = s;
         for (int d = grp->offset; d < grp->offset + grp->dims; ++d) x->scale[d] = s;
     }
-    for (int f = 0; f < frames; ++f)
-        for (int d = 0; d < dims_padded; ++d) {
-            float *v = &x->features[(size_t)f * dims_padded + d];
-            *v = (*v - x->mean[d]) / x->scale[d];
-        }
+    par_for(pool, (frames + NORM_FRAMES - 1) / NORM_FRAMES, apply_unit, &j);
+    free(j.deviation);
+    return MM_OK;
 }
 
-static void bounds(const float *features, int frames, int dims_padded, int block, float *mn, float *mx)
+/* Stage 4: bounding boxes; a unit is NORM_FRAMES frames of blocks (both block sizes divide it). */
+typedef struct bounds_job {
+    const float *features;
+    int frames, dims_padded;
+    float *small_min, *small_max, *large_min, *large_max;
+} bounds_job;
+
+static void bounds(const float *features, int frames, int dims_padded, int block, int b0, int b1, float *mn,
+                   float *mx)
 {
     int blocks = (frames + block - 1) / block;
-    for (int b = 0; b < blocks; ++b) {
+    if (b1 > blocks) b1 = blocks;
+    for (int b = b0; b < b1; ++b) {
         float *lo = mn + (size_t)b * dims_padded, *hi = mx + (size_t)b * dims_padded;
         for (int d = 0; d < dims_padded; ++d) {
             lo[d] = INFINITY;
@@ -370,6 +592,17 @@ static void bounds(const float *features, int frames, int dims_padded, int block
     }
 }
 
+static void bounds_unit(void *ctx, int u, int worker)
+{
+    (void)worker;
+    const bounds_job *j = (const bounds_job *)ctx;
+    int s = NORM_FRAMES / MM_DB_SMALL_BLOCK, l = NORM_FRAMES / MM_DB_LARGE_BLOCK;
+    bounds(j->features, j->frames, j->dims_padded, MM_DB_SMALL_BLOCK, u * s, (u + 1) * s, j->small_min,
+           j->small_max);
+    bounds(j->features, j->frames, j->dims_padded, MM_DB_LARGE_BLOCK, u * l, (u + 1) * l, j->large_min,
+           j->large_max);
+}
+
 mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const mm_db_build_desc *desc,
                             mm_database *out, mm_error *err)
 {
@@ -377,25 +610,30 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     memset(out, 0, sizeof *out);
     if (!cfg || (!sources && cfg->clip_count))
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no config");
+    if (desc && (desc->threads < 0 || desc->threads > MM_DB_MAX_THREADS))
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "threads: %d is not in [0, %d]",
+                            desc->threads, MM_DB_MAX_THREADS);
     mm_result r = mm_config_validate(cfg, err);
     if (r != MM_OK) return r;
     if (cfg->clip_count < 1)
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
+    /* NULL (one thread, or no threads could start): everything runs on the calling thread */
+    mm_searcher_pool *pool =
+        desc && desc->threads > 1 ? mm__pool_create(desc->threads, desc->allocator) : NULL;
+    int workers = mm__pool_size(pool);
     builder b;
     memset(&b, 0, sizeof b);
     b.cfg = cfg;
     b.err = err;
     int total = cfg->clip_count + cfg->blend_count;
-    for (int i = 0; i < cfg->clip_count && r == MM_OK; ++i) {
-        r = process_config_clip(&b, i, &sources[i]);
-        if (desc && desc->progress) desc->progress(i + 1, total, desc->progress_user);
-    }
+    r = process_sources(&b, sources, desc, pool);
     for (int i = 0; i < cfg->blend_count && r == MM_OK; ++i) {
         r = process_blend(&b, i);
         if (desc && desc->progress) desc->progress(cfg->clip_count + i + 1, total, desc->progress_user);
     }
     if (r == MM_OK) r = check_skeletons(&b);
     if (r != MM_OK) {
+        mm__pool_destroy(pool);
         free_builder(&b);
         return r;
     }
@@ -408,6 +646,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     int dims = 0;
     int group_count = mm__feature_layout(cfg, skel, x.groups, &dims, err);
     if (group_count < 0) {
+        mm__pool_destroy(pool);
         free_builder(&b);
         return err ? err->code : MM_ERR_NOT_FOUND;
     }
@@ -437,72 +676,61 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     distance_arrays dist;
     memset(&dist, 0, sizeof dist);
     dist.clips = (mm_db_distance_clip *)calloc((size_t)b.count, sizeof(mm_db_distance_clip));
+    dist.curves = (mm_distance_curve *)calloc((size_t)b.count, sizeof(mm_distance_curve));
     dist.travelled = (float *)calloc(nf, 4);
     dist.distance = (float *)calloc(nf, 4);
-    mm_xform *globals = NULL;
-    mm_vec3 *root_path = NULL;
     int longest = 0;
     for (int i = 0; i < b.count; ++i)
         longest = b.clips[i].clip.frame_count > longest ? b.clips[i].clip.frame_count : longest;
-    globals = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)longest * nj);
-    root_path = (mm_vec3 *)malloc(sizeof(mm_vec3) * (size_t)longest);
-    if (!dist.clips || !dist.travelled || !dist.distance || !root_path || !x.joints || !x.clips ||
-        !x.tag_names || !x.frame_clip || !x.frame_next || !x.frame_tags || !x.contacts || !x.root_velocity ||
-        !x.root_yaw_rate || !x.rotations || !x.positions || !x.features || !x.mean || !x.scale ||
-        !x.small_min || !x.small_max || !x.large_min || !x.large_max || !globals) {
-        free(globals);
-        free(root_path);
-        free_distance(&dist);
-        free_arrays(&x);
-        free_builder(&b);
-        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for %d frames", frames);
-    }
-    memcpy(x.joints, skel->joints, nj * sizeof(mm_joint));
-    for (int t = 0; t < cfg->tag_count; ++t) memcpy(x.tag_names[t], cfg->tag_names[t], MM_TAG_NAME_MAX);
+    clip_job cj;
+    memset(&cj, 0, sizeof cj);
     int heel_toe[4] = {mm_skeleton_find(skel, cfg->left_foot), mm_skeleton_find(skel, cfg->left_toe),
                        mm_skeleton_find(skel, cfg->right_foot), mm_skeleton_find(skel, cfg->right_toe)};
-    int first = 0;
-    for (int i = 0; i < b.count; ++i) {
-        built *bc = &b.clips[i];
-        const mm_clip *c = &bc->clip;
-        int n = c->frame_count;
-        bc->meta.first_frame = first;
-        bc->meta.frame_count = n;
-        x.clips[i] = bc->meta;
-        for (int f = 0; f < n; ++f) {
-            mm_clip_fk(c, f, globals + (size_t)f * nj);
-            int g = first + f;
-            x.frame_clip[g] = i;
-            x.frame_next[g] = f + 1 < n ? g + 1 : (bc->meta.loop ? first : -1);
-            if (bc->blend < 0) {
-                x.frame_tags[g] =
-                    tags_at(cfg, bc->config_clip, bc->meta.source_start + (float)f * cfg->interval);
-            } else {
-                float u = bc->meta.loop ? (float)f / n : (float)f / (float)(n - 1);
-                x.frame_tags[g] = tags_at(cfg, bc->tag_clip_left, bc->start_left + u * bc->period_left) |
-                                  tags_at(cfg, bc->tag_clip_right, bc->start_right + u * bc->period_right);
-            }
-        }
-        memcpy(x.rotations + (size_t)first * nj, c->rotations, (size_t)n * nj * sizeof(mm_quat));
-        memcpy(x.positions + (size_t)first * nj, c->positions, (size_t)n * nj * sizeof(mm_vec3));
-        mm__detect_contacts(c, globals, heel_toe, cfg, x.contacts + first);
-        mm__root_motion(c, x.root_velocity + first, x.root_yaw_rate + first);
-        mm__clip_features(c, bc->meta.loop, globals, x.root_velocity + first, x.groups, group_count,
-                          cfg->interval, x.features + (size_t)first * nd, dims_padded);
-        if ((r = clip_distance(&b, i, first, root_path, &dist)) != MM_OK) break;
-        first += n;
+    int *first = (int *)malloc(sizeof(int) * (size_t)b.count);
+    cj.globals = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)workers * (size_t)longest * nj);
+    cj.root_paths = (mm_vec3 *)malloc(sizeof(mm_vec3) * (size_t)workers * (size_t)longest);
+    cj.errors = (mm_error *)calloc((size_t)b.count, sizeof(mm_error));
+    cj.results = (mm_result *)calloc((size_t)b.count, sizeof(mm_result));
+    if (!dist.clips || !dist.curves || !dist.travelled || !dist.distance || !cj.root_paths || !x.joints ||
+        !x.clips || !x.tag_names || !x.frame_clip || !x.frame_next || !x.frame_tags || !x.contacts ||
+        !x.root_velocity || !x.root_yaw_rate || !x.rotations || !x.positions || !x.features || !x.mean ||
+        !x.scale || !x.small_min || !x.small_max || !x.large_min || !x.large_max || !cj.globals || !first ||
+        !cj.errors || !cj.results)
+        r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for %d frames", frames);
+    if (r == MM_OK) {
+        memcpy(x.joints, skel->joints, nj * sizeof(mm_joint));
+        for (int t = 0; t < cfg->tag_count; ++t) memcpy(x.tag_names[t], cfg->tag_names[t], MM_TAG_NAME_MAX);
+        for (int i = 0, f = 0; i < b.count; f += b.clips[i++].clip.frame_count) first[i] = f;
+        cj.b = &b;
+        cj.x = &x;
+        cj.dist = &dist;
+        cj.first = first;
+        cj.heel_toe = heel_toe;
+        cj.group_count = group_count;
+        cj.dims_padded = dims_padded;
+        cj.longest = longest;
+        par_for(pool, b.count, clip_unit, &cj);
+        for (int i = 0; i < b.count && r == MM_OK; ++i)
+            if (cj.results[i] != MM_OK) r = pass_error(err, &cj.errors[i], cj.results[i]);
     }
-    free(globals);
-    free(root_path);
+    free(cj.globals);
+    free(cj.root_paths);
+    free(cj.errors);
+    free(cj.results);
+    free(first);
+    if (r == MM_OK) r = join_segments(&dist, b.count, err);
+    if (r == MM_OK) r = normalise(&x, frames, dims, dims_padded, group_count, pool, err);
+    if (r == MM_OK) {
+        bounds_job bj = {x.features, frames, dims_padded, x.small_min, x.small_max, x.large_min, x.large_max};
+        par_for(pool, (frames + NORM_FRAMES - 1) / NORM_FRAMES, bounds_unit, &bj);
+    }
+    mm__pool_destroy(pool);
     if (r != MM_OK) {
-        free_distance(&dist);
+        free_distance(&dist, b.count);
         free_arrays(&x);
         free_builder(&b);
         return r;
     }
-    normalise(&x, frames, dims_padded, group_count);
-    bounds(x.features, frames, dims_padded, MM_DB_SMALL_BLOCK, x.small_min, x.small_max);
-    bounds(x.features, frames, dims_padded, MM_DB_LARGE_BLOCK, x.large_min, x.large_max);
 
     mm__db_parts p;
     memset(&p, 0, sizeof p);
@@ -524,7 +752,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     p.size[MM__SEC_CONFIG_JSON] = strlen(json) + 1;
     p.size[MM__SEC_DISTANCE_SEGMENTS] = sizeof(mm_distance_segment) * (size_t)dist.segment_count;
     r = mm__db_pack(&p, desc ? desc->allocator : NULL, out, err);
-    free_distance(&dist);
+    free_distance(&dist, b.count);
     free_arrays(&x);
     free_builder(&b);
     return r;

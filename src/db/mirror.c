@@ -53,8 +53,11 @@ static mm_vec3 reflect(mm_vec3 v) { return mm_vec3_make(-v.x, v.y, v.z); }
 static mm_quat reflect_rotation(mm_quat q) { return mm_quat_make(q.x, -q.y, -q.z, q.w); }
 
 /* The correction C of joint j: maps the offsets of j's (non-translating) children onto the
- * reflected offsets of their partners. */
-static mm_quat correction(const mm_skeleton *s, const int *partner, int j)
+ * reflected offsets of their partners. Where several fit (a chain's single child along an axis, a
+ * leaf), prefer, the parent's correction, wins: with the same correction along a chain the mirrored
+ * local rotations stay close to the original ones, instead of differing by half-turns that every
+ * transition between a clip and a mirrored clip would have to blend through. */
+static mm_quat correction(const mm_skeleton *s, const int *partner, int j, mm_quat prefer)
 {
     const mm_quat candidates[4] = {mm_quat_make(0, 0, 0, 1), mm_quat_make(1, 0, 0, 0),
                                    mm_quat_make(0, 1, 0, 0), mm_quat_make(0, 0, 1, 0)};
@@ -74,14 +77,18 @@ static mm_quat correction(const mm_skeleton *s, const int *partner, int j)
         to[n] = reflect(s->joints[jp].end_site);
         ++n;
     }
-    if (n == 0) return candidates[0];
+    if (n == 0) return prefer; /* a leaf: any rotation fits; the parent's keeps the chain's local rotations */
     float best_err = INFINITY, scale = 0.0f;
     mm_quat best = candidates[0];
     for (int i = 0; i < n; ++i) scale = fmaxf(scale, mm_vec3_length(to[i]));
-    for (int c = 0; c < 4; ++c) {
+    for (int c = -1; c < 4; ++c) {
+        mm_quat q = c < 0 ? prefer : candidates[c];
         float e = 0.0f;
-        for (int i = 0; i < n; ++i)
-            e = fmaxf(e, mm_vec3_distance(mm_quat_rotate(candidates[c], from[i]), to[i]));
+        for (int i = 0; i < n; ++i) e = fmaxf(e, mm_vec3_distance(mm_quat_rotate(q, from[i]), to[i]));
+        if (c < 0) {
+            if (e <= 1e-3f * fmaxf(scale, 1e-6f)) return prefer;
+            continue;
+        }
         if (e < best_err) {
             best_err = e;
             best = candidates[c];
@@ -112,7 +119,9 @@ mm_result mm__clip_mirror(const mm_clip *src, const mm_config *cfg, mm_clip *out
         return MM_ERR_OUT_OF_MEMORY;
     }
     mm__mirror_map(s, cfg, partner);
-    for (int j = 0; j < jc; ++j) fix[j] = correction(s, partner, j);
+    for (int j = 0; j < jc; ++j)
+        fix[j] = correction(s, partner, j,
+                            s->joints[j].parent >= 0 ? fix[s->joints[j].parent] : mm_quat_identity());
     mm_xform *mg = g + jc;
     for (int f = 0; f < src->frame_count; ++f) {
         mm_clip_fk(src, f, g);

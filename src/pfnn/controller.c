@@ -41,6 +41,7 @@ struct mm_pfnn_controller {
     int obstacle_count;
     float clearance; /* cm */
     float target_blend, strafe_blend, gait_blend, correction, joint_smooth, pos_bias, dir_bias;
+    bool mirror; /* average the network with its mirror image (mm_pfnn_symmetry) */
     const float *ymean;
 
     /* trajectory, centimetres */
@@ -60,6 +61,7 @@ struct mm_pfnn_controller {
     double time_acc;
     long frame;
     float x[MM_PFNN_INPUT_DIM], y[MM_PFNN_OUTPUT_DIM];
+    float x_mirror[MM_PFNN_INPUT_DIM], y_mirror[MM_PFNN_OUTPUT_DIM];
     mm_pfnn_state state;
 };
 
@@ -117,6 +119,83 @@ float mm_pfnn_height_slopes(float x, float z, void *user)
 {
     (void)user;
     return 0.35f * sinf(0.4f * x) + 0.25f * sinf(0.3f * z + 0.5f * sinf(0.2f * x));
+}
+
+/* ---- left/right symmetry ----------------------------------------------------------------------- */
+
+/* The release's joints mirrored left <-> right: LHipJoint..LeftToeBase (1-5) with RHipJoint..
+ * RightToeBase (6-10), LeftShoulder..LThumb (17-23) with RightShoulder..RThumb (24-30). */
+static int mirror_joint(int j)
+{
+    if (j >= 1 && j <= 5) return j + 5;
+    if (j >= 6 && j <= 10) return j - 5;
+    if (j >= 17 && j <= 23) return j + 7;
+    if (j >= 24 && j <= 30) return j - 7;
+    return j;
+}
+
+/* The input of the character reflected in its own sagittal plane (x -> -x): trajectory x and
+ * direction x negated, left and right joints exchanged (x negated), right and left heights exchanged. */
+static void mirror_input(const float *x, float *m)
+{
+    memcpy(m, x, sizeof(float) * MM_PFNN_INPUT_DIM);
+    for (int s = 0; s < MM_PFNN_TRAJ_SAMPLES; ++s) {
+        m[MM_PFNN_X_TRAJ_POS_X + s] = -x[MM_PFNN_X_TRAJ_POS_X + s];
+        m[MM_PFNN_X_TRAJ_DIR_X + s] = -x[MM_PFNN_X_TRAJ_DIR_X + s];
+        m[MM_PFNN_X_HEIGHT_RIGHT + s] = x[MM_PFNN_X_HEIGHT_LEFT + s];
+        m[MM_PFNN_X_HEIGHT_LEFT + s] = x[MM_PFNN_X_HEIGHT_RIGHT + s];
+    }
+    for (int j = 0; j < J; ++j) {
+        int k = mirror_joint(j);
+        for (int b = 0; b < 2; ++b) {
+            int o = b ? MM_PFNN_X_JOINT_VEL : MM_PFNN_X_JOINT_POS;
+            m[o + 3 * j + 0] = -x[o + 3 * k + 0];
+            m[o + 3 * j + 1] = x[o + 3 * k + 1];
+            m[o + 3 * j + 2] = x[o + 3 * k + 2];
+        }
+    }
+}
+
+/* y = (y + M m) / 2, M reflecting an output like mirror_input does an input: root x and turn
+ * negated, left and right contacts exchanged, trajectory x negated, joints exchanged with x negated,
+ * and rotation exponential maps (x, y, z) -> (x, -y, -z) (a reflection keeps the angle's axis
+ * component along the normal and reverses the sense of rotation). */
+static void average_mirrored_output(float *y, const float *m)
+{
+    float r[MM_PFNN_OUTPUT_DIM];
+    memcpy(r, m, sizeof r);
+    r[MM_PFNN_Y_ROOT_X] = -m[MM_PFNN_Y_ROOT_X];
+    r[MM_PFNN_Y_ROOT_TURN] = -m[MM_PFNN_Y_ROOT_TURN];
+    for (int k = 0; k < 2; ++k) {
+        r[MM_PFNN_Y_CONTACTS + k] = m[MM_PFNN_Y_CONTACTS + 2 + k];
+        r[MM_PFNN_Y_CONTACTS + 2 + k] = m[MM_PFNN_Y_CONTACTS + k];
+    }
+    for (int s = 0; s < MM_PFNN_FUTURE_SAMPLES; ++s) {
+        r[MM_PFNN_Y_TRAJ_POS_X + s] = -m[MM_PFNN_Y_TRAJ_POS_X + s];
+        r[MM_PFNN_Y_TRAJ_DIR_X + s] = -m[MM_PFNN_Y_TRAJ_DIR_X + s];
+    }
+    for (int j = 0; j < J; ++j) {
+        int k = mirror_joint(j);
+        for (int b = 0; b < 3; ++b) {
+            int o = b == 0 ? MM_PFNN_Y_JOINT_POS : b == 1 ? MM_PFNN_Y_JOINT_VEL : MM_PFNN_Y_JOINT_ROT;
+            float sx = b == 2 ? 1.0f : -1.0f, syz = b == 2 ? -1.0f : 1.0f;
+            r[o + 3 * j + 0] = sx * m[o + 3 * k + 0];
+            r[o + 3 * j + 1] = syz * m[o + 3 * k + 1];
+            r[o + 3 * j + 2] = syz * m[o + 3 * k + 2];
+        }
+    }
+    for (int i = 0; i < MM_PFNN_OUTPUT_DIM; ++i) y[i] = 0.5f * (y[i] + r[i]);
+}
+
+/* The network at the current phase; mirror-averaged unless the symmetry is off. The mirror image
+ * of a gait half a cycle on is the same gait on the other foot, hence phase + pi. */
+static void evaluate(mm_pfnn_controller *c)
+{
+    mm_pfnn_network_eval(c->net, c->mode, c->phase, c->x, c->y);
+    if (!c->mirror) return;
+    mirror_input(c->x, c->x_mirror);
+    mm_pfnn_network_eval(c->net, c->mode, c->phase + (float)MM_PI, c->x_mirror, c->y_mirror);
+    average_mirrored_output(c->y, c->y_mirror);
 }
 
 /* ---- obstacles -------------------------------------------------------------------------------- */
@@ -208,6 +287,8 @@ mm_result mm_pfnn_controller_create(const mm_pfnn_controller_desc *desc, mm_pfnn
     if (desc->obstacle_count < 0 || desc->obstacle_count > MAX_OBSTACLES ||
         (desc->obstacle_count && !desc->obstacles))
         return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "obstacle_count must be 0..%d", MAX_OBSTACLES);
+    if (desc->symmetry < MM_PFNN_SYMMETRY_DEFAULT || desc->symmetry > MM_PFNN_SYMMETRY_NONE)
+        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "symmetry must be a mm_pfnn_symmetry value");
     const float blends[] = {
         desc->target_blend, desc->strafe_blend, desc->gait_blend, desc->trajectory_correction,
         desc->joint_smooth, desc->clearance,    desc->pos_bias,   desc->dir_bias};
@@ -237,10 +318,11 @@ mm_result mm_pfnn_controller_create(const mm_pfnn_controller_desc *desc, mm_pfnn
     c->target_blend = desc->target_blend > 0.0f ? desc->target_blend : 0.1f;
     c->strafe_blend = desc->strafe_blend > 0.0f ? desc->strafe_blend : 0.1f;
     c->gait_blend = desc->gait_blend > 0.0f ? desc->gait_blend : 0.1f;
-    c->correction = desc->trajectory_correction > 0.0f ? desc->trajectory_correction : 1.0f;
+    c->correction = desc->trajectory_correction > 0.0f ? desc->trajectory_correction : 0.5f;
     c->joint_smooth = desc->joint_smooth > 0.0f ? desc->joint_smooth : 0.5f;
-    c->pos_bias = desc->pos_bias > 0.0f ? desc->pos_bias : 0.5f;
-    c->dir_bias = desc->dir_bias > 0.0f ? desc->dir_bias : 2.0f;
+    c->pos_bias = desc->pos_bias > 0.0f ? desc->pos_bias : 2.0f;
+    c->dir_bias = desc->dir_bias > 0.0f ? desc->dir_bias : 5.0f;
+    c->mirror = desc->symmetry != MM_PFNN_SYMMETRY_NONE;
     c->ymean = mm__pfnn_network_ymean(c->net);
     mm_pfnn_controller_reset(c, desc->start_position, desc->start_yaw);
     *out = c;
@@ -474,7 +556,7 @@ static void run_frame(mm_pfnn_controller *c, const mm_pfnn_input *in)
     mm_pfnn_controller_assemble_input(c, c->x);
     mm_vec3 root = mm_vec3_make(c->pos[HALF].x, c->root_h[HALF], c->pos[HALF].z);
     float yaw = yaw_of(c->dir_x[HALF], c->dir_z[HALF]);
-    mm_pfnn_network_eval(c->net, c->mode, c->phase, c->x, c->y);
+    evaluate(c);
     float stand_scale = powf(clampf(1.0f - c->gait[HALF][GAIT_STAND], 0.0f, 1.0f), 0.25f);
     update_trajectory(c, c->y, stand_scale);
 

@@ -15,6 +15,7 @@ void mm_character_defaults(mm_character_desc *d)
     d->search_interval = 0.1f;
     d->turn_threshold = 0.5f;
     d->transition_halflife = 0.2f; /* 0.1 s left hand pops of 32 cm on LAFAN1, 0.2 s 10-12 cm */
+    d->crossfade_time = 0.2f;
     d->idle_speed = 0.15f;
     d->idle_hysteresis = 0.1f;
     d->sync_halflife = 0.3f;
@@ -23,7 +24,9 @@ void mm_character_defaults(mm_character_desc *d)
     d->angle_threshold = 0.35f;
     d->angle_revise_speed = 0.0f; /* off: 0.2-0.5 rad/s was measured to triple foot slide on LAFAN1 walks */
     d->skip_frames = 3;
-    d->unlock_radius = 0.2f;
+    /* 0.2 m: 5.7 cm/s mean foot slide over the shipped scripts on LAFAN1 and 10.1 on the built-in
+     * set, 0.4 m: 4.7 and 9.0 (the legs' length still bounds how far a lock can be held) */
+    d->unlock_radius = 0.4f;
     d->foot_halflife = 0.1f;
     d->max_hip_drop = 0.1f;
     d->left_foot = "LeftFoot";
@@ -117,29 +120,83 @@ static mm_quat yaw_quat(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make
 
 static float wrap(float a) { return remainderf(a, (float)(2.0 * MM_PI)); }
 
-/* The database pose at the playhead: frame and the next, blended by the fraction. */
-static void play_pose(const mm_character *c, mm_quat *rot, mm_vec3 *pos)
+/* The database pose at a playhead: frame and the next, blended by the fraction. */
+static void play_pose_at(const mm_character *c, int frame, float fraction, mm_quat *rot, mm_vec3 *pos)
 {
     const mm_database *db = c->db;
-    int next = db->frame_next[c->frame] >= 0 ? db->frame_next[c->frame] : c->frame;
-    const mm_quat *r0 = mm_database_rotations(db, c->frame), *r1 = mm_database_rotations(db, next);
-    const mm_vec3 *p0 = mm_database_positions(db, c->frame), *p1 = mm_database_positions(db, next);
+    int next = db->frame_next[frame] >= 0 ? db->frame_next[frame] : frame;
+    const mm_quat *r0 = mm_database_rotations(db, frame), *r1 = mm_database_rotations(db, next);
+    const mm_vec3 *p0 = mm_database_positions(db, frame), *p1 = mm_database_positions(db, next);
     for (int j = 0; j < db->joint_count; ++j) {
-        rot[j] = mm_quat_slerp(r0[j], r1[j], c->frame_fraction);
-        pos[j] = mm_vec3_lerp(p0[j], p1[j], c->frame_fraction);
+        rot[j] = mm_quat_slerp(r0[j], r1[j], fraction);
+        pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
     }
 }
 
 /* The database's root motion at the playhead: that of the frame interval it is in (the root
  * velocity of a frame is the motion from the frame before to it). */
-static void play_root(const mm_character *c, mm_vec3 *velocity, float *yaw_rate)
+static void play_root_at(const mm_character *c, int frame, mm_vec3 *velocity, float *yaw_rate)
 {
     const mm_database *db = c->db;
-    int next = db->frame_next[c->frame] >= 0 ? db->frame_next[c->frame] : c->frame;
+    int next = db->frame_next[frame] >= 0 ? db->frame_next[frame] : frame;
     /* distance matching plays the clip at play_rate and stride warping stretches the steps by
      * stride_scale: the root moves as much faster (both are exactly 1 when off) */
     *velocity = mm_vec3_scale(db->root_velocity[next], c->play_rate * c->stride_scale);
     *yaw_rate = db->root_angular_velocity[next] * c->play_rate;
+}
+
+/* Crossfade mode: the mixer's blend of its slots' poses (into rot and pos) or root motion (the
+ * weighted sum of theirs); either pair may be NULL. */
+static void crossfade_play(const mm_character *c, mm_quat *rot, mm_vec3 *pos, mm_vec3 *velocity,
+                           float *yaw_rate)
+{
+    const mm_quat *r[MM_MIXER_SLOTS];
+    const mm_vec3 *p[MM_MIXER_SLOTS];
+    float w[MM_MIXER_SLOTS];
+    size_t n = (size_t)c->db->joint_count;
+    mm_vec3 v_sum = mm_vec3_make(0, 0, 0);
+    float y_sum = 0.0f;
+    for (int i = 0; i < c->mixer.count; ++i) {
+        const mm_mixer_slot *s = &c->mixer.slots[i];
+        r[i] = c->slot_rotations + (size_t)i * n, p[i] = c->slot_positions + (size_t)i * n, w[i] = s->weight;
+        if (rot) { /* blended in model space (mm/mixer.h: mm_pose_to_model) */
+            play_pose_at(c, s->source, s->fraction, c->slot_rotations + (size_t)i * n,
+                         c->slot_positions + (size_t)i * n);
+            mm_pose_to_model(c->db->joints, (int)n, c->slot_rotations + (size_t)i * n);
+        }
+        mm_vec3 v;
+        float y;
+        play_root_at(c, s->source, &v, &y);
+        v_sum = mm_vec3_add(v_sum, mm_vec3_scale(v, s->weight));
+        y_sum += y * s->weight;
+    }
+    if (rot && pos) {
+        /* hemispheres from the last tick's output, so that the blend moves continuously */
+        mm_quat *reference = c->slot_rotations + (size_t)MM_MIXER_SLOTS * n;
+        memcpy(reference, c->pose_previous_rotations, sizeof(mm_quat) * n);
+        mm_pose_to_model(c->db->joints, (int)n, reference);
+        mm_pose_blend(r, p, w, c->mixer.count, (int)n, reference, rot, pos);
+        mm_pose_to_local(c->db->joints, (int)n, rot);
+    }
+    if (velocity) *velocity = v_sum;
+    if (yaw_rate) *yaw_rate = y_sum;
+}
+
+/* The pose and root motion played: the playhead's, or in crossfade mode the mixer's blend. */
+static void play_pose(const mm_character *c, mm_quat *rot, mm_vec3 *pos)
+{
+    if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE)
+        crossfade_play(c, rot, pos, NULL, NULL);
+    else
+        play_pose_at(c, c->frame, c->frame_fraction, rot, pos);
+}
+
+static void play_root(const mm_character *c, mm_vec3 *velocity, float *yaw_rate)
+{
+    if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE)
+        crossfade_play(c, NULL, NULL, velocity, yaw_rate);
+    else
+        play_root_at(c, c->frame, velocity, yaw_rate);
 }
 
 static void compute_global(mm_character *c)
@@ -185,10 +242,13 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     c->pose_positions = (mm_vec3 *)mm_alloc_array(a, n, sizeof(mm_vec3));
     c->pose_previous_positions = (mm_vec3 *)mm_alloc_array(a, n, sizeof(mm_vec3));
     c->query = (float *)mm_alloc_array(a, (size_t)db->dims_padded, sizeof(float));
+    c->slot_rotations = (mm_quat *)mm_alloc_array(a, (MM_MIXER_SLOTS + 1) * n, sizeof(mm_quat));
+    c->slot_positions = (mm_vec3 *)mm_alloc_array(a, MM_MIXER_SLOTS * n, sizeof(mm_vec3));
     if (!c->local_rotations || !c->local_positions || !c->previous_rotations || !c->previous_positions ||
         !c->rotation_offset || !c->rotation_offset_velocity || !c->position_offset ||
         !c->position_offset_velocity || !c->global || !c->pose_rotations || !c->pose_previous_rotations ||
-        !c->pose_positions || !c->pose_previous_positions || !c->query) {
+        !c->pose_positions || !c->pose_previous_positions || !c->query || !c->slot_rotations ||
+        !c->slot_positions) {
         mm_character_free(c);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     }
@@ -231,6 +291,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     c->root = mm_xform_identity();
     c->since_search = INFINITY; /* search on the first tick */
     c->last_result.frame = -1;
+    mm_mixer_init(&c->mixer, c->frame, 0.0f);
     play_pose(c, c->local_rotations, c->local_positions);
     memcpy(c->previous_rotations, c->local_rotations, n * sizeof(mm_quat));
     memcpy(c->previous_positions, c->local_positions, n * sizeof(mm_vec3));
@@ -260,7 +321,9 @@ void mm_character_free(mm_character *c)
                  c->pose_previous_rotations,
                  c->pose_positions,
                  c->pose_previous_positions,
-                 c->query};
+                 c->query,
+                 c->slot_rotations,
+                 c->slot_positions};
     for (size_t i = 0; i < sizeof p / sizeof p[0]; ++i) mm_free(a, p[i]);
     memset(c, 0, sizeof *c);
 }
@@ -288,9 +351,15 @@ static void build_query(mm_character *c, const mm_input *in)
  * by itself (its locks and offsets carry over), and taking it into the offsets would make the
  * animated feet drift from their locks as the offsets decay. Joint 0 (the root) is driven by root
  * motion and left out. */
+static void crossfade_to(mm_character *c, int to, bool uncancellable);
+
 static void transition(mm_character *c, int to, float dt)
 {
     const mm_database *db = c->db;
+    if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE) { /* a jump asked for: never cancelled */
+        crossfade_to(c, to, true);
+        return;
+    }
     c->frame = to;
     c->frame_fraction = 0.0f;
     int before = to > 0 && db->frame_clip[to - 1] == db->frame_clip[to] ? to - 1 : to;
@@ -324,6 +393,23 @@ static void transition(mm_character *c, int to, float dt)
     ++c->transitions;
 }
 
+/* Crossfade mode: frame `to` enters the mixer's slot 0 (the playhead), unless the mixer cancels
+ * it (dropped, counted). Frames tagged "Jump" or "Uncancellable" (the seed's jumps) are never
+ * cancelled. */
+static void crossfade_to(mm_character *c, int to, bool uncancellable)
+{
+    const mm_database *db = c->db;
+    uint64_t forced = mm_search_tag_mask(db, "Jump") | mm_search_tag_mask(db, "Uncancellable");
+    uncancellable = uncancellable || (db->frame_tags && (db->frame_tags[to] & forced));
+    if (!mm_mixer_start(&c->mixer, to, 0.0f, c->desc.crossfade_time, uncancellable)) {
+        ++c->cancelled_transitions;
+        return;
+    }
+    c->frame = to;
+    c->frame_fraction = 0.0f;
+    ++c->transitions;
+}
+
 static void search(mm_character *c, const mm_input *in, float dt)
 {
     const mm_database *db = c->db;
@@ -349,7 +435,11 @@ static void search(mm_character *c, const mm_input *in, float dt)
     int ahead = best.frame - c->frame;
     if (db->frame_clip[best.frame] == db->frame_clip[c->frame] && ahead >= 0 && ahead <= c->desc.skip_frames)
         return;
-    transition(c, best.frame, dt);
+    /* crossfade: cancellable, but not at the end of the clip (the playhead would stand still) */
+    if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE)
+        crossfade_to(c, best.frame, db->frame_next[c->frame] < 0);
+    else
+        transition(c, best.frame, dt);
 }
 
 /* Two-bone IK: turns the hip (a) and knee (b) so that the ankle (c) reaches target, the knee
@@ -406,22 +496,19 @@ static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target, mm_quat ankl
 }
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
- * ankle-to-toe vector (turned by the foot's yaw), so that the foot rolls about its planted toe as
+ * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
  * animated; or, free, the animated ankle. */
 static mm_vec3 foot_source(const mm_character *c, int k, mm_vec3 ankle, mm_vec3 toe)
 {
     if (c->heel_locked[k]) return c->heel_lock[k];
     if (c->toe_locked[k])
-        return mm_vec3_sub(c->toe_lock[k], mm_quat_rotate(yaw_quat(c->foot_yaw[k]), mm_vec3_sub(toe, ankle)));
+        return mm_vec3_sub(c->toe_lock[k],
+                           mm_quat_rotate(mm_quat_exp(c->foot_turn[k]), mm_vec3_sub(toe, ankle)));
     return ankle;
 }
 
-/* The angle (rad) about +Y that turns the horizontal direction of u onto that of v. */
-static float yaw_between(mm_vec3 u, mm_vec3 v)
-{
-    if (u.x * u.x + u.z * u.z < 1e-8f || v.x * v.x + v.z * v.z < 1e-8f) return 0.0f;
-    return wrap(atan2f(v.x, v.z) - atan2f(u.x, u.z));
-}
+/* rad: the most a foot planted on heel and toe is turned from its animated orientation */
+#define MAX_FOOT_TURN 0.8f
 
 /* Foot locking on the contact labels, lowering the hips where the legs cannot reach, then IK; the
  * joints below are recomputed. Every change of what a foot follows (a lock made or released) is
@@ -460,7 +547,8 @@ static void feet(mm_character *c, float dt)
         }
         if (toe_on && !c->toe_locked[k]) {
             c->toe_locked[k] = true;
-            c->toe_lock[k] = mm_vec3_add(out, mm_quat_rotate(yaw_quat(c->foot_yaw[k]), mm_vec3_sub(t, a)));
+            c->toe_lock[k] =
+                mm_vec3_add(out, mm_quat_rotate(mm_quat_exp(c->foot_turn[k]), mm_vec3_sub(t, a)));
             planted = 1;
         }
         if (planted) { /* held exactly from here */
@@ -469,16 +557,26 @@ static void feet(mm_character *c, float dt)
             c->foot_offset_velocity[k] = mm_vec3_make(0, 0, 0);
         }
         if (c->heel_locked[k] && c->toe_locked[k]) {
-            /* both planted: the foot keeps the yaw it was planted with */
-            float yaw = yaw_between(mm_vec3_sub(t, a), mm_vec3_sub(c->toe_lock[k], c->heel_lock[k]));
-            c->foot_yaw_velocity[k] = wrap(yaw - c->foot_yaw[k]) / dt;
-            c->foot_yaw[k] = yaw;
+            /* both planted: the foot turns so that its toe stays on the toe lock (the animated
+             * foot may pitch or yaw under a transition's offsets while both labels are on) */
+            mm_vec3 turn =
+                mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(c->toe_lock[k], c->heel_lock[k])));
+            float angle = mm_vec3_length(turn);
+            if (angle > MAX_FOOT_TURN) {
+                /* the animation turns the foot further than a planted foot should follow: the
+                 * toe lock goes round the heel's as far as it must */
+                turn = mm_vec3_scale(turn, MAX_FOOT_TURN / angle);
+                c->toe_lock[k] =
+                    mm_vec3_add(c->heel_lock[k], mm_quat_rotate(mm_quat_exp(turn), mm_vec3_sub(t, a)));
+            }
+            c->foot_turn_velocity[k] = mm_vec3_scale(mm_vec3_sub(turn, c->foot_turn[k]), 1.0f / dt);
+            c->foot_turn[k] = turn;
         } else {
-            mm_spring_update(&c->foot_yaw[k], &c->foot_yaw_velocity[k], 0.0f, d->foot_halflife, dt);
+            mm_spring_decay_vec3(&c->foot_turn[k], &c->foot_turn_velocity[k], d->foot_halflife, dt);
         }
         target[k] = mm_vec3_add(foot_source(c, k, a, t), c->foot_offset[k]);
         if (target[k].y < 0.0f) target[k].y = 0.0f; /* never below the ground plane */
-        orientation[k] = mm_quat_mul(yaw_quat(c->foot_yaw[k]), c->global[ankle].rotation);
+        orientation[k] = mm_quat_mul(mm_quat_exp(c->foot_turn[k]), c->global[ankle].rotation);
         c->foot_locked[k] = c->heel_locked[k] || c->toe_locked[k];
         c->foot_lock[k] = target[k];
     }
@@ -687,16 +785,27 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
         }
         c->frame = next;
     }
+    if (d->transition_mode == MM_TRANSITION_CROSSFADE) { /* older slots play on; slot 0 is the playhead */
+        mm_mixer_advance(&c->mixer, dt);
+        mm_mixer_play(&c->mixer, db->frame_next, db->frame_count, c->play_rate * dt / db->interval);
+        c->mixer.slots[0].source = c->frame;
+        c->mixer.slots[0].fraction = c->frame_fraction;
+    }
 
     /* when to search: on time, on a sharp change of the desired direction, on idle in or out,
      * at the end of a clip */
     mm_vec3 desired;
     mm_trajectory_desired(&c->trajectory, in, &desired, NULL);
     float speed = mm_vec3_length(desired), direction = atan2f(desired.x, desired.z);
+    /* idle is asked for once the simulated character has (nearly) stopped too, not when the
+     * stick is let go: until then the locomotion search finds the stops, where an idle pose
+     * would have its planted feet dragged along by the root still moving */
+    float moving = sqrtf(c->trajectory.velocity.x * c->trajectory.velocity.x +
+                         c->trajectory.velocity.z * c->trajectory.velocity.z);
     int idle_changed = 0;
     if (c->idle && speed > d->idle_speed + d->idle_hysteresis)
         c->idle = false, idle_changed = 1;
-    else if (!c->idle && speed < d->idle_speed)
+    else if (!c->idle && speed < d->idle_speed && moving < d->idle_speed + d->idle_hysteresis)
         c->idle = true, idle_changed = 1;
     int turned = speed > 0.3f && fabsf(wrap(direction - c->last_direction)) > d->turn_threshold;
     c->since_search += dt;
