@@ -2,7 +2,8 @@
 # Builds mm and runs the whole test suite with CTest.
 # usage: scripts/test.sh [--sanitize | --tsan]
 #   --sanitize: AddressSanitizer + UndefinedBehaviorSanitizer build in build-asan/, all tests
-#   --tsan:     ThreadSanitizer build in build-tsan/, the tests that run threads (search, batch)
+#   --tsan:     ThreadSanitizer build in build-tsan/, the tests that run threads (search, batch,
+#               the threaded database build)
 # Tests on real motion capture run when MM_DATA_DIR points at it and are reported skipped otherwise.
 set -e
 cd "$(dirname "$0")/.."
@@ -14,9 +15,9 @@ if [ "${1:-}" = "--sanitize" ]; then
 elif [ "${1:-}" = "--tsan" ]; then
     scripts/setup.sh >/dev/null
     cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMM_SANITIZE=thread -DMM_BUILD_BENCH=OFF >/dev/null
-    cmake --build build-tsan -j"$(nproc)" --target test_search
+    cmake --build build-tsan -j"$(nproc)" --target test_search test_database
     # the real data and thousands of queries add nothing to what races there are, at TSan's speed
-    env -u MM_DATA_DIR MM_TEST_SEARCH_QUERIES=200 ctest --test-dir build-tsan --output-on-failure -R 'test_search'
+    env -u MM_DATA_DIR MM_TEST_SEARCH_QUERIES=200 ctest --test-dir build-tsan --output-on-failure -R 'test_search|test_database$'
     exit
 else
     scripts/setup.sh

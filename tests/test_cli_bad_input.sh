@@ -9,13 +9,7 @@
 set -u
 mm=$1
 src=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
-
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+. "$(dirname "$0")/cli_checks.sh"
 
 # run CMD... : CMD with stdout to $tmp/out, stderr to $tmp/err, at most 120 s; sets $got
 limit=""
@@ -358,5 +352,4 @@ if [ -z "$(ls -A "$o")" ]; then ok; else bad "a failed command left output behin
 leftovers=$(find "$tmp" -name '*.tmp*')
 if [ -z "$leftovers" ]; then ok; else bad "temporary files left behind: $leftovers"; fi
 
-echo "test_cli_bad_input: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish test_cli_bad_input

@@ -9,13 +9,8 @@ mm=$1
 src=$2
 data=${MM_DATA_DIR:-}
 [ "${3:-all}" = builtin ] && data=""
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
+. "$(dirname "$0")/cli_checks.sh"
 
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
 run() { # CMD... : must exit 0 (stdout to $tmp/out, stderr to $tmp/err)
     if "$@" >"$tmp/out" 2>"$tmp/err"; then ok; else bad "exit $?: $*"; head -n 5 "$tmp/err"; fi
 }
@@ -125,5 +120,4 @@ else
     echo "MM_DATA_DIR/pfnn not found: mm pfnn run left out"
 fi
 
-echo "determinism: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish test_determinism

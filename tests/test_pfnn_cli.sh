@@ -9,21 +9,8 @@ if [ -z "${MM_DATA_DIR:-}" ] || [ ! -d "$MM_DATA_DIR/pfnn/network" ]; then
 fi
 w=$MM_DATA_DIR/pfnn
 ref=$w/reference
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-passed=0
-failed=0
-ok() { passed=$((passed + 1)); }
-bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+. "$(dirname "$0")/cli_checks.sh"
 
-expect_exit() {
-    want=$1; shift
-    "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
-    if [ "$got" -eq "$want" ]; then ok; else bad "exit $got (wanted $want): $*"; cat "$tmp/err"; fi
-}
-expect_grep() { # PATTERN FILE
-    if grep -q -- "$1" "$2"; then ok; else bad "'$1' not in $2:"; cat "$2"; fi
-}
 # expect_close A.bin B.bin TOL : same number of float32 values, all within TOL
 expect_close() {
     od -An -v -t f4 -w4 "$1" | tr -d ' ' >"$tmp/a.txt"
@@ -110,5 +97,4 @@ expect_exit 1 "$mm" pfnn run --weights "$w" --input "$tmp/none.json" --seconds 1
 expect_grep "none.json" "$tmp/err"
 [ ! -e "$tmp/x.bvh" ] && ok || bad "x.bvh written by a failed run"
 
-echo "test_pfnn_cli: $passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+finish test_pfnn_cli
