@@ -4,10 +4,12 @@
  * own trajectory simulation, and stride and orientation warping checked by geometry. */
 #include <math.h>
 
+#include <mm/character.h>
 #include <mm/distance.h>
 #include <mm/spring.h>
 #include <mm/trajectory.h>
 
+#include "test_databases.h"
 #include "test_util.h"
 
 #define MAX_CLIP 1024
@@ -826,6 +828,141 @@ static void test_orientation_warp(void **state)
 
 /* ---- hostile numbers ------------------------------------------------------------------------------ */
 
+/* yaw (rad about +Y) of the rotation taking a to b: b = about_y(yaw) * a when it is a pure yaw */
+static double yaw_between(mm_quat a, mm_quat b)
+{
+    mm_vec3 f = mm_quat_rotate(mm_quat_mul(b, mm_quat_conj(a)), mm_vec3_make(0, 0, 1));
+    return atan2(f.x, f.z);
+}
+
+static void test_orientation_pose(void **state)
+{
+    (void)state;
+    /* a hand-made chain: root -> pelvis -> spine0 -> spine1 -> chest, plus a thigh on the pelvis */
+    const mm_quat parent = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.7f);
+    const mm_quat local[5] = {
+        mm_quat_from_axis_angle(mm_vec3_normalize(mm_vec3_make(0.3f, 1, 0.2f)), 0.4f), /* pelvis */
+        mm_quat_from_axis_angle(mm_vec3_normalize(mm_vec3_make(1, 0.2f, 0)), 0.15f),   /* spine0 */
+        mm_quat_from_axis_angle(mm_vec3_normalize(mm_vec3_make(0, 1, 1)), -0.2f),      /* spine1 */
+        mm_quat_from_axis_angle(mm_vec3_normalize(mm_vec3_make(1, 0, 1)), 0.1f),       /* chest */
+        mm_quat_from_axis_angle(mm_vec3_normalize(mm_vec3_make(1, 0, 0.1f)), 0.5f),    /* thigh */
+    };
+    mm_quat world[4];
+    world[0] = mm_quat_mul(parent, local[0]);
+    for (int i = 1; i < 4; ++i) world[i] = mm_quat_mul(world[i - 1], local[i]);
+    const mm_quat thigh = mm_quat_mul(world[0], local[4]);
+    mm_warp_orientation_params p;
+    memset(&p, 0, sizeof p);
+    p.spine_count = 3;
+    mm_warp_orientation_result w;
+    mm_quat pelvis_local = local[0], spine_local[3] = {local[1], local[2], local[3]};
+
+    /* angle 0: nothing is written, bit for bit */
+    assert_int_equal(mm_warp_orientation(mm_vec3_make(0, 0, 1), mm_vec3_make(0, 0, 2), 0.0f, 0.016f, &p, &w),
+                     MM_OK);
+    assert_int_equal(mm_warp_orientation_pose(&w, parent, world[0], &world[1], 3, &pelvis_local, spine_local),
+                     MM_OK);
+    assert_memory_equal(&pelvis_local, &local[0], sizeof pelvis_local);
+    assert_memory_equal(spine_local, &local[1], sizeof spine_local);
+
+    /* 50 degrees: the pelvis and the thigh hanging from it turn by 50 degrees about +Y, the chest
+     * keeps its world rotation, the spine in between turns by a third less per joint */
+    const double a = 50.0 * MM_PI / 180.0;
+    assert_int_equal(mm_warp_orientation(mm_vec3_make(0, 0, 1), mm_vec3_make((float)sin(a), 0, (float)cos(a)),
+                                         0.0f, 0.016f, &p, &w),
+                     MM_OK);
+    assert_near(w.angle, a, 1e-5);
+    assert_int_equal(mm_warp_orientation_pose(&w, parent, world[0], &world[1], 3, &pelvis_local, spine_local),
+                     MM_OK);
+    mm_quat after[4];
+    after[0] = mm_quat_mul(parent, pelvis_local);
+    for (int i = 1; i < 4; ++i) after[i] = mm_quat_mul(after[i - 1], spine_local[i - 1]);
+    assert_near(
+        mm_quat_angle_between(
+            after[0], mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), (float)a), world[0])),
+        0.0, 1e-5);
+    assert_near(yaw_between(thigh, mm_quat_mul(after[0], local[4])), a, 1e-4);
+    assert_near(yaw_between(world[1], after[1]), a * 2.0 / 3.0, 1e-4);
+    assert_near(yaw_between(world[2], after[2]), a / 3.0, 1e-4);
+    assert_near(mm_quat_angle_between(after[3], world[3]), 0.0, 1e-5); /* the chest keeps facing */
+
+    assert_int_equal(
+        mm_warp_orientation_pose(NULL, parent, world[0], &world[1], 3, &pelvis_local, spine_local),
+        MM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(mm_warp_orientation_pose(&w, parent, world[0], &world[1],
+                                              MM_WARP_ORIENTATION_MAX_SPINE + 1, &pelvis_local, spine_local),
+                     MM_ERR_INVALID_ARGUMENT);
+}
+
+static int joint_named(const mm_database *db, const char *name)
+{
+    for (int j = 0; j < db->joint_count; ++j)
+        if (strcmp(db->joints[j].name, name) == 0) return j;
+    return -1;
+}
+
+/* The controller on the built-in set: strafing diagonally while facing ahead. Without strafe the
+ * angle stays exactly 0; with it, it stays within the maximum, moves at most as fast as the
+ * smoothing lets it, and when it is not 0 the hips have turned by it (against the pose before the
+ * layers) while the head keeps its world rotation. */
+static void test_orientation_controller(void **state)
+{
+    (void)state;
+    mm_database db;
+    mm_searcher searcher;
+    assert_int_equal(test_build_synth_database(&db), 0);
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    const int hips = joint_named(&db, "Hips"), head = joint_named(&db, "Head");
+    assert_true(hips > 0 && head > 0);
+    for (int strafe = 0; strafe < 2; ++strafe) {
+        mm_character_desc d;
+        mm_character_defaults(&d);
+        d.warping = true;
+        d.no_foot_ik = true;             /* compare with the animated pose: no layer after warping */
+        d.stride_min = d.stride_max = 1; /* and no stride warping */
+        d.orientation_max = 0.6f;
+        d.orientation_speed = 6.0f;
+        mm_character c;
+        assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+        mm_input in;
+        memset(&in, 0, sizeof in);
+        in.stick[0] = 0.6f, in.stick[1] = 0.6f;
+        in.strafe = strafe;
+        in.has_facing = strafe;
+        in.facing[1] = 1.0f;
+        const float dt = 1.0f / 60.0f;
+        const double bound = 2.0 * 0.6 * (1.0 - exp(-6.0 * dt)) + 1e-5;
+        float previous = 0.0f, largest = 0.0f;
+        int checked = 0;
+        mm_xform *pose = test_malloc(sizeof(mm_xform) * (size_t)db.joint_count);
+        for (int tick = 0; tick < 600; ++tick) {
+            mm_character_update(&c, &in, dt);
+            float a = c.orientation_angle;
+            if (!strafe) assert_true(a == 0.0f);
+            assert_true(fabsf(a) <= 0.6f + 1e-6f);
+            assert_true(fabsf(a - previous) <= bound);
+            previous = a;
+            largest = fmaxf(largest, fabsf(a));
+            if (fabsf(a) < 0.05f) continue;
+            pose[0] = c.root;
+            for (int j = 1; j < db.joint_count; ++j)
+                pose[j] = mm_xform_mul(pose[db.joints[j].parent],
+                                       mm_xform_make(c.pose_rotations[j], c.pose_positions[j]));
+            assert_near(mm_quat_angle_between(c.global[hips].rotation,
+                                              mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), a),
+                                                          pose[hips].rotation)),
+                        0.0, 1e-3);
+            assert_near(mm_quat_angle_between(c.global[head].rotation, pose[head].rotation), 0.0, 1e-3);
+            ++checked;
+        }
+        if (strafe) assert_true(checked > 30 && largest > 0.3f);
+        test_free(pose);
+        mm_character_free(&c);
+    }
+    mm_searcher_free(&searcher);
+    mm_database_free(&db);
+}
+
 static float hostile(test_rng *rng)
 {
     static const float special[] = {NAN,   INFINITY, -INFINITY, 1e30f, -1e30f,
@@ -915,6 +1052,8 @@ int main(void)
         cmocka_unit_test(test_stride_warp),
         cmocka_unit_test(test_leg_ik),
         cmocka_unit_test(test_orientation_warp),
+        cmocka_unit_test(test_orientation_pose),
+        cmocka_unit_test(test_orientation_controller),
         cmocka_unit_test(test_hostile_numbers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -264,6 +264,16 @@ typedef struct mm_warp_orientation_result {
  * start); dt >= 0 seconds. Angle 0 gives identities. params may be NULL. */
 mm_result mm_warp_orientation(mm_vec3 facing, mm_vec3 movement, float previous_angle, float dt,
                               const mm_warp_orientation_params *params, mm_warp_orientation_result *out);
+/* Applies an orientation warp to a pose's rotations. The pelvis's world rotation becomes
+ * w->lower_body * pelvis_world (so the legs below it turn with it), and spine joint i's world
+ * rotation becomes w->spine[i] * spine_world[i]; spine[0] hangs from the pelvis and spine[i] from
+ * spine[i - 1]. Writes the new local rotations: *pelvis_local (the pelvis's parent has world
+ * rotation parent_world) and spine_local[spine_count] (0 .. MM_WARP_ORIENTATION_MAX_SPINE). The
+ * joints above the last spine joint keep their world rotation. When w->angle is 0 nothing is
+ * written (the pose stays bit for bit). MM_ERR_INVALID_ARGUMENT for NULL or a bad count. */
+mm_result mm_warp_orientation_pose(const mm_warp_orientation_result *w, mm_quat parent_world,
+                                   mm_quat pelvis_world, const mm_quat *spine_world, int spine_count,
+                                   mm_quat *pelvis_local, mm_quat *spine_local);
 /* A point (for example a planted foot) turned with the lower body about pivot (the root). */
 mm_vec3 mm_warp_orientation_point(const mm_warp_orientation_result *w, mm_vec3 pivot, mm_vec3 point);
 

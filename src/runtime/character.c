@@ -38,6 +38,8 @@ void mm_character_defaults(mm_character_desc *d)
     d->rate_max = MM_DISTANCE_RATE_MAX_DEFAULT;
     d->stride_min = 0.8f;
     d->stride_max = 1.2f;
+    d->orientation_speed = 10.0f;
+    d->orientation_max = MM_WARP_ORIENTATION_MAX_DEFAULT;
 }
 
 void mm_character_default_params(const mm_database *db, mm_search_params *p)
@@ -755,6 +757,69 @@ static void stride_warp(mm_character *c)
                                     mm_xform_make(c->local_rotations[j], c->local_positions[j]));
 }
 
+/* Orientation warping (docs/distance.md): while strafing on a forward (or backward) locomotion
+ * clip, the pelvis and legs turn about +Y by the angle from the root's facing to the simulated
+ * movement (mm_warp_orientation: flipped past 90 degrees, clamped, smoothed into
+ * c->orientation_angle), the spine above the pelvis turns back by equal shares so the chest
+ * keeps its facing; the feet go with the legs, and foot locking and IK re-plant them. */
+static void orientation_warp(mm_character *c, const mm_input *in, float dt)
+{
+    const mm_database *db = c->db;
+    const mm_character_desc *d = &c->desc;
+    int pelvis = c->pelvis_joint;
+    if (pelvis < 0) return;
+    mm_vec3 facing = mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1));
+    mm_vec3 move = c->trajectory.velocity, local = db->root_velocity[c->frame];
+    move.y = 0.0f;
+    /* the clip's own direction: forward or backward locomotion within 60 degrees, else none */
+    float along = local.z, across = fabsf(local.x);
+    int side = along > 0.2f && along > 0.577f * across     ? 1
+               : along < -0.2f && -along > 0.577f * across ? -1
+                                                           : 0;
+    if (!in || !in->strafe || c->move_playing || side == 0 || !(mm_vec3_length(move) > 0.05f) ||
+        db->clips[db->frame_clip[c->frame]].type == MM_CLIP_IDLE)
+        move = facing; /* nothing to correct: the angle goes back to 0 */
+    mm_warp_orientation_params p;
+    memset(&p, 0, sizeof p);
+    p.max_angle = d->orientation_max;
+    p.speed = d->orientation_speed;
+    int spine[MM_WARP_ORIENTATION_MAX_SPINE];
+    /* the spine: the pelvis's child that no leg hangs from, up to the joint where it branches */
+    for (int j = pelvis + 1; j < db->joint_count && p.spine_count == 0; ++j) {
+        if (db->joints[j].parent != pelvis) continue;
+        int leg = 0;
+        for (int k = 0; k < 2; ++k)
+            for (int a = c->foot_joint[k]; a > pelvis; a = db->joints[a].parent) leg |= a == j;
+        if (leg) continue;
+        for (int at = j; at >= 0 && p.spine_count < MM_WARP_ORIENTATION_MAX_SPINE;) {
+            spine[p.spine_count++] = at;
+            int child = -1, children = 0;
+            for (int k = at + 1; k < db->joint_count; ++k)
+                if (db->joints[k].parent == at) child = children++ ? child : k;
+            at = children == 1 ? child : -1;
+        }
+    }
+    mm_warp_orientation_result w;
+    if (mm_warp_orientation(side < 0 ? mm_vec3_scale(facing, -1.0f) : facing, move, c->orientation_angle, dt,
+                            &p, &w) != MM_OK)
+        return;
+    if (w.backward) /* the movement is more than 90 degrees off the clip's direction: no warp */
+        mm_warp_orientation(facing, facing, c->orientation_angle, dt, &p, &w);
+    if (fabsf(w.angle) < 1e-4f) w.angle = 0.0f; /* faded out: the pose is left as it is */
+    c->orientation_angle = w.angle;
+    if (w.angle == 0.0f) return;
+    mm_quat spine_world[MM_WARP_ORIENTATION_MAX_SPINE], spine_local[MM_WARP_ORIENTATION_MAX_SPINE];
+    for (int i = 0; i < p.spine_count; ++i) spine_world[i] = c->global[spine[i]].rotation;
+    if (mm_warp_orientation_pose(&w, c->global[db->joints[pelvis].parent].rotation,
+                                 c->global[pelvis].rotation, spine_world, p.spine_count,
+                                 &c->local_rotations[pelvis], spine_local) != MM_OK)
+        return;
+    for (int i = 0; i < p.spine_count; ++i) c->local_rotations[spine[i]] = spine_local[i];
+    for (int j = pelvis; j < db->joint_count; ++j)
+        c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
+                                    mm_xform_make(c->local_rotations[j], c->local_positions[j]));
+}
+
 void mm_character_update(mm_character *c, const mm_input *in, float dt)
 {
     if (!c || !c->db || !(dt > 0.0f) || !isfinite(dt)) return;
@@ -887,7 +952,10 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     c->local_rotations[0] = c->root.rotation;
     c->local_positions[0] = c->root.translation;
     compute_global(c);
-    if (d->warping) stride_warp(c);
+    if (d->warping) {
+        orientation_warp(c, in, dt);
+        stride_warp(c);
+    }
     for (int k = 0; k < 2; ++k) { /* ankle and the ankle's first child (the toe) before IK (after warping) */
         int ankle = c->foot_joint[k], toe = c->toe_joint[k];
         c->raw_contact_positions[2 * k] = ankle >= 0 ? c->global[ankle].translation : mm_vec3_make(0, 0, 0);

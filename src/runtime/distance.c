@@ -1004,3 +1004,22 @@ mm_vec3 mm_warp_orientation_point(const mm_warp_orientation_result *w, mm_vec3 p
     mm_vec3 r = mm_vec3_add(pivot, mm_quat_rotate(w->lower_body, mm_vec3_sub(point, pivot)));
     return finite3(r) ? r : point;
 }
+
+mm_result mm_warp_orientation_pose(const mm_warp_orientation_result *w, mm_quat parent_world,
+                                   mm_quat pelvis_world, const mm_quat *spine_world, int spine_count,
+                                   mm_quat *pelvis_local, mm_quat *spine_local)
+{
+    if (!w || !pelvis_local || spine_count < 0 || spine_count > MM_WARP_ORIENTATION_MAX_SPINE ||
+        (spine_count > 0 && (!spine_world || !spine_local)))
+        return MM_ERR_INVALID_ARGUMENT;
+    if (w->angle == 0.0f || !isfinite(w->angle)) return MM_OK; /* identity: leave the pose untouched */
+    mm_quat above = mm_quat_normalize(mm_quat_mul(w->lower_body, pelvis_world));
+    *pelvis_local = mm_quat_normalize(mm_quat_mul(mm_quat_conj(parent_world), above));
+    for (int i = 0; i < spine_count; ++i) {
+        /* each joint's new world rotation, taken relative to its parent's new one */
+        mm_quat world = mm_quat_normalize(mm_quat_mul(w->spine[i], spine_world[i]));
+        spine_local[i] = mm_quat_normalize(mm_quat_mul(mm_quat_conj(above), world));
+        above = world;
+    }
+    return MM_OK;
+}
