@@ -18,8 +18,14 @@ static int compare_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Flips runs of value v shorter than min_len that have the other value on both sides. */
-static void remove_short_runs(uint8_t *on, int n, uint8_t v, int min_len)
+float mm__quantile(float *v, int n, float q)
+{
+    qsort(v, (size_t)n, sizeof(float), compare_float);
+    int i = (int)floorf(q * (float)(n - 1));
+    return v[i < 0 ? 0 : i];
+}
+
+void mm__remove_short_runs(uint8_t *on, int n, uint8_t v, int min_len)
 {
     int i = 0;
     while (i < n) {
@@ -47,16 +53,15 @@ void mm__detect_contacts(const mm_clip *clip, const mm_xform *globals, const int
         int j = heel_toe[b];
         if (j < 0 || n < 2) continue;
         for (int f = 0; f < n; ++f) h[f] = globals[(size_t)f * jc + j].translation.y;
-        qsort(h, (size_t)n, sizeof(float), compare_float);
-        float floor_y = h[(n - 1) / 20];
+        float floor_y = mm__quantile(h, n, 0.05f);
         for (int f = 0; f < n; ++f) {
             mm_vec3 p = globals[(size_t)f * jc + j].translation;
             mm_vec3 q = globals[(size_t)(f > 0 ? f - 1 : 1) * jc + j].translation;
             float speed = sqrtf((p.x - q.x) * (p.x - q.x) + (p.z - q.z) * (p.z - q.z)) * clip->fps;
             on[f] = (p.y - floor_y) < cfg->contact_height && speed < cfg->contact_speed;
         }
-        remove_short_runs(on, n, 0, min_len);
-        remove_short_runs(on, n, 1, min_len);
+        mm__remove_short_runs(on, n, 0, min_len);
+        mm__remove_short_runs(on, n, 1, min_len);
         for (int f = 0; f < n; ++f)
             if (on[f]) out[f] |= (uint8_t)(1u << b);
     }

@@ -33,32 +33,6 @@ const char *mm_move_kind_tag(mm_move_kind k)
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
-static int compare_float(const void *a, const void *b)
-{
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
-}
-
-/* The value at fraction q of the sorted values (sorts v). */
-static float quantile(float *v, int n, float q)
-{
-    qsort(v, (size_t)n, sizeof(float), compare_float);
-    int i = (int)floorf(q * (float)(n - 1));
-    return v[i < 0 ? 0 : i];
-}
-
-/* Flips runs of value v shorter than min_len with the other value on both sides. */
-static void remove_short_runs(uint8_t *on, int n, uint8_t v, int min_len)
-{
-    int i = 0;
-    while (i < n) {
-        int j = i;
-        while (j < n && on[j] == on[i]) ++j;
-        if (on[i] == v && i > 0 && j < n && j - i < min_len) memset(on + i, !v, (size_t)(j - i));
-        i = j;
-    }
-}
-
 static mm_vec3 track(const mm_vec3 *t, int frame, int which)
 {
     return t[(size_t)frame * MM_MOVE_TRACK_COUNT + which];
@@ -121,8 +95,8 @@ static void plant_flags(const mm_vec3 *tracks, int n, float fps, const mm_move_p
             float vy = fabsf(a.y - b.y) * fps;
             run[f] = (flags[f] >> k & 1u) && vy < p->plant_speed;
         }
-        remove_short_runs(run, n, 0, min_len);
-        remove_short_runs(run, n, 1, min_len);
+        mm__remove_short_runs(run, n, 0, min_len);
+        mm__remove_short_runs(run, n, 1, min_len);
         for (int f = 0; f < n; ++f) flags[f] = (uint8_t)((flags[f] & ~(1u << k)) | (run[f] ? 1u << k : 0u));
     }
 }
@@ -145,7 +119,7 @@ static int add_runs(const uint8_t *flags, uint8_t mask, int n, int foot, const f
         pl->begin = f;
         pl->end = g - 1;
         pl->foot = foot;
-        pl->height = quantile(sort, g - f, 0.5f);
+        pl->height = mm__quantile(sort, g - f, 0.5f);
         f = g;
     }
     return count;
@@ -232,7 +206,7 @@ mm_result mm_moves_detect(const mm_vec3 *tracks, int frame_count, float fps, con
     float p5[4], floor_y = INFINITY, sole[4];
     for (int k = 0; k < 4; ++k) {
         for (int f = 0; f < n; ++f) w.sort[f] = track(tracks, f, foot_tracks[k]).y;
-        p5[k] = quantile(w.sort, n, 0.05f);
+        p5[k] = mm__quantile(w.sort, n, 0.05f);
         floor_y = fminf(floor_y, p5[k]);
     }
     for (int k = 0; k < 4; ++k) sole[k] = p5[k] - floor_y;

@@ -9,6 +9,7 @@
  * and the analysis used by the build:
  *   mm__root_motion       per-frame root velocity and yaw rate, in the root's frame
  *   mm__detect_contacts   heel/toe contact flags from height and speed, without flicker
+ *   mm__remove_short_runs, mm__quantile   helpers shared with the move detector
  */
 #ifndef MM_DB_PROCESS_H
 #define MM_DB_PROCESS_H
@@ -46,5 +47,10 @@ void mm__root_motion(const mm_clip *clip, mm_vec3 *velocity, float *yaw_rate);
  * ([frames x joints]). heel/toe: joint indices (-1: never in contact). */
 void mm__detect_contacts(const mm_clip *clip, const mm_xform *globals, const int heel_toe[4],
                          const mm_config *cfg, uint8_t *out);
+/* Flips the runs of value v (0 or 1) shorter than min_len frames that have the other value on
+ * both sides (flicker in per-frame flags). */
+void mm__remove_short_runs(uint8_t *on, int n, uint8_t v, int min_len);
+/* The value at fraction q (0..1) of the n values, rounded down to a sample; sorts v. */
+float mm__quantile(float *v, int n, float q);
 
 #endif
