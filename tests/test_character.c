@@ -620,6 +620,79 @@ static void test_feet_hold_under_pull(void **state)
     mm_character_free(&c);
 }
 
+/* The largest second difference (m) of the joints' world positions over three poses. */
+static float second_difference(const mm_vec3 *a, const mm_vec3 *b, const mm_vec3 *now, int n, int *joint)
+{
+    float worst = 0.0f;
+    for (int j = 0; j < n; ++j) {
+        float v = mm_vec3_length(mm_vec3_add(mm_vec3_sub(now[j], mm_vec3_scale(b[j], 2.0f)), a[j]));
+        if (v > worst) worst = v, *joint = j;
+    }
+    return worst;
+}
+
+/* The knees stay continuous when the IK targets pass out of the legs' reach and back: standing
+ * with the feet locked, the simulation is moved 45 cm to the side (the pull carries the hips away
+ * from the planted feet, further than a leg reaches) and after a second back. The hips move as a
+ * spring does; the knees must not jump more than they do where the
+ * leg straightens or bends again (square-root motion near full extension: soft reach), the hips
+ * are lowered within [0, max_hip_drop] through a spring, and a target beyond reach is held on it. */
+static void test_knee_continuous_out_of_reach(void **state)
+{
+    (void)state;
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.sync_max_distance = 1.0f; /* the pull, not the clamp, moves the root */
+    d.unlock_radius = 1.0f;     /* the locks hold however far the hips go */
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    for (int i = 0; i < 90; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    assert_true(c.foot_locked[0] || c.foot_locked[1]);
+    int n = db.joint_count, knee[2] = {db.joints[c.foot_joint[0]].parent, db.joints[c.foot_joint[1]].parent};
+    mm_vec3 *p = malloc(sizeof(mm_vec3) * 3 * (size_t)n);
+    mm_vec3 start = c.root.translation;
+    float worst_knee = 0.0f, worst_root = 0.0f, worst_drop = 0.0f, max_drop = 0.0f, stretch = 0.0f;
+    float drops[3] = {0, 0, 0};
+    for (int i = 0; i < 180; ++i) {
+        if (i == 0 || i == 90)
+            mm_trajectory_reset(&c.trajectory, mm_vec3_add(start, mm_vec3_make(i == 0 ? 0.45f : 0.0f, 0, 0)),
+                                c.root.rotation);
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        mm_vec3 *now = p + (size_t)(i % 3) * (size_t)n;
+        for (int j = 0; j < n; ++j) now[j] = c.global[j].translation;
+        drops[i % 3] = c.hip_drop;
+        max_drop = fmaxf(max_drop, c.hip_drop);
+        for (int k = 0; k < 2; ++k) { /* how far the legs are stretched toward their targets */
+            int ankle = c.foot_joint[k], hip = db.joints[knee[k]].parent;
+            float leg = mm_vec3_distance(now[hip], now[knee[k]]) + mm_vec3_distance(now[knee[k]], now[ankle]);
+            stretch = fmaxf(stretch, mm_vec3_distance(now[hip], now[ankle]) / leg);
+        }
+        if (i < 2) continue;
+        mm_vec3 *b = p + (size_t)((i + 2) % 3) * (size_t)n, *a = p + (size_t)((i + 1) % 3) * (size_t)n;
+        int j = 0;
+        second_difference(a, b, now, n, &j);
+        for (int k = 0; k < 2; ++k) {
+            int kj = knee[k];
+            worst_knee = fmaxf(worst_knee, second_difference(a + kj, b + kj, now + kj, 1, &j));
+        }
+        worst_root = fmaxf(worst_root, second_difference(a, b, now, 1, &j));
+        worst_drop = fmaxf(worst_drop, fabsf(drops[i % 3] - 2.0f * drops[(i + 2) % 3] + drops[(i + 1) % 3]));
+    }
+    print_message("legs stretched to %.4f of their length; second difference per tick: root %.2f mm, knees "
+                  "%.2f mm, hip drop %.2f mm (largest drop %.3f m)\n",
+                  stretch, 1000.0 * worst_root, 1000.0 * worst_knee, 1000.0 * worst_drop, max_drop);
+    assert_true(stretch > 0.97f); /* a leg was (nearly) straight: the targets left the reach */
+    /* the knees move no more abruptly than the root the pull moves (a step of the spring's target:
+     * its second difference is largest on the first tick) */
+    assert_true(worst_knee < 1.5f * worst_root);
+    assert_true(worst_drop < 0.005f);
+    assert_true(max_drop <= c.desc.max_hip_drop + 1e-6f);
+    free(p);
+    mm_character_free(&c);
+}
+
 /* Letting go of the stick at a run does not drop into idle at once (an idle pose would have its
  * planted feet dragged along while the character still moves): idle is asked for once the
  * simulated character has slowed under idle_speed + idle_hysteresis, and then it is. */
@@ -763,6 +836,7 @@ int main(void)
         cmocka_unit_test(test_angle_correction),
         cmocka_unit_test(test_feet_hold),
         cmocka_unit_test(test_feet_hold_under_pull),
+        cmocka_unit_test(test_knee_continuous_out_of_reach),
         cmocka_unit_test(test_idle_after_stop),
         cmocka_unit_test(test_distance_matching_cycle),
         cmocka_unit_test(test_distance_matching_rate),

@@ -444,6 +444,22 @@ static void search(mm_character *c, const mm_input *in, float dt)
         transition(c, best.frame, dt);
 }
 
+/* fraction of the leg's length over which the IK's reach softens (soft_reach) */
+#define SOFT_REACH 0.05f
+
+/* Soft IK: the distance the leg is asked to span, for a target at distance lat from the hip of a
+ * leg of length `length`. Near full extension the knee moves as the square root of what the leg
+ * lacks (a target a millimetre out of reach and back moves the knee centimetres: pops); within
+ * the last SOFT_REACH of the length the span approaches the length exponentially instead
+ * (continuous in value and slope where it starts), so the knee moves smoothly and the ankle falls
+ * short by at most SOFT_REACH * length. */
+static float soft_reach(float lat, float length)
+{
+    float soft = SOFT_REACH * length, start = length - soft;
+    if (!(lat > start) || !(soft > 0.0f)) return lat;
+    return length - soft * expf(-(lat - start) / soft);
+}
+
 /* Two-bone IK: turns the hip (a) and knee (b) so that the ankle (c) reaches target, the knee
  * bending in the plane it bends in now; the ankle takes the world orientation ankle_world. Works
  * on the local rotations and the global transforms of the three joints. */
@@ -456,6 +472,7 @@ static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target, mm_quat ankl
     if (lab < 1e-5f || lcb < 1e-5f) return;
     float lat = mm_vec3_distance(target, a), eps = 1e-4f;
     if (lat < eps) lat = eps;
+    lat = soft_reach(lat, lab + lcb);
     if (lat > lab + lcb - eps) lat = lab + lcb - eps;
 #define CLAMPED_ACOS(x) acosf(fmaxf(-1.0f, fminf(1.0f, (x))))
     mm_vec3 ac = mm_vec3_normalize(mm_vec3_sub(e, a)), ab = mm_vec3_normalize(mm_vec3_sub(b, a));
@@ -479,20 +496,31 @@ static void two_bone_ik(mm_character *c, int ankle, mm_vec3 target, mm_quat ankl
                        mm_vec3_scale(left, 1.0f - w));
     if (mm_vec3_length(bend) < 1e-6f) return;
     bend = mm_vec3_normalize(bend);
-    mm_vec3 swing = mm_vec3_cross(ac, at);
+    (void)ac_at_0;
     mm_quat a_world = c->global[hip].rotation, b_world = c->global[knee].rotation;
     mm_quat r0 = mm_quat_from_axis_angle(mm_quat_inv_rotate(a_world, bend), ac_ab_1 - ac_ab_0);
     mm_quat r1 = mm_quat_from_axis_angle(mm_quat_inv_rotate(b_world, bend), ba_bc_1 - ba_bc_0);
-    mm_quat r2 = mm_vec3_length(swing) > 1e-6f
-                     ? mm_quat_from_axis_angle(mm_quat_inv_rotate(a_world, mm_vec3_normalize(swing)), ac_at_0)
-                     : mm_quat_identity();
-    c->local_rotations[hip] = mm_quat_normalize(mm_quat_mul(c->local_rotations[hip], mm_quat_mul(r0, r2)));
+    c->local_rotations[hip] = mm_quat_normalize(mm_quat_mul(c->local_rotations[hip], r0));
     c->local_rotations[knee] = mm_quat_normalize(mm_quat_mul(c->local_rotations[knee], r1));
     int hip_parent = db->joints[hip].parent;
     c->global[hip] =
         mm_xform_mul(c->global[hip_parent], mm_xform_make(c->local_rotations[hip], c->local_positions[hip]));
     c->global[knee] =
         mm_xform_mul(c->global[hip], mm_xform_make(c->local_rotations[knee], c->local_positions[knee]));
+    /* then the leg swings about the hip onto the target, from where the bend left the ankle (the
+     * bend axis is not always normal to the plane of ankle and target: swinging from the ankle's
+     * old direction missed the target by millimetres) */
+    mm_vec3 bent = mm_xform_apply_point(c->global[knee], c->local_positions[ankle]);
+    mm_vec3 from = mm_vec3_sub(bent, a);
+    if (mm_vec3_length(from) > 1e-6f) {
+        mm_quat swing = mm_quat_between(mm_vec3_normalize(from), at);
+        c->local_rotations[hip] = mm_quat_normalize(mm_quat_mul(mm_quat_conj(c->global[hip_parent].rotation),
+                                                                mm_quat_mul(swing, c->global[hip].rotation)));
+        c->global[hip] = mm_xform_mul(c->global[hip_parent],
+                                      mm_xform_make(c->local_rotations[hip], c->local_positions[hip]));
+        c->global[knee] =
+            mm_xform_mul(c->global[hip], mm_xform_make(c->local_rotations[knee], c->local_positions[knee]));
+    }
     c->local_rotations[ankle] =
         mm_quat_normalize(mm_quat_mul(mm_quat_conj(c->global[knee].rotation), ankle_world));
 }
@@ -593,18 +621,21 @@ static void feet(mm_character *c, float dt)
             mm_vec3 h = c->global[hip].translation;
             float length = mm_vec3_distance(h, c->global[knee].translation) +
                            mm_vec3_distance(c->global[knee].translation, c->global[ankle].translation);
-            float reach = 0.998f * length;
+            float reach = (1.0f - SOFT_REACH) * length;
             float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
             float down =
                 across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : d->max_hip_drop;
             need = fmaxf(need, down);
         }
         need = fminf(need, d->max_hip_drop);
-        float last = c->hip_drop;
+        /* down at once, up through a spring from rest, never past [0, max_hip_drop] (the drop's
+         * velocity used to be kept when it went down at once: the spring then carried it past
+         * what the legs needed, and past max_hip_drop, moving the whole body) */
         mm_spring_update(&c->hip_drop, &c->hip_drop_velocity, need, d->foot_halflife, dt);
-        if (c->hip_drop < need) {
-            c->hip_drop = need;
-            c->hip_drop_velocity = (need - last) / dt;
+        if (c->hip_drop < need) c->hip_drop = need, c->hip_drop_velocity = 0.0f;
+        if (c->hip_drop > d->max_hip_drop || c->hip_drop < 0.0f) {
+            c->hip_drop = fminf(fmaxf(c->hip_drop, 0.0f), d->max_hip_drop);
+            c->hip_drop_velocity = 0.0f;
         }
         if (c->hip_drop > 0.0f) {
             mm_vec3 down = mm_quat_inv_rotate(c->global[db->joints[pelvis].parent].rotation,
@@ -615,8 +646,29 @@ static void feet(mm_character *c, float dt)
                                             mm_xform_make(c->local_rotations[j], c->local_positions[j]));
         }
     }
-    for (int k = 0; k < 2; ++k)
-        if (c->foot_joint[k] >= 0) two_bone_ik(c, c->foot_joint[k], target[k], orientation[k]);
+    for (int k = 0; k < 2; ++k) {
+        if (c->foot_joint[k] < 0) continue;
+        /* a target out of the leg's reach (a lock the hips moved away from, or the offset a
+         * released lock leaves) is brought onto the reach, and the offset with it: otherwise the
+         * offset fades out of reach (the leg stays straight) and then sweeps the ankle through its
+         * reach at the spring's speed */
+        int ankle = c->foot_joint[k], knee = db->joints[ankle].parent, hip = db->joints[knee].parent;
+        mm_vec3 h = c->global[hip].translation;
+        float reach = mm_vec3_distance(h, c->global[knee].translation) +
+                      mm_vec3_distance(c->global[knee].translation, c->global[ankle].translation);
+        mm_vec3 r = mm_vec3_sub(target[k], h);
+        float len = mm_vec3_length(r);
+        if (!c->foot_locked[k] && len > reach && len > 1e-6f) {
+            mm_vec3 u = mm_vec3_scale(r, 1.0f / len), onto = mm_vec3_add(h, mm_vec3_scale(u, reach));
+            c->foot_offset[k] = mm_vec3_add(c->foot_offset[k], mm_vec3_sub(onto, target[k]));
+            float out = mm_vec3_dot(c->foot_offset_velocity[k], u);
+            if (out > 0.0f)
+                c->foot_offset_velocity[k] = mm_vec3_sub(c->foot_offset_velocity[k], mm_vec3_scale(u, out));
+            target[k] = onto;
+            c->foot_lock[k] = onto;
+        }
+        two_bone_ik(c, ankle, target[k], orientation[k]);
+    }
     for (int j = 1; j < db->joint_count; ++j) /* below the ankles */
         c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
                                     mm_xform_make(c->local_rotations[j], c->local_positions[j]));
