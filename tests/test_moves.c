@@ -40,7 +40,10 @@ typedef struct run_result {
     mm_vec3 root_at_end[16]; /* the root when each move handed back */
     float feet_at_end[16];   /* the lower ankle then, less the standing ankle height */
     int resumed[16];         /* searched within 0.2 s after it handed back */
-    float penetration;       /* m */
+    float penetration;       /* m: any joint, the root too (as mm simulate's penetration_max_cm) */
+    float body_penetration;  /* m: the body's joints (not joint 0, the root: a point on the
+                                ground under the hips, which a move keeps at the clip's own
+                                ground, under the surface the clip was recorded on) */
     mm_vec3 final_root;
     float moved_after_last; /* m the root travelled after the last move */
     int stuck;              /* a move never handed back */
@@ -74,6 +77,8 @@ static void run(const mm_database *db, const mm_searcher *searcher, const char *
         mm_moves_update(&m, &c, &in, dt);
         for (int j = 0; j < db->joint_count; ++j) world[j] = c.global[j].translation;
         out->penetration = fmaxf(out->penetration, mm_moves_penetration(&scene, world, db->joint_count));
+        out->body_penetration =
+            fmaxf(out->body_penetration, mm_moves_penetration(&scene, world + 1, db->joint_count - 1));
         if (m.finished && out->moves < 16) {
             int k = out->moves++;
             out->record[k] = m.last;
@@ -205,6 +210,22 @@ static void test_drop(void **state)
     assert_true(r.penetration < 0.05f);
 }
 
+/* Ledge safety: running toward the 1 m platform's edge and letting go of the stick 1.5 m before
+ * it, the character stops at the edge (the stopping distance would take it over) and does not
+ * fall or drop; still walking toward it drops (test_drop). */
+static void test_stop_at_ledge(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&synth_db, &synth_searcher, "drop_auto", "moves_stop_ledge", 6.0f, &r);
+    print_message("stop at ledge: root %.3f %.3f %.3f, %d moves\n", (double)r.final_root.x,
+                  (double)r.final_root.y, (double)r.final_root.z, r.moves);
+    assert_int_equal(r.moves, 0);
+    assert_float_equal(r.final_root.y, 0.0f, 1e-4f); /* on the platform */
+    assert_true(r.final_root.z <= 4.0f);             /* the edge is at z = 4 */
+    assert_false(r.stuck);
+}
+
 /* The shipped scenes the built-in set can cross: the moves expected, no joint more than 5 cm into
  * a box, matching back after every move. */
 static void test_scenes(void **state)
@@ -219,14 +240,17 @@ static void test_scenes(void **state)
         {"drop_key", "moves_drop_key", 1, MM_MOVE_DROP, -0.8f, 0.05f},       /* the jump key at a ledge */
         {"jump_onto_wall", "moves_jump_wall", 2, MM_MOVE_JUMP, 0.0f, 0.05f}, /* onto it, then off */
         {"low_wall_long", "moves_walk", 2, MM_MOVE_JUMP, 0.0f, 0.05f},       /* onto the long side, off */
-        /* over two thin walls (a standing jump stretched into a hurdle: the trailing feet clip the
-         * top, docs/moves.md), onto the last block; known to reach about 20 cm */
-        {"joined_walls", "moves_walk", 3, MM_MOVE_JUMP, 0.9f, 0.25f},
+        /* over a thin wall: a standing jump stretched into a hurdle, the trailing feet lifted over
+         * its top (docs/moves.md) */
+        {"low_wall_short", "moves_walk", 1, MM_MOVE_JUMP, 0.0f, 0.05f},
+        /* over two thin walls, onto the last block */
+        {"joined_walls", "moves_walk", 3, MM_MOVE_JUMP, 0.9f, 0.05f},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         run_result r;
         run(&synth_db, &synth_searcher, cases[i].scene, cases[i].script, 10.0f, &r);
-        print_message("%s: %d moves, penetration %.2f cm\n", cases[i].scene, r.moves, 100.0 * r.penetration);
+        print_message("%s: %d moves, penetration %.2f cm (body), %.2f cm (with the root)\n", cases[i].scene,
+                      r.moves, 100.0 * r.body_penetration, 100.0 * r.penetration);
         assert_int_equal(r.moves, cases[i].moves);
         assert_int_equal(r.record[0].kind, cases[i].first);
         for (int k = 0; k < r.moves; ++k) {
@@ -236,7 +260,7 @@ static void test_scenes(void **state)
         }
         assert_false(r.stuck);
         assert_float_equal(r.final_root.y, cases[i].final_y, 1e-3f);
-        assert_true(r.penetration < cases[i].max_penetration);
+        assert_true(r.body_penetration < cases[i].max_penetration);
     }
 }
 
@@ -272,7 +296,13 @@ static void test_no_scene(void **state)
     assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &d, &err), MM_ERR_OUT_OF_RANGE);
 }
 
-/* LAFAN1 with its moves: every move hands back, nothing deeper than 5 cm into a box. */
+/* LAFAN1 with its moves (configs/lafan1_moves.json) on every shipped scene: the moves expected,
+ * each handing back to matching with its targets reached, the body out of the boxes. Limits
+ * that the data sets (docs/moves.md, "Limits"): LAFAN1's only low vault
+ * (obstacles1_subject5) steps through where a 0.4 m deep wall stands, so its trailing leg cuts
+ * the wall (about 20 cm) and its toe lands about 6 cm off; there is no climb onto a 2 m wall
+ * (its climbs go up about 1 m), so the one used reaches into the wall's face before the hand
+ * is on the top (about 9 cm). */
 static void test_lafan1(void **state)
 {
     (void)state;
@@ -290,16 +320,46 @@ static void test_lafan1(void **state)
     mm_error err;
     memset(&err, 0, sizeof err);
     assert_int_equal(mm_searcher_init(&s, &db, NULL, &err), MM_OK);
-    const char *scenes[][2] = {
-        {"low_wall_short", "moves_walk"}, {"drop_auto", "moves_walk"}, {"jump_gap", "moves_jump_gap"}};
-    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; ++i) {
+    struct {
+        const char *scene, *script;
+        int moves;
+        mm_move_kind kinds[3];
+        float final_y;         /* where it ends up */
+        float max_penetration; /* m, the body's joints */
+        float max_error_cm;
+    } cases[] = {
+        {"low_wall_short", "moves_walk", 1, {MM_MOVE_VAULT_LOW}, 0.0f, 0.25f, 8.0f}, /* limit: the vault */
+        /* measured 4.9-5.2 cm, at the edge of the 5 cm target (moved by the foot IK's tuning) */
+        {"low_wall_long", "moves_walk", 2, {MM_MOVE_CLIMB, MM_MOVE_DROP}, 0.0f, 0.06f, 5.0f},
+        {"high_wall_short", "moves_walk", 1, {MM_MOVE_CLIMB}, 0.0f, 0.10f, 5.0f}, /* limit: no 2 m climb */
+        {"high_wall_long", "moves_walk", 2, {MM_MOVE_CLIMB, MM_MOVE_DROP}, 0.0f, 0.10f, 5.0f},
+        {"drop_auto", "moves_walk", 1, {MM_MOVE_DROP}, -1.0f, 0.05f, 5.0f},
+        {"drop_key", "moves_drop_key", 1, {MM_MOVE_DROP}, -0.8f, 0.05f, 5.0f},
+        {"jump_onto_wall", "moves_jump_wall", 2, {MM_MOVE_JUMP, MM_MOVE_DROP}, 0.0f, 0.05f, 5.0f},
+        {"jump_gap", "moves_jump_gap", 1, {MM_MOVE_JUMP}, 0.0f, 0.05f, 5.0f},
+        {"joined_walls", "moves_walk", 2, {MM_MOVE_VAULT_LOW, MM_MOVE_VAULT_LOW}, 0.0f, 0.25f, 8.0f},
+        /* ledge safety: stopping near the edge, no move and no fall */
+        {"drop_auto", "moves_stop_ledge", 0, {MM_MOVE_NONE}, 0.0f, 0.05f, 5.0f},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         run_result r;
-        run(&db, &s, scenes[i][0], scenes[i][1], 10.0f, &r);
-        print_message("lafan1 %s: %d moves, penetration %.2f cm\n", scenes[i][0], r.moves,
-                      100.0 * r.penetration);
-        assert_true(r.moves >= 1);
-        for (int k = 0; k < r.moves; ++k) assert_true(r.resumed[k]);
+        run(&db, &s, cases[i].scene, cases[i].script, 10.0f, &r);
+        print_message("lafan1 %s: %d moves, penetration %.2f cm (body), %.2f cm (with the root)\n",
+                      cases[i].scene, r.moves, 100.0 * r.body_penetration, 100.0 * r.penetration);
+        for (int k = 0; k < r.moves; ++k)
+            print_message("  %s %.2f-%.2f s, target error %.2f cm\n", mm_move_kind_name(r.record[k].kind),
+                          (double)r.record[k].t_start, (double)r.record[k].t_end,
+                          (double)r.record[k].target_error_cm);
+        assert_int_equal(r.moves, cases[i].moves);
+        for (int k = 0; k < r.moves; ++k) {
+            assert_int_equal(r.record[k].kind, cases[i].kinds[k]);
+            assert_true(r.resumed[k]); /* matching resumes */
+            assert_true(r.record[k].target_error_cm < cases[i].max_error_cm);
+        }
         assert_false(r.stuck);
+        if (r.moves > 0) assert_true(r.moved_after_last > 0.5f); /* and walks on */
+        assert_float_equal(r.final_root.y, cases[i].final_y, 1e-3f);
+        assert_true(r.body_penetration < cases[i].max_penetration);
     }
     mm_searcher_free(&s);
     mm_database_free(&db);
@@ -308,9 +368,10 @@ static void test_lafan1(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_choose), cmocka_unit_test(test_penetration), cmocka_unit_test(test_jump_gap),
-        cmocka_unit_test(test_drop),   cmocka_unit_test(test_scenes),      cmocka_unit_test(test_no_scene),
-        cmocka_unit_test(test_lafan1),
+        cmocka_unit_test(test_choose),        cmocka_unit_test(test_penetration),
+        cmocka_unit_test(test_jump_gap),      cmocka_unit_test(test_drop),
+        cmocka_unit_test(test_scenes),        cmocka_unit_test(test_no_scene),
+        cmocka_unit_test(test_stop_at_ledge), cmocka_unit_test(test_lafan1),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

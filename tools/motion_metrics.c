@@ -65,7 +65,9 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
     }
     m->nan_frames += bad;
     if (m->scene && !bad) {
-        double depth = mm_moves_penetration(m->scene, world, n);
+        /* the body's joints: joint 0, the simulation root, is a point on the ground under the hips,
+         * which a move keeps at the clip's own ground (under the box it was recorded on) */
+        double depth = n > 1 ? mm_moves_penetration(m->scene, world + 1, n - 1) : 0.0;
         if (depth > m->penetration_max) m->penetration_max = depth;
     }
     if (f >= 2)

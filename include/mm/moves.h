@@ -18,6 +18,10 @@
  *    schedule through those points (the seed's rise and fall moments), so the hand is on the
  *    top edge at HandPlant and the feet on the ground found at Landing, whatever height the clip
  *    was recorded at;
+ *  - keeps every joint of the pose about to play out of the boxes' tops (the root raised over the
+ *    schedule by `lift`: a trailing leg over a wall, a toe on its edge);
+ *  - in locomotion, stops a character not asked to move on at a ledge (no walking off without
+ *    a drop);
  *  - hands back to matching recover_time after Landing: the root moved to the ground under the
  *    body (the pose kept), the trajectory simulation moved to the root (mm_trajectory_teleport).
  * During a move the collider is off; the ground below is probed for the landing height.
@@ -99,6 +103,9 @@ typedef struct mm_move_clip {
     float rise;                        /* m: the clip's ground at landing less at start */
     float plant_distance;              /* m: forward from the root at start to the hand at
                                           HandPlant (0 without) */
+    float hand_inset;                  /* m: how far in from the obstacle's near face the hand plants
+                                          (no joint below the top is ahead of the face up to just
+                                          after the plant) */
     float land_distance;               /* m: forward from the root at start to the root at
                                           Landing */
 } mm_move_clip;
@@ -118,6 +125,7 @@ typedef struct mm_moves {
     mm_move_clip clips[MM_MOVE_KIND_COUNT];
     int hand[2], foot[2];
     float ankle_height; /* m: the ankles' height above the ground when standing */
+    float toe_height;   /* m: the toes' (the ankles' first children) then */
     bool enabled;       /* a scene and at least one move clip */
 
     /* state */
@@ -134,6 +142,8 @@ typedef struct mm_moves {
     float hand_error, land_error;     /* m, measured when the events are reached */
     bool jump_held;                   /* the jump key's state last tick */
     float fall_velocity;              /* m/s, downwards: falling in locomotion */
+    float lift;                       /* m: the root raised over the schedule during a move so that no
+                                         joint of the pose about to play is inside a box's top */
     float since_move;                 /* s since the last move handed back */
     mm_move_record current;           /* the move playing */
     /* per tick: a move handed back on this tick (last holds it); moves performed so far */

@@ -111,25 +111,6 @@ static mm_xform advance_root(const mm_database *db, int frame, float fraction, f
     return mm_xform_make(yaw_quat(yaw), p);
 }
 
-/* The first span of frames carrying tag (a clip that is not a mirror preferred). */
-static int find_span(const mm_database *db, uint64_t tag, int *first, int *last)
-{
-    if (!tag || !db->frame_tags) return 0;
-    for (int pass = 0; pass < 2; ++pass)
-        for (int f = 0; f < db->frame_count; ++f) {
-            if (!(db->frame_tags[f] & tag)) continue;
-            int clip = db->frame_clip[f];
-            if (pass == 0 && db->clips[clip].mirrored) continue;
-            int e = f;
-            while (e + 1 < db->frame_count && db->frame_clip[e + 1] == clip && (db->frame_tags[e + 1] & tag))
-                ++e;
-            *first = f;
-            *last = e;
-            return 1;
-        }
-    return 0;
-}
-
 static int find_event(const mm_database *db, uint64_t tag, int first, int last)
 {
     for (int f = first; tag && db->frame_tags && f <= last; ++f)
@@ -137,14 +118,13 @@ static int find_event(const mm_database *db, uint64_t tag, int first, int last)
     return -1;
 }
 
-static void setup_clip(mm_moves *m, mm_move_kind kind)
+/* One span of frames tagged as the move: its events and measures in *mc (mc->clip -1: unusable). */
+static void setup_span(mm_moves *m, mm_move_clip *mc, int first, int last)
 {
     const mm_database *db = m->db;
-    mm_move_clip *mc = &m->clips[kind];
     memset(mc, 0, sizeof *mc);
     mc->clip = mc->take_off = mc->hand_plant = mc->landing = mc->hand = -1;
-    int first, last;
-    if (!find_span(db, mm_search_tag_mask(db, kind_tags[kind]), &first, &last) || last - first < 4) return;
+    if (last - first < 4) return;
     /* the tag may cover the move alone: the clip around it gives the approach and the recovery */
     const mm_db_clip *clip = &db->clips[db->frame_clip[first]];
     int clip_first = clip->first_frame, clip_last = clip->first_frame + clip->frame_count - 1;
@@ -196,8 +176,21 @@ static void setup_clip(mm_moves *m, mm_move_kind kind)
         if (mc->hand >= 0) {
             mm_xform r = advance_root(db, mc->start, 0.0f, (float)(mc->hand_plant - mc->start) * db->interval,
                                       start_root);
-            mc->plant_distance =
-                mm_xform_apply_point(r, bone_in_root(db, mc->hand_plant, mc->hand).translation).z;
+            mm_vec3 hand = mm_xform_apply_point(r, bone_in_root(db, mc->hand_plant, mc->hand).translation);
+            mc->plant_distance = hand.z;
+            /* the near face: ahead of every joint below the top (a knee against the wall) from
+             * the start to just after the plant, among those not beyond the hand */
+            float face = -INFINITY;
+            int until = mc->hand_plant + (int)lroundf(0.2f / db->interval);
+            for (int f = mc->start; f <= until && f < mc->landing; ++f) {
+                mm_xform rf =
+                    advance_root(db, mc->start, 0.0f, (float)(f - mc->start) * db->interval, start_root);
+                for (int j = 1; j < db->joint_count; ++j) {
+                    mm_vec3 p = mm_xform_apply_point(rf, bone_in_root(db, f, j).translation);
+                    if (p.y < hand.y - 0.05f && p.z < hand.z + 0.25f) face = fmaxf(face, p.z);
+                }
+            }
+            mc->hand_inset = isfinite(face) ? clampf(hand.z - face + 0.02f, 0.05f, 0.35f) : 0.08f;
         } else {
             mc->hand_plant = -1;
         }
@@ -208,6 +201,30 @@ static void setup_clip(mm_moves *m, mm_move_kind kind)
     mc->rise = clip_ground(m, mc->landing) - clip_ground(m, mc->start);
     mc->onto = mc->rise > 0.4f;
     mc->clip = db->frame_clip[first];
+}
+
+/* The move's clip: the first span of frames tagged as the move that has what the layer needs (a
+ * clip that is not a mirror preferred). */
+static void setup_clip(mm_moves *m, mm_move_kind kind)
+{
+    const mm_database *db = m->db;
+    mm_move_clip *mc = &m->clips[kind];
+    memset(mc, 0, sizeof *mc);
+    mc->clip = -1;
+    uint64_t tag = mm_search_tag_mask(db, kind_tags[kind]);
+    if (!tag || !db->frame_tags) return;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int f = 0; f < db->frame_count; ++f) {
+            int clip = db->frame_clip[f];
+            if (!(db->frame_tags[f] & tag) || (pass == 0 && db->clips[clip].mirrored)) continue;
+            if (f > 0 && db->frame_clip[f - 1] == clip && (db->frame_tags[f - 1] & tag))
+                continue; /* not a start */
+            int e = f;
+            while (e + 1 < db->frame_count && db->frame_clip[e + 1] == clip && (db->frame_tags[e + 1] & tag))
+                ++e;
+            setup_span(m, mc, f, e);
+            if (mc->clip >= 0) return;
+        }
 }
 
 mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scene, const mm_moves_desc *desc,
@@ -250,6 +267,15 @@ mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scen
     for (int k = 0; k < 2; ++k)
         if (m->foot[k] >= 0) y = fminf(y, bone_in_root(db, stand, m->foot[k]).translation.y);
     if (isfinite(y)) m->ankle_height = y;
+    m->toe_height = m->ankle_height;
+    float toe = INFINITY;
+    for (int k = 0; k < 2; ++k)
+        for (int j = 1; m->foot[k] >= 0 && j < db->joint_count; ++j)
+            if (db->joints[j].parent == m->foot[k]) {
+                toe = fminf(toe, bone_in_root(db, stand, j).translation.y);
+                break;
+            }
+    if (isfinite(toe)) m->toe_height = toe;
     int any = 0;
     for (int k = 0; k < MM_MOVE_KIND_COUNT; ++k) {
         setup_clip(m, (mm_move_kind)k);
@@ -352,6 +378,22 @@ static int end_frame(const mm_moves *m, const mm_move_clip *mc)
     return end > mc->last ? mc->last : end;
 }
 
+/* The clip's ground at the landing: the lowest over the few frames after it (a foot landing toes
+ * first is not the ground), not over the whole recovery, which may step onto another level. */
+static float landing_ground(const mm_moves *m, const mm_move_clip *mc)
+{
+    int end = end_frame(m, mc), near = mc->landing + (int)lroundf(0.1f / m->db->interval);
+    return clip_ground_span(m, mc->landing, near < end ? near : end);
+}
+
+/* The last key, where the move hands back: the feet on the surface h at the end frame, whatever
+ * level the clip's recovery walks on. */
+static void add_end_key(mm_moves *m, const mm_move_clip *mc, float h)
+{
+    int end = end_frame(m, mc);
+    add_key(m, (float)(end - mc->start) * m->db->interval, h - clip_ground(m, end), 0);
+}
+
 /* Starts a move: the root lowered under the body to the clip's ground (the pose kept), the clip
  * asked for, the state reset. Returns the root height the schedule starts from. */
 static float begin(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_move_clip *mc)
@@ -366,6 +408,7 @@ static float begin(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_mov
     m->match_on[0] = m->match_on[1] = false;
     m->key_count = 0;
     m->hand_error = m->land_error = 0.0f;
+    m->lift = 0.0f;
     m->current.kind = kind;
     m->current.t_start = (float)m->time;
     m->current.t_end = m->current.t_start;
@@ -455,7 +498,7 @@ static void start_jump(mm_moves *m, mm_character *c, mm_move_kind kind, const mm
     float y0 = begin(m, c, kind, mc);
     float t_to = (float)(mc->take_off - mc->start) * dt_frame,
           t_land = (float)(mc->landing - mc->start) * dt_frame;
-    float flight = t_land - t_to, y_land = land.y - clip_ground_span(m, mc->landing, end_frame(m, mc));
+    float flight = t_land - t_to, y_land = land.y - landing_ground(m, mc);
     m->land_target = land;
     mm_target_match_init(&m->match[1], 0, land, c->root.rotation, fmaxf(0.0f, t_to - 0.1f), t_land);
     m->match[1].position_weight = mm_vec3_make(1.0f, 0.0f, 1.0f);
@@ -477,6 +520,7 @@ static void start_jump(mm_moves *m, mm_character *c, mm_move_kind kind, const mm
         add_key(m, t_to, y0, 2);
     }
     add_key(m, t_land, y_land, 0);
+    add_end_key(m, mc, land.y);
 }
 
 static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_move_clip *mc,
@@ -493,7 +537,7 @@ static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const m
     /* where the clip would land, measured from its hand plant (or from where it starts) */
     mm_xform land_rel = advance_root(db, mc->start, 0.0f, (float)(mc->landing - mc->start) * db->interval,
                                      mm_xform_identity());
-    float from_face = mc->hand_plant >= 0 ? mc->land_distance - mc->plant_distance + 0.08f
+    float from_face = mc->hand_plant >= 0 ? mc->land_distance - mc->plant_distance + mc->hand_inset
                                           : mc->land_distance - o->distance;
     float dist = mc->onto || kind == MM_MOVE_CLIMB
                      ? (o->depth >= 0.65f ? clampf(from_face, 0.35f, o->depth - 0.3f) : 0.5f * o->depth)
@@ -503,8 +547,7 @@ static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const m
     float h;
     if (!ground_at(m, mm_vec3_make(p.x, o->top, p.z), 0.05f, INFINITY, &h)) return;
     float y0 = begin(m, c, kind, mc);
-    float t_land = (float)(mc->landing - mc->start) * db->interval,
-          y_land = h - clip_ground_span(m, mc->landing, end_frame(m, mc));
+    float t_land = (float)(mc->landing - mc->start) * db->interval, y_land = h - landing_ground(m, mc);
     m->land_target = mm_vec3_make(p.x, h, p.z);
     add_key(m, 0.0f, y0, 1);
     float t_plant = 0.0f;
@@ -513,7 +556,7 @@ static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const m
         mm_vec3 hand = bone_in_root(db, mc->hand_plant, mc->hand).translation;
         mm_xform plant_rel = advance_root(db, mc->start, 0.0f, t_plant, mm_xform_identity());
         mm_vec3 hand_rel = mm_xform_apply_point(plant_rel, hand);
-        m->hand_target = mm_vec3_add(mm_vec3_add(q, mm_vec3_scale(f, 0.08f)),
+        m->hand_target = mm_vec3_add(mm_vec3_add(q, mm_vec3_scale(f, mc->hand_inset)),
                                      mm_quat_rotate(face, mm_vec3_make(hand_rel.x, 0.0f, 0.0f)));
         m->hand_target.y = o->top;
         mm_target_match_init(&m->match[0], mc->hand, m->hand_target, face, 0.0f, t_plant);
@@ -526,6 +569,7 @@ static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const m
     m->match[1].position_weight = mm_vec3_make(1.0f, 0.0f, 1.0f);
     m->match_on[1] = true;
     add_key(m, t_land, y_land, 0);
+    add_end_key(m, mc, h);
 }
 
 /* The predicted transform at clip time `end` of the matched bone (joint 0: the root) if no
@@ -540,6 +584,45 @@ static mm_xform predict(const mm_moves *m, const mm_character *c, int bone, floa
     return mm_xform_make(r.rotation, p);
 }
 
+/* How far p must rise to be out of the top of a box it is in, when within window of that top. */
+static float lift_out(const mm_scene *scene, mm_vec3 p, float window)
+{
+    const float margin = 0.01f;
+    float lift = 0.0f;
+    for (int b = 0; b < scene->box_count; ++b) {
+        const mm_scene_box *box = &scene->boxes[b];
+        float top = box->position.y + box->size.y;
+        if (p.y >= top + margin || p.y < top - window || p.y < box->position.y) continue;
+        float sn = sinf(box->yaw), cs = cosf(box->yaw);
+        float px = p.x - box->position.x, pz = p.z - box->position.z;
+        float lx = cs * px - sn * pz, lz = sn * px + cs * pz;
+        if (fabsf(lx) > 0.5f * box->size.x + margin || fabsf(lz) > 0.5f * box->size.z + margin) continue;
+        lift = fmaxf(lift, top + margin - p.y);
+    }
+    return lift;
+}
+
+/* How far the root at height y must rise so that no joint of the clip's pose at clip time t is
+ * inside a box near its top (within 0.25 m of it: a joint deeper than that hits a face, which
+ * lifting does not cure). */
+static float clearance(const mm_moves *m, const mm_character *c, float t, float y, float window)
+{
+    float ahead = t - clip_time(m, c);
+    const mm_database *db = m->db;
+    int frame = m->start_frame + (int)lroundf(t / db->interval);
+    int clip = db->frame_clip[m->start_frame];
+    const mm_db_clip *cl = &db->clips[clip];
+    if (frame >= cl->first_frame + cl->frame_count) frame = cl->first_frame + cl->frame_count - 1;
+    mm_xform root = advance_root(db, c->frame, c->frame_fraction, fmaxf(ahead, 0.0f), c->root);
+    root.translation.y = y;
+    float lift = 0.0f;
+    for (int j = 1; j < db->joint_count; ++j)
+        lift =
+            fmaxf(lift, lift_out(m->scene, mm_xform_apply_point(root, bone_in_root(db, frame, j).translation),
+                                 window));
+    return lift;
+}
+
 static void before_move(mm_moves *m, mm_character *c, float dt)
 {
     if (!m->started) return; /* the character starts playing it on this update */
@@ -551,7 +634,22 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
         if (mm_target_match_step(&m->match[k], t, dt, pred, &correction))
             c->root = mm_xform_mul(correction, c->root);
     }
-    c->root.translation.y = schedule(m, t + dt);
+    /* the schedule, raised where the pose about to play would cut into a box's top (a trailing leg
+     * over a wall, a toe on its edge); the lift rises at once and settles back smoothly */
+    float y = schedule(m, t + dt);
+    /* after the hand plant the body goes over the top: a joint deeper in is lifted over too */
+    const mm_move_clip *mc = clip_of(m, m->kind);
+    float window = mc && mc->hand_plant >= 0 && t >= (float)(mc->hand_plant - mc->start) * m->db->interval
+                       ? 0.6f
+                       : 0.25f;
+    int look = mc && mc->hand_plant < 0 ? 6 : 3; /* ticks looked ahead: a jump rises fast */
+    float kept = m->lift * expf(-dt / 0.15f), need = 0.0f;
+    for (int k = 1; k <= look; ++k)
+        need = fmaxf(need, clearance(m, c, t + (float)k * dt, schedule(m, t + (float)k * dt) + kept, window));
+    /* until the landing (then the feet stand on the surface found), and never more than a hop */
+    if (mc && t + dt >= (float)(mc->landing - mc->start) * m->db->interval) need = 0.0f;
+    m->lift = fminf(kept + need, 0.6f);
+    c->root.translation.y = y + m->lift;
     mm_trajectory_teleport(&c->trajectory, c->root.translation, c->root.rotation);
 }
 
@@ -573,6 +671,19 @@ static void after_move(mm_moves *m, mm_character *c, float t_before)
     }
     float t = clip_time(m, c);
     const mm_move_clip *mc = clip_of(m, m->kind);
+    /* the pose as played (with its transition offsets and the feet's IK) may still cut a top the
+     * prediction cleared: lifted out on the next tick */
+    if (mc) { /* after the landing only a toe dipping into the surface stood on */
+        float window = t >= (float)(mc->landing - mc->start) * db->interval ? 0.1f
+                       : mc->hand_plant >= 0 && t >= (float)(mc->hand_plant - mc->start) * db->interval
+                           ? 0.6f
+                           : 0.25f,
+              extra = 0.0f;
+        for (int j = 1; j < db->joint_count; ++j) /* not the hands: matched onto the top */
+            if (j != m->hand[0] && j != m->hand[1])
+                extra = fmaxf(extra, lift_out(m->scene, c->global[j].translation, window));
+        m->lift = fminf(m->lift + extra, 0.6f);
+    }
     if (mc && mc->hand_plant >= 0 && m->match_on[0]) {
         float tp = (float)(mc->hand_plant - mc->start) * db->interval;
         if (t_before < tp && t >= tp)
@@ -588,7 +699,11 @@ static void after_move(mm_moves *m, mm_character *c, float t_before)
     }
     if (mm_character_move_playing(c) && t < 30.0f) return;
     /* handed back: the root onto the ground under the body, the simulation to the root */
-    float feet = lower_ankle(c) - m->ankle_height, h;
+    /* the feet's height: the lowest of heel (the ankle) and toe, each less its standing height (a
+     * foot pitched on landing stands on its toes) */
+    float feet = fminf(lower_ankle(c) - m->ankle_height,
+                       fminf(c->raw_contact_positions[1].y, c->raw_contact_positions[3].y) - m->toe_height),
+          h;
     mm_vec3 r = c->root.translation;
     if (mm_vec3_length(flat(mm_vec3_sub(r, m->land_target))) < 1.0f) /* the feet on the ground aimed at */
         m->land_error =
@@ -652,6 +767,29 @@ static void keep_on_ground(mm_moves *m, mm_character *c, float dt)
     }
 }
 
+/* Ledge safety: a character not asked to move on (stopping, standing, turning on the spot) that
+ * would step past a ledge (no ground within step_height under the root, where there was before)
+ * stays at the edge; walking on toward it triggers the drop instead (look_for_move). */
+static void stay_on_ledge(mm_moves *m, mm_character *c, const mm_input *in, mm_vec3 before)
+{
+    const mm_moves_desc *d = &m->desc;
+    mm_vec3 desired = mm_vec3_make(0, 0, 0);
+    if (in) mm_trajectory_desired(&c->trajectory, in, &desired, NULL);
+    float h;
+    if (mm_vec3_length(flat(desired)) > 0.5f || m->fall_velocity != 0.0f) return;
+    if (!ground_at(m, before, d->step_height, d->step_height, &h)) return; /* not on the ground */
+    if (ground_at(m, c->root.translation, d->step_height, d->step_height, &h)) return;
+    mm_vec3 back = mm_vec3_make(before.x - c->root.translation.x, 0.0f, before.z - c->root.translation.z);
+    /* the whole body back by the step it took (a translation: the pose unchanged) */
+    c->root.translation = mm_vec3_add(c->root.translation, back);
+    c->local_positions[0] = c->root.translation;
+    for (int j = 0; j < m->db->joint_count; ++j)
+        c->global[j].translation = mm_vec3_add(c->global[j].translation, back);
+    for (int k = 0; k < 4; ++k) c->raw_contact_positions[k] = mm_vec3_add(c->raw_contact_positions[k], back);
+    c->trajectory.position = mm_vec3_add(c->trajectory.position, back);
+    c->trajectory.velocity = mm_vec3_make(0, 0, 0);
+}
+
 /* After the character's update in locomotion: a move to start? */
 static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int pressed)
 {
@@ -703,7 +841,8 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
         if (plan_landing(m, c, mc, 0, &land, &over)) start_jump(m, c, MM_MOVE_JUMP, mc, land, over);
         return;
     }
-    if (o.distance > fmaxf(mc->plant_distance, 0.3f) + d->trigger_slack) return;
+    /* at the clip's own distance from the face to the hand plant: little left to correct */
+    if (o.distance > fmaxf(mc->plant_distance - mc->hand_inset, 0.3f) + d->trigger_slack) return;
     start_vault(m, c, kind, mc, &o);
 }
 
@@ -728,6 +867,8 @@ void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
     }
     m->since_move += dt;
     keep_on_ground(m, c, dt);
+    mm_vec3 before = c->root.translation;
     mm_character_update(c, in, dt);
+    stay_on_ledge(m, c, in, before);
     look_for_move(m, c, in, pressed);
 }
