@@ -328,6 +328,38 @@ static void test_pivot(void **state)
     mm_distance_curve_free(&c);
 }
 
+/* Brakes from 1.4 m/s to rest at t = 1 (0.7 m out), then drifts back at sway_speed m/s: the
+ * root's sway after a stop, or (faster than the 0.1 m/s stop speed) a walk away the other way. */
+static double sway_speed;
+static double stop_then_sway(double t)
+{
+    return t <= 1.0 ? 1.4 * t - 0.7 * t * t : 0.7 - sway_speed * (t - 1.0);
+}
+
+static void test_stop_then_sway(void **state)
+{
+    (void)state;
+    static float pos[3 * MAX_CLIP];
+    const float fps = 60.0f;
+    /* 0.07 m/s back: over the 0.2 s after the rest point it leaves 1.4 cm, more than half the
+     * stop speed's 2 cm but less than all of it: a stop, the distance counting on through it */
+    const double speeds[2] = {0.07, 0.15};
+    for (int k = 0; k < 2; ++k) {
+        sway_speed = speeds[k];
+        int n = sample_path(stop_then_sway, 0.6, 0.8, fps, 121, pos);
+        mm_distance_curve c = build(pos, 3, n, fps, 0);
+        assert_int_equal(c.segment_count, 1);
+        assert_int_equal(c.segments[0].kind, k == 0 ? MM_DISTANCE_STOP : MM_DISTANCE_PIVOT);
+        assert_in_range(c.segments[0].marker_frame, 59, 61);
+        for (int i = 0; i < n; ++i) { /* path length to the rest point */
+            double t = i / fps, s = stop_then_sway(t);
+            double expected = t <= 1.0 ? s - 0.7 : 0.7 - s;
+            assert_near(c.distance[i], expected, 2e-3);
+        }
+        mm_distance_curve_free(&c);
+    }
+}
+
 /* ---- round trips ---------------------------------------------------------------------------- */
 
 static void test_round_trip(void **state)
@@ -975,6 +1007,63 @@ static mm_vec3 hostile3(test_rng *rng) { return mm_vec3_make(hostile(rng), hosti
 
 static int finite_vec(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
+/* Stride warping in the controller on the built-in set, stick on and off (starts and stops, which
+ * are no loops): the stride scale stays in its clamp and, outside loop cycles (played at their
+ * exact ratio) and the falls back to 1 at rest, moves per tick at most by what its 0.1 s half-life
+ * filter allows across the clamp; the pelvis drop never jumps by more than its 0.05 s filter allows
+ * over a 1 m drop, and the pelvis is lowered by exactly that drop against the pose before the
+ * layers. */
+static void test_stride_controller(void **state)
+{
+    (void)state;
+    mm_database db;
+    mm_searcher searcher;
+    assert_int_equal(test_build_synth_database(&db), 0);
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.warping = true;
+    d.distance_matching = true;
+    d.no_foot_ik = true;
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    const float dt = 1.0f / 60.0f;
+    const double scale_step = (1.0 - exp2(-dt / 0.1)) * (d.stride_max - d.stride_min) + 1e-5;
+    const double drop_step = (1.0 - exp2(-dt / 0.05)) * 1.0 + 1e-5;
+    float scale = 1.0f, drop = 0.0f;
+    int previous_playback = MM_PLAYBACK_CLOCK, smoothed = 0, dropped = 0;
+    const int pelvis = c.pelvis_joint;
+    assert_true(pelvis > 0);
+    for (int tick = 0; tick < 1200; ++tick) {
+        mm_input in;
+        memset(&in, 0, sizeof in);
+        int on = (tick / 150) % 2 == 0;
+        in.stick[1] = on ? 1.0f : 0.0f;
+        in.stick[0] = on ? 0.3f : 0.0f;
+        mm_character_update(&c, &in, dt);
+        assert_true(c.stride_scale >= d.stride_min - 1e-6f && c.stride_scale <= d.stride_max + 1e-6f);
+        assert_true(c.stride_drop >= 0.0f && c.stride_drop <= 1.0f);
+        if (c.playback != MM_PLAYBACK_CYCLE && previous_playback != MM_PLAYBACK_CYCLE &&
+            c.stride_scale != 1.0f && scale != 1.0f) {
+            assert_true(fabsf(c.stride_scale - scale) <= scale_step);
+            ++smoothed;
+        }
+        assert_true(fabsf(c.stride_drop - drop) <= drop_step);
+        if (c.stride_drop > 0.0f) {
+            mm_vec3 lowered = mm_vec3_sub(c.pose_positions[pelvis], c.local_positions[pelvis]);
+            mm_vec3 world = mm_quat_rotate(c.global[db.joints[pelvis].parent].rotation, lowered);
+            assert_near(world.y, c.stride_drop, 1e-4);
+            ++dropped;
+        }
+        scale = c.stride_scale, drop = c.stride_drop;
+        previous_playback = c.playback;
+    }
+    printf("smoothed scale ticks %d, dropped ticks %d\n", smoothed, dropped);
+    mm_character_free(&c);
+    mm_searcher_free(&searcher);
+    mm_database_free(&db);
+}
+
 /* Whatever comes in (NaN, infinities, 1e38), nothing non-finite comes out. */
 static void test_hostile_numbers(void **state)
 {
@@ -1044,6 +1133,7 @@ int main(void)
         cmocka_unit_test(test_loop_stops),
         cmocka_unit_test(test_two_stops),
         cmocka_unit_test(test_pivot),
+        cmocka_unit_test(test_stop_then_sway),
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_play_rate),
         cmocka_unit_test(test_bad_input),
@@ -1054,6 +1144,7 @@ int main(void)
         cmocka_unit_test(test_orientation_warp),
         cmocka_unit_test(test_orientation_pose),
         cmocka_unit_test(test_orientation_controller),
+        cmocka_unit_test(test_stride_controller),
         cmocka_unit_test(test_hostile_numbers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -676,8 +676,9 @@ static void feet(mm_character *c, float dt)
 
 /* Distance matching (docs/distance.md, "In the controller"): the play rate of this tick and the
  * stride scale that warping is to make up. travelled: the simulated root's ground displacement
- * this tick (m). Sets c->playback, c->play_rate and c->stride_scale; never NaN, no allocation. */
-static void distance_playback(mm_character *c, const mm_input *in, float dt, float travelled)
+ * this tick (m). Sets c->playback, c->play_rate and c->stride_scale (the scale asked for; see
+ * distance_playback for its easing); never NaN, no allocation. */
+static void distance_playback_target(mm_character *c, const mm_input *in, float dt, float travelled)
 {
     const mm_database *db = c->db;
     const mm_character_desc *d = &c->desc;
@@ -735,11 +736,16 @@ static void distance_playback(mm_character *c, const mm_input *in, float dt, flo
             if (!(rate >= 0.0f)) rate = 0.0f;
         }
         if (!d->distance_matching) rate = 1.0f, c->playback = MM_PLAYBACK_CLOCK; /* warping only */
-        /* what the clip's root covers at that rate */
-        float clip_travel =
-            mm_distance_travelled(&curve, time + rate * dt) - mm_distance_travelled(&curve, time);
-        if (clip_travel > 1e-4f && speed > 0.05f) {
-            float scale = travelled / clip_travel;
+        /* the clip's root speed over a step (0.25 s either side, within the clip), not this
+         * tick's: the root's speed swings within each step, and a stride scale following it
+         * would stretch and shrink the legs every tick, dragging the planted foot along */
+        float duration = mm_distance_duration(&curve), h = 0.25f;
+        float a = fmaxf(time - h, 0.0f), b = fminf(time + h, duration);
+        float clip_speed =
+            b - a > 1e-3f ? (mm_distance_travelled(&curve, b) - mm_distance_travelled(&curve, a)) / (b - a)
+                          : 0.0f;
+        if (clip_speed * rate > 1e-2f && speed > 0.05f) {
+            float scale = speed / (clip_speed * rate);
             if (d->stride_min > 0.0f || d->stride_max > 0.0f)
                 scale = fminf(fmaxf(scale, d->stride_min), d->stride_max);
             c->stride_scale = isfinite(scale) && scale > 0.0f ? scale : 1.0f;
@@ -749,18 +755,33 @@ static void distance_playback(mm_character *c, const mm_input *in, float dt, flo
     if (!d->warping || !(speed > 0.05f)) c->stride_scale = 1.0f;
 }
 
+static void distance_playback(mm_character *c, const mm_input *in, float dt, float travelled)
+{
+    float previous = c->stride_scale;
+    distance_playback_target(c, in, dt, travelled);
+    /* outside loop cycles the stride scale follows its target with a 0.1 s half-life, also back
+     * to 1 at rest or on clips played by the clock: a change of scale moves a planted foot by the
+     * change times its distance from the hip */
+    if (c->desc.warping && c->playback != MM_PLAYBACK_CYCLE && isfinite(previous) && previous > 0.0f) {
+        float scale = previous + (c->stride_scale - previous) * (1.0f - exp2f(-dt / 0.1f));
+        c->stride_scale = fabsf(scale - 1.0f) < 1e-4f && c->stride_scale == 1.0f ? 1.0f : scale;
+    }
+}
+
 /* Stride warping: the legs of the animated pose stretched along the simulated movement by
- * c->stride_scale about their hips (mm_warp_stride), the pelvis lowered as far as they need; the
+ * c->stride_scale about their hips (mm_warp_stride), the pelvis eased toward the drop they need; the
  * feet keep their animated world orientation. Foot locking and IK then work on this pose. */
-static void stride_warp(mm_character *c)
+static void stride_warp(mm_character *c, float dt)
 {
     const mm_database *db = c->db;
+    float previous_drop = isfinite(c->stride_drop) && c->stride_drop > 0.0f ? c->stride_drop : 0.0f;
     c->stride_drop = 0.0f;
-    if (c->stride_scale == 1.0f || c->foot_joint[0] < 0 || c->foot_joint[1] < 0 || c->pelvis_joint < 0)
-        return;
+    if (c->foot_joint[0] < 0 || c->foot_joint[1] < 0 || c->pelvis_joint < 0) return;
+    if (c->stride_scale == 1.0f && previous_drop < 1e-4f) return; /* at rest: the pose is not touched */
     mm_vec3 direction = c->trajectory.velocity;
     direction.y = 0.0f;
-    if (!(mm_vec3_length(direction) > 1e-3f)) return;
+    if (!(mm_vec3_length(direction) > 1e-3f))
+        direction = mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1));
     mm_leg_pose legs[2];
     int joint[2][3];
     for (int k = 0; k < 2; ++k) {
@@ -774,17 +795,34 @@ static void stride_warp(mm_character *c)
     float drop = 0.0f;
     if (mm_warp_stride(legs, 2, direction, c->stride_scale, 0.0f, out, &drop) != MM_OK) return;
     if (!(drop >= 0.0f) || drop > 1.0f) return;
+    /* the pelvis follows the drop the legs need on a spring-like filter (half-life 0.05 s down,
+     * 0.15 s back up), not at once: the drop changes with every step and would pop; the legs are
+     * then solved again from the pelvis where it is, reaching as far as they can */
+    float halflife = drop > previous_drop ? 0.05f : 0.15f;
+    float eased = previous_drop + (drop - previous_drop) * (1.0f - exp2f(-dt / halflife));
+    if (!isfinite(eased) || eased < 0.0f) eased = 0.0f;
+    if (eased != drop) {
+        mm_vec3 dir = mm_vec3_make(direction.x, 0.0f, direction.z);
+        for (int k = 0; k < 2; ++k) {
+            mm_leg_pose lowered = legs[k];
+            lowered.hip.y -= eased;
+            lowered.knee.y -= eased;
+            lowered.foot.y -= eased;
+            if (mm_warp_leg_ik(&lowered, out[k].target, dir, 0.0f, &out[k]) != MM_OK) return;
+        }
+        drop = eased;
+    }
     mm_quat knee_world[2], ankle_world[2];
     for (int k = 0; k < 2; ++k) {
         knee_world[k] = c->global[joint[k][1]].rotation;
         ankle_world[k] = c->global[joint[k][2]].rotation;
     }
     int pelvis = c->pelvis_joint;
+    c->stride_drop = drop;
     if (drop > 0.0f) {
         mm_vec3 down = mm_quat_inv_rotate(c->global[db->joints[pelvis].parent].rotation,
                                           mm_vec3_make(0.0f, -drop, 0.0f));
         c->local_positions[pelvis] = mm_vec3_add(c->local_positions[pelvis], down);
-        c->stride_drop = drop;
     }
     for (int j = pelvis; j < db->joint_count; ++j)
         c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
@@ -1006,7 +1044,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     compute_global(c);
     if (d->warping) {
         orientation_warp(c, in, dt);
-        stride_warp(c);
+        stride_warp(c, dt);
     }
     for (int k = 0; k < 2; ++k) { /* ankle and the ankle's first child (the toe) before IK (after warping) */
         int ankle = c->foot_joint[k], toe = c->toe_joint[k];

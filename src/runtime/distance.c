@@ -70,9 +70,11 @@ static int classify(const scratch *s, int n, int loop, double fps, double stop_s
     double bx, bz, ax, az;
     displacement(s, n, loop, frame - w, w, &bx, &bz);
     displacement(s, n, loop, frame, w, &ax, &az);
-    double least = 0.5 * stop_speed * w / fps; /* mean speed of at least half the threshold */
+    /* arriving at a mean speed of at least half the threshold; leaving faster than the
+     * threshold: a root that only sways or shuffles after coming to rest has stopped */
+    double least = 0.5 * stop_speed * w / fps, leave = stop_speed * w / fps;
     double lb = sqrt(bx * bx + bz * bz), la = sqrt(ax * ax + az * az);
-    if (lb > least && la > least && bx * ax + bz * az < 0.0) return MM_DISTANCE_PIVOT;
+    if (lb > least && la > leave && bx * ax + bz * az < 0.0) return MM_DISTANCE_PIVOT;
     return MM_DISTANCE_STOP;
 }
 
