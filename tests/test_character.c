@@ -693,6 +693,95 @@ static void test_knee_continuous_out_of_reach(void **state)
     mm_character_free(&c);
 }
 
+/* The second differences (m, the largest over the joints) of the joints' positions in the
+ * character's frame (foot IK off: the animated pose) on TICKS ticks around a forced transition
+ * (mm_character_play_move, a jump outside the search) on tick JUMP: the character is sent from
+ * standing to frame `start` of a clip, plays 40 ticks, then jumps `ahead` frames ahead of the
+ * frame it would show on that tick (ahead < 0: no jump). x: the positions ([TICKS * joint_count]),
+ * *offset: the largest rotation offset (rad) the jump left. */
+enum { TICKS = 10, JUMP = 5 };
+static void jump_second_differences(int start, int ahead, mm_vec3 *x, float dd[TICKS], float *offset)
+{
+    int n = db.joint_count, joint = 0;
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    d.no_foot_ik = true;
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    for (int i = 0; i < 30; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    mm_character_play_move(&c, start, start + 1000, 0.0f);
+    for (int i = 0; i < 40; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    *offset = 0.0f;
+    for (int i = 0; i < TICKS; ++i) {
+        int transitions = c.transitions;
+        if (i == JUMP && ahead >= 0) { /* the frame playback shows on this tick, then `ahead` more */
+            /* (the playhead's fraction may fall short of the next frame by float rounding: the
+             * frame shown is the nearest) */
+            float fraction = c.frame_fraction + (1.0f / 60.0f) / db.interval;
+            int to = c.frame + (int)(fraction + 0.5f) + ahead;
+            assert_true(db.frame_clip[to] == db.frame_clip[c.frame]);
+            mm_character_play_move(&c, to, to + 1000, 0.0f);
+        }
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        assert_int_equal(c.transitions, transitions + (i == JUMP && ahead >= 0));
+        mm_xform inverse = mm_xform_inverse(c.root);
+        for (int j = 0; j < n; ++j)
+            x[(size_t)i * (size_t)n + (size_t)j] = mm_xform_apply_point(inverse, c.global[j].translation);
+        dd[i] = i < 2 ? 0.0f
+                      : second_difference(x + (size_t)(i - 2) * (size_t)n, x + (size_t)(i - 1) * (size_t)n,
+                                          x + (size_t)i * (size_t)n, n, &joint);
+        if (i == JUMP)
+            for (int j = 1; j < n; ++j) *offset = fmaxf(*offset, mm_vec3_length(c.rotation_offset[j]));
+    }
+    mm_character_free(&c);
+}
+
+/* A transition keeps the animated pose's velocity. On the fastest locomotion clip of the built-in
+ * set (the joints' mean angular speed), a jump to the frame playback shows anyway and a jump a
+ * third of a second ahead (another pose, another velocity): the second difference of the joints'
+ * positions on the tick of the jump and the next stays within what the offsets' spring and the
+ * clip itself give on the neighbouring ticks (1.5 x their largest, plus 2 mm). Were the new clip
+ * held at its frame for the tick of the jump (the offsets taken against the pose it shows then),
+ * the pose would lose the clip's velocity for one tick: a second difference of the joints' speed
+ * x dt, and back the tick after (measured before the fix: 61 and 52 mm against neighbours of
+ * 24 mm). */
+static void test_transition_velocity_continuous(void **state)
+{
+    (void)state;
+    int n = db.joint_count, start = -1;
+    float fastest = 0.0f;
+    for (int k = 0; k < db.clip_count; ++k) {
+        const mm_db_clip *clip = &db.clips[k];
+        if (clip->type == MM_CLIP_IDLE || clip->frame_count < 120) continue;
+        int f = clip->first_frame + 10;
+        const mm_quat *r0 = mm_database_rotations(&db, f), *r1 = mm_database_rotations(&db, f + 1);
+        float speed = 0.0f; /* rad/s, the joints' mean */
+        for (int j = 1; j < n; ++j)
+            speed += mm_vec3_length(mm_quat_log(mm_quat_abs(mm_quat_mul(r1[j], mm_quat_inverse(r0[j]))))) /
+                     ((float)n * db.interval);
+        if (speed > fastest) fastest = speed, start = f;
+    }
+    assert_true(start >= 0);
+    mm_vec3 *x = malloc(sizeof(mm_vec3) * TICKS * (size_t)n);
+    float dd[TICKS], offset = 0.0f;
+    const int aheads[2] = {0, 20};
+    for (int a = 0; a < 2; ++a) {
+        jump_second_differences(start, aheads[a], x, dd, &offset);
+        float neighbours = fmaxf(fmaxf(dd[JUMP - 2], dd[JUMP - 1]), fmaxf(dd[JUMP + 2], dd[JUMP + 3]));
+        print_message("jump %d frames ahead: offset %.3f rad; second difference %.2f mm at the jump, %.2f mm "
+                      "the tick after, neighbours up to %.2f mm (ticks before: %.2f %.2f)\n",
+                      aheads[a], (double)offset, 1000.0 * dd[JUMP], 1000.0 * dd[JUMP + 1],
+                      1000.0 * neighbours, 1000.0 * dd[JUMP - 2], 1000.0 * dd[JUMP - 1]);
+        if (a == 1) assert_true(offset > 0.1f); /* something to hide */
+        assert_true(dd[JUMP] < 1.5f * neighbours + 0.002f);
+        assert_true(dd[JUMP + 1] < 1.5f * neighbours + 0.002f);
+    }
+    free(x);
+    assert_true(fastest > 1.0f); /* velocity to lose: a mean of 1 rad/s */
+}
+
 /* Letting go of the stick at a run does not drop into idle at once (an idle pose would have its
  * planted feet dragged along while the character still moves): idle is asked for once the
  * simulated character has slowed under idle_speed + idle_hysteresis, and then it is. */
@@ -830,6 +919,7 @@ int main(void)
         cmocka_unit_test(test_no_allocation_per_tick),
         cmocka_unit_test(test_deterministic_and_finite),
         cmocka_unit_test(test_inertialization),
+        cmocka_unit_test(test_transition_velocity_continuous),
         cmocka_unit_test(test_crossfade),
         cmocka_unit_test(test_robust),
         cmocka_unit_test(test_gait_tags),

@@ -300,9 +300,9 @@ static void test_no_scene(void **state)
  * each handing back to matching with its targets reached, the body out of the boxes. Limits
  * that the data sets (docs/moves.md, "Limits"): LAFAN1's only low vault
  * (obstacles1_subject5) steps through where a 0.4 m deep wall stands, so its trailing leg cuts
- * the wall (about 20 cm) and its toe lands about 6 cm off; there is no climb onto a 2 m wall
- * (its climbs go up about 1 m), so the one used reaches into the wall's face before the hand
- * is on the top (about 9 cm). */
+ * the wall (about 20 cm); there is no climb onto a 2 m wall (the highest of its climbs, the one
+ * chosen, rises 0.94 m), so it reaches into the wall's face before the hand is on the top (about
+ * 8 cm). The clip of each move is printed. */
 static void test_lafan1(void **state)
 {
     (void)state;
@@ -328,16 +328,25 @@ static void test_lafan1(void **state)
         float max_penetration; /* m, the body's joints */
         float max_error_cm;
     } cases[] = {
-        {"low_wall_short", "moves_walk", 1, {MM_MOVE_VAULT_LOW}, 0.0f, 0.25f, 8.0f}, /* limit: the vault */
-        /* measured 4.9-5.2 cm, at the edge of the 5 cm target (moved by the foot IK's tuning) */
-        {"low_wall_long", "moves_walk", 2, {MM_MOVE_CLIMB, MM_MOVE_DROP}, 0.0f, 0.06f, 5.0f},
-        {"high_wall_short", "moves_walk", 1, {MM_MOVE_CLIMB}, 0.0f, 0.10f, 5.0f}, /* limit: no 2 m climb */
-        {"high_wall_long", "moves_walk", 2, {MM_MOVE_CLIMB, MM_MOVE_DROP}, 0.0f, 0.10f, 5.0f},
-        {"drop_auto", "moves_walk", 1, {MM_MOVE_DROP}, -1.0f, 0.05f, 5.0f},
-        {"drop_key", "moves_drop_key", 1, {MM_MOVE_DROP}, -0.8f, 0.05f, 5.0f},
-        {"jump_onto_wall", "moves_jump_wall", 2, {MM_MOVE_JUMP, MM_MOVE_DROP}, 0.0f, 0.05f, 5.0f},
-        {"jump_gap", "moves_jump_gap", 1, {MM_MOVE_JUMP}, 0.0f, 0.05f, 5.0f},
-        {"joined_walls", "moves_walk", 2, {MM_MOVE_VAULT_LOW, MM_MOVE_VAULT_LOW}, 0.0f, 0.25f, 8.0f},
+        /* measured (body cm, the largest target error cm): 19.1, 4.1; limit: the vault */
+        {"low_wall_short", "moves_walk", 1, {MM_MOVE_VAULT_LOW}, 0.0f, 0.25f, 5.0f},
+        {"low_wall_long", "moves_walk", 2, {MM_MOVE_CLIMB, MM_MOVE_DROP}, 0.0f, 0.04f, 5.0f}, /* 2.6, 1.1 */
+        /* 8.6, 1.5; limit: no 2 m climb (the highest rises 0.94 m); over the top and down behind */
+        {"high_wall_short", "moves_walk", 2, {MM_MOVE_CLIMB, MM_MOVE_DROP}, 0.0f, 0.10f, 5.0f},
+        {"high_wall_long", "moves_walk", 2, {MM_MOVE_CLIMB, MM_MOVE_DROP}, 0.0f, 0.10f, 5.0f}, /* 8.7, 1.2 */
+        {"drop_auto", "moves_walk", 1, {MM_MOVE_DROP}, -1.0f, 0.05f, 2.0f},                    /* 1.0, 0.0 */
+        {"drop_key", "moves_drop_key", 1, {MM_MOVE_DROP}, -0.8f, 0.05f, 2.0f},                 /* 3.1, 0.2 */
+        {"jump_onto_wall", "moves_jump_wall", 2, {MM_MOVE_JUMP, MM_MOVE_DROP}, 0.0f, 0.02f, 2.0f}, /* 0.8, 0.6
+                                                                                                    */
+        {"jump_gap", "moves_jump_gap", 1, {MM_MOVE_JUMP}, 0.0f, 0.05f, 2.0f}, /* 2.6, 0.0 */
+        {"joined_walls",
+         "moves_walk",
+         2,
+         {MM_MOVE_VAULT_LOW, MM_MOVE_VAULT_LOW},
+         0.0f,
+         0.20f,
+         5.0f}, /* 18.5, 3.4
+                 */
         /* ledge safety: stopping near the edge, no move and no fall */
         {"drop_auto", "moves_stop_ledge", 0, {MM_MOVE_NONE}, 0.0f, 0.05f, 5.0f},
     };
@@ -347,7 +356,8 @@ static void test_lafan1(void **state)
         print_message("lafan1 %s: %d moves, penetration %.2f cm (body), %.2f cm (with the root)\n",
                       cases[i].scene, r.moves, 100.0 * r.body_penetration, 100.0 * r.penetration);
         for (int k = 0; k < r.moves; ++k)
-            print_message("  %s %.2f-%.2f s, target error %.2f cm\n", mm_move_kind_name(r.record[k].kind),
+            print_message("  %s (%s) %.2f-%.2f s, target error %.2f cm\n",
+                          mm_move_kind_name(r.record[k].kind), db.clips[r.record[k].clip].name,
                           (double)r.record[k].t_start, (double)r.record[k].t_end,
                           (double)r.record[k].target_error_cm);
         assert_int_equal(r.moves, cases[i].moves);
@@ -357,7 +367,9 @@ static void test_lafan1(void **state)
             assert_true(r.record[k].target_error_cm < cases[i].max_error_cm);
         }
         assert_false(r.stuck);
-        if (r.moves > 0) assert_true(r.moved_after_last > 0.5f); /* and walks on */
+        /* and walks on (when there is time left: the slower jump onto the wall ends 0.75 s before the
+         * script does; its hand-back is asserted above all the same) */
+        if (r.moves > 0 && r.record[r.moves - 1].t_end < 9.0f) assert_true(r.moved_after_last > 0.5f);
         assert_float_equal(r.final_root.y, cases[i].final_y, 1e-3f);
         assert_true(r.body_penetration < cases[i].max_penetration);
     }

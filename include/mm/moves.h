@@ -2,7 +2,8 @@
  * a layer on top of a character (mm/character.h) in a scene of boxes (mm/scene.h).
  *
  * The layer finds the move clips in the database by their tags ("Jump", "VaultLow",
- * "VaultHigh", "Climb", "Drop": the first span of frames carrying the tag) and their events by
+ * "VaultHigh", "Climb", "Drop": every span of frames carrying the tag, each measured once: its
+ * rise, its hand's height at the plant, its distances) and their events by
  * single-frame tags ("TakeOff", "HandPlant", "Landing"; without them take-off and landing are the
  * ends of the longest run of frames with no foot contact). Each tick, instead of
  * mm_character_update, mm_moves_update:
@@ -10,7 +11,9 @@
  *    falls with gravity), pushes it out of walls (a circle of `radius` about the root; the
  *    simulation too), and looks for a move: the jump key (in->jump, on its rising edge), a wall
  *    ahead while moving toward it (mm_scene_measure_obstacle; the move chosen by its height and
- *    depth, mm_moves_choose), no ground within step_height ahead while moving (drop-down);
+ *    depth, mm_moves_choose), no ground within step_height ahead while moving (drop-down); among
+ *    the clips of the kind, the one whose own geometry (rise, hand height, distance) needs the
+ *    smallest correction to fit the obstacle or the landing found (the lowest index on a tie);
  *  - starts a move: mm_character_play_move (no search until it ends) and plans it: where the hand
  *    goes at HandPlant (on the wall's top edge) and where the root lands at Landing (past the
  *    wall, on its top, or on the ground found ahead), each with a target match (mm/target_match.h)
@@ -92,8 +95,12 @@ typedef struct mm_moves_desc {
 
 void mm_moves_defaults(mm_moves_desc *d);
 
+/* At most this many move clips (spans tagged as a move) are kept; further ones are ignored. */
+#define MM_MOVES_MAX_CLIPS 160
+
 /* A move clip as found in the database. Frames are database frames; -1: none. */
 typedef struct mm_move_clip {
+    mm_move_kind kind;                 /* its tag */
     int clip;                          /* database clip, -1 when the database has none */
     int first, last;                   /* the tagged span */
     int start;                         /* where the move starts playing */
@@ -101,6 +108,8 @@ typedef struct mm_move_clip {
     int hand;                          /* the hand planted (joint), -1 */
     bool onto;                         /* the clip ends higher than it starts (climbs onto) */
     float rise;                        /* m: the clip's ground at landing less at start */
+    float plant_height;                /* m: the planted hand at HandPlant above the clip's ground at
+                                          the start (0 without) */
     float plant_distance;              /* m: forward from the root at start to the hand at
                                           HandPlant (0 without) */
     float hand_inset;                  /* m: how far in from the obstacle's near face the hand plants
@@ -113,6 +122,7 @@ typedef struct mm_move_clip {
 /* One move performed. */
 typedef struct mm_move_record {
     mm_move_kind kind;
+    int clip;              /* the database clip played */
     float t_start, t_end;  /* s: layer time (the sum of dt) when it started and handed back */
     float target_error_cm; /* the larger of the hand's error at HandPlant and the landing's
                               (root on the ground, horizontally, and the feet's height) */
@@ -122,15 +132,20 @@ typedef struct mm_moves {
     const mm_database *db;
     const mm_scene *scene; /* NULL: no moves */
     mm_moves_desc desc;
-    mm_move_clip clips[MM_MOVE_KIND_COUNT];
-    int hand[2], foot[2];
-    float ankle_height; /* m: the ankles' height above the ground when standing */
-    float toe_height;   /* m: the toes' (the ankles' first children) then */
-    bool enabled;       /* a scene and at least one move clip */
+    mm_move_clip clips[MM_MOVE_KIND_COUNT];   /* per kind: the first usable span (a clip that is not a
+                                                 mirror first); clip -1 when none */
+    mm_move_clip options[MM_MOVES_MAX_CLIPS]; /* every usable span of every kind, measured once at
+                                                 init; a move plays the one that best fits */
+    int option_count;
+    int hand[2], foot[2], toe[2]; /* toe: the feet's first children, -1 */
+    float ankle_height;           /* m: the ankles' height above the ground when standing */
+    float toe_height;             /* m: the toes' (the ankles' first children) then */
+    bool enabled;                 /* a scene and at least one move clip */
 
     /* state */
     double time;              /* s: sum of dt */
     mm_move_kind kind;        /* the move playing, MM_MOVE_NONE in locomotion */
+    mm_move_clip active;      /* its clip */
     int start_frame;          /* where it started (database frame) */
     bool started;             /* the character has begun playing it */
     mm_target_match match[2]; /* hand at HandPlant, root at Landing (horizontal and yaw) */

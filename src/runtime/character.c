@@ -352,35 +352,50 @@ static void build_query(mm_character *c, const mm_input *in)
  * decays (inertialization). The pose is the one before foot IK: IK is a layer on top, continuous
  * by itself (its locks and offsets carry over), and taking it into the offsets would make the
  * animated feet drift from their locks as the offsets decay. Joint 0 (the root) is driven by root
- * motion and left out. */
+ * motion and left out.
+ *
+ * The new clip stands at (to, fraction) on this tick, as the old one stands at its playhead after
+ * this tick's advance. The offsets are taken one tick earlier, against the new clip's pose there
+ * (its pose at the playhead moved back by its own velocity over dt), and then decay by dt in the
+ * update while the clip plays on: the output keeps its position and its velocity (the last two
+ * ticks') across the jump. Taken against the playhead itself, the tick of the jump would show the
+ * new clip standing still (its velocity lost: pops and foot slide one tick after each jump). */
 static void crossfade_to(mm_character *c, int to, bool uncancellable);
 
-static void transition(mm_character *c, int to, float dt)
+static void transition(mm_character *c, int to, float fraction, float dt)
 {
     const mm_database *db = c->db;
     if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE) { /* a jump asked for: never cancelled */
         crossfade_to(c, to, true);
         return;
     }
+    int next = db->frame_next[to];
     c->frame = to;
-    c->frame_fraction = 0.0f;
-    int before = to > 0 && db->frame_clip[to - 1] == db->frame_clip[to] ? to - 1 : to;
-    const mm_quat *dst = mm_database_rotations(db, to), *dst0 = mm_database_rotations(db, before);
-    const mm_vec3 *dpos = mm_database_positions(db, to), *dpos0 = mm_database_positions(db, before);
-    float inv_interval = before == to ? 0.0f : 1.0f / db->interval, inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
+    c->frame_fraction = next >= 0 && fraction > 0.0f && fraction < 1.0f ? fraction : 0.0f;
+    /* the new clip's velocity at the playhead: that of the frame interval it is in (zero on a
+     * clip's last frame, which playback holds) */
+    const mm_quat *r0 = mm_database_rotations(db, to), *r1 = mm_database_rotations(db, next >= 0 ? next : to);
+    const mm_vec3 *p0 = mm_database_positions(db, to), *p1 = mm_database_positions(db, next >= 0 ? next : to);
+    float inv_interval = next >= 0 ? 1.0f / db->interval : 0.0f, inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
     const mm_quat *now_r = c->pose_rotations, *last_r = c->pose_previous_rotations;
     const mm_vec3 *now_p = c->pose_positions, *last_p = c->pose_previous_positions;
     for (int j = 1; j < db->joint_count; ++j) {
-        /* the animated pose's velocity (from the last two ticks) minus the new frame's */
+        /* the animated pose's velocity (from the last two ticks) minus the new clip's */
         mm_vec3 w_out = mm_vec3_scale(
             mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
-        mm_vec3 w_dst = mm_vec3_scale(mm_quat_log(mm_quat_abs(mm_quat_mul(dst[j], mm_quat_inverse(dst0[j])))),
-                                      inv_interval);
-        c->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(dst[j]))));
+        mm_vec3 w_dst =
+            mm_vec3_scale(mm_quat_log(mm_quat_abs(mm_quat_mul(r1[j], mm_quat_inverse(r0[j])))), inv_interval);
+        mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(p1[j], p0[j]), inv_interval);
+        /* the new clip one tick back: the playhead's pose (slerp and lerp within one frame
+         * interval, whose rates are w_dst and v_dst) moved back by dt */
+        mm_quat r = mm_quat_slerp(r0[j], r1[j], c->frame_fraction);
+        mm_vec3 p = mm_vec3_lerp(p0[j], p1[j], c->frame_fraction);
+        mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm_quat_exp(mm_vec3_scale(w_dst, -dt)), r));
+        mm_vec3 p_back = mm_vec3_sub(p, mm_vec3_scale(v_dst, dt));
+        c->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
         c->rotation_offset_velocity[j] = mm_vec3_sub(w_out, w_dst);
         mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
-        mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(dpos[j], dpos0[j]), inv_interval);
-        c->position_offset[j] = mm_vec3_sub(now_p[j], dpos[j]);
+        c->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
         c->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
     }
     /* the root's motion too: the velocity and yaw rate played continue and blend into the new
@@ -434,14 +449,19 @@ static void search(mm_character *c, const mm_input *in, float dt)
     c->since_search = 0.0f;
     c->last_result = best;
     if (!found || best.frame < 0) return;
+    /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor a few frames
+     * back in the same clip: jumping back by about what played since the last search would replay
+     * the same stretch over and over (an idle frozen in a loop of a few frames) */
     int ahead = best.frame - c->frame;
-    if (db->frame_clip[best.frame] == db->frame_clip[c->frame] && ahead >= 0 && ahead <= c->desc.skip_frames)
+    int behind = c->desc.skip_frames + (int)ceilf(c->desc.search_interval / db->interval);
+    if (db->frame_clip[best.frame] == db->frame_clip[c->frame] && ahead >= -behind &&
+        ahead <= c->desc.skip_frames)
         return;
     /* crossfade: cancellable, but not at the end of the clip (the playhead would stand still) */
     if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE)
         crossfade_to(c, best.frame, db->frame_next[c->frame] < 0);
     else
-        transition(c, best.frame, dt);
+        transition(c, best.frame, c->frame_fraction, dt);
 }
 
 /* fraction of the leg's length over which the IK's reach softens (soft_reach) */
@@ -910,6 +930,9 @@ static void orientation_warp(mm_character *c, const mm_input *in, float dt)
                                     mm_xform_make(c->local_rotations[j], c->local_positions[j]));
 }
 
+/* frames: how close to the next frame the playhead counts as on it */
+#define PLAYHEAD_SNAP 1e-3f
+
 void mm_character_update(mm_character *c, const mm_input *in, float dt)
 {
     if (!c || !c->db || !(dt > 0.0f) || !isfinite(dt)) return;
@@ -930,8 +953,14 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
         c->stride_scale = 1.0f;
         c->frame_fraction += dt / db->interval;
     }
-    while (c->frame_fraction >= 1.0f) {
-        c->frame_fraction -= 1.0f;
+    /* a fraction within PLAYHEAD_SNAP of the next frame is that frame: dt / interval is rarely
+     * exactly 1 in floats (1/60 s over LAFAN1's 0.0166667 s is 0.999998), and the playhead
+     * would sit a hair short of the frame it shows, its frame (queries, the next-pose test,
+     * contact labels) one behind the pose played on every tick. Not during a move: the move
+     * layer's events and hand-back were timed (docs/moves.md) on the unsnapped playhead */
+    float snap = c->move_playing || c->move_pending ? 0.0f : PLAYHEAD_SNAP;
+    while (c->frame_fraction >= 1.0f - snap) {
+        c->frame_fraction = fmaxf(c->frame_fraction - 1.0f, 0.0f);
         int next = db->frame_next[c->frame];
         if (next < 0) {
             c->frame_fraction = 0.0f;
@@ -967,7 +996,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     if (c->move_pending) { /* a move starts: no search until it hands back */
         c->move_pending = false;
         c->move_playing = true;
-        transition(c, c->move_frame, dt);
+        transition(c, c->move_frame, 0.0f, dt);
     } else if (c->move_playing && (ended || db->frame_clip[c->frame] != db->frame_clip[c->move_frame] ||
                                    c->frame >= c->move_end)) {
         c->move_playing = false; /* played out: back to matching at once */

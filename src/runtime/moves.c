@@ -81,6 +81,17 @@ static float clip_ground(const mm_moves *m, int frame)
     return isfinite(y) ? y - m->ankle_height : 0.0f;
 }
 
+/* Where the clip's feet stand at a frame, relative to the root: the lowest of heel (the ankle)
+ * and toe, each less its standing height (a foot pitched stands on its toes), as the hand-back
+ * measures the feet. */
+static float clip_feet(const mm_moves *m, int frame)
+{
+    float y = clip_ground(m, frame);
+    for (int k = 0; k < 2; ++k)
+        if (m->toe[k] >= 0) y = fminf(y, bone_in_root(m->db, frame, m->toe[k]).translation.y - m->toe_height);
+    return y;
+}
+
 /* The clip's ground over frames [f0, f1] (one clip): the lowest, so that a foot landing toes
  * first or a heel raised does not count as ground. */
 static float clip_ground_span(const mm_moves *m, int f0, int f1)
@@ -178,6 +189,7 @@ static void setup_span(mm_moves *m, mm_move_clip *mc, int first, int last)
                                       start_root);
             mm_vec3 hand = mm_xform_apply_point(r, bone_in_root(db, mc->hand_plant, mc->hand).translation);
             mc->plant_distance = hand.z;
+            mc->plant_height = hand.y - clip_ground(m, mc->start);
             /* the near face: ahead of every joint below the top (a knee against the wall) from
              * the start to just after the plant, among those not beyond the hand */
             float face = -INFINITY;
@@ -203,28 +215,36 @@ static void setup_span(mm_moves *m, mm_move_clip *mc, int first, int last)
     mc->clip = db->frame_clip[first];
 }
 
-/* The move's clip: the first span of frames tagged as the move that has what the layer needs (a
- * clip that is not a mirror preferred). */
-static void setup_clip(mm_moves *m, mm_move_kind kind)
+/* Every usable span of frames tagged as a move, of every kind, measured once into m->options
+ * (clips that are not mirrors first, so that on an equal fit the original plays); per kind the
+ * first of them in m->clips. */
+static void setup_clips(mm_moves *m)
 {
     const mm_database *db = m->db;
-    mm_move_clip *mc = &m->clips[kind];
-    memset(mc, 0, sizeof *mc);
-    mc->clip = -1;
-    uint64_t tag = mm_search_tag_mask(db, kind_tags[kind]);
-    if (!tag || !db->frame_tags) return;
-    for (int pass = 0; pass < 2; ++pass)
-        for (int f = 0; f < db->frame_count; ++f) {
-            int clip = db->frame_clip[f];
-            if (!(db->frame_tags[f] & tag) || (pass == 0 && db->clips[clip].mirrored)) continue;
-            if (f > 0 && db->frame_clip[f - 1] == clip && (db->frame_tags[f - 1] & tag))
-                continue; /* not a start */
-            int e = f;
-            while (e + 1 < db->frame_count && db->frame_clip[e + 1] == clip && (db->frame_tags[e + 1] & tag))
-                ++e;
-            setup_span(m, mc, f, e);
-            if (mc->clip >= 0) return;
-        }
+    m->option_count = 0;
+    for (int kind = 0; kind < MM_MOVE_KIND_COUNT; ++kind) {
+        m->clips[kind].clip = -1;
+        m->clips[kind].kind = (mm_move_kind)kind;
+        uint64_t tag = mm_search_tag_mask(db, kind_tags[kind]);
+        if (!tag || !db->frame_tags) continue;
+        for (int pass = 0; pass < 2; ++pass)
+            for (int f = 0; f < db->frame_count; ++f) {
+                int clip = db->frame_clip[f];
+                if (!(db->frame_tags[f] & tag) || db->clips[clip].mirrored != (pass == 1)) continue;
+                if (f > 0 && db->frame_clip[f - 1] == clip && (db->frame_tags[f - 1] & tag))
+                    continue; /* not a start */
+                int e = f;
+                while (e + 1 < db->frame_count && db->frame_clip[e + 1] == clip &&
+                       (db->frame_tags[e + 1] & tag))
+                    ++e;
+                mm_move_clip mc;
+                setup_span(m, &mc, f, e);
+                if (mc.clip < 0) continue;
+                mc.kind = (mm_move_kind)kind;
+                if (m->clips[kind].clip < 0) m->clips[kind] = mc;
+                if (m->option_count < MM_MOVES_MAX_CLIPS) m->options[m->option_count++] = mc;
+            }
+    }
 }
 
 mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scene, const mm_moves_desc *desc,
@@ -269,19 +289,18 @@ mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scen
     if (isfinite(y)) m->ankle_height = y;
     m->toe_height = m->ankle_height;
     float toe = INFINITY;
-    for (int k = 0; k < 2; ++k)
+    for (int k = 0; k < 2; ++k) {
+        m->toe[k] = -1;
         for (int j = 1; m->foot[k] >= 0 && j < db->joint_count; ++j)
             if (db->joints[j].parent == m->foot[k]) {
                 toe = fminf(toe, bone_in_root(db, stand, j).translation.y);
+                m->toe[k] = j;
                 break;
             }
-    if (isfinite(toe)) m->toe_height = toe;
-    int any = 0;
-    for (int k = 0; k < MM_MOVE_KIND_COUNT; ++k) {
-        setup_clip(m, (mm_move_kind)k);
-        any |= m->clips[k].clip >= 0;
     }
-    m->enabled = scene != NULL && any;
+    if (isfinite(toe)) m->toe_height = toe;
+    setup_clips(m);
+    m->enabled = scene != NULL && m->option_count > 0;
     return MM_OK;
 }
 
@@ -391,7 +410,7 @@ static float landing_ground(const mm_moves *m, const mm_move_clip *mc)
 static void add_end_key(mm_moves *m, const mm_move_clip *mc, float h)
 {
     int end = end_frame(m, mc);
-    add_key(m, (float)(end - mc->start) * m->db->interval, h - clip_ground(m, end), 0);
+    add_key(m, (float)(end - mc->start) * m->db->interval, h - clip_feet(m, end), 0);
 }
 
 /* Starts a move: the root lowered under the body to the clip's ground (the pose kept), the clip
@@ -403,6 +422,7 @@ static float begin(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_mov
     int end = end_frame(m, mc);
     mm_character_play_move(c, mc->start, end, m->desc.transition_halflife);
     m->kind = kind;
+    m->active = *mc;
     m->start_frame = mc->start;
     m->started = false;
     m->match_on[0] = m->match_on[1] = false;
@@ -410,6 +430,7 @@ static float begin(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_mov
     m->hand_error = m->land_error = 0.0f;
     m->lift = 0.0f;
     m->current.kind = kind;
+    m->current.clip = mc->clip;
     m->current.t_start = (float)m->time;
     m->current.t_end = m->current.t_start;
     m->current.target_error_cm = 0.0f;
@@ -438,40 +459,47 @@ static int clear_at(const mm_moves *m, mm_vec3 p, float h)
  * wall in the way, always where the body has room. 0 when there is nowhere to land (a jump at a
  * ledge with no ground across: the caller drops instead). */
 static int plan_landing(const mm_moves *m, const mm_character *c, const mm_move_clip *mc, int drop,
-                        mm_vec3 *land, float *over)
+                        mm_vec3 *land, float *over, float *need)
 {
     *over = NAN;
     const mm_moves_desc *d = &m->desc;
     mm_vec3 root = c->root.translation, f = mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1));
     float y = root.y, dist = fmaxf(mc->land_distance, 0.2f), h;
-    if (drop) { /* the ledge: where the ground falls away */
+    *need = NAN; /* the distance the world asks for, if any (a gap's far side, a wall) */
+    if (drop) {  /* the ledge: where the ground falls away */
         float ledge = -1.0f;
         for (float s = 0.0f; s <= d->ledge_probe + 0.3f && ledge < 0.0f; s += 0.05f)
             if (!ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->step_height, d->step_height, &h))
                 ledge = s;
         if (ledge >= 0.0f) dist = fmaxf(dist, ledge + 0.35f);
     } else {
+        /* the world is looked at as far as the first jump clip reaches, whichever clip plays (a
+         * short hop must not miss the wall or the gap a longer jump sees) */
+        const mm_move_clip *first = clip_of(m, MM_MOVE_JUMP);
+        float look = first ? fmaxf(dist, first->land_distance) : dist;
         /* a gap before the natural landing: land past it, where the ground is within reach */
         float ledge = -1.0f, across = -1.0f;
-        for (float s = 0.0f; s <= dist + 0.6f && ledge < 0.0f; s += 0.05f)
+        for (float s = 0.0f; s <= look + 0.6f && ledge < 0.0f; s += 0.05f)
             if (!ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
                 ledge = s;
         for (float s = ledge; ledge >= 0.0f && s <= 3.0f && across < 0.0f; s += 0.05f)
             if (ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
                 across = s;
         if (ledge >= 0.0f && across < 0.0f) return 0;
-        if (across >= 0.0f) dist = fmaxf(dist, across + 0.4f);
+        if (across >= 0.0f) dist = fmaxf(dist, across + 0.4f), *need = across + 0.4f;
         mm_obstacle o;
         mm_obstacle_desc od;
         memset(&od, 0, sizeof od);
-        od.max_distance = dist + 0.6f;
+        od.max_distance = fmaxf(dist, look) + 0.6f;
         if (mm_scene_measure_obstacle(m->scene, root, f, &od, &o) && o.top - y > d->step_height) {
             if (o.top - y > d->max_jump_height) return 0; /* a wall too high to jump onto */
             float near = o.distance, far = o.distance + o.depth;
             if (o.depth >= 0.65f) {
                 dist = clampf(dist, near + 0.35f, far - 0.3f); /* onto it */
-            } else {                                           /* too thin to stand on: over it */
+                *need = dist;
+            } else { /* too thin to stand on: over it */
                 dist = fmaxf(dist, far + d->landing_margin);
+                *need = far + d->landing_margin;
                 *over = o.top;
             }
         }
@@ -487,6 +515,37 @@ static int plan_landing(const mm_moves *m, const mm_character *c, const mm_move_
         }
     }
     return 0;
+}
+
+/* Does clip mc serve a move of this kind? (the jump serves as the drop without a drop clip) */
+static int serves(const mm_moves *m, mm_move_kind kind, const mm_move_clip *mc)
+{
+    return mc->kind == kind ||
+           (kind == MM_MOVE_DROP && m->clips[MM_MOVE_DROP].clip < 0 && mc->kind == MM_MOVE_JUMP);
+}
+
+/* The jump (or drop) clip whose own flight fits the landing planned for it best: the least
+ * correction of its horizontal distance and of its rise (negative: its fall) to the planned
+ * landing's, the lowest index on a tie; the landing in *land, a wall to clear in *over. NULL:
+ * nowhere to land. Plans once per clip: only when a jump or a drop is asked for. */
+static const mm_move_clip *pick_jump(const mm_moves *m, const mm_character *c, mm_move_kind kind, int drop,
+                                     mm_vec3 *land, float *over)
+{
+    const mm_move_clip *best = NULL;
+    float best_cost = INFINITY, o, need;
+    mm_vec3 root = c->root.translation, l;
+    for (int i = 0; i < m->option_count; ++i) {
+        const mm_move_clip *mc = &m->options[i];
+        if (!serves(m, kind, mc) || !plan_landing(m, c, mc, drop, &l, &o, &need)) continue;
+        /* the horizontal: against what a gap or a wall asks for (a jump just long enough), else
+         * where it lands; the height counts double: the schedule lifts the whole body for it,
+         * the legs do not */
+        float dist = isfinite(need) ? need : mm_vec3_length(flat(mm_vec3_sub(l, root)));
+        float cost = fabsf(dist - mc->land_distance) + 2.0f * fabsf(l.y - root.y - mc->rise);
+        if (cost < best_cost - 0.01f) /* within 1 cm: a tie (a mirror fits as its original) */
+            best = mc, best_cost = cost, *land = l, *over = o;
+    }
+    return best;
 }
 
 /* over: the height of a wall to clear on the way (NAN: none). */
@@ -523,25 +582,51 @@ static void start_jump(mm_moves *m, mm_character *c, mm_move_kind kind, const mm
     add_end_key(m, mc, land.y);
 }
 
+/* How far past the obstacle's near face a vault or climb lands (on its top, or beyond it); in
+ * *from_face where the clip itself would land, measured from its hand plant (or from where it
+ * starts). */
+static float vault_landing(const mm_moves *m, mm_move_kind kind, const mm_move_clip *mc, const mm_obstacle *o,
+                           float *from_face)
+{
+    *from_face = mc->hand_plant >= 0 ? mc->land_distance - mc->plant_distance + mc->hand_inset
+                                     : mc->land_distance - o->distance;
+    return mc->onto || kind == MM_MOVE_CLIMB
+               ? (o->depth >= 0.65f ? clampf(*from_face, 0.35f, o->depth - 0.3f) : 0.5f * o->depth)
+               : fmaxf(*from_face, o->depth + m->desc.landing_margin);
+}
+
+/* The vault or climb clip that fits the obstacle best: the least the target matching and the
+ * height schedule must correct (the planted hand's height against the top; for a move onto it,
+ * the clip's rise against the height too; the landing along the approach). The lowest index on
+ * a tie. NULL: none of the kind. */
+static const mm_move_clip *pick_vault(const mm_moves *m, mm_move_kind kind, const mm_obstacle *o)
+{
+    const mm_move_clip *best = NULL;
+    float best_cost = INFINITY, from_face;
+    for (int i = 0; i < m->option_count; ++i) {
+        const mm_move_clip *mc = &m->options[i];
+        if (mc->kind != kind) continue;
+        float cost = fabsf(vault_landing(m, kind, mc, o, &from_face) - from_face);
+        if (mc->hand_plant >= 0) cost += fabsf(o->height - mc->plant_height);
+        if (mc->onto || kind == MM_MOVE_CLIMB) cost += fabsf(o->height - mc->rise);
+        if (cost < best_cost - 0.01f) best = mc, best_cost = cost; /* within 1 cm: a tie */
+    }
+    return best;
+}
+
 static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_move_clip *mc,
                         const mm_obstacle *o)
 {
     const mm_database *db = m->db;
-    const mm_moves_desc *d = &m->desc;
     mm_vec3 n = flat(o->hit.normal);
     if (mm_vec3_length(n) < 1e-4f) return;
     mm_vec3 f = mm_vec3_scale(mm_vec3_normalize(n), -1.0f);
     float facing = atan2f(f.x, f.z);
     mm_quat face = yaw_quat(facing);
     mm_vec3 q = mm_vec3_make(o->hit.point.x, 0.0f, o->hit.point.z); /* on the near face */
-    /* where the clip would land, measured from its hand plant (or from where it starts) */
     mm_xform land_rel = advance_root(db, mc->start, 0.0f, (float)(mc->landing - mc->start) * db->interval,
                                      mm_xform_identity());
-    float from_face = mc->hand_plant >= 0 ? mc->land_distance - mc->plant_distance + mc->hand_inset
-                                          : mc->land_distance - o->distance;
-    float dist = mc->onto || kind == MM_MOVE_CLIMB
-                     ? (o->depth >= 0.65f ? clampf(from_face, 0.35f, o->depth - 0.3f) : 0.5f * o->depth)
-                     : fmaxf(from_face, o->depth + d->landing_margin);
+    float from_face, dist = vault_landing(m, kind, mc, o, &from_face);
     mm_vec3 p = mm_vec3_add(mm_vec3_add(q, mm_vec3_scale(f, dist)),
                             mm_quat_rotate(face, mm_vec3_make(land_rel.translation.x, 0.0f, 0.0f)));
     float h;
@@ -638,7 +723,7 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
      * over a wall, a toe on its edge); the lift rises at once and settles back smoothly */
     float y = schedule(m, t + dt);
     /* after the hand plant the body goes over the top: a joint deeper in is lifted over too */
-    const mm_move_clip *mc = clip_of(m, m->kind);
+    const mm_move_clip *mc = &m->active;
     float window = mc && mc->hand_plant >= 0 && t >= (float)(mc->hand_plant - mc->start) * m->db->interval
                        ? 0.6f
                        : 0.25f;
@@ -658,7 +743,8 @@ static float lower_ankle(const mm_character *c)
     return fminf(c->raw_contact_positions[0].y, c->raw_contact_positions[2].y);
 }
 
-static void after_move(mm_moves *m, mm_character *c, float t_before)
+/* root_before: the root as this tick's update began (after before_move), at clip time t_before. */
+static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 root_before)
 {
     const mm_database *db = m->db;
     if (!m->started) {
@@ -670,7 +756,7 @@ static void after_move(mm_moves *m, mm_character *c, float t_before)
         t_before = -1.0f;
     }
     float t = clip_time(m, c);
-    const mm_move_clip *mc = clip_of(m, m->kind);
+    const mm_move_clip *mc = &m->active;
     /* the pose as played (with its transition offsets and the feet's IK) may still cut a top the
      * prediction cleared: lifted out on the next tick */
     if (mc) { /* after the landing only a toe dipping into the surface stood on */
@@ -691,9 +777,13 @@ static void after_move(mm_moves *m, mm_character *c, float t_before)
     }
     if (mc) {
         float tl = (float)(mc->landing - mc->start) * db->interval;
-        if (t_before < tl && t >= tl) {
-            float dx = c->root.translation.x - m->land_target.x,
-                  dz = c->root.translation.z - m->land_target.z;
+        if (t_before < tl && t >= tl) { /* at the Landing itself, between this tick's ends (a fast
+                                           landing moves centimetres in a tick) */
+            mm_vec3 r = c->root.translation;
+            if (t_before >= 0.0f && t > t_before)
+                r = mm_vec3_add(root_before,
+                                mm_vec3_scale(mm_vec3_sub(r, root_before), (tl - t_before) / (t - t_before)));
+            float dx = r.x - m->land_target.x, dz = r.z - m->land_target.z;
             m->land_error = sqrtf(dx * dx + dz * dz);
         }
     }
@@ -804,11 +894,11 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
     int moving = speed > 0.5f && m->fall_velocity == 0.0f;
     mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
     int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
-    const mm_move_clip *drop = clip_of(m, MM_MOVE_DROP), *jump = clip_of(m, MM_MOVE_JUMP);
+    const mm_move_clip *drop = clip_of(m, MM_MOVE_DROP), *jump = clip_of(m, MM_MOVE_JUMP), *mc;
     /* the jump key: a jump (across a gap, onto a wall); at a ledge with nothing across, a drop */
     float over;
-    if (pressed && jump && plan_landing(m, c, jump, 0, &land, &over)) {
-        start_jump(m, c, MM_MOVE_JUMP, jump, land, over);
+    if (pressed && jump && (mc = pick_jump(m, c, MM_MOVE_JUMP, 0, &land, &over)) != NULL) {
+        start_jump(m, c, MM_MOVE_JUMP, mc, land, over);
         return;
     }
     if ((pressed || (moving && ledge)) && drop) {
@@ -817,14 +907,14 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
             near_ledge = !ground_at(m, mm_vec3_add(root, mm_vec3_scale(mm_vec3_normalize(facing), s)),
                                     d->step_height, d->step_height, &h);
         if (near_ledge && (pressed || mm_vec3_dot(dir, mm_vec3_normalize(facing)) > 0.7f)) {
-            if (plan_landing(m, c, drop, 1, &land, &over)) start_jump(m, c, MM_MOVE_DROP, drop, land, over);
+            if ((mc = pick_jump(m, c, MM_MOVE_DROP, 1, &land, &over)) != NULL)
+                start_jump(m, c, MM_MOVE_DROP, mc, land, over);
             return;
         }
     }
     if (!moving) return;
     float reach = 0.0f; /* the farthest any move starts from a wall */
-    for (int k = 0; k < MM_MOVE_KIND_COUNT; ++k)
-        if (m->clips[k].clip >= 0) reach = fmaxf(reach, fmaxf(m->clips[k].plant_distance, 0.7f));
+    for (int k = 0; k < m->option_count; ++k) reach = fmaxf(reach, fmaxf(m->options[k].plant_distance, 0.7f));
     mm_obstacle o;
     mm_obstacle_desc od;
     memset(&od, 0, sizeof od);
@@ -834,13 +924,14 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
     if (mm_vec3_length(n) < 1e-4f || mm_vec3_dot(dir, mm_vec3_normalize(n)) > -0.7f)
         return; /* not toward it */
     mm_move_kind kind = mm_moves_choose(m, &o);
-    const mm_move_clip *mc = clip_of(m, kind);
-    if (!mc) return;
     if (kind == MM_MOVE_JUMP) { /* a jump onto it, close to the wall, facing it */
         if (o.distance > 0.7f || mm_vec3_dot(mm_vec3_normalize(facing), mm_vec3_normalize(n)) > -0.9f) return;
-        if (plan_landing(m, c, mc, 0, &land, &over)) start_jump(m, c, MM_MOVE_JUMP, mc, land, over);
+        if ((mc = pick_jump(m, c, MM_MOVE_JUMP, 0, &land, &over)) != NULL)
+            start_jump(m, c, MM_MOVE_JUMP, mc, land, over);
         return;
     }
+    mc = kind == MM_MOVE_NONE ? NULL : pick_vault(m, kind, &o);
+    if (!mc) return;
     /* at the clip's own distance from the face to the hand plant: little left to correct */
     if (o.distance > fmaxf(mc->plant_distance - mc->hand_inset, 0.3f) + d->trigger_slack) return;
     start_vault(m, c, kind, mc, &o);
@@ -861,8 +952,9 @@ void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
     if (m->kind != MM_MOVE_NONE) {
         float t_before = m->started ? clip_time(m, c) : -1.0f;
         before_move(m, c, dt);
+        mm_vec3 root_before = c->root.translation;
         mm_character_update(c, in, dt);
-        after_move(m, c, t_before);
+        after_move(m, c, t_before, root_before);
         return;
     }
     m->since_move += dt;
