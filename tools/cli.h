@@ -36,6 +36,8 @@ int cli_commit(FILE *f, const char *tmp, const char *path, int failed);
  * removes tmp and returns 1); otherwise remove() the finished temporary files. */
 int cli_finish(FILE *f, const char *tmp, const char *path);
 int cli_publish(const char *tmp, const char *path);
+/* Seconds on the monotonic clock (for timings that are printed, never for results). */
+double cli_now(void);
 /* Writes s as a JSON string literal (quotes and escapes included). */
 void cli_json_string(FILE *f, const char *s);
 

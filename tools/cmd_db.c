@@ -3,7 +3,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <mm/config_json.h>
@@ -12,13 +11,6 @@
 
 #include "cli.h"
 #include "commands.h"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void progress(int done, int total, void *user)
 {
@@ -54,7 +46,7 @@ static int cmd_build(int argc, char **argv)
     if (!config || !out)
         return cli_usage_error("db build",
                                "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N]");
-    double t0 = now_seconds();
+    double t0 = cli_now();
     mm_error err;
     memset(&err, 0, sizeof err);
     mm_config cfg;
@@ -68,7 +60,7 @@ static int cmd_build(int argc, char **argv)
         mm_config_free(&cfg);
         return cli_report(&err);
     }
-    double t1 = now_seconds();
+    double t1 = cli_now();
     mm_db_build_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.config_json = text;
@@ -81,14 +73,14 @@ static int cmd_build(int argc, char **argv)
     mm_config_free(&cfg);
     free(text);
     if (r != MM_OK) return cli_report(&err);
-    double t2 = now_seconds();
+    double t2 = cli_now();
     r = mm_database_save(&db, out, &err);
     if (r != MM_OK) {
         mm_database_free(&db);
         return cli_report(&err);
     }
     printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out,
-           db.frame_count, db.dims, db.clip_count, db.size, now_seconds() - t0, t1 - t0, t2 - t1);
+           db.frame_count, db.dims, db.clip_count, db.size, cli_now() - t0, t1 - t0, t2 - t1);
     mm_database_free(&db);
     return 0;
 }

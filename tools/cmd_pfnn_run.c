@@ -8,7 +8,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <mm/input_json.h>
 #include <mm/mm.h>
@@ -20,19 +19,6 @@
 #define RUN_USAGE                                                                                            \
     "usage: mm pfnn run [--weights DIR] (--input SCRIPT.json | --random SEED) --seconds T "                  \
     "[--mode constant|linear|cubic] [--symmetry mirror|none] -o OUT.bvh [--metrics OUT.json]"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static float yaw_of(mm_quat q)
-{
-    mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
-    return atan2f(f.x, f.z);
-}
 
 static mm_pfnn_gait pfnn_gait(mm_gait g)
 {
@@ -185,16 +171,16 @@ int mm_cmd_pfnn_run(int argc, char **argv)
         pin.velocity = desired;
         if (in.strafe) pin.facing = mm_quat_rotate(desired_facing, mm_vec3_make(0, 0, 1));
         pin.gait = pfnn_gait(in.gait);
-        double start = now_seconds();
+        double start = cli_now();
         mm_pfnn_controller_step(ctrl, &pin, 0.0f); /* one 60 Hz frame */
-        float frame_us = (float)(1e6 * (now_seconds() - start));
+        float frame_us = (float)(1e6 * (cli_now() - start));
         const mm_pfnn_state *s = mm_pfnn_controller_state(ctrl);
         mm_pfnn_controller_local_pose(ctrl, &skel, mm_clip_rotations(&clip, f), mm_clip_positions(&clip, f));
         mm_clip_fk(&clip, f, global);
         for (int j = 0; j < n; ++j) world[j] = global[j].translation;
         unsigned labels = 0;
         for (int k = 0; k < 4; ++k) labels |= (s->contacts[k] > 0.5f ? 1u : 0u) << k;
-        motion_metrics_frame(&mx, t, world, labels, NULL, traj.position, yaw_of(traj.facing),
+        motion_metrics_frame(&mx, t, world, labels, NULL, traj.position, motion_metrics_yaw(traj.facing),
                              s->root_position, s->root_yaw, frame_us);
     }
     free(global);

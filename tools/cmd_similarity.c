@@ -8,20 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include <mm/database.h>
 #include <mm/similarity.h>
 
 #include "cli.h"
 #include "commands.h"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Options shared by the audit and build. Returns 1 when argv[*i] was one of them, 0 when not,
  * -1 (after printing) when its value is bad. */
@@ -398,9 +390,9 @@ static int cmd_build(int argc, char **argv)
     mm_error err;
     memset(&err, 0, sizeof err);
     mm_sim_tables t;
-    double t0 = now_seconds();
+    double t0 = cli_now();
     mm_result r = mm_sim_tables_build(&db, &o.desc, &t, &err);
-    double t1 = now_seconds();
+    double t1 = cli_now();
     if (r == MM_OK) r = mm_sim_tables_save(&t, out, &err);
     mm_database_free(&db);
     if (r != MM_OK) {

@@ -10,7 +10,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <mm/character.h>
 #include <mm/config_json.h>
@@ -28,19 +27,6 @@
 
 /* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
 #define SIM_MAX_FRAMES 2160000
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static float yaw_of(mm_quat q)
-{
-    mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
-    return atan2f(f.x, f.z);
-}
 
 /* The four contact joints (left heel, left toe, right heel, right toe) from the embedded config. */
 static void contact_joints(const mm_database *db, int joints[4])
@@ -215,7 +201,7 @@ int mm_cmd_simulate(int argc, char **argv)
             mm_character_desc_apply_config(&desc, &db, &cfg);
         mm_config_free(&cfg);
     }
-    desc.clock = now;
+    desc.clock = cli_now;
     if (distance_matching >= 0) desc.distance_matching = distance_matching != 0;
     if (warping >= 0) desc.warping = warping != 0;
     if (transition >= 0) desc.transition_mode = (mm_transition_mode)transition;
@@ -274,9 +260,9 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_vec3 desired;
         mm_trajectory_desired(&c.trajectory, &in, &desired, NULL);
         motion_metrics_input(&mx, t, &in, desired);
-        double start = now();
+        double start = cli_now();
         mm_moves_update(&moves, &c, &in, dt);
-        float frame_us = (float)(1e6 * (now() - start));
+        float frame_us = (float)(1e6 * (cli_now() - start));
         if (moves.finished)
             motion_metrics_move(&mx, mm_move_kind_name(moves.last.kind), moves.last.t_start, moves.last.t_end,
                                 moves.last.target_error_cm);
@@ -291,8 +277,8 @@ int mm_cmd_simulate(int argc, char **argv)
         memcpy(mm_clip_positions(&clip, f), c.local_positions, sizeof(mm_vec3) * (size_t)n);
         for (int j = 0; j < n; ++j) world[j] = c.global[j].translation;
         motion_metrics_frame(&mx, t, world, db.contacts[c.frame], c.raw_contact_positions,
-                             c.trajectory.position, yaw_of(c.trajectory.facing), c.root.translation,
-                             yaw_of(c.root.rotation), frame_us);
+                             c.trajectory.position, motion_metrics_yaw(c.trajectory.facing),
+                             c.root.translation, motion_metrics_yaw(c.root.rotation), frame_us);
     }
     mm_bvh_write_desc wd;
     memset(&wd, 0, sizeof wd);

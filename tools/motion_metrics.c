@@ -191,3 +191,9 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     fprintf(f, "%s]\n", m->move_count ? "\n  " : "");
     fprintf(f, "}\n");
 }
+
+float motion_metrics_yaw(mm_quat q)
+{
+    mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
+    return atan2f(f.x, f.z);
+}

@@ -39,6 +39,9 @@ typedef struct motion_metrics {
     } moves[MOTION_METRICS_MAX_MOVES];
 } motion_metrics;
 
+/* The heading of a rotation: the yaw of its +Z axis on the ground (radians, 0 = +Z). */
+float motion_metrics_yaw(mm_quat q);
+
 /* Room for frames frames of joint_count joints at fps; contact_joint: see above. 0 on success. */
 int motion_metrics_init(motion_metrics *m, int joint_count, const int contact_joint[4], double fps,
                         long frames);

@@ -12,6 +12,7 @@
 
 #include <mm/import.h>
 
+#include "io/json_parse.h"
 #include "io/file.h"
 
 /* ---- documentation ---------------------------------------------------------------------- */
@@ -602,21 +603,6 @@ static mm_result parse_root(ctx *c, const cJSON *root)
     return MM_OK;
 }
 
-/* Line and column of a byte offset in text, for JSON syntax errors. */
-static void position_of(const char *text, size_t offset, int *line, int *column)
-{
-    *line = 1;
-    *column = 1;
-    for (size_t i = 0; i < offset; ++i) {
-        if (text[i] == '\n') {
-            ++*line;
-            *column = 1;
-        } else {
-            ++*column;
-        }
-    }
-}
-
 /* ---- extends ---------------------------------------------------------------------------- */
 
 #define MM_EXTENDS_MAX_DEPTH 16
@@ -640,19 +626,6 @@ static void folder_of(const char *path, char *out, size_t size)
         snprintf(out, size, "%.*s", (int)(slash - path), path);
     else
         snprintf(out, size, ".");
-}
-
-/* JSON text to a tree; a syntax error names the line and column. */
-static mm_result parse_tree(const char *text, size_t size, cJSON **out, mm_error *err)
-{
-    const char *end = NULL;
-    *out = cJSON_ParseWithLengthOpts(text, size, &end, 0);
-    if (*out) return MM_OK;
-    int line, column;
-    size_t at = end && end >= text && end <= text + size ? (size_t)(end - text) : 0;
-    position_of(text, at, &line, &column);
-    return mm_error_set(err, size == 0 ? MM_ERR_UNEXPECTED_EOF : MM_ERR_SYNTAX, line, column,
-                        size == 0 ? "the file is empty" : "not valid JSON here");
 }
 
 /* Moves what over adds into base: clips and blend_clips appended, tag names added when new,
@@ -708,7 +681,7 @@ static mm_result resolve_tree(const char *text, size_t size, const char *name, c
     *out = NULL;
     mm__error_set_file(err, name);
     cJSON *root = NULL;
-    mm_result r = parse_tree(text, size, &root, err);
+    mm_result r = mm__json_parse(text, size, &root, err);
     if (r != MM_OK) return r;
     const cJSON *ext = cJSON_GetObjectItemCaseSensitive(root, "extends");
     if (!ext || !cJSON_IsObject(root)) {

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/json_parse.h"
 #include "io/file.h"
 #include "io/text.h"
 
@@ -83,20 +84,9 @@ mm_result mm_input_script_parse_json(const char *text, size_t size, const char *
     mm__error_set_file(err, name ? name : "<input>");
     if (!text || size == 0)
         return mm_error_set(err, MM_ERR_UNEXPECTED_EOF, 0, 0, "the input script is empty");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, 0);
-    if (!root) {
-        int line = 1, column = 1;
-        for (const char *p = text; end && p < end && p < text + size; ++p) {
-            if (*p == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
-        }
-        return mm_error_set(err, MM_ERR_SYNTAX, line, column, "not valid JSON here");
-    }
+    cJSON *root;
+    mm_result parsed = mm__json_parse(text, size, &root, err);
+    if (parsed != MM_OK) return parsed;
     mm_result r = MM_OK;
     const cJSON *keys = cJSON_IsObject(root) ? cJSON_GetObjectItemCaseSensitive(root, "keys") : NULL;
     if (!cJSON_IsObject(root))

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/json_parse.h"
 #include "io/file.h"
 #include "io/text.h"
 
@@ -86,20 +87,9 @@ mm_result mm_scene_parse_json(const char *text, size_t size, const char *name, m
     mm_scene_init(out, 0.0f);
     mm__error_set_file(err, name ? name : "<scene>");
     if (!text || size == 0) return FAIL(MM_ERR_UNEXPECTED_EOF, "the scene is empty");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, size, &end, 0);
-    if (!root) {
-        int line = 1, column = 1;
-        for (const char *p = text; end && p < end && p < text + size; ++p) {
-            if (*p == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
-        }
-        return mm_error_set(err, MM_ERR_SYNTAX, line, column, "not valid JSON here");
-    }
+    cJSON *root;
+    mm_result parsed = mm__json_parse(text, size, &root, err);
+    if (parsed != MM_OK) return parsed;
     static const char *const keys[] = {"ground", "boxes"};
     mm_result r = MM_OK;
     if (!cJSON_IsObject(root))
