@@ -1,7 +1,7 @@
 /* bench_db: database build time (with 1, 2 and 4 threads, median of 3) and peak memory, bytes per
  * frame, load time.
- * usage: bench_db [CONFIG]   (default: configs/lafan1.json; clips found through $MM_DATA_DIR)
- * Prints figures; never fails on speed. */
+ * usage: bench_db [CONFIG]   (default: lafan1.json made by scripts/data_configs.sh; clips found through
+ * $MM_DATA_DIR) Prints figures; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,7 +34,7 @@ static int compare(const void *a, const void *b)
 
 int main(int argc, char **argv)
 {
-    const char *config = argc > 1 ? argv[1] : MM_SOURCE_DIR "/configs/lafan1.json";
+    const char *config = argc > 1 ? argv[1] : MM_DATA_CONFIGS "/lafan1.json";
     if (!getenv("MM_DATA_DIR")) {
         printf("bench_db: MM_DATA_DIR is not set; skipped\n");
         return 0;
@@ -46,7 +46,8 @@ int main(int argc, char **argv)
     char *text = NULL;
     double t0 = now();
     if (mm_config_load_json(config, &cfg, &text, &err) != MM_OK) {
-        fprintf(stderr, "bench_db: %s: %s\n", err.file, err.message);
+        fprintf(stderr, "bench_db: %s: %s (make it: cmake --build build --target data_configs)\n", err.file,
+                err.message);
         return 1;
     }
     mm_clip *sources = NULL;

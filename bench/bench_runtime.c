@@ -1,5 +1,5 @@
 /* bench_runtime: the tick cost of characters sharing one database, and how many tick at 60 Hz on
- * the machine's cores. LAFAN1 (configs/lafan1.json via $MM_DATA_DIR) or the built-in set.
+ * the machine's cores. LAFAN1 (lafan1.json, scripts/data_configs.sh) or the built-in set.
  * usage: bench_runtime [CHARACTERS]   Prints figures; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L
 #include <pthread.h>

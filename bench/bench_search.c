@@ -1,7 +1,7 @@
 /* bench_search: microseconds per query for each search method and three kinds of query, the
- * work pruned, and batch throughput, on the LAFAN1 database (configs/lafan1.json through
- * $MM_DATA_DIR) or the built-in motion set when MM_DATA_DIR is unset.
- * usage: bench_search [QUERIES]   Prints figures; never fails on speed. */
+ * work pruned, and batch throughput, on the LAFAN1 database (lafan1.json, made from $MM_DATA_DIR
+ * by `cmake --build build --target data_configs` or the tests) or the built-in motion set when MM_DATA_DIR is
+ * unset. usage: bench_search [QUERIES]   Prints figures; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -50,10 +50,11 @@ static int build_database(mm_database *db, const char **name)
     mm_clip *sources = NULL;
     char *text = NULL;
     if (getenv("MM_DATA_DIR")) {
-        *name = "LAFAN1 (configs/lafan1.json)";
-        if (mm_config_load_json(MM_SOURCE_DIR "/configs/lafan1.json", &cfg, &text, &err) != MM_OK ||
+        *name = "LAFAN1 (lafan1.json)";
+        if (mm_config_load_json(MM_DATA_CONFIGS "/lafan1.json", &cfg, &text, &err) != MM_OK ||
             mm_config_load_sources(&cfg, &sources, &err) != MM_OK) {
-            fprintf(stderr, "bench_search: %s: %s\n", err.file, err.message);
+            fprintf(stderr, "bench_search: %s: %s (make it: cmake --build build --target data_configs)\n",
+                    err.file, err.message);
             return -1;
         }
     } else {

@@ -9,7 +9,10 @@ seconds=${1:-20}
 mm=build/mm
 out=out/compare
 mkdir -p "$out"
-[ -f "$out/lafan1.mmdb" ] || "$mm" db build configs/lafan1.json -o "$out/lafan1.mmdb" >/dev/null
+if [ ! -f "$out/lafan1.mmdb" ]; then
+    scripts/data_configs.sh "$out" >/dev/null
+    "$mm" db build "$out/lafan1.json" -o "$out/lafan1.mmdb" >/dev/null
+fi
 # one JSON number
 get() { sed -n "s/.*\"$1\": \(null\|[-0-9.e+][-0-9.e+]*\).*/\1/p" "$2"; }
 fmt() { [ "$1" = null ] && echo "-" || printf '%.1f' "$1"; }

@@ -12,7 +12,8 @@ scripts/setup.sh --program-only
 mkdir -p out
 if [ "${1:-}" != "--synth" ] && [ -n "${MM_DATA_DIR:-}" ] && [ -d "$MM_DATA_DIR/lafan1" ]; then
     echo "== motion: LAFAN1 from $MM_DATA_DIR"
-    config=configs/lafan1.json
+    scripts/data_configs.sh out/data_configs
+    config=out/data_configs/lafan1.json
     data=$MM_DATA_DIR
 else
     echo "== motion: the built-in set (out/synth)"

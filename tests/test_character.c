@@ -319,7 +319,7 @@ static void test_robust(void **state)
     /* a tiny database: 4 frames of a take in the shared data, and their mirror */
     if (!getenv("MM_DATA_DIR")) return;
     mm_database tiny;
-    assert_int_equal(test_build_config_database("../tests/data/configs/cmu_style", &tiny), 0);
+    assert_int_equal(test_build_database_at(MM_TEST_DATA "/configs/cmu_style.json", 0, &tiny), 0);
     mm_searcher ts;
     assert_int_equal(mm_searcher_init(&ts, &tiny, NULL, NULL), MM_OK);
     mm_character_desc td;

@@ -269,7 +269,14 @@ static void test_extends(void **state)
     tags[0].begin = 3.0f, tags[0].end = 3.5f;
     snprintf(tags[1].tag, sizeof tags[1].tag, "Landing");
     tags[1].begin = tags[1].end = 3.5f;
-    mm_config_saved_clip sc = {"drop_1", "drop.bvh", 80, 120, MM_CLIP_LOCOMOTION, true, tags, 2};
+    mm_config_saved_clip sc = {.name = "drop_1",
+                               .file = "drop.bvh",
+                               .begin = 80,
+                               .end = 120,
+                               .type = MM_CLIP_LOCOMOTION,
+                               .mirror = true,
+                               .tags = tags,
+                               .tag_count = 2};
     for (int pass = 0; pass < 2; ++pass) assert_int_equal(mm_config_save_clip(derived, &sc, &err), MM_OK);
     assert_int_equal(mm_config_load_json(derived, &c, NULL, &err), MM_OK);
     assert_int_equal(c.clip_count, 3);

@@ -1,4 +1,4 @@
-/* configs/lafan1.json on the real LAFAN1 takes ($MM_DATA_DIR): builds, mirrors correctly,
+/* The LAFAN1 config (scripts/data_configs.sh) on the real takes ($MM_DATA_DIR): builds, mirrors correctly,
  * finds contacts and idle where they are, and is byte-identical when built twice. */
 #include <math.h>
 
@@ -16,7 +16,7 @@ static int build(mm_database *out)
     mm_error err;
     memset(&err, 0, sizeof err);
     char *text = NULL;
-    if (mm_config_load_json(MM_TEST_DATA "/../../configs/lafan1.json", &cfg, &text, &err) != MM_OK) {
+    if (mm_config_load_json(MM_DATA_CONFIGS "/lafan1.json", &cfg, &text, &err) != MM_OK) {
         print_error("%s: %s\n", err.file, err.message);
         return -1;
     }

@@ -1,8 +1,10 @@
 /* test_databases.h - real databases for tests: the built-in motion set (configs/synth.json over
- * mm_synth_generate, no files written), or LAFAN1 (configs/lafan1.json) when MM_DATA_DIR is set. */
+ * mm_synth_generate, no files written), or LAFAN1 (lafan1.json, made from $MM_DATA_DIR by
+ * scripts/data_configs.sh into MM_DATA_CONFIGS before the tests) when MM_DATA_DIR is set. */
 #ifndef MM_TEST_DATABASES_H
 #define MM_TEST_DATABASES_H
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -10,18 +12,20 @@
 #include <mm/database.h>
 #include <mm/synth.h>
 
-/* Builds configs/<name>.json; for "synth" the sources come from mm_synth_generate. */
-static inline int test_build_config_database(const char *name, mm_database *db)
+/* Builds the config at path; with synth, its clips come from mm_synth_generate (no files read). */
+static inline int test_build_database_at(const char *path, int synth, mm_database *db)
 {
     mm_error err;
     memset(&err, 0, sizeof err);
     mm_config cfg;
     memset(&cfg, 0, sizeof cfg);
-    char path[512], *text = NULL;
-    snprintf(path, sizeof path, "%s/../../configs/%s.json", MM_TEST_DATA, name);
-    if (mm_config_load_json(path, &cfg, &text, &err) != MM_OK) return -1;
+    char *text = NULL;
+    if (mm_config_load_json(path, &cfg, &text, &err) != MM_OK) {
+        fprintf(stderr, "%s: %s\n", path, err.message);
+        return -1;
+    }
     mm_clip *sources = NULL;
-    if (strcmp(name, "synth") == 0) {
+    if (synth) {
         mm_synth_desc sd;
         memset(&sd, 0, sizeof sd);
         mm_synth_set set;
@@ -49,7 +53,15 @@ static inline int test_build_config_database(const char *name, mm_database *db)
 
 static inline int test_build_synth_database(mm_database *db)
 {
-    return test_build_config_database("synth", db);
+    return test_build_database_at(MM_SOURCE_DIR "/configs/synth.json", 1, db);
+}
+
+/* MM_DATA_CONFIGS/<name>.json: the configs scripts/data_configs.sh makes from $MM_DATA_DIR. */
+static inline int test_build_data_database(const char *name, mm_database *db)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s.json", MM_DATA_CONFIGS, name);
+    return test_build_database_at(path, 0, db);
 }
 
 /* LAFAN1 when MM_DATA_DIR is set (*lafan = 1), the built-in set otherwise. */
@@ -57,7 +69,7 @@ static inline int test_build_real_database(mm_database *db, int *lafan)
 {
     const char *dir = getenv("MM_DATA_DIR");
     *lafan = dir && *dir;
-    return test_build_config_database(*lafan ? "lafan1" : "synth", db);
+    return *lafan ? test_build_data_database("lafan1", db) : test_build_synth_database(db);
 }
 
 #endif

@@ -94,8 +94,13 @@ fi
 
 # real data, when it is there
 if [ -n "$data" ] && [ -d "$data/lafan1" ]; then
+    # its configs, made from the takes twice
+    for k in 1 2; do
+        run env MM="$mm" MM_DATA_DIR="$data" sh "$src/scripts/data_configs.sh" "$tmp/dc$k"
+    done
+    same "$tmp/dc1" "$tmp/dc2"
     for t in 1 2 4; do
-        run "$mm" db build "$src/configs/lafan1.json" -o "$tmp/l$t.mmdb" --threads $t
+        run "$mm" db build "$tmp/dc1/lafan1.json" -o "$tmp/l$t.mmdb" --threads $t
     done
     same "$tmp/l1.mmdb" "$tmp/l2.mmdb"
     same "$tmp/l1.mmdb" "$tmp/l4.mmdb"

@@ -1,7 +1,7 @@
 /* The move detector on analytic motion whose events are known by construction: a ballistic jump,
  * a vault over a 1 m box with a hand planted on its top, a drop from a 1 m ledge, standing still
  * (no move); bad input; and, with $MM_DATA_DIR, the climbs and drops of LAFAN1's
- * obstacles1_subject1 checked by eye (docs/moves_data.md), and configs/lafan1_moves.json loading
+ * obstacles1_subject1 checked by eye (docs/moves_data.md), and lafan1_moves.json loading
  * and building. */
 #include <math.h>
 #include <stdlib.h>
@@ -214,7 +214,7 @@ static void test_lafan1_obstacles(void **state)
     memset(&err, 0, sizeof err);
     mm_config cfg;
     memset(&cfg, 0, sizeof cfg);
-    assert_int_equal(mm_config_load_json(MM_TEST_DATA "/../../configs/lafan1.json", &cfg, NULL, &err), MM_OK);
+    assert_int_equal(mm_config_load_json(MM_DATA_CONFIGS "/lafan1.json", &cfg, NULL, &err), MM_OK);
     mm_bvh bvh;
     assert_int_equal(mm_bvh_load(path, NULL, &bvh, &err), MM_OK);
     mm_bvh_import_desc imp;
@@ -257,8 +257,7 @@ static void test_lafan1_moves_config_builds(void **state)
     mm_config cfg;
     memset(&cfg, 0, sizeof cfg);
     char *text = NULL;
-    assert_int_equal(mm_config_load_json(MM_TEST_DATA "/../../configs/lafan1_moves.json", &cfg, &text, &err),
-                     MM_OK);
+    assert_int_equal(mm_config_load_json(MM_DATA_CONFIGS "/lafan1_moves.json", &cfg, &text, &err), MM_OK);
     static const char *const names[] = {"Jump", "VaultLow", "VaultHigh", "Climb",
                                         "Drop", "TakeOff",  "HandPlant", "Landing"};
     for (int i = 0; i < 8; ++i) assert_true(mm_config_tag_index(&cfg, names[i]) >= 0);

@@ -1,8 +1,8 @@
 /* The move layer (mm/moves.h) on the built-in motion set (its standing jump) in the shipped
  * scenes: a jump across a gap lands on the far side at its height, the drop lands on the lower
  * ground, the vault's choice follows the box's height and depth, no joint goes deeper than 5 cm
- * into a box, and matching resumes after every move. On LAFAN1 with configs/lafan1_moves.json
- * when MM_DATA_DIR is set and the config is there. */
+ * into a box, and matching resumes after every move. On LAFAN1 with lafan1_moves.json
+ * (scripts/data_configs.sh) when MM_DATA_DIR is set. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -296,7 +296,7 @@ static void test_no_scene(void **state)
     assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &d, &err), MM_ERR_OUT_OF_RANGE);
 }
 
-/* LAFAN1 with its moves (configs/lafan1_moves.json) on every shipped scene: the moves expected,
+/* LAFAN1 with its moves (lafan1_moves.json) on every shipped scene: the moves expected,
  * each handing back to matching with its targets reached, the body out of the boxes. Limits
  * that the data sets (docs/moves.md, "Limits"): LAFAN1's only low vault
  * (obstacles1_subject5) steps through where a 0.4 m deep wall stands, so its trailing leg cuts
@@ -306,16 +306,9 @@ static void test_no_scene(void **state)
 static void test_lafan1(void **state)
 {
     (void)state;
-    char path[512];
-    snprintf(path, sizeof path, "%s/../../configs/lafan1_moves.json", MM_TEST_DATA);
-    FILE *f = fopen(path, "rb");
-    if (!getenv("MM_DATA_DIR") || !f) {
-        if (f) fclose(f);
-        skip();
-    }
-    fclose(f);
-    mm_database db;
-    assert_int_equal(test_build_config_database("lafan1_moves", &db), 0);
+    if (!getenv("MM_DATA_DIR")) skip();
+    mm_database db; /* made from $MM_DATA_DIR by the data_configs fixture */
+    assert_int_equal(test_build_data_database("lafan1_moves", &db), 0);
     mm_searcher s;
     mm_error err;
     memset(&err, 0, sizeof err);

@@ -163,3 +163,25 @@ double cli_now(void)
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+/* The file's name without folders and extension. */
+void cli_file_stem(const char *path, char *out, size_t size)
+{
+    const char *s = strrchr(path, '/');
+    s = s ? s + 1 : path;
+    const char *dot = strrchr(s, '.');
+    int len = dot && dot > s ? (int)(dot - s) : (int)strlen(s);
+    snprintf(out, size, "%.*s", len, s);
+}
+
+/* How a config names the file: relative to $MM_DATA_DIR when it is inside it. */
+void cli_config_file_name(const char *path, char *out, size_t size)
+{
+    const char *data = getenv("MM_DATA_DIR");
+    size_t n = data ? strlen(data) : 0;
+    while (n > 0 && data[n - 1] == '/') --n;
+    if (n > 0 && strncmp(path, data, n) == 0 && path[n] == '/')
+        snprintf(out, size, "%s", path + n + 1);
+    else
+        snprintf(out, size, "%s", path);
+}

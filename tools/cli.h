@@ -40,5 +40,9 @@ int cli_publish(const char *tmp, const char *path);
 double cli_now(void);
 /* Writes s as a JSON string literal (quotes and escapes included). */
 void cli_json_string(FILE *f, const char *s);
+/* The file's name without folders and extension. */
+void cli_file_stem(const char *path, char *out, size_t size);
+/* How a config names a clip file: relative to $MM_DATA_DIR when it is inside it, else as given. */
+void cli_config_file_name(const char *path, char *out, size_t size);
 
 #endif

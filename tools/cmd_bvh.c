@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <mm/config_json.h>
 #include <mm/mm.h>
 
 #include "cli.h"
@@ -230,9 +231,36 @@ static void print_spans(const char *key, const int (*spans)[2], int n, int last)
     printf("]%s\n", last ? "" : ",");
 }
 
+/* --write: the spans of one kind as a clip of the config (NAME, or NAME_idle for the idle ones). */
+static int write_spans(const char *config, const char *path, const char *as, int idle, int mirror,
+                       const int (*spans)[2], int count)
+{
+    char stem[MM_NAME_MAX], name[MM_NAME_MAX + 8], file[1024];
+    if (as)
+        snprintf(stem, sizeof stem, "%s", as);
+    else
+        cli_file_stem(path, stem, sizeof stem);
+    snprintf(name, sizeof name, "%s%s", stem, idle ? "_idle" : "");
+    cli_config_file_name(path, file, sizeof file);
+    mm_config_saved_clip c;
+    memset(&c, 0, sizeof c);
+    c.name = name;
+    c.file = file;
+    c.ranges = spans;
+    c.range_count = count;
+    c.type = idle ? MM_CLIP_IDLE : MM_CLIP_LOCOMOTION;
+    c.mirror = mirror != 0;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    if (mm_config_save_clip(config, &c, &err) != MM_OK) return cli_report(&err);
+    printf("%s: clip %s, %d spans\n", config, name, count);
+    return 0;
+}
+
 static int cmd_spans(int argc, char **argv)
 {
-    const char *path = NULL, *hips_name = "Hips", *root_name = "Spine2";
+    const char *path = NULL, *hips_name = "Hips", *root_name = "Spine2", *write = NULL, *as = NULL;
+    int mirror = 1;
     double scale = 0.0, low = 0.6, pad = 1.0, idle_speed = 0.15, idle_min = 1.0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -250,6 +278,13 @@ static int cmd_spans(int argc, char **argv)
             if (!v) return cli_usage_error("bvh spans", "%s needs a joint name", a);
             *(strcmp(a, "--hips") == 0 ? &hips_name : &root_name) = v;
             ++i;
+        } else if (strcmp(a, "--write") == 0 || strcmp(a, "--as") == 0) {
+            if (!v)
+                return cli_usage_error("bvh spans", "%s needs a %s", a, a[2] == 'w' ? "config path" : "name");
+            *(a[2] == 'w' ? &write : &as) = v;
+            ++i;
+        } else if (strcmp(a, "--no-mirror") == 0) {
+            mirror = 0;
         } else if (a[0] == '-' && a[1]) {
             return cli_usage_error("bvh spans", "unknown option '%s'", a);
         } else if (!path) {
@@ -261,7 +296,8 @@ static int cmd_spans(int argc, char **argv)
     if (!path)
         return cli_usage_error("bvh spans",
                                "usage: mm bvh spans FILE [--scale S] [--hips NAME] [--root-bone NAME] "
-                               "[--low-hips 0.6] [--pad 1] [--idle-speed 0.15] [--idle-min 1]");
+                               "[--low-hips 0.6] [--pad 1] [--idle-speed 0.15] [--idle-min 1] "
+                               "[--write CONFIG.json [--as NAME] [--no-mirror]]");
     mm_bvh bvh;
     if (load(path, &bvh)) return 1;
     mm_bvh_import_desc imp;
@@ -324,11 +360,15 @@ static int cmd_spans(int argc, char **argv)
             for (int k = f; k < e; ++k) idle[k] = 1;
         f = e > f ? e : f + 1;
     }
-    printf("{\n  \"file\": ");
-    cli_json_string(stdout, path);
-    printf(",\n  \"frames\": %d,\n  \"fps\": %.6g,\n", n, clip.fps);
-    for (int kind = 0; kind < 3; ++kind) {
-        int count = 0;
+    if (!write) {
+        printf("{\n  \"file\": ");
+        cli_json_string(stdout, path);
+        printf(",\n  \"frames\": %d,\n  \"fps\": %.6g,\n", n, clip.fps);
+    }
+    int status = 0;
+    static const int write_order[3] = {0, 2, 1}; /* the locomotion clip, then the idle one */
+    for (int step = 0; step < 3; ++step) {
+        int kind = write ? write_order[step] : step, count = 0;
         for (int f = 0; f < n;) {
             int in = kind == 0   ? excluded[f]
                      : kind == 1 ? (!excluded[f] && idle[f])
@@ -345,19 +385,22 @@ static int cmd_spans(int argc, char **argv)
             }
             f = e;
         }
-        print_spans(kind == 0   ? "excluded"
-                    : kind == 1 ? "idle"
-                                : "locomotion",
-                    (const int(*)[2])spans, count, kind == 2);
+        if (!write)
+            print_spans(kind == 0   ? "excluded"
+                        : kind == 1 ? "idle"
+                                    : "locomotion",
+                        (const int(*)[2])spans, count, kind == 2);
+        else if (kind > 0 && count > 0 && status == 0)
+            status = write_spans(write, path, as, kind == 1, mirror, (const int(*)[2])spans, count);
     }
-    printf("}\n");
+    if (!write) printf("}\n");
     free(g);
     free(x);
     free(excluded);
     free(idle);
     free(spans);
     mm_clip_free(&clip);
-    return 0;
+    return status;
 }
 
 int mm_cmd_bvh(int argc, char **argv)

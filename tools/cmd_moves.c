@@ -16,28 +16,6 @@
 
 enum { MAX_MOVES = 256 };
 
-/* The file's name without folders and extension. */
-static void stem_of(const char *path, char *out, size_t size)
-{
-    const char *s = strrchr(path, '/');
-    s = s ? s + 1 : path;
-    const char *dot = strrchr(s, '.');
-    int len = dot && dot > s ? (int)(dot - s) : (int)strlen(s);
-    snprintf(out, size, "%.*s", len, s);
-}
-
-/* How a config names the file: relative to $MM_DATA_DIR when it is inside it. */
-static void config_name_of(const char *path, char *out, size_t size)
-{
-    const char *data = getenv("MM_DATA_DIR");
-    size_t n = data ? strlen(data) : 0;
-    while (n > 0 && data[n - 1] == '/') --n;
-    if (n > 0 && strncmp(path, data, n) == 0 && path[n] == '/')
-        snprintf(out, size, "%s", path + n + 1);
-    else
-        snprintf(out, size, "%s", path);
-}
-
 static void print_event(FILE *f, const char *name, int frame, float fps, int json, int more)
 {
     if (json) {
@@ -112,8 +90,8 @@ static int detect(int argc, char **argv)
     if (count > MAX_MOVES) count = MAX_MOVES;
     float fps = takes.count > 0 ? takes.clips[0].fps : 30.0f;
     char stem[40], file[MM_PATH_MAX];
-    stem_of(in, stem, sizeof stem);
-    config_name_of(in, file, sizeof file);
+    cli_file_stem(in, stem, sizeof stem);
+    cli_config_file_name(in, file, sizeof file);
     if (as) snprintf(file, sizeof file, "%s", as);
     if (status == 0 && json) {
         printf("{\"file\": ");

@@ -90,11 +90,14 @@ typedef struct mm_config_named_range {
     float begin, end;
 } mm_config_named_range;
 
-/* A clip as mm_config_save_clip writes it: one frame range [begin, end) of file. */
+/* A clip as mm_config_save_clip writes it: frame ranges of file, either the list `ranges`
+ * (range_count of them) or, when range_count is 0, the one range [begin, end). */
 typedef struct mm_config_saved_clip {
     const char *name;
     const char *file; /* as the config should name it (e.g. "lafan1/obstacles1_subject1.bvh") */
     int begin, end;   /* source frames, half-open */
+    const int (*ranges)[2];
+    int range_count;
     mm_clip_type type;
     bool mirror;
     const mm_config_named_range *tags;

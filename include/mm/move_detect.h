@@ -1,6 +1,6 @@
 /* mm/move_detect.h - finding the moves beyond locomotion in motion capture: jumps, vaults,
  * climbs and drops, with their key events (take-off, hand plant, landing), so that a config can
- * tag them (configs/lafan1_moves.json, `mm moves detect`).
+ * tag them (`mm moves detect`; scripts/data_configs.sh makes lafan1_moves.json with it).
  *
  * The detector reads seven point tracks of a clip in metres, Y up: the hips, both ankles, both
  * toes and both hands. From them:

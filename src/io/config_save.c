@@ -94,6 +94,11 @@ static void put_number(text_buf *b, double v)
         puts_(b, "null"); /* never valid in a config: the check after printing refuses it */
         return;
     }
+    if (v == floor(v) && fabs(v) < 1e15) { /* whole numbers as integers (100, not 1e+02) */
+        snprintf(s, sizeof s, "%.0f", v);
+        puts_(b, s);
+        return;
+    }
     for (int digits = 1; digits <= 17; ++digits) {
         snprintf(s, sizeof s, "%.*g", digits, v);
         if (strtod(s, NULL) == v) break;
@@ -466,12 +471,16 @@ static int add_name(cJSON *names, const char *name)
 static cJSON *clip_object(const mm_config_saved_clip *c)
 {
     cJSON *o = cJSON_CreateObject();
-    cJSON *ranges = cJSON_CreateArray(), *range = cJSON_CreateArray();
-    int ok = o && ranges && range && cJSON_AddStringToObject(o, "name", c->name) &&
+    cJSON *ranges = cJSON_CreateArray();
+    int ok = o && ranges && cJSON_AddStringToObject(o, "name", c->name) &&
              cJSON_AddStringToObject(o, "file", c->file);
-    ok = ok && cJSON_AddItemToArray(range, cJSON_CreateNumber(c->begin)) &&
-         cJSON_AddItemToArray(range, cJSON_CreateNumber(c->end)) && cJSON_AddItemToArray(ranges, range);
-    if (ok) range = NULL;
+    int n = c->range_count > 0 ? c->range_count : 1;
+    for (int i = 0; ok && i < n; ++i) {
+        cJSON *range =
+            cJSON_CreateIntArray(c->range_count > 0 ? c->ranges[i] : (const int[2]){c->begin, c->end}, 2);
+        ok = range && cJSON_AddItemToArray(ranges, range);
+        if (!ok) cJSON_Delete(range);
+    }
     ok = ok && cJSON_AddItemToObject(o, "ranges", ranges);
     if (ok) ranges = NULL;
     if (ok && c->type == MM_CLIP_IDLE) ok = cJSON_AddStringToObject(o, "type", "idle") != NULL;
@@ -488,7 +497,6 @@ static cJSON *clip_object(const mm_config_saved_clip *c)
              cJSON_AddItemToArray(list, pair);
         if (!ok) cJSON_Delete(pair);
     }
-    cJSON_Delete(range);
     cJSON_Delete(ranges);
     if (!ok) {
         cJSON_Delete(o);
@@ -506,6 +514,9 @@ mm_result mm_config_save_clip(const char *config_path, const mm_config_saved_cli
     if (clip->tag_count < 0 || (clip->tag_count > 0 && !clip->tags))
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clip '%s': %d tag ranges given", clip->name,
                             clip->tag_count);
+    if (clip->range_count < 0 || (clip->range_count > 0 && !clip->ranges))
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clip '%s': %d frame ranges given",
+                            clip->name, clip->range_count);
     for (int i = 0; i < clip->tag_count; ++i)
         if (!clip->tags[i].tag[0])
             return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clip '%s': tag range %d has no tag name",
