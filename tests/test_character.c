@@ -784,7 +784,8 @@ static void test_transition_velocity_continuous(void **state)
 
 /* Letting go of the stick at a run does not drop into idle at once (an idle pose would have its
  * planted feet dragged along while the character still moves): idle is asked for once the
- * simulated character has slowed under idle_speed + idle_hysteresis, and then it is. */
+ * simulated character has slowed under idle_speed + idle_hysteresis and the root motion played
+ * under idle_root_speed (or the simulation has stopped), and then it is. */
 static void test_idle_after_stop(void **state)
 {
     (void)state;
@@ -802,12 +803,15 @@ static void test_idle_after_stop(void **state)
     for (int i = 0; i < 180 && idle_tick < 0; ++i) {
         mm_vec3 v = c.trajectory.velocity;
         float before = sqrtf(v.x * v.x + v.z * v.z);
+        /* the root motion played up to this tick: idle_root_speed holds idle back while it runs */
+        float played = sqrtf(c.root_velocity.x * c.root_velocity.x + c.root_velocity.z * c.root_velocity.z);
         mm_character_update(&c, &in, 1.0f / 60.0f);
         v = c.trajectory.velocity;
         float speed = sqrtf(v.x * v.x + v.z * v.z);
         if (c.idle) {
             idle_tick = i;
             assert_true(speed < limit);
+            assert_true(played < c.desc.idle_root_speed || speed < 0.01f);
         } else {
             moving_ticks += before > limit;
         }

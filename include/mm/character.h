@@ -70,6 +70,9 @@ typedef struct mm_character_desc {
     float idle_speed;          /* m/s: desired speed under which idle is asked for, once the
                                   simulated speed is under idle_speed + idle_hysteresis too; 0.15 */
     float idle_hysteresis;     /* m/s: leave idle above idle_speed + this; 0.1 */
+    float idle_root_speed;     /* m/s: idle is not asked for while the root motion played is
+                                  this fast or faster, unless the simulation has stopped; 1.0
+                                  (0: off) */
     float sync_halflife;       /* s: the root is pulled toward the simulation; 0.3 */
     float sync_max_distance;   /* m: clamp of the root's distance to the simulation; 0.3 */
     float sync_max_angle;      /* rad: clamp of the root's facing to the simulation's; 0.6 */

@@ -18,6 +18,7 @@ void mm_character_defaults(mm_character_desc *d)
     d->crossfade_time = 0.2f;
     d->idle_speed = 0.15f;
     d->idle_hysteresis = 0.1f;
+    d->idle_root_speed = 1.0f; /* LAFAN1: demo slide 6.1 -> 5.2 cm/s; 0.5 and 0.3 hurt stop_and_go */
     d->sync_halflife = 0.3f;
     d->sync_max_distance = 0.3f;
     d->sync_max_angle = 0.6f;
@@ -930,6 +931,9 @@ static void orientation_warp(mm_character *c, const mm_input *in, float dt)
                                     mm_xform_make(c->local_rotations[j], c->local_positions[j]));
 }
 
+/* m/s: the simulated character counts as stopped */
+#define IDLE_STOPPED 0.01f
+
 /* frames: how close to the next frame the playhead counts as on it */
 #define PLAYHEAD_SNAP 1e-3f
 
@@ -983,13 +987,18 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     float speed = mm_vec3_length(desired), direction = atan2f(desired.x, desired.z);
     /* idle is asked for once the simulated character has (nearly) stopped too, not when the
      * stick is let go: until then the locomotion search finds the stops, where an idle pose
-     * would have its planted feet dragged along by the root still moving */
+     * would have its planted feet dragged along by the root still moving. Nor while the
+     * animation still runs (its root faster than idle_root_speed): the jump from a stride into
+     * a standing pose, both feet labelled planted, slid them 70-90 cm/s on LAFAN1's run stops;
+     * once the simulation has stopped (IDLE_STOPPED) idle is asked for whatever plays */
     float moving = sqrtf(c->trajectory.velocity.x * c->trajectory.velocity.x +
                          c->trajectory.velocity.z * c->trajectory.velocity.z);
     int idle_changed = 0;
     if (c->idle && speed > d->idle_speed + d->idle_hysteresis)
         c->idle = false, idle_changed = 1;
-    else if (!c->idle && speed < d->idle_speed && moving < d->idle_speed + d->idle_hysteresis)
+    else if (!c->idle && speed < d->idle_speed && moving < d->idle_speed + d->idle_hysteresis &&
+             (!(d->idle_root_speed > 0.0f) || mm_vec3_length(c->root_velocity) < d->idle_root_speed ||
+              moving < IDLE_STOPPED))
         c->idle = true, idle_changed = 1;
     int turned = speed > 0.3f && fabsf(wrap(direction - c->last_direction)) > d->turn_threshold;
     c->since_search += dt;
