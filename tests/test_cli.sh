@@ -5,12 +5,23 @@ set -u
 mm=$1
 data=$2
 . "$(dirname "$0")/cli_checks.sh"
-# expect_value FILE JOINT X Y Z : the fk line of JOINT is within 1e-9 of X Y Z
+# expect_value FILE JOINT X Y Z : the fk line of JOINT is within 1e-6 of X Y Z (fk is float: 4.5 cos 90 degrees
+# prints as -2.2e-08)
 expect_value() {
     if awk -v j="$2" -v x="$3" -v y="$4" -v z="$5" '
         function abs(v) { return v < 0 ? -v : v }
-        $1 == j { found = 1; if (abs($2 - x) > 1e-9 || abs($3 - y) > 1e-9 || abs($4 - z) > 1e-9) exit 1 }
-        END { exit found ? 0 : 1 }' "$1"; then ok; else bad "fk $2 is not ($3 $4 $5):"; cat "$1"; fi
+        $1 == j { found = 1; if (abs($2 - x) > 1e-6 || abs($3 - y) > 1e-6 || abs($4 - z) > 1e-6) off = 1 }
+        END { exit found && !off ? 0 : 1 }' "$1"; then ok; else bad "fk $2 is not ($3 $4 $5):"; cat "$1"; fi
+}
+# expect_speeds FILE KIND DIRECTION P10 P50 P90 : mm db info's speed line of KIND gives DIRECTION's
+# percentiles within 0.011 m/s (printed to 0.01); '*' skips one
+expect_speeds() {
+    if awk -v k="$2" -v d="$3" -v a="$4" -v b="$5" -v c="$6" '
+        function abs(v) { return v < 0 ? -v : v }
+        $1 == k && $3 == "frames" { for (i = 1; i <= NF; ++i) if ($i == d) { found = 1
+            if ((a != "*" && abs($(i + 1) - a) > 0.011) || (b != "*" && abs($(i + 2) - b) > 0.011) ||
+                (c != "*" && abs($(i + 3) - c) > 0.011)) off = 1 } }
+        END { exit found && !off ? 0 : 1 }' "$1"; then ok; else bad "speeds of $2 $3 are not $4 $5 $6:"; cat "$1"; fi
 }
 
 chain=$data/bvh/chain2.bvh
@@ -125,10 +136,19 @@ expect_exit 0 "$mm" synth "$tmp/synth/set"
 expect_exit 0 "$mm" db build "$data/../../configs/synth.json" --data "$tmp/synth/set" -o "$tmp/synth.mmdb"
 expect_exit 0 "$mm" db info "$tmp/synth.mmdb" --json
 expect_grep '"clips": 43' "$tmp/out"
+expect_grep '"speeds": \[{"name": "Walk", "frames": [0-9]*, "still": [0-9]*, "forward": {"frames": [1-9][0-9]*, "p10": 1\.0[45]' "$tmp/out"
 expect_grep '"tags": \["DoNotUse", "Jump", "Walk", "Run"\]' "$tmp/out"
 expect_grep '"distance": {"segments": [0-9]*, "stops": [1-9][0-9]*, "pivots": [0-9]*, "no_stop": [0-9]*, "starts": [1-9]' "$tmp/out"
 expect_exit 0 "$mm" db info "$tmp/synth.mmdb"
 expect_grep '^distance: .* segments (.* stops, .* pivots, .* without a stop), .* clips start from rest' "$tmp/out"
+# speeds by gait tag, against the built-in set's construction (src/synth/synth_set.c): the walk
+# loops at 1.05, 1.40 and 1.75 m/s and the run loops at 3.0, 3.8 and 4.6 m/s hold their speed, so
+# the forward p10 and p90 are the slowest and fastest loop's; the one backward walk is a loop at
+# 1.0 m/s; the idle never moves
+expect_speeds "$tmp/out" Walk forward 1.05 '*' 1.75
+expect_speeds "$tmp/out" Walk backward 1.00 1.00 1.00
+expect_speeds "$tmp/out" Run forward 3.00 '*' 4.60
+expect_grep '^  idle  *480 frames  *480 still  forward  *-  *-  *- (0)' "$tmp/out"
 expect_grep '^  clip  23 walk_stop .* 1 stop$' "$tmp/out"
 expect_exit 1 "$mm" db build "$data/../../configs/synth.json" -o "$tmp/nosynth.mmdb"
 

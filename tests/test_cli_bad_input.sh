@@ -254,6 +254,16 @@ for opt in --scale --low-hips --pad --idle-speed --idle-min; do
 done
 names --hips "$mm" bvh spans "$chain"
 names --root-bone "$mm" bvh spans "$chain"
+names --write "$mm" bvh spans "$chain"
+names --as "$mm" bvh spans "$chain" --write "$tmp/spans.json"
+# bvh spans --write: the config must exist and be one; it is not touched when writing fails
+for f in "$tmp/missing" "$tmp/garbage.json" "$tmp/folder"; do
+    fails "$f" "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --write "$f"
+done
+printf '{"clips": []}\n' >"$tmp/spans.json"
+long=$(printf '%0100d' 0)
+fails "$long" "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --write "$tmp/spans.json" --as "$long"
+if [ "$(cat "$tmp/spans.json")" = '{"clips": []}' ]; then ok; else bad "bvh spans --write changed the config on failure"; fi
 values --scale "$not_numbers 0 -1" "$mm" import info "$chain"
 values --fps "$not_numbers 0 -1 10001" "$mm" import info "$chain"
 names -o "$mm" db build "$tmp/db.json"

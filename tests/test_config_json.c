@@ -180,6 +180,34 @@ static void test_defaults(void **state)
     mm_config_free(&c);
 }
 
+/* An interval written to six digits is the whole frame rate it rounds (0.0166667 is 1/60, so that a
+ * 60 Hz tick is exactly one frame); one that rounds none is read as written. */
+static void test_interval_whole_rate(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        float expect;
+    } cases[] = {
+        {"{\"interval\": 0.0166667}", 1.0f / 60.0f},   /* 1/60 to 6 digits: 2e-6 off */
+        {"{\"interval\": 0.0333333}", 1.0f / 30.0f},   /* 1/30: 1e-6 off */
+        {"{\"interval\": 0.00833333}", 1.0f / 120.0f}, /* 1/120: 4e-7 off */
+        {"{\"interval\": 0.05}", 1.0f / 20.0f},
+        {"{\"interval\": 0.0167}", 0.0167f}, /* 59.88 frames per second: 2e-3 off, kept */
+        {"{\"interval\": 0.0123}", 0.0123f},
+        {"{\"interval\": 0.7}", 0.7f},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        mm_config c;
+        memset(&c, 0, sizeof c);
+        assert_int_equal(mm_config_parse_json(cases[i].text, strlen(cases[i].text), "i.json", NULL, &c, NULL),
+                         MM_OK);
+        if (c.interval != cases[i].expect) print_error("%s: %.9g\n", cases[i].text, c.interval);
+        assert_true(c.interval == cases[i].expect);
+        mm_config_free(&c);
+    }
+}
+
 /* Clip paths: the config's folder first, then $MM_DATA_DIR. */
 static void test_resolve_paths(void **state)
 {
@@ -339,13 +367,10 @@ static void test_docs_in_sync(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_every_field),
-        cmocka_unit_test(test_errors_name_the_field),
-        cmocka_unit_test(test_json_syntax_errors),
-        cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_resolve_paths),
-        cmocka_unit_test(test_docs_in_sync),
-        cmocka_unit_test(test_extends),
+        cmocka_unit_test(test_every_field),         cmocka_unit_test(test_errors_name_the_field),
+        cmocka_unit_test(test_json_syntax_errors),  cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_interval_whole_rate), cmocka_unit_test(test_resolve_paths),
+        cmocka_unit_test(test_docs_in_sync),        cmocka_unit_test(test_extends),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,6 +2,7 @@
  * character (exactly the defaults when nothing is set), and saved back into a config file with
  * the feature weights and clip tags, everything else kept. */
 #define _POSIX_C_SOURCE 200809L
+#include <cjson/cJSON.h>
 #include <math.h>
 
 #include <mm/character.h>
@@ -82,16 +83,17 @@ static void test_parse_runtime(void **state)
     mm_error err;
     const char *text = "{\"runtime\": {\"pose_trajectory_ratio\": 0.7, \"next_pose_favour\": 0.5,\n"
                        "  \"loop_anim_favour\": 0.9, \"continuing_bias\": 0.01, \"search_interval\": 0.05,\n"
-                       "  \"transition_halflife\": 0.15, \"idle_speed\": 0.2,\n"
+                       "  \"transition_halflife\": 0.15, \"idle_speed\": 0.2, \"sync_halflife\": 0.5,\n"
                        "  \"walk\": {\"forward_speed\": 1.4, \"side_speed\": 1, \"backward_speed\": 0.9,\n"
                        "           \"velocity_halflife\": 0.2, \"rotation_halflife\": 0.3},\n"
                        "  \"run\": {\"forward_speed\": 3.5}, \"crouch\": {\"rotation_halflife\": 0.4}}}";
     assert_int_equal(parse(text, &c, &err), MM_OK);
     const mm_runtime_config *rt = &c.runtime;
-    assert_int_equal(rt->set, 0x7f);
+    assert_int_equal(rt->set, 0xff);
     assert_true(rt->pose_trajectory_ratio == 0.7f && rt->next_pose_favour == 0.5f);
     assert_true(rt->loop_anim_favour == 0.9f && rt->continuing_bias == 0.01f);
     assert_true(rt->search_interval == 0.05f && rt->transition_halflife == 0.15f && rt->idle_speed == 0.2f);
+    assert_true(rt->sync_halflife == 0.5f);
     assert_int_equal(rt->walk.set, 0x1f);
     assert_true(rt->walk.forward_speed == 1.4f && rt->walk.side_speed == 1.0f);
     assert_true(rt->walk.backward_speed == 0.9f && rt->walk.velocity_halflife == 0.2f);
@@ -128,6 +130,12 @@ static void test_parse_runtime(void **state)
         {"{\"runtime\": {\"search_interval\": 0}}", "runtime.search_interval", MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"transition_halflife\": 0}}", "runtime.transition_halflife", MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"idle_speed\": -0.1}}", "runtime.idle_speed", MM_ERR_OUT_OF_RANGE},
+        {"{\"runtime\": {\"sync_halflife\": -0.1}}",
+         "runtime.sync_halflife: -0.1 s is out of range (0 to 60 s)", MM_ERR_OUT_OF_RANGE},
+        {"{\"runtime\": {\"sync_halflife\": 61}}", "runtime.sync_halflife: 61 s is out of range",
+         MM_ERR_OUT_OF_RANGE},
+        {"{\"runtime\": {\"sync_halflife\": true}}", "runtime.sync_halflife must be a finite number",
+         MM_ERR_BAD_NUMBER},
         {"{\"runtime\": {\"run\": {\"side_speed\": -1}}}", "runtime.run.side_speed", MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"crouch\": {\"velocity_halflife\": 0}}}", "runtime.crouch.velocity_halflife",
          MM_ERR_OUT_OF_RANGE},
@@ -142,9 +150,12 @@ static void test_parse_runtime(void **state)
         assert_non_null(strstr(err.message, bad[i].message));
         assert_string_equal(err.file, "rt.json");
     }
-    /* speeds of 0 are allowed */
+    /* speeds of 0 are allowed, and a sync half-life of 0 (the root on the simulation) */
     assert_int_equal(parse("{\"runtime\": {\"idle_speed\": 0, \"walk\": {\"side_speed\": 0}}}", &c, &err),
                      MM_OK);
+    mm_config_free(&c);
+    assert_int_equal(parse("{\"runtime\": {\"sync_halflife\": 0}}", &c, &err), MM_OK);
+    assert_true(c.runtime.set == MM_RUNTIME_SYNC_HALFLIFE && c.runtime.sync_halflife == 0.0f);
     mm_config_free(&c);
 }
 
@@ -159,6 +170,7 @@ static void test_docs_list_runtime(void **state)
                                          "runtime.search_interval",
                                          "runtime.transition_halflife",
                                          "runtime.idle_speed",
+                                         "runtime.sync_halflife",
                                          "runtime.walk.forward_speed",
                                          "runtime.run.side_speed",
                                          "runtime.crouch.backward_speed",
@@ -228,6 +240,19 @@ static void desc_from_text(const char *text, mm_character_desc *d)
     mm_config_free(&cfg);
 }
 
+/* The database's config with its runtime object taken out (configs/synth.json carries one):
+ * a config that sets nothing at run time. Free with free(). */
+static char *config_without_runtime(const char *text)
+{
+    cJSON *root = cJSON_Parse(text);
+    assert_non_null(root);
+    cJSON_DeleteItemFromObjectCaseSensitive(root, "runtime");
+    char *out = cJSON_PrintUnformatted(root);
+    assert_non_null(out);
+    cJSON_Delete(root);
+    return out;
+}
+
 /* With the database's own config and no runtime object, the character is bit for bit the
  * default one; a set field changes what it does. */
 static void test_apply_defaults_bit_identical(void **state)
@@ -241,7 +266,9 @@ static void test_apply_defaults_bit_identical(void **state)
     simulate(NULL, a, &ta);
 
     mm_character_desc d;
-    desc_from_text(db.config_json, &d);
+    char *no_runtime = config_without_runtime(db.config_json);
+    desc_from_text(no_runtime, &d);
+    cJSON_free(no_runtime);
     assert_true(d.use_params && d.has_trajectory);
     mm_search_params p;
     mm_character_default_params(&db, &p);
@@ -341,6 +368,7 @@ static void test_save_tuning_round_trip(void **state)
     d.search_interval = 0.08f;
     d.transition_halflife = 0.12f;
     d.idle_speed = 0.25f;
+    d.sync_halflife = 0.45f;
     d.trajectory.gaits[MM_GAIT_WALK].forward_speed = 1.3f;
     d.trajectory.gaits[MM_GAIT_RUN].side_speed = 2.1f;
     d.trajectory.gaits[MM_GAIT_CROUCH].rotation_halflife = 0.35f;
@@ -354,13 +382,15 @@ static void test_save_tuning_round_trip(void **state)
     load(path, &after);
     assert_same_except_tuning(&before, &after);
     const mm_runtime_config *rt = &after.runtime;
-    assert_int_equal(rt->set, 0x7f);
+    assert_int_equal(rt->set, 0xff);
     assert_int_equal(rt->walk.set & rt->run.set & rt->crouch.set, 0x1f);
     assert_true(rt->pose_trajectory_ratio == 0.65f && rt->next_pose_favour == 0.45f);
     assert_true(rt->loop_anim_favour == 0.9f && rt->continuing_bias == 0.02f);
     assert_true(rt->search_interval == 0.08f && rt->transition_halflife == 0.12f && rt->idle_speed == 0.25f);
+    assert_true(rt->sync_halflife == 0.45f);
     assert_true(rt->walk.forward_speed == 1.3f && rt->run.side_speed == 2.1f);
-    assert_true(rt->crouch.rotation_halflife == 0.35f && rt->walk.side_speed == 1.1f);
+    /* a field not tuned keeps its value: synth.json's walk.side_speed */
+    assert_true(rt->crouch.rotation_halflife == 0.35f && rt->walk.side_speed == 0.5f);
     assert_string_equal(after.bones[0].name, "LeftFoot");
     assert_true(after.bones[0].position_weight == 1.25f && after.bones[0].velocity_weight == 1.0f);
     assert_string_equal(after.bones[2].name, "Hips");

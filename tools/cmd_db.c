@@ -114,6 +114,20 @@ static void clip_distance_counts(const mm_database *db, int c, distance_summary 
     s->starts += !curve.loop && first_speed < db->distance_clips[c].stop_speed;
 }
 
+static void json_percentiles(const char *name, const mm_speed_percentiles *p)
+{
+    printf(", \"%s\": {\"frames\": %d, \"p10\": %.4g, \"p50\": %.4g, \"p90\": %.4g}", name, p->frames, p->p10,
+           p->p50, p->p90);
+}
+
+static void text_percentiles(const char *name, const mm_speed_percentiles *p)
+{
+    if (p->frames)
+        printf("  %s %.2f %.2f %.2f (%d)", name, p->p10, p->p50, p->p90, p->frames);
+    else
+        printf("  %s    -    -    - (0)", name);
+}
+
 static int cmd_info(int argc, char **argv)
 {
     const char *path = NULL;
@@ -133,6 +147,13 @@ static int cmd_info(int argc, char **argv)
     if (load(path, &db)) return 1;
     int idle = 0, loops = 0, mirrored = 0, blends = 0;
     distance_summary dist = {0, 0, 0, 0, 0};
+    mm_speed_summary speeds[MM_SPEED_SUMMARY_MAX];
+    int speed_count = 0;
+    if (mm_database_speed_summary(&db, NULL, speeds, &speed_count) != MM_OK) {
+        fprintf(stderr, "mm: db info: out of memory\n");
+        mm_database_free(&db);
+        return 1;
+    }
     for (int c = 0; c < db.clip_count; ++c) {
         clip_distance_counts(&db, c, &dist);
         idle += db.clips[c].type == MM_CLIP_IDLE;
@@ -167,8 +188,18 @@ static int cmd_info(int argc, char **argv)
         }
         printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"mirrored_clips\": %d, \"blend_clips\": %d, "
                "\"distance\": {\"segments\": %d, \"stops\": %d, \"pivots\": %d, \"no_stop\": %d, "
-               "\"starts\": %d}}\n",
+               "\"starts\": %d}, \"speeds\": [",
                idle, loops, mirrored, blends, dist.segments, dist.stops, dist.pivots, dist.none, dist.starts);
+        for (int k = 0; k < speed_count; ++k) {
+            printf("%s{\"name\": ", k ? ", " : "");
+            cli_json_string(stdout, speeds[k].name);
+            printf(", \"frames\": %d, \"still\": %d", speeds[k].frames, speeds[k].still);
+            json_percentiles("forward", &speeds[k].forward);
+            json_percentiles("side", &speeds[k].side);
+            json_percentiles("backward", &speeds[k].backward);
+            printf("}");
+        }
+        printf("]}\n");
     } else {
         printf("file:       %s (%zu bytes, format version %d)\n", path, db.size, MM_DB_VERSION);
         printf("frames:     %d (%.1f s at %.6g s per frame)\n", db.frame_count, db.frame_count * db.interval,
@@ -183,6 +214,15 @@ static int cmd_info(int argc, char **argv)
                    db.groups[g].offset + db.groups[g].dims - 1, db.groups[g].weight, db.groups[g].scale);
         printf("distance:   %d segments (%d stops, %d pivots, %d without a stop), %d clips start from rest\n",
                dist.segments, dist.stops, dist.pivots, dist.none, dist.starts);
+        printf("speeds:     root m/s in its facing frame, p10 p50 p90 (frames); still: under %g m/s\n",
+               (double)MM_SPEED_SUMMARY_STILL);
+        for (int k = 0; k < speed_count; ++k) {
+            printf("  %-12s %6d frames %6d still", speeds[k].name, speeds[k].frames, speeds[k].still);
+            text_percentiles("forward", &speeds[k].forward);
+            text_percentiles("side", &speeds[k].side);
+            text_percentiles("backward", &speeds[k].backward);
+            printf("\n");
+        }
         printf("tags:      ");
         for (int t = 0; t < db.tag_count; ++t) printf(" %s", db.tag_names[t]);
         printf("%s\n", db.tag_count ? "" : " none");

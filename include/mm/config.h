@@ -86,7 +86,8 @@ enum mm_runtime_field {
     MM_RUNTIME_CONTINUING_BIAS = 1u << 3,
     MM_RUNTIME_SEARCH_INTERVAL = 1u << 4,
     MM_RUNTIME_TRANSITION_HALFLIFE = 1u << 5,
-    MM_RUNTIME_IDLE_SPEED = 1u << 6
+    MM_RUNTIME_IDLE_SPEED = 1u << 6,
+    MM_RUNTIME_SYNC_HALFLIFE = 1u << 7
 };
 enum mm_runtime_gait_field {
     MM_RUNTIME_FORWARD_SPEED = 1u << 0,
@@ -115,6 +116,7 @@ typedef struct mm_runtime_config {
     float search_interval;       /* s, > 0 (mm_character_desc) */
     float transition_halflife;   /* s, > 0 */
     float idle_speed;            /* m/s, >= 0 */
+    float sync_halflife;         /* s, [0, 60] (mm_character_desc) */
     mm_runtime_gait walk, run, crouch;
 } mm_runtime_config;
 

@@ -23,6 +23,7 @@
  *            mm_database_load_memory mm_database_free mm_database_pose mm_database_matched_bone
  *            mm_database_find_clip
  *            mm_database_dump mm_feature_kind_name mm_database_distance_curve
+ *            mm_database_speed_summary
  *
  * Distance curves (mm/distance.h): each clip's root (joint 0) path measured at build time by
  * mm_distance_curve_build (stop speed MM_DISTANCE_STOP_SPEED_DEFAULT), stored as flat arrays and
@@ -245,6 +246,35 @@ static inline float mm_database_feature_raw(const mm_database *db, int frame, in
 /* Deterministic text form of everything in the database (for diffs and bug reports). Numbers are
  * printed with %.9g in the C locale. */
 mm_result mm_database_dump(const mm_database *db, FILE *out);
+
+/* Root speeds of one kind of motion in the database, for setting the runtime's gait speeds
+ * (docs/config.md "Gait speeds from the data"; mm db info prints them). Each frame's root
+ * velocity (root_velocity: horizontal, in the root's facing frame) counts as forward when within
+ * 45 degrees of the facing, backward within 45 degrees of the opposite, sideways (either side)
+ * otherwise; frames slower than MM_SPEED_SUMMARY_STILL have no direction and count as still.
+ * A percentile q is the sorted value at index floor(q (n - 1)); 0 with no frames. */
+#define MM_SPEED_SUMMARY_STILL 0.1f /* m/s */
+#define MM_SPEED_SUMMARY_MAX   6    /* 4 gait tags, untagged locomotion, idle */
+typedef struct mm_speed_percentiles {
+    int frames;          /* frames moving this way */
+    float p10, p50, p90; /* m/s */
+} mm_speed_percentiles;
+typedef struct mm_speed_summary {
+    char name[MM_TAG_NAME_MAX]; /* a gait tag as the database spells it ("Walk", "run"), "locomotion"
+                                   (locomotion clips' frames without a gait tag) or "idle" (idle
+                                   clips' frames) */
+    int frames;                 /* frames of this kind */
+    int still;                  /* of them, slower than MM_SPEED_SUMMARY_STILL */
+    mm_speed_percentiles forward, side, backward;
+} mm_speed_summary;
+
+/* One summary per kind of motion the database has, in this order: a tag named after each gait
+ * (mm_gait_name, any case: walk, run, crouch, jump) that tags frames, then locomotion frames
+ * without a gait tag, then idle; a frame with two gait tags counts in both. *count receives how
+ * many (at most MM_SPEED_SUMMARY_MAX). Allocates scratch (a allocator; NULL: malloc) and frees
+ * it. */
+mm_result mm_database_speed_summary(const mm_database *db, const mm_allocator *a,
+                                    mm_speed_summary out[MM_SPEED_SUMMARY_MAX], int *count);
 
 #ifdef __cplusplus
 }

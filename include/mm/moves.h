@@ -13,7 +13,8 @@
  *    ahead while moving toward it (mm_scene_measure_obstacle; the move chosen by its height and
  *    depth, mm_moves_choose), no ground within step_height ahead while moving (drop-down); among
  *    the clips of the kind, the one whose own geometry (rise, hand height, distance) needs the
- *    smallest correction to fit the obstacle or the landing found (the lowest index on a tie);
+ *    smallest correction to fit the obstacle or the landing found (the lowest index on a tie),
+ *    then of it and its mirror the one whose leading foot fits the gait (mm_moves_pick_side);
  *  - starts a move: mm_character_play_move (no search until it ends) and plans it: where the hand
  *    goes at HandPlant (on the wall's top edge) and where the root lands at Landing (past the
  *    wall, on its top, or on the ground found ahead), each with a target match (mm/target_match.h)
@@ -34,7 +35,7 @@
  * caller owns. docs/moves.md describes the parameters and the measured results.
  *
  * Functions: mm_moves_defaults mm_moves_init mm_moves_update mm_moves_choose mm_move_kind_name
- *            mm_moves_penetration
+ *            mm_moves_pick_side mm_moves_penetration
  */
 #ifndef MM_MOVES_H
 #define MM_MOVES_H
@@ -98,6 +99,9 @@ void mm_moves_defaults(mm_moves_desc *d);
 /* At most this many move clips (spans tagged as a move) are kept; further ones are ignored. */
 #define MM_MOVES_MAX_CLIPS 160
 
+/* Frames of a move (from its start) over which the lift over a wall is planned. */
+#define MM_MOVES_PLAN_FRAMES 512
+
 /* A move clip as found in the database. Frames are database frames; -1: none. */
 typedef struct mm_move_clip {
     mm_move_kind kind;                 /* its tag */
@@ -117,6 +121,8 @@ typedef struct mm_move_clip {
                                           after the plant) */
     float land_distance;               /* m: forward from the root at start to the root at
                                           Landing */
+    int twin;                          /* index in mm_moves.options of the same span of its mirrored
+                                          twin (the other side), -1 */
 } mm_move_clip;
 
 /* One move performed. */
@@ -159,8 +165,14 @@ typedef struct mm_moves {
     float fall_velocity;              /* m/s, downwards: falling in locomotion */
     float lift;                       /* m: the root raised over the schedule during a move so that no
                                          joint of the pose about to play is inside a box's top */
-    float since_move;                 /* s since the last move handed back */
-    mm_move_record current;           /* the move playing */
+    /* per frame of the move (from its start): how far the root must rise over the schedule for
+     * the body, as predicted, to pass over a box's top after the hand plant (a trailing leg over
+     * a wall); the lift follows a smooth envelope of it (planned_lift) */
+    float need[MM_MOVES_PLAN_FRAMES];
+    float planned_lift;     /* m: that envelope now */
+    float applied_lift;     /* m: the lift the root was given on the last tick (the larger) */
+    float since_move;       /* s since the last move handed back */
+    mm_move_record current; /* the move playing */
     /* per tick: a move handed back on this tick (last holds it); moves performed so far */
     bool finished;
     mm_move_record last;
@@ -181,6 +193,13 @@ void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
  * docs/moves.md): MM_MOVE_NONE when it is a step (height <= step_height), too high, or no clip
  * fits. */
 mm_move_kind mm_moves_choose(const mm_moves *m, const mm_obstacle *o);
+
+/* Of option `option` (an index into m->options) and its mirrored twin, the one whose start fits
+ * the character's gait phase better (the index returned): the feet of the frame playing against
+ * the feet at the clip's start, planted or swinging, where and how fast (docs/moves.md), so that
+ * the transition into the move does not switch the legs. The option itself when it has no twin,
+ * on a tie, or for an index out of range. */
+int mm_moves_pick_side(const mm_moves *m, const mm_character *c, int option);
 
 /* How deep (m) the deepest of the points is inside any box of the scene (0: none inside). */
 float mm_moves_penetration(const mm_scene *scene, const mm_vec3 *points, int count);

@@ -1,6 +1,13 @@
 /* Deterministic text form of a database, for diffs and bug reports. */
 #include <mm/database.h>
 
+#include <ctype.h>
+#include <math.h>
+#include <string.h>
+
+#include <mm/input.h>
+
+#include "db/process.h"
 #include "io/text.h"
 
 static void num(FILE *out, double v)
@@ -109,4 +116,96 @@ mm_result mm_database_dump(const mm_database *db, FILE *out)
         fputc('\n', out);
     }
     return ferror(out) ? MM_ERR_IO : MM_OK;
+}
+
+/* ---- speed summary ---------------------------------------------------------------------- */
+
+static int same_name_any_case(const char *a, const char *b)
+{
+    for (; *a && *b; ++a, ++b)
+        if (tolower((unsigned char)*a) != tolower((unsigned char)*b)) return 0;
+    return *a == *b;
+}
+
+static mm_speed_percentiles percentiles(float *v, int n)
+{
+    mm_speed_percentiles p = {n, 0.0f, 0.0f, 0.0f};
+    if (n > 0) { /* mm__quantile sorts: the three from one sort */
+        p.p10 = mm__quantile(v, n, 0.1f);
+        p.p50 = v[(int)floorf(0.5f * (float)(n - 1))];
+        p.p90 = v[(int)floorf(0.9f * (float)(n - 1))];
+    }
+    return p;
+}
+
+/* The frames of one kind into s: of locomotion clips tagged with tag, or of locomotion clips
+ * without any of gait_tags (tag 0), or of idle clips (idle 1). v: scratch of 3 x frame_count. */
+static void summarize(const mm_database *db, uint64_t tag, uint64_t gait_tags, int idle, float *v,
+                      mm_speed_summary *s)
+{
+    int n = db->frame_count, count[3] = {0, 0, 0};
+    float *dir[3] = {v, v + n, v + 2 * (size_t)n};
+    s->frames = s->still = 0;
+    for (int c = 0; c < db->clip_count; ++c) {
+        const mm_db_clip *k = &db->clips[c];
+        if ((k->type == MM_CLIP_IDLE) != idle) continue;
+        for (int f = k->first_frame; f < k->first_frame + k->frame_count; ++f) {
+            uint64_t tags = db->frame_tags ? db->frame_tags[f] : 0;
+            if (!idle && (tag ? !(tags & tag) : (tags & gait_tags) != 0)) continue;
+            ++s->frames;
+            mm_vec3 u = db->root_velocity[f];
+            float speed = sqrtf(u.x * u.x + u.z * u.z);
+            if (!(speed >= MM_SPEED_SUMMARY_STILL)) {
+                ++s->still;
+                continue;
+            }
+            int d = u.z >= fabsf(u.x) ? 0 : -u.z >= fabsf(u.x) ? 2 : 1; /* forward, backward, side */
+            dir[d][count[d]++] = speed;
+        }
+    }
+    s->forward = percentiles(dir[0], count[0]);
+    s->side = percentiles(dir[1], count[1]);
+    s->backward = percentiles(dir[2], count[2]);
+}
+
+mm_result mm_database_speed_summary(const mm_database *db, const mm_allocator *a,
+                                    mm_speed_summary out[MM_SPEED_SUMMARY_MAX], int *count)
+{
+    if (count) *count = 0;
+    if (!db || !out || !count || !db->root_velocity) return MM_ERR_INVALID_ARGUMENT;
+    if (db->frame_count <= 0) return MM_OK;
+    float *v = (float *)mm_alloc_array(a, 3 * (size_t)db->frame_count, sizeof(float));
+    if (!v) return MM_ERR_OUT_OF_MEMORY;
+    /* the gait tags: tags named after a gait, any case */
+    uint64_t gait_tags = 0, gait_tag[MM_GAIT_COUNT];
+    int gait_index[MM_GAIT_COUNT];
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        gait_tag[g] = 0;
+        gait_index[g] = -1;
+        for (int t = 0; t < db->tag_count && t < 64; ++t)
+            if (same_name_any_case(db->tag_names[t], mm_gait_name((mm_gait)g))) {
+                gait_tag[g] |= (uint64_t)1 << t;
+                if (gait_index[g] < 0) gait_index[g] = t;
+            }
+        gait_tags |= gait_tag[g];
+    }
+    int n = 0;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        if (!gait_tag[g]) continue;
+        mm_speed_summary *s = &out[n];
+        memset(s, 0, sizeof *s);
+        snprintf(s->name, sizeof s->name, "%s", db->tag_names[gait_index[g]]);
+        summarize(db, gait_tag[g], gait_tags, 0, v, s);
+        n += s->frames > 0;
+    }
+    for (int idle = 0; idle < 2; ++idle) {
+        mm_speed_summary *s = &out[n];
+        memset(s, 0, sizeof *s);
+        snprintf(s->name, sizeof s->name, "%s", idle ? "idle" : "locomotion");
+        summarize(db, 0, gait_tags, idle, v, s);
+        n += s->frames > 0;
+    }
+    mm_free(a, v);
+    *count = n;
+    return MM_OK;
 }

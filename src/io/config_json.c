@@ -25,7 +25,8 @@ static const mm_config_field_doc docs[] = {
      "extend others; a cycle or a missing file is an error."},
     {"interval", "number", "s", "0.0166667 (1/60)",
      "Seconds between database frames (the seed's Interval: 0.05 gives 20 frames per second of animation). "
-     "Every clip is resampled to it, rotations by slerp."},
+     "Every clip is resampled to it, rotations by slerp. A value within 0.001% of 1/N for a whole rate N "
+     "(0.0166667, 0.05) is read as exactly 1/N, so that a tick at that rate is exactly one frame."},
     {"scale", "number", "", "0 (detect)",
      "Multiplies source lengths to get metres: 0.01 for centimetre files, 1 for metres. 0 detects the unit "
      "from the character's height (docs/bvh.md)."},
@@ -133,6 +134,10 @@ static const mm_config_field_doc docs[] = {
      "Half-life of the inertialization that hides a jump to another frame: longer is smoother and slower."},
     {"runtime.idle_speed", "number", "m/s", "0.15",
      "Desired speed under which the character asks for idle frames."},
+    {"runtime.sync_halflife", "number", "s", "0.3",
+     "Half-life with which the character's root is pulled toward the simulated trajectory, in [0, 60]: "
+     "shorter follows the input more closely (more foot slide), 0 puts the root on the simulation every "
+     "tick."},
     {"runtime.walk", "object", "", "", "The walk gait's speeds and half-lives (fields below)."},
     {"runtime.walk.forward_speed", "number", "m/s", "1.5",
      "Speed at full stick, straight ahead (at least 0)."},
@@ -455,6 +460,7 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
                                        "search_interval",
                                        "transition_halflife",
                                        "idle_speed",
+                                       "sync_halflife",
                                        "walk",
                                        "run",
                                        "crouch",
@@ -465,15 +471,20 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
     mm_result r = check_keys(c, rt, "runtime", keys);
     float *values[] = {
         &o->pose_trajectory_ratio, &o->next_pose_favour,    &o->loop_anim_favour, &o->continuing_bias,
-        &o->search_interval,       &o->transition_halflife, &o->idle_speed};
-    for (int i = 0; i < 7 && r == MM_OK; ++i)
+        &o->search_interval,       &o->transition_halflife, &o->idle_speed,       &o->sync_halflife};
+    for (int i = 0; i < 8 && r == MM_OK; ++i)
         r = get_set_number(c, rt, keys[i], "runtime", values[i], &o->set, 1u << i);
+    /* 0 is allowed: the root is put on the simulation every tick */
+    if (r == MM_OK && (o->set & MM_RUNTIME_SYNC_HALFLIFE) &&
+        !(o->sync_halflife >= 0.0f && o->sync_halflife <= 60.0f))
+        r = FAIL(MM_ERR_OUT_OF_RANGE, "runtime.sync_halflife: %g s is out of range (0 to 60 s)",
+                 o->sync_halflife);
     mm_runtime_gait *gaits[3] = {&o->walk, &o->run, &o->crouch};
     for (int g = 0; g < 3 && r == MM_OK; ++g) {
-        const cJSON *j = cJSON_GetObjectItemCaseSensitive(rt, keys[7 + g]);
+        const cJSON *j = cJSON_GetObjectItemCaseSensitive(rt, keys[8 + g]);
         if (!j) continue;
         char where[32];
-        snprintf(where, sizeof where, "runtime.%s", keys[7 + g]);
+        snprintf(where, sizeof where, "runtime.%s", keys[8 + g]);
         mm_runtime_gait *p = gaits[g];
         float *fields[] = {&p->forward_speed, &p->side_speed, &p->backward_speed, &p->velocity_halflife,
                            &p->rotation_halflife};
@@ -491,6 +502,17 @@ static int clip_index(const mm_config *cfg, const char *name)
     return -1;
 }
 
+/* An interval written to a few digits stands for a whole frame rate: 0.0166667 is 1/60, not
+ * 59.9999 frames per second, whose frames a 60 Hz tick would miss by 2e-6 of a frame every tick
+ * (the playhead would sit just short of the frame it shows). Within 1e-5 of 1/N relatively (six
+ * significant digits are within 5e-6) it is read as exactly 1/N; anything else as written. */
+static float whole_rate_interval(float interval)
+{
+    if (!(interval > 0.0f) || !isfinite(interval)) return interval; /* validation reports it */
+    double rate = 1.0 / (double)interval, n = floor(rate + 0.5);
+    return n >= 1.0 && fabs(rate - n) <= 1e-5 * n ? (float)(1.0 / n) : interval;
+}
+
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
     static const char *const keys[] = {"interval", "scale",        "roles", "root_smoothing", "contacts",
@@ -499,6 +521,7 @@ static mm_result parse_root(ctx *c, const cJSON *root)
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
+    if (r == MM_OK) cfg->interval = whole_rate_interval(cfg->interval);
     if (r == MM_OK) r = get_number(c, root, "scale", "", &cfg->scale);
     if (r == MM_OK) r = get_number(c, root, "root_smoothing", "", &cfg->root_smoothing);
     if (r != MM_OK) return r;

@@ -350,7 +350,7 @@ mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, 
         !set_number(rt, "continuing_bias", params.continuing_bias) ||
         !set_number(rt, "search_interval", d->search_interval) ||
         !set_number(rt, "transition_halflife", d->transition_halflife) ||
-        !set_number(rt, "idle_speed", d->idle_speed))
+        !set_number(rt, "idle_speed", d->idle_speed) || !set_number(rt, "sync_halflife", d->sync_halflife))
         return no_memory(root, &cfg, err);
     static const char *const gait_keys[3] = {"walk", "run", "crouch"};
     static const mm_gait gaits[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};

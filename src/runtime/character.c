@@ -377,7 +377,10 @@ static void transition(mm_character *c, int to, float fraction, float dt)
      * clip's last frame, which playback holds) */
     const mm_quat *r0 = mm_database_rotations(db, to), *r1 = mm_database_rotations(db, next >= 0 ? next : to);
     const mm_vec3 *p0 = mm_database_positions(db, to), *p1 = mm_database_positions(db, next >= 0 ? next : to);
-    float inv_interval = next >= 0 ? 1.0f / db->interval : 0.0f, inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
+    /* the new clip plays on at the play rate (distance matching; 1 otherwise): its velocity per
+     * second is the rate times its velocity per frame interval */
+    float rate = isfinite(c->play_rate) && c->play_rate >= 0.0f ? c->play_rate : 1.0f;
+    float inv_interval = next >= 0 ? rate / db->interval : 0.0f, inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
     const mm_quat *now_r = c->pose_rotations, *last_r = c->pose_previous_rotations;
     const mm_vec3 *now_p = c->pose_positions, *last_p = c->pose_previous_positions;
     for (int j = 1; j < db->joint_count; ++j) {
@@ -626,7 +629,9 @@ static void feet(mm_character *c, float dt)
             mm_spring_decay_vec3(&c->foot_turn[k], &c->foot_turn_velocity[k], d->foot_halflife, dt);
         }
         target[k] = mm_vec3_add(foot_source(c, k, a, t), c->foot_offset[k]);
-        if (target[k].y < 0.0f) target[k].y = 0.0f; /* never below the ground plane */
+        /* never below the ground: the root's height in locomotion (it stands on the ground, which
+         * a scene may put anywhere); a move's root follows its clip, not the ground */
+        if (!c->move_playing && target[k].y < c->root.translation.y) target[k].y = c->root.translation.y;
         orientation[k] = mm_quat_mul(mm_quat_exp(c->foot_turn[k]), c->global[ankle].rotation);
         c->foot_locked[k] = c->heel_locked[k] || c->toe_locked[k];
         c->foot_lock[k] = target[k];

@@ -50,6 +50,16 @@ static float yaw_of(mm_quat q)
 
 static mm_quat yaw_quat(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), yaw); }
 
+/* The lift over a wall (docs/moves.md): the planned envelope rises and settles over LIFT_WIDTH s
+ * about each frame's need, counting joints within LIFT_REACH m of a box's footprint (the pose
+ * played strays from the prediction by a few centimetres); the reactive lift rises at most
+ * LIFT_RATE m/s (at once, it popped the body up to 0.6 m in a tick at the hand plant) and looks
+ * OVER_WINDOW m under a top after the hand plant. */
+#define LIFT_WIDTH  0.35f
+#define LIFT_REACH  0.15f
+#define LIFT_RATE   6.0f
+#define OVER_WINDOW 0.6f
+
 static float clampf(float v, float lo, float hi) { return v < lo ? lo : v > hi ? hi : v; }
 
 static mm_vec3 flat(mm_vec3 v) { return mm_vec3_make(v.x, 0.0f, v.z); }
@@ -134,7 +144,7 @@ static void setup_span(mm_moves *m, mm_move_clip *mc, int first, int last)
 {
     const mm_database *db = m->db;
     memset(mc, 0, sizeof *mc);
-    mc->clip = mc->take_off = mc->hand_plant = mc->landing = mc->hand = -1;
+    mc->clip = mc->take_off = mc->hand_plant = mc->landing = mc->hand = mc->twin = -1;
     if (last - first < 4) return;
     /* the tag may cover the move alone: the clip around it gives the approach and the recovery */
     const mm_db_clip *clip = &db->clips[db->frame_clip[first]];
@@ -245,6 +255,69 @@ static void setup_clips(mm_moves *m)
                 if (m->option_count < MM_MOVES_MAX_CLIPS) m->options[m->option_count++] = mc;
             }
     }
+    /* twins: the same span of the same source clip, mirrored and not */
+    for (int i = 0; i < m->option_count; ++i)
+        for (int k = 0; k < m->option_count && m->options[i].twin < 0; ++k) {
+            const mm_move_clip *a = &m->options[i], *b = &m->options[k];
+            const mm_db_clip *ca = &db->clips[a->clip], *cb = &db->clips[b->clip];
+            if (a->kind == b->kind && ca->mirrored != cb->mirrored && ca->source == cb->source &&
+                ca->blend_left < 0 && cb->blend_left < 0 &&
+                a->first - ca->first_frame == b->first - cb->first_frame)
+                m->options[i].twin = k;
+        }
+    for (int kind = 0; kind < MM_MOVE_KIND_COUNT; ++kind)
+        for (int i = 0; i < m->option_count; ++i)
+            if (m->clips[kind].clip >= 0 && m->options[i].first == m->clips[kind].first) {
+                m->clips[kind].twin = m->options[i].twin;
+                break;
+            }
+}
+
+/* A frame's feet in the root's frame: where the ankles are, how fast they move (toward the next
+ * frame) and whether they are planted. */
+static void gait_feet(const mm_moves *m, int frame, mm_vec3 pos[2], mm_vec3 vel[2], int planted[2])
+{
+    const mm_database *db = m->db;
+    int next = db->frame_next[frame];
+    for (int k = 0; k < 2; ++k) {
+        pos[k] = vel[k] = mm_vec3_make(0, 0, 0);
+        unsigned bits = k == 0 ? MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE
+                               : MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE;
+        planted[k] = (db->contacts[frame] & bits) != 0;
+        if (m->foot[k] < 0) continue;
+        pos[k] = bone_in_root(db, frame, m->foot[k]).translation;
+        if (next >= 0)
+            vel[k] = mm_vec3_scale(mm_vec3_sub(bone_in_root(db, next, m->foot[k]).translation, pos[k]),
+                                   1.0f / db->interval);
+    }
+}
+
+/* How badly the gait at database frame `from` (what the character plays) fits a move starting at
+ * frame `to`: per foot, where it is (m), where it goes over the next 0.2 s and 0.25 m when one is
+ * planted and the other is not (a switch of the legs). */
+static float side_cost(const mm_moves *m, int from, int to)
+{
+    mm_vec3 pa[2], va[2], pb[2], vb[2];
+    int ca[2], cb[2];
+    gait_feet(m, from, pa, va, ca);
+    gait_feet(m, to, pb, vb, cb);
+    float cost = 0.0f;
+    for (int k = 0; k < 2; ++k)
+        cost += mm_vec3_distance(pa[k], pb[k]) + 0.2f * mm_vec3_distance(va[k], vb[k]) +
+                (ca[k] != cb[k] ? 1.0f : 0.0f);
+    return cost;
+}
+
+int mm_moves_pick_side(const mm_moves *m, const mm_character *c, int option)
+{
+    if (!m || !c || !m->db || c->db != m->db || option < 0 || option >= m->option_count) return option;
+    int twin = m->options[option].twin;
+    if (twin < 0 || twin >= m->option_count || c->frame < 0 || c->frame >= m->db->frame_count) return option;
+    /* the move starts on the next update: the frame the character will have reached */
+    int from = m->db->frame_next[c->frame] >= 0 ? m->db->frame_next[c->frame] : c->frame;
+    float here = side_cost(m, from, m->options[option].start),
+          there = side_cost(m, from, m->options[twin].start);
+    return there < here - 1e-4f ? twin : option;
 }
 
 mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scene, const mm_moves_desc *desc,
@@ -428,7 +501,8 @@ static float begin(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_mov
     m->match_on[0] = m->match_on[1] = false;
     m->key_count = 0;
     m->hand_error = m->land_error = 0.0f;
-    m->lift = 0.0f;
+    m->lift = m->planned_lift = m->applied_lift = 0.0f;
+    for (int k = 0; k < MM_MOVES_PLAN_FRAMES; ++k) m->need[k] = 0.0f;
     m->current.kind = kind;
     m->current.clip = mc->clip;
     m->current.t_start = (float)m->time;
@@ -545,7 +619,8 @@ static const mm_move_clip *pick_jump(const mm_moves *m, const mm_character *c, m
         if (cost < best_cost - 0.01f) /* within 1 cm: a tie (a mirror fits as its original) */
             best = mc, best_cost = cost, *land = l, *over = o;
     }
-    return best;
+    /* then the side: of it and its mirror (the same flight) the one that fits the gait */
+    return best ? &m->options[mm_moves_pick_side(m, c, (int)(best - m->options))] : NULL;
 }
 
 /* over: the height of a wall to clear on the way (NAN: none). */
@@ -599,7 +674,8 @@ static float vault_landing(const mm_moves *m, mm_move_kind kind, const mm_move_c
  * height schedule must correct (the planted hand's height against the top; for a move onto it,
  * the clip's rise against the height too; the landing along the approach). The lowest index on
  * a tie. NULL: none of the kind. */
-static const mm_move_clip *pick_vault(const mm_moves *m, mm_move_kind kind, const mm_obstacle *o)
+static const mm_move_clip *pick_vault(const mm_moves *m, const mm_character *c, mm_move_kind kind,
+                                      const mm_obstacle *o)
 {
     const mm_move_clip *best = NULL;
     float best_cost = INFINITY, from_face;
@@ -611,7 +687,8 @@ static const mm_move_clip *pick_vault(const mm_moves *m, mm_move_kind kind, cons
         if (mc->onto || kind == MM_MOVE_CLIMB) cost += fabsf(o->height - mc->rise);
         if (cost < best_cost - 0.01f) best = mc, best_cost = cost; /* within 1 cm: a tie */
     }
-    return best;
+    /* then the side: of it and its mirror (the same geometry) the one that fits the gait */
+    return best ? &m->options[mm_moves_pick_side(m, c, (int)(best - m->options))] : NULL;
 }
 
 static void start_vault(mm_moves *m, mm_character *c, mm_move_kind kind, const mm_move_clip *mc,
@@ -708,6 +785,66 @@ static float clearance(const mm_moves *m, const mm_character *c, float t, float 
     return lift;
 }
 
+/* How far the root at height y must rise so that every joint of the pose at database frame
+ * `frame` (the root at `root`, the hands excepted: they are matched onto the top) that is over a
+ * box, at any depth in it, is above its top. */
+static float over_tops(const mm_moves *m, int frame, mm_xform root)
+{
+    const mm_scene *scene = m->scene;
+    const float margin = 0.01f;
+    float lift = 0.0f;
+    for (int j = 1; j < m->db->joint_count; ++j) {
+        if (j == m->hand[0] || j == m->hand[1]) continue;
+        mm_vec3 p = mm_xform_apply_point(root, bone_in_root(m->db, frame, j).translation);
+        for (int b = 0; b < scene->box_count; ++b) {
+            const mm_scene_box *box = &scene->boxes[b];
+            float top = box->position.y + box->size.y;
+            if (p.y >= top + margin || p.y < box->position.y) continue;
+            float sn = sinf(box->yaw), cs = cosf(box->yaw);
+            float px = p.x - box->position.x, pz = p.z - box->position.z;
+            float lx = cs * px - sn * pz, lz = sn * px + cs * pz;
+            if (fabsf(lx) > 0.5f * box->size.x + LIFT_REACH || fabsf(lz) > 0.5f * box->size.z + LIFT_REACH)
+                continue;
+            lift = fmaxf(lift, top + margin - p.y);
+        }
+    }
+    return lift;
+}
+
+/* The planned lift: the need of the frames ahead (over the boxes' tops after the hand plant, as
+ * predicted from the root now and the schedule) spread as target matching spreads an error: a
+ * smooth envelope that reaches each frame's need by that frame, rising over `width` seconds
+ * before it and settling over as long after it, so that no step is taken at once. */
+static float plan_lift(mm_moves *m, const mm_character *c, float t, float dt)
+{
+    const mm_database *db = m->db;
+    const mm_move_clip *mc = &m->active;
+    const float width = LIFT_WIDTH;
+    if (mc->hand_plant < 0) return 0.0f; /* a jump: its schedule clears what it jumps over */
+    int clip = db->frame_clip[m->start_frame];
+    int clip_end = db->clips[clip].first_frame + db->clips[clip].frame_count - 1;
+    int now = (int)floorf(t / db->interval), ahead = (int)ceilf((t + dt + width) / db->interval);
+    int plant = mc->hand_plant - mc->start, land = mc->landing - mc->start;
+    for (int k = now + 1 < plant ? plant : now + 1; k <= ahead && k <= land && k < MM_MOVES_PLAN_FRAMES;
+         ++k) {
+        int frame = m->start_frame + k;
+        if (frame > clip_end) break;
+        float tk = (float)k * db->interval;
+        mm_xform root = advance_root(db, c->frame, c->frame_fraction, fmaxf(tk - t, 0.0f), c->root);
+        root.translation.y = schedule(m, tk);
+        m->need[k] = over_tops(m, frame, root);
+    }
+    float lift = 0.0f, tn = t + dt;
+    int lo = (int)floorf((tn - width) / db->interval), hi = (int)ceilf((tn + width) / db->interval);
+    for (int k = lo < 0 ? 0 : lo; k <= hi && k < MM_MOVES_PLAN_FRAMES; ++k) {
+        float u = fabsf((float)k * db->interval - tn) / width;
+        if (u < 1.0f) lift = fmaxf(lift, m->need[k] * (1.0f - u * u * (3.0f - 2.0f * u)));
+    }
+    /* not before the hand plant: the hand is on the top then */
+    float u = clampf((tn - (float)plant * db->interval) / width, 0.0f, 1.0f);
+    return lift * u * u * (3.0f - 2.0f * u);
+}
+
 static void before_move(mm_moves *m, mm_character *c, float dt)
 {
     if (!m->started) return; /* the character starts playing it on this update */
@@ -725,7 +862,7 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
     /* after the hand plant the body goes over the top: a joint deeper in is lifted over too */
     const mm_move_clip *mc = &m->active;
     float window = mc && mc->hand_plant >= 0 && t >= (float)(mc->hand_plant - mc->start) * m->db->interval
-                       ? 0.6f
+                       ? OVER_WINDOW
                        : 0.25f;
     int look = mc && mc->hand_plant < 0 ? 6 : 3; /* ticks looked ahead: a jump rises fast */
     float kept = m->lift * expf(-dt / 0.15f), need = 0.0f;
@@ -733,8 +870,17 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
         need = fmaxf(need, clearance(m, c, t + (float)k * dt, schedule(m, t + (float)k * dt) + kept, window));
     /* until the landing (then the feet stand on the surface found), and never more than a hop */
     if (mc && t + dt >= (float)(mc->landing - mc->start) * m->db->interval) need = 0.0f;
-    m->lift = fminf(kept + need, 0.6f);
-    c->root.translation.y = y + m->lift;
+    m->lift = fminf(fminf(kept + need, m->lift + LIFT_RATE * dt), 0.6f);
+    m->planned_lift = plan_lift(m, c, t, dt);
+    float lift = fmaxf(m->lift, m->planned_lift);
+    c->root.translation.y = y + lift;
+    /* the lift raises the whole body: the feet's locks with it (a foot the clip has planted on
+     * what it stepped onto would otherwise stay held inside the wall) */
+    for (int k = 0; k < 2; ++k) {
+        c->heel_lock[k].y += lift - m->applied_lift;
+        c->toe_lock[k].y += lift - m->applied_lift;
+    }
+    m->applied_lift = lift;
     mm_trajectory_teleport(&c->trajectory, c->root.translation, c->root.rotation);
 }
 
@@ -744,7 +890,7 @@ static float lower_ankle(const mm_character *c)
 }
 
 /* root_before: the root as this tick's update began (after before_move), at clip time t_before. */
-static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 root_before)
+static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 root_before, float dt)
 {
     const mm_database *db = m->db;
     if (!m->started) {
@@ -762,13 +908,13 @@ static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 roo
     if (mc) { /* after the landing only a toe dipping into the surface stood on */
         float window = t >= (float)(mc->landing - mc->start) * db->interval ? 0.1f
                        : mc->hand_plant >= 0 && t >= (float)(mc->hand_plant - mc->start) * db->interval
-                           ? 0.6f
+                           ? OVER_WINDOW
                            : 0.25f,
               extra = 0.0f;
         for (int j = 1; j < db->joint_count; ++j) /* not the hands: matched onto the top */
             if (j != m->hand[0] && j != m->hand[1])
                 extra = fmaxf(extra, lift_out(m->scene, c->global[j].translation, window));
-        m->lift = fminf(m->lift + extra, 0.6f);
+        m->lift = fminf(m->lift + fminf(extra, LIFT_RATE * dt), 0.6f);
     }
     if (mc && mc->hand_plant >= 0 && m->match_on[0]) {
         float tp = (float)(mc->hand_plant - mc->start) * db->interval;
@@ -930,7 +1076,7 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
             start_jump(m, c, MM_MOVE_JUMP, mc, land, over);
         return;
     }
-    mc = kind == MM_MOVE_NONE ? NULL : pick_vault(m, kind, &o);
+    mc = kind == MM_MOVE_NONE ? NULL : pick_vault(m, c, kind, &o);
     if (!mc) return;
     /* at the clip's own distance from the face to the hand plant: little left to correct */
     if (o.distance > fmaxf(mc->plant_distance - mc->hand_inset, 0.3f) + d->trigger_slack) return;
@@ -954,7 +1100,7 @@ void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
         before_move(m, c, dt);
         mm_vec3 root_before = c->root.translation;
         mm_character_update(c, in, dt);
-        after_move(m, c, t_before, root_before);
+        after_move(m, c, t_before, root_before, dt);
         return;
     }
     m->since_move += dt;
