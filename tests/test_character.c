@@ -782,6 +782,60 @@ static void test_transition_velocity_continuous(void **state)
     assert_true(fastest > 1.0f); /* velocity to lose: a mean of 1 rad/s */
 }
 
+/* The playhead advances by dt / interval exactly, with no epsilon and no drift: on the built-in
+ * set's 1/60 s database (configs/synth.json's 0.0166667 is read as 1/60), N ticks of 1/60 s move it
+ * exactly N frames, before and after a forced transition (a move started mid-clip); ticks of
+ * 1/30 s move it 2 frames each, ticks of 1/120 s one frame every second tick with the fraction
+ * exactly 0.5 between. A move plays its clip without searches, so nothing else moves the
+ * playhead. */
+static void test_playhead_exact(void **state)
+{
+    (void)state;
+    assert_true(db.interval == 1.0f / 60.0f);
+    int start = -1;
+    for (int k = 0; k < db.clip_count && start < 0; ++k)
+        if (db.clips[k].type != MM_CLIP_IDLE && db.clips[k].frame_count >= 400)
+            start = db.clips[k].first_frame + 10;
+    assert_true(start >= 0);
+    static const struct {
+        int rate, ticks; /* Hz; ticks per leg */
+    } runs[3] = {{60, 150}, {30, 75}, {120, 300}};
+    for (int r = 0; r < 3; ++r) {
+        float dt = 1.0f / (float)runs[r].rate;
+        mm_character_desc d;
+        mm_character_defaults(&d);
+        mm_character c;
+        assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+        mm_input in;
+        memset(&in, 0, sizeof in);
+        in.stick[1] = 1.0f;
+        for (int i = 0; i < 17; ++i) mm_character_update(&c, &in, dt); /* somewhere, mid-fraction */
+        /* two legs: from a forced transition to `start`, then from one to 20 frames further on
+         * than where the first leg ends */
+        int to[2] = {start, start + 150 + 20};
+        for (int leg = 0; leg < 2; ++leg) {
+            mm_character_play_move(&c, to[leg], to[leg] + 1000, 0.0f);
+            int transitions = c.transitions;
+            mm_character_update(&c, &in, dt); /* the tick of the jump: the new clip at its frame */
+            assert_int_equal(c.transitions, transitions + 1);
+            assert_int_equal(c.frame, to[leg]);
+            assert_true(c.frame_fraction == 0.0);
+            for (int i = 1; i <= runs[r].ticks; ++i) {
+                mm_character_update(&c, &in, dt);
+                int expect = to[leg] + i * 60 / runs[r].rate; /* whole frames played */
+                double fraction = (double)(i * 60 % runs[r].rate) / (double)runs[r].rate;
+                if (c.frame != expect || c.frame_fraction != fraction)
+                    print_error("%d Hz, leg %d, tick %d: frame %d + %.17g, expected %d + %g\n", runs[r].rate,
+                                leg, i, c.frame, c.frame_fraction, expect, fraction);
+                assert_int_equal(c.frame, expect);
+                assert_true(c.frame_fraction == fraction);
+            }
+            assert_int_equal(c.transitions, transitions + 1); /* no other jump */
+        }
+        mm_character_free(&c);
+    }
+}
+
 /* Letting go of the stick at a run does not drop into idle at once (an idle pose would have its
  * planted feet dragged along while the character still moves): idle is asked for once the
  * simulated character has slowed under idle_speed + idle_hysteresis and the root motion played
@@ -925,6 +979,7 @@ int main(void)
         cmocka_unit_test(test_inertialization),
         cmocka_unit_test(test_transition_velocity_continuous),
         cmocka_unit_test(test_crossfade),
+        cmocka_unit_test(test_playhead_exact),
         cmocka_unit_test(test_robust),
         cmocka_unit_test(test_gait_tags),
         cmocka_unit_test(test_angle_correction),

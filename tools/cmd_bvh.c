@@ -235,14 +235,14 @@ static void print_spans(const char *key, const int (*spans)[2], int n, int last)
 static int write_spans(const char *config, const char *path, const char *as, int idle, int mirror,
                        const int (*spans)[2], int count)
 {
-    char stem[1024], name[MM_NAME_MAX], file[1024];
+    char stem[1024], name[sizeof stem + 8], file[1024];
     if (as)
         snprintf(stem, sizeof stem, "%s", as);
     else
         cli_file_stem(path, stem, sizeof stem);
-    if (strlen(stem) + 5 >= sizeof name) /* room for "_idle" */
+    if (strlen(stem) + 5 >= MM_NAME_MAX) /* room for "_idle" */
         return cli_usage_error("bvh spans", "clip name '%s' (--as): at most %d characters", stem,
-                               (int)sizeof name - 6);
+                               MM_NAME_MAX - 6);
     snprintf(name, sizeof name, "%s%s", stem, idle ? "_idle" : "");
     cli_config_file_name(path, file, sizeof file);
     mm_config_saved_clip c;

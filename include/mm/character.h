@@ -22,7 +22,8 @@
  *
  * Distance matching and stride warping (docs/distance.md, "In the controller") are switched by
  * desc.distance_matching and desc.warping, both off by default (measured on LAFAN1: no gain in raw
- * foot slide); frames tagged "NoDistanceMatching" play by the clock either way.
+ * foot slide, and the turn_90 response over 0.5 s with them on); frames tagged "NoDistanceMatching" play by
+ * the clock either way.
  *
  * Instead of inertialization, transitions may go through seed 000's five-slot crossfade mixer
  * (desc.transition_mode, mm/mixer.h, docs/transitions.md).
@@ -158,12 +159,13 @@ typedef struct mm_character {
     mm_character_desc desc;
     mm_trajectory trajectory;
 
-    int frame;            /* database frame playing */
-    float frame_fraction; /* [0, 1): how far toward the next frame */
-    float since_search;   /* s */
-    float last_direction; /* rad: desired direction at the last search */
-    bool idle;            /* asking for idle */
-    mm_xform root;        /* the character on the ground: position and facing (joint 0) */
+    int frame;             /* database frame playing */
+    double frame_fraction; /* [0, 1): how far toward the next frame (double: it accumulates
+                              dt / interval every tick and must not drift) */
+    float since_search;    /* s */
+    float last_direction;  /* rad: desired direction at the last search */
+    bool idle;             /* asking for idle */
+    mm_xform root;         /* the character on the ground: position and facing (joint 0) */
     /* root motion played (database root velocity in the character's frame, m/s, and yaw rate,
      * rad/s, plus their inertialization offsets, which decay like the joints') */
     mm_vec3 root_velocity, root_velocity_offset, root_velocity_offset_rate;

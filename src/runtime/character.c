@@ -100,6 +100,7 @@ void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db,
     if (rt->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = rt->search_interval;
     if (rt->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = rt->transition_halflife;
     if (rt->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = rt->idle_speed;
+    if (rt->set & MM_RUNTIME_SYNC_HALFLIFE) d->sync_halflife = rt->sync_halflife;
     const mm_runtime_gait *from[3] = {&rt->walk, &rt->run, &rt->crouch};
     const mm_gait to[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
     for (int g = 0; g < 3; ++g) {
@@ -191,7 +192,7 @@ static void play_pose(const mm_character *c, mm_quat *rot, mm_vec3 *pos)
     if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE)
         crossfade_play(c, rot, pos, NULL, NULL);
     else
-        play_pose_at(c, c->frame, c->frame_fraction, rot, pos);
+        play_pose_at(c, c->frame, (float)c->frame_fraction, rot, pos);
 }
 
 static void play_root(const mm_character *c, mm_vec3 *velocity, float *yaw_rate)
@@ -363,7 +364,7 @@ static void build_query(mm_character *c, const mm_input *in)
  * new clip standing still (its velocity lost: pops and foot slide one tick after each jump). */
 static void crossfade_to(mm_character *c, int to, bool uncancellable);
 
-static void transition(mm_character *c, int to, float fraction, float dt)
+static void transition(mm_character *c, int to, double fraction, float dt)
 {
     const mm_database *db = c->db;
     if (c->desc.transition_mode == MM_TRANSITION_CROSSFADE) { /* a jump asked for: never cancelled */
@@ -372,7 +373,7 @@ static void transition(mm_character *c, int to, float fraction, float dt)
     }
     int next = db->frame_next[to];
     c->frame = to;
-    c->frame_fraction = next >= 0 && fraction > 0.0f && fraction < 1.0f ? fraction : 0.0f;
+    c->frame_fraction = next >= 0 && fraction > 0.0 && fraction < 1.0 ? fraction : 0.0;
     /* the new clip's velocity at the playhead: that of the frame interval it is in (zero on a
      * clip's last frame, which playback holds) */
     const mm_quat *r0 = mm_database_rotations(db, to), *r1 = mm_database_rotations(db, next >= 0 ? next : to);
@@ -392,8 +393,8 @@ static void transition(mm_character *c, int to, float fraction, float dt)
         mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(p1[j], p0[j]), inv_interval);
         /* the new clip one tick back: the playhead's pose (slerp and lerp within one frame
          * interval, whose rates are w_dst and v_dst) moved back by dt */
-        mm_quat r = mm_quat_slerp(r0[j], r1[j], c->frame_fraction);
-        mm_vec3 p = mm_vec3_lerp(p0[j], p1[j], c->frame_fraction);
+        mm_quat r = mm_quat_slerp(r0[j], r1[j], (float)c->frame_fraction);
+        mm_vec3 p = mm_vec3_lerp(p0[j], p1[j], (float)c->frame_fraction);
         mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm_quat_exp(mm_vec3_scale(w_dst, -dt)), r));
         mm_vec3 p_back = mm_vec3_sub(p, mm_vec3_scale(v_dst, dt));
         c->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
@@ -427,7 +428,7 @@ static void crossfade_to(mm_character *c, int to, bool uncancellable)
         return;
     }
     c->frame = to;
-    c->frame_fraction = 0.0f;
+    c->frame_fraction = 0.0;
     ++c->transitions;
 }
 
@@ -719,7 +720,7 @@ static void distance_playback_target(mm_character *c, const mm_input *in, float 
     float speed = sqrtf(t->velocity.x * t->velocity.x + t->velocity.z * t->velocity.z);
     if (!isfinite(speed)) speed = 0.0f;
     if (!isfinite(travelled) || travelled < 0.0f) travelled = 0.0f;
-    float time = ((float)(c->frame - db->clips[clip].first_frame) + c->frame_fraction) / curve.fps;
+    float time = (float)((double)(c->frame - db->clips[clip].first_frame) + c->frame_fraction) / curve.fps;
     float rate = 1.0f;
     if (curve.loop) {
         /* a cycle: desired speed / the clip's average speed, clamped */
@@ -939,9 +940,6 @@ static void orientation_warp(mm_character *c, const mm_input *in, float dt)
 /* m/s: the simulated character counts as stopped */
 #define IDLE_STOPPED 0.01f
 
-/* frames: how close to the next frame the playhead counts as on it */
-#define PLAYHEAD_SNAP 1e-3f
-
 void mm_character_update(mm_character *c, const mm_input *in, float dt)
 {
     if (!c || !c->db || !(dt > 0.0f) || !isfinite(dt)) return;
@@ -955,24 +953,22 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     if ((d->distance_matching || d->warping) && !c->move_playing && !c->move_pending) {
         float dx = c->trajectory.position.x - sim_before.x, dz = c->trajectory.position.z - sim_before.z;
         distance_playback(c, in, dt, sqrtf(dx * dx + dz * dz));
-        c->frame_fraction += c->play_rate * dt / db->interval;
+        c->frame_fraction += (double)c->play_rate * (double)dt / (double)db->interval;
     } else {
         c->playback = MM_PLAYBACK_CLOCK;
         c->play_rate = 1.0f;
         c->stride_scale = 1.0f;
-        c->frame_fraction += dt / db->interval;
+        c->frame_fraction += (double)dt / (double)db->interval;
     }
-    /* a fraction within PLAYHEAD_SNAP of the next frame is that frame: dt / interval is rarely
-     * exactly 1 in floats (1/60 s over LAFAN1's 0.0166667 s is 0.999998), and the playhead
-     * would sit a hair short of the frame it shows, its frame (queries, the next-pose test,
-     * contact labels) one behind the pose played on every tick. Not during a move: the move
-     * layer's events and hand-back were timed (docs/moves.md) on the unsnapped playhead */
-    float snap = c->move_playing || c->move_pending ? 0.0f : PLAYHEAD_SNAP;
-    while (c->frame_fraction >= 1.0f - snap) {
-        c->frame_fraction = fmaxf(c->frame_fraction - 1.0f, 0.0f);
+    /* no epsilon: the fraction is a double advanced by dt / interval, so a tick of the database's
+     * interval (or a power-of-two multiple or divisor of it) lands exactly on a frame and other
+     * rates drift by double rounding only. The interval must then be the one meant: a config's
+     * 0.0166667 is read as 1/60 (config_json.c), not as 1.000002 ticks of 60 Hz */
+    while (c->frame_fraction >= 1.0) {
+        c->frame_fraction -= 1.0;
         int next = db->frame_next[c->frame];
         if (next < 0) {
-            c->frame_fraction = 0.0f;
+            c->frame_fraction = 0.0;
             ended = 1;
             break;
         }
@@ -982,7 +978,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
         mm_mixer_advance(&c->mixer, dt);
         mm_mixer_play(&c->mixer, db->frame_next, db->frame_count, c->play_rate * dt / db->interval);
         c->mixer.slots[0].source = c->frame;
-        c->mixer.slots[0].fraction = c->frame_fraction;
+        c->mixer.slots[0].fraction = (float)c->frame_fraction;
     }
 
     /* when to search: on time, on a sharp change of the desired direction, on idle in or out,
