@@ -174,6 +174,41 @@ expect_grep "out of range" "$tmp/err"
 expect_exit 2 "$mm" db search "$tmp/synth.mmdb" --frame 1 --method slow
 expect_exit 2 "$mm" db search "$tmp/synth.mmdb"
 
+# bvh spans --write: each take's locomotion and idle spans become two clips of a config, the same
+# spans as printed (a walk that stops: walking from frame 0, standing to the end; a start the
+# reverse); writing again changes nothing; the config builds
+set_dir=$tmp/synth/set
+printf '{\n  "clips": []\n}\n' >"$tmp/spans.json"
+for take in walk_stop walk_start; do
+    expect_exit 0 "$mm" bvh spans "$set_dir/$take.bvh"
+    cp "$tmp/out" "$tmp/$take.spans"
+    expect_exit 0 "$mm" bvh spans "$set_dir/$take.bvh" --write "$tmp/spans.json"
+done
+expect_grep '"locomotion": \[\[0, [0-9]*\]\]' "$tmp/walk_stop.spans"
+expect_grep '"idle": \[\[[0-9]*, 301\]\]' "$tmp/walk_stop.spans"
+expect_grep '"idle": \[\[0, [0-9]*\]\]' "$tmp/walk_start.spans"
+expect_grep '"locomotion": \[\[[0-9]*, 301\]\]' "$tmp/walk_start.spans"
+# the written clips hold the printed ranges: walk_stop, walk_stop_idle (type idle), walk_start, ...
+has() { if grep -qF "$1" "$2"; then ok; else bad "'$1' not in $2:"; cat "$2"; fi; }
+tr -d ' \n' <"$tmp/spans.json" >"$tmp/spans.flat"
+for take in walk_stop walk_start; do
+    loco=$(tr -d ' \n' <"$tmp/$take.spans" | sed 's/.*"locomotion":\(\[[^a-z"{}]*\]\)[,}].*/\1/')
+    idle=$(tr -d ' \n' <"$tmp/$take.spans" | sed 's/.*"idle":\(\[[^a-z"{}]*\]\)[,}].*/\1/')
+    has "{\"name\":\"$take\",\"file\":\"$set_dir/$take.bvh\",\"ranges\":$loco,\"mirror\":true}" "$tmp/spans.flat"
+    has "{\"name\":\"${take}_idle\",\"file\":\"$set_dir/$take.bvh\",\"ranges\":$idle,\"type\":\"idle\",\"mirror\":true}" \
+        "$tmp/spans.flat"
+done
+cp "$tmp/spans.json" "$tmp/spans.before"
+expect_exit 0 "$mm" bvh spans "$set_dir/walk_stop.bvh" --write "$tmp/spans.json"
+if cmp -s "$tmp/spans.json" "$tmp/spans.before"; then ok; else bad "writing the same spans again changed the config"; fi
+expect_exit 0 "$mm" bvh spans "$set_dir/idle.bvh" --write "$tmp/spans.json" --as standing --no-mirror
+tr -d ' \n' <"$tmp/spans.json" >"$tmp/spans.flat"
+has "{\"name\":\"standing_idle\",\"file\":\"$set_dir/idle.bvh\",\"ranges\":[[0,480]],\"type\":\"idle\"}" "$tmp/spans.flat"
+if grep -q '"name":"standing"' "$tmp/spans.flat"; then bad "a take without locomotion got a locomotion clip"; else ok; fi
+expect_exit 0 "$mm" db build "$tmp/spans.json" --data "$set_dir" -o "$tmp/spans.mmdb"
+expect_exit 0 "$mm" db info "$tmp/spans.mmdb"
+expect_grep "^clips: *9 (5 idle, 0 loop, 4 mirrored" "$tmp/out"
+
 # simulate: a character on scripted and random input; the BVH is deterministic, the metrics JSON
 # carries every documented key
 script_dir=$data/../../scripts/input
