@@ -314,6 +314,28 @@ static void test_extends(void **state)
     assert_int_equal(c.clips[2].tag_range_count, 2);
     assert_true(mm_config_tag_index(&c, "Drop") >= 0 && mm_config_tag_index(&c, "Landing") >= 0);
     mm_config_free(&c);
+    /* several ranges (mm bvh spans --write): written in order, and whole frame numbers as integers */
+    static const int spans[3][2] = {{0, 100}, {250, 300}, {1000, 1200}};
+    mm_config_saved_clip multi = {
+        .name = "standing", .file = "walk.bvh", .ranges = spans, .range_count = 3, .type = MM_CLIP_IDLE};
+    assert_int_equal(mm_config_save_clip(derived, &multi, &err), MM_OK);
+    assert_int_equal(mm_config_load_json(derived, &c, NULL, &err), MM_OK);
+    assert_int_equal(c.clip_count, 4);
+    assert_int_equal(c.clips[3].type, MM_CLIP_IDLE);
+    assert_int_equal(c.clips[3].range_count, 3);
+    for (int i = 0; i < 3; ++i) {
+        assert_int_equal(c.clips[3].ranges[i].begin, spans[i][0]);
+        assert_int_equal(c.clips[3].ranges[i].end, spans[i][1]);
+    }
+    mm_config_free(&c);
+    char saved[4096] = {0};
+    FILE *f = fopen(derived, "rb");
+    assert_non_null(f);
+    assert_true(fread(saved, 1, sizeof saved - 1, f) > 0);
+    fclose(f);
+    assert_non_null(strstr(saved, "[[0, 100], [250, 300], [1000, 1200]]")); /* not 1e+02 */
+    multi.range_count = -1;
+    assert_int_equal(mm_config_save_clip(derived, &multi, &err), MM_ERR_INVALID_ARGUMENT);
     sc.name = "walk"; /* the base's clip */
     assert_int_equal(mm_config_save_clip(derived, &sc, &err), MM_ERR_DUPLICATE_NAME);
     static const float range[1][2] = {{0.1f, 0.2f}};
