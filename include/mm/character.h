@@ -82,6 +82,12 @@ typedef struct mm_character_desc {
     float angle_revise_speed;  /* rad/s: how fast (the seed's AngleReviseSpeed); 0: off */
     int skip_frames;           /* the winner is "where playback goes anyway" within this many
                                   frames ahead in the same clip; 3 */
+    float brake_ratio;         /* the search's pose_trajectory_ratio while braking (the simulated
+                                  speed above the desired one): it moves from params' toward this
+                                  in proportion to the braking, fully at brake_speed, so that the
+                                  trajectory outweighs the pose and stops can win over running on;
+                                  0.9 (0 or at most params' ratio: off) */
+    float brake_speed;         /* m/s; 2.0 */
     mm_search_method method;   /* MM_SEARCH_FAST */
     bool use_params;           /* use params below instead of mm_search_params_defaults with
                                   next_pose_favour 0.6 and the frames tagged "DoNotUse",
