@@ -13,9 +13,7 @@ if [ ! -f "$out/lafan1.mmdb" ]; then
     scripts/data_configs.sh "$out" >/dev/null
     "$mm" db build "$out/lafan1.json" -o "$out/lafan1.mmdb" >/dev/null
 fi
-# one JSON number
-get() { sed -n "s/.*\"$1\": \(null\|[-0-9.e+][-0-9.e+]*\).*/\1/p" "$2"; }
-fmt() { [ "$1" = null ] && echo "-" || printf '%.1f' "$1"; }
+. scripts/json_get.sh # get KEY FILE, fmt VALUE [DECIMALS]
 echo "| script | controller | foot slide cm/s | traj err cm | heading err deg | response s | max pop cm | frame us (median) | memory MiB |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for script in scripts/input/*.json; do

@@ -10,9 +10,7 @@ seconds=${2:-30}
 out=${3:-out/metrics}
 mm=${MM:-build/mm}
 mkdir -p "$out"
-# one JSON number
-get() { sed -n "s/.*\"$1\": \(null\|[-0-9.e+][-0-9.e+]*\).*/\1/p" "$2"; }
-fmt() { [ "$1" = null ] && echo "-" || printf "%.${2:-1}f" "$1"; }
+. scripts/json_get.sh # get KEY FILE, fmt VALUE [DECIMALS]
 echo "| script | foot slide cm/s | raw cm/s | traj err cm | response s | max pop cm | db pop cm | transitions/s |"
 echo "|---|---|---|---|---|---|---|---|"
 for script in scripts/input/*.json; do

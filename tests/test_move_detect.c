@@ -11,6 +11,7 @@
 #include <mm/database.h>
 #include <mm/move_detect.h>
 
+#include "test_databases.h"
 #include "test_util.h"
 
 #define FPS 30.0f
@@ -38,6 +39,15 @@ static int detect(const mm_vec3 *tracks, int n, mm_move *moves, int capacity)
     return count;
 }
 
+/* The one move that tracks (n frames, allocated by ballistic or vault) hold; frees them. */
+static mm_move detect_one(mm_vec3 *tracks, int n)
+{
+    mm_move m[4];
+    assert_int_equal(detect(tracks, n, m, 4), 1);
+    free(tracks);
+    return m[0];
+}
+
 /* Standing still for take_off + 1 frames at x = 0, a ballistic flight of the whole body with
  * horizontal speed vx, leaving the feet at y0 and landing them at y1 at frame landing, then
  * standing there. */
@@ -59,41 +69,33 @@ static void test_ballistic_jump(void **state)
 {
     (void)state;
     enum { N = 100, TAKE_OFF = 30, LANDING = 45 };
-    mm_vec3 *t = ballistic(N, TAKE_OFF, LANDING, 2.0f, 0.0f, 0.0f);
-    mm_move m[4];
-    assert_int_equal(detect(t, N, m, 4), 1);
-    assert_int_equal(m[0].kind, MM_MOVE_JUMP);
-    assert_true(abs(m[0].take_off - TAKE_OFF) <= 1);
-    assert_true(abs(m[0].landing - LANDING) <= 1);
-    assert_int_equal(m[0].hand_plant, -1);
-    assert_true(m[0].flight);
-    assert_float_equal(m[0].start_height, 0.0f, 0.02f);
-    assert_float_equal(m[0].end_height, 0.0f, 0.02f);
+    mm_move m = detect_one(ballistic(N, TAKE_OFF, LANDING, 2.0f, 0.0f, 0.0f), N);
+    assert_int_equal(m.kind, MM_MOVE_JUMP);
+    assert_true(abs(m.take_off - TAKE_OFF) <= 1);
+    assert_true(abs(m.landing - LANDING) <= 1);
+    assert_int_equal(m.hand_plant, -1);
+    assert_true(m.flight);
+    assert_float_equal(m.start_height, 0.0f, 0.02f);
+    assert_float_equal(m.end_height, 0.0f, 0.02f);
     /* the range: a second before the take-off to a second after the landing */
-    assert_true(abs(m[0].begin - (TAKE_OFF - 30)) <= 1);
-    assert_true(m[0].end >= LANDING + 30 && m[0].end <= N);
-    free(t);
+    assert_true(abs(m.begin - (TAKE_OFF - 30)) <= 1);
+    assert_true(m.end >= LANDING + 30 && m.end <= N);
 }
 
 static void test_drop_from_a_ledge(void **state)
 {
     (void)state;
     enum { N = 100, TAKE_OFF = 30, LANDING = 45 };
-    mm_vec3 *t = ballistic(N, TAKE_OFF, LANDING, 1.5f, 1.0f, 0.0f);
-    mm_move m[4];
-    assert_int_equal(detect(t, N, m, 4), 1);
-    assert_int_equal(m[0].kind, MM_MOVE_DROP);
-    assert_true(abs(m[0].take_off - TAKE_OFF) <= 1);
-    assert_true(abs(m[0].landing - LANDING) <= 1);
-    assert_float_equal(m[0].start_height, 1.0f, 0.02f);
-    assert_float_equal(m[0].end_height, 0.0f, 0.02f);
-    free(t);
+    mm_move m = detect_one(ballistic(N, TAKE_OFF, LANDING, 1.5f, 1.0f, 0.0f), N);
+    assert_int_equal(m.kind, MM_MOVE_DROP);
+    assert_true(abs(m.take_off - TAKE_OFF) <= 1);
+    assert_true(abs(m.landing - LANDING) <= 1);
+    assert_float_equal(m.start_height, 1.0f, 0.02f);
+    assert_float_equal(m.end_height, 0.0f, 0.02f);
     /* a jump onto the ledge is a jump, not a climb (no hands) */
-    t = ballistic(N, TAKE_OFF, LANDING, 1.5f, 0.0f, 1.0f);
-    assert_int_equal(detect(t, N, m, 4), 1);
-    assert_int_equal(m[0].kind, MM_MOVE_JUMP);
-    assert_float_equal(m[0].end_height, 1.0f, 0.02f);
-    free(t);
+    m = detect_one(ballistic(N, TAKE_OFF, LANDING, 1.5f, 0.0f, 1.0f), N);
+    assert_int_equal(m.kind, MM_MOVE_JUMP);
+    assert_float_equal(m.end_height, 1.0f, 0.02f);
 }
 
 /* Stands at x = 0.5 until the take-off; the right hand reaches the top of a 1 m box (at
@@ -134,29 +136,22 @@ static void test_vault_over_a_box(void **state)
 {
     (void)state;
     enum { N = 110, PLANT = 28, TAKE_OFF = 30, RELEASE = 40, LANDING = 45 };
-    mm_vec3 *t = vault(N, PLANT, TAKE_OFF, RELEASE, LANDING, 1.0f, false);
-    mm_move m[4];
-    assert_int_equal(detect(t, N, m, 4), 1);
-    assert_int_equal(m[0].kind, MM_MOVE_VAULT_LOW);
-    assert_true(abs(m[0].take_off - TAKE_OFF) <= 1);
-    assert_true(abs(m[0].hand_plant - PLANT) <= 1);
-    assert_true(abs(m[0].landing - LANDING) <= 1);
-    assert_int_equal(m[0].hand, 1);
-    assert_float_equal(m[0].obstacle_height, 1.0f, 0.02f);
-    free(t);
+    mm_move m = detect_one(vault(N, PLANT, TAKE_OFF, RELEASE, LANDING, 1.0f, false), N);
+    assert_int_equal(m.kind, MM_MOVE_VAULT_LOW);
+    assert_true(abs(m.take_off - TAKE_OFF) <= 1);
+    assert_true(abs(m.hand_plant - PLANT) <= 1);
+    assert_true(abs(m.landing - LANDING) <= 1);
+    assert_int_equal(m.hand, 1);
+    assert_float_equal(m.obstacle_height, 1.0f, 0.02f);
     /* the same over a 2 m wall is a high vault */
-    t = vault(N, PLANT, TAKE_OFF, RELEASE, LANDING, 2.0f, false);
-    assert_int_equal(detect(t, N, m, 4), 1);
-    assert_int_equal(m[0].kind, MM_MOVE_VAULT_HIGH);
-    assert_float_equal(m[0].obstacle_height, 2.0f, 0.02f);
-    free(t);
+    m = detect_one(vault(N, PLANT, TAKE_OFF, RELEASE, LANDING, 2.0f, false), N);
+    assert_int_equal(m.kind, MM_MOVE_VAULT_HIGH);
+    assert_float_equal(m.obstacle_height, 2.0f, 0.02f);
     /* ending on the box's top is a climb */
-    t = vault(N, PLANT, TAKE_OFF, RELEASE, LANDING, 1.0f, true);
-    assert_int_equal(detect(t, N, m, 4), 1);
-    assert_int_equal(m[0].kind, MM_MOVE_CLIMB);
-    assert_true(abs(m[0].landing - LANDING) <= 1);
-    assert_float_equal(m[0].end_height, 1.0f, 0.02f);
-    free(t);
+    m = detect_one(vault(N, PLANT, TAKE_OFF, RELEASE, LANDING, 1.0f, true), N);
+    assert_int_equal(m.kind, MM_MOVE_CLIMB);
+    assert_true(abs(m.landing - LANDING) <= 1);
+    assert_float_equal(m.end_height, 1.0f, 0.02f);
 }
 
 static void test_standing_and_bad_input(void **state)
@@ -197,19 +192,11 @@ static void test_standing_and_bad_input(void **state)
 
 /* ---- LAFAN1 ---- */
 
-static const char *data_dir(void)
-{
-    const char *d = getenv("MM_DATA_DIR");
-    return d && d[0] ? d : NULL;
-}
-
 static void test_lafan1_obstacles(void **state)
 {
     (void)state;
-    const char *dir = data_dir();
-    if (!dir) skip();
     char path[1024];
-    snprintf(path, sizeof path, "%s/lafan1/obstacles1_subject1.bvh", dir);
+    if (!test_shared_data("lafan1/obstacles1_subject1.bvh", path, sizeof path)) skip();
     mm_error err;
     memset(&err, 0, sizeof err);
     mm_config cfg;
@@ -251,23 +238,18 @@ static void test_lafan1_obstacles(void **state)
 static void test_lafan1_moves_config_builds(void **state)
 {
     (void)state;
-    if (!data_dir()) skip();
+    const char *dir = getenv("MM_DATA_DIR");
+    if (!dir || !*dir) skip();
     mm_error err;
     memset(&err, 0, sizeof err);
     mm_config cfg;
     memset(&cfg, 0, sizeof cfg);
-    char *text = NULL;
-    assert_int_equal(mm_config_load_json(MM_DATA_CONFIGS "/lafan1_moves.json", &cfg, &text, &err), MM_OK);
+    assert_int_equal(mm_config_load_json(MM_DATA_CONFIGS "/lafan1_moves.json", &cfg, NULL, &err), MM_OK);
     static const char *const names[] = {"Jump", "VaultLow", "VaultHigh", "Climb",
                                         "Drop", "TakeOff",  "HandPlant", "Landing"};
     for (int i = 0; i < 8; ++i) assert_true(mm_config_tag_index(&cfg, names[i]) >= 0);
-    mm_clip *sources = NULL;
-    assert_int_equal(mm_config_load_sources(&cfg, &sources, &err), MM_OK);
-    mm_db_build_desc desc;
-    memset(&desc, 0, sizeof desc);
-    desc.config_json = text;
     mm_database db;
-    assert_int_equal(mm_database_build(&cfg, sources, &desc, &db, &err), MM_OK);
+    assert_int_equal(test_build_data_database("lafan1_moves", &db), 0);
     /* every move clip holds its kind and exactly one TakeOff and one Landing frame */
     int take_off = mm_config_tag_index(&cfg, "TakeOff"), landing = mm_config_tag_index(&cfg, "Landing");
     uint64_t kinds = 0;
@@ -288,9 +270,7 @@ static void test_lafan1_moves_config_builds(void **state)
     }
     assert_true(moves >= 20);
     mm_database_free(&db);
-    mm_config_free_sources(&cfg, sources);
     mm_config_free(&cfg);
-    free(text);
 }
 
 int main(void)

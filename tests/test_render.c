@@ -271,14 +271,21 @@ static int is_background(const uint8_t *rgb, int x, int y)
     return abs(p[0] - background[0]) <= 2 && abs(p[1] - background[1]) <= 2 && abs(p[2] - background[2]) <= 2;
 }
 
+/* Nothing to draw, not even the ground: each test adds what it measures. */
+static mm_render_scene empty_scene(void)
+{
+    mm_render_scene s;
+    memset(&s, 0, sizeof s);
+    s.no_ground = true;
+    return s;
+}
+
 static void test_sphere_covers_its_projected_disc(void **state)
 {
     (void)state;
     mm_camera c = straight_camera();
     mm_render_marker m = {c.target, 0.3f, {0.9f, 0.2f, 0.1f, 1.0f}};
-    mm_render_scene s;
-    memset(&s, 0, sizeof s);
-    s.no_ground = true;
+    mm_render_scene s = empty_scene();
     s.markers = &m;
     s.marker_count = 1;
     const uint8_t *rgb = mm_offscreen_render(offscreen, &c, &s);
@@ -299,34 +306,52 @@ static void test_sphere_covers_its_projected_disc(void **state)
     assert_float_equal(sy / count, H / 2.0, 0.5);
 }
 
+/* A character on the built-in set's database, and its searcher (kept in place: the character
+ * points at both). */
+typedef struct synth_character {
+    mm_database db;
+    mm_searcher searcher;
+    mm_character ch;
+} synth_character;
+
+static void synth_character_init(synth_character *fx)
+{
+    assert_int_equal(test_build_synth_database(&fx->db), 0);
+    assert_int_equal(mm_searcher_init(&fx->searcher, &fx->db, NULL, NULL), MM_OK);
+    assert_int_equal(mm_character_init(&fx->ch, &fx->db, &fx->searcher, NULL, NULL), MM_OK);
+}
+
+static void synth_character_free(synth_character *fx)
+{
+    mm_character_free(&fx->ch);
+    mm_searcher_free(&fx->searcher);
+    mm_database_free(&fx->db);
+}
+
 static void test_character_lies_where_its_joints_project(void **state)
 {
     (void)state;
-    mm_database db;
-    assert_int_equal(test_build_synth_database(&db), 0);
-    mm_searcher searcher;
-    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
-    mm_character ch;
-    assert_int_equal(mm_character_init(&ch, &db, &searcher, NULL, NULL), MM_OK);
+    synth_character fx;
+    synth_character_init(&fx);
     mm_input in;
     memset(&in, 0, sizeof in);
     in.stick[1] = 1.0f;
-    for (int i = 0; i < 90; ++i) mm_character_update(&ch, &in, 1.0f / 60.0f);
+    for (int i = 0; i < 90; ++i) mm_character_update(&fx.ch, &in, 1.0f / 60.0f);
     mm_view v;
-    assert_int_equal(mm_view_init(&v, &db, NULL), MM_OK);
+    assert_int_equal(mm_view_init(&v, &fx.db, NULL), MM_OK);
     mm_view_flags flags;
     memset(&flags, 0, sizeof flags); /* the body alone */
-    mm_view_update(&v, &ch, &in, &flags, 0.0f);
+    mm_view_update(&v, &fx.ch, &in, &flags, 0.0f);
     v.scene.no_ground = true;
     mm_camera c;
     mm_camera_defaults(&c);
-    c.target = mm_vec3_make(ch.root.translation.x, 0.9f, ch.root.translation.z);
+    c.target = mm_vec3_make(fx.ch.root.translation.x, 0.9f, fx.ch.root.translation.z);
     const uint8_t *rgb = mm_offscreen_render(offscreen, &c, &v.scene);
     assert_non_null(rgb);
     /* the bounding box of the projected joints, grown by the largest projected sphere radius */
     float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f, px, py;
-    for (int j = 1; j < db.joint_count; ++j) {
-        assert_true(mm_camera_project(&c, W, H, ch.global[j].translation, &px, &py));
+    for (int j = 1; j < fx.db.joint_count; ++j) {
+        assert_true(mm_camera_project(&c, W, H, fx.ch.global[j].translation, &px, &py));
         x0 = fminf(x0, px), y0 = fminf(y0, py), x1 = fmaxf(x1, px), y1 = fmaxf(y1, py);
     }
     /* the largest sphere is the head's, 0.1 m, at least 1.5 m from the eye */
@@ -344,25 +369,21 @@ static void test_character_lies_where_its_joints_project(void **state)
     assert_int_equal(outside, 0);
     assert_true(inside > 300); /* a body, not a few stray pixels */
     /* the hips (joint 1) are drawn where they project */
-    assert_true(mm_camera_project(&c, W, H, ch.global[1].translation, &px, &py));
+    assert_true(mm_camera_project(&c, W, H, fx.ch.global[1].translation, &px, &py));
     assert_false(is_background(rgb, (int)px, (int)py));
     /* with the ground: the bottom centre is ground, lit grey, not sky */
     v.scene.no_ground = false;
     rgb = mm_offscreen_render(offscreen, &c, &v.scene);
     assert_false(is_background(rgb, W / 2, H - 2));
     mm_view_free(&v);
-    mm_character_free(&ch);
-    mm_searcher_free(&searcher);
-    mm_database_free(&db);
+    synth_character_free(&fx);
 }
 
 static void test_overlay_glyph_pixels(void **state)
 {
     (void)state;
     mm_camera c = straight_camera();
-    mm_render_scene s;
-    memset(&s, 0, sizeof s);
-    s.no_ground = true;
+    mm_render_scene s = empty_scene();
     s.overlay = "A";
     const uint8_t *rgb = mm_offscreen_render(offscreen, &c, &s);
     assert_non_null(rgb);
@@ -424,77 +445,68 @@ static void test_video_folder_and_errors(void **state)
 static void test_overlay_text_of_a_character(void **state)
 {
     (void)state;
-    mm_database db;
-    assert_int_equal(test_build_synth_database(&db), 0);
-    mm_searcher searcher;
-    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
-    mm_character ch;
-    assert_int_equal(mm_character_init(&ch, &db, &searcher, NULL, NULL), MM_OK);
+    synth_character fx;
+    synth_character_init(&fx);
     mm_input in;
     memset(&in, 0, sizeof in);
     in.stick[0] = 1.0f;
     in.gait = MM_GAIT_RUN;
-    for (int i = 0; i < 60; ++i) mm_character_update(&ch, &in, 1.0f / 60.0f);
+    for (int i = 0; i < 60; ++i) mm_character_update(&fx.ch, &in, 1.0f / 60.0f);
     char text[MM_VIEW_OVERLAY_MAX], expect[256];
-    mm_view_overlay(text, sizeof text, &ch, &in, 59.6f);
-    const mm_db_clip *clip = &db.clips[db.frame_clip[ch.frame]];
-    snprintf(expect, sizeof expect, "clip %s  frame %d/%d", clip->name, ch.frame - clip->first_frame,
+    mm_view_overlay(text, sizeof text, &fx.ch, &in, 59.6f);
+    const mm_db_clip *clip = &fx.db.clips[fx.db.frame_clip[fx.ch.frame]];
+    snprintf(expect, sizeof expect, "clip %s  frame %d/%d", clip->name, fx.ch.frame - clip->first_frame,
              clip->frame_count);
     assert_non_null(strstr(text, expect));
-    snprintf(expect, sizeof expect, "searches %d  transitions %d", ch.searches, ch.transitions);
+    snprintf(expect, sizeof expect, "searches %d  transitions %d", fx.ch.searches, fx.ch.transitions);
     assert_non_null(strstr(text, expect));
     assert_non_null(strstr(text, "gait run"));
     assert_non_null(strstr(text, "fps 60"));
     /* the cost printed is the sum of the five terms printed (the base cost, no favours here) */
     mm_search_terms t;
-    mm_search_cost_terms(&db, ch.query, &ch.desc.params, ch.last_result.frame, &t);
+    mm_search_cost_terms(&fx.db, fx.ch.query, &fx.ch.desc.params, fx.ch.last_result.frame, &t);
     float sum = t.pose_position + t.pose_velocity + t.root_velocity + t.traj_position + t.traj_direction;
-    assert_float_equal(sum, ch.last_result.base, 1e-3f * (1.0f + sum));
+    assert_float_equal(sum, fx.ch.last_result.base, 1e-3f * (1.0f + sum));
     /* truncation is safe */
-    assert_int_equal(mm_view_overlay(text, 8, &ch, &in, 0.0f), 7);
+    assert_int_equal(mm_view_overlay(text, 8, &fx.ch, &in, 0.0f), 7);
     assert_int_equal(strlen(text), 7);
-    mm_character_free(&ch);
-    mm_searcher_free(&searcher);
-    mm_database_free(&db);
+    synth_character_free(&fx);
 }
 
 static void test_tuning_steps_select_and_clamp(void **state)
 {
     (void)state;
-    mm_database db;
-    assert_int_equal(test_build_synth_database(&db), 0);
-    mm_searcher searcher;
-    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
-    mm_character ch;
-    assert_int_equal(mm_character_init(&ch, &db, &searcher, NULL, NULL), MM_OK);
+    synth_character fx;
+    synth_character_init(&fx);
     mm_view_tuning t;
-    mm_view_tuning_init(&t, &ch);
+    mm_view_tuning_init(&t, &fx.ch);
     /* 4 weights, 2 per matched bone, 4 favours and timings, 5 per gait for walk and run */
     mm_pose_data pose;
-    mm_database_pose(&db, 0, &pose);
+    mm_database_pose(&fx.db, 0, &pose);
     assert_int_equal(t.count, 4 + 2 * pose.bone_count + 4 + 10);
-    assert_ptr_equal(t.entries[0].value, &ch.desc.params.pose_trajectory_ratio);
+    assert_ptr_equal(t.entries[0].value, &fx.ch.desc.params.pose_trajectory_ratio);
     /* the ratio: steps of 0.05 within [0, 1] */
-    float r0 = ch.desc.params.pose_trajectory_ratio;
+    float r0 = fx.ch.desc.params.pose_trajectory_ratio;
     mm_view_tuning_step(&t, 1);
-    assert_float_equal(ch.desc.params.pose_trajectory_ratio, r0 + 0.05f, 1e-6f);
+    assert_float_equal(fx.ch.desc.params.pose_trajectory_ratio, r0 + 0.05f, 1e-6f);
     mm_view_tuning_step(&t, 100);
-    assert_float_equal(ch.desc.params.pose_trajectory_ratio, 1.0f, 0.0f);
+    assert_float_equal(fx.ch.desc.params.pose_trajectory_ratio, 1.0f, 0.0f);
     /* a weight: by factors of 1.25, down to 0 never below, and back up from zero */
     mm_view_tuning_select(&t, 1);
-    assert_ptr_equal(t.entries[t.selected].value, &ch.desc.params.body_velocity_weight);
-    float w0 = ch.desc.params.body_velocity_weight;
+    assert_ptr_equal(t.entries[t.selected].value, &fx.ch.desc.params.body_velocity_weight);
+    float w0 = fx.ch.desc.params.body_velocity_weight;
     mm_view_tuning_step(&t, -2);
-    assert_float_equal(ch.desc.params.body_velocity_weight, w0 / 1.5625f, 1e-6f * (1.0f + w0));
-    ch.desc.params.body_velocity_weight = 0.0f;
+    assert_float_equal(fx.ch.desc.params.body_velocity_weight, w0 / 1.5625f, 1e-6f * (1.0f + w0));
+    fx.ch.desc.params.body_velocity_weight = 0.0f;
     mm_view_tuning_step(&t, -1);
-    assert_float_equal(ch.desc.params.body_velocity_weight, 0.0f, 0.0f);
+    assert_float_equal(fx.ch.desc.params.body_velocity_weight, 0.0f, 0.0f);
     mm_view_tuning_step(&t, 1);
-    assert_float_equal(ch.desc.params.body_velocity_weight, 0.1f, 1e-6f);
+    assert_float_equal(fx.ch.desc.params.body_velocity_weight, 0.1f, 1e-6f);
     /* selection wraps both ways; the last entries are the run gait's, in the trajectory's copy */
     mm_view_tuning_select(&t, -2);
     assert_int_equal(t.selected, t.count - 1);
-    assert_ptr_equal(t.entries[t.selected].value, &ch.trajectory.desc.gaits[MM_GAIT_RUN].rotation_halflife);
+    assert_ptr_equal(t.entries[t.selected].value,
+                     &fx.ch.trajectory.desc.gaits[MM_GAIT_RUN].rotation_halflife);
     mm_view_tuning_select(&t, 1);
     assert_int_equal(t.selected, 0);
     /* the text: five lines, the selected one in the middle and marked */
@@ -513,12 +525,10 @@ static void test_tuning_steps_select_and_clamp(void **state)
     memset(&in, 0, sizeof in);
     in.stick[1] = 1.0f;
     mm_vec3 v;
-    mm_trajectory_desired(&ch.trajectory, &in, &v, NULL);
-    assert_float_equal(mm_vec3_length(v), ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1e-5f);
-    assert_float_equal(ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1.0f, 1e-5f);
-    mm_character_free(&ch);
-    mm_searcher_free(&searcher);
-    mm_database_free(&db);
+    mm_trajectory_desired(&fx.ch.trajectory, &in, &v, NULL);
+    assert_float_equal(mm_vec3_length(v), fx.ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1e-5f);
+    assert_float_equal(fx.ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1.0f, 1e-5f);
+    synth_character_free(&fx);
 }
 
 /* ---- scene boxes ---- */
@@ -576,9 +586,7 @@ static void test_box_covers_its_projected_hull(void **state)
     mm_camera c = straight_camera();
     c.pitch = 0.35f; /* from above: the top face shows too */
     mm_render_box b = {{0.1f, 0.4f, 0.2f}, {1.0f, 0.9f, 0.6f}, 0.6f, {0.8f, 0.6f, 0.4f, 1.0f}};
-    mm_render_scene s;
-    memset(&s, 0, sizeof s);
-    s.no_ground = true;
+    mm_render_scene s = empty_scene();
     s.boxes = &b;
     s.box_count = 1;
     const uint8_t *rgb = mm_offscreen_render(offscreen, &c, &s);

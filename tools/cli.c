@@ -72,6 +72,76 @@ int cli_parse_int(const char *s, long min, long max, long *out)
     return 1;
 }
 
+static const cli_option *find_option(const cli_option *options, int count, const char *a)
+{
+    for (int k = 0; k < count; ++k)
+        if (strcmp(a, options[k].name) == 0 || (options[k].alias && strcmp(a, options[k].alias) == 0))
+            return &options[k];
+    return NULL;
+}
+
+/* "NAME needs ..." for a missing or bad value. */
+static int needs(const char *command, const cli_option *o)
+{
+    if (o->need) return cli_usage_error(command, "%s needs %s", o->name, o->need);
+    return cli_usage_error(command, "%s needs a number from %ld to %ld", o->name, (long)o->min, (long)o->max);
+}
+
+/* Stores v as o's value; 0, or the exit code after printing. */
+static int take_value(const char *command, const cli_option *o, const char *v)
+{
+    int ok = 1;
+    long n = 0;
+    double x = 0.0;
+    switch (o->kind) {
+    case CLI_FLAG:
+        break;
+    case CLI_STRING:
+        *(const char **)o->target = v;
+        break;
+    case CLI_INT:
+        ok = cli_parse_int(v, (long)o->min, (long)o->max, &n);
+        if (ok) *(long *)o->target = n;
+        break;
+    case CLI_DOUBLE:
+        ok = cli_parse_double(v, &x) && (o->open_min ? x > o->min : x >= o->min) && x <= o->max;
+        if (ok) *(double *)o->target = x;
+        break;
+    case CLI_SIZE:
+        ok = cli_parse_size(v, &((int *)o->target)[0], &((int *)o->target)[1]);
+        break;
+    case CLI_CUSTOM:
+        return o->parse(command, o, v);
+    }
+    return ok ? 0 : needs(command, o);
+}
+
+int cli_parse_options(const char *command, int argc, char **argv, const cli_option *options, int option_count,
+                      const char *usage, const char **args, int max_args)
+{
+    int arg_count = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        const cli_option *o = find_option(options, option_count, a);
+        if (o && o->kind == CLI_FLAG) {
+            *(int *)o->target = 1;
+        } else if (o && i + 1 < argc) {
+            int status = take_value(command, o, argv[++i]);
+            if (status) return status;
+        } else if (o && !usage) {
+            return needs(command, o);
+        } else if (a[0] == '-' && a[1]) {
+            if (usage) return cli_usage_error(command, "unknown or incomplete option '%s'\n%s", a, usage);
+            return cli_usage_error(command, "unknown option '%s'", a);
+        } else if (arg_count < max_args) {
+            args[arg_count++] = a;
+        } else {
+            return cli_usage_error(command, "unexpected argument '%s'", a);
+        }
+    }
+    return 0;
+}
+
 FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
 {
     struct stat st;

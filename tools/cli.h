@@ -14,6 +14,41 @@ int cli_usage_error(const char *command, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/* Table-driven option parsing. Each option names where its value goes (target):
+ *   CLI_FLAG    int *, set to 1 (no value follows)
+ *   CLI_STRING  const char **, the next argument as it is
+ *   CLI_INT     long *, a decimal int in [min, max] (cli_parse_int)
+ *   CLI_DOUBLE  double *, a number in [min, max], or (min, max] with open_min (cli_parse_double)
+ *   CLI_SIZE    int[2], WIDTHxHEIGHT (cli_parse_size)
+ *   CLI_CUSTOM  parse(command, option, value) stores it; returns 0, or an exit code after printing
+ * A bad value prints "mm COMMAND: NAME needs NEED" (need NULL on a CLI_INT: "a number from MIN to
+ * MAX"; other kinds that take a value give need unless usage is given). A missing value prints the same, or, when usage is given, "unknown or incomplete option"
+ * with the usage, as an unknown option does (else "unknown option 'X'"). Other arguments fill args
+ * (up to max_args, the rest stay as they were; one more is "unexpected argument"). Returns 0, or 2
+ * (the usage error exit code) after printing. */
+typedef enum cli_option_kind {
+    CLI_FLAG,
+    CLI_STRING,
+    CLI_INT,
+    CLI_DOUBLE,
+    CLI_SIZE,
+    CLI_CUSTOM
+} cli_option_kind;
+typedef struct cli_option cli_option;
+struct cli_option {
+    const char *name;
+    const char *alias; /* another spelling, or NULL; messages use name */
+    cli_option_kind kind;
+    void *target;
+    double min, max;
+    int open_min;
+    const char *need;
+    int (*parse)(const char *command, const cli_option *option, const char *value);
+};
+int cli_parse_options(const char *command, int argc, char **argv, const cli_option *options, int option_count,
+                      const char *usage, const char **args, int max_args);
+/* The number of elements of an array (an option table). */
+#define CLI_COUNT(array) ((int)(sizeof(array) / sizeof((array)[0])))
 /* Parses a whole argument as a decimal number (no hexadecimal, inf or nan) that a float holds
  * without becoming 0 or infinite (0, or a magnitude from FLT_MIN to FLT_MAX) / a decimal int in
  * range; 0 on failure. */

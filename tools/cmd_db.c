@@ -23,26 +23,13 @@ static int cmd_build(int argc, char **argv)
 {
     const char *config = NULL, *out = NULL, *data = NULL;
     long threads = cli_default_threads();
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "-o") == 0 || strcmp(argv[i], "--output") == 0) {
-            if (i + 1 >= argc) return cli_usage_error("db build", "-o needs a file name");
-            out = argv[++i];
-        } else if (strcmp(argv[i], "--data") == 0) {
-            if (i + 1 >= argc) return cli_usage_error("db build", "--data needs a folder");
-            data = argv[++i];
-        } else if (strcmp(argv[i], "--threads") == 0) {
-            if (i + 1 >= argc || !cli_parse_int(argv[i + 1], 1, MM_DB_MAX_THREADS, &threads))
-                return cli_usage_error("db build", "--threads needs a number from 1 to %d",
-                                       MM_DB_MAX_THREADS);
-            ++i;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return cli_usage_error("db build", "unknown option '%s'", argv[i]);
-        } else if (!config) {
-            config = argv[i];
-        } else {
-            return cli_usage_error("db build", "unexpected argument '%s'", argv[i]);
-        }
-    }
+    const cli_option options[] = {
+        {.name = "-o", .alias = "--output", .kind = CLI_STRING, .target = &out, .need = "a file name"},
+        {.name = "--data", .kind = CLI_STRING, .target = &data, .need = "a folder"},
+        {.name = "--threads", .kind = CLI_INT, .target = &threads, .min = 1, .max = MM_DB_MAX_THREADS},
+    };
+    int status = cli_parse_options("db build", argc, argv, options, CLI_COUNT(options), NULL, &config, 1);
+    if (status) return status;
     if (!config || !out)
         return cli_usage_error("db build",
                                "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N]");
@@ -132,16 +119,9 @@ static int cmd_info(int argc, char **argv)
 {
     const char *path = NULL;
     int json = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0)
-            json = 1;
-        else if (argv[i][0] == '-' && argv[i][1])
-            return cli_usage_error("db info", "unknown option '%s'", argv[i]);
-        else if (!path)
-            path = argv[i];
-        else
-            return cli_usage_error("db info", "unexpected argument '%s'", argv[i]);
-    }
+    const cli_option options[] = {{.name = "--json", .kind = CLI_FLAG, .target = &json}};
+    int status = cli_parse_options("db info", argc, argv, options, CLI_COUNT(options), NULL, &path, 1);
+    if (status) return status;
     if (!path) return cli_usage_error("db info", "usage: mm db info FILE [--json]");
     mm_database db;
     if (load(path, &db)) return 1;
@@ -257,6 +237,42 @@ static int cmd_dump(int argc, char **argv)
     return 0;
 }
 
+static int parse_method(const char *command, const cli_option *option, const char *value)
+{
+    mm_search_method *method = (mm_search_method *)option->target;
+    if (strcmp(value, "brute") == 0)
+        *method = MM_SEARCH_BRUTE;
+    else if (strcmp(value, "fast") == 0)
+        *method = MM_SEARCH_FAST;
+    else if (strcmp(value, "facing") == 0)
+        *method = MM_SEARCH_FACING;
+    else
+        return cli_usage_error(command, "--method needs brute, fast or facing, not '%s'", value);
+    return 0;
+}
+
+static int parse_type(const char *command, const cli_option *option, const char *value)
+{
+    if (strcmp(value, "idle") && strcmp(value, "locomotion") && strcmp(value, "any"))
+        return cli_usage_error(command, "--type needs idle, locomotion or any");
+    *(const char **)option->target = value;
+    return 0;
+}
+
+/* The tags of --require or --exclude, each option given once per tag. */
+typedef struct tag_list {
+    const char *tags[64];
+    int count;
+} tag_list;
+
+static int parse_tag(const char *command, const cli_option *option, const char *value)
+{
+    tag_list *list = (tag_list *)option->target;
+    if (list->count == 64) return cli_usage_error(command, "%s: at most 64 tags", option->name);
+    list->tags[list->count++] = value;
+    return 0;
+}
+
 static int cmd_search(int argc, char **argv)
 {
     const char *path = NULL;
@@ -264,68 +280,43 @@ static int cmd_search(int argc, char **argv)
     int json = 0, no_bias = 0;
     mm_search_method method = MM_SEARCH_FAST;
     const char *type = NULL;
-    const char *require[64], *exclude[64];
-    int nreq = 0, nexc = 0;
+    tag_list require = {{NULL}, 0}, exclude = {{NULL}, 0};
     const char *usage =
         "usage: mm db search DB.mmdb --frame I [--traj-from J] [--method brute|fast|facing] [--top K] "
         "[--type idle|locomotion|any] [--require TAG]... [--exclude TAG]... [--no-bias] [--json]";
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(a, "--frame") == 0 || strcmp(a, "--traj-from") == 0 || strcmp(a, "--top") == 0) {
-            long x;
-            if (!v || !cli_parse_int(v, strcmp(a, "--top") == 0 ? 1 : 0,
-                                     strcmp(a, "--top") == 0 ? 1000 : 0x7fffffff, &x))
-                return cli_usage_error("db search", "%s needs %s", a,
-                                       strcmp(a, "--top") == 0 ? "a number from 1 to 1000"
-                                                               : "a frame number >= 0");
-            if (strcmp(a, "--frame") == 0)
-                frame = x;
-            else if (strcmp(a, "--traj-from") == 0)
-                traj = x;
-            else
-                top = x;
-            ++i;
-        } else if (strcmp(a, "--method") == 0) {
-            if (!v) return cli_usage_error("db search", "--method needs brute, fast or facing");
-            if (strcmp(v, "brute") == 0)
-                method = MM_SEARCH_BRUTE;
-            else if (strcmp(v, "fast") == 0)
-                method = MM_SEARCH_FAST;
-            else if (strcmp(v, "facing") == 0)
-                method = MM_SEARCH_FACING;
-            else
-                return cli_usage_error("db search", "--method needs brute, fast or facing, not '%s'", v);
-            ++i;
-        } else if (strcmp(a, "--type") == 0) {
-            if (!v || (strcmp(v, "idle") && strcmp(v, "locomotion") && strcmp(v, "any")))
-                return cli_usage_error("db search", "--type needs idle, locomotion or any");
-            type = v;
-            ++i;
-        } else if (strcmp(a, "--require") == 0 || strcmp(a, "--exclude") == 0) {
-            if (!v) return cli_usage_error("db search", "%s needs a tag name", a);
-            int req = strcmp(a, "--require") == 0;
-            if ((req ? nreq : nexc) == 64) return cli_usage_error("db search", "%s: at most 64 tags", a);
-            if (req)
-                require[nreq++] = v;
-            else
-                exclude[nexc++] = v;
-            ++i;
-        } else if (strcmp(a, "--no-bias") == 0) {
-            no_bias = 1;
-        } else if (strcmp(a, "--json") == 0) {
-            json = 1;
-        } else if (a[0] == '-' && a[1]) {
-            return cli_usage_error("db search", "unknown option '%s'", a);
-        } else if (!path) {
-            path = a;
-        } else {
-            return cli_usage_error("db search", "unexpected argument '%s'", a);
-        }
-    }
+    const char *frame_number = "a frame number >= 0";
+    const cli_option options[] = {
+        {.name = "--frame", .kind = CLI_INT, .target = &frame, .max = 0x7fffffff, .need = frame_number},
+        {.name = "--traj-from", .kind = CLI_INT, .target = &traj, .max = 0x7fffffff, .need = frame_number},
+        {.name = "--top", .kind = CLI_INT, .target = &top, .min = 1, .max = 1000},
+        {.name = "--method",
+         .kind = CLI_CUSTOM,
+         .target = &method,
+         .need = "brute, fast or facing",
+         .parse = parse_method},
+        {.name = "--type",
+         .kind = CLI_CUSTOM,
+         .target = &type,
+         .need = "idle, locomotion or any",
+         .parse = parse_type},
+        {.name = "--require",
+         .kind = CLI_CUSTOM,
+         .target = &require,
+         .need = "a tag name",
+         .parse = parse_tag},
+        {.name = "--exclude",
+         .kind = CLI_CUSTOM,
+         .target = &exclude,
+         .need = "a tag name",
+         .parse = parse_tag},
+        {.name = "--no-bias", .kind = CLI_FLAG, .target = &no_bias},
+        {.name = "--json", .kind = CLI_FLAG, .target = &json},
+    };
+    int status = cli_parse_options("db search", argc, argv, options, CLI_COUNT(options), NULL, &path, 1);
+    if (status) return status;
     if (!path || frame < 0) return cli_usage_error("db search", "%s", usage);
     mm_database db;
     if (load(path, &db)) return 1;
-    int status = 0;
     mm_searcher s;
     mm_search_result *results = NULL;
     mm_error err;
@@ -344,15 +335,15 @@ static int cmd_search(int argc, char **argv)
              : strcmp(type, "idle") == 0       ? MM_SEARCH_IDLE
              : strcmp(type, "locomotion") == 0 ? MM_SEARCH_LOCOMOTION
                                                : MM_SEARCH_ANY;
-    for (int i = 0; i < nreq + nexc; ++i) {
-        const char *tag = i < nreq ? require[i] : exclude[i - nreq];
+    for (int i = 0; i < require.count + exclude.count; ++i) {
+        const char *tag = i < require.count ? require.tags[i] : exclude.tags[i - require.count];
         uint64_t mask = mm_search_tag_mask(&db, tag);
         if (!mask) {
             fprintf(stderr, "mm: %s: the database has no tag '%s'\n", path, tag);
             mm_database_free(&db);
             return 1;
         }
-        if (i < nreq)
+        if (i < require.count)
             p.required_tags |= mask;
         else
             p.excluded_tags |= mask;

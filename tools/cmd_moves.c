@@ -33,29 +33,19 @@ static void print_event(FILE *f, const char *name, int frame, float fps, int jso
 static int detect(int argc, char **argv)
 {
     const char *in = NULL, *config = NULL, *write = NULL, *as = NULL;
-    int json = 0, mirror = 1;
+    int json = 0, no_mirror = 0;
     const char *usage =
         "usage: mm moves detect FILE.bvh [--config CONFIG.json] [--json] [--write CONFIG.json] [--as NAME] "
         "[--no-mirror]";
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(a, "--config") == 0 && v)
-            config = argv[++i];
-        else if (strcmp(a, "--write") == 0 && v)
-            write = argv[++i];
-        else if (strcmp(a, "--as") == 0 && v)
-            as = argv[++i];
-        else if (strcmp(a, "--json") == 0)
-            json = 1;
-        else if (strcmp(a, "--no-mirror") == 0)
-            mirror = 0;
-        else if (a[0] == '-' && a[1])
-            return cli_usage_error("moves detect", "unknown or incomplete option '%s'\n%s", a, usage);
-        else if (!in)
-            in = a;
-        else
-            return cli_usage_error("moves detect", "unexpected argument '%s'", a);
-    }
+    const cli_option options[] = {
+        {.name = "--config", .kind = CLI_STRING, .target = &config},
+        {.name = "--write", .kind = CLI_STRING, .target = &write},
+        {.name = "--as", .kind = CLI_STRING, .target = &as},
+        {.name = "--json", .kind = CLI_FLAG, .target = &json},
+        {.name = "--no-mirror", .kind = CLI_FLAG, .target = &no_mirror},
+    };
+    int status = cli_parse_options("moves detect", argc, argv, options, CLI_COUNT(options), usage, &in, 1);
+    if (status) return status;
     if (!in) return cli_usage_error("moves detect", "%s", usage);
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -76,7 +66,7 @@ static int detect(int argc, char **argv)
         return cli_report(&err);
     }
     mm_move *moves = (mm_move *)calloc(MAX_MOVES, sizeof(mm_move));
-    int count = 0, status = 0;
+    int count = 0;
     if (!moves) {
         fprintf(stderr, "mm: out of memory\n");
         status = 1;
@@ -155,7 +145,7 @@ static int detect(int argc, char **argv)
         c.begin = m->begin;
         c.end = m->end;
         c.type = MM_CLIP_LOCOMOTION;
-        c.mirror = mirror != 0;
+        c.mirror = !no_mirror;
         c.tags = tags;
         c.tag_count = nt;
         if (mm_config_save_clip(write, &c, &err) != MM_OK) status = cli_report(&err);

@@ -15,52 +15,50 @@
 #include "cli.h"
 #include "commands.h"
 
+/* --scale: a factor, or auto (0) to detect the unit. */
+static int parse_scale(const char *command, const cli_option *option, const char *value)
+{
+    double *scale = (double *)option->target, x = 0.0;
+    if (strcmp(value, "auto") == 0)
+        *scale = 0.0;
+    else if (cli_parse_double(value, &x) && x > 0 && x <= 1000)
+        *scale = x;
+    else
+        return cli_usage_error(command, "--scale needs a factor in (0, 1000] or auto");
+    return 0;
+}
+
 int mm_cmd_render(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *scene_path = NULL;
-    int width = 640, height = 360;
-    double fps = 30.0, from = 0.0, seconds = -1.0, scale = 0.0;
-    int auto_scale = 1;
+    int size[2] = {640, 360};
+    double fps = 30.0, from = 0.0, seconds = -1.0, scale = 0.0; /* scale 0: auto */
     const char *usage =
         "usage: mm render FILE.bvh -o OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--fps 30] [--from S] "
         "[--seconds T] [--scale S|auto] [--scene SCENE.json]";
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(a, "-o") == 0 && v)
-            out = argv[++i];
-        else if (strcmp(a, "--scene") == 0 && v)
-            scene_path = argv[++i];
-        else if (strcmp(a, "--size") == 0 && v) {
-            if (!cli_parse_size(v, &width, &height))
-                return cli_usage_error("render", "--size needs WIDTHxHEIGHT, each 16 to 4096");
-            ++i;
-        } else if (strcmp(a, "--fps") == 0 && v) {
-            if (!cli_parse_double(v, &fps) || fps < 1 || fps > 240)
-                return cli_usage_error("render", "--fps needs 1 to 240");
-            ++i;
-        } else if (strcmp(a, "--from") == 0 && v) {
-            if (!cli_parse_double(v, &from) || from < 0)
-                return cli_usage_error("render", "--from needs seconds >= 0");
-            ++i;
-        } else if (strcmp(a, "--seconds") == 0 && v) {
-            if (!cli_parse_double(v, &seconds) || seconds <= 0 || seconds > 36000)
-                return cli_usage_error("render", "--seconds needs a number in (0, 36000]");
-            ++i;
-        } else if (strcmp(a, "--scale") == 0 && v) {
-            if (strcmp(v, "auto") == 0)
-                auto_scale = 1;
-            else if (!cli_parse_double(v, &scale) || scale <= 0 || scale > 1000)
-                return cli_usage_error("render", "--scale needs a factor in (0, 1000] or auto");
-            else
-                auto_scale = 0;
-            ++i;
-        } else if (a[0] == '-' && a[1])
-            return cli_usage_error("render", "unknown or incomplete option '%s'\n%s", a, usage);
-        else if (!in)
-            in = a;
-        else
-            return cli_usage_error("render", "unexpected argument '%s'", a);
-    }
+    const cli_option options[] = {
+        {.name = "-o", .kind = CLI_STRING, .target = &out},
+        {.name = "--scene", .kind = CLI_STRING, .target = &scene_path},
+        {.name = "--size", .kind = CLI_SIZE, .target = size, .need = "WIDTHxHEIGHT, each 16 to 4096"},
+        {.name = "--fps", .kind = CLI_DOUBLE, .target = &fps, .min = 1, .max = 240, .need = "1 to 240"},
+        {.name = "--from",
+         .kind = CLI_DOUBLE,
+         .target = &from,
+         .min = 0,
+         .max = HUGE_VAL,
+         .need = "seconds >= 0"},
+        {.name = "--seconds",
+         .kind = CLI_DOUBLE,
+         .target = &seconds,
+         .min = 0,
+         .max = 36000,
+         .open_min = 1,
+         .need = "a number in (0, 36000]"},
+        {.name = "--scale", .kind = CLI_CUSTOM, .target = &scale, .parse = parse_scale},
+    };
+    int status = cli_parse_options("render", argc, argv, options, CLI_COUNT(options), usage, &in, 1);
+    if (status) return status;
+    int width = size[0], height = size[1];
     if (!in || !out) return cli_usage_error("render", "%s", usage);
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -75,7 +73,7 @@ int mm_cmd_render(int argc, char **argv)
     if (mm_bvh_load(in, NULL, &bvh, &err) != MM_OK) return cli_report(&err);
     mm_bvh_import_desc imp;
     memset(&imp, 0, sizeof imp);
-    imp.auto_scale = auto_scale != 0;
+    imp.auto_scale = scale == 0.0;
     imp.scale = (float)scale;
     mm_clip clip;
     mm_result r = mm_bvh_to_clip(&bvh, &imp, &clip, &err);
@@ -94,7 +92,6 @@ int mm_cmd_render(int argc, char **argv)
     mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
     mm_offscreen *o = NULL;
     mm_video *video = NULL;
-    int status = 0;
     if (!parents || !global || !rot || !pos) {
         fprintf(stderr, "mm: out of memory\n");
         status = 1;
