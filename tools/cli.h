@@ -22,10 +22,10 @@ int cli_usage_error(const char *command, const char *fmt, ...)
  *   CLI_SIZE    int[2], WIDTHxHEIGHT (cli_parse_size)
  *   CLI_CUSTOM  parse(command, option, value) stores it; returns 0, or an exit code after printing
  * A bad value prints "mm COMMAND: NAME needs NEED" (need NULL on a CLI_INT: "a number from MIN to
- * MAX"; other kinds that take a value give need unless usage is given). A missing value prints the same, or, when usage is given, "unknown or incomplete option"
- * with the usage, as an unknown option does (else "unknown option 'X'"). Other arguments fill args
- * (up to max_args, the rest stay as they were; one more is "unexpected argument"). Returns 0, or 2
- * (the usage error exit code) after printing. */
+ * MAX"; other kinds that take a value give need unless usage is given). A missing value prints the same, or,
+ * when usage is given, "unknown or incomplete option" with the usage, as an unknown option does (else
+ * "unknown option 'X'"). Other arguments fill args (up to max_args, the rest stay as they were; one more is
+ * "unexpected argument"). Returns 0, or 2 (the usage error exit code) after printing. */
 typedef enum cli_option_kind {
     CLI_FLAG,
     CLI_STRING,
