@@ -11,6 +11,36 @@
 static mm_database db;
 static mm_searcher searcher;
 
+/* An input with the stick at (x, z) and everything else 0 (walking gait). */
+static mm_input stick_input(float x, float z)
+{
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[0] = x;
+    in.stick[1] = z;
+    return in;
+}
+
+/* ticks updates of 1/60 s with the same input. */
+static void run_ticks(mm_character *c, const mm_input *in, int ticks)
+{
+    for (int i = 0; i < ticks; ++i) mm_character_update(c, in, 1.0f / 60.0f);
+}
+
+/* mm_character_defaults as a value. */
+static mm_character_desc default_desc(void)
+{
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    return d;
+}
+
+/* A character on the shared database and searcher (desc NULL: the defaults). */
+static void make_character(mm_character *c, const mm_character_desc *desc)
+{
+    assert_int_equal(mm_character_init(c, &db, &searcher, desc, NULL), MM_OK);
+}
+
 static long allocations;
 static void *counting_alloc(size_t size, void *user)
 {
@@ -31,8 +61,7 @@ static void test_no_allocation_per_tick(void **state)
     mm_searcher s;
     mm_searcher_desc sd = {1, &a};
     assert_int_equal(mm_searcher_init(&s, &db, &sd, NULL), MM_OK);
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.allocator = &a;
     mm_character c;
     assert_int_equal(mm_character_init(&c, &db, &s, &d, NULL), MM_OK);
@@ -58,7 +87,7 @@ static void test_no_allocation_per_tick(void **state)
 static double run(uint64_t seed, float seconds, float fps, int *bad, mm_xform *last)
 {
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
+    make_character(&c, NULL);
     mm_input_script script;
     mm_input_random_desc rd = {seconds, 0, 0, 0, 0, NULL};
     assert_int_equal(mm_input_script_random(&script, seed, &rd), MM_OK);
@@ -106,16 +135,12 @@ static void test_deterministic_and_finite(void **state)
 static void test_inertialization(void **state)
 {
     (void)state;
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.search_interval = 1000.0f; /* searches only on events: the first tick and the idle change */
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-    mm_input stand, walk;
-    memset(&stand, 0, sizeof stand);
-    walk = stand;
-    walk.stick[1] = 1.0f;
-    for (int i = 0; i < 60; ++i) mm_character_update(&c, &stand, 1.0f / 60.0f);
+    make_character(&c, &d);
+    mm_input stand = stick_input(0.0f, 0.0f), walk = stick_input(0.0f, 1.0f);
+    run_ticks(&c, &stand, 60);
     int before = c.transitions;
     mm_vec3 *prev = malloc(sizeof(mm_vec3) * (size_t)db.joint_count);
     for (int j = 0; j < db.joint_count; ++j)
@@ -141,7 +166,7 @@ static void test_inertialization(void **state)
     assert_true(largest_jump < 0.05f); /* relative to the root, no joint moved 5 cm in one tick */
     /* a second later (no search: interval 1000 s, input steady) the offsets are gone */
     int transitions = c.transitions;
-    for (int i = 0; i < 60; ++i) mm_character_update(&c, &walk, 1.0f / 60.0f);
+    run_ticks(&c, &walk, 60);
     float offset_after = 0.0f;
     for (int j = 1; j < db.joint_count; ++j)
         offset_after = fmaxf(offset_after, mm_vec3_length(c.rotation_offset[j]));
@@ -158,10 +183,8 @@ static void test_gait_tags(void **state)
     uint64_t walk = mm_search_tag_mask(&db, "Walk"), run = mm_search_tag_mask(&db, "Run");
     assert_true(walk && run);
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
-    in.stick[1] = 1.0f;
+    make_character(&c, NULL);
+    mm_input in = stick_input(0.0f, 1.0f);
     int walked = 0, ran = 0;
     for (int i = 0; i < 1200; ++i) {
         in.gait = (i / 300) % 2 ? MM_GAIT_RUN : MM_GAIT_WALK;
@@ -188,22 +211,19 @@ static void test_gait_tags(void **state)
  * toward it at angle_revise_speed at most (0.5 rad/s: 0.125 rad in 0.25 s); with 0 it does not. */
 static float facing_error_after(float revise_speed)
 {
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.sync_halflife = 1e6f;  /* no pull toward the simulation: only the correction turns */
     d.sync_max_angle = 3.0f; /* and no clamp */
     d.angle_revise_speed = revise_speed;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
-    in.stick[1] = 1.0f;
-    for (int i = 0; i < 120; ++i) mm_character_update(&c, &in, 1.0f / 60.0f); /* up to full speed */
+    make_character(&c, &d);
+    mm_input in = stick_input(0.0f, 1.0f);
+    run_ticks(&c, &in, 120); /* up to full speed */
     /* from here no search (matching would turn the character too: by picking turning clips) */
     c.desc.search_interval = 1e6f;
     c.desc.turn_threshold = 10.0f;
     c.root.rotation = mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.2f), c.root.rotation);
-    for (int i = 0; i < 15; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    run_ticks(&c, &in, 15);
     mm_vec3 f = mm_quat_rotate(c.root.rotation, mm_vec3_make(0, 0, 1));
     float error = fabsf(atan2f(f.x, f.z));
     mm_character_free(&c);
@@ -237,9 +257,8 @@ static void test_robust(void **state)
 {
     (void)state;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
+    make_character(&c, NULL);
+    mm_input in = stick_input(0.0f, 0.0f);
     const float sticks[4][2] = {{NAN, 1}, {1e30f, -1e30f}, {INFINITY, 0}, {0.3f, 0.4f}};
     const float dts[5] = {0.0f, -1.0f, NAN, 1.0f, 1.0f / 60.0f};
     for (int i = 0; i < 4; ++i)
@@ -253,15 +272,14 @@ static void test_robust(void **state)
     mm_character_free(&c);
 
     /* every frame excluded: the character keeps playing what it plays */
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.use_params = true;
     mm_search_params_defaults(&db, &d.params);
     d.params.required_tags = (uint64_t)1 << 63;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    make_character(&c, &d);
     in.stick[0] = 0;
     in.stick[1] = 1;
-    for (int i = 0; i < 120; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    run_ticks(&c, &in, 120);
     assert_true(pose_finite(&c));
     assert_int_equal(c.transitions, 0);
     assert_int_equal(c.last_result.frame, -1);
@@ -322,8 +340,7 @@ static void test_robust(void **state)
     assert_int_equal(test_build_database_at(MM_TEST_DATA "/configs/cmu_style.json", 0, &tiny), 0);
     mm_searcher ts;
     assert_int_equal(mm_searcher_init(&ts, &tiny, NULL, NULL), MM_OK);
-    mm_character_desc td;
-    mm_character_defaults(&td);
+    mm_character_desc td = default_desc();
     td.left_foot = td.right_foot = "NoSuchJoint"; /* no feet: no IK, still fine */
     assert_int_equal(mm_character_init(&c, &tiny, &ts, &td, NULL), MM_OK);
     for (int i = 0; i < 600; ++i) {
@@ -343,15 +360,12 @@ static void test_robust(void **state)
 static void test_distance_matching_cycle(void **state)
 {
     (void)state;
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.distance_matching = true;
     d.warping = true;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
-    in.stick[1] = 0.8f;
+    make_character(&c, &d);
+    mm_input in = stick_input(0.0f, 0.8f);
     in.gait = MM_GAIT_WALK;
     int cycles = 0, ticks = 0, clamped = 0;
     for (int i = 0; i < 600; ++i) {
@@ -393,16 +407,13 @@ static void test_distance_matching_rate(void **state)
     const float sticks[4] = {0.7f, 0.8f, 0.9f, 1.0f};
     int total = 0;
     for (int s = 0; s < 4; ++s) {
-        mm_character_desc d;
-        mm_character_defaults(&d);
+        mm_character_desc d = default_desc();
         d.distance_matching = true;
         d.rate_min = 0.5f;
         d.rate_max = 1.1f;
         mm_character c;
-        assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-        mm_input in;
-        memset(&in, 0, sizeof in);
-        in.stick[1] = sticks[s];
+        make_character(&c, &d);
+        mm_input in = stick_input(0.0f, sticks[s]);
         int checked = 0;
         for (int i = 0; i < 300; ++i) {
             int clip = db.frame_clip[c.frame]; /* the clip the rate is set for */
@@ -439,9 +450,9 @@ static void test_distance_switches_off(void **state)
     on = base;
     on.distance_matching = on.warping = true;
     mm_character a, b, e;
-    assert_int_equal(mm_character_init(&a, &db, &searcher, NULL, NULL), MM_OK);
-    assert_int_equal(mm_character_init(&b, &db, &searcher, &off, NULL), MM_OK);
-    assert_int_equal(mm_character_init(&e, &db, &searcher, &on, NULL), MM_OK);
+    make_character(&a, NULL);
+    make_character(&b, &off);
+    make_character(&e, &on);
     mm_input_script script;
     mm_input_random_desc rd = {10.0f, 0, 0, 0, 0, NULL};
     assert_int_equal(mm_input_script_random(&script, 5, &rd), MM_OK);
@@ -470,15 +481,13 @@ static void test_distance_robust(void **state)
 {
     (void)state;
     mm_allocator al = {counting_alloc, counting_free, NULL};
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.distance_matching = d.warping = true;
     d.allocator = &al;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    make_character(&c, &d);
     long after_init = allocations;
-    mm_input in;
-    memset(&in, 0, sizeof in);
+    mm_input in = stick_input(0.0f, 0.0f);
     const float sticks[4][2] = {{NAN, 1}, {1e30f, -1e30f}, {INFINITY, 0}, {0.3f, 0.4f}};
     const float dts[5] = {0.0f, -1.0f, NAN, 1.0f, 1.0f / 60.0f};
     for (int i = 0; i < 4; ++i)
@@ -518,7 +527,7 @@ static void test_feet_hold(void **state)
 {
     (void)state;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
+    make_character(&c, NULL);
     int toe[2] = {-1, -1};
     for (int k = 0; k < 2; ++k) {
         assert_true(c.foot_joint[k] >= 0);
@@ -526,8 +535,7 @@ static void test_feet_hold(void **state)
             if (db.joints[j].parent == c.foot_joint[k]) toe[k] = j;
         assert_true(toe[k] >= 0);
     }
-    mm_input in;
-    memset(&in, 0, sizeof in);
+    mm_input in = stick_input(0.0f, 0.0f);
     int locked = 0, missed = 0, held[2] = {0, 0};
     double speed[2] = {0.0, 0.0};
     mm_vec3 last[4];
@@ -579,10 +587,9 @@ static void test_feet_hold_under_pull(void **state)
 {
     (void)state;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
-    for (int i = 0; i < 90; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    make_character(&c, NULL);
+    mm_input in = stick_input(0.0f, 0.0f);
+    run_ticks(&c, &in, 90);
     assert_true(c.idle);
     int bone[4] = {c.foot_joint[0], c.toe_joint[0], c.foot_joint[1], c.toe_joint[1]};
     mm_vec3 planted[4], raw0[4], root0 = c.root.translation;
@@ -640,15 +647,13 @@ static float second_difference(const mm_vec3 *a, const mm_vec3 *b, const mm_vec3
 static void test_knee_continuous_out_of_reach(void **state)
 {
     (void)state;
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.sync_max_distance = 1.0f; /* the pull, not the clamp, moves the root */
     d.unlock_radius = 1.0f;     /* the locks hold however far the hips go */
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
-    for (int i = 0; i < 90; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    make_character(&c, &d);
+    mm_input in = stick_input(0.0f, 0.0f);
+    run_ticks(&c, &in, 90);
     assert_true(c.foot_locked[0] || c.foot_locked[1]);
     int n = db.joint_count, knee[2] = {db.joints[c.foot_joint[0]].parent, db.joints[c.foot_joint[1]].parent};
     mm_vec3 *p = malloc(sizeof(mm_vec3) * 3 * (size_t)n);
@@ -703,16 +708,14 @@ enum { TICKS = 10, JUMP = 5 };
 static void jump_second_differences(int start, int ahead, mm_vec3 *x, float dd[TICKS], float *offset)
 {
     int n = db.joint_count, joint = 0;
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.no_foot_ik = true;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
-    for (int i = 0; i < 30; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    make_character(&c, &d);
+    mm_input in = stick_input(0.0f, 0.0f);
+    run_ticks(&c, &in, 30);
     mm_character_play_move(&c, start, start + 1000, 0.0f);
-    for (int i = 0; i < 40; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    run_ticks(&c, &in, 40);
     *offset = 0.0f;
     for (int i = 0; i < TICKS; ++i) {
         int transitions = c.transitions;
@@ -802,13 +805,10 @@ static void test_playhead_exact(void **state)
     } runs[3] = {{60, 150}, {30, 75}, {120, 300}};
     for (int r = 0; r < 3; ++r) {
         float dt = 1.0f / (float)runs[r].rate;
-        mm_character_desc d;
-        mm_character_defaults(&d);
+        mm_character_desc d = default_desc();
         mm_character c;
-        assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-        mm_input in;
-        memset(&in, 0, sizeof in);
-        in.stick[1] = 1.0f;
+        make_character(&c, &d);
+        mm_input in = stick_input(0.0f, 1.0f);
         for (int i = 0; i < 17; ++i) mm_character_update(&c, &in, dt); /* somewhere, mid-fraction */
         /* two legs: from a forced transition to `start`, then from one to 20 frames further on
          * than where the first leg ends */
@@ -844,12 +844,10 @@ static void test_idle_after_stop(void **state)
 {
     (void)state;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, NULL, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
+    make_character(&c, NULL);
+    mm_input in = stick_input(0.0f, 1.0f);
     in.gait = MM_GAIT_RUN;
-    in.stick[1] = 1.0f;
-    for (int i = 0; i < 180; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    run_ticks(&c, &in, 180);
     assert_false(c.idle);
     in.stick[1] = 0.0f;
     const float limit = c.desc.idle_speed + c.desc.idle_hysteresis;
@@ -885,16 +883,13 @@ static float hspeed(mm_vec3 v) { return sqrtf(v.x * v.x + v.z * v.z); }
 
 static float stop_time(float brake_ratio)
 {
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.brake_ratio = brake_ratio;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
-    mm_input in;
-    memset(&in, 0, sizeof in);
+    make_character(&c, &d);
+    mm_input in = stick_input(0.0f, 1.0f);
     in.gait = MM_GAIT_RUN;
-    in.stick[1] = 1.0f;
-    for (int i = 0; i < 240; ++i) mm_character_update(&c, &in, 1.0f / 60.0f);
+    run_ticks(&c, &in, 240);
     assert_true(hspeed(c.root_velocity) > 2.0f);
     in.stick[1] = 0.0f;
     int i = 0;
@@ -921,8 +916,7 @@ static void test_run_stop(void **state)
     assert_true(longest > 0.2f); /* the built-in set has run stops */
     mm_trajectory_desc td;
     mm_trajectory_defaults(&td);
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     float allowed = longest + td.gaits[MM_GAIT_RUN].velocity_halflife + d.search_interval;
     float on = stop_time(d.brake_ratio), off = stop_time(0.0f);
     print_message("run stop: %.2f s (brake_ratio %.1f), %.2f s (off); data %.2f s, allowed %.2f s\n", on,
@@ -938,14 +932,13 @@ static void crossfade_run(float crossfade_time, float search_interval, mm_xform 
                           int *cancelled)
 {
     mm_allocator a = {counting_alloc, counting_free, NULL};
-    mm_character_desc d;
-    mm_character_defaults(&d);
+    mm_character_desc d = default_desc();
     d.transition_mode = MM_TRANSITION_CROSSFADE;
     d.crossfade_time = crossfade_time;
     d.search_interval = search_interval;
     d.allocator = &a;
     mm_character c;
-    assert_int_equal(mm_character_init(&c, &db, &searcher, &d, NULL), MM_OK);
+    make_character(&c, &d);
     long after_init = allocations;
     mm_input_script script;
     mm_input_random_desc rd = {60.0f, 0, 0, 0, 0, NULL};
