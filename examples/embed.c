@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <mm/config_json.h>
 #include <mm/mm.h>
 
 int main(int argc, char **argv)
@@ -27,9 +28,13 @@ int main(int argc, char **argv)
         mm_database_free(&db);
         return 1;
     }
-    /* 3. One context per character; everything it needs is allocated here. */
+    /* 3. One context per character, with the settings the database was tuned with (the runtime
+     * block of its config; NULL instead of &desc: the defaults). Everything it needs is
+     * allocated here. */
+    mm_character_desc desc;
     mm_character hero;
-    if (mm_character_init(&hero, &db, &searcher, NULL, &err) != MM_OK) {
+    if (mm_character_desc_from_database(&desc, &db, &err) != MM_OK ||
+        mm_character_init(&hero, &db, &searcher, &desc, &err) != MM_OK) {
         fprintf(stderr, "character: %s\n", err.message);
         mm_searcher_free(&searcher);
         mm_database_free(&db);

@@ -464,7 +464,7 @@ static void test_overlay_text_of_a_character(void **state)
     assert_non_null(strstr(text, "fps 60"));
     /* the cost printed is the sum of the five terms printed (the base cost, no favours here) */
     mm_search_terms t;
-    mm_search_cost_terms(&fx.db, fx.ch.query, &fx.ch.desc.params, fx.ch.last_result.frame, &t);
+    mm_search_cost_terms(&fx.db, fx.ch.query, &fx.ch.last_params, fx.ch.last_result.frame, &t);
     float sum = t.pose_position + t.pose_velocity + t.root_velocity + t.traj_position + t.traj_direction;
     assert_float_equal(sum, fx.ch.last_result.base, 1e-3f * (1.0f + sum));
     /* truncation is safe */

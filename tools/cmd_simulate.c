@@ -191,15 +191,10 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_searcher searcher;
     mm_character c;
     mm_character_desc desc;
-    mm_character_defaults(&desc);
     /* the runtime tuning saved in the database's config (docs/config.md, "runtime") */
-    if (db.config_json && db.config_json[0]) {
-        mm_config cfg;
-        memset(&cfg, 0, sizeof cfg);
-        if (mm_config_parse_json(db.config_json, strlen(db.config_json), "embedded", NULL, &cfg, NULL) ==
-            MM_OK)
-            mm_character_desc_apply_config(&desc, &db, &cfg);
-        mm_config_free(&cfg);
+    if (mm_character_desc_from_database(&desc, &db, &err) != MM_OK) {
+        mm_database_free(&db);
+        return cli_report(&err);
     }
     desc.clock = cli_now;
     if (distance_matching >= 0) desc.distance_matching = distance_matching != 0;

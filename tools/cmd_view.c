@@ -162,17 +162,11 @@ static int present(window *win, const mm_render_scene *scene, const char *screen
 static mm_result desc_from_config(mm_character_desc *d, const mm_database *db, const char *config,
                                   mm_error *err)
 {
+    if (!config) return mm_character_desc_from_database(d, db, err);
     mm_character_defaults(d);
     mm_config cfg;
     memset(&cfg, 0, sizeof cfg);
-    mm_result r = MM_OK;
-    if (config)
-        r = mm_config_load_json(config, &cfg, NULL, err);
-    else if (db->config_json && db->config_json[0])
-        r = mm_config_parse_json(db->config_json, strlen(db->config_json), "the database's config", NULL,
-                                 &cfg, err);
-    else
-        return MM_OK;
+    mm_result r = mm_config_load_json(config, &cfg, NULL, err);
     if (r == MM_OK) mm_character_desc_apply_config(d, db, &cfg);
     mm_config_free(&cfg);
     return r;

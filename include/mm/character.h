@@ -65,35 +65,36 @@ typedef enum mm_transition_mode {
 } mm_transition_mode;
 
 typedef struct mm_character_desc {
-    float search_interval;     /* s between searches; 0.1 */
-    float turn_threshold;      /* rad: a desired-direction change that searches at once; 0.5 */
-    float transition_halflife; /* s: inertialization decay; 0.2 */
-    float idle_speed;          /* m/s: desired speed under which idle is asked for, once the
-                                  simulated speed is under idle_speed + idle_hysteresis too; 0.15 */
-    float idle_hysteresis;     /* m/s: leave idle above idle_speed + this; 0.1 */
-    float idle_root_speed;     /* m/s: idle is not asked for while the root motion played is
-                                  this fast or faster, unless the simulation has stopped; 1.0
-                                  (0: off) */
-    float sync_halflife;       /* s: the root is pulled toward the simulation; 0.3 */
-    float sync_max_distance;   /* m: clamp of the root's distance to the simulation; 0.3 */
-    float sync_max_angle;      /* rad: clamp of the root's facing to the simulation's; 0.6 */
-    float angle_threshold;     /* rad: at full speed, a facing error below this is corrected
-                                  (the seed's AngleThreshold); 0.35 */
-    float angle_revise_speed;  /* rad/s: how fast (the seed's AngleReviseSpeed); 0: off */
-    int skip_frames;           /* the winner is "where playback goes anyway" within this many
-                                  frames ahead in the same clip; 3 */
-    float brake_ratio;         /* the search's pose_trajectory_ratio while braking (the simulated
-                                  speed above the desired one): it moves from params' toward this
-                                  in proportion to the braking, fully at brake_speed, so that the
-                                  trajectory outweighs the pose and stops can win over running on;
-                                  0.9 (0 or at most params' ratio: off) */
-    float brake_speed;         /* m/s; 2.0 */
-    mm_search_method method;   /* MM_SEARCH_FAST */
-    bool use_params;           /* use params below instead of mm_search_params_defaults with
-                                  next_pose_favour 0.6 and the frames tagged "DoNotUse",
-                                  "Jump", "VaultLow", "VaultHigh", "Climb" or "Drop" (moves
-                                  the locomotion search must not pick) and the last
-                                  0.25 s of one-shot clips excluded */
+    float search_interval;       /* s between searches; 0.1 */
+    float turn_threshold;        /* rad: a desired-direction change that searches at once; 0.5 */
+    float transition_halflife;   /* s: inertialization decay; 0.2 */
+    float idle_speed;            /* m/s: desired speed under which idle is asked for, once the
+                                    simulated speed is under idle_speed + idle_hysteresis too; 0.15 */
+    float idle_hysteresis;       /* m/s: leave idle above idle_speed + this; 0.1 */
+    float idle_root_speed;       /* m/s: idle is not asked for while the root motion played is
+                                    this fast or faster, unless the simulation has stopped; 1.0
+                                    (0: off) */
+    float sync_halflife;         /* s: the root is pulled toward the simulation; 0.3 */
+    float sync_max_distance;     /* m: clamp of the root's distance to the simulation; 0.3 */
+    float sync_max_angle;        /* rad: clamp of the root's facing to the simulation's; 0.6 */
+    float angle_threshold;       /* rad: at full speed, a facing error below this is corrected
+                                    (the seed's AngleThreshold); 0.35 */
+    float angle_revise_speed;    /* rad/s: how fast (the seed's AngleReviseSpeed); 0: off */
+    int skip_frames;             /* the winner is "where playback goes anyway" within this many
+                                    frames ahead in the same clip; 3 */
+    float velocity_change_ratio; /* the search's pose_trajectory_ratio while the simulated velocity
+                                    must change (a stop, a turn, a start: |desired - current|): it
+                                    moves from params' toward this in proportion to the change,
+                                    fully at velocity_change_speed, so that the trajectory outweighs
+                                    the pose and stops and turns can win over carrying on; 0.9 (0
+                                    or at most params' ratio: off) */
+    float velocity_change_speed; /* m/s; 2.0 */
+    mm_search_method method;     /* MM_SEARCH_FAST */
+    bool use_params;             /* use params below instead of mm_search_params_defaults with
+                                    next_pose_favour 0.6 and the frames tagged "DoNotUse",
+                                    "Jump", "VaultLow", "VaultHigh", "Climb" or "Drop" (moves
+                                    the locomotion search must not pick) and the last
+                                    0.25 s of one-shot clips excluded */
     mm_search_params params;
     mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
     bool has_trajectory;
@@ -225,6 +226,8 @@ typedef struct mm_character {
     int searches, transitions;
     float last_search_us;
     mm_search_result last_result;
+    mm_search_params last_params; /* what the last search weighed with (desc.params as adjusted
+                                     for that tick: the velocity-change weights, the gait tags) */
     mm_allocator allocator;
     /* crossfade mode: the mixer (its slot 0 is frame and frame_fraction), the slots' poses
      * ([MM_MIXER_SLOTS * joint_count]; rotations one pose more, the blend's reference) and the

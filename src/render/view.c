@@ -245,7 +245,7 @@ size_t mm_view_overlay(char *out, size_t n, const mm_character *c, const mm_inpu
                 in && in->strafe ? " strafe" : "", (double)speed, c->idle ? "  idle" : "");
     if (c->searches > 0 && c->last_result.frame >= 0 && c->query) {
         mm_search_terms t;
-        mm_search_cost_terms(db, c->query, &c->desc.params, c->last_result.frame, &t);
+        mm_search_cost_terms(db, c->query, &c->last_params, c->last_result.frame, &t);
         at = append(out, n, at, "cost %.3f  pose %.3f vel %.3f root %.3f\n           traj %.3f dir %.3f\n",
                     (double)c->last_result.cost, (double)t.pose_position, (double)t.pose_velocity,
                     (double)t.root_velocity, (double)t.traj_position, (double)t.traj_direction);

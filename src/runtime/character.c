@@ -25,8 +25,8 @@ void mm_character_defaults(mm_character_desc *d)
     d->angle_threshold = 0.35f;
     d->angle_revise_speed = 0.0f; /* off: 0.2-0.5 rad/s was measured to triple foot slide on LAFAN1 walks */
     d->skip_frames = 3;
-    d->brake_ratio = 0.9f; /* LAFAN1: straight_run slide 2.1 -> 0.7 cm/s, docs/metrics.md */
-    d->brake_speed = 2.0f;
+    d->velocity_change_ratio = 0.9f; /* LAFAN1: docs/metrics.md, "Velocity changes" */
+    d->velocity_change_speed = 2.0f;
     /* 0.2 m: 5.7 cm/s mean foot slide over the shipped scripts on LAFAN1 and 10.1 on the built-in
      * set, 0.4 m: 4.7 and 9.0 (the legs' length still bounds how far a lock can be held) */
     d->unlock_radius = 0.4f;
@@ -434,20 +434,27 @@ static void crossfade_to(mm_character *c, int to, bool uncancellable)
     ++c->transitions;
 }
 
-/* Stops (issue 6): when the stick is let go at a run, the playing clip runs on while the
- * simulation brakes; the stops are other clips', far in pose (40-60 on LAFAN1), and lose to
- * running on. While braking (the simulated speed above the desired one) the trajectory weighs
- * more: the ratio moves toward brake_ratio in proportion to the braking, fully at brake_speed. */
-static void brake_weights(const mm_character *c, const mm_input *in, mm_search_params *p)
+/* Stops and turns (issue 6): when the stick is let go at a run, or turned, the playing clip
+ * carries on while the simulation changes its velocity; the stops and turns are other clips', far
+ * in pose (40-60 on LAFAN1), and lose to carrying on. While the simulated velocity must change
+ * (its distance to the desired one) the trajectory weighs more: the ratio moves toward
+ * velocity_change_ratio in proportion to the change, fully at velocity_change_speed. */
+#define VELOCITY_CHANGE_FROM_SPEED 0.5f /* m/s */
+
+static void velocity_change_weights(const mm_character *c, const mm_input *in, mm_search_params *p)
 {
     const mm_character_desc *d = &c->desc;
     mm_vec3 desired, v = c->trajectory.velocity;
     mm_trajectory_desired(&c->trajectory, in, &desired, NULL);
-    float brake = sqrtf(v.x * v.x + v.z * v.z) - sqrtf(desired.x * desired.x + desired.z * desired.z);
-    if (brake > 0.0f && d->brake_speed > 0.0f && d->brake_ratio > p->pose_trajectory_ratio &&
-        d->brake_ratio <= 1.0f) {
-        float s = brake < d->brake_speed ? brake / d->brake_speed : 1.0f;
-        p->pose_trajectory_ratio += (d->brake_ratio - p->pose_trajectory_ratio) * s;
+    float dx = desired.x - v.x, dz = desired.z - v.z, change = sqrtf(dx * dx + dz * dz);
+    /* from standing they come in with the speed: a start is the pose's to choose (with the
+     * trajectory alone a standing pose went into the run-up of a jump) */
+    float speed = sqrtf(v.x * v.x + v.z * v.z);
+    if (speed < VELOCITY_CHANGE_FROM_SPEED) change *= speed / VELOCITY_CHANGE_FROM_SPEED;
+    if (change > 0.0f && d->velocity_change_speed > 0.0f &&
+        d->velocity_change_ratio > p->pose_trajectory_ratio && d->velocity_change_ratio <= 1.0f) {
+        float s = change < d->velocity_change_speed ? change / d->velocity_change_speed : 1.0f;
+        p->pose_trajectory_ratio += (d->velocity_change_ratio - p->pose_trajectory_ratio) * s;
     }
 }
 
@@ -465,7 +472,7 @@ static void search(mm_character *c, const mm_input *in, float dt)
     int gait = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
     for (int g = 0; g < MM_GAIT_COUNT; ++g)
         if (g != gait) p.excluded_tags |= c->gait_tags[g];
-    brake_weights(c, in, &p);
+    velocity_change_weights(c, in, &p);
     mm_search_result best;
     double start = c->desc.clock ? c->desc.clock() : 0.0;
     int found = mm_searcher_search(c->searcher, c->query, &p, c->desc.method, &best, 1);
@@ -473,6 +480,7 @@ static void search(mm_character *c, const mm_input *in, float dt)
     ++c->searches;
     c->since_search = 0.0f;
     c->last_result = best;
+    c->last_params = p;
     if (!found || best.frame < 0) return;
     /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor a few frames
      * back in the same clip: jumping back by about what played since the last search would replay
