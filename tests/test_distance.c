@@ -762,6 +762,23 @@ static void test_leg_ik(void **state)
             b = mm_vec3_normalize(mm_vec3_sub(far, leg.hip));
     assert_near(mm_vec3_dot(a, b), 1.0, 1e-6);
     assert_lengths_kept(&leg, &w.pose);
+    /* the knee keeps the side it bends to while the target sweeps across the knee's own line:
+     * a leg bent in the x = 0 plane (knee forward, +z), targets moving from in front of the knee
+     * to behind it; the knee stays in that plane, forward of the hip-target line, and moves
+     * continuously (the knee's side of each new hip-target axis flips where the axis passes the
+     * knee) */
+    mm_leg_pose bent = {mm_vec3_make(0, 1, 0), mm_vec3_make(0, 0.58f, 0.15f), mm_vec3_make(0, 0.15f, 0.05f)};
+    mm_vec3 before = bent.knee;
+    for (int k = 0; k <= 100; ++k) {
+        mm_vec3 target = mm_vec3_make(0.0f, 0.2f, 0.6f - 0.8f * (float)k / 100.0f);
+        assert_int_equal(mm_warp_leg_ik(&bent, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_near(w.pose.knee.x, 0.0, 1e-5);
+        mm_vec3 axis = mm_vec3_sub(w.pose.foot, bent.hip), kh = mm_vec3_sub(w.pose.knee, bent.hip);
+        /* forward of the line: the cross product's x (about +X, from axis to knee) is negative */
+        assert_true(axis.y * kh.z - axis.z * kh.y < 0.0f);
+        if (k > 0) assert_true(mm_vec3_distance(w.pose.knee, before) < 0.03f);
+        before = w.pose.knee;
+    }
     /* a straight leg bends toward the pole */
     mm_leg_pose straight = {mm_vec3_make(0, 1, 0), mm_vec3_make(0, 0.55f, 0), mm_vec3_make(0, 0.1f, 0)};
     assert_int_equal(mm_warp_leg_ik(&straight, mm_vec3_make(0, 0.3f, 0), mm_vec3_make(0, 0, 1), 0.0f, &w),
@@ -845,6 +862,42 @@ static void test_orientation_warp(void **state)
     assert_int_equal(mm_warp_orientation(fz, mm_vec3_make(0, 0, 0), 0.4f, 10.0f, &p, &w), MM_OK);
     assert_near(w.angle, 0.0, 1e-6);
     p.speed = 0.0f;
+
+    /* the spring: from rest toward a60, the closed form of a critically damped spring
+     * (x(t) = a60 (1 - (1 + y t) e^(-y t)), y from the half-life: half-way after one half-life),
+     * in one step or in ten with the velocity carried; the velocity out is x'(t) = a60 y^2 t e^(-y t) */
+    p.halflife = 0.1f;
+    double y = mm_spring_damping(0.1f), t = 0.1;
+    assert_int_equal(mm_warp_orientation(fz, move, 0.0f, 0.1f, &p, &w), MM_OK);
+    assert_near(w.angle, 0.5 * a60, 1e-5);
+    assert_near(w.angle, a60 * (1.0 - (1.0 + y * t) * exp(-y * t)), 1e-5);
+    assert_near(w.velocity, a60 * y * y * t * exp(-y * t), 1e-4);
+    float angle = 0.0f;
+    p.velocity = 0.0f;
+    for (int i = 0; i < 10; ++i) {
+        assert_int_equal(mm_warp_orientation(fz, move, angle, 0.01f, &p, &w), MM_OK);
+        angle = w.angle;
+        p.velocity = w.velocity;
+    }
+    assert_near(angle, a60 * (1.0 - (1.0 + y * t) * exp(-y * t)), 1e-5);
+    /* a target that jumps does not jump the rate: the exponential's rate steps from 0 to
+     * speed x the jump at once, the spring's rises from 0 */
+    p.velocity = 0.0f;
+    assert_int_equal(mm_warp_orientation(fz, move, 0.0f, 1.0f / 60.0f, &p, &w), MM_OK);
+    assert_true(w.velocity > 0.0f && w.velocity < 0.5 * a60 * 10.0);
+    /* clamped: the rate is 0 */
+    p.max_angle = 0.2f;
+    p.velocity = 5.0f;
+    assert_int_equal(mm_warp_orientation(fz, move, 0.19f, 0.1f, &p, &w), MM_OK);
+    assert_near(w.angle, 0.2, 1e-6);
+    assert_near(w.velocity, 0.0, 0);
+    p.max_angle = 0.0f;
+    p.velocity = NAN;
+    assert_int_equal(mm_warp_orientation(fz, move, 0.0f, 0.1f, &p, &w), MM_ERR_INVALID_ARGUMENT);
+    p.velocity = 0.0f;
+    p.halflife = -1.0f;
+    assert_int_equal(mm_warp_orientation(fz, move, 0.0f, 0.1f, &p, &w), MM_ERR_INVALID_ARGUMENT);
+    p.halflife = 0.0f;
 
     /* bad input: refused, identity out */
     assert_int_equal(mm_warp_orientation(mm_vec3_make(NAN, 0, 1), move, 0.0f, 0.016f, &p, &w),

@@ -130,7 +130,8 @@ typedef struct mm_character_desc {
     float stride_min, stride_max; /* stride-scale clamp; 0.8, 1.2 ((0, 0): no clamp) */
     /* orientation warping, with warping on: while strafing on a forward or backward locomotion
      * clip, the legs turn toward the movement and the spine turns back (docs/distance.md) */
-    float orientation_speed; /* 1/s: how fast the angle follows (1 - e^(-speed dt)); 10 (0: at once) */
+    float orientation_speed; /* 1/s: how fast the angle follows (a critically damped spring of
+                                half-life ln 2 / speed); 10 (0: at once) */
     float orientation_max;   /* rad: the largest correction; MM_WARP_ORIENTATION_MAX_DEFAULT (90 deg) */
     double (*clock)(void);   /* optional: seconds, to time searches (c->last_search_us) */
     const mm_allocator *allocator;
@@ -212,7 +213,8 @@ typedef struct mm_character {
      * pelvis drop stride warping needed, and the tag that turns both off per frame */
     int playback;
     float play_rate, stride_scale, stride_drop;
-    float orientation_angle; /* rad about +Y: the lower body's turn by orientation warping */
+    float orientation_angle;    /* rad about +Y: the lower body's turn by orientation warping */
+    float orientation_velocity; /* rad/s: its rate */
     uint64_t no_distance_tag;
     float *query; /* [dims_padded] */
 

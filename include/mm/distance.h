@@ -243,6 +243,9 @@ mm_result mm_warp_stride(const mm_leg_pose *legs, int leg_count, mm_vec3 directi
 typedef struct mm_warp_orientation_params {
     float max_angle;            /* rad, largest correction; 0: MM_WARP_ORIENTATION_MAX_DEFAULT */
     float speed;                /* 1/s: the angle follows its target as 1 - e^(-speed dt); 0: at once */
+    float halflife;             /* s: > 0 follows it through a critically damped spring instead (the
+                                 * angle's rate stays continuous when the target jumps); speed unused */
+    float velocity;             /* rad/s: the angle's rate after the last call (halflife mode) */
     float hysteresis;           /* rad: near 90 deg keep the side (forward/backward) chosen before; 0: 0.17 */
     int spine_count;            /* 0 .. MM_WARP_ORIENTATION_MAX_SPINE */
     const float *spine_weights; /* [spine_count] >= 0 (normalised to sum 1); NULL: equal */
@@ -251,6 +254,7 @@ typedef struct mm_warp_orientation_params {
 typedef struct mm_warp_orientation_result {
     float target_angle; /* rad about +Y from the facing to the movement (flipped when backward) */
     float angle;        /* rad, the correction applied (smoothed, clamped) */
+    float velocity;     /* rad/s: the angle's rate (halflife mode; 0 otherwise or when clamped) */
     int backward;       /* 1: the movement is more than 90 deg from the facing and the legs take
                          * the backward direction */
     mm_quat lower_body; /* world rotation about +Y by angle: the pelvis and legs */

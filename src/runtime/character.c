@@ -927,7 +927,11 @@ static void orientation_warp(mm_character *c, const mm_input *in, float dt)
     mm_warp_orientation_params p;
     memset(&p, 0, sizeof p);
     p.max_angle = d->orientation_max;
-    p.speed = d->orientation_speed;
+    /* a spring of the same half-life as speed's exponential (ln 2 / speed): a target that jumps (a
+     * transition to a clip facing elsewhere) turned the legs at 10 rad/s from one tick to the next
+     * (knee pops of 10-25 cm on LAFAN1's demo with warping on) */
+    p.halflife = d->orientation_speed > 0.0f ? 0.6931472f / d->orientation_speed : 0.0f;
+    p.velocity = c->orientation_velocity;
     int spine[MM_WARP_ORIENTATION_MAX_SPINE];
     /* the spine: the pelvis's child that no leg hangs from, up to the joint where it branches */
     for (int j = pelvis + 1; j < db->joint_count && p.spine_count == 0; ++j) {
@@ -950,8 +954,10 @@ static void orientation_warp(mm_character *c, const mm_input *in, float dt)
         return;
     if (w.backward) /* the movement is more than 90 degrees off the clip's direction: no warp */
         mm_warp_orientation(facing, facing, c->orientation_angle, dt, &p, &w);
-    if (fabsf(w.angle) < 1e-4f) w.angle = 0.0f; /* faded out: the pose is left as it is */
+    if (fabsf(w.angle) < 1e-4f && fabsf(w.velocity) < 1e-3f) /* faded out: the pose is left as it is */
+        w.angle = w.velocity = 0.0f;
     c->orientation_angle = w.angle;
+    c->orientation_velocity = w.velocity;
     if (w.angle == 0.0f) return;
     mm_quat spine_world[MM_WARP_ORIENTATION_MAX_SPINE], spine_local[MM_WARP_ORIENTATION_MAX_SPINE];
     for (int i = 0; i < p.spine_count; ++i) spine_world[i] = c->global[spine[i]].rotation;

@@ -815,6 +815,11 @@ static dvec dscale(dvec a, double s)
     dvec r = {a.x * s, a.y * s, a.z * s};
     return r;
 }
+
+static dvec dcross(dvec a, dvec b)
+{
+    return (dvec){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 static double ddot(dvec a, dvec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static double dlen(dvec a) { return sqrt(ddot(a, a)); }
 static mm_vec3 fv(dvec a) { return mm_vec3_make((float)a.x, (float)a.y, (float)a.z); }
@@ -857,8 +862,16 @@ mm_result mm_warp_leg_ik(const mm_leg_pose *leg, mm_vec3 target, mm_vec3 pole, f
     else
         u = (dvec){0.0, -1.0, 0.0};
     len = clampd(len, rmin, rmax);
-    /* the bend plane: the knee's side of the new hip-foot axis, else the pole, else any */
+    /* the bend plane: the leg's own (hip, knee, foot) turned onto the new hip-target axis, so that
+     * the knee stays on its side however close the new axis passes to it (the knee's side of that
+     * axis flipped from one tick to the next: knee pops of 20 cm); a straight leg: the knee's
+     * side of the new axis, else the pole, else any */
     dvec kh = dsub(knee, hip), n = dsub(kh, dscale(u, ddot(kh, u)));
+    dvec fh = dsub(foot, hip), m = dcross(kh, fh);
+    if (dlen(m) > 1e-3 * l1 * now) {
+        dvec side = dcross(u, m);
+        if (dlen(side) > 1e-9) n = side;
+    }
     if (dlen(n) < 1e-6 * l1) {
         dvec p = dv(pole);
         n = dsub(p, dscale(u, ddot(p, u)));
@@ -953,8 +966,8 @@ mm_result mm_warp_orientation(mm_vec3 facing, mm_vec3 movement, float previous_a
     if (params) p = *params;
     if (!finite3(facing) || !finite3(movement) || !isfinite(previous_angle) || !isfinite(dt) || dt < 0.0f ||
         !isfinite(p.max_angle) || p.max_angle < 0.0f || !isfinite(p.speed) || p.speed < 0.0f ||
-        !isfinite(p.hysteresis) || p.hysteresis < 0.0f || p.spine_count < 0 ||
-        p.spine_count > MM_WARP_ORIENTATION_MAX_SPINE)
+        !isfinite(p.hysteresis) || p.hysteresis < 0.0f || !isfinite(p.halflife) || p.halflife < 0.0f ||
+        !isfinite(p.velocity) || p.spine_count < 0 || p.spine_count > MM_WARP_ORIENTATION_MAX_SPINE)
         return MM_ERR_INVALID_ARGUMENT;
     double weights[MM_WARP_ORIENTATION_MAX_SPINE], total = 0.0;
     for (int i = 0; i < p.spine_count; ++i) {
@@ -983,8 +996,15 @@ mm_result mm_warp_orientation(mm_vec3 facing, mm_vec3 movement, float previous_a
         target = clampd(backward ? back : theta, -max_angle, max_angle);
     }
     double angle = target;
-    if (p.speed > 0.0f)
+    if (p.halflife > 0.0f) {
+        float x = previous_angle, v = p.velocity;
+        mm_spring_update(&x, &v, (float)target, p.halflife, dt);
+        angle = x;
+        out->velocity = v;
+    } else if (p.speed > 0.0f) {
         angle = previous_angle + (target - previous_angle) * (1.0 - exp(-(double)p.speed * dt));
+    }
+    if (angle < -max_angle || angle > max_angle) out->velocity = 0.0f;
     angle = clampd(angle, -max_angle, max_angle);
 
     out->target_angle = (float)target;
