@@ -84,12 +84,14 @@ static void test_parse_runtime(void **state)
     const char *text = "{\"runtime\": {\"pose_trajectory_ratio\": 0.7, \"next_pose_favour\": 0.5,\n"
                        "  \"loop_anim_favour\": 0.9, \"continuing_bias\": 0.01, \"search_interval\": 0.05,\n"
                        "  \"transition_halflife\": 0.15, \"idle_speed\": 0.2, \"sync_halflife\": 0.5,\n"
+                       "  \"distance_matching\": true, \"warping\": false,\n"
                        "  \"walk\": {\"forward_speed\": 1.4, \"side_speed\": 1, \"backward_speed\": 0.9,\n"
                        "           \"velocity_halflife\": 0.2, \"rotation_halflife\": 0.3},\n"
                        "  \"run\": {\"forward_speed\": 3.5}, \"crouch\": {\"rotation_halflife\": 0.4}}}";
     assert_int_equal(parse(text, &c, &err), MM_OK);
     const mm_runtime_config *rt = &c.runtime;
-    assert_int_equal(rt->set, 0xff);
+    assert_int_equal(rt->set, 0x3ff);
+    assert_true(rt->distance_matching && !rt->warping);
     assert_true(rt->pose_trajectory_ratio == 0.7f && rt->next_pose_favour == 0.5f);
     assert_true(rt->loop_anim_favour == 0.9f && rt->continuing_bias == 0.01f);
     assert_true(rt->search_interval == 0.05f && rt->transition_halflife == 0.15f && rt->idle_speed == 0.2f);
@@ -120,6 +122,7 @@ static void test_parse_runtime(void **state)
         {"{\"runtime\": {\"run\": []}}", "runtime.run must be an object", MM_ERR_SYNTAX},
         {"{\"runtime\": {\"idle_speed\": \"x\"}}", "runtime.idle_speed must be a finite number",
          MM_ERR_BAD_NUMBER},
+        {"{\"runtime\": {\"warping\": 1}}", "runtime.warping must be true or false", MM_ERR_SYNTAX},
         {"{\"runtime\": {\"pose_trajectory_ratio\": 1.5}}", "runtime.pose_trajectory_ratio",
          MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"pose_trajectory_ratio\": -0.1}}", "runtime.pose_trajectory_ratio",
@@ -253,6 +256,8 @@ static void test_desc_from_database(void **state)
     desc_from_text(db.config_json, &want);
     assert_memory_equal(&got, &want, sizeof got);
     assert_true(got.sync_halflife == 0.1f); /* configs/synth.json's runtime block */
+    desc_from_text("{\"runtime\": {\"distance_matching\": true, \"warping\": true}}", &want);
+    assert_true(want.distance_matching && want.warping);
 
     const char *saved = db.config_json;
     db.config_json = NULL;
@@ -399,6 +404,7 @@ static void test_save_tuning_round_trip(void **state)
     d.transition_halflife = 0.12f;
     d.idle_speed = 0.25f;
     d.sync_halflife = 0.45f;
+    d.distance_matching = true;
     d.trajectory.gaits[MM_GAIT_WALK].forward_speed = 1.3f;
     d.trajectory.gaits[MM_GAIT_RUN].side_speed = 2.1f;
     d.trajectory.gaits[MM_GAIT_CROUCH].rotation_halflife = 0.35f;
@@ -412,7 +418,8 @@ static void test_save_tuning_round_trip(void **state)
     load(path, &after);
     assert_same_except_tuning(&before, &after);
     const mm_runtime_config *rt = &after.runtime;
-    assert_int_equal(rt->set, 0xff);
+    assert_int_equal(rt->set, 0x3ff);
+    assert_true(rt->distance_matching && !rt->warping);
     assert_int_equal(rt->walk.set & rt->run.set & rt->crouch.set, 0x1f);
     assert_true(rt->pose_trajectory_ratio == 0.65f && rt->next_pose_favour == 0.45f);
     assert_true(rt->loop_anim_favour == 0.9f && rt->continuing_bias == 0.02f);

@@ -87,7 +87,9 @@ enum mm_runtime_field {
     MM_RUNTIME_SEARCH_INTERVAL = 1u << 4,
     MM_RUNTIME_TRANSITION_HALFLIFE = 1u << 5,
     MM_RUNTIME_IDLE_SPEED = 1u << 6,
-    MM_RUNTIME_SYNC_HALFLIFE = 1u << 7
+    MM_RUNTIME_SYNC_HALFLIFE = 1u << 7,
+    MM_RUNTIME_DISTANCE_MATCHING = 1u << 8,
+    MM_RUNTIME_WARPING = 1u << 9
 };
 enum mm_runtime_gait_field {
     MM_RUNTIME_FORWARD_SPEED = 1u << 0,
@@ -117,6 +119,8 @@ typedef struct mm_runtime_config {
     float transition_halflife;   /* s, > 0 */
     float idle_speed;            /* m/s, >= 0 */
     float sync_halflife;         /* s, [0, 60] (mm_character_desc) */
+    bool distance_matching;      /* mm_character_desc's switches (mm/distance.h) */
+    bool warping;
     mm_runtime_gait walk, run, crouch;
 } mm_runtime_config;
 

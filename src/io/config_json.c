@@ -138,6 +138,12 @@ static const mm_config_field_doc docs[] = {
      "Half-life with which the character's root is pulled toward the simulated trajectory, in [0, 60]: "
      "shorter follows the input more closely (more foot slide), 0 puts the root on the simulation every "
      "tick."},
+    {"runtime.distance_matching", "bool", "", "false",
+     "Distance matching (docs/distance.md, \"In the controller\"): clips advance by the distance travelled, "
+     "stops and pivots match the predicted points, cycles play at the speed asked."},
+    {"runtime.warping", "bool", "", "false",
+     "Stride and orientation warping of the legs (docs/distance.md); mm simulate's --distance-matching and "
+     "--warping override both."},
     {"runtime.walk", "object", "", "", "The walk gait's speeds and half-lives (fields below)."},
     {"runtime.walk.forward_speed", "number", "m/s", "1.5",
      "Speed at full stick, straight ahead (at least 0)."},
@@ -461,6 +467,8 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
                                        "transition_halflife",
                                        "idle_speed",
                                        "sync_halflife",
+                                       "distance_matching",
+                                       "warping",
                                        "walk",
                                        "run",
                                        "crouch",
@@ -479,12 +487,18 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
         !(o->sync_halflife >= 0.0f && o->sync_halflife <= 60.0f))
         r = FAIL(MM_ERR_OUT_OF_RANGE, "runtime.sync_halflife: %g s is out of range (0 to 60 s)",
                  o->sync_halflife);
+    bool *switches[2] = {&o->distance_matching, &o->warping};
+    for (int i = 0; i < 2 && r == MM_OK; ++i)
+        if (cJSON_GetObjectItemCaseSensitive(rt, keys[8 + i])) {
+            r = get_bool(c, rt, keys[8 + i], "runtime", switches[i]);
+            o->set |= MM_RUNTIME_DISTANCE_MATCHING << i;
+        }
     mm_runtime_gait *gaits[3] = {&o->walk, &o->run, &o->crouch};
     for (int g = 0; g < 3 && r == MM_OK; ++g) {
-        const cJSON *j = cJSON_GetObjectItemCaseSensitive(rt, keys[8 + g]);
+        const cJSON *j = cJSON_GetObjectItemCaseSensitive(rt, keys[10 + g]);
         if (!j) continue;
         char where[32];
-        snprintf(where, sizeof where, "runtime.%s", keys[8 + g]);
+        snprintf(where, sizeof where, "runtime.%s", keys[10 + g]);
         mm_runtime_gait *p = gaits[g];
         float *fields[] = {&p->forward_speed, &p->side_speed, &p->backward_speed, &p->velocity_halflife,
                            &p->rotation_halflife};

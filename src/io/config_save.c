@@ -180,6 +180,16 @@ static int set_number(cJSON *obj, const char *key, float value)
     return cJSON_AddItemToObject(obj, key, n);
 }
 
+/* Sets obj[key] to true or false, in place when the key exists. 0: out of memory. */
+static int set_bool(cJSON *obj, const char *key, bool value)
+{
+    cJSON *b = cJSON_CreateBool(value);
+    if (!b) return 0;
+    if (cJSON_GetObjectItemCaseSensitive(obj, key))
+        return cJSON_ReplaceItemInObjectCaseSensitive(obj, key, b);
+    return cJSON_AddItemToObject(obj, key, b);
+}
+
 /* obj[key] when it is an object; else a new object there (replacing what was). NULL: no memory. */
 static cJSON *object_at(cJSON *obj, const char *key)
 {
@@ -350,7 +360,8 @@ mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, 
         !set_number(rt, "continuing_bias", params.continuing_bias) ||
         !set_number(rt, "search_interval", d->search_interval) ||
         !set_number(rt, "transition_halflife", d->transition_halflife) ||
-        !set_number(rt, "idle_speed", d->idle_speed) || !set_number(rt, "sync_halflife", d->sync_halflife))
+        !set_number(rt, "idle_speed", d->idle_speed) || !set_number(rt, "sync_halflife", d->sync_halflife) ||
+        !set_bool(rt, "distance_matching", d->distance_matching) || !set_bool(rt, "warping", d->warping))
         return no_memory(root, &cfg, err);
     static const char *const gait_keys[3] = {"walk", "run", "crouch"};
     static const mm_gait gaits[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};

@@ -103,6 +103,8 @@ void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db,
     if (rt->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = rt->transition_halflife;
     if (rt->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = rt->idle_speed;
     if (rt->set & MM_RUNTIME_SYNC_HALFLIFE) d->sync_halflife = rt->sync_halflife;
+    if (rt->set & MM_RUNTIME_DISTANCE_MATCHING) d->distance_matching = rt->distance_matching;
+    if (rt->set & MM_RUNTIME_WARPING) d->warping = rt->warping;
     const mm_runtime_gait *from[3] = {&rt->walk, &rt->run, &rt->crouch};
     const mm_gait to[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
     for (int g = 0; g < 3; ++g) {
