@@ -50,18 +50,22 @@ int main(int argc, char **argv)
     if (test_build_real_database(&db, &lafan) != 0) return 1;
     mm_searcher s;
     if (mm_searcher_init(&s, &db, NULL, NULL) != MM_OK) return 1;
-    printf("database: %s, %d frames\n", lafan ? "LAFAN1" : "built-in set", db.frame_count);
+    /* the settings the database was tuned with, as mm simulate runs it */
+    mm_character_desc desc;
+    if (mm_character_desc_from_database(&desc, &db, NULL) != MM_OK) return 1;
+    printf("database: %s, %d frames (distance matching %s, warping %s)\n", lafan ? "LAFAN1" : "built-in set",
+           db.frame_count, desc.distance_matching ? "on" : "off", desc.warping ? "on" : "off");
     mm_character *c = calloc((size_t)n, sizeof(mm_character));
     mm_input_script *scripts = calloc((size_t)n, sizeof(mm_input_script));
     for (int i = 0; i < n; ++i) {
         mm_input_random_desc rd = {20.0f, 0, 0, 0, 0, NULL};
         mm_input_script_random(&scripts[i], (uint64_t)i + 1, &rd);
-        if (mm_character_init(&c[i], &db, &s, NULL, NULL) != MM_OK) return 1;
+        if (mm_character_init(&c[i], &db, &s, &desc, NULL) != MM_OK) return 1;
     }
     /* one character alone: ticks with and without a search */
     {
         mm_character one;
-        mm_character_init(&one, &db, &s, NULL, NULL);
+        mm_character_init(&one, &db, &s, &desc, NULL);
         double with = 0, without = 0;
         int nw = 0, nwo = 0;
         for (int t = 0; t < 60 * 20; ++t) {
