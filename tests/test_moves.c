@@ -71,8 +71,10 @@ static void run(const mm_database *db, const mm_searcher *searcher, const char *
     mm_input_script script;
     snprintf(path, sizeof path, "%s/../../scripts/input/%s.json", MM_TEST_DATA, script_name);
     assert_int_equal(mm_input_script_load_json(path, &script, &err), MM_OK);
+    mm_character_desc desc; /* the database's tuning, as mm simulate runs */
+    assert_int_equal(mm_character_desc_from_database(&desc, db, &err), MM_OK);
     mm_character c;
-    assert_int_equal(mm_character_init(&c, db, searcher, NULL, &err), MM_OK);
+    assert_int_equal(mm_character_init(&c, db, searcher, &desc, &err), MM_OK);
     mm_moves m;
     assert_int_equal(mm_moves_init(&m, db, &scene, NULL, &err), MM_OK);
     assert_true(m.enabled);

@@ -89,7 +89,8 @@ typedef struct mm_moves_desc {
     float transition_halflife;          /* s: into and out of a move; 0.12 */
     float gravity;                      /* m/s^2; 9.81 */
     float radius;                       /* m: the collider, a circle about the root; 0.4 */
-    float cooldown;                     /* s after a move before the next can start; 0.25 */
+    float cooldown;                     /* s after a move before the next can start (a drop at a
+                                           ledge waits 0.15 s at most); 0.25 */
     const char *left_hand, *right_hand; /* joints; "LeftHand", "RightHand" */
     const char *left_foot, *right_foot; /* joints; "LeftFoot", "RightFoot" */
 } mm_moves_desc;

@@ -1026,11 +1026,13 @@ static void stay_on_ledge(mm_moves *m, mm_character *c, const mm_input *in, mm_v
     c->trajectory.velocity = mm_vec3_make(0, 0, 0);
 }
 
+/* s: the least time after a move before a drop at a ledge (locomotion has searched again) */
+#define LEDGE_COOLDOWN 0.15f
+
 /* After the character's update in locomotion: a move to start? */
 static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int pressed)
 {
     const mm_moves_desc *d = &m->desc;
-    if (m->since_move < d->cooldown) return;
     mm_vec3 root = c->root.translation, desired = mm_vec3_make(0, 0, 0), land;
     if (in) mm_trajectory_desired(&c->trajectory, in, &desired, NULL);
     desired = flat(desired);
@@ -1040,6 +1042,9 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
     int moving = speed > 0.5f && m->fall_velocity == 0.0f;
     mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
     int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
+    /* no move right after one; but a drop where walking on would fall waits only LEDGE_COOLDOWN:
+     * a move may end a step from a ledge (a climb onto a wall half a metre deep) */
+    if (m->since_move < d->cooldown && !(moving && ledge && m->since_move >= LEDGE_COOLDOWN)) return;
     const mm_move_clip *drop = clip_of(m, MM_MOVE_DROP), *jump = clip_of(m, MM_MOVE_JUMP), *mc;
     /* the jump key: a jump (across a gap, onto a wall); at a ledge with nothing across, a drop */
     float over;
