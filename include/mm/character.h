@@ -86,8 +86,9 @@ typedef struct mm_character_desc {
                                     must change (a stop, a turn, a start: |desired - current|): it
                                     moves from params' toward this in proportion to the change,
                                     fully at velocity_change_speed, so that the trajectory outweighs
-                                    the pose and stops and turns can win over carrying on; 0.9 (0
-                                    or at most params' ratio: off) */
+                                    the pose and stops and turns can win over carrying on (under
+                                    0.5 m/s it comes in with the simulated speed: a start is the
+                                    pose's to choose); 0.9 (0 or at most params' ratio: off) */
     float velocity_change_speed; /* m/s; 2.0 */
     mm_search_method method;     /* MM_SEARCH_FAST */
     bool use_params;             /* use params below instead of mm_search_params_defaults with

@@ -25,7 +25,7 @@ void mm_character_defaults(mm_character_desc *d)
     d->angle_threshold = 0.35f;
     d->angle_revise_speed = 0.0f; /* off: 0.2-0.5 rad/s was measured to triple foot slide on LAFAN1 walks */
     d->skip_frames = 3;
-    d->velocity_change_ratio = 0.9f; /* LAFAN1: docs/metrics.md, "Velocity changes" */
+    d->velocity_change_ratio = 0.9f; /* LAFAN1: docs/metrics.md, "What got it there" */
     d->velocity_change_speed = 2.0f;
     /* 0.2 m: 5.7 cm/s mean foot slide over the shipped scripts on LAFAN1 and 10.1 on the built-in
      * set, 0.4 m: 4.7 and 9.0 (the legs' length still bounds how far a lock can be held) */
