@@ -39,7 +39,7 @@ if [ "$(wc -l <"$tmp/b/poor.csv")" -gt 10 ]; then ok; else bad "walk_stop vs idl
 expect_exit 0 "$mm" similarity build "$db" --window 4 --threads 2
 expect_grep "wrote $db.sim" "$tmp/out"
 expect_grep "memory: .* bytes" "$tmp/out"
-expect_grep "fusion: .* one-shot frames x 23 loop clips" "$tmp/out"
+expect_grep "fusion: .* one-shot frames x 35 loop clips" "$tmp/out"
 expect_exit 0 "$mm" similarity build "$db" --window 4 --threads 1 -o "$tmp/one.sim"
 if cmp -s "$db.sim" "$tmp/one.sim"; then ok; else bad "tables differ between 1 and 2 threads"; fi
 expect_exit 0 "$mm" similarity info "$db.sim" --db "$db"

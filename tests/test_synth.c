@@ -137,7 +137,12 @@ static void test_set_content(void **state)
                                      "walk_backward",
                                      "walk_to_run",
                                      "run_to_walk",
-                                     "jump"};
+                                     "jump",
+                                     "walk_1.20",
+                                     "walk_zigzag",
+                                     "walk_turns_left",
+                                     "run_turns_left",
+                                     "walk_about_turns"};
     for (size_t i = 0; i < sizeof required / sizeof required[0]; ++i) find_clip(required[i]);
     assert_near(find_clip("walk_1.40")->speed, 1.4, 1e-6);
     assert_near(find_clip("run_4.60")->speed, 4.6, 1e-6);
@@ -326,7 +331,7 @@ static void test_speeds(void **state)
     (void)state;
     for (int i = 0; i < g_set.clip_count; ++i) {
         const mm_synth_clip *c = &g_set.clips[i];
-        if (!c->loop || c->turn_radius != 0.0f || c->speed == 0.0f) continue;
+        if (!c->loop || c->turn_radius != 0.0f || c->speed == 0.0f || c->kind == MM_SYNTH_TURN_LOOP) continue;
         mm_vec3 *p = fk_positions(&c->clip);
         int n = c->clip.frame_count;
         double t = (n - 1) / (double)c->clip.fps;
@@ -428,7 +433,7 @@ static void test_turn_radius(void **state)
         print_message("%s: radius %.3f m (planned %.3f), speed %.3f m/s\n", c->name, r, want, speed);
         free(p);
     }
-    assert_int_equal(arcs, 8);
+    assert_int_equal(arcs, 10);
 }
 
 static void test_turn_in_place(void **state)
@@ -449,6 +454,54 @@ static void test_turn_in_place(void **state)
         assert_true(hdist(p[0], p[(n - 1) * NJ]) < 0.05);
         free(p);
     }
+}
+
+/* Loops of sharp turns: the heading changes by the planned angle per loop (the hips' yaw, the last
+ * frame's step extrapolated to the seam); the path's symmetry gives its net displacement: four
+ * equal turns the same way close a square (back to the start), a left then a right 90 degree
+ * turn travel at 45 degrees; walks keep a double support, runs have flights. */
+static void test_turn_loops(void **state)
+{
+    (void)state;
+    int loops = 0;
+    for (int i = 0; i < g_set.clip_count; ++i) {
+        const mm_synth_clip *c = &g_set.clips[i];
+        if (c->kind != MM_SYNTH_TURN_LOOP) continue;
+        ++loops;
+        assert_true(c->loop);
+        int n = c->clip.frame_count;
+        double turned = 0.0, prev = hips_yaw(&c->clip, 0), step = 0.0;
+        for (int f = 1; f < n; ++f) {
+            double y = hips_yaw(&c->clip, f);
+            step = remainder(y - prev, 2.0 * MM_PI);
+            turned += step;
+            prev = y;
+        }
+        turned += step;
+        assert_near(turned, c->turn_angle, 3.0 * MM_DEG_TO_RAD);
+        mm_vec3 *p = fk_positions(&c->clip);
+        mm_vec3 d = mm_vec3_sub(p[(n - 1) * NJ], p[0]);
+        double travelled = 0.0;
+        for (int f = 1; f < n; ++f) travelled += hdist(p[(f - 1) * NJ], p[f * NJ]);
+        if (fabs(c->turn_angle) > 6.0) /* a full circle of turns */
+            assert_true(hypot(d.x, d.z) < 0.01 * travelled + 0.05);
+        else
+            assert_near(atan2(d.x, d.z), MM_PI / 4, 2.0 * MM_DEG_TO_RAD);
+        int doubles = 0, flights = 0;
+        for (int f = 0; f < n; ++f) {
+            unsigned b = c->contacts[f];
+            if ((b & 3) && (b & 12)) ++doubles;
+            if (!b) ++flights;
+        }
+        if (strncmp(c->name, "run", 3) == 0)
+            assert_true(flights > n / 5);
+        else
+            assert_true(doubles > 0 && flights == 0);
+        print_message("%s: turned %.1f deg, net %.2f m of %.2f m\n", c->name, turned / MM_DEG_TO_RAD,
+                      hypot(d.x, d.z), travelled);
+        free(p);
+    }
+    assert_int_equal(loops, 4);
 }
 
 /* Looping clips close: in the root's frame, the last frame differs from the first by no more
@@ -686,6 +739,7 @@ int main(void)
         cmocka_unit_test(test_turn_radius),
         cmocka_unit_test(test_turn_in_place),
         cmocka_unit_test(test_loops_close),
+        cmocka_unit_test(test_turn_loops),
         cmocka_unit_test(test_jump),
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_other_seed_and_fps),

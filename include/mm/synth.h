@@ -59,6 +59,7 @@ typedef enum mm_synth_kind {
     MM_SYNTH_BACKWARD,      /* walking backwards (loop) */
     MM_SYNTH_GAIT_CHANGE,   /* walk to run or run to walk */
     MM_SYNTH_JUMP,          /* standing jump forward: crouch, take-off, flight, landing */
+    MM_SYNTH_TURN_LOOP,     /* walk or run with sharp turns at intervals (loop); turn_angle per loop */
     MM_SYNTH_KIND_COUNT
 } mm_synth_kind;
 

@@ -297,7 +297,7 @@ typedef struct synth_key {
     float activity;  /* 0 standing, 1 stepping */
 } synth_key;
 
-#define SYNTH_MAX_KEYS 8
+#define SYNTH_MAX_KEYS 32
 
 typedef struct synth_plan {
     synth_key keys[SYNTH_MAX_KEYS];
@@ -305,6 +305,8 @@ typedef struct synth_plan {
     float duration;  /* s of output; for gait loops the exact length is derived from loop_cycles */
     bool loop;       /* the clip loops: frames cover [0, duration) */
     int loop_cycles; /* > 0: a gait loop of this many cycles (the plan must be constant) */
+    float period;    /* > 0: the keys (in [0, period], equal values at both ends) repeat with this
+                        period; a loop of exactly this length (period * fps a whole number) */
     int lead;        /* foot that steps first from rest */
 } synth_plan;
 

@@ -29,6 +29,7 @@ void synth_plan_values(const synth_plan *p, float t, synth_key *out, float *acce
     const synth_key *k = p->keys;
     int n = p->key_count;
     if (accel) *accel = 0.0f;
+    if (p->period > 0.0f) t -= floorf(t / p->period) * p->period;
     if (t <= k[0].t || n == 1) {
         *out = k[0];
         out->t = t;
@@ -220,6 +221,7 @@ mm_result synth_track_build(synth_ctx *ctx, const synth_plan *plan, synth_track 
     /* Output length. A gait loop holds a whole number of cycles in a whole number of frames. */
     float duration = plan->duration;
     if (plan->loop_cycles > 0) duration = (float)plan->loop_cycles / (k0.activity * g0.freq);
+    if (plan->period > 0.0f) duration = plan->period;
     int frames = (int)lroundf(duration * fps);
     if (!plan->loop) frames += 1;
     if (frames < 2) frames = 2;
@@ -286,6 +288,10 @@ mm_result synth_track_build(synth_ctx *ctx, const synth_plan *plan, synth_track 
     double phi0 = 0.0, scale = 1.0;
     if (plan->loop_cycles > 0) {
         scale = total > 0.0 ? (double)plan->loop_cycles / total : 1.0;
+    } else if (plan->period > 0.0f) {
+        /* a whole number of cycles per period (the cadence changes by a few per cent) */
+        double cycles = floor(total + 0.5);
+        scale = total > 0.0 ? (cycles < 1.0 ? 1.0 : cycles) / total : 1.0;
     } else if (tr->rest_start) {
         phi0 = 0.5 + window_mid; /* the lead foot's stance is the one that ends first */
         if (tr->rest_end && total > 1e-6) {

@@ -11,8 +11,8 @@
 #include "synth_internal.h"
 
 static const char *const kind_names[MM_SYNTH_KIND_COUNT] = {
-    "idle", "walk",          "run",      "walk_arc", "run_arc",     "start",
-    "stop", "turn_in_place", "sidestep", "backward", "gait_change", "jump"};
+    "idle",          "walk",     "run",      "walk_arc",    "run_arc", "start",    "stop",
+    "turn_in_place", "sidestep", "backward", "gait_change", "jump",    "turn_loop"};
 
 const char *mm_synth_kind_name(mm_synth_kind kind)
 {
@@ -47,7 +47,7 @@ typedef struct clip_spec {
     float jump_distance; /* > 0: the jump */
 } clip_spec;
 
-#define MAX_SPECS 40
+#define MAX_SPECS 48
 
 /* Appends value with the given number of decimals (locale-independent, value >= 0). */
 static void append_fixed(char *buf, size_t size, float value, int decimals)
@@ -113,6 +113,80 @@ static void loop_plan(const synth_ctx *ctx, clip_spec *s, float speed, float cur
     s->radius = curvature != 0.0f ? 1.0f / curvature : 0.0f;
 }
 
+/* A loop of sharp turns while walking or running: turn i (angles[i] rad, > 0 left) is centred
+ * at (i + 0.5) * spacing; its turn rate eases up over half seconds and down again (so the heading
+ * changes by exactly angles[i]) while the speed dips to dip * speed, as the runtime's velocity
+ * spring does when the stick swings (a 90 degree swing passes through 1 / sqrt 2 of the speed).
+ * Between turns the path is straight, shorter than the search's 1 s of trajectory, so straight
+ * walking keeps its exact loops. */
+static void turn_loop_plan(clip_spec *s, float speed, float dip, float gait, const float *angles, int turns,
+                           float half, float spacing)
+{
+    int k = 0;
+    for (int i = 0; i < turns; ++i) {
+        float c = ((float)i + 0.5f) * spacing;
+        s->plan.keys[k++] = key(c - half, speed, 0, 0, 0, gait, 1);
+        s->plan.keys[k++] = key(c, dip * speed, 0, 0, angles[i] / half, gait, 1);
+        s->plan.keys[k++] = key(c + half, speed, 0, 0, 0, gait, 1);
+        s->angle += angles[i];
+    }
+    s->plan.key_count = k;
+    s->plan.loop = true;
+    s->plan.period = (float)turns * spacing;
+    s->speed = speed;
+}
+
+/* Step response of the runtime's critically damped springs (mm/spring.h) from rest: 0 to 1 with
+ * half-life h, and its time derivative. */
+static float spring_step(float t, float h)
+{
+    float y = 2.0f * 0.69314718f / h;
+    return 1.0f - (1.0f + y * t) * expf(-y * t);
+}
+static float spring_step_d(float t, float h)
+{
+    float y = 2.0f * 0.69314718f / h;
+    return y * y * t * expf(-y * t);
+}
+
+/* A loop of walking about-turns (to the left; mirrored in the config) at speed, the stick swung straight back
+ * twice per loop, every spacing seconds. The runtime's velocity spring (half-life vel_h) runs the speed down
+ * through 0 and up again the other way while its facing spring (rot_h) turns the body half a circle, faster,
+ * so that the body travels sideways for a moment. Four keys per turn: the start, a pair around the reversal
+ * (where the travel direction flips at almost no speed, with the facing spring's turn rate there) and the
+ * end; the rates are scaled so that each turn is exactly pi. */
+static void about_turn_plan(clip_spec *s, float speed, float vel_h, float rot_h, float spacing)
+{
+    const float pi = SYNTH_PI;
+    /* the reversal: the velocity spring half way (1 - (1 + x) e^-x = 1/2 at x = 1.6784) */
+    float t0 = 1.6783470f * vel_h / (2.0f * 0.69314718f);
+    /* key times in units of t0: few keys, as every key holds the speed still for a moment (a
+     * jolt of the lean that follows the acceleration) */
+    enum { N = 4 };
+    static const float at[N] = {0.0f, 0.92f, 1.08f, 2.6f};
+    float rate[N], total = 0.0f;
+    for (int i = 0; i < N; ++i) {
+        rate[i] = i == 0 || i == N - 1 ? 0.0f : pi * spring_step_d(at[i] * t0, rot_h);
+        if (i > 0) total += 0.5f * (rate[i] + rate[i - 1]) * (at[i] - at[i - 1]) * t0;
+    }
+    int k = 0;
+    for (int turn = 0; turn < 2; ++turn) {
+        float start = ((float)turn + 0.25f) * spacing, heading = 0.0f;
+        for (int i = 0; i < N; ++i) {
+            float t = at[i] * t0, r = rate[i] * pi / total;
+            if (i > 0) heading += 0.5f * (r + rate[i - 1] * pi / total) * (at[i] - at[i - 1]) * t0;
+            float v = i == N - 1 ? -1.0f : 1.0f - 2.0f * spring_step(t, vel_h); /* along the old way */
+            float dir = i == N - 1 ? 0.0f : (v >= 0.0f ? 0.0f : pi) - heading;
+            s->plan.keys[k++] = key(start + t, fabsf(v) * speed, 0, dir, r, 0, 1);
+        }
+    }
+    s->plan.key_count = k;
+    s->plan.loop = true;
+    s->plan.period = 2.0f * spacing;
+    s->speed = speed;
+    s->angle = 2.0f * pi;
+}
+
 static int build_specs(const synth_ctx *ctx, clip_spec *specs)
 {
     int n = 0;
@@ -126,8 +200,9 @@ static int build_specs(const synth_ctx *ctx, clip_spec *specs)
     s->plan.loop = true;
     s->plan.duration = 8.0f;
 
-    static const float walk_speeds[] = {1.05f, 1.40f, 1.75f};
-    for (int i = 0; i < 3; ++i) {
+    /* 1.20: the runtime's walk at 0.8 stick (1.5 m/s full) has an exact loop */
+    static const float walk_speeds[] = {1.05f, 1.20f, 1.40f, 1.75f};
+    for (int i = 0; i < 4; ++i) {
         s = add_spec(specs, &n, MM_SYNTH_WALK);
         spec_name(s, "walk_", walk_speeds[i], 2, NULL);
         loop_plan(ctx, s, walk_speeds[i], 0, 0, 0, 9.0f);
@@ -146,6 +221,13 @@ static int build_specs(const synth_ctx *ctx, clip_spec *specs)
             spec_name(s, side == 0 ? "walk_arc_left_r" : "walk_arc_right_r", walk_radii[i], 1, NULL);
             loop_plan(ctx, s, 1.4f, sgn / walk_radii[i], 0, 0, 8.0f);
         }
+    /* the runtime's full-stick walk (1.5 m/s) circling at 30 degrees a second, so that gentle turns keep an
+     * exact arc rather than the ends of the sharp turns below */
+    for (int side = 0; side < 2; ++side) {
+        s = add_spec(specs, &n, MM_SYNTH_WALK_ARC);
+        spec_name(s, side == 0 ? "walk_arc_left_r" : "walk_arc_right_r", 2.8f, 1, NULL);
+        loop_plan(ctx, s, 1.5f, (side == 0 ? 1.0f : -1.0f) / 2.8f, 0, 0, 8.0f);
+    }
     for (int i = 0; i < 2; ++i)
         for (int side = 0; side < 2; ++side) {
             float sgn = side == 0 ? 1.0f : -1.0f;
@@ -193,6 +275,48 @@ static int build_specs(const synth_ctx *ctx, clip_spec *specs)
     s->plan.keys[3] = key(3.5f, 0, 0, 0, 0, 0, 0);
     s->plan.key_count = 4;
     s->plan.duration = 5.5f;
+    s->speed = 3.8f;
+
+    /* Quick starts and stops: the runtime's velocity spring (half-life 0.25 s walking, 0.4 s
+     * running) reaches or leaves full speed in under a second, faster than the ones above. */
+    s = add_spec(specs, &n, MM_SYNTH_START);
+    spec_name(s, "walk_start_quick", 0, -1, NULL);
+    s->plan.keys[0] = key(0.0f, 0, 0, 0, 0, 0, 0);
+    s->plan.keys[1] = key(0.8f, 0, 0, 0, 0, 0, 0);
+    s->plan.keys[2] = key(1.1f, 0.35f, 0, 0, 0, 0, 1);
+    s->plan.keys[3] = key(1.8f, 1.5f, 0, 0, 0, 0, 1);
+    s->plan.key_count = 4;
+    s->plan.duration = 4.0f;
+    s->speed = 1.5f;
+
+    s = add_spec(specs, &n, MM_SYNTH_STOP);
+    spec_name(s, "walk_stop_quick", 0, -1, NULL);
+    s->plan.keys[0] = key(0.0f, 1.5f, 0, 0, 0, 0, 1);
+    s->plan.keys[1] = key(1.2f, 1.5f, 0, 0, 0, 0, 1);
+    s->plan.keys[2] = key(1.9f, 0.25f, 0, 0, 0, 0, 1);
+    s->plan.keys[3] = key(2.3f, 0, 0, 0, 0, 0, 0);
+    s->plan.key_count = 4;
+    s->plan.duration = 3.6f;
+    s->speed = 1.5f;
+
+    s = add_spec(specs, &n, MM_SYNTH_START);
+    spec_name(s, "run_start_quick", 0, -1, NULL);
+    s->plan.keys[0] = key(0.0f, 0, 0, 0, 0, 0, 0);
+    s->plan.keys[1] = key(0.8f, 0, 0, 0, 0, 0, 0);
+    s->plan.keys[2] = key(1.15f, 0.6f, 0, 0, 0, 0.3f, 1);
+    s->plan.keys[3] = key(2.3f, 3.8f, 0, 0, 0, 1, 1);
+    s->plan.key_count = 4;
+    s->plan.duration = 4.5f;
+    s->speed = 3.8f;
+
+    s = add_spec(specs, &n, MM_SYNTH_STOP);
+    spec_name(s, "run_stop_quick", 0, -1, NULL);
+    s->plan.keys[0] = key(0.0f, 3.8f, 0, 0, 0, 1, 1);
+    s->plan.keys[1] = key(1.0f, 3.8f, 0, 0, 0, 1, 1);
+    s->plan.keys[2] = key(2.2f, 0.4f, 0, 0, 0, 0, 1);
+    s->plan.keys[3] = key(2.9f, 0, 0, 0, 0, 0, 0);
+    s->plan.key_count = 4;
+    s->plan.duration = 4.0f;
     s->speed = 3.8f;
 
     /* Turns on the spot: the turn rate ramps up in 0.5 s, holds, ramps down in 0.5 s, so the
@@ -262,6 +386,26 @@ static int build_specs(const synth_ctx *ctx, clip_spec *specs)
     s = add_spec(specs, &n, MM_SYNTH_JUMP);
     spec_name(s, "jump", 0, -1, NULL);
     s->jump_distance = 1.0f;
+
+    /* Sharp turns: the runtime's walk (1.5 m/s, velocity half-life 0.25 s) turns 90 degrees in
+     * about 0.8 s, its run (3.8 m/s, 0.4 s) in about 1.4 s. */
+    const float quarter = 0.5f * pi;
+    static const float zig[2] = {1.0f, -1.0f}, same[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    float angles[4];
+    for (int i = 0; i < 4; ++i) angles[i] = zig[i % 2] * quarter;
+    s = add_spec(specs, &n, MM_SYNTH_TURN_LOOP);
+    spec_name(s, "walk_zigzag", 0, -1, NULL);
+    turn_loop_plan(s, 1.5f, 0.71f, 0.0f, angles, 2, 0.5f, 1.5f);
+    for (int i = 0; i < 4; ++i) angles[i] = same[i] * quarter;
+    s = add_spec(specs, &n, MM_SYNTH_TURN_LOOP);
+    spec_name(s, "walk_turns_left", 0, -1, NULL);
+    turn_loop_plan(s, 1.5f, 0.71f, 0.0f, angles, 4, 0.5f, 1.6f);
+    s = add_spec(specs, &n, MM_SYNTH_TURN_LOOP);
+    spec_name(s, "run_turns_left", 0, -1, NULL);
+    turn_loop_plan(s, 3.8f, 0.71f, 1.0f, angles, 4, 0.72f, 2.0f);
+    s = add_spec(specs, &n, MM_SYNTH_TURN_LOOP);
+    spec_name(s, "walk_about_turns", 0, -1, NULL);
+    about_turn_plan(s, 1.5f, 0.25f, 0.2f, 1.8f);
     return n;
 }
 
