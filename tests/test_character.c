@@ -637,6 +637,67 @@ static void test_feet_hold_under_pull(void **state)
     mm_character_free(&c);
 }
 
+/* Feet land at rest (plant_time): on a zigzag of walking and running on the built-in set, every
+ * tick where a foot's contact label turns on (neither heel nor toe on the tick before) plants it
+ * within 5 mm of where its target was on the tick before, on the ground plane (a toe-only landing
+ * holds the toe there, and the ankle turns about it as the foot's turn fades); and the
+ * ankles' mean ground speed on those ticks falls to under a third of what it is without. Returns
+ * that mean speed (cm/s) for plant_time. */
+static double landing_speed(float plant_time, float *worst_step, int *landings)
+{
+    mm_character_desc d = default_desc();
+    d.plant_time = plant_time;
+    mm_character c;
+    make_character(&c, &d);
+    mm_input in = stick_input(0.0f, 1.0f);
+    mm_vec3 last_target[2] = {{0, 0, 0}, {0, 0, 0}}, last_ankle[2] = {{0, 0, 0}, {0, 0, 0}};
+    unsigned last_label = 0;
+    double sum = 0.0;
+    *worst_step = 0.0f;
+    *landings = 0;
+    for (int i = 0; i < 40 * 60; ++i) {
+        float phase = (float)(i / 90 % 4); /* a new direction every 1.5 s, running every other 6 s */
+        in.stick[0] = phase == 0 ? 0.0f : phase == 1 ? 0.8f : phase == 2 ? 0.0f : -0.8f;
+        in.stick[1] = phase == 1 || phase == 3 ? 0.6f : phase == 0 ? 1.0f : -1.0f;
+        in.gait = (i / 360) % 2 ? MM_GAIT_RUN : MM_GAIT_WALK;
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        unsigned label = db.contacts[c.frame];
+        for (int k = 0; k < 2; ++k) {
+            mm_vec3 ankle = c.global[c.foot_joint[k]].translation;
+            unsigned bits = 3u << (2 * k);
+            if (i > 0 && (label & bits) && !(last_label & bits)) {
+                mm_vec3 step = mm_vec3_sub(c.foot_lock[k], last_target[k]);
+                *worst_step = fmaxf(*worst_step, sqrtf(step.x * step.x + step.z * step.z));
+                mm_vec3 moved = mm_vec3_sub(ankle, last_ankle[k]);
+                sum += 100.0 * sqrt(moved.x * moved.x + moved.z * moved.z) * 60.0;
+                ++*landings;
+            }
+            last_target[k] = c.foot_lock[k];
+            last_ankle[k] = ankle;
+        }
+        last_label = label;
+    }
+    mm_character_free(&c);
+    return *landings ? sum / *landings : 0.0;
+}
+
+static void test_feet_land(void **state)
+{
+    (void)state;
+    float step_on, step_off;
+    int landings_on, landings_off;
+    double on = landing_speed(default_desc().plant_time, &step_on, &landings_on);
+    double off = landing_speed(0.0f, &step_off, &landings_off);
+    print_message("ankle ground speed on the landing tick: %.2f cm/s with plant_time %.3f s (%d landings, "
+                  "target step at most %.2g m), %.2f cm/s without (%d landings, target step up to %.3f m)\n",
+                  on, default_desc().plant_time, landings_on, step_on, off, landings_off, step_off);
+    assert_true(default_desc().plant_time > 0.0f);
+    assert_true(landings_on > 40 && landings_off > 40);
+    assert_true(step_on < 0.005f); /* a toe-only landing holds the toe; the ankle turns about it */
+    assert_true(step_off > 0.01f);
+    assert_true(3.0 * on < off);
+}
+
 /* The largest second difference (m) of the joints' world positions over three poses. */
 static float second_difference(const mm_vec3 *a, const mm_vec3 *b, const mm_vec3 *now, int n, int *joint)
 {
@@ -1086,6 +1147,7 @@ int main(void)
         cmocka_unit_test(test_angle_correction),
         cmocka_unit_test(test_feet_hold),
         cmocka_unit_test(test_feet_hold_under_pull),
+        cmocka_unit_test(test_feet_land),
         cmocka_unit_test(test_knee_continuous_out_of_reach),
         cmocka_unit_test(test_idle_after_stop),
         cmocka_unit_test(test_run_stop),

@@ -113,6 +113,12 @@ typedef struct mm_character_desc {
      * by two-bone IK (hip, knee, ankle), the knee bending in its animated plane, the foot keeping
      * its animated orientation (turned by the foot's turn). */
     bool no_foot_ik;                    /* turn foot locking and IK off */
+    float plant_time;                   /* s: over this time before a free foot's contact label
+                                           turns on in the clip playing, its step on the ground
+                                           plane shrinks linearly to nothing, and on the tick the
+                                           label turns on it is planted where it was: it lands at
+                                           rest, not at the speed a transition's offsets or the
+                                           root's pull gave it; 0.033 (0: off) */
     float unlock_radius;                /* m; 0.4 */
     float foot_halflife;                /* s; 0.1 */
     float max_hip_drop;                 /* m: how far the hips may be lowered so that the legs
@@ -206,6 +212,7 @@ typedef struct mm_character {
     bool foot_locked[2], heel_locked[2], toe_locked[2];
     mm_vec3 foot_lock[2], heel_lock[2], toe_lock[2], foot_offset[2], foot_offset_velocity[2];
     mm_vec3 foot_turn[2], foot_turn_velocity[2];
+    bool foot_placed; /* foot_lock holds last tick's ankle targets (plant_time eases from them) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 raw_contact_positions[4];  /* left ankle, left toe, right ankle, right toe before IK */
     uint64_t gait_tags[MM_GAIT_COUNT]; /* tags named after each gait ("Walk", "Run", ...) */

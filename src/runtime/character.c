@@ -31,6 +31,7 @@ void mm_character_defaults(mm_character_desc *d)
      * set, 0.4 m: 4.7 and 9.0 (the legs' length still bounds how far a lock can be held) */
     d->unlock_radius = 0.4f;
     d->foot_halflife = 0.1f;
+    d->plant_time = 0.033f; /* LAFAN1 mean slide 0.80 -> 0.52 cm/s; 0.05 / 0.1 s: 0.54 / 0.70 */
     d->max_hip_drop = 0.1f;
     d->left_foot = "LeftFoot";
     d->right_foot = "RightFoot";
@@ -592,6 +593,19 @@ static mm_vec3 foot_source(const mm_character *c, int k, mm_vec3 ankle, mm_vec3 
     return ankle;
 }
 
+/* s until foot k's contact label (heel or toe) turns on in the clip playing at its play rate,
+ * if it does within `window`; -1 otherwise */
+static float time_to_plant(const mm_character *c, int k, float window)
+{
+    const mm_database *db = c->db;
+    unsigned mask = 3u << (2 * k);
+    double step = (double)db->interval / (c->play_rate > 0.1f ? c->play_rate : 0.1f);
+    double t = (1.0 - c->frame_fraction) * step;
+    for (int f = db->frame_next[c->frame]; f >= 0 && t <= window; f = db->frame_next[f], t += step)
+        if (db->contacts[f] & mask) return (float)t;
+    return -1.0f;
+}
+
 /* rad: the most a foot planted on heel and toe is turned from its animated orientation */
 #define MAX_FOOT_TURN 0.8f
 
@@ -612,7 +626,8 @@ static void feet(mm_character *c, float dt)
         int heel_on = (label >> (2 * k)) & 1u, toe_on = (label >> (2 * k + 1)) & 1u;
         if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
         mm_vec3 before = foot_source(c, k, a, t);
-        if ((c->heel_locked[k] || c->toe_locked[k]) && mm_vec3_distance(before, a) > d->unlock_radius) {
+        int was_locked = c->heel_locked[k] || c->toe_locked[k];
+        if (was_locked && mm_vec3_distance(before, a) > d->unlock_radius) {
             /* pulled too far from the animation: released, and planted again below where the
              * foot now is, one spring step toward the animation (the foot creeps after it;
              * releasing it for the rest of the contact was measured worse: it then slides back
@@ -624,6 +639,27 @@ static void feet(mm_character *c, float dt)
         c->foot_offset[k] = mm_vec3_add(c->foot_offset[k], mm_vec3_sub(before, foot_source(c, k, a, t)));
         mm_spring_decay_vec3(&c->foot_offset[k], &c->foot_offset_velocity[k], d->foot_halflife, dt);
         mm_vec3 out = mm_vec3_add(foot_source(c, k, a, t), c->foot_offset[k]);
+        if (d->plant_time > 0.0f && c->foot_placed && !was_locked) {
+            /* landing: the foot's step on the ground plane shrinks to nothing as its contact
+             * comes (w: the share of plant_time gone; 1 on the tick the label turns on, where
+             * the foot is planted where it was), the difference carried by foot_offset like any
+             * other. A transition's offsets, or the root's pull, would otherwise bring the foot
+             * down at the speed they give it, and the lock would stop it dead from there. */
+            float w = 0.0f;
+            if (heel_on || toe_on) {
+                w = 1.0f;
+            } else {
+                float left = time_to_plant(c, k, d->plant_time);
+                if (left >= 0.0f) w = 1.0f - left / d->plant_time;
+            }
+            if (w > 0.0f) {
+                mm_vec3 from = c->foot_lock[k];
+                out.x = from.x + (1.0f - w) * (out.x - from.x);
+                out.z = from.z + (1.0f - w) * (out.z - from.z);
+                c->foot_offset[k] = mm_vec3_sub(out, foot_source(c, k, a, t));
+                c->foot_offset_velocity[k] = mm_vec3_make(0, 0, 0);
+            }
+        }
         int planted = 0; /* plant where the foot is now */
         if (heel_on && !c->heel_locked[k]) {
             c->heel_locked[k] = true;
@@ -726,6 +762,7 @@ static void feet(mm_character *c, float dt)
         }
         two_bone_ik(c, ankle, target[k], orientation[k]);
     }
+    c->foot_placed = true;
     for (int j = 1; j < db->joint_count; ++j) /* below the ankles */
         c->global[j] = mm_xform_mul(c->global[db->joints[j].parent],
                                     mm_xform_make(c->local_rotations[j], c->local_positions[j]));
