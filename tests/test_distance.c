@@ -779,6 +779,30 @@ static void test_leg_ik(void **state)
         if (k > 0) assert_true(mm_vec3_distance(w.pose.knee, before) < 0.03f);
         before = w.pose.knee;
     }
+    /* the animated leg passes through straight, its knee going from in front of the hip-foot line
+     * to behind it (thigh angle +0.05 to -0.05 rad, the foot straight below the hip), while the
+     * target asks for more bend (5 cm nearer the hip): the knee bends toward the pole all along
+     * and moves continuously (taking the animated plane's side, it jumped to the back) */
+    before = mm_vec3_make(0, 0, 0);
+    for (int k = 0; k <= 100; ++k) {
+        float theta = 0.05f - 0.1f * (float)k / 100.0f;
+        mm_leg_pose passing = {mm_vec3_make(0, 1, 0),
+                               mm_vec3_make(0, 1.0f - 0.45f * cosf(theta), 0.45f * sinf(theta)),
+                               mm_vec3_make(0, 1.0f - 0.9f * cosf(theta), 0)};
+        mm_vec3 target = mm_vec3_add(passing.foot, mm_vec3_make(0, 0.05f, 0));
+        assert_int_equal(mm_warp_leg_ik(&passing, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_near(mm_vec3_distance(w.pose.foot, target), 0.0, 1e-5);
+        assert_lengths_kept(&passing, &w.pose);
+        assert_true(w.pose.knee.z > 0.05f);
+        if (k > 0) assert_true(mm_vec3_distance(w.pose.knee, before) < 0.01f);
+        before = w.pose.knee;
+    }
+    /* a leg clearly bent against the pole (0.3 rad) keeps its bend when the target is its foot */
+    mm_leg_pose against = {mm_vec3_make(0, 1, 0),
+                           mm_vec3_make(0, 1.0f - 0.45f * cosf(0.3f), -0.45f * sinf(0.3f)),
+                           mm_vec3_make(0, 1.0f - 0.9f * cosf(0.3f), 0)};
+    assert_int_equal(mm_warp_leg_ik(&against, against.foot, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+    assert_near(mm_vec3_distance(w.pose.knee, against.knee), 0.0, 1e-5);
     /* a straight leg bends toward the pole */
     mm_leg_pose straight = {mm_vec3_make(0, 1, 0), mm_vec3_make(0, 0.55f, 0), mm_vec3_make(0, 0.1f, 0)};
     assert_int_equal(mm_warp_leg_ik(&straight, mm_vec3_make(0, 0.3f, 0), mm_vec3_make(0, 0, 1), 0.0f, &w),

@@ -225,9 +225,11 @@ typedef struct mm_leg_warp {
 } mm_leg_warp;
 
 /* Two-bone IK on positions: the foot moves to target (kept within max_extension of the full
- * leg, 0: MM_WARP_MAX_EXTENSION_DEFAULT, but never less stretched than the leg is now), the
- * knee stays in the plane of the leg's current bend (pole: used when the leg is straight, for
- * example the movement direction; zero: any). Lengths are kept exactly (to float rounding). */
+ * leg, 0: MM_WARP_MAX_EXTENSION_DEFAULT, but never less stretched than the leg is now). The leg
+ * is swung onto the new hip-target axis keeping the bend it has; more bend than that goes toward
+ * the pole (where the knee points, for example the pelvis's facing; zero: none), and a bend
+ * against the pole fades out as the leg straightens (docs/distance.md, "Stride warping"). A
+ * target at the foot leaves a bent leg as it is. Lengths are kept exactly (to float rounding). */
 mm_result mm_warp_leg_ik(const mm_leg_pose *leg, mm_vec3 target, mm_vec3 pole, float max_extension,
                          mm_leg_warp *out);
 

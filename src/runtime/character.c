@@ -895,17 +895,19 @@ static void stride_warp(mm_character *c, float dt)
     float halflife = drop > previous_drop ? 0.05f : 0.15f;
     float eased = previous_drop + (drop - previous_drop) * (1.0f - exp2f(-dt / halflife));
     if (!isfinite(eased) || eased < 0.0f) eased = 0.0f;
-    if (eased != drop) {
-        mm_vec3 dir = mm_vec3_make(direction.x, 0.0f, direction.z);
-        for (int k = 0; k < 2; ++k) {
-            mm_leg_pose lowered = legs[k];
-            lowered.hip.y -= eased;
-            lowered.knee.y -= eased;
-            lowered.foot.y -= eased;
-            if (mm_warp_leg_ik(&lowered, out[k].target, dir, 0.0f, &out[k]) != MM_OK) return;
-        }
-        drop = eased;
+    /* the knees bend toward where the pelvis faces (square to the line from the left hip to the
+     * right one), whichever way the body moves: mm_warp_stride's pole is the movement, sideways
+     * or backward when strafing, and the root's facing is off the pelvis's in turns */
+    mm_vec3 across = mm_vec3_sub(legs[1].hip, legs[0].hip);
+    mm_vec3 forward = mm_vec3_make(across.z, 0.0f, -across.x);
+    for (int k = 0; k < 2; ++k) {
+        mm_leg_pose lowered = legs[k];
+        lowered.hip.y -= eased;
+        lowered.knee.y -= eased;
+        lowered.foot.y -= eased;
+        if (mm_warp_leg_ik(&lowered, out[k].target, forward, 0.0f, &out[k]) != MM_OK) return;
     }
+    drop = eased;
     mm_quat knee_world[2], ankle_world[2];
     for (int k = 0; k < 2; ++k) {
         knee_world[k] = c->global[joint[k][1]].rotation;

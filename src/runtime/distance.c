@@ -862,27 +862,48 @@ mm_result mm_warp_leg_ik(const mm_leg_pose *leg, mm_vec3 target, mm_vec3 pole, f
     else
         u = (dvec){0.0, -1.0, 0.0};
     len = clampd(len, rmin, rmax);
-    /* the bend plane: the leg's own (hip, knee, foot) turned onto the new hip-target axis, so that
-     * the knee stays on its side however close the new axis passes to it (the knee's side of that
-     * axis flipped from one tick to the next: knee pops of 20 cm); a straight leg: the knee's
-     * side of the new axis, else the pole, else any */
-    dvec kh = dsub(knee, hip), n = dsub(kh, dscale(u, ddot(kh, u)));
-    dvec fh = dsub(foot, hip), m = dcross(kh, fh);
-    if (dlen(m) > 1e-3 * l1 * now) {
-        dvec side = dcross(u, m);
-        if (dlen(side) > 1e-9) n = side;
+    /* the knee: the animated leg swung rigidly onto the new hip-target axis (the smallest turn),
+     * so that the knee keeps its side however close the new axis passes to it (the knee's side of
+     * that axis flipped from one tick to the next: knee pops of 20 cm); where the leg must bend
+     * more than it does, the extra bend goes to the pole's side. A nearly straight leg's own
+     * plane is noise that flips as the animated leg passes straight (the knee jumped 19 cm in
+     * one tick on the built-in set's demo), so it only carries the bend the animation has. A
+     * target at the foot leaves the leg as it is, unless it is nearly straight and bent against
+     * the pole. */
+    dvec kh = dsub(knee, hip), fh = dsub(foot, hip), swung = kh;
+    if (now > 1e-9) {
+        dvec from = dscale(fh, 1.0 / now), axis = dcross(from, u);
+        double s = dlen(axis), c = ddot(from, u);
+        if (s > 1e-12) { /* Rodrigues: kh turned about axis by the angle from `from` to u */
+            axis = dscale(axis, 1.0 / s);
+            swung = dadd(dadd(dscale(kh, c), dscale(dcross(axis, kh), s)),
+                         dscale(axis, ddot(axis, kh) * (1.0 - c)));
+        } else if (c < 0.0) { /* half a turn, about any axis across `from` */
+            dvec other = fabs(from.x) < 0.9 ? (dvec){1.0, 0.0, 0.0} : (dvec){0.0, 1.0, 0.0};
+            axis = dcross(from, other);
+            axis = dscale(axis, 1.0 / dlen(axis));
+            swung = dsub(dscale(axis, 2.0 * ddot(axis, kh)), kh);
+        }
     }
-    if (dlen(n) < 1e-6 * l1) {
-        dvec p = dv(pole);
-        n = dsub(p, dscale(u, ddot(p, u)));
+    dvec n = dsub(swung, dscale(u, ddot(swung, u))), p = dv(pole);
+    p = dsub(p, dscale(u, ddot(p, u)));
+    double pl = dlen(p);
+    if (pl > 1e-9 && now > 1e-9) {
+        /* a bend against the pole is the animation's only while the leg is clearly bent; as it
+         * straightens that part fades (fully dropped from a sine of 0 between thigh and hip-foot
+         * line, kept from 0.1, about 6 degrees) */
+        double back = ddot(n, p) / pl, bent = dlen(dcross(kh, fh)) / (l1 * now);
+        if (back < 0.0) n = dsub(n, dscale(p, back / pl * clampd(1.0 - bent / 0.1, 0.0, 1.0)));
     }
-    if (dlen(n) < 1e-9) {
+    double have = dlen(n);
+    double a = len > 1e-12 ? (l1 * l1 - l2 * l2 + len * len) / (2.0 * len) : 0.0;
+    double h2 = l1 * l1 - a * a, h = h2 > 0.0 ? sqrt(h2) : 0.0;
+    if (pl > 1e-9 && h > have) n = dadd(n, dscale(p, (h - have) / pl));
+    if (dlen(n) < 1e-9 * l1) {
         dvec axis = fabs(u.x) < 0.9 ? (dvec){1.0, 0.0, 0.0} : (dvec){0.0, 0.0, 1.0};
         n = dsub(axis, dscale(u, ddot(axis, u)));
     }
     n = dscale(n, 1.0 / dlen(n));
-    double a = len > 1e-12 ? (l1 * l1 - l2 * l2 + len * len) / (2.0 * len) : 0.0;
-    double h2 = l1 * l1 - a * a, h = h2 > 0.0 ? sqrt(h2) : 0.0;
     dvec knee1 = dadd(hip, dadd(dscale(u, a), dscale(n, h))), foot1 = dadd(hip, dscale(u, len));
     out->pose.knee = fv(knee1);
     out->pose.foot = fv(foot1);
