@@ -896,8 +896,9 @@ static void stride_warp(mm_character *c, float dt)
     float eased = previous_drop + (drop - previous_drop) * (1.0f - exp2f(-dt / halflife));
     if (!isfinite(eased) || eased < 0.0f) eased = 0.0f;
     /* the knees bend toward where the pelvis faces (square to the line from the left hip to the
-     * right one), whichever way the body moves: mm_warp_stride's pole is the movement, sideways
-     * or backward when strafing, and the root's facing is off the pelvis's in turns */
+     * right one: facing +Z, the left hip is at +X), whichever way the body moves: mm_warp_stride's
+     * pole is the movement, sideways or backward when strafing, and the root's facing is off the
+     * pelvis's in turns */
     mm_vec3 across = mm_vec3_sub(legs[1].hip, legs[0].hip);
     mm_vec3 forward = mm_vec3_make(across.z, 0.0f, -across.x);
     for (int k = 0; k < 2; ++k) {

@@ -870,21 +870,8 @@ mm_result mm_warp_leg_ik(const mm_leg_pose *leg, mm_vec3 target, mm_vec3 pole, f
      * one tick on the built-in set's demo), so it only carries the bend the animation has. A
      * target at the foot leaves the leg as it is, unless it is nearly straight and bent against
      * the pole. */
-    dvec kh = dsub(knee, hip), fh = dsub(foot, hip), swung = kh;
-    if (now > 1e-9) {
-        dvec from = dscale(fh, 1.0 / now), axis = dcross(from, u);
-        double s = dlen(axis), c = ddot(from, u);
-        if (s > 1e-12) { /* Rodrigues: kh turned about axis by the angle from `from` to u */
-            axis = dscale(axis, 1.0 / s);
-            swung = dadd(dadd(dscale(kh, c), dscale(dcross(axis, kh), s)),
-                         dscale(axis, ddot(axis, kh) * (1.0 - c)));
-        } else if (c < 0.0) { /* half a turn, about any axis across `from` */
-            dvec other = fabs(from.x) < 0.9 ? (dvec){1.0, 0.0, 0.0} : (dvec){0.0, 1.0, 0.0};
-            axis = dcross(from, other);
-            axis = dscale(axis, 1.0 / dlen(axis));
-            swung = dsub(dscale(axis, 2.0 * ddot(axis, kh)), kh);
-        }
-    }
+    dvec kh = dsub(knee, hip), fh = dsub(foot, hip);
+    dvec swung = dv(mm_quat_rotate(mm_quat_between(fv(fh), fv(u)), fv(kh)));
     dvec n = dsub(swung, dscale(u, ddot(swung, u))), p = dv(pole);
     p = dsub(p, dscale(u, ddot(p, u)));
     double pl = dlen(p);
