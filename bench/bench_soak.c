@@ -130,7 +130,7 @@ int main(int argc, char **argv)
                 step != dt || !isfinite(in.stick[0]) || !isfinite(in.stick[1]) || in.stick[1] > 1e29f;
             mm_character_update(&c[i], &in, step);
             nan_ticks += pose_has_nan(&c[i]);
-            mm_vec3 a = c[i].trajectory.position, b = c[i].root.translation;
+            mm_vec3 a = c[i].trajectory->position, b = c[i].root.translation;
             double drift = hypot((double)a.x - b.x, (double)a.z - b.z);
             sum_drift += drift;
             if (drift > max_drift || !isfinite(drift)) max_drift = drift;

@@ -5,6 +5,8 @@
 #include <mm/character.h>
 #include <mm/input.h>
 
+#include "runtime/character/state.h"
+
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -152,7 +154,7 @@ static void test_inertialization(void **state)
         if (c.transitions > before) {
             transition_tick = i;
             for (int j = 1; j < db.joint_count; ++j)
-                offset_at = fmaxf(offset_at, mm_vec3_length(c.rotation_offset[j]));
+                offset_at = fmaxf(offset_at, mm_vec3_length(c.state->transition.rotation_offset[j]));
             for (int j = 0; j < db.joint_count; ++j) {
                 mm_vec3 now = mm_vec3_sub(c.global[j].translation, c.global[0].translation);
                 largest_jump = fmaxf(largest_jump, mm_vec3_distance(now, prev[j]));
@@ -169,7 +171,7 @@ static void test_inertialization(void **state)
     run_ticks(&c, &walk, 60);
     float offset_after = 0.0f;
     for (int j = 1; j < db.joint_count; ++j)
-        offset_after = fmaxf(offset_after, mm_vec3_length(c.rotation_offset[j]));
+        offset_after = fmaxf(offset_after, mm_vec3_length(c.state->transition.rotation_offset[j]));
     if (c.transitions == transitions) assert_true(offset_after < 0.01f * offset_at + 1e-5f);
     free(prev);
     mm_character_free(&c);
@@ -222,10 +224,14 @@ static float facing_error_after(float revise_speed)
     mm_input in = stick_input(0.0f, 1.0f);
     run_ticks(&c, &in, 120); /* up to full speed */
     /* from here no search (matching would turn the character too: by picking turning clips) */
-    c.desc.search_interval = 1e6f;
-    c.desc.turn_threshold = 10.0f;
-    c.desc.angle_revise_speed = revise_speed;
-    c.root.rotation = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.2f); /* 0.2 rad off +Z */
+    mm_character_desc tuned = c.desc;
+    tuned.search_interval = 1e6f;
+    tuned.turn_threshold = 10.0f;
+    tuned.angle_revise_speed = revise_speed;
+    mm_character_tune(&c, &tuned);
+    mm_xform root = c.root;
+    root.rotation = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.2f); /* 0.2 rad off +Z */
+    mm_character_set_root(&c, root);
     int searches = c.searches;
     run_ticks(&c, &in, 15);
     assert_int_equal(c.searches, searches);
@@ -387,8 +393,8 @@ static void test_distance_matching_cycle(void **state)
          * no transition happened this tick */
         mm_distance_curve curve;
         assert_int_equal(mm_database_distance_curve(&db, clip, &curve), MM_OK);
-        float speed = sqrtf(c.trajectory.velocity.x * c.trajectory.velocity.x +
-                            c.trajectory.velocity.z * c.trajectory.velocity.z);
+        float speed = sqrtf(c.trajectory->velocity.x * c.trajectory->velocity.x +
+                            c.trajectory->velocity.z * c.trajectory->velocity.z);
         float want = speed / mm_distance_clip_speed(&curve);
         float expect = fminf(fmaxf(want, d.rate_min), d.rate_max);
         assert_true(c.play_rate >= d.rate_min - 1e-6f && c.play_rate <= d.rate_max + 1e-6f);
@@ -431,8 +437,8 @@ static void test_distance_matching_rate(void **state)
             if (c.playback != MM_PLAYBACK_CYCLE || db.frame_clip[c.frame] != clip) continue;
             mm_distance_curve curve;
             assert_int_equal(mm_database_distance_curve(&db, clip, &curve), MM_OK);
-            float speed = sqrtf(c.trajectory.velocity.x * c.trajectory.velocity.x +
-                                c.trajectory.velocity.z * c.trajectory.velocity.z);
+            float speed = sqrtf(c.trajectory->velocity.x * c.trajectory->velocity.x +
+                                c.trajectory->velocity.z * c.trajectory->velocity.z);
             float expect = fminf(fmaxf(speed / mm_distance_clip_speed(&curve), 0.5f), 1.1f);
             assert_true(fabsf(c.play_rate - expect) < 1e-5f);
             assert_true(c.stride_scale == 1.0f); /* warping off */
@@ -609,17 +615,19 @@ static void test_feet_hold_under_pull(void **state)
         assert_true(bone[b] >= 0);
         planted[b] = c.global[bone[b]].translation;
         raw0[b] = c.raw_contact_positions[b];
-        held[b] = (label0 >> b) & 1u && (b % 2 ? c.toe_locked[b / 2] : c.heel_locked[b / 2]);
+        held[b] = (label0 >> b) & 1u &&
+                  (b % 2 ? c.state->feet.toe_locked[b / 2] : c.state->feet.heel_locked[b / 2]);
     }
     assert_true(held[0] || held[2]); /* standing: at least one heel planted */
-    mm_trajectory_reset(&c.trajectory, mm_vec3_add(c.root.translation, mm_vec3_make(0.12f, 0, 0)),
+    mm_trajectory_reset(&c.state->trajectory, mm_vec3_add(c.root.translation, mm_vec3_make(0.12f, 0, 0)),
                         c.root.rotation);
     float worst = 0.0f, raw_moved = 0.0f;
     for (int i = 0; i < 60; ++i) {
         mm_character_update(&c, &in, 1.0f / 60.0f);
         unsigned label = db.contacts[c.frame];
         for (int b = 0; b < 4; ++b) {
-            held[b] = held[b] && ((label >> b) & 1u) && (b % 2 ? c.toe_locked[b / 2] : c.heel_locked[b / 2]);
+            held[b] = held[b] && ((label >> b) & 1u) &&
+                      (b % 2 ? c.state->feet.toe_locked[b / 2] : c.state->feet.heel_locked[b / 2]);
             if (!held[b]) continue;
             worst = fmaxf(worst, mm_vec3_distance(c.global[bone[b]].translation, planted[b]));
             raw_moved = fmaxf(raw_moved, mm_vec3_distance(c.raw_contact_positions[b], raw0[b]));
@@ -733,13 +741,14 @@ static void test_knee_continuous_out_of_reach(void **state)
     float drops[3] = {0, 0, 0};
     for (int i = 0; i < 180; ++i) {
         if (i == 0 || i == 90)
-            mm_trajectory_reset(&c.trajectory, mm_vec3_add(start, mm_vec3_make(i == 0 ? 0.45f : 0.0f, 0, 0)),
+            mm_trajectory_reset(&c.state->trajectory,
+                                mm_vec3_add(start, mm_vec3_make(i == 0 ? 0.45f : 0.0f, 0, 0)),
                                 c.root.rotation);
         mm_character_update(&c, &in, 1.0f / 60.0f);
         mm_vec3 *now = p + (size_t)(i % 3) * (size_t)n;
         for (int j = 0; j < n; ++j) now[j] = c.global[j].translation;
-        drops[i % 3] = c.hip_drop;
-        max_drop = fmaxf(max_drop, c.hip_drop);
+        drops[i % 3] = c.state->feet.hip_drop;
+        max_drop = fmaxf(max_drop, c.state->feet.hip_drop);
         for (int k = 0; k < 2; ++k) { /* how far the legs are stretched toward their targets */
             int ankle = c.foot_joint[k], hip = db.joints[knee[k]].parent;
             float leg = mm_vec3_distance(now[hip], now[knee[k]]) + mm_vec3_distance(now[knee[k]], now[ankle]);
@@ -807,7 +816,8 @@ static void jump_second_differences(int start, int ahead, mm_vec3 *x, float dd[T
                       : second_difference(x + (size_t)(i - 2) * (size_t)n, x + (size_t)(i - 1) * (size_t)n,
                                           x + (size_t)i * (size_t)n, n, &joint);
         if (i == JUMP)
-            for (int j = 1; j < n; ++j) *offset = fmaxf(*offset, mm_vec3_length(c.rotation_offset[j]));
+            for (int j = 1; j < n; ++j)
+                *offset = fmaxf(*offset, mm_vec3_length(c.state->transition.rotation_offset[j]));
     }
     mm_character_free(&c);
 }
@@ -924,12 +934,13 @@ static void test_idle_after_stop(void **state)
     const float limit = c.desc.idle_speed + c.desc.idle_hysteresis;
     int idle_tick = -1, moving_ticks = 0;
     for (int i = 0; i < 180 && idle_tick < 0; ++i) {
-        mm_vec3 v = c.trajectory.velocity;
+        mm_vec3 v = c.trajectory->velocity;
         float before = sqrtf(v.x * v.x + v.z * v.z);
         /* the root motion played up to this tick: idle_root_speed holds idle back while it runs */
-        float played = sqrtf(c.root_velocity.x * c.root_velocity.x + c.root_velocity.z * c.root_velocity.z);
+        float played = sqrtf(c.state->root_motion.played.velocity.x * c.state->root_motion.played.velocity.x +
+                             c.state->root_motion.played.velocity.z * c.state->root_motion.played.velocity.z);
         mm_character_update(&c, &in, 1.0f / 60.0f);
-        v = c.trajectory.velocity;
+        v = c.trajectory->velocity;
         float speed = sqrtf(v.x * v.x + v.z * v.z);
         if (c.idle) {
             idle_tick = i;
@@ -974,10 +985,11 @@ static float stop_time_on(mm_database *data, mm_searcher *data_searcher, float v
         mm_input in = stick_input(0.0f, 1.0f);
         in.gait = MM_GAIT_RUN;
         run_ticks(&c, &in, 180 + 30 * run);
-        assert_true(hspeed(c.root_velocity) > 2.0f);
+        assert_true(hspeed(c.state->root_motion.played.velocity) > 2.0f);
         in.stick[1] = 0.0f;
         int i = 0;
-        while (i < 300 && hspeed(c.root_velocity) >= 0.5f) mm_character_update(&c, &in, 1.0f / 60.0f), ++i;
+        while (i < 300 && hspeed(c.state->root_motion.played.velocity) >= 0.5f)
+            mm_character_update(&c, &in, 1.0f / 60.0f), ++i;
         mm_character_free(&c);
         sum += i / 60.0f;
     }
@@ -1062,24 +1074,26 @@ static void crossfade_run(float crossfade_time, float search_interval, mm_xform 
     for (int i = 0; i < 60 * 60; ++i) {
         mm_input in;
         mm_input_script_sample(&script, i / 60.0f, &in);
-        int before = c.transitions, evicting = c.mixer.count == MM_MIXER_SLOTS;
+        int before = c.transitions, evicting = c.state->transition.mixer.count == MM_MIXER_SLOTS;
         mm_character_update(&c, &in, 1.0f / 60.0f);
-        assert_true(c.mixer.count >= 1 && c.mixer.count <= MM_MIXER_SLOTS);
-        assert_true(fabsf(mm_mixer_weight_sum(&c.mixer) - 1.0f) < 1e-5f);
-        assert_int_equal(c.frame, c.mixer.slots[0].source);
+        assert_true(c.state->transition.mixer.count >= 1 &&
+                    c.state->transition.mixer.count <= MM_MIXER_SLOTS);
+        assert_true(fabsf(mm_mixer_weight_sum(&c.state->transition.mixer) - 1.0f) < 1e-5f);
+        assert_int_equal(c.frame, c.state->transition.mixer.slots[0].source);
         float jump = 0.0f;
         for (int j = 0; j < db.joint_count; ++j) { /* the animated pose before IK, in the root's frame */
             model[j] = j == 0 ? mm_xform_identity()
                               : mm_xform_mul(model[db.joints[j].parent],
-                                             mm_xform_make(c.pose_rotations[j], c.pose_positions[j]));
+                                             mm_xform_make(c.state->transition.rotations[j],
+                                                           c.state->transition.positions[j]));
             mm_vec3 p = model[j].translation;
             assert_true(isfinite(p.x) && isfinite(p.y) && isfinite(p.z));
-            assert_true(mm_vec3_length(c.rotation_offset[j]) == 0.0f);
+            assert_true(mm_vec3_length(c.state->transition.rotation_offset[j]) == 0.0f);
             if (i > 0) jump = fmaxf(jump, mm_vec3_distance(p, prev[j]));
             prev[j] = p;
         }
         if (c.transitions > before) {
-            assert_true(c.mixer.slots[0].weight == 0.0f);
+            assert_true(c.state->transition.mixer.slots[0].weight == 0.0f);
             if (!evicting) jump_at_transition = fmaxf(jump_at_transition, jump);
         } else {
             jump_else = fmaxf(jump_else, jump);
@@ -1092,7 +1106,7 @@ static void crossfade_run(float crossfade_time, float search_interval, mm_xform 
     if (last) memcpy(last, c.global, sizeof(mm_xform) * (size_t)db.joint_count);
     *transitions = c.transitions;
     *cancelled = c.cancelled_transitions;
-    assert_int_equal(c.mixer.cancelled, c.cancelled_transitions);
+    assert_int_equal(c.state->transition.mixer.cancelled, c.cancelled_transitions);
     free(prev);
     free(model);
     mm_input_script_free(&script);

@@ -9,6 +9,8 @@
 #include <mm/spring.h>
 #include <mm/trajectory.h>
 
+#include "runtime/character/state.h"
+
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -1046,7 +1048,7 @@ static void test_orientation_controller(void **state)
         mm_xform *pose = test_malloc(sizeof(mm_xform) * (size_t)db.joint_count);
         for (int tick = 0; tick < 600; ++tick) {
             mm_character_update(&c, &in, dt);
-            float a = c.orientation_angle;
+            float a = c.state->warping.orientation_angle;
             if (!strafe) assert_true(a == 0.0f);
             assert_true(fabsf(a) <= 0.6f + 1e-6f);
             assert_true(fabsf(a - previous) <= bound);
@@ -1055,8 +1057,9 @@ static void test_orientation_controller(void **state)
             if (fabsf(a) < 0.05f) continue;
             pose[0] = c.root;
             for (int j = 1; j < db.joint_count; ++j)
-                pose[j] = mm_xform_mul(pose[db.joints[j].parent],
-                                       mm_xform_make(c.pose_rotations[j], c.pose_positions[j]));
+                pose[j] =
+                    mm_xform_mul(pose[db.joints[j].parent], mm_xform_make(c.state->transition.rotations[j],
+                                                                          c.state->transition.positions[j]));
             assert_near(mm_quat_angle_between(c.global[hips].rotation,
                                               mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), a),
                                                           pose[hips].rotation)),
@@ -1109,7 +1112,7 @@ static void test_stride_controller(void **state)
     const double drop_step = (1.0 - exp2(-dt / 0.05)) * 1.0 + 1e-5;
     float scale = 1.0f, drop = 0.0f;
     int previous_playback = MM_PLAYBACK_CLOCK, smoothed = 0, dropped = 0;
-    const int pelvis = c.pelvis_joint;
+    const int pelvis = c.state->rig.pelvis;
     assert_true(pelvis > 0);
     for (int tick = 0; tick < 1200; ++tick) {
         mm_input in;
@@ -1119,20 +1122,20 @@ static void test_stride_controller(void **state)
         in.stick[0] = on ? 0.3f : 0.0f;
         mm_character_update(&c, &in, dt);
         assert_true(c.stride_scale >= d.stride_min - 1e-6f && c.stride_scale <= d.stride_max + 1e-6f);
-        assert_true(c.stride_drop >= 0.0f && c.stride_drop <= 1.0f);
+        assert_true(c.state->warping.stride_drop >= 0.0f && c.state->warping.stride_drop <= 1.0f);
         if (c.playback != MM_PLAYBACK_CYCLE && previous_playback != MM_PLAYBACK_CYCLE &&
             c.stride_scale != 1.0f && scale != 1.0f) {
             assert_true(fabsf(c.stride_scale - scale) <= scale_step);
             ++smoothed;
         }
-        assert_true(fabsf(c.stride_drop - drop) <= drop_step);
-        if (c.stride_drop > 0.0f) {
-            mm_vec3 lowered = mm_vec3_sub(c.pose_positions[pelvis], c.local_positions[pelvis]);
+        assert_true(fabsf(c.state->warping.stride_drop - drop) <= drop_step);
+        if (c.state->warping.stride_drop > 0.0f) {
+            mm_vec3 lowered = mm_vec3_sub(c.state->transition.positions[pelvis], c.local_positions[pelvis]);
             mm_vec3 world = mm_quat_rotate(c.global[db.joints[pelvis].parent].rotation, lowered);
-            assert_near(world.y, c.stride_drop, 1e-4);
+            assert_near(world.y, c.state->warping.stride_drop, 1e-4);
             ++dropped;
         }
-        scale = c.stride_scale, drop = c.stride_drop;
+        scale = c.stride_scale, drop = c.state->warping.stride_drop;
         previous_playback = c.playback;
     }
     printf("smoothed scale ticks %d, dropped ticks %d\n", smoothed, dropped);

@@ -11,6 +11,8 @@
 #include <mm/moves.h>
 #include <mm/scene_json.h>
 
+#include "runtime/character/state.h"
+
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -98,10 +100,10 @@ static void run(const mm_database *db, const mm_searcher *searcher, const char *
         if (started && !was_started && out->entries < 16) {
             float worst = 0.0f, legs = 0.0f;
             for (int j = 1; j < db->joint_count; ++j) {
-                worst = fmaxf(worst, mm_vec3_length(c.rotation_offset[j]));
+                worst = fmaxf(worst, mm_vec3_length(c.state->transition.rotation_offset[j]));
                 if (strstr(db->joints[j].name, "Leg") || strstr(db->joints[j].name, "Foot") ||
                     strstr(db->joints[j].name, "Toe"))
-                    legs += mm_vec3_length(c.rotation_offset[j]);
+                    legs += mm_vec3_length(c.state->transition.rotation_offset[j]);
             }
             out->entry_legs_deg[out->entries] = legs * (float)(180.0 / MM_PI);
             out->entry_offset_deg[out->entries++] = worst * (float)(180.0 / MM_PI);

@@ -484,7 +484,7 @@ static void test_tuning_steps_select_and_clamp(void **state)
     mm_pose_data pose;
     mm_database_pose(&fx.db, 0, &pose);
     assert_int_equal(t.count, 4 + 2 * pose.bone_count + 4 + 10);
-    assert_ptr_equal(t.entries[0].value, &fx.ch.desc.params.pose_trajectory_ratio);
+    assert_ptr_equal(t.entries[0].value, &t.desc.params.pose_trajectory_ratio);
     /* the ratio: steps of 0.05 within [0, 1] */
     float r0 = fx.ch.desc.params.pose_trajectory_ratio;
     mm_view_tuning_step(&t, 1);
@@ -493,20 +493,19 @@ static void test_tuning_steps_select_and_clamp(void **state)
     assert_float_equal(fx.ch.desc.params.pose_trajectory_ratio, 1.0f, 0.0f);
     /* a weight: by factors of 1.25, down to 0 never below, and back up from zero */
     mm_view_tuning_select(&t, 1);
-    assert_ptr_equal(t.entries[t.selected].value, &fx.ch.desc.params.body_velocity_weight);
+    assert_ptr_equal(t.entries[t.selected].value, &t.desc.params.body_velocity_weight);
     float w0 = fx.ch.desc.params.body_velocity_weight;
     mm_view_tuning_step(&t, -2);
     assert_float_equal(fx.ch.desc.params.body_velocity_weight, w0 / 1.5625f, 1e-6f * (1.0f + w0));
-    fx.ch.desc.params.body_velocity_weight = 0.0f;
+    t.desc.params.body_velocity_weight = 0.0f;
     mm_view_tuning_step(&t, -1);
     assert_float_equal(fx.ch.desc.params.body_velocity_weight, 0.0f, 0.0f);
     mm_view_tuning_step(&t, 1);
     assert_float_equal(fx.ch.desc.params.body_velocity_weight, 0.1f, 1e-6f);
-    /* selection wraps both ways; the last entries are the run gait's, in the trajectory's copy */
+    /* selection wraps both ways; the last entries are the run gait's */
     mm_view_tuning_select(&t, -2);
     assert_int_equal(t.selected, t.count - 1);
-    assert_ptr_equal(t.entries[t.selected].value,
-                     &fx.ch.trajectory.desc.gaits[MM_GAIT_RUN].rotation_halflife);
+    assert_ptr_equal(t.entries[t.selected].value, &t.desc.trajectory.gaits[MM_GAIT_RUN].rotation_halflife);
     mm_view_tuning_select(&t, 1);
     assert_int_equal(t.selected, 0);
     /* the text: five lines, the selected one in the middle and marked */
@@ -525,9 +524,9 @@ static void test_tuning_steps_select_and_clamp(void **state)
     memset(&in, 0, sizeof in);
     in.stick[1] = 1.0f;
     mm_vec3 v;
-    mm_trajectory_desired(&fx.ch.trajectory, &in, &v, NULL);
-    assert_float_equal(mm_vec3_length(v), fx.ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1e-5f);
-    assert_float_equal(fx.ch.trajectory.desc.gaits[MM_GAIT_WALK].forward_speed, 1.0f, 1e-5f);
+    mm_trajectory_desired(fx.ch.trajectory, &in, &v, NULL);
+    assert_float_equal(mm_vec3_length(v), fx.ch.trajectory->desc.gaits[MM_GAIT_WALK].forward_speed, 1e-5f);
+    assert_float_equal(fx.ch.trajectory->desc.gaits[MM_GAIT_WALK].forward_speed, 1.0f, 1e-5f);
     synth_character_free(&fx);
 }
 

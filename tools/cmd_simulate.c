@@ -253,7 +253,7 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_input in;
         mm_input_script_sample_tick(&script, (float)t, (float)(1.0 / fps), &in);
         mm_vec3 desired;
-        mm_trajectory_desired(&c.trajectory, &in, &desired, NULL);
+        mm_trajectory_desired(c.trajectory, &in, &desired, NULL);
         motion_metrics_input(&mx, t, &in, desired);
         double start = cli_now();
         mm_moves_update(&moves, &c, &in, dt);
@@ -272,7 +272,7 @@ int mm_cmd_simulate(int argc, char **argv)
         memcpy(mm_clip_positions(&clip, f), c.local_positions, sizeof(mm_vec3) * (size_t)n);
         for (int j = 0; j < n; ++j) world[j] = c.global[j].translation;
         motion_metrics_frame(&mx, t, world, db.contacts[c.frame], c.raw_contact_positions,
-                             c.trajectory.position, motion_metrics_yaw(c.trajectory.facing),
+                             c.trajectory->position, motion_metrics_yaw(c.trajectory->facing),
                              c.root.translation, motion_metrics_yaw(c.root.rotation), frame_us);
     }
     mm_bvh_write_desc wd;

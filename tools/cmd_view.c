@@ -172,12 +172,11 @@ static mm_result desc_from_config(mm_character_desc *d, const mm_database *db, c
     return r;
 }
 
-/* The live values: the search parameters are c->desc's own; the trajectory's are its copy. */
-static mm_result save_tuning(mm_character *c, const mm_database *db, const char *config, mm_error *err)
+/* The live values: the tuning's copy of the desc. */
+static mm_result save_tuning(const mm_view_tuning *t, const mm_database *db, const char *config,
+                             mm_error *err)
 {
-    c->desc.trajectory = c->trajectory.desc;
-    c->desc.has_trajectory = true;
-    return mm_config_save_tuning(config, db, &c->desc, err);
+    return mm_config_save_tuning(config, db, &t->desc, err);
 }
 
 static double monotonic_seconds(void) { return glfwGetTime(); }
@@ -240,7 +239,8 @@ static int view_database(const options *o)
     mm_view_tuning_init(&tuning, &c);
     window win;
     if ((status = open_window(&win, o, "mm view")) != 0) goto done_character;
-    c.desc.clock = monotonic_seconds; /* GLFW's clock works once a window is open */
+    tuning.desc.clock = monotonic_seconds; /* GLFW's clock works once a window is open */
+    mm_character_tune(&c, &tuning.desc);
     mm_view_flags flags;
     mm_view_flags_defaults(&flags);
     bool text = true;
@@ -272,14 +272,15 @@ static int view_database(const options *o)
         if (take(&win, GLFW_KEY_F5)) {
             if (!o->config)
                 snprintf(message, sizeof message, "start with --config CONFIG.json to save");
-            else if (save_tuning(&c, &db, o->config, &err) != MM_OK)
+            else if (save_tuning(&tuning, &db, o->config, &err) != MM_OK)
                 snprintf(message, sizeof message, "not saved: %.200s", err.message);
             else
                 snprintf(message, sizeof message, "saved into %.200s", o->config);
         }
         if (take(&win, GLFW_KEY_R)) {
+            mm_character_desc tuned = tuning.desc; /* the character starts again, as tuned */
             mm_character_free(&c);
-            if (mm_character_init(&c, &db, &searcher, &c.desc, &err) != MM_OK) {
+            if (mm_character_init(&c, &db, &searcher, &tuned, &err) != MM_OK) {
                 status = cli_report(&err);
                 break;
             }

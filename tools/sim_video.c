@@ -36,7 +36,7 @@ mm_result sim_video_tick(sim_video *s, const mm_character *c, const mm_input *in
        lags at constant velocity (v * halflife / ln 2) keeps a moving character in the middle */
     const float halflife = 0.5f;
     mm_vec3 aim =
-        mm_vec3_add(c->root.translation, mm_vec3_scale(c->trajectory.velocity, halflife / 0.6931472f));
+        mm_vec3_add(c->root.translation, mm_vec3_scale(c->trajectory->velocity, halflife / 0.6931472f));
     mm_camera_follow(&s->camera, mm_vec3_make(aim.x, 0.9f, aim.z), s->frames == 0 ? 0.0f : halflife,
                      (float)s->tick_seconds);
     if (s->time + 1e-9 < s->next_frame) return MM_OK;

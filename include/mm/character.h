@@ -32,13 +32,20 @@
  * mm_character_desc_apply_config writes it into a desc.
  *
  * Moves (mm/moves.h) play a clip through mm_character_play_move: no search until its end frame,
- * root motion as animated (not pulled toward the simulation); the move layer may change c->root
- * between ticks (the body moves with it) and mm_character_shift_root moves the root under a
- * pose that stays where it is. The root's height is kept from tick to tick (0 unless changed).
+ * root motion as animated (not pulled toward the simulation); the move layer may set the root
+ * between ticks (mm_character_set_root: the body moves with it) and mm_character_shift_root moves
+ * the root under a pose that stays where it is. The root's height is kept from tick to tick (0
+ * unless changed).
+ *
+ * The tick runs in stages (src/runtime/character/, one module each): input -> trajectory,
+ * playback, search, transition, root motion, warping, feet, pose.
  *
  * Functions: mm_character_defaults mm_character_default_params mm_character_desc_apply_config
- *            mm_character_init mm_character_free mm_character_update mm_character_play_move
- *            mm_character_move_playing mm_character_shift_root
+ *            mm_character_init mm_character_free mm_character_update mm_character_tune
+ *            mm_character_play_move
+ *            mm_character_move_playing mm_character_shift_root mm_character_set_root
+ *            mm_character_move_foot_locks mm_character_translate mm_character_teleport_simulation
+ *            mm_character_push_simulation mm_character_halt_simulation
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -168,84 +175,53 @@ typedef enum mm_character_playback {
     MM_PLAYBACK_CYCLE = 4,    /* a loop at desired speed / clip speed */
 } mm_character_playback;
 
+/* The stages' state (src/runtime/character/state.h): private to the runtime. */
+typedef struct mm_character_state mm_character_state;
+
+/* A character. Every field is written by the runtime only (mm_character_* functions); users read
+ * them after mm_character_init and each mm_character_update. */
 typedef struct mm_character {
     const mm_database *db;
     const mm_searcher *searcher;
-    mm_character_desc desc;
-    mm_trajectory trajectory;
+    mm_character_desc desc;          /* as given to mm_character_init, defaults filled in */
+    const mm_trajectory *trajectory; /* the simulated character (mm/trajectory.h) */
 
-    int frame;             /* database frame playing */
-    double frame_fraction; /* [0, 1): how far toward the next frame (double: it accumulates
-                              dt / interval every tick and must not drift) */
-    float since_search;    /* s */
-    float last_direction;  /* rad: desired direction at the last search */
-    bool idle;             /* asking for idle */
-    mm_xform root;         /* the character on the ground: position and facing (joint 0) */
-    /* root motion played (database root velocity in the character's frame, m/s, and yaw rate,
-     * rad/s, plus their inertialization offsets, which decay like the joints') */
-    mm_vec3 root_velocity, root_velocity_offset, root_velocity_offset_rate;
-    float root_yaw_rate, root_yaw_rate_offset, root_yaw_rate_offset_rate;
+    /* the output pose: local rotations and positions ([joint_count]; joint 0 is the root, in the
+     * world) and the world transforms ([joint_count]) */
+    const mm_quat *local_rotations;
+    const mm_vec3 *local_positions;
+    const mm_xform *global;
+    mm_xform root; /* the character on the ground: position and facing (joint 0) */
 
-    /* per joint (joint_count): the pose played, inertialization offsets and their velocities,
-     * the last output (for velocities), and the global output pose */
-    mm_quat *local_rotations;
-    mm_vec3 *local_positions;
-    mm_vec3 *rotation_offset, *rotation_offset_velocity; /* rotation vectors, rad and rad/s */
-    mm_vec3 *position_offset, *position_offset_velocity;
-    mm_quat *previous_rotations;
-    mm_vec3 *previous_positions;
-    mm_xform *global; /* [joint_count] world transforms, joint 0 the root */
+    /* playback: the database frame playing and how far toward the next ([0, 1)), how the playhead
+     * moved this tick, the play rate (1 without distance matching) and the stride scale (1: not
+     * warped) */
+    int frame;
+    double frame_fraction;
+    mm_character_playback playback;
+    float play_rate, stride_scale;
+    bool idle;         /* asking for idle */
+    bool move_playing; /* a move plays (mm_character_play_move) */
 
-    /* the animated pose (database plus inertialization) of this tick and the last, before foot
-     * IK: transitions are inertialized on it, so that IK does not leak into the offsets */
-    mm_quat *pose_rotations, *pose_previous_rotations;
-    mm_vec3 *pose_positions, *pose_previous_positions;
+    /* feet: ankle and toe joints (-1 when missing), whether each foot is held and where its ankle
+     * is held this tick, and the ankles and toes before foot IK (left ankle, left toe, right
+     * ankle, right toe; for the foot-slide measure) */
+    int foot_joint[2], toe_joint[2];
+    bool foot_locked[2];
+    mm_vec3 foot_lock[2];
+    mm_vec3 raw_contact_positions[4];
 
-    /* feet: ankle and toe joints (-1 when missing), the joint lowered when the legs cannot reach
-     * (-1: none), lock state and targets, and the ankle and toe positions before IK (for the
-     * foot-slide measure). foot_locked/foot_lock: the foot is held, and where its ankle is held
-     * this tick. The heel lock holds the ankle; the toe lock holds the toe, the ankle turning
-     * about it as animated; with both, the foot turns so that the toe stays on its lock too
-     * (foot_turn: the rotation added to the animated foot, a rotation vector, rad; it fades
-     * once a lock is let go). */
-    int foot_joint[2], toe_joint[2], pelvis_joint;
-    bool foot_locked[2], heel_locked[2], toe_locked[2];
-    mm_vec3 foot_lock[2], heel_lock[2], toe_lock[2], foot_offset[2], foot_offset_velocity[2];
-    mm_vec3 foot_turn[2], foot_turn_velocity[2];
-    bool foot_placed; /* foot_lock holds last tick's ankle targets (plant_time eases from them) */
-    float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
-    mm_vec3 raw_contact_positions[4];  /* left ankle, left toe, right ankle, right toe before IK */
-    uint64_t gait_tags[MM_GAIT_COUNT]; /* tags named after each gait ("Walk", "Run", ...) */
-    /* distance matching and warping: how playback advanced this tick (mm_character_playback),
-     * the play rate (1 without distance matching) and the stride scale (1: not warped), the
-     * pelvis drop stride warping needed, and the tag that turns both off per frame */
-    int playback;
-    float play_rate, stride_scale, stride_drop;
-    float orientation_angle;    /* rad about +Y: the lower body's turn by orientation warping */
-    float orientation_velocity; /* rad/s: its rate */
-    uint64_t no_distance_tag;
-    float *query; /* [dims_padded] */
-
-    /* a move (mm_character_play_move): one to start on the next update (at move_frame), one
-     * playing, the frame where it hands back to matching, its transition half-life */
-    bool move_pending, move_playing;
-    int move_frame, move_end;
-    float move_halflife;
-
-    /* statistics */
-    int searches, transitions;
+    /* statistics: searches, transitions, the winners the crossfade mixer cancelled, the last
+     * search's time (desc.clock), result, the parameters it weighed with (desc.params as adjusted
+     * for that tick) and its query ([dims_padded]) */
+    int searches, transitions, cancelled_transitions;
     float last_search_us;
     mm_search_result last_result;
-    mm_search_params last_params; /* what the last search weighed with (desc.params as adjusted
-                                     for that tick: the velocity-change weights, the gait tags) */
+    mm_search_params last_params;
+    const float *query;
+
+    mm_character_state *state;
     mm_allocator allocator;
-    /* crossfade mode: the mixer (its slot 0 is frame and frame_fraction), the slots' poses
-     * ([MM_MIXER_SLOTS * joint_count]; rotations one pose more, the blend's reference) and the
-     * search winners the mixer cancelled */
-    mm_mixer mixer;
-    mm_quat *slot_rotations;
-    mm_vec3 *slot_positions;
-    int cancelled_transitions;
 } mm_character;
 
 /* Allocates everything the character will ever need (no allocation happens in update). The
@@ -272,9 +248,34 @@ void mm_character_play_move(mm_character *c, int frame, int end_frame, float hal
 /* True from mm_character_play_move until the move hands back to matching. */
 bool mm_character_move_playing(const mm_character *c);
 
+/* Changes the tuning live, from the next update: d's search parameters and method, timing,
+ * idle, sync, angle and foot fields, distance matching and warping switches and clamps, clock,
+ * and (when d->has_trajectory) the simulation's gait parameters. What init laid out stays (the
+ * feet's joints, the transition mode, the allocator). NULL is ignored. */
+void mm_character_tune(mm_character *c, const mm_character_desc *d);
+
 /* Moves the root by delta (world, metres) while the body stays where it is: the difference is
  * taken into the offsets of the root's children, which decay as a transition's do. */
 void mm_character_shift_root(mm_character *c, mm_vec3 delta);
+
+/* Puts the root (the character on the ground) at `root` between ticks: the next update moves the
+ * body from there. A non-finite root is ignored. */
+void mm_character_set_root(mm_character *c, mm_xform root);
+
+/* Moves the feet's locks by delta (world, metres): what a planted foot holds moves with the
+ * ground it stands on (a character lifted over a wall). */
+void mm_character_move_foot_locks(mm_character *c, mm_vec3 delta);
+
+/* Moves the whole character by delta after its tick: the root, the output pose, the contacts and
+ * the simulation (a rigid translation; nothing is blended). */
+void mm_character_translate(mm_character *c, mm_vec3 delta);
+
+/* The simulation: moved to position and facing with its recorded past (mm_trajectory_teleport);
+ * moved to position alone, its past and velocity kept (a collider pushing it out of a wall); or
+ * halted (its velocity zeroed). */
+void mm_character_teleport_simulation(mm_character *c, mm_vec3 position, mm_quat facing);
+void mm_character_push_simulation(mm_character *c, mm_vec3 position);
+void mm_character_halt_simulation(mm_character *c);
 
 #ifdef __cplusplus
 }

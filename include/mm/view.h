@@ -90,8 +90,9 @@ typedef struct mm_view_keys {
 void mm_view_input(const mm_view_keys *k, float camera_yaw, mm_input *out);
 
 /* Live tuning: a list of the character's cost weights (mm_search_params), favours, search and
- * transition timing, and trajectory parameters per gait (the trajectory's own copy, which is
- * what its update reads), one of them selected, changed in steps. */
+ * transition timing, and trajectory parameters per gait, one of them selected, changed in steps on
+ * a copy of the character's desc (desc, with the trajectory's gait parameters and has_trajectory
+ * set) that each step hands to the character (mm_character_tune). */
 #define MM_VIEW_TUNING_MAX 48
 
 typedef struct mm_view_tuning_entry {
@@ -105,13 +106,16 @@ typedef struct mm_view_tuning_entry {
 typedef struct mm_view_tuning {
     mm_view_tuning_entry entries[MM_VIEW_TUNING_MAX];
     int count, selected;
+    mm_character_desc desc; /* the values tuned */
+    mm_character *character;
 } mm_view_tuning;
 
-/* Points the entries at c's values (c must outlive t and not move). */
+/* Copies c's tuning into t->desc and points the entries at it (c must outlive t and not move). */
 void mm_view_tuning_init(mm_view_tuning *t, mm_character *c);
 /* Moves the selection by delta entries, wrapping around. */
 void mm_view_tuning_select(mm_view_tuning *t, int delta);
-/* Changes the selected value by direction steps (negative: down), clamped to its range. */
+/* Changes the selected value by direction steps (negative: down), clamped to its range, and hands
+ * the tuning to the character. */
 void mm_view_tuning_step(mm_view_tuning *t, int direction);
 /* The selected entry with its neighbours, one per line, the selected one marked '>'. Returns the
  * length written (truncated to n). */

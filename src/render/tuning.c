@@ -21,7 +21,11 @@ static void add(mm_view_tuning *t, const char *name, float *value, float step, b
 void mm_view_tuning_init(mm_view_tuning *t, mm_character *c)
 {
     memset(t, 0, sizeof *t);
-    mm_search_params *p = &c->desc.params;
+    t->character = c;
+    t->desc = c->desc;
+    t->desc.trajectory = c->trajectory->desc;
+    t->desc.has_trajectory = true;
+    mm_search_params *p = &t->desc.params;
     const mm_database *db = c->db;
     add(t, "pose_trajectory_ratio", &p->pose_trajectory_ratio, 0.05f, false, 0.0f, 1.0f);
     add(t, "body_velocity_weight", &p->body_velocity_weight, 1.25f, true, 0.0f, 100.0f);
@@ -41,11 +45,11 @@ void mm_view_tuning_init(mm_view_tuning *t, mm_character *c)
     }
     add(t, "next_pose_favour", &p->next_pose_favour, 0.05f, false, 0.05f, 1.0f);
     add(t, "loop_anim_favour", &p->loop_anim_favour, 0.05f, false, 0.05f, 1.0f);
-    add(t, "search_interval", &c->desc.search_interval, 0.02f, false, 0.02f, 2.0f);
-    add(t, "transition_halflife", &c->desc.transition_halflife, 0.02f, false, 0.02f, 2.0f);
+    add(t, "search_interval", &t->desc.search_interval, 0.02f, false, 0.02f, 2.0f);
+    add(t, "transition_halflife", &t->desc.transition_halflife, 0.02f, false, 0.02f, 2.0f);
     static const char *gaits[2] = {"walk", "run"};
     for (int g = 0; g < 2; ++g) {
-        mm_gait_params *gp = &c->trajectory.desc.gaits[g];
+        mm_gait_params *gp = &t->desc.trajectory.gaits[g];
         snprintf(name, sizeof name, "%s.forward_speed", gaits[g]);
         add(t, name, &gp->forward_speed, 0.1f, false, 0.0f, 12.0f);
         snprintf(name, sizeof name, "%s.side_speed", gaits[g]);
@@ -78,6 +82,7 @@ void mm_view_tuning_step(mm_view_tuning *t, int direction)
         v += e->step * (float)direction;
     }
     *e->value = fminf(fmaxf(v, e->min), e->max);
+    mm_character_tune(t->character, &t->desc);
 }
 
 size_t mm_view_tuning_text(const mm_view_tuning *t, char *out, size_t n)

@@ -125,7 +125,7 @@ void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const
             /* 1 s ahead or behind, the first sample now */
             for (int i = 0; i < PATH_SAMPLES; ++i)
                 times[i] = (pass == 0 ? 1.0f : -1.0f) * (float)i / (PATH_SAMPLES - 1);
-            mm_trajectory_sample(&c->trajectory, in, times, PATH_SAMPLES, positions, facings);
+            mm_trajectory_sample(c->trajectory, in, times, PATH_SAMPLES, positions, facings);
             for (int i = 0; i < PATH_SAMPLES; ++i)
                 directions[i] = mm_quat_rotate(facings[i], mm_vec3_make(0, 0, 1));
             add_path(v, positions, directions, PATH_SAMPLES, pass == 0 ? predicted_color : past_color);
@@ -238,8 +238,8 @@ size_t mm_view_overlay(char *out, size_t n, const mm_character *c, const mm_inpu
     size_t at = 0;
     at = append(out, n, at, "clip %s  frame %d/%d  t %.2f s\n", clip->name, in_clip, clip->frame_count,
                 (double)((float)in_clip * db->interval));
-    float speed = sqrtf(c->trajectory.velocity.x * c->trajectory.velocity.x +
-                        c->trajectory.velocity.z * c->trajectory.velocity.z);
+    float speed = sqrtf(c->trajectory->velocity.x * c->trajectory->velocity.x +
+                        c->trajectory->velocity.z * c->trajectory->velocity.z);
     const char *gait = in ? mm_gait_name(in->gait) : NULL;
     at = append(out, n, at, "gait %s%s  speed %.2f m/s%s\n", gait ? gait : "walk",
                 in && in->strafe ? " strafe" : "", (double)speed, c->idle ? "  idle" : "");

@@ -854,7 +854,7 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
         mm_xform correction;
         mm_xform pred = predict(m, c, m->match[k].bone, t, m->match[k].end_time);
         if (mm_target_match_step(&m->match[k], t, dt, pred, &correction))
-            c->root = mm_xform_mul(correction, c->root);
+            mm_character_set_root(c, mm_xform_mul(correction, c->root));
     }
     /* the schedule, raised where the pose about to play would cut into a box's top (a trailing leg
      * over a wall, a toe on its edge); the lift rises at once and settles back smoothly */
@@ -873,15 +873,14 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
     m->lift = fminf(fminf(kept + need, m->lift + LIFT_RATE * dt), 0.6f);
     m->planned_lift = plan_lift(m, c, t, dt);
     float lift = fmaxf(m->lift, m->planned_lift);
-    c->root.translation.y = y + lift;
+    mm_xform root = c->root;
+    root.translation.y = y + lift;
+    mm_character_set_root(c, root);
     /* the lift raises the whole body: the feet's locks with it (a foot the clip has planted on
      * what it stepped onto would otherwise stay held inside the wall) */
-    for (int k = 0; k < 2; ++k) {
-        c->heel_lock[k].y += lift - m->applied_lift;
-        c->toe_lock[k].y += lift - m->applied_lift;
-    }
+    mm_character_move_foot_locks(c, mm_vec3_make(0.0f, lift - m->applied_lift, 0.0f));
     m->applied_lift = lift;
-    mm_trajectory_teleport(&c->trajectory, c->root.translation, c->root.rotation);
+    mm_character_teleport_simulation(c, c->root.translation, c->root.rotation);
 }
 
 static float lower_ankle(const mm_character *c)
@@ -946,7 +945,7 @@ static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 roo
             sqrtf(m->land_error * m->land_error + (feet - m->land_target.y) * (feet - m->land_target.y));
     if (ground_at(m, mm_vec3_make(r.x, feet, r.z), m->desc.step_height, INFINITY, &h))
         mm_character_shift_root(c, mm_vec3_make(0.0f, h - r.y, 0.0f));
-    mm_trajectory_teleport(&c->trajectory, c->root.translation, c->root.rotation);
+    mm_character_teleport_simulation(c, c->root.translation, c->root.rotation);
     m->current.t_end = (float)m->time;
     m->current.target_error_cm = 100.0f * fmaxf(m->hand_error, m->land_error);
     m->last = m->current;
@@ -970,7 +969,9 @@ static void keep_on_ground(mm_moves *m, mm_character *c, float dt)
             m->fall_velocity = 0.0f;
         } else if (r.y - h > 1e-4f) { /* nothing under the feet: fall */
             m->fall_velocity += d->gravity * dt;
-            c->root.translation.y = fmaxf(h, r.y - m->fall_velocity * dt);
+            mm_xform root = c->root;
+            root.translation.y = fmaxf(h, r.y - m->fall_velocity * dt);
+            mm_character_set_root(c, root);
             if (c->root.translation.y <= h) m->fall_velocity = 0.0f;
         } else {
             m->fall_velocity = 0.0f;
@@ -984,7 +985,7 @@ static void keep_on_ground(mm_moves *m, mm_character *c, float dt)
         if (box->position.y + box->size.y <= y + d->step_height || box->position.y >= y + 1.8f) continue;
         float sn = sinf(box->yaw), cs = cosf(box->yaw), hx = 0.5f * box->size.x, hz = 0.5f * box->size.z;
         for (int which = 0; which < 2; ++which) { /* the root, and the simulation with it */
-            mm_vec3 *p = which == 0 ? &c->root.translation : &c->trajectory.position;
+            mm_vec3 moved = which == 0 ? c->root.translation : c->trajectory->position, *p = &moved;
             float px = p->x - box->position.x, pz = p->z - box->position.z;
             float lx = cs * px - sn * pz, lz = sn * px + cs * pz;
             float cx = clampf(lx, -hx, hx), cz = clampf(lz, -hz, hz);
@@ -999,6 +1000,13 @@ static void keep_on_ground(mm_moves *m, mm_character *c, float dt)
             }
             p->x += cs * ex + sn * ez; /* back to the world: turn by +yaw */
             p->z += -sn * ex + cs * ez;
+            if (which == 0) {
+                mm_xform root = c->root;
+                root.translation = moved;
+                mm_character_set_root(c, root);
+            } else {
+                mm_character_push_simulation(c, moved);
+            }
         }
     }
 }
@@ -1010,20 +1018,15 @@ static void stay_on_ledge(mm_moves *m, mm_character *c, const mm_input *in, mm_v
 {
     const mm_moves_desc *d = &m->desc;
     mm_vec3 desired = mm_vec3_make(0, 0, 0);
-    if (in) mm_trajectory_desired(&c->trajectory, in, &desired, NULL);
+    if (in) mm_trajectory_desired(c->trajectory, in, &desired, NULL);
     float h;
     if (mm_vec3_length(flat(desired)) > 0.5f || m->fall_velocity != 0.0f) return;
     if (!ground_at(m, before, d->step_height, d->step_height, &h)) return; /* not on the ground */
     if (ground_at(m, c->root.translation, d->step_height, d->step_height, &h)) return;
     mm_vec3 back = mm_vec3_make(before.x - c->root.translation.x, 0.0f, before.z - c->root.translation.z);
     /* the whole body back by the step it took (a translation: the pose unchanged) */
-    c->root.translation = mm_vec3_add(c->root.translation, back);
-    c->local_positions[0] = c->root.translation;
-    for (int j = 0; j < m->db->joint_count; ++j)
-        c->global[j].translation = mm_vec3_add(c->global[j].translation, back);
-    for (int k = 0; k < 4; ++k) c->raw_contact_positions[k] = mm_vec3_add(c->raw_contact_positions[k], back);
-    c->trajectory.position = mm_vec3_add(c->trajectory.position, back);
-    c->trajectory.velocity = mm_vec3_make(0, 0, 0);
+    mm_character_translate(c, back);
+    mm_character_halt_simulation(c);
 }
 
 /* s: the least time after a move before a drop at a ledge (locomotion has searched again) */
@@ -1034,7 +1037,7 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
 {
     const mm_moves_desc *d = &m->desc;
     mm_vec3 root = c->root.translation, desired = mm_vec3_make(0, 0, 0), land;
-    if (in) mm_trajectory_desired(&c->trajectory, in, &desired, NULL);
+    if (in) mm_trajectory_desired(c->trajectory, in, &desired, NULL);
     desired = flat(desired);
     float speed = mm_vec3_length(desired), h;
     mm_vec3 facing = flat(mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1)));

@@ -1,0 +1,474 @@
+/* The character: its desc, its life cycle, the tick as a list of stages (one module each in this
+ * folder), and what the move layer may do to it between ticks. No allocation after
+ * mm_character_init. */
+#include <mm/character.h>
+
+#include <math.h>
+#include <stdalign.h>
+#include <string.h>
+
+#include <mm/distance.h>
+
+#include "state.h"
+
+void mm_character_defaults(mm_character_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->search_interval = 0.1f;
+    d->turn_threshold = 0.5f;
+    d->transition_halflife = 0.2f; /* 0.1 s left hand pops of 32 cm on LAFAN1, 0.2 s 10-12 cm */
+    d->crossfade_time = 0.2f;
+    d->idle_speed = 0.15f;
+    d->idle_hysteresis = 0.1f;
+    d->idle_root_speed = 1.0f; /* LAFAN1: demo slide 6.1 -> 5.2 cm/s; 0.5 and 0.3 hurt stop_and_go */
+    d->sync_halflife = 0.3f;
+    d->sync_max_distance = 0.3f;
+    d->sync_max_angle = 0.6f;
+    d->angle_threshold = 0.35f;
+    d->angle_revise_speed = 0.0f; /* off: 0.2-0.5 rad/s was measured to triple foot slide on LAFAN1 walks */
+    d->skip_frames = 3;
+    d->velocity_change_ratio = 0.9f; /* LAFAN1: docs/metrics.md, "What got it there" */
+    d->velocity_change_speed = 2.0f;
+    /* 0.2 m: 5.7 cm/s mean foot slide over the shipped scripts on LAFAN1 and 10.1 on the built-in
+     * set, 0.4 m: 4.7 and 9.0 (the legs' length still bounds how far a lock can be held) */
+    d->unlock_radius = 0.4f;
+    d->foot_halflife = 0.1f;
+    d->plant_time = 0.033f; /* LAFAN1 mean slide 0.80 -> 0.52 cm/s; 0.05 / 0.1 s: 0.54 / 0.70 */
+    d->max_hip_drop = 0.1f;
+    d->left_foot = "LeftFoot";
+    d->right_foot = "RightFoot";
+    d->method = MM_SEARCH_FAST;
+    d->distance_matching = false; /* measured on LAFAN1: docs/distance.md "In the controller" */
+    d->warping = false;
+    d->rate_min = MM_DISTANCE_RATE_MIN_DEFAULT;
+    d->rate_max = MM_DISTANCE_RATE_MAX_DEFAULT;
+    d->stride_min = 0.8f;
+    d->stride_max = 1.2f;
+    d->orientation_speed = 10.0f;
+    d->orientation_max = MM_WARP_ORIENTATION_MAX_DEFAULT;
+}
+
+void mm_character_default_params(const mm_database *db, mm_search_params *p)
+{
+    mm_search_params_defaults(db, p);
+    /* keep playing unless a frame is clearly better: on LAFAN1's straight walk 0.6 made
+     * 3 transitions per second instead of 5 (0.8), half the foot slide and pops */
+    p->next_pose_favour = 0.6f;
+    /* the moves (mm/moves.h) play their clips themselves: never a place for locomotion to go */
+    p->excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump") |
+                       mm_search_tag_mask(db, "VaultLow") | mm_search_tag_mask(db, "VaultHigh") |
+                       mm_search_tag_mask(db, "Climb") | mm_search_tag_mask(db, "Drop");
+    /* the last 0.25 s of a one-shot clip only extrapolates its trajectory: not a place to go */
+    p->end_margin = (int)ceilf(0.25f / db->interval);
+}
+
+void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg)
+{
+    if (!d || !db) return;
+    if (!d->use_params) {
+        mm_character_default_params(db, &d->params);
+        d->use_params = true;
+    }
+    if (!d->has_trajectory) {
+        mm_trajectory_defaults(&d->trajectory);
+        d->has_trajectory = true;
+    }
+    if (!cfg) return;
+    mm_search_params *p = &d->params;
+    for (int g = 0; g < db->group_count; ++g) { /* the feature weights, as the database's groups */
+        const mm_feature_group *grp = &db->groups[g];
+        if (grp->kind == MM_FEATURE_BONE_POSITION || grp->kind == MM_FEATURE_BONE_VELOCITY) {
+            int slot = mm_database_matched_bone(db, g);
+            const char *name =
+                grp->bone >= 0 && grp->bone < db->joint_count ? db->joints[grp->bone].name : "";
+            for (int b = 0; b < cfg->bone_count && slot >= 0; ++b) {
+                if (strcmp(cfg->bones[b].name, name) != 0) continue;
+                if (grp->kind == MM_FEATURE_BONE_POSITION && (cfg->bones[b].features & MM_MATCH_POSITION))
+                    p->joint_position_weights[slot] = cfg->bones[b].position_weight;
+                if (grp->kind == MM_FEATURE_BONE_VELOCITY && (cfg->bones[b].features & MM_MATCH_VELOCITY))
+                    p->joint_velocity_weights[slot] = cfg->bones[b].velocity_weight;
+                break;
+            }
+        } else if (grp->kind == MM_FEATURE_ROOT_VELOCITY) {
+            p->body_velocity_weight = cfg->body_velocity_weight;
+        } else if (grp->kind == MM_FEATURE_TRAJ_POSITION) {
+            p->position_multiplier = cfg->position_multiplier;
+        } else if (grp->kind == MM_FEATURE_TRAJ_DIRECTION) {
+            p->angle_multiplier = cfg->angle_multiplier;
+        }
+    }
+    const mm_runtime_config *rt = &cfg->runtime;
+    if (rt->set & MM_RUNTIME_POSE_TRAJECTORY_RATIO) p->pose_trajectory_ratio = rt->pose_trajectory_ratio;
+    if (rt->set & MM_RUNTIME_NEXT_POSE_FAVOUR) p->next_pose_favour = rt->next_pose_favour;
+    if (rt->set & MM_RUNTIME_LOOP_ANIM_FAVOUR) p->loop_anim_favour = rt->loop_anim_favour;
+    if (rt->set & MM_RUNTIME_CONTINUING_BIAS) p->continuing_bias = rt->continuing_bias;
+    if (rt->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = rt->search_interval;
+    if (rt->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = rt->transition_halflife;
+    if (rt->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = rt->idle_speed;
+    if (rt->set & MM_RUNTIME_SYNC_HALFLIFE) d->sync_halflife = rt->sync_halflife;
+    if (rt->set & MM_RUNTIME_DISTANCE_MATCHING) d->distance_matching = rt->distance_matching;
+    if (rt->set & MM_RUNTIME_WARPING) d->warping = rt->warping;
+    const mm_runtime_gait *from[3] = {&rt->walk, &rt->run, &rt->crouch};
+    const mm_gait to[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
+    for (int g = 0; g < 3; ++g) {
+        const mm_runtime_gait *s = from[g];
+        mm_gait_params *t = &d->trajectory.gaits[to[g]];
+        if (s->set & MM_RUNTIME_FORWARD_SPEED) t->forward_speed = s->forward_speed;
+        if (s->set & MM_RUNTIME_SIDE_SPEED) t->side_speed = s->side_speed;
+        if (s->set & MM_RUNTIME_BACKWARD_SPEED) t->backward_speed = s->backward_speed;
+        if (s->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = s->velocity_halflife;
+        if (s->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = s->rotation_halflife;
+    }
+}
+
+/* The one block of a character's state: the state struct, then its arrays. */
+typedef struct block_layout {
+    size_t size, at;
+} block_layout;
+
+static void *carve(char *block, block_layout *l, size_t bytes)
+{
+    const size_t align = 16;
+    void *p = block ? block + l->at : NULL;
+    l->at += (bytes + align - 1) / align * align;
+    return p;
+}
+
+/* Lays out (block NULL: measures) the state and its arrays in block. */
+static mm_character_state *lay_out(char *block, size_t joints, size_t dims, size_t *size)
+{
+    block_layout l = {0, 0};
+    mm_character_state *s = (mm_character_state *)carve(block, &l, sizeof(mm_character_state));
+    mm_character_state unused;
+    if (!s) s = &unused;
+    mm_transition *tr = &s->transition;
+    s->pose.local_rotations = (mm_quat *)carve(block, &l, joints * sizeof(mm_quat));
+    s->pose.local_positions = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
+    s->pose.global = (mm_xform *)carve(block, &l, joints * sizeof(mm_xform));
+    tr->rotations = (mm_quat *)carve(block, &l, joints * sizeof(mm_quat));
+    tr->previous_rotations = (mm_quat *)carve(block, &l, joints * sizeof(mm_quat));
+    tr->positions = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
+    tr->previous_positions = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
+    tr->rotation_offset = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
+    tr->rotation_offset_velocity = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
+    tr->position_offset = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
+    tr->position_offset_velocity = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
+    tr->slot_rotations = (mm_quat *)carve(block, &l, (MM_MIXER_SLOTS + 1) * joints * sizeof(mm_quat));
+    tr->slot_positions = (mm_vec3 *)carve(block, &l, MM_MIXER_SLOTS * joints * sizeof(mm_vec3));
+    s->matching.query = (float *)carve(block, &l, dims * sizeof(float));
+    *size = l.at;
+    return block ? s : NULL;
+}
+
+/* The public view of the state (mm_character's fields), after every change. */
+static void publish(mm_character *c)
+{
+    const mm_character_state *s = c->state;
+    c->trajectory = &s->trajectory;
+    c->local_rotations = s->pose.local_rotations;
+    c->local_positions = s->pose.local_positions;
+    c->global = s->pose.global;
+    c->root = s->root_motion.root;
+    c->frame = s->playback.frame;
+    c->frame_fraction = s->playback.fraction;
+    c->playback = s->playback.mode;
+    c->play_rate = s->playback.play_rate;
+    c->stride_scale = s->playback.stride_scale;
+    c->idle = s->matching.idle;
+    c->move_playing = s->move.playing;
+    for (int k = 0; k < 2; ++k) {
+        c->foot_joint[k] = s->rig.ankle[k];
+        c->toe_joint[k] = s->rig.toe[k];
+        c->foot_locked[k] = s->feet.locked[k];
+        c->foot_lock[k] = s->feet.lock[k];
+    }
+    memcpy(c->raw_contact_positions, s->feet.raw_contacts, sizeof c->raw_contact_positions);
+    c->searches = s->matching.searches;
+    c->transitions = s->transition.transitions;
+    c->cancelled_transitions = s->transition.cancelled;
+    c->last_search_us = s->matching.last_search_us;
+    c->last_result = s->matching.last_result;
+    c->last_params = s->matching.last_params;
+    c->query = s->matching.query;
+}
+
+/* The output pose from the animated one, the root set and the world transforms computed. */
+static void pose_from_animation(mm_character_state *s, int joint_count)
+{
+    memcpy(s->pose.local_rotations, s->transition.rotations, sizeof(mm_quat) * (size_t)joint_count);
+    memcpy(s->pose.local_positions, s->transition.positions, sizeof(mm_vec3) * (size_t)joint_count);
+    s->pose.local_rotations[0] = s->root_motion.root.rotation;
+    s->pose.local_positions[0] = s->root_motion.root.translation;
+    s->pose.global[0] = s->root_motion.root;
+    mm_rig_forward(&s->rig, 1, &s->pose);
+}
+
+/* The desc's values that the stages read as they are, and the copies init made of them. */
+static void apply_tuning(mm_character *c, const mm_character_desc *d)
+{
+    mm_character_state *s = c->state;
+    mm_playback_params *pp = &s->playback_params;
+    pp->distance_matching = d->distance_matching, pp->warping = d->warping;
+    pp->rate_min = d->rate_min, pp->rate_max = d->rate_max;
+    pp->stride_min = d->stride_min, pp->stride_max = d->stride_max;
+    pp->idle_speed = d->idle_speed;
+    if (d != &c->desc) {
+        mm_character_desc kept = c->desc;
+        c->desc = *d;
+        c->desc.left_foot = c->desc.right_foot = NULL;
+        c->desc.transition_mode = kept.transition_mode;
+        c->desc.allocator = kept.allocator;
+        if (!d->use_params) mm_character_default_params(c->db, &c->desc.params), c->desc.use_params = true;
+        for (int g = 0; d->has_trajectory && g < MM_GAIT_COUNT; ++g)
+            s->trajectory.desc.gaits[g] = d->trajectory.gaits[g];
+    }
+}
+
+mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_searcher *searcher,
+                            const mm_character_desc *desc, mm_error *err)
+{
+    if (!c) return MM_ERR_INVALID_ARGUMENT;
+    memset(c, 0, sizeof *c);
+    if (!db || !searcher || searcher->db != db)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "a character needs a database and its searcher");
+    mm_character_defaults(&c->desc);
+    if (desc) c->desc = *desc;
+    if (c->desc.allocator) c->allocator = *c->desc.allocator;
+    c->db = db;
+    c->searcher = searcher;
+    mm_character_desc *d = &c->desc;
+    if (!d->use_params) mm_character_default_params(db, &d->params), d->use_params = true;
+    size_t size, n = (size_t)db->joint_count;
+    lay_out(NULL, n, (size_t)db->dims_padded, &size);
+    char *block = (char *)mm_alloc_array(&c->allocator, 1, size);
+    if (!block) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    mm_character_state *s = lay_out(block, n, (size_t)db->dims_padded, &size);
+    s->block = block;
+    c->state = s;
+    mm_result r =
+        mm_trajectory_init(&s->trajectory, d->has_trajectory ? &d->trajectory : NULL, &c->allocator);
+    if (r != MM_OK) {
+        mm_character_free(c);
+        return mm_error_set(err, r, 0, 0, "trajectory: bad parameters");
+    }
+    mm_rig_init(&s->rig, db->joints, db->joint_count, d->left_foot, d->right_foot);
+    d->left_foot = d->right_foot = NULL; /* not kept: the caller's strings */
+    apply_tuning(c, d);
+    s->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");
+    float *query = s->matching.query;
+    mm_matching_init(&s->matching, db, query);
+    s->playback.frame = 0; /* the first idle frame, or frame 0 */
+    for (int k = 0; k < db->clip_count; ++k)
+        if (db->clips[k].type == MM_CLIP_IDLE) {
+            s->playback.frame = db->clips[k].first_frame;
+            break;
+        }
+    mm_playback_by_clock(&s->playback);
+    s->root_motion.root = mm_xform_identity();
+    mm_transition_init(&s->transition, db, d->transition_mode, &s->playback);
+    pose_from_animation(s, db->joint_count);
+    publish(c);
+    return MM_OK;
+}
+
+void mm_character_free(mm_character *c)
+{
+    if (!c) return;
+    if (c->state) {
+        mm_trajectory_free(&c->state->trajectory);
+        mm_free(&c->allocator, c->state->block);
+    }
+    memset(c, 0, sizeof *c);
+}
+
+/* Moves: a move asked for starts (*jump: to its frame), or one playing hands back to matching
+ * (returns true) when its clip ended or its playhead reached the end frame. */
+static bool play_moves(mm_move_playback *m, const mm_database *db, const mm_playback *p, bool ended,
+                       mm_jump *jump)
+{
+    jump->frame = -1;
+    if (m->pending) { /* a move starts: no search until it hands back */
+        m->pending = false;
+        m->playing = true;
+        jump->frame = m->frame, jump->fraction = 0.0, jump->uncancellable = true;
+    } else if (m->playing &&
+               (ended || db->frame_clip[p->frame] != db->frame_clip[m->frame] || p->frame >= m->end)) {
+        m->playing = false; /* played out: back to matching at once */
+        return true;
+    }
+    return false;
+}
+
+/* What the clip playing says of the feet this tick: its contact label, and how soon each foot's
+ * turns on (within plant_time). */
+static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *p, float plant_time)
+{
+    mm_feet_contacts fc;
+    fc.label = db->contacts[p->frame];
+    for (int k = 0; k < 2; ++k)
+        fc.until_label[k] = plant_time > 0.0f ? mm_playback_time_to_contact(p, db->frame_next, db->contacts,
+                                                                            db->interval, k, plant_time)
+                                              : -1.0f;
+    return fc;
+}
+
+void mm_character_update(mm_character *c, const mm_input *in, float dt)
+{
+    if (!c || !c->state || !(dt > 0.0f) || !isfinite(dt)) return;
+    mm_character_state *s = c->state;
+    const mm_database *db = c->db;
+    const mm_character_desc *d = &c->desc;
+
+    /* 1. input -> trajectory: the simulation, and what the input asks for */
+    mm_intent_update(&s->trajectory, in, dt, &s->intent);
+
+    /* 2. playback: by the clock, or by distance matching (never during a move) */
+    if ((d->distance_matching || d->warping) && !s->move.playing && !s->move.pending)
+        mm_playback_match_distance(&s->playback, db, &s->playback_params, s->no_distance_tag, &s->trajectory,
+                                   in, &s->intent, dt);
+    else
+        mm_playback_by_clock(&s->playback);
+    bool ended = mm_playback_advance(&s->playback, db->frame_next, db->interval, dt);
+    mm_transition_advance(&s->transition, db, &s->playback, dt);
+
+    /* 3. search: a move starting or handing back, or the search's winner */
+    mm_jump jump, found;
+    if (play_moves(&s->move, db, &s->playback, ended, &jump)) s->matching.since_search = INFINITY;
+    mm_matching_update(&s->matching, d, db, c->searcher, &s->trajectory, in, &s->intent, s->root_motion.root,
+                       mm_vec3_length(s->root_motion.played.velocity), &s->playback, ended, s->move.playing,
+                       dt, &found);
+    if (found.frame >= 0) jump = found;
+
+    /* 4. transition: the jump hidden, and the animated pose of this tick */
+    mm_transition_jump(&s->transition, db, &jump, d->crossfade_time, s->root_motion.played, &s->playback, dt);
+    float halflife = s->move.playing && s->move.halflife > 0.0f ? s->move.halflife : d->transition_halflife;
+    mm_root_played played;
+    mm_transition_pose(&s->transition, db, &s->playback, halflife, dt, &played);
+
+    /* 5. root motion: played, pulled toward the simulation and clamped (a move's is its clip's) */
+    mm_root_motion_update(&s->root_motion, d, &s->trajectory, &s->intent, played, s->move.playing, dt);
+    pose_from_animation(s, db->joint_count);
+
+    /* 6. warping: the legs turned toward the movement and stretched along it */
+    if (d->warping) {
+        mm_warping_clip clip = {db->root_velocity[s->playback.frame],
+                                db->clips[db->frame_clip[s->playback.frame]].type == MM_CLIP_IDLE};
+        mm_warping_orientation(&s->warping, d, &s->rig, s->root_motion.root, s->trajectory.velocity, clip,
+                               s->intent.strafe, s->move.playing, dt, &s->pose);
+        mm_warping_stride(&s->warping, &s->rig, s->root_motion.root, s->trajectory.velocity,
+                          s->playback.stride_scale, dt, &s->pose);
+    }
+
+    /* 7. feet: the contacts as played, then locks and IK */
+    mm_feet_record(&s->feet, &s->rig, &s->pose);
+    if (!d->no_foot_ik) {
+        mm_feet_contacts contacts = feet_contacts(db, &s->playback, d->plant_time);
+        mm_feet_update(&s->feet, d, &s->rig, &contacts, s->root_motion.root, !s->move.playing, dt, &s->pose);
+    }
+
+    /* 8. pose: what the character shows */
+    publish(c);
+}
+
+void mm_character_tune(mm_character *c, const mm_character_desc *d)
+{
+    if (!c || !c->state || !d) return;
+    apply_tuning(c, d);
+}
+
+void mm_character_play_move(mm_character *c, int frame, int end_frame, float halflife)
+{
+    if (!c || !c->state) return;
+    mm_move_playback *m = &c->state->move;
+    if (frame < 0 || frame >= c->db->frame_count) { /* nothing to play: back to matching */
+        m->pending = m->playing = false;
+        c->state->matching.since_search = INFINITY;
+        publish(c);
+        return;
+    }
+    m->pending = true;
+    m->frame = frame;
+    m->end = end_frame;
+    m->halflife = isfinite(halflife) && halflife > 0.0f ? halflife : 0.0f;
+}
+
+bool mm_character_move_playing(const mm_character *c)
+{
+    return c && c->state && (c->state->move.pending || c->state->move.playing);
+}
+
+static bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+void mm_character_shift_root(mm_character *c, mm_vec3 delta)
+{
+    if (!c || !c->state || !finite3(delta)) return;
+    mm_character_state *s = c->state;
+    const mm_database *db = c->db;
+    mm_xform *root = &s->root_motion.root;
+    root->translation = mm_vec3_add(root->translation, delta);
+    mm_vec3 local = mm_quat_inv_rotate(root->rotation, delta);
+    mm_transition *tr = &s->transition;
+    for (int j = 1; j < db->joint_count; ++j) {
+        if (db->joints[j].parent != 0) continue;
+        /* the child keeps its world place: its local position, and the offset that carries it */
+        tr->position_offset[j] = mm_vec3_sub(tr->position_offset[j], local);
+        s->pose.local_positions[j] = mm_vec3_sub(s->pose.local_positions[j], local);
+        tr->positions[j] = mm_vec3_sub(tr->positions[j], local);
+        tr->previous_positions[j] = mm_vec3_sub(tr->previous_positions[j], local);
+    }
+    s->pose.local_positions[0] = root->translation;
+    s->pose.global[0] = *root;
+    mm_rig_forward(&s->rig, 1, &s->pose);
+    publish(c);
+}
+
+void mm_character_set_root(mm_character *c, mm_xform root)
+{
+    if (!c || !c->state || !finite3(root.translation) || !isfinite(root.rotation.x) ||
+        !isfinite(root.rotation.y) || !isfinite(root.rotation.z) || !isfinite(root.rotation.w))
+        return;
+    c->state->root_motion.root = root;
+    c->root = root;
+}
+
+void mm_character_move_foot_locks(mm_character *c, mm_vec3 delta)
+{
+    if (!c || !c->state || !finite3(delta)) return;
+    mm_feet *f = &c->state->feet;
+    for (int k = 0; k < 2; ++k) {
+        f->heel_lock[k] = mm_vec3_add(f->heel_lock[k], delta);
+        f->toe_lock[k] = mm_vec3_add(f->toe_lock[k], delta);
+    }
+}
+
+void mm_character_translate(mm_character *c, mm_vec3 delta)
+{
+    if (!c || !c->state || !finite3(delta)) return;
+    mm_character_state *s = c->state;
+    s->root_motion.root.translation = mm_vec3_add(s->root_motion.root.translation, delta);
+    s->pose.local_positions[0] = s->root_motion.root.translation;
+    for (int j = 0; j < c->db->joint_count; ++j)
+        s->pose.global[j].translation = mm_vec3_add(s->pose.global[j].translation, delta);
+    for (int k = 0; k < 4; ++k) s->feet.raw_contacts[k] = mm_vec3_add(s->feet.raw_contacts[k], delta);
+    s->trajectory.position = mm_vec3_add(s->trajectory.position, delta);
+    publish(c);
+}
+
+void mm_character_teleport_simulation(mm_character *c, mm_vec3 position, mm_quat facing)
+{
+    if (!c || !c->state) return;
+    mm_trajectory_teleport(&c->state->trajectory, position, facing);
+}
+
+void mm_character_push_simulation(mm_character *c, mm_vec3 position)
+{
+    if (!c || !c->state || !finite3(position)) return;
+    c->state->trajectory.position = position;
+}
+
+void mm_character_halt_simulation(mm_character *c)
+{
+    if (!c || !c->state) return;
+    c->state->trajectory.velocity = mm_vec3_make(0, 0, 0);
+}

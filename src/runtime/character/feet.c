@@ -1,0 +1,265 @@
+/* Stage 7: foot locking on the contact labels, the hips lowered where the legs cannot reach, then
+ * two-bone IK. */
+#include "feet.h"
+
+#include <math.h>
+
+#include <mm/spring.h>
+
+/* fraction of the leg's length over which the IK's reach softens (soft_reach) */
+#define SOFT_REACH 0.05f
+/* rad: the most a foot planted on heel and toe is turned from its animated orientation */
+#define MAX_FOOT_TURN 0.8f
+/* sine of the knee's bend below which the animated bend plane is not trusted alone */
+#define BEND_PLANE_TRUST 0.1f
+
+/* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
+ * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
+ * animated; or, free, the animated ankle. */
+static mm_vec3 foot_source(const mm_feet *f, int k, mm_vec3 ankle, mm_vec3 toe)
+{
+    if (f->heel_locked[k]) return f->heel_lock[k];
+    if (f->toe_locked[k])
+        return mm_vec3_sub(f->toe_lock[k], mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(toe, ankle)));
+    return ankle;
+}
+
+/* Soft IK: the distance the leg is asked to span, for a target at distance lat from the hip of a
+ * leg of length `length`. Near full extension the knee moves as the square root of what the leg
+ * lacks (a target a millimetre out of reach and back moves the knee centimetres: pops); within the
+ * last SOFT_REACH of the length the span approaches the length exponentially instead (continuous in
+ * value and slope where it starts), so the knee moves smoothly and the ankle falls short by at most
+ * SOFT_REACH * length. */
+static float soft_reach(float lat, float length)
+{
+    float soft = SOFT_REACH * length, start = length - soft;
+    if (!(lat > start) || !(soft > 0.0f)) return lat;
+    return length - soft * expf(-(lat - start) / soft);
+}
+
+static float clamped_acos(float x) { return acosf(fmaxf(-1.0f, fminf(1.0f, x))); }
+
+/* Two-bone IK: turns the hip and knee of leg k so that the ankle reaches target, the knee bending in
+ * the plane it bends in now; the ankle takes the world orientation ankle_world. Works on the local
+ * rotations and the global transforms of the three joints. */
+static void two_bone_ik(const mm_rig *rig, int k, mm_xform root, mm_vec3 target, mm_quat ankle_world,
+                        mm_rig_pose *pose)
+{
+    int ankle = rig->ankle[k], knee = rig->knee[k], hip = rig->hip[k], hip_parent = rig->joints[hip].parent;
+    mm_xform *g = pose->global;
+    mm_vec3 a = g[hip].translation, b = g[knee].translation, e = g[ankle].translation;
+    float lab = mm_vec3_distance(b, a), lcb = mm_vec3_distance(b, e);
+    if (lab < 1e-5f || lcb < 1e-5f) return;
+    float lat = mm_vec3_distance(target, a), eps = 1e-4f;
+    if (lat < eps) lat = eps;
+    lat = soft_reach(lat, lab + lcb);
+    if (lat > lab + lcb - eps) lat = lab + lcb - eps;
+    mm_vec3 ac = mm_vec3_normalize(mm_vec3_sub(e, a)), ab = mm_vec3_normalize(mm_vec3_sub(b, a));
+    mm_vec3 ba = mm_vec3_normalize(mm_vec3_sub(a, b)), bc = mm_vec3_normalize(mm_vec3_sub(e, b));
+    mm_vec3 at = mm_vec3_normalize(mm_vec3_sub(target, a));
+    float ac_ab_0 = clamped_acos(mm_vec3_dot(ac, ab)), ba_bc_0 = clamped_acos(mm_vec3_dot(ba, bc));
+    float ac_ab_1 = clamped_acos((lcb * lcb - lab * lab - lat * lat) / (-2.0f * lab * lat));
+    float ba_bc_1 = clamped_acos((lat * lat - lab * lab - lcb * lcb) / (-2.0f * lab * lcb));
+    /* the knee's bending axis. A knee bending forward turns about the character's left axis
+     * (cross(leg down, knee forward) points left); where the animated plane is noise (nearly
+     * straight leg) or would bend the knee backwards, that axis takes over. */
+    mm_vec3 bend = mm_vec3_cross(ac, ab);
+    mm_vec3 left = mm_quat_rotate(root.rotation, mm_vec3_make(-1, 0, 0));
+    left = mm_vec3_normalize(mm_vec3_sub(left, mm_vec3_scale(ac, mm_vec3_dot(left, ac))));
+    float straight = mm_vec3_length(bend); /* sine of the knee's bend seen from the hip */
+    float w = straight > 1e-6f ? mm_vec3_dot(mm_vec3_scale(bend, 1.0f / straight), left) : 0.0f;
+    w = w <= 0.0f ? 0.0f : fminf(1.0f, straight / BEND_PLANE_TRUST) * w; /* trust in the animated plane */
+    bend = mm_vec3_add(mm_vec3_scale(straight > 1e-6f ? mm_vec3_scale(bend, 1.0f / straight) : left, w),
+                       mm_vec3_scale(left, 1.0f - w));
+    if (mm_vec3_length(bend) < 1e-6f) return;
+    bend = mm_vec3_normalize(bend);
+    mm_quat a_world = g[hip].rotation, b_world = g[knee].rotation;
+    mm_quat r0 = mm_quat_from_axis_angle(mm_quat_inv_rotate(a_world, bend), ac_ab_1 - ac_ab_0);
+    mm_quat r1 = mm_quat_from_axis_angle(mm_quat_inv_rotate(b_world, bend), ba_bc_1 - ba_bc_0);
+    pose->local_rotations[hip] = mm_quat_normalize(mm_quat_mul(pose->local_rotations[hip], r0));
+    pose->local_rotations[knee] = mm_quat_normalize(mm_quat_mul(pose->local_rotations[knee], r1));
+    g[hip] =
+        mm_xform_mul(g[hip_parent], mm_xform_make(pose->local_rotations[hip], pose->local_positions[hip]));
+    g[knee] = mm_xform_mul(g[hip], mm_xform_make(pose->local_rotations[knee], pose->local_positions[knee]));
+    /* then the leg swings about the hip onto the target, from where the bend left the ankle (the
+     * bend axis is not always normal to the plane of ankle and target: swinging from the ankle's
+     * old direction missed the target by millimetres) */
+    mm_vec3 bent = mm_xform_apply_point(g[knee], pose->local_positions[ankle]);
+    mm_vec3 from = mm_vec3_sub(bent, a);
+    if (mm_vec3_length(from) > 1e-6f) {
+        mm_quat swing = mm_quat_between(mm_vec3_normalize(from), at);
+        pose->local_rotations[hip] = mm_quat_normalize(
+            mm_quat_mul(mm_quat_conj(g[hip_parent].rotation), mm_quat_mul(swing, g[hip].rotation)));
+        g[hip] = mm_xform_mul(g[hip_parent],
+                              mm_xform_make(pose->local_rotations[hip], pose->local_positions[hip]));
+        g[knee] =
+            mm_xform_mul(g[hip], mm_xform_make(pose->local_rotations[knee], pose->local_positions[knee]));
+    }
+    pose->local_rotations[ankle] =
+        mm_quat_normalize(mm_quat_mul(mm_quat_conj(g[knee].rotation), ankle_world));
+}
+
+void mm_feet_record(mm_feet *f, const mm_rig *rig, const mm_rig_pose *pose)
+{
+    for (int k = 0; k < 2; ++k) { /* the ankle and the ankle's first child (the toe) */
+        int ankle = rig->ankle[k], toe = rig->toe[k];
+        f->raw_contacts[2 * k] = ankle >= 0 ? pose->global[ankle].translation : mm_vec3_make(0, 0, 0);
+        f->raw_contacts[2 * k + 1] = toe >= 0 ? pose->global[toe].translation : f->raw_contacts[2 * k];
+    }
+}
+
+/* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). */
+static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
+                         const mm_feet_contacts *contacts, int k, float dt, const mm_rig_pose *pose,
+                         mm_quat *orientation)
+{
+    int ankle = rig->ankle[k], toe = rig->toe[k];
+    mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
+    int heel_on = (contacts->label >> (2 * k)) & 1u, toe_on = (contacts->label >> (2 * k + 1)) & 1u;
+    if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
+    mm_vec3 before = foot_source(f, k, a, t);
+    int was_locked = f->heel_locked[k] || f->toe_locked[k];
+    /* pulled too far from the animation: released, and planted again below where the foot now is,
+     * one spring step toward the animation (the foot creeps after it) */
+    if (was_locked && mm_vec3_distance(before, a) > d->unlock_radius)
+        f->heel_locked[k] = f->toe_locked[k] = false;
+    if (!heel_on) f->heel_locked[k] = false;
+    if (!toe_on) f->toe_locked[k] = false;
+    f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(before, foot_source(f, k, a, t)));
+    mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
+    mm_vec3 out = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    if (d->plant_time > 0.0f && f->placed && !was_locked) {
+        /* landing: the foot's step on the ground plane shrinks to nothing as its contact comes (w:
+         * the share of plant_time gone; 1 on the tick the label turns on, where the foot is planted
+         * where it was), the difference carried by the offset like any other. A transition's
+         * offsets, or the root's pull, would otherwise bring the foot down at the speed they give
+         * it, and the lock would stop it dead from there. */
+        float w = 0.0f;
+        if (heel_on || toe_on) {
+            w = 1.0f;
+        } else {
+            float left = contacts->until_label[k];
+            if (left >= 0.0f) w = 1.0f - left / d->plant_time;
+        }
+        if (w > 0.0f) {
+            mm_vec3 from = f->lock[k];
+            out.x = from.x + (1.0f - w) * (out.x - from.x);
+            out.z = from.z + (1.0f - w) * (out.z - from.z);
+            f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
+            f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
+        }
+    }
+    int planted = 0; /* plant where the foot is now */
+    if (heel_on && !f->heel_locked[k]) {
+        f->heel_locked[k] = true;
+        f->heel_lock[k] = out;
+        planted = 1;
+    }
+    if (toe_on && !f->toe_locked[k]) {
+        f->toe_locked[k] = true;
+        f->toe_lock[k] = mm_vec3_add(out, mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
+        planted = 1;
+    }
+    if (planted) { /* held exactly from here */
+        f->offset[k] = f->heel_locked[k] ? mm_vec3_make(0, 0, 0) : mm_vec3_sub(out, foot_source(f, k, a, t));
+        f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
+    }
+    if (f->heel_locked[k] && f->toe_locked[k]) {
+        /* both planted: the foot turns so that its toe stays on the toe lock (the animated foot may
+         * pitch or yaw under a transition's offsets while both labels are on) */
+        mm_vec3 turn =
+            mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(f->toe_lock[k], f->heel_lock[k])));
+        float angle = mm_vec3_length(turn);
+        if (angle > MAX_FOOT_TURN) {
+            /* the animation turns the foot further than a planted foot should follow: the toe lock
+             * goes round the heel's as far as it must */
+            turn = mm_vec3_scale(turn, MAX_FOOT_TURN / angle);
+            f->toe_lock[k] =
+                mm_vec3_add(f->heel_lock[k], mm_quat_rotate(mm_quat_exp(turn), mm_vec3_sub(t, a)));
+        }
+        f->turn_velocity[k] = mm_vec3_scale(mm_vec3_sub(turn, f->turn[k]), 1.0f / dt);
+        f->turn[k] = turn;
+    } else {
+        mm_spring_decay_vec3(&f->turn[k], &f->turn_velocity[k], d->foot_halflife, dt);
+    }
+    *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), pose->global[ankle].rotation);
+    f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
+    return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+}
+
+/* The leg's length: hip to knee to ankle. */
+static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
+{
+    mm_vec3 h = pose->global[rig->hip[k]].translation, knee = pose->global[rig->knee[k]].translation;
+    return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
+}
+
+/* The hips come down as far as the legs need to reach their targets (never below what they need,
+ * rising back through a spring), at most max_hip_drop. */
+static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig, const mm_vec3 *target,
+                       float dt, mm_rig_pose *pose)
+{
+    int pelvis = rig->pelvis;
+    float need = 0.0f;
+    for (int k = 0; k < 2; ++k) {
+        mm_vec3 h = pose->global[rig->hip[k]].translation;
+        float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
+        float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
+        float down =
+            across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : d->max_hip_drop;
+        need = fmaxf(need, down);
+    }
+    need = fminf(need, d->max_hip_drop);
+    /* down at once, up through a spring from rest, never past [0, max_hip_drop] */
+    mm_spring_update(&f->hip_drop, &f->hip_drop_velocity, need, d->foot_halflife, dt);
+    if (f->hip_drop < need) f->hip_drop = need, f->hip_drop_velocity = 0.0f;
+    if (f->hip_drop > d->max_hip_drop || f->hip_drop < 0.0f) {
+        f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), d->max_hip_drop);
+        f->hip_drop_velocity = 0.0f;
+    }
+    if (f->hip_drop > 0.0f) {
+        mm_vec3 down = mm_quat_inv_rotate(pose->global[rig->joints[pelvis].parent].rotation,
+                                          mm_vec3_make(0.0f, -f->hip_drop, 0.0f));
+        pose->local_positions[pelvis] = mm_vec3_add(pose->local_positions[pelvis], down);
+        mm_rig_forward(rig, pelvis, pose);
+    }
+}
+
+void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
+                    const mm_feet_contacts *contacts, mm_xform root, bool hold_ground, float dt,
+                    mm_rig_pose *pose)
+{
+    mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}};
+    mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
+    for (int k = 0; k < 2; ++k) {
+        if (rig->ankle[k] < 0) continue;
+        target[k] = lock_foot(f, d, rig, contacts, k, dt, pose, &orientation[k]);
+        /* never below the ground: the root's height in locomotion (it stands on the ground, which a
+         * scene may put anywhere) */
+        if (hold_ground && target[k].y < root.translation.y) target[k].y = root.translation.y;
+        f->lock[k] = target[k];
+    }
+    if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) lower_hips(f, d, rig, target, dt, pose);
+    for (int k = 0; k < 2; ++k) {
+        if (rig->ankle[k] < 0) continue;
+        /* a target out of the leg's reach (a lock the hips moved away from, or the offset a released
+         * lock leaves) is brought onto the reach, and the offset with it: otherwise the offset fades
+         * out of reach (the leg stays straight) and then sweeps the ankle through its reach at the
+         * spring's speed */
+        mm_vec3 h = pose->global[rig->hip[k]].translation;
+        float reach = leg_length(rig, k, pose);
+        mm_vec3 r = mm_vec3_sub(target[k], h);
+        float len = mm_vec3_length(r);
+        if (!f->locked[k] && len > reach && len > 1e-6f) {
+            mm_vec3 u = mm_vec3_scale(r, 1.0f / len), onto = mm_vec3_add(h, mm_vec3_scale(u, reach));
+            f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(onto, target[k]));
+            float out = mm_vec3_dot(f->offset_velocity[k], u);
+            if (out > 0.0f) f->offset_velocity[k] = mm_vec3_sub(f->offset_velocity[k], mm_vec3_scale(u, out));
+            target[k] = onto;
+            f->lock[k] = onto;
+        }
+        two_bone_ik(rig, k, root, target[k], orientation[k], pose);
+    }
+    f->placed = true;
+    mm_rig_forward(rig, 1, pose); /* below the ankles */
+}

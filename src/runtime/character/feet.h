@@ -1,0 +1,42 @@
+/* Stage 7, feet: contacts, foot locking, the hips lowered where the legs cannot reach, and two-bone
+ * IK on the (warped) legs. */
+#ifndef MM_RUNTIME_FEET_H
+#define MM_RUNTIME_FEET_H
+
+#include <stdbool.h>
+
+#include <mm/character.h>
+
+#include "rig.h"
+
+/* The feet's state. The heel lock holds the ankle; the toe lock holds the toe, the ankle turning
+ * about it as animated; with both, the foot turns so that the toe stays on its lock too (turn: the
+ * rotation added to the animated foot, a rotation vector, rad; it fades once a lock is let go).
+ * Every change of what a foot follows is carried by offset, which decays: the ankle never jumps. */
+typedef struct mm_feet {
+    bool locked[2], heel_locked[2], toe_locked[2];
+    mm_vec3 lock[2]; /* where the ankle is held this tick (its IK target) */
+    mm_vec3 heel_lock[2], toe_lock[2], offset[2], offset_velocity[2];
+    mm_vec3 turn[2], turn_velocity[2];
+    bool placed;                       /* lock holds last tick's ankle targets (landing eases from them) */
+    float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
+    mm_vec3 raw_contacts[4];           /* left ankle, left toe, right ankle, right toe before IK */
+} mm_feet;
+
+/* What the clip playing says of the feet this tick. */
+typedef struct mm_feet_contacts {
+    unsigned label;       /* mm_contact_bits of the frame playing */
+    float until_label[2]; /* s until foot k's label turns on, when within plant_time; -1 otherwise */
+} mm_feet_contacts;
+
+/* Records the raw contact positions (ankles and toes of the pose as it comes). */
+void mm_feet_record(mm_feet *f, const mm_rig *rig, const mm_rig_pose *pose);
+
+/* Locks, hip drop and IK (mm/character.h, desc's foot fields): writes the legs and the joints
+ * below them. ground: the height no target goes below (hold_ground false: none, a move's root
+ * follows its clip); root: the character's facing (the knees' default bend). */
+void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
+                    const mm_feet_contacts *contacts, mm_xform root, bool hold_ground, float dt,
+                    mm_rig_pose *pose);
+
+#endif

@@ -1,0 +1,136 @@
+/* Stage 3: when to search, the query, the search and the winner. */
+#include "matching.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* m/s: the simulated character counts as stopped */
+#define IDLE_STOPPED 0.01f
+/* m/s: slower desired motion has no direction (turns and the search's direction) */
+#define DIRECTION_MIN_SPEED 0.3f
+/* m/s: under this simulated speed the velocity-change weights come in with the speed (a start is
+ * the pose's to choose: with the trajectory alone a standing pose went into the run-up of a jump) */
+#define VELOCITY_CHANGE_FROM_SPEED 0.5f
+
+static float wrap_angle(float a) { return remainderf(a, (float)(2.0 * MM_PI)); }
+
+void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
+{
+    memset(m, 0, sizeof *m);
+    m->query = query;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        char name[16];
+        snprintf(name, sizeof name, "%s", mm_gait_name((mm_gait)g));
+        name[0] = (char)(name[0] - 'a' + 'A'); /* "Walk" */
+        m->gait_tags[g] = mm_search_tag_mask(db, name) | mm_search_tag_mask(db, mm_gait_name((mm_gait)g));
+    }
+    for (int k = 0; k < db->clip_count && !m->has_idle; ++k) m->has_idle = db->clips[k].type == MM_CLIP_IDLE;
+    m->idle = true;
+    m->since_search = INFINITY; /* search on the first tick */
+    m->last_result.frame = -1;
+}
+
+/* The query: the pose of the frame playing (from the database) and the simulated trajectory in
+ * the character's frame. */
+static void build_query(float *query, const mm_database *db, int frame, const mm_trajectory *t,
+                        const mm_input *in, mm_xform root)
+{
+    mm_pose_data pd;
+    mm_database_pose(db, frame, &pd);
+    mm_vec3 positions[MM_MAX_TRAJ_SAMPLES];
+    mm_quat facings[MM_MAX_TRAJ_SAMPLES];
+    mm_trajectory_sample(t, in, pd.traj_times, pd.traj_count, positions, facings);
+    mm_xform inverse = mm_xform_inverse(root);
+    for (int i = 0; i < pd.traj_count; ++i) {
+        pd.traj_positions[i] = mm_xform_apply_point(inverse, positions[i]);
+        pd.traj_directions[i] =
+            mm_quat_inv_rotate(root.rotation, mm_quat_rotate(facings[i], mm_vec3_make(0, 0, 1)));
+    }
+    mm_search_query_from_pose(db, &pd, query);
+}
+
+/* Stops and turns: when the stick is let go at a run, or turned, the playing clip carries on while
+ * the simulation changes its velocity; the stops and turns are other clips', far in pose, and lose
+ * to carrying on. While the simulated velocity must change (its distance to the desired one) the
+ * trajectory weighs more: the ratio moves toward velocity_change_ratio in proportion to the change,
+ * fully at velocity_change_speed. */
+static void velocity_change_weights(const mm_character_desc *d, const mm_trajectory *t,
+                                    const mm_intent *intent, mm_search_params *p)
+{
+    mm_vec3 desired = intent->desired_velocity, v = t->velocity;
+    float dx = desired.x - v.x, dz = desired.z - v.z, change = sqrtf(dx * dx + dz * dz);
+    float speed = sqrtf(v.x * v.x + v.z * v.z);
+    if (speed < VELOCITY_CHANGE_FROM_SPEED) change *= speed / VELOCITY_CHANGE_FROM_SPEED;
+    if (change > 0.0f && d->velocity_change_speed > 0.0f &&
+        d->velocity_change_ratio > p->pose_trajectory_ratio && d->velocity_change_ratio <= 1.0f) {
+        float s = change < d->velocity_change_speed ? change / d->velocity_change_speed : 1.0f;
+        p->pose_trajectory_ratio += (d->velocity_change_ratio - p->pose_trajectory_ratio) * s;
+    }
+}
+
+/* Searches; *jump is the winner unless playback goes there anyway. */
+static void search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
+                   const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
+                   const mm_intent *intent, mm_xform root, const mm_playback *pb, mm_jump *jump)
+{
+    build_query(m->query, db, pb->frame, t, in, root);
+    mm_search_params p = d->params;
+    p.current_frame = pb->frame;
+    p.type = !m->has_idle ? MM_SEARCH_ANY : m->idle ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION;
+    /* the gait influences matching through tags named after the gaits: frames tagged with another
+     * gait than the one asked for are left out */
+    for (int g = 0; g < MM_GAIT_COUNT; ++g)
+        if (g != (int)intent->gait) p.excluded_tags |= m->gait_tags[g];
+    velocity_change_weights(d, t, intent, &p);
+    mm_search_result best;
+    double start = d->clock ? d->clock() : 0.0;
+    int found = mm_searcher_search(searcher, m->query, &p, d->method, &best, 1);
+    if (d->clock) m->last_search_us = (float)(1e6 * (d->clock() - start));
+    ++m->searches;
+    m->since_search = 0.0f;
+    m->last_result = best;
+    m->last_params = p;
+    if (!found || best.frame < 0) return;
+    /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor a few frames
+     * back in the same clip: jumping back by about what played since the last search would replay
+     * the same stretch over and over (an idle frozen in a loop of a few frames) */
+    int ahead = best.frame - pb->frame;
+    int behind = d->skip_frames + (int)ceilf(d->search_interval / db->interval);
+    if (db->frame_clip[best.frame] == db->frame_clip[pb->frame] && ahead >= -behind &&
+        ahead <= d->skip_frames)
+        return;
+    jump->frame = best.frame;
+    jump->fraction = pb->fraction;
+    /* crossfade: cancellable, but not at the end of the clip (the playhead would stand still) */
+    jump->uncancellable = db->frame_next[pb->frame] < 0;
+}
+
+void mm_matching_update(mm_matching *m, const mm_character_desc *d, const mm_database *db,
+                        const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
+                        const mm_intent *intent, mm_xform root, float root_speed, const mm_playback *p,
+                        bool ended, bool move_playing, float dt, mm_jump *jump)
+{
+    jump->frame = -1;
+    mm_vec3 desired = intent->desired_velocity;
+    float speed = mm_vec3_length(desired), direction = atan2f(desired.x, desired.z);
+    /* idle is asked for once the simulated character has (nearly) stopped too, not when the stick
+     * is let go: until then the locomotion search finds the stops, where an idle pose would have
+     * its planted feet dragged along by the root still moving. Nor while the animation still runs
+     * (its root faster than idle_root_speed): the jump from a stride into a standing pose, both
+     * feet labelled planted, slides them; once the simulation has stopped idle is asked for
+     * whatever plays */
+    float moving = mm_intent_ground_speed(t);
+    int idle_changed = 0;
+    if (m->idle && speed > d->idle_speed + d->idle_hysteresis)
+        m->idle = false, idle_changed = 1;
+    else if (!m->idle && speed < d->idle_speed && moving < d->idle_speed + d->idle_hysteresis &&
+             (!(d->idle_root_speed > 0.0f) || root_speed < d->idle_root_speed || moving < IDLE_STOPPED))
+        m->idle = true, idle_changed = 1;
+    int turned =
+        speed > DIRECTION_MIN_SPEED && fabsf(wrap_angle(direction - m->last_direction)) > d->turn_threshold;
+    m->since_search += dt;
+    if (move_playing || !(m->since_search >= d->search_interval || turned || idle_changed || ended)) return;
+    search(m, d, db, searcher, t, in, intent, root, p, jump);
+    if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
+}

@@ -1,0 +1,48 @@
+/* Stage 2, playback: the playhead in the database (clock, distance advance, play rate). */
+#ifndef MM_RUNTIME_PLAYBACK_H
+#define MM_RUNTIME_PLAYBACK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include <mm/character.h>
+#include <mm/database.h>
+
+#include "intent.h"
+
+typedef struct mm_playback {
+    int frame;                  /* database frame playing */
+    double fraction;            /* [0, 1): how far toward the next frame (double: it accumulates
+                                   dt / interval every tick and must not drift) */
+    mm_character_playback mode; /* how the playhead moved this tick */
+    float play_rate;            /* clip seconds per second (1 without distance matching) */
+    float stride_scale;         /* how far stride warping stretches the legs (1: not warped) */
+} mm_playback;
+
+/* What distance matching is tuned with (mm_character_desc's fields of the same names). */
+typedef struct mm_playback_params {
+    bool distance_matching, warping;
+    float rate_min, rate_max, stride_min, stride_max;
+    float idle_speed; /* m/s: a stop is matched only while less is asked for */
+} mm_playback_params;
+
+/* Distance matching: the play rate and stride scale of this tick (p->mode, p->play_rate,
+ * p->stride_scale) from the database's distance curves, the simulation t, the intent and the
+ * input in (the predicted stop and pivot). Frames tagged no_distance_tag play by the clock. */
+void mm_playback_match_distance(mm_playback *p, const mm_database *db, const mm_playback_params *params,
+                                uint64_t no_distance_tag, const mm_trajectory *t, const mm_input *in,
+                                const mm_intent *intent, float dt);
+
+/* By the clock: rate 1, no stride warp. */
+void mm_playback_by_clock(mm_playback *p);
+
+/* Moves the playhead dt * play_rate seconds on along frame_next (interval s per frame). Returns
+ * true when it reached the end of its clip (it then stays on the last frame, fraction 0). */
+bool mm_playback_advance(mm_playback *p, const int32_t *frame_next, float interval, float dt);
+
+/* s until foot k's contact label (heel or toe) turns on in the clip playing at its play rate, if it
+ * does within `window`; -1 otherwise. */
+float mm_playback_time_to_contact(const mm_playback *p, const int32_t *frame_next, const uint8_t *contacts,
+                                  float interval, int foot, float window);
+
+#endif

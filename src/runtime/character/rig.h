@@ -1,0 +1,38 @@
+/* The character's rig: the joints its stages work on, found once in the database's skeleton. */
+#ifndef MM_RUNTIME_RIG_H
+#define MM_RUNTIME_RIG_H
+
+#include <mm/database.h>
+
+/* spine joints turned back by orientation warping */
+#define MM_RIG_MAX_SPINE 8
+
+typedef struct mm_rig {
+    const mm_joint *joints; /* the database's skeleton: parents before children */
+    int joint_count;
+    /* per leg (0 left, 1 right): ankle, knee, hip; the toe is the ankle's first child; -1 when the
+     * leg is missing or does not hang two joints below the root */
+    int ankle[2], knee[2], hip[2], toe[2];
+    int pelvis;                  /* the joint both legs hang from, -1 */
+    int spine[MM_RIG_MAX_SPINE]; /* from the pelvis up: its child that no leg hangs from, then
+                                    single children up to where the chain branches */
+    int spine_count;
+} mm_rig;
+
+/* A pose on the rig: local rotations and positions (joint 0: the root, in the world) and the
+ * global transforms they give. */
+typedef struct mm_rig_pose {
+    mm_quat *local_rotations;
+    mm_vec3 *local_positions;
+    mm_xform *global;
+} mm_rig_pose;
+
+/* Finds the legs of the ankles named left_foot and right_foot (NULL: "LeftFoot", "RightFoot"). */
+void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, const char *left_foot,
+                 const char *right_foot);
+
+/* The global transforms of joints first .. joint_count - 1 (>= 1) from their local ones; those of
+ * the joints before `first` are taken as they are. */
+void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose);
+
+#endif

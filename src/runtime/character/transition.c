@@ -1,0 +1,197 @@
+/* Stage 4: the pose played and the transitions between database frames. */
+#include "transition.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <mm/spring.h>
+
+/* The database pose at a playhead: frame and the next, blended by the fraction. */
+static void pose_at(const mm_database *db, int frame, float fraction, mm_quat *rot, mm_vec3 *pos)
+{
+    int next = db->frame_next[frame] >= 0 ? db->frame_next[frame] : frame;
+    const mm_quat *r0 = mm_database_rotations(db, frame), *r1 = mm_database_rotations(db, next);
+    const mm_vec3 *p0 = mm_database_positions(db, frame), *p1 = mm_database_positions(db, next);
+    for (int j = 0; j < db->joint_count; ++j) {
+        rot[j] = mm_quat_slerp(r0[j], r1[j], fraction);
+        pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
+    }
+}
+
+/* The database's root motion at the playhead: that of the frame interval it is in (the root
+ * velocity of a frame is the motion from the frame before to it). Distance matching plays the clip
+ * at play_rate and stride warping stretches the steps by stride_scale: the root moves as much
+ * faster (both are exactly 1 when off). */
+static mm_root_played root_at(const mm_database *db, int frame, const mm_playback *p)
+{
+    int next = db->frame_next[frame] >= 0 ? db->frame_next[frame] : frame;
+    mm_root_played r;
+    r.velocity = mm_vec3_scale(db->root_velocity[next], p->play_rate * p->stride_scale);
+    r.yaw_rate = db->root_angular_velocity[next] * p->play_rate;
+    return r;
+}
+
+/* Crossfade mode: the mixer's blend of its slots' poses (into rot and pos, when not NULL) and root
+ * motion (the weighted sum of theirs). */
+static mm_root_played crossfade_play(mm_transition *tr, const mm_database *db, const mm_playback *p,
+                                     mm_quat *rot, mm_vec3 *pos)
+{
+    const mm_quat *r[MM_MIXER_SLOTS];
+    const mm_vec3 *ps[MM_MIXER_SLOTS];
+    float w[MM_MIXER_SLOTS];
+    size_t n = (size_t)db->joint_count;
+    mm_root_played sum = {mm_vec3_make(0, 0, 0), 0.0f};
+    for (int i = 0; i < tr->mixer.count; ++i) {
+        const mm_mixer_slot *s = &tr->mixer.slots[i];
+        r[i] = tr->slot_rotations + (size_t)i * n, ps[i] = tr->slot_positions + (size_t)i * n,
+        w[i] = s->weight;
+        if (rot) { /* blended in model space (mm/mixer.h: mm_pose_to_model) */
+            pose_at(db, s->source, s->fraction, tr->slot_rotations + (size_t)i * n,
+                    tr->slot_positions + (size_t)i * n);
+            mm_pose_to_model(db->joints, (int)n, tr->slot_rotations + (size_t)i * n);
+        }
+        mm_root_played one = root_at(db, s->source, p);
+        sum.velocity = mm_vec3_add(sum.velocity, mm_vec3_scale(one.velocity, s->weight));
+        sum.yaw_rate += one.yaw_rate * s->weight;
+    }
+    if (rot && pos) {
+        /* hemispheres from the last tick's output, so that the blend moves continuously */
+        mm_quat *reference = tr->slot_rotations + (size_t)MM_MIXER_SLOTS * n;
+        memcpy(reference, tr->previous_rotations, sizeof(mm_quat) * n);
+        mm_pose_to_model(db->joints, (int)n, reference);
+        mm_pose_blend(r, ps, w, tr->mixer.count, (int)n, reference, rot, pos);
+        mm_pose_to_local(db->joints, (int)n, rot);
+    }
+    return sum;
+}
+
+static void play_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, mm_quat *rot,
+                      mm_vec3 *pos)
+{
+    if (tr->mode == MM_TRANSITION_CROSSFADE)
+        crossfade_play(tr, db, p, rot, pos);
+    else
+        pose_at(db, p->frame, (float)p->fraction, rot, pos);
+}
+
+static mm_root_played play_root(mm_transition *tr, const mm_database *db, const mm_playback *p)
+{
+    return tr->mode == MM_TRANSITION_CROSSFADE ? crossfade_play(tr, db, p, NULL, NULL)
+                                               : root_at(db, p->frame, p);
+}
+
+void mm_transition_init(mm_transition *tr, const mm_database *db, mm_transition_mode mode,
+                        const mm_playback *p)
+{
+    size_t n = (size_t)db->joint_count;
+    tr->mode = mode;
+    tr->uncancellable_tags = mm_search_tag_mask(db, "Jump") | mm_search_tag_mask(db, "Uncancellable");
+    mm_mixer_init(&tr->mixer, p->frame, 0.0f);
+    play_pose(tr, db, p, tr->rotations, tr->positions);
+    memcpy(tr->previous_rotations, tr->rotations, n * sizeof(mm_quat));
+    memcpy(tr->previous_positions, tr->positions, n * sizeof(mm_vec3));
+}
+
+void mm_transition_advance(mm_transition *tr, const mm_database *db, const mm_playback *p, float dt)
+{
+    if (tr->mode != MM_TRANSITION_CROSSFADE) return;
+    mm_mixer_advance(&tr->mixer, dt);
+    mm_mixer_play(&tr->mixer, db->frame_next, db->frame_count, p->play_rate * dt / db->interval);
+    tr->mixer.slots[0].source = p->frame;
+    tr->mixer.slots[0].fraction = (float)p->fraction;
+}
+
+/* Crossfade mode: frame `to` enters the mixer's slot 0 (the playhead), unless the mixer cancels it
+ * (dropped, counted). Frames with uncancellable_tags are never cancelled. */
+static void crossfade_to(mm_transition *tr, const mm_database *db, int to, bool uncancellable, float time,
+                         mm_playback *p)
+{
+    uncancellable = uncancellable || (db->frame_tags && (db->frame_tags[to] & tr->uncancellable_tags));
+    if (!mm_mixer_start(&tr->mixer, to, 0.0f, time, uncancellable)) {
+        ++tr->cancelled;
+        return;
+    }
+    p->frame = to;
+    p->fraction = 0.0;
+    ++tr->transitions;
+}
+
+/* Inertialization. The new clip stands at (to, fraction) on this tick, as the old one stands at its
+ * playhead after this tick's advance. The offsets are taken one tick earlier, against the new
+ * clip's pose there (its pose at the playhead moved back by its own velocity over dt), and then
+ * decay by dt while the clip plays on: the output keeps its position and its velocity (the last
+ * two ticks') across the jump. Joint 0 (the root) is driven by root motion and left out. */
+static void inertialize_to(mm_transition *tr, const mm_database *db, int to, double fraction,
+                           mm_root_played current, mm_playback *p, float dt)
+{
+    int next = db->frame_next[to];
+    p->frame = to;
+    p->fraction = next >= 0 && fraction > 0.0 && fraction < 1.0 ? fraction : 0.0;
+    /* the new clip's velocity at the playhead: that of the frame interval it is in (zero on a
+     * clip's last frame, which playback holds) */
+    const mm_quat *r0 = mm_database_rotations(db, to), *r1 = mm_database_rotations(db, next >= 0 ? next : to);
+    const mm_vec3 *p0 = mm_database_positions(db, to), *p1 = mm_database_positions(db, next >= 0 ? next : to);
+    /* the new clip plays on at the play rate: its velocity per second is the rate times its
+     * velocity per frame interval */
+    float rate = isfinite(p->play_rate) && p->play_rate >= 0.0f ? p->play_rate : 1.0f;
+    float inv_interval = next >= 0 ? rate / db->interval : 0.0f, inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
+    const mm_quat *now_r = tr->rotations, *last_r = tr->previous_rotations;
+    const mm_vec3 *now_p = tr->positions, *last_p = tr->previous_positions;
+    for (int j = 1; j < db->joint_count; ++j) {
+        /* the animated pose's velocity (from the last two ticks) minus the new clip's */
+        mm_vec3 w_out = mm_vec3_scale(
+            mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
+        mm_vec3 w_dst =
+            mm_vec3_scale(mm_quat_log(mm_quat_abs(mm_quat_mul(r1[j], mm_quat_inverse(r0[j])))), inv_interval);
+        mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(p1[j], p0[j]), inv_interval);
+        /* the new clip one tick back: the playhead's pose moved back by dt */
+        mm_quat r = mm_quat_slerp(r0[j], r1[j], (float)p->fraction);
+        mm_vec3 pp = mm_vec3_lerp(p0[j], p1[j], (float)p->fraction);
+        mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm_quat_exp(mm_vec3_scale(w_dst, -dt)), r));
+        mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
+        tr->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
+        tr->rotation_offset_velocity[j] = mm_vec3_sub(w_out, w_dst);
+        mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
+        tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
+        tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
+    }
+    /* the root's motion too: the velocity and yaw rate played continue and blend into the new
+     * frame's (a jump in root velocity would move every joint at once) */
+    mm_root_played to_root = play_root(tr, db, p);
+    tr->root_velocity_offset = mm_vec3_sub(current.velocity, to_root.velocity);
+    tr->root_velocity_offset_rate = mm_vec3_make(0, 0, 0);
+    tr->root_yaw_rate_offset = current.yaw_rate - to_root.yaw_rate;
+    tr->root_yaw_rate_offset_rate = 0.0f;
+    ++tr->transitions;
+}
+
+void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump *jump, float crossfade_time,
+                        mm_root_played current, mm_playback *p, float dt)
+{
+    if (jump->frame < 0) return;
+    if (tr->mode == MM_TRANSITION_CROSSFADE)
+        crossfade_to(tr, db, jump->frame, jump->uncancellable, crossfade_time, p);
+    else
+        inertialize_to(tr, db, jump->frame, jump->fraction, current, p, dt);
+}
+
+void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, float halflife,
+                        float dt, mm_root_played *root)
+{
+    size_t n = (size_t)db->joint_count;
+    memcpy(tr->previous_rotations, tr->rotations, sizeof(mm_quat) * n);
+    memcpy(tr->previous_positions, tr->positions, sizeof(mm_vec3) * n);
+    play_pose(tr, db, p, tr->rotations, tr->positions);
+    for (int j = 1; j < db->joint_count; ++j) {
+        mm_spring_decay_vec3(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], halflife, dt);
+        mm_spring_decay_vec3(&tr->position_offset[j], &tr->position_offset_velocity[j], halflife, dt);
+        tr->rotations[j] =
+            mm_quat_normalize(mm_quat_mul(mm_quat_exp(tr->rotation_offset[j]), tr->rotations[j]));
+        tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
+    }
+    mm_root_played played = play_root(tr, db, p);
+    mm_spring_decay_vec3(&tr->root_velocity_offset, &tr->root_velocity_offset_rate, halflife, dt);
+    mm_spring_update(&tr->root_yaw_rate_offset, &tr->root_yaw_rate_offset_rate, 0.0f, halflife, dt);
+    root->velocity = mm_vec3_add(played.velocity, tr->root_velocity_offset);
+    root->yaw_rate = played.yaw_rate + tr->root_yaw_rate_offset;
+}

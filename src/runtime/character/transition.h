@@ -1,0 +1,62 @@
+/* Stage 4, transition: the animated pose played at the playhead, and jumps hidden by
+ * inertialization (offsets decaying through springs) or by the crossfade mixer. */
+#ifndef MM_RUNTIME_TRANSITION_H
+#define MM_RUNTIME_TRANSITION_H
+
+#include <stdint.h>
+
+#include <mm/character.h>
+#include <mm/mixer.h>
+
+#include "matching.h"
+#include "playback.h"
+
+typedef struct mm_transition {
+    mm_transition_mode mode;
+    /* the animated pose (database plus inertialization) of this tick and the last, before warping
+     * and foot IK: transitions are taken on it, so that IK does not leak into the offsets */
+    mm_quat *rotations, *previous_rotations;
+    mm_vec3 *positions, *previous_positions;
+    /* inertialization: per joint, offsets and their velocities (rotation vectors, rad and rad/s) */
+    mm_vec3 *rotation_offset, *rotation_offset_velocity;
+    mm_vec3 *position_offset, *position_offset_velocity;
+    /* the root motion's offsets (velocity in the character's frame, m/s; yaw rate, rad/s) */
+    mm_vec3 root_velocity_offset, root_velocity_offset_rate;
+    float root_yaw_rate_offset, root_yaw_rate_offset_rate;
+    /* crossfade: the mixer (its slot 0 is the playhead), the slots' poses ([MM_MIXER_SLOTS *
+     * joint_count]; rotations one pose more, the blend's reference), the frames whose transitions
+     * are never cancelled ("Jump", "Uncancellable") and the winners the mixer cancelled */
+    mm_mixer mixer;
+    mm_quat *slot_rotations;
+    mm_vec3 *slot_positions;
+    uint64_t uncancellable_tags;
+    int cancelled;
+    int transitions;
+} mm_transition;
+
+/* The root motion played this tick: velocity in the character's frame (m/s), yaw rate (rad/s). */
+typedef struct mm_root_played {
+    mm_vec3 velocity;
+    float yaw_rate;
+} mm_root_played;
+
+/* Starts on the playhead p: the pose there, no offsets. The arrays are the caller's. */
+void mm_transition_init(mm_transition *tr, const mm_database *db, mm_transition_mode mode,
+                        const mm_playback *p);
+
+/* Crossfade mode: the older slots play on dt at p's play rate; slot 0 follows the playhead. */
+void mm_transition_advance(mm_transition *tr, const mm_database *db, const mm_playback *p, float dt);
+
+/* Jumps the playhead p as asked (jump->frame >= 0). Inertialization keeps the animated pose where
+ * it is and moving as it moves: the difference becomes offsets that decay, and the root motion
+ * played (current) continues into the new frame's. Crossfade starts a transition of
+ * crossfade_time s in the mixer, unless it cancels it. */
+void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump *jump, float crossfade_time,
+                        mm_root_played current, mm_playback *p, float dt);
+
+/* The animated pose of this tick at the playhead (the last one kept as previous) with the offsets
+ * decayed by halflife over dt; *root: the root motion played with its offset. */
+void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, float halflife,
+                        float dt, mm_root_played *root);
+
+#endif

@@ -1,0 +1,143 @@
+/* Stage 6: orientation and stride warping of the pose. */
+#include "warping.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <mm/distance.h>
+
+/* m/s: a clip's root moving at least this fast along its facing counts as forward (or backward)
+ * locomotion, within ORIENTATION_CLIP_CONE of it */
+#define ORIENTATION_CLIP_MIN_SPEED 0.2f
+/* tan(60 deg): how far off its facing a clip's root motion may point and still be warped */
+#define ORIENTATION_CLIP_CONE 0.577f
+/* m/s: slower simulated movement asks for no orientation warp */
+#define ORIENTATION_MIN_SPEED 0.05f
+/* below these the orientation warp has faded out and leaves the pose as it is */
+#define ORIENTATION_REST_ANGLE    1e-4f
+#define ORIENTATION_REST_VELOCITY 1e-3f
+/* s: half-lives of the pelvis's stride drop going down and back up (the drop changes with every
+ * step and would pop if followed at once) */
+#define STRIDE_DROP_DOWN_HALFLIFE 0.05f
+#define STRIDE_DROP_UP_HALFLIFE   0.15f
+/* m: a stride drop under this has settled back */
+#define STRIDE_DROP_REST 1e-4f
+
+void mm_warping_orientation(mm_warping *w, const mm_character_desc *d, const mm_rig *rig, mm_xform root,
+                            mm_vec3 velocity, mm_warping_clip clip, bool strafe, bool off, float dt,
+                            mm_rig_pose *pose)
+{
+    int pelvis = rig->pelvis;
+    if (pelvis < 0) return;
+    mm_vec3 facing = mm_quat_rotate(root.rotation, mm_vec3_make(0, 0, 1));
+    mm_vec3 move = velocity, local = clip.root_velocity;
+    move.y = 0.0f;
+    /* the clip's own direction: forward or backward locomotion, else none */
+    float along = local.z, across = fabsf(local.x);
+    int side = along > ORIENTATION_CLIP_MIN_SPEED && along > ORIENTATION_CLIP_CONE * across     ? 1
+               : along < -ORIENTATION_CLIP_MIN_SPEED && -along > ORIENTATION_CLIP_CONE * across ? -1
+                                                                                                : 0;
+    if (!strafe || off || side == 0 || !(mm_vec3_length(move) > ORIENTATION_MIN_SPEED) || clip.idle)
+        move = facing; /* nothing to correct: the angle goes back to 0 */
+    mm_warp_orientation_params p;
+    memset(&p, 0, sizeof p);
+    p.max_angle = d->orientation_max;
+    /* a spring of the same half-life as speed's exponential (ln 2 / speed): a target that jumps (a
+     * transition to a clip facing elsewhere) would turn the legs at once */
+    p.halflife = d->orientation_speed > 0.0f ? 0.6931472f / d->orientation_speed : 0.0f;
+    p.velocity = w->orientation_velocity;
+    p.spine_count = rig->spine_count;
+    mm_warp_orientation_result r;
+    if (mm_warp_orientation(side < 0 ? mm_vec3_scale(facing, -1.0f) : facing, move, w->orientation_angle, dt,
+                            &p, &r) != MM_OK)
+        return;
+    if (r.backward) /* the movement is more than 90 degrees off the clip's direction: no warp */
+        mm_warp_orientation(facing, facing, w->orientation_angle, dt, &p, &r);
+    if (fabsf(r.angle) < ORIENTATION_REST_ANGLE && fabsf(r.velocity) < ORIENTATION_REST_VELOCITY)
+        r.angle = r.velocity = 0.0f;
+    w->orientation_angle = r.angle;
+    w->orientation_velocity = r.velocity;
+    if (r.angle == 0.0f) return;
+    mm_quat spine_world[MM_RIG_MAX_SPINE], spine_local[MM_RIG_MAX_SPINE];
+    for (int i = 0; i < rig->spine_count; ++i) spine_world[i] = pose->global[rig->spine[i]].rotation;
+    if (mm_warp_orientation_pose(&r, pose->global[rig->joints[pelvis].parent].rotation,
+                                 pose->global[pelvis].rotation, spine_world, rig->spine_count,
+                                 &pose->local_rotations[pelvis], spine_local) != MM_OK)
+        return;
+    for (int i = 0; i < rig->spine_count; ++i) pose->local_rotations[rig->spine[i]] = spine_local[i];
+    mm_rig_forward(rig, pelvis, pose);
+}
+
+void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 velocity, float stride_scale,
+                       float dt, mm_rig_pose *pose)
+{
+    const mm_joint *joints = rig->joints;
+    float previous_drop = isfinite(w->stride_drop) && w->stride_drop > 0.0f ? w->stride_drop : 0.0f;
+    w->stride_drop = 0.0f;
+    if (rig->ankle[0] < 0 || rig->ankle[1] < 0 || rig->pelvis < 0) return;
+    if (stride_scale == 1.0f && previous_drop < STRIDE_DROP_REST)
+        return; /* at rest: the pose is not touched */
+    mm_vec3 direction = velocity;
+    direction.y = 0.0f;
+    if (!(mm_vec3_length(direction) > 1e-3f))
+        direction = mm_quat_rotate(root.rotation, mm_vec3_make(0, 0, 1));
+    mm_leg_pose legs[2];
+    for (int k = 0; k < 2; ++k) {
+        legs[k].hip = pose->global[rig->hip[k]].translation;
+        legs[k].knee = pose->global[rig->knee[k]].translation;
+        legs[k].foot = pose->global[rig->ankle[k]].translation;
+    }
+    mm_leg_warp out[2];
+    float drop = 0.0f;
+    if (mm_warp_stride(legs, 2, direction, stride_scale, 0.0f, out, &drop) != MM_OK) return;
+    if (!(drop >= 0.0f) || drop > 1.0f) return;
+    /* the pelvis follows the drop the legs need on a spring-like filter, not at once; the legs are
+     * then solved again from the pelvis where it is, reaching as far as they can */
+    float halflife = drop > previous_drop ? STRIDE_DROP_DOWN_HALFLIFE : STRIDE_DROP_UP_HALFLIFE;
+    float eased = previous_drop + (drop - previous_drop) * (1.0f - exp2f(-dt / halflife));
+    if (!isfinite(eased) || eased < 0.0f) eased = 0.0f;
+    /* the knees bend toward where the pelvis faces (square to the line from the left hip to the
+     * right one: facing +Z, the left hip is at +X), whichever way the body moves: mm_warp_stride's
+     * pole is the movement, sideways or backward when strafing, and the root's facing is off the
+     * pelvis's in turns */
+    mm_vec3 across = mm_vec3_sub(legs[1].hip, legs[0].hip);
+    mm_vec3 forward = mm_vec3_make(across.z, 0.0f, -across.x);
+    for (int k = 0; k < 2; ++k) {
+        mm_leg_pose lowered = legs[k];
+        lowered.hip.y -= eased;
+        lowered.knee.y -= eased;
+        lowered.foot.y -= eased;
+        if (mm_warp_leg_ik(&lowered, out[k].target, forward, 0.0f, &out[k]) != MM_OK) return;
+    }
+    drop = eased;
+    mm_quat knee_world[2], ankle_world[2];
+    for (int k = 0; k < 2; ++k) {
+        knee_world[k] = pose->global[rig->knee[k]].rotation;
+        ankle_world[k] = pose->global[rig->ankle[k]].rotation;
+    }
+    int pelvis = rig->pelvis;
+    w->stride_drop = drop;
+    if (drop > 0.0f) {
+        mm_vec3 down =
+            mm_quat_inv_rotate(pose->global[joints[pelvis].parent].rotation, mm_vec3_make(0.0f, -drop, 0.0f));
+        pose->local_positions[pelvis] = mm_vec3_add(pose->local_positions[pelvis], down);
+    }
+    mm_rig_forward(rig, pelvis, pose);
+    for (int k = 0; k < 2; ++k) {
+        int hip = rig->hip[k], knee = rig->knee[k], ankle = rig->ankle[k];
+        mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out[k].thigh, pose->global[hip].rotation));
+        pose->local_rotations[hip] = mm_quat_normalize(
+            mm_quat_mul(mm_quat_conj(pose->global[joints[hip].parent].rotation), hip_world));
+        pose->global[hip] =
+            mm_xform_mul(pose->global[joints[hip].parent],
+                         mm_xform_make(pose->local_rotations[hip], pose->local_positions[hip]));
+        mm_quat knee_new = mm_quat_normalize(mm_quat_mul(out[k].shin, knee_world[k]));
+        pose->local_rotations[knee] =
+            mm_quat_normalize(mm_quat_mul(mm_quat_conj(pose->global[hip].rotation), knee_new));
+        pose->global[knee] = mm_xform_mul(
+            pose->global[hip], mm_xform_make(pose->local_rotations[knee], pose->local_positions[knee]));
+        pose->local_rotations[ankle] =
+            mm_quat_normalize(mm_quat_mul(mm_quat_conj(pose->global[knee].rotation), ankle_world[k]));
+    }
+    mm_rig_forward(rig, 1, pose);
+}
