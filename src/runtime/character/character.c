@@ -300,6 +300,18 @@ static bool play_moves(mm_move_playback *m, const mm_database *db, const mm_play
     return false;
 }
 
+/* The distance curve of the clip playing (in *curve), or NULL when it plays by the clock: an idle
+ * (standing still is no reason to slow), a frame tagged "NoDistanceMatching", a clip without one. */
+static const mm_distance_curve *distance_curve_playing(const mm_character_state *s, const mm_database *db,
+                                                       mm_distance_curve *curve)
+{
+    int frame = s->playback.frame, clip = db->frame_clip[frame];
+    if (db->frame_tags && (db->frame_tags[frame] & s->no_distance_tag)) return NULL;
+    if (db->clips[clip].type == MM_CLIP_IDLE || mm_database_distance_curve(db, clip, curve) != MM_OK)
+        return NULL;
+    return curve;
+}
+
 /* What the clip playing says of the feet this tick: its contact label, and how soon each foot's
  * turns on (within plant_time). */
 static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *p, float plant_time)
@@ -324,20 +336,24 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_intent_update(&s->trajectory, in, dt, &s->intent);
 
     /* 2. playback: by the clock, or by distance matching (never during a move) */
-    if ((d->distance_matching || d->warping) && !s->move.playing && !s->move.pending)
-        mm_playback_match_distance(&s->playback, db, &s->playback_params, s->no_distance_tag, &s->trajectory,
-                                   in, &s->intent, dt);
-    else
+    if ((d->distance_matching || d->warping) && !s->move.playing && !s->move.pending) {
+        mm_distance_curve curve;
+        int first = db->clips[db->frame_clip[s->playback.frame]].first_frame;
+        mm_playback_match_distance(&s->playback, &s->playback_params, distance_curve_playing(s, db, &curve),
+                                   first, &s->trajectory, in, &s->intent, dt);
+    } else {
         mm_playback_by_clock(&s->playback);
+    }
     bool ended = mm_playback_advance(&s->playback, db->frame_next, db->interval, dt);
     mm_transition_advance(&s->transition, db, &s->playback, dt);
 
     /* 3. search: a move starting or handing back, or the search's winner */
-    mm_jump jump, found;
+    mm_jump jump, found = {-1, 0.0, false};
     if (play_moves(&s->move, db, &s->playback, ended, &jump)) s->matching.since_search = INFINITY;
-    mm_matching_update(&s->matching, d, db, c->searcher, &s->trajectory, in, &s->intent, s->root_motion.root,
-                       mm_vec3_length(s->root_motion.played.velocity), &s->playback, ended, s->move.playing,
-                       dt, &found);
+    if (mm_matching_due(&s->matching, d, &s->intent, mm_intent_ground_speed(&s->trajectory),
+                        mm_vec3_length(s->root_motion.played.velocity), ended, s->move.playing, dt))
+        mm_matching_search(&s->matching, d, db, c->searcher, &s->trajectory, in, &s->intent,
+                           s->root_motion.root, &s->playback, &found);
     if (found.frame >= 0) jump = found;
 
     /* 4. transition: the jump hidden, and the animated pose of this tick */

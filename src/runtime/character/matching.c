@@ -69,11 +69,43 @@ static void velocity_change_weights(const mm_character_desc *d, const mm_traject
     }
 }
 
-/* Searches; *jump is the winner unless playback goes there anyway. */
-static void search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
-                   const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
-                   const mm_intent *intent, mm_xform root, const mm_playback *pb, mm_jump *jump)
+/* The desired direction (rad) and speed (m/s). */
+static float desired_direction(const mm_intent *intent, float *speed)
 {
+    mm_vec3 desired = intent->desired_velocity;
+    *speed = mm_vec3_length(desired);
+    return atan2f(desired.x, desired.z);
+}
+
+bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent *intent,
+                     float simulated_speed, float root_speed, bool ended, bool move_playing, float dt)
+{
+    float speed, direction = desired_direction(intent, &speed);
+    /* idle is asked for once the simulated character has (nearly) stopped too, not when the stick
+     * is let go: until then the locomotion search finds the stops, where an idle pose would have
+     * its planted feet dragged along by the root still moving. Nor while the animation still runs
+     * (its root faster than idle_root_speed): the jump from a stride into a standing pose, both
+     * feet labelled planted, slides them; once the simulation has stopped idle is asked for
+     * whatever plays */
+    float moving = simulated_speed;
+    int idle_changed = 0;
+    if (m->idle && speed > d->idle_speed + d->idle_hysteresis)
+        m->idle = false, idle_changed = 1;
+    else if (!m->idle && speed < d->idle_speed && moving < d->idle_speed + d->idle_hysteresis &&
+             (!(d->idle_root_speed > 0.0f) || root_speed < d->idle_root_speed || moving < IDLE_STOPPED))
+        m->idle = true, idle_changed = 1;
+    int turned =
+        speed > DIRECTION_MIN_SPEED && fabsf(wrap_angle(direction - m->last_direction)) > d->turn_threshold;
+    m->since_search += dt;
+    return !move_playing && (m->since_search >= d->search_interval || turned || idle_changed || ended);
+}
+
+void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
+                        const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
+                        const mm_intent *intent, mm_xform root, const mm_playback *pb, mm_jump *jump)
+{
+    jump->frame = -1;
+    float speed, direction = desired_direction(intent, &speed);
     build_query(m->query, db, pb->frame, t, in, root);
     mm_search_params p = d->params;
     p.current_frame = pb->frame;
@@ -91,6 +123,7 @@ static void search(mm_matching *m, const mm_character_desc *d, const mm_database
     m->since_search = 0.0f;
     m->last_result = best;
     m->last_params = p;
+    if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
     if (!found || best.frame < 0) return;
     /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor a few frames
      * back in the same clip: jumping back by about what played since the last search would replay
@@ -104,33 +137,4 @@ static void search(mm_matching *m, const mm_character_desc *d, const mm_database
     jump->fraction = pb->fraction;
     /* crossfade: cancellable, but not at the end of the clip (the playhead would stand still) */
     jump->uncancellable = db->frame_next[pb->frame] < 0;
-}
-
-void mm_matching_update(mm_matching *m, const mm_character_desc *d, const mm_database *db,
-                        const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
-                        const mm_intent *intent, mm_xform root, float root_speed, const mm_playback *p,
-                        bool ended, bool move_playing, float dt, mm_jump *jump)
-{
-    jump->frame = -1;
-    mm_vec3 desired = intent->desired_velocity;
-    float speed = mm_vec3_length(desired), direction = atan2f(desired.x, desired.z);
-    /* idle is asked for once the simulated character has (nearly) stopped too, not when the stick
-     * is let go: until then the locomotion search finds the stops, where an idle pose would have
-     * its planted feet dragged along by the root still moving. Nor while the animation still runs
-     * (its root faster than idle_root_speed): the jump from a stride into a standing pose, both
-     * feet labelled planted, slides them; once the simulation has stopped idle is asked for
-     * whatever plays */
-    float moving = mm_intent_ground_speed(t);
-    int idle_changed = 0;
-    if (m->idle && speed > d->idle_speed + d->idle_hysteresis)
-        m->idle = false, idle_changed = 1;
-    else if (!m->idle && speed < d->idle_speed && moving < d->idle_speed + d->idle_hysteresis &&
-             (!(d->idle_root_speed > 0.0f) || root_speed < d->idle_root_speed || moving < IDLE_STOPPED))
-        m->idle = true, idle_changed = 1;
-    int turned =
-        speed > DIRECTION_MIN_SPEED && fabsf(wrap_angle(direction - m->last_direction)) > d->turn_threshold;
-    m->since_search += dt;
-    if (move_playing || !(m->since_search >= d->search_interval || turned || idle_changed || ended)) return;
-    search(m, d, db, searcher, t, in, intent, root, p, jump);
-    if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
 }

@@ -35,14 +35,17 @@ typedef struct mm_jump {
 /* The tags and the idle clips of db; idle, searching on the first tick. */
 void mm_matching_init(mm_matching *m, const mm_database *db, float *query);
 
-/* One tick: updates idle (from the intent, the simulation t and root_speed, the speed of the root
- * motion played last tick), and searches when it is time (search_interval), the desired direction
- * turned sharply, idle changed, or the clip ended (ended) — never while a move plays (move_playing).
- * The query is the pose of the frame playing and t's future in the frame of root. *jump: where to
- * go (frame -1 when playback goes on where it is). */
-void mm_matching_update(mm_matching *m, const mm_character_desc *d, const mm_database *db,
+/* When to search, each tick: updates idle (from the intent, the simulation's ground speed and
+ * root_speed, the speed of the root motion played last tick) and the time since the last search;
+ * true when it is time (search_interval), the desired direction turned sharply, idle changed, or
+ * the clip ended (ended) — never while a move plays (move_playing). */
+bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent *intent,
+                     float simulated_speed, float root_speed, bool ended, bool move_playing, float dt);
+
+/* Searches with the pose of the frame playing and t's future in the frame of root (in: the input
+ * that future is sampled under). *jump: where to go (frame -1 when playback goes on where it is). */
+void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
-                        const mm_intent *intent, mm_xform root, float root_speed, const mm_playback *p,
-                        bool ended, bool move_playing, float dt, mm_jump *jump);
+                        const mm_intent *intent, mm_xform root, const mm_playback *p, mm_jump *jump);
 
 #endif

@@ -5,8 +5,6 @@
 #include <math.h>
 #include <string.h>
 
-#include <mm/distance.h>
-
 /* s: the window either side of the playhead over which a one-shot clip's root speed is measured
  * for the stride scale (the root's speed swings within each step, and a scale following it would
  * stretch and shrink the legs every tick, dragging the planted foot along) */
@@ -79,23 +77,20 @@ static float one_shot_rate(mm_playback *p, const mm_distance_curve *curve, const
 }
 
 /* The play rate and the stride scale asked for this tick (before the stride scale's easing). */
-static void match_target(mm_playback *p, const mm_database *db, const mm_playback_params *params,
-                         uint64_t no_distance_tag, const mm_trajectory *t, const mm_input *in,
+static void match_target(mm_playback *p, const mm_playback_params *params, const mm_distance_curve *curve,
+                         int clip_first_frame, const mm_trajectory *t, const mm_input *in,
                          const mm_intent *intent, float dt)
 {
     mm_playback_by_clock(p);
-    if (db->frame_tags && (db->frame_tags[p->frame] & no_distance_tag)) return;
-    int clip = db->frame_clip[p->frame];
-    mm_distance_curve curve; /* idle clips play by the clock: standing still is no reason to slow */
-    if (db->clips[clip].type == MM_CLIP_IDLE || mm_database_distance_curve(db, clip, &curve) != MM_OK) return;
+    if (!curve) return;
     float speed = mm_intent_ground_speed(t);
     if (!isfinite(speed)) speed = 0.0f;
     float travelled = intent->travelled;
     if (!isfinite(travelled) || travelled < 0.0f) travelled = 0.0f;
-    float time = (float)((double)(p->frame - db->clips[clip].first_frame) + p->fraction) / curve.fps;
+    float time = (float)((double)(p->frame - clip_first_frame) + p->fraction) / curve->fps;
     float rate = 1.0f;
-    if (curve.loop) { /* a cycle: desired speed / the clip's average speed, clamped */
-        float clip_speed = mm_distance_clip_speed(&curve);
+    if (curve->loop) { /* a cycle: desired speed / the clip's average speed, clamped */
+        float clip_speed = mm_distance_clip_speed(curve);
         if (params->distance_matching) {
             mm_distance_play_rate(speed, clip_speed, params->rate_min, params->rate_max, &rate);
             p->mode = MM_PLAYBACK_CYCLE;
@@ -103,18 +98,18 @@ static void match_target(mm_playback *p, const mm_database *db, const mm_playbac
         mm_distance_stride_scale(speed, clip_speed, rate, params->stride_min, params->stride_max,
                                  &p->stride_scale);
     } else {
-        rate = one_shot_rate(p, &curve, params, t, in, intent, time, speed, travelled, dt);
+        rate = one_shot_rate(p, curve, params, t, in, intent, time, speed, travelled, dt);
     }
     p->play_rate = isfinite(rate) && rate >= 0.0f ? fminf(rate, PLAY_RATE_LIMIT) : 1.0f;
     if (!params->warping || !(speed > STRIDE_MIN_SPEED)) p->stride_scale = 1.0f;
 }
 
-void mm_playback_match_distance(mm_playback *p, const mm_database *db, const mm_playback_params *params,
-                                uint64_t no_distance_tag, const mm_trajectory *t, const mm_input *in,
-                                const mm_intent *intent, float dt)
+void mm_playback_match_distance(mm_playback *p, const mm_playback_params *params,
+                                const mm_distance_curve *curve, int clip_first_frame, const mm_trajectory *t,
+                                const mm_input *in, const mm_intent *intent, float dt)
 {
     float previous = p->stride_scale;
-    match_target(p, db, params, no_distance_tag, t, in, intent, dt);
+    match_target(p, params, curve, clip_first_frame, t, in, intent, dt);
     if (params->warping && p->mode != MM_PLAYBACK_CYCLE && isfinite(previous) && previous > 0.0f) {
         float scale = previous + (p->stride_scale - previous) * (1.0f - exp2f(-dt / STRIDE_SCALE_HALFLIFE));
         p->stride_scale = fabsf(scale - 1.0f) < 1e-4f && p->stride_scale == 1.0f ? 1.0f : scale;

@@ -7,6 +7,7 @@
 
 #include <mm/character.h>
 #include <mm/database.h>
+#include <mm/distance.h>
 
 #include "intent.h"
 
@@ -27,11 +28,12 @@ typedef struct mm_playback_params {
 } mm_playback_params;
 
 /* Distance matching: the play rate and stride scale of this tick (p->mode, p->play_rate,
- * p->stride_scale) from the database's distance curves, the simulation t, the intent and the
- * input in (the predicted stop and pivot). Frames tagged no_distance_tag play by the clock. */
-void mm_playback_match_distance(mm_playback *p, const mm_database *db, const mm_playback_params *params,
-                                uint64_t no_distance_tag, const mm_trajectory *t, const mm_input *in,
-                                const mm_intent *intent, float dt);
+ * p->stride_scale) on the distance curve of the clip playing (NULL: by the clock; clip_first_frame:
+ * the database frame where that clip starts), from the simulation t, the intent and the input in
+ * (the predicted stop and pivot). With warping on, the stride scale eases toward its target. */
+void mm_playback_match_distance(mm_playback *p, const mm_playback_params *params,
+                                const mm_distance_curve *curve, int clip_first_frame, const mm_trajectory *t,
+                                const mm_input *in, const mm_intent *intent, float dt);
 
 /* By the clock: rate 1, no stride warp. */
 void mm_playback_by_clock(mm_playback *p);

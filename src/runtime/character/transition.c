@@ -116,37 +116,23 @@ static void crossfade_to(mm_transition *tr, const mm_database *db, int to, bool 
     ++tr->transitions;
 }
 
-/* Inertialization. The new clip stands at (to, fraction) on this tick, as the old one stands at its
- * playhead after this tick's advance. The offsets are taken one tick earlier, against the new
- * clip's pose there (its pose at the playhead moved back by its own velocity over dt), and then
- * decay by dt while the clip plays on: the output keeps its position and its velocity (the last
- * two ticks') across the jump. Joint 0 (the root) is driven by root motion and left out. */
-static void inertialize_to(mm_transition *tr, const mm_database *db, int to, double fraction,
-                           mm_root_played current, mm_playback *p, float dt)
+void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_frame_pair *to, float fraction,
+                               float frame_rate, float dt)
 {
-    int next = db->frame_next[to];
-    p->frame = to;
-    p->fraction = next >= 0 && fraction > 0.0 && fraction < 1.0 ? fraction : 0.0;
-    /* the new clip's velocity at the playhead: that of the frame interval it is in (zero on a
-     * clip's last frame, which playback holds) */
-    const mm_quat *r0 = mm_database_rotations(db, to), *r1 = mm_database_rotations(db, next >= 0 ? next : to);
-    const mm_vec3 *p0 = mm_database_positions(db, to), *p1 = mm_database_positions(db, next >= 0 ? next : to);
-    /* the new clip plays on at the play rate: its velocity per second is the rate times its
-     * velocity per frame interval */
-    float rate = isfinite(p->play_rate) && p->play_rate >= 0.0f ? p->play_rate : 1.0f;
-    float inv_interval = next >= 0 ? rate / db->interval : 0.0f, inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
+    float inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
     const mm_quat *now_r = tr->rotations, *last_r = tr->previous_rotations;
     const mm_vec3 *now_p = tr->positions, *last_p = tr->previous_positions;
-    for (int j = 1; j < db->joint_count; ++j) {
+    for (int j = 1; j < joint_count; ++j) {
         /* the animated pose's velocity (from the last two ticks) minus the new clip's */
         mm_vec3 w_out = mm_vec3_scale(
             mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
-        mm_vec3 w_dst =
-            mm_vec3_scale(mm_quat_log(mm_quat_abs(mm_quat_mul(r1[j], mm_quat_inverse(r0[j])))), inv_interval);
-        mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(p1[j], p0[j]), inv_interval);
+        mm_vec3 w_dst = mm_vec3_scale(
+            mm_quat_log(mm_quat_abs(mm_quat_mul(to->rotations1[j], mm_quat_inverse(to->rotations0[j])))),
+            frame_rate);
+        mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(to->positions1[j], to->positions0[j]), frame_rate);
         /* the new clip one tick back: the playhead's pose moved back by dt */
-        mm_quat r = mm_quat_slerp(r0[j], r1[j], (float)p->fraction);
-        mm_vec3 pp = mm_vec3_lerp(p0[j], p1[j], (float)p->fraction);
+        mm_quat r = mm_quat_slerp(to->rotations0[j], to->rotations1[j], fraction);
+        mm_vec3 pp = mm_vec3_lerp(to->positions0[j], to->positions1[j], fraction);
         mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm_quat_exp(mm_vec3_scale(w_dst, -dt)), r));
         mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
         tr->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
@@ -155,13 +141,35 @@ static void inertialize_to(mm_transition *tr, const mm_database *db, int to, dou
         tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
         tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
     }
+}
+
+void mm_transition_inertialize_root(mm_transition *tr, mm_root_played current, mm_root_played to)
+{
+    tr->root_velocity_offset = mm_vec3_sub(current.velocity, to.velocity);
+    tr->root_velocity_offset_rate = mm_vec3_make(0, 0, 0);
+    tr->root_yaw_rate_offset = current.yaw_rate - to.yaw_rate;
+    tr->root_yaw_rate_offset_rate = 0.0f;
+}
+
+/* Inertialization into database frame `to` at `fraction`: the new clip stands there on this tick,
+ * as the old one stands at its playhead after this tick's advance. */
+static void inertialize_to(mm_transition *tr, const mm_database *db, int to, double fraction,
+                           mm_root_played current, mm_playback *p, float dt)
+{
+    int next = db->frame_next[to];
+    p->frame = to;
+    p->fraction = next >= 0 && fraction > 0.0 && fraction < 1.0 ? fraction : 0.0;
+    /* the new clip's velocity at the playhead: that of the frame interval it is in (zero on a
+     * clip's last frame, which playback holds); it plays on at the play rate: its velocity per
+     * second is the rate times its velocity per frame interval */
+    mm_frame_pair pair = {mm_database_rotations(db, to), mm_database_rotations(db, next >= 0 ? next : to),
+                          mm_database_positions(db, to), mm_database_positions(db, next >= 0 ? next : to)};
+    float rate = isfinite(p->play_rate) && p->play_rate >= 0.0f ? p->play_rate : 1.0f;
+    float frame_rate = next >= 0 ? rate / db->interval : 0.0f;
+    mm_transition_inertialize(tr, db->joint_count, &pair, (float)p->fraction, frame_rate, dt);
     /* the root's motion too: the velocity and yaw rate played continue and blend into the new
      * frame's (a jump in root velocity would move every joint at once) */
-    mm_root_played to_root = play_root(tr, db, p);
-    tr->root_velocity_offset = mm_vec3_sub(current.velocity, to_root.velocity);
-    tr->root_velocity_offset_rate = mm_vec3_make(0, 0, 0);
-    tr->root_yaw_rate_offset = current.yaw_rate - to_root.yaw_rate;
-    tr->root_yaw_rate_offset_rate = 0.0f;
+    mm_transition_inertialize_root(tr, current, play_root(tr, db, p));
     ++tr->transitions;
 }
 
@@ -175,6 +183,26 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
         inertialize_to(tr, db, jump->frame, jump->fraction, current, p, dt);
 }
 
+void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt)
+{
+    for (int j = 1; j < joint_count; ++j) {
+        mm_spring_decay_vec3(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], halflife, dt);
+        mm_spring_decay_vec3(&tr->position_offset[j], &tr->position_offset_velocity[j], halflife, dt);
+        tr->rotations[j] =
+            mm_quat_normalize(mm_quat_mul(mm_quat_exp(tr->rotation_offset[j]), tr->rotations[j]));
+        tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
+    }
+}
+
+mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played, float halflife, float dt)
+{
+    mm_spring_decay_vec3(&tr->root_velocity_offset, &tr->root_velocity_offset_rate, halflife, dt);
+    mm_spring_update(&tr->root_yaw_rate_offset, &tr->root_yaw_rate_offset_rate, 0.0f, halflife, dt);
+    mm_root_played out = {mm_vec3_add(played.velocity, tr->root_velocity_offset),
+                          played.yaw_rate + tr->root_yaw_rate_offset};
+    return out;
+}
+
 void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, float halflife,
                         float dt, mm_root_played *root)
 {
@@ -182,16 +210,6 @@ void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playb
     memcpy(tr->previous_rotations, tr->rotations, sizeof(mm_quat) * n);
     memcpy(tr->previous_positions, tr->positions, sizeof(mm_vec3) * n);
     play_pose(tr, db, p, tr->rotations, tr->positions);
-    for (int j = 1; j < db->joint_count; ++j) {
-        mm_spring_decay_vec3(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], halflife, dt);
-        mm_spring_decay_vec3(&tr->position_offset[j], &tr->position_offset_velocity[j], halflife, dt);
-        tr->rotations[j] =
-            mm_quat_normalize(mm_quat_mul(mm_quat_exp(tr->rotation_offset[j]), tr->rotations[j]));
-        tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
-    }
-    mm_root_played played = play_root(tr, db, p);
-    mm_spring_decay_vec3(&tr->root_velocity_offset, &tr->root_velocity_offset_rate, halflife, dt);
-    mm_spring_update(&tr->root_yaw_rate_offset, &tr->root_yaw_rate_offset_rate, 0.0f, halflife, dt);
-    root->velocity = mm_vec3_add(played.velocity, tr->root_velocity_offset);
-    root->yaw_rate = played.yaw_rate + tr->root_yaw_rate_offset;
+    mm_transition_decay(tr, db->joint_count, halflife, dt);
+    *root = mm_transition_decay_root(tr, play_root(tr, db, p), halflife, dt);
 }

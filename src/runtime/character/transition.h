@@ -40,6 +40,12 @@ typedef struct mm_root_played {
     float yaw_rate;
 } mm_root_played;
 
+/* Two consecutive frames of a clip: where a jump lands, between them. */
+typedef struct mm_frame_pair {
+    const mm_quat *rotations0, *rotations1; /* [joint_count] local */
+    const mm_vec3 *positions0, *positions1;
+} mm_frame_pair;
+
 /* Starts on the playhead p: the pose there, no offsets. The arrays are the caller's. */
 void mm_transition_init(mm_transition *tr, const mm_database *db, mm_transition_mode mode,
                         const mm_playback *p);
@@ -53,6 +59,20 @@ void mm_transition_advance(mm_transition *tr, const mm_database *db, const mm_pl
  * crossfade_time s in the mixer, unless it cancels it. */
 void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump *jump, float crossfade_time,
                         mm_root_played current, mm_playback *p, float dt);
+
+/* Inertialization's offsets for a jump into `to` at fraction (the new clip plays on at frame_rate
+ * frames per second; 0 at its last frame), taken one tick (dt) back against the animated pose and
+ * its velocity (tr->rotations, tr->positions and their previous values): the output keeps its
+ * position and velocity across the jump. Joint 0 (the root) is left out. */
+void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_frame_pair *to, float fraction,
+                               float frame_rate, float dt);
+/* The root motion's offsets for a jump: what played (current) continues into `to`'s. */
+void mm_transition_inertialize_root(mm_transition *tr, mm_root_played current, mm_root_played to);
+
+/* The offsets decayed by halflife over dt and added to the animated pose (tr->rotations,
+ * tr->positions, as played); the root motion played with its decayed offset. */
+void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt);
+mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played, float halflife, float dt);
 
 /* The animated pose of this tick at the playhead (the last one kept as previous) with the offsets
  * decayed by halflife over dt; *root: the root motion played with its offset. */

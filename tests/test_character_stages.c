@@ -1,0 +1,556 @@
+/* The stages of the character's tick (src/runtime/character/), each on its own, without a
+ * database: hand-made skeletons, frame tables, poses and distance curves, against values worked
+ * out by hand or by a second method. */
+#include <math.h>
+
+#include "test_util.h"
+
+#include <mm/distance.h>
+#include <mm/spring.h>
+
+#include "runtime/character/feet.h"
+#include "runtime/character/intent.h"
+#include "runtime/character/matching.h"
+#include "runtime/character/playback.h"
+#include "runtime/character/rig.h"
+#include "runtime/character/root_motion.h"
+#include "runtime/character/transition.h"
+#include "runtime/character/warping.h"
+
+/* ---- a small skeleton: root, hips, two legs with toes, a spine of two and a head ---- */
+
+enum { ROOT, HIPS, L_UPLEG, L_LEG, L_FOOT, L_TOE, R_UPLEG, R_LEG, R_FOOT, R_TOE, SPINE, CHEST, HEAD, JOINTS };
+
+typedef struct body {
+    mm_joint joints[JOINTS];
+    mm_quat rotations[JOINTS];
+    mm_vec3 positions[JOINTS];
+    mm_xform global[JOINTS];
+    mm_rig_pose pose;
+    mm_rig rig;
+} body;
+
+static void joint(body *b, int j, const char *name, int parent, float x, float y, float z)
+{
+    snprintf(b->joints[j].name, sizeof b->joints[j].name, "%s", name);
+    b->joints[j].parent = parent;
+    b->joints[j].offset = mm_vec3_make(x, y, z);
+    b->rotations[j] = mm_quat_identity();
+    b->positions[j] = b->joints[j].offset;
+}
+
+/* Standing at the origin facing +Z, hips at 0.9 m, legs straight down from hips 0.1 m apart (the
+ * left one at +X), thighs and shins 0.42 m, ankles 0.06 m above the ground. */
+static void make_body(body *b)
+{
+    memset(b, 0, sizeof *b);
+    joint(b, ROOT, "Root", -1, 0, 0, 0);
+    joint(b, HIPS, "Hips", ROOT, 0, 0.9f, 0);
+    joint(b, L_UPLEG, "LeftUpLeg", HIPS, 0.1f, 0, 0);
+    joint(b, L_LEG, "LeftLeg", L_UPLEG, 0, -0.42f, 0);
+    joint(b, L_FOOT, "LeftFoot", L_LEG, 0, -0.42f, 0);
+    joint(b, L_TOE, "LeftToe", L_FOOT, 0, -0.04f, 0.12f);
+    joint(b, R_UPLEG, "RightUpLeg", HIPS, -0.1f, 0, 0);
+    joint(b, R_LEG, "RightLeg", R_UPLEG, 0, -0.42f, 0);
+    joint(b, R_FOOT, "RightFoot", R_LEG, 0, -0.42f, 0);
+    joint(b, R_TOE, "RightToe", R_FOOT, 0, -0.04f, 0.12f);
+    joint(b, SPINE, "Spine", HIPS, 0, 0.15f, 0);
+    joint(b, CHEST, "Chest", SPINE, 0, 0.2f, 0);
+    joint(b, HEAD, "Head", CHEST, 0, 0.3f, 0);
+    b->pose.local_rotations = b->rotations;
+    b->pose.local_positions = b->positions;
+    b->pose.global = b->global;
+    b->global[ROOT] = mm_xform_identity();
+    mm_rig_init(&b->rig, b->joints, JOINTS, NULL, NULL);
+    mm_rig_forward(&b->rig, 1, &b->pose);
+}
+
+static void assert_vec3_near(mm_vec3 a, mm_vec3 b, float tolerance)
+{
+    if (mm_vec3_distance(a, b) > tolerance) {
+        print_error("(%g, %g, %g) is not within %g of (%g, %g, %g)\n", (double)a.x, (double)a.y, (double)a.z,
+                    (double)tolerance, (double)b.x, (double)b.y, (double)b.z);
+        fail();
+    }
+}
+
+static mm_character_desc defaults(void)
+{
+    mm_character_desc d;
+    mm_character_defaults(&d);
+    return d;
+}
+
+/* ---- rig ---- */
+
+static void test_rig_finds_legs_pelvis_and_spine(void **state)
+{
+    (void)state;
+    body b;
+    make_body(&b);
+    assert_int_equal(b.rig.ankle[0], L_FOOT);
+    assert_int_equal(b.rig.knee[0], L_LEG);
+    assert_int_equal(b.rig.hip[0], L_UPLEG);
+    assert_int_equal(b.rig.toe[0], L_TOE);
+    assert_int_equal(b.rig.ankle[1], R_FOOT);
+    assert_int_equal(b.rig.toe[1], R_TOE);
+    assert_int_equal(b.rig.pelvis, HIPS);
+    assert_int_equal(b.rig.spine_count, 3); /* Spine, Chest, Head: single children up to the end */
+    assert_int_equal(b.rig.spine[0], SPINE);
+    assert_int_equal(b.rig.spine[2], HEAD);
+    /* world positions by hand: the left ankle 0.84 m below the hips, 0.1 m to the left */
+    assert_vec3_near(b.global[L_FOOT].translation, mm_vec3_make(0.1f, 0.06f, 0.0f), 1e-6f);
+    assert_vec3_near(b.global[R_TOE].translation, mm_vec3_make(-0.1f, 0.02f, 0.12f), 1e-6f);
+    /* other names: found by the names given; a missing one leaves its leg out, and the pelvis */
+    mm_rig other;
+    mm_rig_init(&other, b.joints, JOINTS, "LeftFoot", "NoSuchFoot");
+    assert_int_equal(other.ankle[0], L_FOOT);
+    assert_int_equal(other.ankle[1], -1);
+    assert_int_equal(other.pelvis, -1);
+    /* an ankle that does not hang two joints below the root is no leg */
+    mm_rig_init(&other, b.joints, JOINTS, "Hips", "RightFoot");
+    assert_int_equal(other.ankle[0], -1);
+}
+
+/* ---- 1. intent ---- */
+
+static void test_intent_from_input(void **state)
+{
+    (void)state;
+    mm_trajectory t;
+    assert_int_equal(mm_trajectory_init(&t, NULL, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    in.gait = MM_GAIT_RUN;
+    mm_intent intent;
+    mm_vec3 before = t.position;
+    mm_intent_update(&t, &in, 0.1f, &intent);
+    /* full stick forward at a run: the run's forward speed along +Z (4 m/s by default) */
+    assert_vec3_near(intent.desired_velocity, mm_vec3_make(0, 0, t.desc.gaits[MM_GAIT_RUN].forward_speed),
+                     1e-5f);
+    assert_int_equal(intent.gait, MM_GAIT_RUN);
+    assert_false(intent.strafe);
+    /* travelled: the simulation's ground displacement over the tick */
+    float dx = t.position.x - before.x, dz = t.position.z - before.z;
+    assert_true(intent.travelled > 0.0f);
+    assert_float_equal(intent.travelled, sqrtf(dx * dx + dz * dz), 1e-7f);
+    assert_float_equal(mm_intent_ground_speed(&t),
+                       sqrtf(t.velocity.x * t.velocity.x + t.velocity.z * t.velocity.z), 1e-7f);
+    /* a gait out of range walks; no input asks for nothing */
+    in.gait = (mm_gait)99;
+    in.strafe = true;
+    mm_intent_update(&t, &in, 0.1f, &intent);
+    assert_int_equal(intent.gait, MM_GAIT_WALK);
+    assert_true(intent.strafe);
+    mm_intent_update(&t, NULL, 0.1f, &intent);
+    assert_float_equal(mm_vec3_length(intent.desired_velocity), 0.0f, 1e-7f);
+    assert_int_equal(intent.gait, MM_GAIT_WALK);
+    mm_trajectory_free(&t);
+}
+
+/* ---- 2. playback ---- */
+
+/* Two clips: frames 0-3 (a one-shot) and 4-6 (frame_next of 6 is -1 too: playback holds it). */
+static const int32_t NEXT[7] = {1, 2, 3, -1, 5, 6, -1};
+
+static void test_playback_advance_by_clock_and_rate(void **state)
+{
+    (void)state;
+    mm_playback p;
+    memset(&p, 0, sizeof p);
+    mm_playback_by_clock(&p);
+    assert_int_equal(p.mode, MM_PLAYBACK_CLOCK);
+    assert_float_equal(p.play_rate, 1.0f, 0.0f);
+    /* 1.5 frame intervals of 1/30 s: frame 1, half way (exactly: the fraction is a double) */
+    assert_false(mm_playback_advance(&p, NEXT, 1.0f / 32.0f, 1.5f / 32.0f));
+    assert_int_equal(p.frame, 1);
+    assert_true(p.fraction == 0.5);
+    /* twice the rate: twice as far */
+    p.play_rate = 2.0f;
+    assert_false(mm_playback_advance(&p, NEXT, 1.0f / 32.0f, 0.75f / 32.0f));
+    assert_int_equal(p.frame, 3);
+    assert_true(p.fraction == 0.0);
+    /* past the clip's end: it ends, held on the last frame at fraction 0 */
+    assert_true(mm_playback_advance(&p, NEXT, 1.0f / 32.0f, 1.0f / 32.0f));
+    assert_int_equal(p.frame, 3);
+    assert_true(p.fraction == 0.0);
+}
+
+static void test_playback_time_to_contact(void **state)
+{
+    (void)state;
+    /* the left heel's label turns on at frame 2, the right toe's at frame 3 */
+    const uint8_t contacts[7] = {0, 0, MM_CONTACT_LEFT_HEEL, MM_CONTACT_RIGHT_TOE, 0, 0, 0};
+    mm_playback p;
+    memset(&p, 0, sizeof p);
+    p.frame = 0, p.fraction = 0.25, p.play_rate = 1.0f;
+    float interval = 1.0f / 30.0f;
+    /* frame 2 is 1.75 intervals ahead */
+    assert_float_equal(mm_playback_time_to_contact(&p, NEXT, contacts, interval, 0, 1.0f), 1.75f * interval,
+                       1e-6f);
+    assert_float_equal(mm_playback_time_to_contact(&p, NEXT, contacts, interval, 1, 1.0f), 2.75f * interval,
+                       1e-6f);
+    /* at twice the rate, half the time; beyond the window: none */
+    p.play_rate = 2.0f;
+    assert_float_equal(mm_playback_time_to_contact(&p, NEXT, contacts, interval, 0, 1.0f), 0.875f * interval,
+                       1e-6f);
+    assert_float_equal(mm_playback_time_to_contact(&p, NEXT, contacts, interval, 0, 0.5f * interval), -1.0f,
+                       0.0f);
+    /* none in the clip (frame 4's clip has no contact) */
+    p.frame = 4;
+    assert_float_equal(mm_playback_time_to_contact(&p, NEXT, contacts, interval, 0, 1.0f), -1.0f, 0.0f);
+}
+
+/* A loop walking +Z at 1 m/s, 30 fps, 60 frames. */
+static void walk_loop(mm_distance_curve *curve)
+{
+    float path[2 * 60];
+    for (int f = 0; f < 60; ++f) path[2 * f] = 0.0f, path[2 * f + 1] = (float)f / 30.0f;
+    mm_distance_desc d;
+    memset(&d, 0, sizeof d);
+    d.positions = path, d.components = 2, d.frame_count = 60, d.fps = 30.0f, d.loop = 1;
+    assert_int_equal(mm_distance_curve_build(curve, &d, NULL), MM_OK);
+}
+
+static void test_playback_distance_matching_on_a_cycle(void **state)
+{
+    (void)state;
+    mm_distance_curve curve;
+    walk_loop(&curve);
+    mm_trajectory t;
+    assert_int_equal(mm_trajectory_init(&t, NULL, NULL), MM_OK);
+    mm_intent intent;
+    memset(&intent, 0, sizeof intent);
+    mm_playback_params params = {true, true, 0.75f, 1.25f, 0.8f, 1.2f, 0.15f};
+    mm_playback p;
+    memset(&p, 0, sizeof p);
+    mm_playback_by_clock(&p);
+    /* the simulation at 1.1 m/s on a 1 m/s cycle: played 1.1 times as fast, no stride warp */
+    t.velocity = mm_vec3_make(0, 0, 1.1f);
+    mm_playback_match_distance(&p, &params, &curve, 0, &t, NULL, &intent, 1.0f / 60.0f);
+    assert_int_equal(p.mode, MM_PLAYBACK_CYCLE);
+    assert_float_equal(p.play_rate, 1.1f, 1e-4f);
+    assert_float_equal(p.stride_scale, 1.0f, 1e-4f);
+    /* at 1.8 m/s: the rate clamped at 1.25, the stride makes up for the rest, clamped at 1.2 */
+    t.velocity = mm_vec3_make(1.8f, 0, 0);
+    mm_playback_match_distance(&p, &params, &curve, 0, &t, NULL, &intent, 1.0f / 60.0f);
+    assert_float_equal(p.play_rate, 1.25f, 1e-6f);
+    assert_float_equal(p.stride_scale, 1.2f, 1e-6f);
+    /* at 1.4 m/s: 1.4 / 1.25 */
+    t.velocity = mm_vec3_make(0, 0, -1.4f);
+    mm_playback_match_distance(&p, &params, &curve, 0, &t, NULL, &intent, 1.0f / 60.0f);
+    assert_float_equal(p.stride_scale, 1.4f / 1.25f, 1e-5f);
+    /* warping off: no stride scale; no curve: by the clock */
+    params.warping = false;
+    mm_playback_match_distance(&p, &params, &curve, 0, &t, NULL, &intent, 1.0f / 60.0f);
+    assert_float_equal(p.stride_scale, 1.0f, 0.0f);
+    mm_playback_match_distance(&p, &params, NULL, 0, &t, NULL, &intent, 1.0f / 60.0f);
+    assert_int_equal(p.mode, MM_PLAYBACK_CLOCK);
+    assert_float_equal(p.play_rate, 1.0f, 0.0f);
+    mm_trajectory_free(&t);
+    mm_distance_curve_free(&curve);
+}
+
+/* ---- 3. search: when ---- */
+
+static void test_matching_due(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    mm_matching m;
+    memset(&m, 0, sizeof m);
+    m.idle = true;
+    mm_intent intent;
+    memset(&intent, 0, sizeof intent);
+    float dt = 1.0f / 60.0f;
+    /* standing, idle: due once search_interval has passed (0.1 s: on the 6th tick of 1/60 s) */
+    int ticks = 0;
+    while (!mm_matching_due(&m, &d, &intent, 0.0f, 0.0f, false, false, dt)) ++ticks;
+    assert_int_equal(ticks, 5);
+    m.since_search = 0.0f;
+    /* the stick pushed: idle ends at once (speed over idle_speed + hysteresis), and that searches */
+    intent.desired_velocity = mm_vec3_make(0, 0, 1.5f);
+    assert_true(mm_matching_due(&m, &d, &intent, 0.0f, 0.0f, false, false, dt));
+    assert_false(m.idle);
+    m.since_search = 0.0f, m.last_direction = 0.0f;
+    /* a sharp turn of the desired direction (over turn_threshold) searches at once; a slight one does not */
+    intent.desired_velocity = mm_vec3_make(1.5f * sinf(0.3f), 0, 1.5f * cosf(0.3f));
+    assert_false(mm_matching_due(&m, &d, &intent, 1.5f, 1.5f, false, false, dt));
+    intent.desired_velocity = mm_vec3_make(1.5f * sinf(0.7f), 0, 1.5f * cosf(0.7f));
+    assert_true(mm_matching_due(&m, &d, &intent, 1.5f, 1.5f, false, false, dt));
+    m.since_search = 0.0f;
+    /* a clip that ended searches; but never while a move plays */
+    assert_true(mm_matching_due(&m, &d, &intent, 1.5f, 1.5f, true, false, dt));
+    assert_false(mm_matching_due(&m, &d, &intent, 1.5f, 1.5f, true, true, dt));
+    /* let go: idle only once the simulation has slowed too, and not while the root motion played is
+     * faster than idle_root_speed unless the simulation has stopped */
+    intent.desired_velocity = mm_vec3_make(0, 0, 0);
+    mm_matching_due(&m, &d, &intent, 1.0f, 0.0f, false, false, dt);
+    assert_false(m.idle);
+    mm_matching_due(&m, &d, &intent, 0.1f, 2.0f, false, false, dt);
+    assert_false(m.idle);
+    mm_matching_due(&m, &d, &intent, 0.005f, 2.0f, false, false, dt);
+    assert_true(m.idle);
+}
+
+/* ---- 4. transition ---- */
+
+/* One joint (joint 1) turning about +Y at rate w (rad/s) from angle a0: its rotation at time t. */
+static mm_quat turning(float a0, float w, float t)
+{
+    return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), a0 + w * t);
+}
+
+static void test_transition_inertialize_keeps_pose_and_velocity(void **state)
+{
+    (void)state;
+    enum { N = 2 };
+    mm_quat rot[N], prev[N], r0[N], r1[N];
+    mm_vec3 pos[N], prev_pos[N], p0[N], p1[N];
+    mm_vec3 ro[N], rov[N], po[N], pov[N];
+    mm_transition tr;
+    memset(&tr, 0, sizeof tr);
+    tr.rotations = rot, tr.previous_rotations = prev, tr.positions = pos, tr.previous_positions = prev_pos;
+    tr.rotation_offset = ro, tr.rotation_offset_velocity = rov, tr.position_offset = po,
+    tr.position_offset_velocity = pov;
+    float dt = 1.0f / 60.0f, interval = 1.0f / 30.0f, w = 2.0f;
+    /* the animated pose: joint 1 at 0.5 rad turning at 2 rad/s, moving +X at 1 m/s */
+    prev[1] = turning(0.5f, w, -dt), rot[1] = turning(0.5f, w, 0.0f);
+    prev_pos[1] = mm_vec3_make(-dt, 0, 0), pos[1] = mm_vec3_make(0, 0, 0);
+    /* the new clip: the same motion from 0.3 rad, at rest in position */
+    r0[1] = turning(0.3f, w, 0.0f), r1[1] = turning(0.3f, w, interval);
+    p0[1] = p1[1] = mm_vec3_make(0.2f, 0, 0);
+    mm_frame_pair to = {r0, r1, p0, p1};
+    mm_transition_inertialize(&tr, N, &to, 0.0f, 1.0f / interval, dt);
+    /* the jump happens before this tick's pose: the animated pose is last tick's (0.5 rad), and the
+     * new clip, at 0.3 rad on this tick, stood at 0.3 - w dt then: the offset is the difference */
+    float offset = 0.5f - (0.3f - w * dt);
+    assert_vec3_near(ro[1], mm_vec3_make(0, offset, 0), 1e-5f);
+    assert_vec3_near(rov[1], mm_vec3_make(0, 0, 0), 1e-4f); /* the same turning rate */
+    assert_vec3_near(po[1], mm_vec3_make(-0.2f, 0, 0), 1e-6f);
+    assert_vec3_near(pov[1], mm_vec3_make(1.0f, 0, 0), 1e-4f); /* the output moved, the clip does not */
+    /* the offsets then decay like a critically damped spring: after one half-life from rest,
+     * half is left (mm/spring.h); the rotation offset had no velocity */
+    float h = 0.2f;
+    for (int k = 0; k < 12; ++k) { /* 0.2 s in 12 ticks, the pose held where the new clip is */
+        rot[1] = r0[1], pos[1] = p0[1];
+        mm_transition_decay(&tr, N, h, h / 12.0f);
+    }
+    assert_float_equal(ro[1].y, 0.5f * offset, 1e-5f);
+    /* and the pose carries it: the rotation played turned by the offset */
+    float angle = 2.0f * atan2f(rot[1].y, rot[1].w);
+    assert_float_equal(angle, 0.3f + 0.5f * offset, 1e-5f);
+    /* the root motion: what played continues, blending into the new frame's */
+    mm_root_played current = {mm_vec3_make(0, 0, 1.5f), 0.4f}, next = {mm_vec3_make(0, 0, 1.0f), 0.0f};
+    mm_transition_inertialize_root(&tr, current, next);
+    mm_root_played out = mm_transition_decay_root(&tr, next, h, 0.0f);
+    assert_vec3_near(out.velocity, current.velocity, 1e-6f);
+    assert_float_equal(out.yaw_rate, current.yaw_rate, 1e-6f);
+    out = mm_transition_decay_root(&tr, next, h, h);
+    assert_float_equal(out.velocity.z, 1.25f, 1e-5f);
+    assert_float_equal(out.yaw_rate, 0.2f, 1e-5f);
+}
+
+/* ---- 5. root motion ---- */
+
+static void test_root_motion_pull_and_clamps(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    mm_trajectory t;
+    assert_int_equal(mm_trajectory_init(&t, NULL, NULL), MM_OK);
+    mm_intent intent;
+    memset(&intent, 0, sizeof intent);
+    intent.desired_facing = mm_quat_identity();
+    mm_root_motion r;
+    memset(&r, 0, sizeof r);
+    r.root = mm_xform_identity();
+    float dt = 0.1f;
+    /* played 1 m/s forward, the simulation at the same place: the root goes where it is played */
+    t.position = mm_vec3_make(0, 0, 0.1f);
+    mm_root_played played = {mm_vec3_make(0, 0, 1.0f), 0.0f};
+    mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
+    assert_vec3_near(r.root.translation, mm_vec3_make(0, 0, 0.1f), 1e-6f);
+    /* the simulation 0.2 m to the side: pulled 1 - 2^(-dt / sync_halflife) of the way */
+    r.root = mm_xform_identity();
+    t.position = mm_vec3_make(0.2f, 0, 0.1f);
+    mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
+    float pull = 1.0f - exp2f(-dt / d.sync_halflife);
+    assert_vec3_near(r.root.translation, mm_vec3_make(0.2f * pull, 0, 0.1f), 1e-6f);
+    /* far off: clamped to sync_max_distance from it */
+    r.root = mm_xform_identity();
+    t.position = mm_vec3_make(5.0f, 0, 0.1f);
+    mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
+    float gap = mm_vec3_distance(r.root.translation, t.position);
+    assert_float_equal(gap, d.sync_max_distance, 1e-5f);
+    /* facing: turned past sync_max_angle from the simulation's, it is held at the clamp */
+    r.root = mm_xform_identity();
+    t.position = mm_vec3_make(0, 0, 0.1f);
+    t.facing = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 1.5f);
+    mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
+    assert_float_equal(mm_yaw_of(r.root.rotation), 1.5f - d.sync_max_angle, 1e-5f);
+    /* a move: its root motion alone, no pull, no clamp; the height kept */
+    r.root = mm_xform_make(mm_quat_identity(), mm_vec3_make(0, 0.7f, 0));
+    t.position = mm_vec3_make(5.0f, 0, 0);
+    mm_root_motion_update(&r, &d, &t, &intent, played, true, dt);
+    assert_vec3_near(r.root.translation, mm_vec3_make(0, 0.7f, 0.1f), 1e-6f);
+    assert_float_equal(mm_yaw_of(r.root.rotation), 0.0f, 1e-6f);
+    mm_trajectory_free(&t);
+}
+
+/* ---- 6. warping ---- */
+
+static void test_warping_stride_stretches_the_step(void **state)
+{
+    (void)state;
+    body b;
+    make_body(&b);
+    /* a step: the left foot 0.3 m ahead, the right 0.3 m behind (thighs swung about X) */
+    float swing = asinf(0.3f / 0.84f);
+    b.rotations[L_UPLEG] = mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), -swing);
+    b.rotations[R_UPLEG] = mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), swing);
+    mm_rig_forward(&b.rig, 1, &b.pose);
+    mm_vec3 left = b.global[L_FOOT].translation;
+    assert_float_equal(left.z, 0.3f, 1e-5f);
+    mm_warping w;
+    memset(&w, 0, sizeof w);
+    /* scale 0.8 along +Z: each foot's distance ahead of its hip shrinks to 0.8 of it; over many
+     * ticks the pelvis drop eases to what it needs (none: a shorter step reaches) */
+    for (int k = 0; k < 60; ++k) {
+        make_body(&b);
+        b.rotations[L_UPLEG] = mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), -swing);
+        b.rotations[R_UPLEG] = mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), swing);
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_warping_stride(&w, &b.rig, mm_xform_identity(), mm_vec3_make(0, 0, 1.0f), 0.8f, 1.0f / 60.0f,
+                          &b.pose);
+    }
+    assert_float_equal(w.stride_drop, 0.0f, 1e-6f);
+    assert_float_equal(b.global[L_FOOT].translation.z, 0.24f, 1e-3f);
+    assert_float_equal(b.global[R_FOOT].translation.z, -0.24f, 1e-3f);
+    /* the bones keep their lengths */
+    assert_float_equal(mm_vec3_distance(b.global[L_UPLEG].translation, b.global[L_LEG].translation), 0.42f,
+                       1e-5f);
+    assert_float_equal(mm_vec3_distance(b.global[L_LEG].translation, b.global[L_FOOT].translation), 0.42f,
+                       1e-5f);
+    /* a scale of 1 at rest leaves the pose as it is, bit for bit */
+    make_body(&b);
+    mm_warping rest;
+    memset(&rest, 0, sizeof rest);
+    mm_xform before = b.global[L_FOOT];
+    mm_warping_stride(&rest, &b.rig, mm_xform_identity(), mm_vec3_make(0, 0, 1.0f), 1.0f, 1.0f / 60.0f,
+                      &b.pose);
+    assert_memory_equal(&before, &b.global[L_FOOT], sizeof before);
+}
+
+static void test_warping_orientation_turns_legs_not_chest(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    body b;
+    mm_warping w;
+    memset(&w, 0, sizeof w);
+    /* strafing right (-X) on a clip that walks forward: over a second the lower body turns toward
+     * the movement, -90 degrees about +Y at most (orientation_max), the chest keeps facing +Z */
+    mm_warping_clip clip = {mm_vec3_make(0, 0, 1.2f), false};
+    for (int k = 0; k < 120; ++k) {
+        make_body(&b);
+        mm_warping_orientation(&w, &d, &b.rig, mm_xform_identity(), mm_vec3_make(-1.0f, 0, 0), clip, true,
+                               false, 1.0f / 60.0f, &b.pose);
+    }
+    assert_float_equal(w.orientation_angle, -(float)MM_PI / 2.0f, 0.02f);
+    mm_vec3 hips_forward = mm_quat_rotate(b.global[HIPS].rotation, mm_vec3_make(0, 0, 1));
+    assert_vec3_near(hips_forward, mm_vec3_make(-1, 0, 0), 0.03f);
+    mm_vec3 head_forward = mm_quat_rotate(b.global[HEAD].rotation, mm_vec3_make(0, 0, 1));
+    assert_vec3_near(head_forward, mm_vec3_make(0, 0, 1), 1e-4f);
+    /* not strafing: it springs back to 0, and then the pose is left as it is */
+    for (int k = 0; k < 240; ++k) {
+        make_body(&b);
+        mm_warping_orientation(&w, &d, &b.rig, mm_xform_identity(), mm_vec3_make(-1.0f, 0, 0), clip, false,
+                               false, 1.0f / 60.0f, &b.pose);
+    }
+    assert_float_equal(w.orientation_angle, 0.0f, 0.0f);
+    assert_vec3_near(mm_quat_rotate(b.global[HIPS].rotation, mm_vec3_make(0, 0, 1)), mm_vec3_make(0, 0, 1),
+                     0.0f);
+}
+
+/* ---- 7. feet ---- */
+
+static void test_feet_lock_holds_and_releases(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f; /* the landing's easing is test_feet_land's (test_character.c) */
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    float dt = 1.0f / 60.0f;
+    /* planted where the ankle is */
+    make_body(&b);
+    mm_feet_record(&f, &b.rig, &b.pose);
+    assert_vec3_near(f.raw_contacts[0], mm_vec3_make(0.1f, 0.06f, 0), 1e-6f);
+    assert_vec3_near(f.raw_contacts[3], mm_vec3_make(-0.1f, 0.02f, 0.12f), 1e-6f);
+    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+    assert_true(f.locked[0] && f.heel_locked[0]);
+    assert_false(f.locked[1]);
+    mm_vec3 planted = f.heel_lock[0];
+    assert_vec3_near(planted, mm_vec3_make(0.1f, 0.06f, 0), 1e-5f);
+    /* the body slides 5 cm forward: the locked ankle stays (IK), the free one goes along */
+    for (int k = 0; k < 10; ++k) {
+        make_body(&b);
+        b.positions[HIPS].z = 0.05f;
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+    }
+    assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
+    assert_vec3_near(b.global[R_FOOT].translation, mm_vec3_make(-0.1f, 0.06f, 0.05f), 1e-3f);
+    /* the label off: released; the difference fades with foot_halflife (half of it after one) */
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}};
+    int ticks = (int)lroundf(d.foot_halflife / dt);
+    for (int k = 0; k < ticks; ++k) {
+        make_body(&b);
+        b.positions[HIPS].z = 0.05f;
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &none, mm_xform_identity(), true, dt, &b.pose);
+    }
+    assert_false(f.locked[0]);
+    assert_float_equal(b.global[L_FOOT].translation.z, 0.05f - 0.025f, 2e-3f);
+    /* pulled further than unlock_radius: released, and planted again one spring step (foot_halflife,
+     * from rest) from where it was toward the animation: the foot creeps after it */
+    memset(&f, 0, sizeof f);
+    make_body(&b);
+    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+    make_body(&b);
+    b.positions[ROOT].z = b.positions[HIPS].z = 0.0f;
+    b.global[ROOT].translation.z = d.unlock_radius + 0.1f;
+    mm_rig_forward(&b.rig, 1, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+    assert_true(f.heel_locked[0]);
+    float pulled = d.unlock_radius + 0.1f, y = (float)mm_spring_damping(d.foot_halflife);
+    assert_float_equal(f.heel_lock[0].z, pulled * (1.0f - (1.0f + y * dt) * expf(-y * dt)), 1e-4f);
+    /* never below the ground held (the root's height) */
+    memset(&f, 0, sizeof f);
+    make_body(&b);
+    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_make(mm_quat_identity(), mm_vec3_make(0, 0.1f, 0)), true,
+                   dt, &b.pose);
+    assert_true(f.lock[0].y >= 0.1f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rig_finds_legs_pelvis_and_spine),
+        cmocka_unit_test(test_intent_from_input),
+        cmocka_unit_test(test_playback_advance_by_clock_and_rate),
+        cmocka_unit_test(test_playback_time_to_contact),
+        cmocka_unit_test(test_playback_distance_matching_on_a_cycle),
+        cmocka_unit_test(test_matching_due),
+        cmocka_unit_test(test_transition_inertialize_keeps_pose_and_velocity),
+        cmocka_unit_test(test_root_motion_pull_and_clamps),
+        cmocka_unit_test(test_warping_stride_stretches_the_step),
+        cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
+        cmocka_unit_test(test_feet_lock_holds_and_releases),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
