@@ -11,34 +11,36 @@
 
 #include "state.h"
 
+/* s: the end of a one-shot clip only extrapolates its trajectory: not a place for a search to go */
+#define END_MARGIN 0.25f
+
+/* docs/runtime.md, "Why the defaults are what they are", has what was measured for them. */
 void mm_character_defaults(mm_character_desc *d)
 {
     memset(d, 0, sizeof *d);
     d->search_interval = 0.1f;
     d->turn_threshold = 0.5f;
-    d->transition_halflife = 0.2f; /* 0.1 s left hand pops of 32 cm on LAFAN1, 0.2 s 10-12 cm */
+    d->transition_halflife = 0.2f;
     d->crossfade_time = 0.2f;
     d->idle_speed = 0.15f;
     d->idle_hysteresis = 0.1f;
-    d->idle_root_speed = 1.0f; /* LAFAN1: demo slide 6.1 -> 5.2 cm/s; 0.5 and 0.3 hurt stop_and_go */
+    d->idle_root_speed = 1.0f;
     d->sync_halflife = 0.3f;
     d->sync_max_distance = 0.3f;
     d->sync_max_angle = 0.6f;
     d->angle_threshold = 0.35f;
-    d->angle_revise_speed = 0.0f; /* off: 0.2-0.5 rad/s was measured to triple foot slide on LAFAN1 walks */
+    d->angle_revise_speed = 0.0f;
     d->skip_frames = 3;
-    d->velocity_change_ratio = 0.9f; /* LAFAN1: docs/metrics.md, "What got it there" */
+    d->velocity_change_ratio = 0.9f;
     d->velocity_change_speed = 2.0f;
-    /* 0.2 m: 5.7 cm/s mean foot slide over the shipped scripts on LAFAN1 and 10.1 on the built-in
-     * set, 0.4 m: 4.7 and 9.0 (the legs' length still bounds how far a lock can be held) */
     d->unlock_radius = 0.4f;
     d->foot_halflife = 0.1f;
-    d->plant_time = 0.033f; /* LAFAN1 mean slide 0.80 -> 0.52 cm/s; 0.05 / 0.1 s: 0.54 / 0.70 */
+    d->plant_time = 0.033f;
     d->max_hip_drop = 0.1f;
     d->left_foot = "LeftFoot";
     d->right_foot = "RightFoot";
     d->method = MM_SEARCH_FAST;
-    d->distance_matching = false; /* measured on LAFAN1: docs/distance.md "In the controller" */
+    d->distance_matching = false;
     d->warping = false;
     d->rate_min = MM_DISTANCE_RATE_MIN_DEFAULT;
     d->rate_max = MM_DISTANCE_RATE_MAX_DEFAULT;
@@ -51,15 +53,13 @@ void mm_character_defaults(mm_character_desc *d)
 void mm_character_default_params(const mm_database *db, mm_search_params *p)
 {
     mm_search_params_defaults(db, p);
-    /* keep playing unless a frame is clearly better: on LAFAN1's straight walk 0.6 made
-     * 3 transitions per second instead of 5 (0.8), half the foot slide and pops */
+    /* keep playing unless a frame is clearly better (docs/runtime.md, "Why the defaults") */
     p->next_pose_favour = 0.6f;
     /* the moves (mm/moves.h) play their clips themselves: never a place for locomotion to go */
     p->excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump") |
                        mm_search_tag_mask(db, "VaultLow") | mm_search_tag_mask(db, "VaultHigh") |
                        mm_search_tag_mask(db, "Climb") | mm_search_tag_mask(db, "Drop");
-    /* the last 0.25 s of a one-shot clip only extrapolates its trajectory: not a place to go */
-    p->end_margin = (int)ceilf(0.25f / db->interval);
+    p->end_margin = (int)ceilf(END_MARGIN / db->interval);
 }
 
 void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg)

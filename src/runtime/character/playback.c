@@ -14,6 +14,9 @@
 #define STRIDE_SCALE_HALFLIFE 0.1f
 /* m/s: below this the simulation counts as standing for stride warping */
 #define STRIDE_MIN_SPEED 0.05f
+/* the slowest play rate the look-ahead for a coming contact assumes (a clip standing still would
+ * put every contact infinitely far) */
+#define CONTACT_LOOKAHEAD_MIN_RATE 0.1f
 /* the largest play rate a stop or pivot match may ask for */
 #define PLAY_RATE_LIMIT 16.0f
 
@@ -138,7 +141,8 @@ float mm_playback_time_to_contact(const mm_playback *p, const int32_t *frame_nex
                                   float interval, int foot, float window)
 {
     unsigned mask = 3u << (2 * foot);
-    double step = (double)interval / (p->play_rate > 0.1f ? p->play_rate : 0.1f);
+    double step = (double)interval /
+                  (p->play_rate > CONTACT_LOOKAHEAD_MIN_RATE ? p->play_rate : CONTACT_LOOKAHEAD_MIN_RATE);
     double t = (1.0 - p->fraction) * step;
     for (int f = frame_next[p->frame]; f >= 0 && t <= window; f = frame_next[f], t += step)
         if (contacts[f] & mask) return (float)t;
