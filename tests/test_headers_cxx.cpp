@@ -6,6 +6,7 @@
 #include <mm/mixer.h>
 #include <mm/move_detect.h>
 #include <mm/moves.h>
+#include <mm/pose.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
 #include <mm/target_match.h>

@@ -17,6 +17,7 @@
 #include "input.h"
 #include "math.h"
 #include "pfnn.h"
+#include "pose.h"
 #include "result.h"
 #include "search.h"
 #include "similarity.h"

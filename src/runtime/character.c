@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include <mm/distance.h>
+#include <mm/pose.h>
 #include <mm/spring.h>
 
 void mm_character_defaults(mm_character_desc *d)
