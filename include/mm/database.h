@@ -25,7 +25,7 @@
  *            mm_database_dump mm_feature_kind_name mm_database_distance_curve
  *            mm_database_speed_summary
  *
- * Distance curves (mm/distance.h): each clip's root (joint 0) path measured at build time by
+ * Distance curves (mm/distance_curve.h): each clip's root (joint 0) path measured at build time by
  * mm_distance_curve_build (stop speed MM_DISTANCE_STOP_SPEED_DEFAULT), stored as flat arrays and
  * read through mm_database_distance_curve, which makes a view into the buffer (no allocation).
  */
@@ -40,7 +40,7 @@
 #include "alloc.h"
 #include "clip.h"
 #include "config.h"
-#include "distance.h"
+#include "distance_curve.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"

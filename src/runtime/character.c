@@ -6,9 +6,12 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <mm/distance.h>
+#include <mm/distance_matching.h>
+#include <mm/leg_ik.h>
 #include <mm/pose.h>
+#include <mm/prediction.h>
 #include <mm/spring.h>
+#include <mm/warp.h>
 
 void mm_character_defaults(mm_character_desc *d)
 {
@@ -907,7 +910,7 @@ static void stride_warp(mm_character *c, float dt)
         lowered.hip.y -= eased;
         lowered.knee.y -= eased;
         lowered.foot.y -= eased;
-        if (mm_warp_leg_ik(&lowered, out[k].target, forward, 0.0f, &out[k]) != MM_OK) return;
+        if (mm_leg_ik_solve(&lowered, out[k].target, forward, 0.0f, &out[k]) != MM_OK) return;
     }
     drop = eased;
     mm_quat knee_world[2], ankle_world[2];
