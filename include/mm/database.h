@@ -269,10 +269,10 @@ typedef struct mm_speed_summary {
 } mm_speed_summary;
 
 /* One summary per kind of motion the database has, in this order: a tag named after each gait
- * (mm_gait_name, any case: walk, run, crouch, jump) that tags frames, then locomotion frames
- * without a gait tag, then idle; a frame with two gait tags counts in both. *count receives how
- * many (at most MM_SPEED_SUMMARY_MAX). Allocates scratch (a allocator; NULL: malloc) and frees
- * it. */
+ * (mm_gait_name, mm/gait.h, any case: walk, run, crouch, jump) that tags frames, then locomotion
+ * frames without a gait tag, then idle; a frame with two gait tags counts in both. *count
+ * receives how many (at most MM_SPEED_SUMMARY_MAX). Allocates scratch (a allocator; NULL: malloc)
+ * and frees it. */
 mm_result mm_database_speed_summary(const mm_database *db, const mm_allocator *a,
                                     mm_speed_summary out[MM_SPEED_SUMMARY_MAX], int *count);
 

@@ -15,6 +15,7 @@
 #include "database.h"
 #include "distance_curve.h"
 #include "distance_matching.h"
+#include "gait.h"
 #include "import.h"
 #include "input.h"
 #include "leg_ik.h"
