@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include <mm/database.h>
+#include <mm/distance_matching.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

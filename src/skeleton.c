@@ -74,3 +74,12 @@ mm_result mm_skeleton_validate(const mm_skeleton *s, mm_error *err)
     }
     return MM_OK;
 }
+
+void mm_skeleton_global_from(const mm_joint *joints, int joint_count, int first,
+                             const mm_quat *local_rotations, const mm_vec3 *local_positions, mm_xform *global)
+{
+    if (!joints || !local_rotations || !local_positions || !global) return;
+    for (int j = first < 1 ? 1 : first; j < joint_count; ++j)
+        global[j] =
+            mm_xform_mul(global[joints[j].parent], mm_xform_make(local_rotations[j], local_positions[j]));
+}

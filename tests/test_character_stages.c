@@ -5,7 +5,7 @@
 
 #include "test_util.h"
 
-#include <mm/distance.h>
+#include <mm/distance_curve.h>
 #include <mm/spring.h>
 
 #include "runtime/character/feet.h"

@@ -1,15 +1,20 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
 #include <mm/config_json.h>
-#include <mm/distance.h>
+#include <mm/distance_curve.h>
+#include <mm/distance_matching.h>
 #include <mm/input_json.h>
+#include <mm/leg_ik.h>
 #include <mm/mm.h>
 #include <mm/mixer.h>
 #include <mm/move_detect.h>
 #include <mm/moves.h>
+#include <mm/pose.h>
+#include <mm/prediction.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
 #include <mm/target_match.h>
 #include <mm/view.h>
+#include <mm/warp.h>
 
 #include <cmath>
 #include <cstdio>

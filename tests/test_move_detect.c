@@ -10,6 +10,7 @@
 #include <mm/config_json.h>
 #include <mm/database.h>
 #include <mm/move_detect.h>
+#include <mm/moves.h>
 
 #include "test_databases.h"
 #include "test_util.h"

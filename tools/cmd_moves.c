@@ -9,6 +9,7 @@
 #include <mm/config_json.h>
 #include <mm/import.h>
 #include <mm/move_detect.h>
+#include <mm/moves.h>
 #include <mm/mm.h>
 
 #include "cli.h"

@@ -132,9 +132,9 @@ typedef struct mm_character_desc {
                                            reach their targets; 0.1 (0: never) */
     const char *left_foot, *right_foot; /* ankle joints (the knee and hip are their parents);
                                            "LeftFoot", "RightFoot" */
-    /* Distance matching and stride warping (mm/distance.h, docs/distance.md "In the controller"),
-     * on the database's distance curves. Off: the clock drives playback at rate 1, as before.
-     * Frames tagged "NoDistanceMatching" always play at rate 1, unwarped. */
+    /* Distance matching and stride warping (mm/distance_matching.h, mm/warp.h, docs/distance.md
+     * "In the controller"), on the database's distance curves. Off: the clock drives playback at
+     * rate 1, as before. Frames tagged "NoDistanceMatching" always play at rate 1, unwarped. */
     bool distance_matching;       /* one-shot clips advance by the distance the simulated root travelled;
                                      stops and pivots match to the predicted stop or pivot point; loops
                                      play at desired speed / clip speed; false */

@@ -119,7 +119,7 @@ typedef struct mm_runtime_config {
     float transition_halflife;   /* s, > 0 */
     float idle_speed;            /* m/s, >= 0 */
     float sync_halflife;         /* s, [0, 60] (mm_character_desc) */
-    bool distance_matching;      /* mm_character_desc's switches (mm/distance.h) */
+    bool distance_matching;      /* mm_character_desc's switches (mm/character.h) */
     bool warping;
     mm_runtime_gait walk, run, crouch;
 } mm_runtime_config;

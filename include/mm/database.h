@@ -25,7 +25,7 @@
  *            mm_database_dump mm_feature_kind_name mm_database_distance_curve
  *            mm_database_speed_summary
  *
- * Distance curves (mm/distance.h): each clip's root (joint 0) path measured at build time by
+ * Distance curves (mm/distance_curve.h): each clip's root (joint 0) path measured at build time by
  * mm_distance_curve_build (stop speed MM_DISTANCE_STOP_SPEED_DEFAULT), stored as flat arrays and
  * read through mm_database_distance_curve, which makes a view into the buffer (no allocation).
  */
@@ -40,7 +40,7 @@
 #include "alloc.h"
 #include "clip.h"
 #include "config.h"
-#include "distance.h"
+#include "distance_curve.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"
@@ -269,10 +269,10 @@ typedef struct mm_speed_summary {
 } mm_speed_summary;
 
 /* One summary per kind of motion the database has, in this order: a tag named after each gait
- * (mm_gait_name, any case: walk, run, crouch, jump) that tags frames, then locomotion frames
- * without a gait tag, then idle; a frame with two gait tags counts in both. *count receives how
- * many (at most MM_SPEED_SUMMARY_MAX). Allocates scratch (a allocator; NULL: malloc) and frees
- * it. */
+ * (mm_gait_name, mm/gait.h, any case: walk, run, crouch, jump) that tags frames, then locomotion
+ * frames without a gait tag, then idle; a frame with two gait tags counts in both. *count
+ * receives how many (at most MM_SPEED_SUMMARY_MAX). Allocates scratch (a allocator; NULL: malloc)
+ * and frees it. */
 mm_result mm_database_speed_summary(const mm_database *db, const mm_allocator *a,
                                     mm_speed_summary out[MM_SPEED_SUMMARY_MAX], int *count);
 

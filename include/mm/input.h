@@ -8,9 +8,10 @@
  * the jump button at the key's time (mm/moves.h). mm_input_script_random makes scripts of the
  * same form from a seed (it never presses jump).
  *
+ * The gaits and their names are in mm/gait.h.
+ *
  * Functions: mm_input_script_init mm_input_script_free mm_input_script_validate
- *            mm_input_script_sample mm_input_script_sample_tick mm_input_script_random mm_gait_name
- * mm_gait_parse
+ *            mm_input_script_sample mm_input_script_sample_tick mm_input_script_random
  */
 #ifndef MM_INPUT_H
 #define MM_INPUT_H
@@ -19,19 +20,13 @@
 #include <stdint.h>
 
 #include "alloc.h"
+#include "gait.h"
 #include "math.h"
 #include "result.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef enum mm_gait { MM_GAIT_WALK = 0, MM_GAIT_RUN, MM_GAIT_CROUCH, MM_GAIT_JUMP, MM_GAIT_COUNT } mm_gait;
-
-/* "walk", "run", "crouch", "jump"; NULL if invalid. */
-const char *mm_gait_name(mm_gait g);
-/* The gait named name, or MM_GAIT_COUNT if none. */
-mm_gait mm_gait_parse(const char *name);
 
 typedef struct mm_input {
     float stick[2]; /* x (right), z (forward), world space; magnitude at most 1 */

@@ -13,10 +13,16 @@
 #include "clip.h"
 #include "config.h"
 #include "database.h"
+#include "distance_curve.h"
+#include "distance_matching.h"
+#include "gait.h"
 #include "import.h"
 #include "input.h"
+#include "leg_ik.h"
 #include "math.h"
 #include "pfnn.h"
+#include "pose.h"
+#include "prediction.h"
 #include "result.h"
 #include "search.h"
 #include "similarity.h"
@@ -24,6 +30,7 @@
 #include "spring.h"
 #include "synth.h"
 #include "trajectory.h"
+#include "warp.h"
 
 #define MM_VERSION_MAJOR  0
 #define MM_VERSION_MINOR  1

@@ -36,7 +36,7 @@
 #include "clip.h"
 #include "config.h"
 #include "math.h"
-#include "moves.h" /* mm_move_kind and mm_move_kind_name, shared with the runtime's moves */
+#include "move_kind.h" /* mm_move_kind, shared with the runtime's moves (mm/moves.h) */
 #include "result.h"
 
 #ifdef __cplusplus

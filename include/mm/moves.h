@@ -46,6 +46,7 @@
 #include "database.h"
 #include "input.h"
 #include "math.h"
+#include "move_kind.h"
 #include "result.h"
 #include "scene.h"
 #include "target_match.h"
@@ -53,16 +54,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef enum mm_move_kind {
-    MM_MOVE_NONE = -1,
-    MM_MOVE_JUMP = 0,
-    MM_MOVE_VAULT_LOW,
-    MM_MOVE_VAULT_HIGH,
-    MM_MOVE_CLIMB,
-    MM_MOVE_DROP,
-    MM_MOVE_KIND_COUNT
-} mm_move_kind;
 
 /* "jump", "vault_low", "vault_high", "climb", "drop"; NULL for anything else. */
 const char *mm_move_kind_name(mm_move_kind kind);

@@ -9,7 +9,7 @@
  * clip with mm's defaults they are metres.
  *
  * Functions: mm_skeleton_init mm_skeleton_free mm_skeleton_copy mm_skeleton_find
- *            mm_skeleton_scale mm_skeleton_validate
+ *            mm_skeleton_scale mm_skeleton_validate mm_skeleton_global_from
  */
 #ifndef MM_SKELETON_H
 #define MM_SKELETON_H
@@ -60,6 +60,14 @@ void mm_skeleton_scale(mm_skeleton *s, float factor);
 /* Checks the invariants: root first, parents before children, non-empty unique names, finite
  * offsets. Returns MM_OK or fills err naming the joint. */
 mm_result mm_skeleton_validate(const mm_skeleton *s, mm_error *err);
+
+/* Forward kinematics from joint `first` on: global[j] = global[parent] * (local_rotations[j],
+ * local_positions[j]) for j = first .. joint_count - 1, in joint order (parents before children),
+ * parents from joints[j].parent. global[0] is the caller's (the root's world transform), as are the
+ * joints before first: they are read, not written. first < 1 counts as 1. */
+void mm_skeleton_global_from(const mm_joint *joints, int joint_count, int first,
+                             const mm_quat *local_rotations, const mm_vec3 *local_positions,
+                             mm_xform *global);
 
 #ifdef __cplusplus
 }

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include <mm/input.h>
+#include <mm/gait.h>
 
 #include "db/process.h"
 #include "io/text.h"

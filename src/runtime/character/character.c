@@ -7,7 +7,8 @@
 #include <stdalign.h>
 #include <string.h>
 
-#include <mm/distance.h>
+#include <mm/distance_matching.h>
+#include <mm/warp.h>
 
 #include "state.h"
 

@@ -7,7 +7,9 @@
 
 #include <mm/character.h>
 #include <mm/database.h>
-#include <mm/distance.h>
+#include <mm/distance_curve.h>
+#include <mm/distance_matching.h>
+#include <mm/prediction.h>
 
 #include "intent.h"
 

@@ -53,7 +53,6 @@ void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, const cha
 
 void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose)
 {
-    for (int j = first < 1 ? 1 : first; j < rig->joint_count; ++j)
-        pose->global[j] = mm_xform_mul(pose->global[rig->joints[j].parent],
-                                       mm_xform_make(pose->local_rotations[j], pose->local_positions[j]));
+    mm_skeleton_global_from(rig->joints, rig->joint_count, first, pose->local_rotations,
+                            pose->local_positions, pose->global);
 }

@@ -32,7 +32,7 @@ void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, const cha
                  const char *right_foot);
 
 /* The global transforms of joints first .. joint_count - 1 (>= 1) from their local ones; those of
- * the joints before `first` are taken as they are. */
+ * the joints before `first` are taken as they are (mm_skeleton_global_from on the pose). */
 void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose);
 
 #endif

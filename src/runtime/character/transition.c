@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include <mm/pose.h>
 #include <mm/spring.h>
 
 /* The database pose at a playhead: frame and the next, blended by the fraction. */
@@ -45,7 +46,7 @@ static mm_root_played crossfade_play(mm_transition *tr, const mm_database *db, c
         const mm_mixer_slot *s = &tr->mixer.slots[i];
         r[i] = tr->slot_rotations + (size_t)i * n, ps[i] = tr->slot_positions + (size_t)i * n,
         w[i] = s->weight;
-        if (rot) { /* blended in model space (mm/mixer.h: mm_pose_to_model) */
+        if (rot) { /* blended in model space (mm/pose.h: mm_pose_to_model) */
             pose_at(db, s->source, s->fraction, tr->slot_rotations + (size_t)i * n,
                     tr->slot_positions + (size_t)i * n);
             mm_pose_to_model(db->joints, (int)n, tr->slot_rotations + (size_t)i * n);

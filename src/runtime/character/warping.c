@@ -4,7 +4,8 @@
 #include <math.h>
 #include <string.h>
 
-#include <mm/distance.h>
+#include <mm/leg_ik.h>
+#include <mm/warp.h>
 
 /* m/s: a clip's root moving at least this fast along its facing counts as forward (or backward)
  * locomotion, within ORIENTATION_CLIP_CONE of it */
@@ -107,7 +108,7 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
         lowered.hip.y -= eased;
         lowered.knee.y -= eased;
         lowered.foot.y -= eased;
-        if (mm_warp_leg_ik(&lowered, out[k].target, forward, 0.0f, &out[k]) != MM_OK) return;
+        if (mm_leg_ik_solve(&lowered, out[k].target, forward, 0.0f, &out[k]) != MM_OK) return;
     }
     drop = eased;
     mm_quat knee_world[2], ankle_world[2];

@@ -1,0 +1,112 @@
+/* Two-bone leg IK checked by geometry: reachable targets are reached with the bone lengths kept,
+ * out-of-reach ones are pointed at, the knee keeps its side and moves continuously as targets
+ * sweep and as the animated leg passes straight, and hostile numbers give finite legs. */
+#include <math.h>
+
+#include <mm/leg_ik.h>
+
+#include "test_hostile.h"
+#include "test_legs.h"
+#include "test_util.h"
+
+static void test_leg_ik(void **state)
+{
+    (void)state;
+    mm_leg_pose leg = make_leg(mm_vec3_make(0.0f, 1.0f, 0.0f), mm_vec3_make(0.0f, 0.2f, 0.1f));
+    test_rng rng = {12345};
+    mm_leg_warp w;
+    for (int k = 0; k < 500; ++k) { /* reachable targets are reached, the lengths kept */
+        mm_vec3 d = mm_vec3_make((float)test_rng_uniform(&rng, -1, 1), (float)test_rng_uniform(&rng, -1, 0.3),
+                                 (float)test_rng_uniform(&rng, -1, 1));
+        float r = (float)test_rng_uniform(&rng, 0.05, 0.88);
+        mm_vec3 target = mm_vec3_add(leg.hip, mm_vec3_scale(mm_vec3_normalize(d), r));
+        assert_int_equal(mm_leg_ik_solve(&leg, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_near(mm_vec3_distance(w.pose.foot, target), 0.0, 1e-3);
+        assert_lengths_kept(&leg, &w.pose);
+    }
+    /* out of reach: the leg points at the target, stretched to 0.999 of its length */
+    mm_vec3 far = mm_vec3_make(0.0f, -1.0f, 0.5f);
+    assert_int_equal(mm_leg_ik_solve(&leg, far, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+    assert_near(mm_vec3_distance(w.pose.foot, leg.hip), 0.999 * 0.9, 1e-5);
+    mm_vec3 a = mm_vec3_normalize(mm_vec3_sub(w.pose.foot, leg.hip)),
+            b = mm_vec3_normalize(mm_vec3_sub(far, leg.hip));
+    assert_near(mm_vec3_dot(a, b), 1.0, 1e-6);
+    assert_lengths_kept(&leg, &w.pose);
+    /* the knee keeps the side it bends to while the target sweeps across the knee's own line:
+     * a leg bent in the x = 0 plane (knee forward, +z), targets moving from in front of the knee
+     * to behind it; the knee stays in that plane, forward of the hip-target line, and moves
+     * continuously (the knee's side of each new hip-target axis flips where the axis passes the
+     * knee) */
+    mm_leg_pose bent = {mm_vec3_make(0, 1, 0), mm_vec3_make(0, 0.58f, 0.15f), mm_vec3_make(0, 0.15f, 0.05f)};
+    mm_vec3 before = bent.knee;
+    for (int k = 0; k <= 100; ++k) {
+        mm_vec3 target = mm_vec3_make(0.0f, 0.2f, 0.6f - 0.8f * (float)k / 100.0f);
+        assert_int_equal(mm_leg_ik_solve(&bent, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_near(w.pose.knee.x, 0.0, 1e-5);
+        mm_vec3 axis = mm_vec3_sub(w.pose.foot, bent.hip), kh = mm_vec3_sub(w.pose.knee, bent.hip);
+        /* forward of the line: the cross product's x (about +X, from axis to knee) is negative */
+        assert_true(axis.y * kh.z - axis.z * kh.y < 0.0f);
+        if (k > 0) assert_true(mm_vec3_distance(w.pose.knee, before) < 0.03f);
+        before = w.pose.knee;
+    }
+    /* the animated leg passes through straight, its knee going from in front of the hip-foot line
+     * to behind it (thigh angle +0.05 to -0.05 rad, the foot straight below the hip), while the
+     * target asks for more bend (5 cm nearer the hip): the knee bends toward the pole all along
+     * and moves continuously (taking the animated plane's side, it jumped to the back) */
+    before = mm_vec3_make(0, 0, 0);
+    for (int k = 0; k <= 100; ++k) {
+        float theta = 0.05f - 0.1f * (float)k / 100.0f;
+        mm_leg_pose passing = {mm_vec3_make(0, 1, 0),
+                               mm_vec3_make(0, 1.0f - 0.45f * cosf(theta), 0.45f * sinf(theta)),
+                               mm_vec3_make(0, 1.0f - 0.9f * cosf(theta), 0)};
+        mm_vec3 target = mm_vec3_add(passing.foot, mm_vec3_make(0, 0.05f, 0));
+        assert_int_equal(mm_leg_ik_solve(&passing, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_near(mm_vec3_distance(w.pose.foot, target), 0.0, 1e-5);
+        assert_lengths_kept(&passing, &w.pose);
+        assert_true(w.pose.knee.z > 0.05f);
+        if (k > 0) assert_true(mm_vec3_distance(w.pose.knee, before) < 0.01f);
+        before = w.pose.knee;
+    }
+    /* a leg clearly bent against the pole (0.3 rad) keeps its bend when the target is its foot */
+    mm_leg_pose against = {mm_vec3_make(0, 1, 0),
+                           mm_vec3_make(0, 1.0f - 0.45f * cosf(0.3f), -0.45f * sinf(0.3f)),
+                           mm_vec3_make(0, 1.0f - 0.9f * cosf(0.3f), 0)};
+    assert_int_equal(mm_leg_ik_solve(&against, against.foot, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+    assert_near(mm_vec3_distance(w.pose.knee, against.knee), 0.0, 1e-5);
+    /* a straight leg bends toward the pole */
+    mm_leg_pose straight = {mm_vec3_make(0, 1, 0), mm_vec3_make(0, 0.55f, 0), mm_vec3_make(0, 0.1f, 0)};
+    assert_int_equal(mm_leg_ik_solve(&straight, mm_vec3_make(0, 0.3f, 0), mm_vec3_make(0, 0, 1), 0.0f, &w),
+                     MM_OK);
+    assert_true(w.pose.knee.z > 0.1f);
+    assert_near(w.pose.foot.y, 0.3, 1e-5);
+}
+
+/* ---- hostile numbers ------------------------------------------------------------------------ */
+
+/* Whatever comes in (NaN, infinities, 1e38), nothing non-finite comes out. */
+static void test_hostile_numbers(void **state)
+{
+    (void)state;
+    test_rng rng = {77};
+    for (int k = 0; k < 20000; ++k) {
+        mm_leg_pose legs[2];
+        for (int i = 0; i < 2; ++i) {
+            legs[i] = make_leg(mm_vec3_make(0.1f - 0.2f * i, 0.9f, 0.0f),
+                               mm_vec3_make(0.1f, 0.1f, 0.2f - 0.4f * i));
+            if (test_rng_next(&rng) % 4 == 0) legs[i].foot = hostile3(&rng);
+            if (test_rng_next(&rng) % 8 == 0) legs[i].hip = hostile3(&rng);
+        }
+        mm_leg_warp out[2];
+        mm_leg_ik_solve(&legs[0], hostile3(&rng), hostile3(&rng), hostile(&rng), &out[0]);
+        assert_true(finite_vec(out[0].pose.knee) && finite_vec(out[0].pose.foot) && isfinite(out[0].thigh.y));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_leg_ik),
+        cmocka_unit_test(test_hostile_numbers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
