@@ -1147,6 +1147,43 @@ static int teardown(void **state)
     return 0;
 }
 
+/* The knees' hinges learned from the built-in set: in every clearly bent frame the knee bends about
+ * its hinge (cross(thigh, shin) in the knee's frame within 10 degrees of it), and the pole it gives
+ * a leg standing straight points ahead of the character (square to the leg, within 30 degrees of
+ * the root's facing): defined where the animated leg's own plane is not. */
+static void test_knee_hinges(void **state)
+{
+    (void)state;
+    mm_character c;
+    make_character(&c, NULL);
+    const mm_rig *rig = &c.state->rig;
+    for (int k = 0; k < 2; ++k) {
+        assert_float_equal(mm_vec3_length(rig->hinge[k]), 1.0f, 1e-5f);
+        int bent = 0, agree = 0;
+        for (int f = 0; f < db.frame_count; f += 7) {
+            const mm_quat *r = mm_database_rotations(&db, f);
+            const mm_vec3 *p = mm_database_positions(&db, f);
+            mm_vec3 thigh = mm_vec3_normalize(mm_quat_inv_rotate(r[rig->knee[k]], p[rig->knee[k]]));
+            mm_vec3 shin = mm_vec3_normalize(p[rig->ankle[k]]), axis = mm_vec3_cross(thigh, shin);
+            if (mm_vec3_length(axis) < 0.3f) continue;
+            ++bent;
+            agree +=
+                mm_vec3_dot(mm_vec3_normalize(axis), rig->hinge[k]) > cosf(10.0f * (float)MM_PI / 180.0f);
+        }
+        assert_true(bent > 100);
+        assert_int_equal(agree, bent);
+    }
+    /* the idle pose the character starts in, its legs nearly straight: the pole still points ahead */
+    mm_rig_pose pose = c.state->pose;
+    for (int k = 0; k < 2; ++k) {
+        mm_vec3 pole = mm_rig_knee_pole(rig, &pose, k);
+        mm_vec3 ahead = mm_quat_rotate(c.root.rotation, mm_vec3_make(0, 0, 1));
+        pole.y = 0.0f;
+        assert_true(mm_vec3_dot(mm_vec3_normalize(pole), ahead) > cosf(30.0f * (float)MM_PI / 180.0f));
+    }
+    mm_character_free(&c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1155,6 +1192,7 @@ int main(void)
         cmocka_unit_test(test_inertialization),
         cmocka_unit_test(test_transition_velocity_continuous),
         cmocka_unit_test(test_crossfade),
+        cmocka_unit_test(test_knee_hinges),
         cmocka_unit_test(test_playhead_exact),
         cmocka_unit_test(test_robust),
         cmocka_unit_test(test_gait_tags),

@@ -491,7 +491,7 @@ static void test_feet_lock_holds_and_releases(void **state)
     mm_feet_record(&f, &b.rig, &b.pose);
     assert_vec3_near(f.raw_contacts[0], mm_vec3_make(0.1f, 0.06f, 0), 1e-6f);
     assert_vec3_near(f.raw_contacts[3], mm_vec3_make(-0.1f, 0.02f, 0.12f), 1e-6f);
-    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
     assert_true(f.locked[0] && f.heel_locked[0]);
     assert_false(f.locked[1]);
     mm_vec3 planted = f.heel_lock[0];
@@ -501,7 +501,7 @@ static void test_feet_lock_holds_and_releases(void **state)
         make_body(&b);
         b.positions[HIPS].z = 0.05f;
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
     }
     assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
     assert_vec3_near(b.global[R_FOOT].translation, mm_vec3_make(-0.1f, 0.06f, 0.05f), 1e-3f);
@@ -512,7 +512,7 @@ static void test_feet_lock_holds_and_releases(void **state)
         make_body(&b);
         b.positions[HIPS].z = 0.05f;
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &none, mm_xform_identity(), true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &none, 0.0f, true, dt, &b.pose);
     }
     assert_false(f.locked[0]);
     assert_float_equal(b.global[L_FOOT].translation.z, 0.05f - 0.025f, 2e-3f);
@@ -520,21 +520,24 @@ static void test_feet_lock_holds_and_releases(void **state)
      * from rest) from where it was toward the animation: the foot creeps after it */
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
     make_body(&b);
     b.positions[ROOT].z = b.positions[HIPS].z = 0.0f;
     b.global[ROOT].translation.z = d.unlock_radius + 0.1f;
     mm_rig_forward(&b.rig, 1, &b.pose);
-    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_identity(), true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
     assert_true(f.heel_locked[0]);
     float pulled = d.unlock_radius + 0.1f, y = (float)mm_spring_damping(d.foot_halflife);
     assert_float_equal(f.heel_lock[0].z, pulled * (1.0f - (1.0f + y * dt) * expf(-y * dt)), 1e-4f);
     /* never below the ground held (the root's height) */
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, mm_xform_make(mm_quat_identity(), mm_vec3_make(0, 0.1f, 0)), true,
-                   dt, &b.pose);
-    assert_true(f.lock[0].y >= 0.1f);
+    mm_feet_update(&f, &d, &b.rig, &heel, 0.1f, true, dt, &b.pose);
+    assert_float_equal(f.lock[0].y, 0.1f, 0.0f);
+    memset(&f, 0, sizeof f);
+    make_body(&b);
+    mm_feet_update(&f, &d, &b.rig, &heel, 0.1f, false, dt, &b.pose); /* a move: no ground held */
+    assert_float_equal(f.lock[0].y, 0.06f, 1e-6f);
 }
 
 int main(void)

@@ -20,18 +20,44 @@ static void test_leg_ik(void **state)
                                  (float)test_rng_uniform(&rng, -1, 1));
         float r = (float)test_rng_uniform(&rng, 0.05, 0.88);
         mm_vec3 target = mm_vec3_add(leg.hip, mm_vec3_scale(mm_vec3_normalize(d), r));
-        assert_int_equal(mm_leg_ik_solve(&leg, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_int_equal(mm_leg_ik_solve(&leg, target, mm_vec3_make(0, 0, 1), NULL, &w), MM_OK);
         assert_near(mm_vec3_distance(w.pose.foot, target), 0.0, 1e-3);
         assert_lengths_kept(&leg, &w.pose);
     }
     /* out of reach: the leg points at the target, stretched to 0.999 of its length */
     mm_vec3 far = mm_vec3_make(0.0f, -1.0f, 0.5f);
-    assert_int_equal(mm_leg_ik_solve(&leg, far, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+    assert_int_equal(mm_leg_ik_solve(&leg, far, mm_vec3_make(0, 0, 1), NULL, &w), MM_OK);
     assert_near(mm_vec3_distance(w.pose.foot, leg.hip), 0.999 * 0.9, 1e-5);
     mm_vec3 a = mm_vec3_normalize(mm_vec3_sub(w.pose.foot, leg.hip)),
             b = mm_vec3_normalize(mm_vec3_sub(far, leg.hip));
     assert_near(mm_vec3_dot(a, b), 1.0, 1e-6);
     assert_lengths_kept(&leg, &w.pose);
+    /* softened: a target at the full length is reached to within soft_reach * length * e^-1 of it
+     * (the soft zone starts soft_reach * length short of it), a nearer one exactly; the
+     * distance asked for grows smoothly (its slope is continuous where the zone starts) */
+    mm_leg_ik_params soft = {1.0f, 0.05f};
+    assert_int_equal(mm_leg_ik_solve(&leg, mm_vec3_make(0.0f, 0.1f, 0.0f), mm_vec3_make(0, 0, 1), &soft, &w),
+                     MM_OK);
+    assert_near(mm_vec3_distance(w.pose.foot, leg.hip), 0.9 - 0.05 * 0.9 * exp(-1.0), 1e-5);
+    assert_int_equal(mm_leg_ik_solve(&leg, mm_vec3_make(0.0f, 0.2f, 0.0f), mm_vec3_make(0, 0, 1), &soft, &w),
+                     MM_OK);
+    assert_near(mm_vec3_distance(w.pose.foot, leg.hip), 0.8, 1e-5);
+    double last = 0.0, last_step = -1.0;
+    for (int k = 0; k <= 100; ++k) { /* targets from 0.80 to 1.00 m below the hip */
+        mm_vec3 target = mm_vec3_make(0.0f, 1.0f - (0.8f + 0.002f * (float)k), 0.0f);
+        assert_int_equal(mm_leg_ik_solve(&leg, target, mm_vec3_make(0, 0, 1), &soft, &w), MM_OK);
+        double reach = mm_vec3_distance(w.pose.foot, leg.hip);
+        if (k > 0) {
+            double step = reach - last;
+            assert_true(step > 0.0 && step <= 0.002 + 1e-6);
+            if (last_step >= 0.0) assert_true(fabs(step - last_step) < 2.5e-4); /* no kink */
+            last_step = step;
+        }
+        last = reach;
+    }
+    soft.soft_reach = 0.6f; /* out of range */
+    assert_int_equal(mm_leg_ik_solve(&leg, mm_vec3_make(0.0f, 0.2f, 0.0f), mm_vec3_make(0, 0, 1), &soft, &w),
+                     MM_ERR_INVALID_ARGUMENT);
     /* the knee keeps the side it bends to while the target sweeps across the knee's own line:
      * a leg bent in the x = 0 plane (knee forward, +z), targets moving from in front of the knee
      * to behind it; the knee stays in that plane, forward of the hip-target line, and moves
@@ -41,7 +67,7 @@ static void test_leg_ik(void **state)
     mm_vec3 before = bent.knee;
     for (int k = 0; k <= 100; ++k) {
         mm_vec3 target = mm_vec3_make(0.0f, 0.2f, 0.6f - 0.8f * (float)k / 100.0f);
-        assert_int_equal(mm_leg_ik_solve(&bent, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_int_equal(mm_leg_ik_solve(&bent, target, mm_vec3_make(0, 0, 1), NULL, &w), MM_OK);
         assert_near(w.pose.knee.x, 0.0, 1e-5);
         mm_vec3 axis = mm_vec3_sub(w.pose.foot, bent.hip), kh = mm_vec3_sub(w.pose.knee, bent.hip);
         /* forward of the line: the cross product's x (about +X, from axis to knee) is negative */
@@ -60,22 +86,36 @@ static void test_leg_ik(void **state)
                                mm_vec3_make(0, 1.0f - 0.45f * cosf(theta), 0.45f * sinf(theta)),
                                mm_vec3_make(0, 1.0f - 0.9f * cosf(theta), 0)};
         mm_vec3 target = mm_vec3_add(passing.foot, mm_vec3_make(0, 0.05f, 0));
-        assert_int_equal(mm_leg_ik_solve(&passing, target, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
+        assert_int_equal(mm_leg_ik_solve(&passing, target, mm_vec3_make(0, 0, 1), NULL, &w), MM_OK);
         assert_near(mm_vec3_distance(w.pose.foot, target), 0.0, 1e-5);
         assert_lengths_kept(&passing, &w.pose);
         assert_true(w.pose.knee.z > 0.05f);
         if (k > 0) assert_true(mm_vec3_distance(w.pose.knee, before) < 0.01f);
         before = w.pose.knee;
     }
-    /* a leg clearly bent against the pole (0.3 rad) keeps its bend when the target is its foot */
+    /* a leg bent against the pole (0.3 rad: hyperextended) is solved on the pole's side, mirrored:
+     * the IK never bends a knee backward; a leg bent to a side within 60 degrees of the pole keeps
+     * it when the target is its foot */
     mm_leg_pose against = {mm_vec3_make(0, 1, 0),
                            mm_vec3_make(0, 1.0f - 0.45f * cosf(0.3f), -0.45f * sinf(0.3f)),
                            mm_vec3_make(0, 1.0f - 0.9f * cosf(0.3f), 0)};
-    assert_int_equal(mm_leg_ik_solve(&against, against.foot, mm_vec3_make(0, 0, 1), 0.0f, &w), MM_OK);
-    assert_near(mm_vec3_distance(w.pose.knee, against.knee), 0.0, 1e-5);
+    assert_int_equal(mm_leg_ik_solve(&against, against.foot, mm_vec3_make(0, 0, 1), NULL, &w), MM_OK);
+    assert_near(w.pose.knee.z, 0.45 * sin(0.3), 1e-5);
+    assert_near(w.pose.knee.y, against.knee.y, 1e-5);
+    assert_near(mm_vec3_distance(w.pose.foot, against.foot), 0.0, 1e-5);
+    for (int k = -5; k <= 5; ++k) { /* the knee turned about the leg by up to 55 degrees */
+        float yaw = 0.19f * (float)k;
+        mm_vec3 side = mm_vec3_make(sinf(yaw), 0, cosf(yaw));
+        mm_leg_pose turned = {mm_vec3_make(0, 1, 0),
+                              mm_vec3_add(mm_vec3_make(0, 1.0f - 0.45f * cosf(0.3f), 0),
+                                          mm_vec3_scale(side, 0.45f * sinf(0.3f))),
+                              mm_vec3_make(0, 1.0f - 0.9f * cosf(0.3f), 0)};
+        assert_int_equal(mm_leg_ik_solve(&turned, turned.foot, mm_vec3_make(0, 0, 1), NULL, &w), MM_OK);
+        assert_near(mm_vec3_distance(w.pose.knee, turned.knee), 0.0, 1e-5);
+    }
     /* a straight leg bends toward the pole */
     mm_leg_pose straight = {mm_vec3_make(0, 1, 0), mm_vec3_make(0, 0.55f, 0), mm_vec3_make(0, 0.1f, 0)};
-    assert_int_equal(mm_leg_ik_solve(&straight, mm_vec3_make(0, 0.3f, 0), mm_vec3_make(0, 0, 1), 0.0f, &w),
+    assert_int_equal(mm_leg_ik_solve(&straight, mm_vec3_make(0, 0.3f, 0), mm_vec3_make(0, 0, 1), NULL, &w),
                      MM_OK);
     assert_true(w.pose.knee.z > 0.1f);
     assert_near(w.pose.foot.y, 0.3, 1e-5);
@@ -97,7 +137,10 @@ static void test_hostile_numbers(void **state)
             if (test_rng_next(&rng) % 8 == 0) legs[i].hip = hostile3(&rng);
         }
         mm_leg_warp out[2];
-        mm_leg_ik_solve(&legs[0], hostile3(&rng), hostile3(&rng), hostile(&rng), &out[0]);
+        mm_vec3 target = hostile3(&rng), pole = hostile3(&rng);
+        mm_leg_ik_params params = {hostile(&rng), 0.0f};
+        params.soft_reach = hostile(&rng);
+        mm_leg_ik_solve(&legs[0], target, pole, &params, &out[0]);
         assert_true(finite_vec(out[0].pose.knee) && finite_vec(out[0].pose.foot) && isfinite(out[0].thigh.y));
     }
 }

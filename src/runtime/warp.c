@@ -45,7 +45,8 @@ mm_result mm_warp_stride(const mm_leg_pose *legs, int leg_count, mm_vec3 directi
         lowered.hip.y = (float)(lowered.hip.y - drop);
         lowered.knee.y = (float)(lowered.knee.y - drop);
         lowered.foot.y = (float)(lowered.foot.y - drop);
-        mm_result r = mm_leg_ik_solve(&lowered, fv(targets[i]), fv(dir), (float)ext, &out[i]);
+        mm_leg_ik_params params = {(float)ext, 0.0f};
+        mm_result r = mm_leg_ik_solve(&lowered, fv(targets[i]), fv(dir), &params, &out[i]);
         if (r != MM_OK) {
             for (int k = 0; k < leg_count; ++k) leg_identity(&legs[k], &out[k]);
             return r;

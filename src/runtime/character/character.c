@@ -254,6 +254,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
         return mm_error_set(err, r, 0, 0, "trajectory: bad parameters");
     }
     mm_rig_init(&s->rig, db->joints, db->joint_count, d->left_foot, d->right_foot);
+    mm_rig_learn_hinges(&s->rig, db);
     d->left_foot = d->right_foot = NULL; /* not kept: the caller's strings */
     apply_tuning(c, d);
     s->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");
@@ -381,7 +382,8 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_feet_record(&s->feet, &s->rig, &s->pose);
     if (!d->no_foot_ik) {
         mm_feet_contacts contacts = feet_contacts(db, &s->playback, d->plant_time);
-        mm_feet_update(&s->feet, d, &s->rig, &contacts, s->root_motion.root, !s->move.playing, dt, &s->pose);
+        mm_feet_update(&s->feet, d, &s->rig, &contacts, s->root_motion.root.translation.y, !s->move.playing,
+                       dt, &s->pose);
     }
 
     /* 8. pose: what the character shows */

@@ -4,14 +4,13 @@
 
 #include <math.h>
 
+#include <mm/leg_ik.h>
 #include <mm/spring.h>
 
-/* fraction of the leg's length over which the IK's reach softens (soft_reach) */
+/* share of the leg's length over which the IK's reach softens (mm_leg_ik_params.soft_reach) */
 #define SOFT_REACH 0.05f
 /* rad: the most a foot planted on heel and toe is turned from its animated orientation */
 #define MAX_FOOT_TURN 0.8f
-/* sine of the knee's bend below which the animated bend plane is not trusted alone */
-#define BEND_PLANE_TRUST 0.1f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -24,77 +23,26 @@ static mm_vec3 foot_source(const mm_feet *f, int k, mm_vec3 ankle, mm_vec3 toe)
     return ankle;
 }
 
-/* Soft IK: the distance the leg is asked to span, for a target at distance lat from the hip of a
- * leg of length `length`. Near full extension the knee moves as the square root of what the leg
- * lacks (a target a millimetre out of reach and back moves the knee centimetres: pops); within the
- * last SOFT_REACH of the length the span approaches the length exponentially instead (continuous in
- * value and slope where it starts), so the knee moves smoothly and the ankle falls short by at most
- * SOFT_REACH * length. */
-static float soft_reach(float lat, float length)
-{
-    float soft = SOFT_REACH * length, start = length - soft;
-    if (!(lat > start) || !(soft > 0.0f)) return lat;
-    return length - soft * expf(-(lat - start) / soft);
-}
-
-static float clamped_acos(float x) { return acosf(fmaxf(-1.0f, fminf(1.0f, x))); }
-
-/* Two-bone IK: turns the hip and knee of leg k so that the ankle reaches target, the knee bending in
- * the plane it bends in now; the ankle takes the world orientation ankle_world. Works on the local
- * rotations and the global transforms of the three joints. */
-static void two_bone_ik(const mm_rig *rig, int k, mm_xform root, mm_vec3 target, mm_quat ankle_world,
-                        mm_rig_pose *pose)
+/* Foot k's leg solved by the leg IK (mm/leg_ik.h) so that its ankle reaches target, the knee
+ * bending the way its hinge does (mm_rig_knee_pole) where the animated bend does not say, the reach softened
+ * near full extension; the ankle takes the world orientation ankle_world. Works on the local rotations and
+ * the global transforms of the three joints. */
+static void solve_leg(const mm_rig *rig, int k, mm_vec3 target, mm_quat ankle_world, mm_rig_pose *pose)
 {
     int ankle = rig->ankle[k], knee = rig->knee[k], hip = rig->hip[k], hip_parent = rig->joints[hip].parent;
     mm_xform *g = pose->global;
-    mm_vec3 a = g[hip].translation, b = g[knee].translation, e = g[ankle].translation;
-    float lab = mm_vec3_distance(b, a), lcb = mm_vec3_distance(b, e);
-    if (lab < 1e-5f || lcb < 1e-5f) return;
-    float lat = mm_vec3_distance(target, a), eps = 1e-4f;
-    if (lat < eps) lat = eps;
-    lat = soft_reach(lat, lab + lcb);
-    if (lat > lab + lcb - eps) lat = lab + lcb - eps;
-    mm_vec3 ac = mm_vec3_normalize(mm_vec3_sub(e, a)), ab = mm_vec3_normalize(mm_vec3_sub(b, a));
-    mm_vec3 ba = mm_vec3_normalize(mm_vec3_sub(a, b)), bc = mm_vec3_normalize(mm_vec3_sub(e, b));
-    mm_vec3 at = mm_vec3_normalize(mm_vec3_sub(target, a));
-    float ac_ab_0 = clamped_acos(mm_vec3_dot(ac, ab)), ba_bc_0 = clamped_acos(mm_vec3_dot(ba, bc));
-    float ac_ab_1 = clamped_acos((lcb * lcb - lab * lab - lat * lat) / (-2.0f * lab * lat));
-    float ba_bc_1 = clamped_acos((lat * lat - lab * lab - lcb * lcb) / (-2.0f * lab * lcb));
-    /* the knee's bending axis. A knee bending forward turns about the character's left axis
-     * (cross(leg down, knee forward) points left); where the animated plane is noise (nearly
-     * straight leg) or would bend the knee backwards, that axis takes over. */
-    mm_vec3 bend = mm_vec3_cross(ac, ab);
-    mm_vec3 left = mm_quat_rotate(root.rotation, mm_vec3_make(-1, 0, 0));
-    left = mm_vec3_normalize(mm_vec3_sub(left, mm_vec3_scale(ac, mm_vec3_dot(left, ac))));
-    float straight = mm_vec3_length(bend); /* sine of the knee's bend seen from the hip */
-    float w = straight > 1e-6f ? mm_vec3_dot(mm_vec3_scale(bend, 1.0f / straight), left) : 0.0f;
-    w = w <= 0.0f ? 0.0f : fminf(1.0f, straight / BEND_PLANE_TRUST) * w; /* trust in the animated plane */
-    bend = mm_vec3_add(mm_vec3_scale(straight > 1e-6f ? mm_vec3_scale(bend, 1.0f / straight) : left, w),
-                       mm_vec3_scale(left, 1.0f - w));
-    if (mm_vec3_length(bend) < 1e-6f) return;
-    bend = mm_vec3_normalize(bend);
-    mm_quat a_world = g[hip].rotation, b_world = g[knee].rotation;
-    mm_quat r0 = mm_quat_from_axis_angle(mm_quat_inv_rotate(a_world, bend), ac_ab_1 - ac_ab_0);
-    mm_quat r1 = mm_quat_from_axis_angle(mm_quat_inv_rotate(b_world, bend), ba_bc_1 - ba_bc_0);
-    pose->local_rotations[hip] = mm_quat_normalize(mm_quat_mul(pose->local_rotations[hip], r0));
-    pose->local_rotations[knee] = mm_quat_normalize(mm_quat_mul(pose->local_rotations[knee], r1));
+    mm_leg_pose leg = {g[hip].translation, g[knee].translation, g[ankle].translation};
+    mm_leg_ik_params params = {1.0f, SOFT_REACH};
+    mm_leg_warp out;
+    if (mm_leg_ik_solve(&leg, target, mm_rig_knee_pole(rig, pose, k), &params, &out) != MM_OK) return;
+    mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out.thigh, g[hip].rotation));
+    mm_quat knee_world = mm_quat_normalize(mm_quat_mul(out.shin, g[knee].rotation));
+    pose->local_rotations[hip] =
+        mm_quat_normalize(mm_quat_mul(mm_quat_conj(g[hip_parent].rotation), hip_world));
     g[hip] =
         mm_xform_mul(g[hip_parent], mm_xform_make(pose->local_rotations[hip], pose->local_positions[hip]));
+    pose->local_rotations[knee] = mm_quat_normalize(mm_quat_mul(mm_quat_conj(g[hip].rotation), knee_world));
     g[knee] = mm_xform_mul(g[hip], mm_xform_make(pose->local_rotations[knee], pose->local_positions[knee]));
-    /* then the leg swings about the hip onto the target, from where the bend left the ankle (the
-     * bend axis is not always normal to the plane of ankle and target: swinging from the ankle's
-     * old direction missed the target by millimetres) */
-    mm_vec3 bent = mm_xform_apply_point(g[knee], pose->local_positions[ankle]);
-    mm_vec3 from = mm_vec3_sub(bent, a);
-    if (mm_vec3_length(from) > 1e-6f) {
-        mm_quat swing = mm_quat_between(mm_vec3_normalize(from), at);
-        pose->local_rotations[hip] = mm_quat_normalize(
-            mm_quat_mul(mm_quat_conj(g[hip_parent].rotation), mm_quat_mul(swing, g[hip].rotation)));
-        g[hip] = mm_xform_mul(g[hip_parent],
-                              mm_xform_make(pose->local_rotations[hip], pose->local_positions[hip]));
-        g[knee] =
-            mm_xform_mul(g[hip], mm_xform_make(pose->local_rotations[knee], pose->local_positions[knee]));
-    }
     pose->local_rotations[ankle] =
         mm_quat_normalize(mm_quat_mul(mm_quat_conj(g[knee].rotation), ankle_world));
 }
@@ -226,7 +174,7 @@ static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig
 }
 
 void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
-                    const mm_feet_contacts *contacts, mm_xform root, bool hold_ground, float dt,
+                    const mm_feet_contacts *contacts, float ground, bool hold_ground, float dt,
                     mm_rig_pose *pose)
 {
     mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}};
@@ -236,7 +184,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         target[k] = lock_foot(f, d, rig, contacts, k, dt, pose, &orientation[k]);
         /* never below the ground: the root's height in locomotion (it stands on the ground, which a
          * scene may put anywhere) */
-        if (hold_ground && target[k].y < root.translation.y) target[k].y = root.translation.y;
+        if (hold_ground && target[k].y < ground) target[k].y = ground;
         f->lock[k] = target[k];
     }
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) lower_hips(f, d, rig, target, dt, pose);
@@ -258,7 +206,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             target[k] = onto;
             f->lock[k] = onto;
         }
-        two_bone_ik(rig, k, root, target[k], orientation[k], pose);
+        solve_leg(rig, k, target[k], orientation[k], pose);
     }
     f->placed = true;
     mm_rig_forward(rig, 1, pose); /* below the ankles */

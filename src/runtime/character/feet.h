@@ -32,11 +32,12 @@ typedef struct mm_feet_contacts {
 /* Records the raw contact positions (ankles and toes of the pose as it comes). */
 void mm_feet_record(mm_feet *f, const mm_rig *rig, const mm_rig_pose *pose);
 
-/* Locks, hip drop and IK (mm/character.h, desc's foot fields): writes the legs and the joints
- * below them. ground: the height no target goes below (hold_ground false: none, a move's root
- * follows its clip); root: the character's facing (the knees' default bend). */
+/* Locks, hip drop and IK (mm/character.h, desc's foot fields; the leg IK of mm/leg_ik.h, the
+ * knees bending toward the pelvis's facing): writes the legs and the joints below them. ground:
+ * the height no target goes below, when hold_ground (not during a move: its root follows its
+ * clip). */
 void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
-                    const mm_feet_contacts *contacts, mm_xform root, bool hold_ground, float dt,
+                    const mm_feet_contacts *contacts, float ground, bool hold_ground, float dt,
                     mm_rig_pose *pose);
 
 #endif

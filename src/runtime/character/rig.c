@@ -56,3 +56,48 @@ void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose)
     mm_skeleton_global_from(rig->joints, rig->joint_count, first, pose->local_rotations,
                             pose->local_positions, pose->global);
 }
+
+mm_vec3 mm_rig_pelvis_forward(const mm_rig *rig, const mm_rig_pose *pose)
+{
+    if (rig->hip[0] < 0 || rig->hip[1] < 0) return mm_vec3_make(0, 0, 0);
+    mm_vec3 across =
+        mm_vec3_sub(pose->global[rig->hip[1]].translation, pose->global[rig->hip[0]].translation);
+    return mm_vec3_make(across.z, 0.0f, -across.x);
+}
+
+/* frames read per learned hinge (evenly spaced over the database) */
+#define HINGE_SAMPLES 4096
+/* sine of the knee's bend from which a frame counts toward its hinge */
+#define HINGE_MIN_BEND 0.3f
+
+void mm_rig_learn_hinges(mm_rig *rig, const mm_database *db)
+{
+    int step = db->frame_count > HINGE_SAMPLES ? db->frame_count / HINGE_SAMPLES : 1;
+    for (int k = 0; k < 2; ++k) {
+        rig->hinge[k] = mm_vec3_make(0, 0, 0);
+        int knee = rig->knee[k], ankle = rig->ankle[k];
+        if (knee < 0 || ankle < 0) continue;
+        mm_vec3 sum = mm_vec3_make(0, 0, 0);
+        for (int f = 0; f < db->frame_count; f += step) {
+            const mm_quat *r = mm_database_rotations(db, f);
+            const mm_vec3 *p = mm_database_positions(db, f);
+            /* in the knee's frame: the thigh (hip to knee) and the shin (knee to ankle) */
+            mm_vec3 thigh = mm_quat_inv_rotate(r[knee], p[knee]), shin = p[ankle];
+            float lt = mm_vec3_length(thigh), ls = mm_vec3_length(shin);
+            if (!(lt > 1e-6f) || !(ls > 1e-6f)) continue;
+            mm_vec3 c = mm_vec3_scale(mm_vec3_cross(thigh, shin), 1.0f / (lt * ls));
+            if (mm_vec3_length(c) >= HINGE_MIN_BEND) sum = mm_vec3_add(sum, c);
+        }
+        if (mm_vec3_length(sum) > 1e-3f) rig->hinge[k] = mm_vec3_normalize(sum);
+    }
+}
+
+mm_vec3 mm_rig_knee_pole(const mm_rig *rig, const mm_rig_pose *pose, int k)
+{
+    if (mm_vec3_length(rig->hinge[k]) == 0.0f) return mm_rig_pelvis_forward(rig, pose);
+    mm_vec3 ac = mm_vec3_sub(pose->global[rig->ankle[k]].translation, pose->global[rig->hip[k]].translation);
+    mm_vec3 hinge = mm_quat_rotate(pose->global[rig->knee[k]].rotation, rig->hinge[k]);
+    /* thigh a u + h s and shin (L - a) u - h s have cross(thigh, shin) = L h cross(s, u): along the
+     * hinge when s = cross(u, hinge) */
+    return mm_vec3_cross(ac, hinge);
+}

@@ -17,7 +17,13 @@ typedef struct mm_rig {
     int spine[MM_RIG_MAX_SPINE]; /* from the pelvis up: its child that no leg hangs from, then
                                     single children up to where the chain branches */
     int spine_count;
+    /* per leg: the knee's hinge, the axis it bends about, in the knee joint's own frame (learned
+     * from the database: cross(thigh, shin) where the knee is clearly bent); zero when unknown */
+    mm_vec3 hinge[2];
 } mm_rig;
+
+/* Learns each knee's hinge from the frames of db (whose skeleton the rig was made on). */
+void mm_rig_learn_hinges(mm_rig *rig, const mm_database *db);
 
 /* A pose on the rig: local rotations and positions (joint 0: the root, in the world) and the
  * global transforms they give. */
@@ -30,6 +36,15 @@ typedef struct mm_rig_pose {
 /* Finds the legs of the ankles named left_foot and right_foot (NULL: "LeftFoot", "RightFoot"). */
 void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, const char *left_foot,
                  const char *right_foot);
+
+/* The side leg k's knee bends to (a pole for mm_leg_ik_solve): square to its hip-foot line, from
+ * its hinge turned as the knee is in pose, so defined even where the leg is straight or the
+ * animation hyperextends it; the pelvis's facing when the hinge is unknown. */
+mm_vec3 mm_rig_knee_pole(const mm_rig *rig, const mm_rig_pose *pose, int k);
+
+/* Where the pelvis faces, on the ground: square to the line from the left hip to the right one
+ * (facing +Z, the left hip is at +X); the way the knees bend. Zero without both legs. */
+mm_vec3 mm_rig_pelvis_forward(const mm_rig *rig, const mm_rig_pose *pose);
 
 /* The global transforms of joints first .. joint_count - 1 (>= 1) from their local ones; those of
  * the joints before `first` are taken as they are (mm_skeleton_global_from on the pose). */

@@ -97,18 +97,15 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
     float halflife = drop > previous_drop ? STRIDE_DROP_DOWN_HALFLIFE : STRIDE_DROP_UP_HALFLIFE;
     float eased = previous_drop + (drop - previous_drop) * (1.0f - exp2f(-dt / halflife));
     if (!isfinite(eased) || eased < 0.0f) eased = 0.0f;
-    /* the knees bend toward where the pelvis faces (square to the line from the left hip to the
-     * right one: facing +Z, the left hip is at +X), whichever way the body moves: mm_warp_stride's
-     * pole is the movement, sideways or backward when strafing, and the root's facing is off the
-     * pelvis's in turns */
-    mm_vec3 across = mm_vec3_sub(legs[1].hip, legs[0].hip);
-    mm_vec3 forward = mm_vec3_make(across.z, 0.0f, -across.x);
+    /* the knees bend the way their hinges do (mm_rig_knee_pole), whichever way the body moves:
+     * mm_warp_stride's pole is the movement, sideways or backward when strafing */
     for (int k = 0; k < 2; ++k) {
         mm_leg_pose lowered = legs[k];
         lowered.hip.y -= eased;
         lowered.knee.y -= eased;
         lowered.foot.y -= eased;
-        if (mm_leg_ik_solve(&lowered, out[k].target, forward, 0.0f, &out[k]) != MM_OK) return;
+        if (mm_leg_ik_solve(&lowered, out[k].target, mm_rig_knee_pole(rig, pose, k), NULL, &out[k]) != MM_OK)
+            return;
     }
     drop = eased;
     mm_quat knee_world[2], ankle_world[2];
