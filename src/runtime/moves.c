@@ -8,6 +8,8 @@
 #include <mm/search.h>
 #include <mm/trajectory.h>
 
+#include "runtime_math.h"
+
 static const char *const kind_names[MM_MOVE_KIND_COUNT] = {"jump", "vault_low", "vault_high", "climb",
                                                            "drop"};
 static const char *const kind_tags[MM_MOVE_KIND_COUNT] = {"Jump", "VaultLow", "VaultHigh", "Climb", "Drop"};
@@ -42,14 +44,6 @@ void mm_moves_defaults(mm_moves_desc *d)
     d->right_foot = "RightFoot";
 }
 
-static float yaw_of(mm_quat q)
-{
-    mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
-    return atan2f(f.x, f.z);
-}
-
-static mm_quat yaw_quat(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), yaw); }
-
 /* The lift over a wall (docs/moves.md): the planned envelope rises and settles over LIFT_WIDTH s
  * about each frame's need, counting joints within LIFT_REACH m of a box's footprint (the pose
  * played strays from the prediction by a few centimetres); the reactive lift rises at most
@@ -59,10 +53,6 @@ static mm_quat yaw_quat(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make
 #define LIFT_REACH  0.15f
 #define LIFT_RATE   6.0f
 #define OVER_WINDOW 0.6f
-
-static float clampf(float v, float lo, float hi) { return v < lo ? lo : v > hi ? hi : v; }
-
-static mm_vec3 flat(mm_vec3 v) { return mm_vec3_make(v.x, 0.0f, v.z); }
 
 static int find_joint(const mm_database *db, const char *name)
 {

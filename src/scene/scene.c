@@ -4,6 +4,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "runtime/runtime_math.h"
+
 void mm_scene_init(mm_scene *scene, float ground)
 {
     if (!scene) return;
@@ -106,8 +108,6 @@ static bool slab(const float o[3], const float d[3], const float half[3], float 
 }
 
 /* ---- ray casts -------------------------------------------------------------------------- */
-
-static bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
 /* The nearest hit of o + t d (d unit), 0 <= t <= max_t, with the boxes and, when with_ground,
  * the ground. */
