@@ -103,6 +103,10 @@ void mm_moves_defaults(mm_moves_desc *d);
 /* Frames of a move (from its start) over which the lift over a wall is planned. */
 #define MM_MOVES_PLAN_FRAMES 512
 
+/* Keys of a move's height schedule: the start, the hand plant or two for a jump's flight, the
+ * landing, the hand-back. */
+#define MM_MOVES_MAX_KEYS 6
+
 /* A move clip as found in the database. Frames are database frames; -1: none. */
 typedef struct mm_move_clip {
     mm_move_kind kind;                 /* its tag */
@@ -157,8 +161,10 @@ typedef struct mm_moves {
     bool started;             /* the character has begun playing it */
     mm_target_match match[2]; /* hand at HandPlant, root at Landing (horizontal and yaw) */
     bool match_on[2];
-    float key_time[6], key_y[6]; /* the root's height schedule (clip time, height) */
-    int key_shape[6];            /* per segment: 0 linear, 1 smooth, 2 falling, 3 rising */
+    /* the root's height schedule: per key its clip time and height; per segment its shape (0
+     * linear, 1 smooth, 2 falling, 3 rising) */
+    float key_time[MM_MOVES_MAX_KEYS], key_y[MM_MOVES_MAX_KEYS];
+    int key_shape[MM_MOVES_MAX_KEYS];
     int key_count;
     mm_vec3 hand_target, land_target; /* where the hand and the feet go (land_target.y: ground) */
     float hand_error, land_error;     /* m, measured when the events are reached */
