@@ -91,6 +91,18 @@ typedef struct mm_moves_desc {
     float radius;                       /* m: the collider, a circle about the root; 0.4 */
     float cooldown;                     /* s after a move before the next can start (a drop at a
                                            ledge waits 0.15 s at most); 0.25 */
+    float max_jump_distance;            /* m ahead of the root: the farthest a jump looks for the far
+                                           side of a gap; 3.0 */
+    float moving_speed;                 /* m/s: a desired speed above this is moving on (walls and
+                                           ledges trigger moves); at or below it, the character stops
+                                           at a ledge; 0.5 */
+    float collider_height;              /* m: a box whose bottom is this far above the root is
+                                           walked under, not a wall; 1.8 */
+    float knee_height, chest_height;    /* m above a landing spot where room for the body (radius)
+                                           is tested; 0.4, 1.2 */
+    float max_lift;                     /* m: the most the reactive lift raises the root during a
+                                           move (a joint of the pose about to play, or as played,
+                                           inside a box's top; the planned lift is not capped); 0.6 */
     const char *left_hand, *right_hand; /* joints; "LeftHand", "RightHand" */
     const char *left_foot, *right_foot; /* joints; "LeftFoot", "RightFoot" */
 } mm_moves_desc;

@@ -56,10 +56,6 @@
 #define START_GROUND_FRAMES 6
 
 /* Planning a jump or a drop. */
-/* m above the landing surface where room for the body is tested: the knees */
-#define KNEE_HEIGHT 0.4f
-/* m: and the chest */
-#define CHEST_HEIGHT 1.2f
 /* m: the least a jump or drop lands ahead of the root (a clip that jumps on the spot leaves the ledge) */
 #define MIN_JUMP_DISTANCE 0.2f
 /* m between ground probes along the facing: finer than a foot */
@@ -70,8 +66,6 @@
 #define DROP_PAST_LEDGE 0.35f
 /* m past the longest jump's landing where gaps and walls are looked for: a stride of slack */
 #define LOOK_BEYOND_JUMP 0.6f
-/* m: the farthest from the root the far side of a gap is looked for: a long running jump */
-#define MAX_JUMP_DISTANCE 3.0f
 /* m past a gap's far edge where a jump lands: about the collider's radius, the feet off the edge */
 #define GAP_LANDING_MARGIN 0.4f
 /* m: a top at least this deep is stood on (ONTO_MIN_IN + ONTO_MIN_FROM_EDGE); a thinner one crossed */
@@ -117,8 +111,6 @@
 #define LIFT_SETTLE 0.15f
 /* m/s: the fastest the reactive lift rises: at once it pops the body */
 #define LIFT_RATE 6.0f
-/* m: the most the reactive lift raises the root: never more than a hop */
-#define MAX_LIFT 0.6f
 
 /* The hand-back. */
 /* s of clip time after which a move hands back whatever plays: a guard against one that never ends */
@@ -129,10 +121,6 @@
 /* Locomotion and the triggers. */
 /* m: the root within this of the ground is on it (no step up, no fall) */
 #define GROUND_TOLERANCE 1e-4f
-/* m: a box whose bottom is this far above the root is overhead, not a wall: a body's height */
-#define COLLIDER_HEIGHT 1.8f
-/* m/s: a desired speed above this is moving on (moves trigger); at or below, ledge safety holds */
-#define MOVING_SPEED 0.5f
 /* m/s: a slower desired velocity gives no direction: the facing does */
 #define DIRECTION_MIN_SPEED 0.3f
 /* s: the least time after a move before a drop at a ledge (locomotion has searched again) */
@@ -184,6 +172,12 @@ void mm_moves_defaults(mm_moves_desc *d)
     d->gravity = 9.81f;
     d->radius = 0.4f;
     d->cooldown = 0.25f;
+    d->max_jump_distance = 3.0f;
+    d->moving_speed = 0.5f;
+    d->collider_height = 1.8f;
+    d->knee_height = 0.4f;
+    d->chest_height = 1.2f;
+    d->max_lift = 0.6f;
     d->left_hand = "LeftHand";
     d->right_hand = "RightHand";
     d->left_foot = "LeftFoot";
@@ -459,10 +453,12 @@ mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scen
     if (desc) m->desc = *desc;
     mm_moves_desc *d = &m->desc;
     const float *check[] = {
-        &d->max_jump_height,     &d->jump_start_offset, &d->rise_start,     &d->fall_start,
-        &d->step_height,         &d->ledge_probe,       &d->trigger_slack,  &d->low_max_height,
-        &d->high_max_height,     &d->short_max_depth,   &d->landing_margin, &d->recover_time,
-        &d->transition_halflife, &d->gravity,           &d->radius,         &d->cooldown};
+        &d->max_jump_height,     &d->jump_start_offset, &d->rise_start,      &d->fall_start,
+        &d->step_height,         &d->ledge_probe,       &d->trigger_slack,   &d->low_max_height,
+        &d->high_max_height,     &d->short_max_depth,   &d->landing_margin,  &d->recover_time,
+        &d->transition_halflife, &d->gravity,           &d->radius,          &d->cooldown,
+        &d->max_jump_distance,   &d->moving_speed,      &d->collider_height, &d->knee_height,
+        &d->chest_height,        &d->max_lift};
     for (size_t i = 0; i < sizeof check / sizeof check[0]; ++i)
         if (!isfinite(*check[i]) || *check[i] < 0.0f || *check[i] > PARAM_MAX)
             return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "move parameter %d out of range", (int)i);
@@ -649,7 +645,7 @@ static int clear_at(const mm_moves *m, mm_vec3 p, float h)
     mm_vec3 pts[10];
     int n = 0;
     for (int k = 0; k < 2; ++k) {
-        float y = h + (k ? CHEST_HEIGHT : KNEE_HEIGHT);
+        float y = h + (k ? m->desc.chest_height : m->desc.knee_height);
         pts[n++] = mm_vec3_make(p.x, y, p.z);
         pts[n++] = mm_vec3_make(p.x + r, y, p.z);
         pts[n++] = mm_vec3_make(p.x - r, y, p.z);
@@ -686,7 +682,7 @@ static int plan_landing(const mm_moves *m, const mm_character *c, const mm_move_
         for (float s = 0.0f; s <= look + LOOK_BEYOND_JUMP && ledge < 0.0f; s += PROBE_STEP)
             if (!ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
                 ledge = s;
-        for (float s = ledge; ledge >= 0.0f && s <= MAX_JUMP_DISTANCE && across < 0.0f; s += PROBE_STEP)
+        for (float s = ledge; ledge >= 0.0f && s <= d->max_jump_distance && across < 0.0f; s += PROBE_STEP)
             if (ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
                 across = s;
         if (ledge >= 0.0f && across < 0.0f) return 0;
@@ -1002,7 +998,7 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
         need = fmaxf(need, clearance(m, c, t + (float)k * dt, schedule(m, t + (float)k * dt) + kept, window));
     /* until the landing (then the feet stand on the surface found), and never more than a hop */
     if (mc && t + dt >= (float)(mc->landing - mc->start) * m->db->interval) need = 0.0f;
-    m->lift = fminf(fminf(kept + need, m->lift + LIFT_RATE * dt), MAX_LIFT);
+    m->lift = fminf(fminf(kept + need, m->lift + LIFT_RATE * dt), m->desc.max_lift);
     m->planned_lift = plan_lift(m, c, t, dt);
     float lift = fmaxf(m->lift, m->planned_lift);
     mm_xform root = c->root;
@@ -1045,7 +1041,7 @@ static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 roo
         for (int j = 1; j < db->joint_count; ++j) /* not the hands: matched onto the top */
             if (j != m->hand[0] && j != m->hand[1])
                 extra = fmaxf(extra, lift_out(m->scene, c->global[j].translation, window));
-        m->lift = fminf(m->lift + fminf(extra, LIFT_RATE * dt), MAX_LIFT);
+        m->lift = fminf(m->lift + fminf(extra, LIFT_RATE * dt), m->desc.max_lift);
     }
     if (mc && mc->hand_plant >= 0 && m->match_on[0]) {
         float tp = (float)(mc->hand_plant - mc->start) * db->interval;
@@ -1115,7 +1111,7 @@ static void keep_on_ground(mm_moves *m, mm_character *c, float dt)
     for (int b = 0; b < s->box_count; ++b) {
         const mm_scene_box *box = &s->boxes[b];
         float y = c->root.translation.y;
-        if (box->position.y + box->size.y <= y + d->step_height || box->position.y >= y + COLLIDER_HEIGHT)
+        if (box->position.y + box->size.y <= y + d->step_height || box->position.y >= y + d->collider_height)
             continue;
         float sn = sinf(box->yaw), cs = cosf(box->yaw), hx = 0.5f * box->size.x, hz = 0.5f * box->size.z;
         for (int which = 0; which < 2; ++which) { /* the root, and the simulation with it */
@@ -1154,7 +1150,7 @@ static void stay_on_ledge(mm_moves *m, mm_character *c, const mm_input *in, mm_v
     mm_vec3 desired = mm_vec3_make(0, 0, 0);
     if (in) mm_trajectory_desired(c->trajectory, in, &desired, NULL);
     float h;
-    if (mm_vec3_length(flat(desired)) > MOVING_SPEED || m->fall_velocity != 0.0f) return;
+    if (mm_vec3_length(flat(desired)) > d->moving_speed || m->fall_velocity != 0.0f) return;
     if (!ground_at(m, before, d->step_height, d->step_height, &h)) return; /* not on the ground */
     if (ground_at(m, c->root.translation, d->step_height, d->step_height, &h)) return;
     mm_vec3 back = mm_vec3_make(before.x - c->root.translation.x, 0.0f, before.z - c->root.translation.z);
@@ -1174,7 +1170,7 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
     mm_vec3 facing = flat(mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1)));
     mm_vec3 dir =
         speed > DIRECTION_MIN_SPEED ? mm_vec3_scale(desired, 1.0f / speed) : mm_vec3_normalize(facing);
-    int moving = speed > MOVING_SPEED && m->fall_velocity == 0.0f;
+    int moving = speed > d->moving_speed && m->fall_velocity == 0.0f;
     mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
     int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
     /* no move right after one; but a drop where walking on would fall waits only LEDGE_COOLDOWN:
