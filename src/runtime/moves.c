@@ -259,6 +259,116 @@ static int find_event(const mm_database *db, uint64_t tag, int first, int last)
     return -1;
 }
 
+/* s: the time from the start of move clip mc to database frame `frame` of it. */
+static float clip_seconds(const mm_database *db, const mm_move_clip *mc, int frame)
+{
+    return (float)(frame - mc->start) * db->interval;
+}
+
+/* The root at database frame `frame` of move clip mc, relative to the root at its start, as the
+ * character integrates root motion. */
+static mm_xform root_at(const mm_database *db, const mm_move_clip *mc, int frame)
+{
+    return advance_root(db, mc->start, 0.0f, clip_seconds(db, mc, frame), mm_xform_identity());
+}
+
+/* Without a take-off or landing tag: the ends of the longest run of frames with no foot contact
+ * strictly inside [first, last] (the flight), when it is at least MIN_FLIGHT_FRAMES long. */
+static void flight_from_contacts(const mm_database *db, mm_move_clip *mc, int first, int last)
+{
+    int best = 0, best_start = -1;
+    for (int f = first; f <= last;) {
+        if (db->contacts[f] != 0) {
+            ++f;
+            continue;
+        }
+        int e = f;
+        while (e + 1 <= last && db->contacts[e + 1] == 0) ++e;
+        if (e - f + 1 > best && f > first && e < last) best = e - f + 1, best_start = f;
+        f = e + 1;
+    }
+    if (best >= MIN_FLIGHT_FRAMES) {
+        if (mc->take_off < 0) mc->take_off = best_start - 1;
+        if (mc->landing < 0) mc->landing = best_start + best;
+    }
+}
+
+/* The events of the span [first, last] of a clip [clip_first, clip_last]: the TakeOff, HandPlant
+ * and Landing tags near it, else the flight; with a hand plant and no landing, recover_time before
+ * the span's end. 0: nothing to aim at, or the events out of order. */
+static int span_events(const mm_moves *m, mm_move_clip *mc, int first, int last, int clip_first,
+                       int clip_last)
+{
+    const mm_database *db = m->db;
+    int e0 = first - EVENT_SEARCH_FRAMES > clip_first ? first - EVENT_SEARCH_FRAMES : clip_first,
+        e1 = last + EVENT_SEARCH_FRAMES < clip_last ? last + EVENT_SEARCH_FRAMES : clip_last;
+    mc->take_off = find_event(db, mm_search_tag_mask(db, "TakeOff"), e0, e1);
+    mc->hand_plant = find_event(db, mm_search_tag_mask(db, "HandPlant"), e0, e1);
+    mc->landing = find_event(db, mm_search_tag_mask(db, "Landing"), e0, e1);
+    if (mc->take_off < 0 || mc->landing < 0) flight_from_contacts(db, mc, first, last);
+    if (mc->landing < 0) {
+        if (mc->hand_plant < 0) return 0; /* nothing to aim at */
+        mc->landing = last - (int)(m->desc.recover_time / db->interval);
+    }
+    if (mc->landing <= first || (mc->hand_plant >= 0 && mc->hand_plant >= mc->landing)) return 0;
+    if (mc->take_off >= mc->landing) mc->take_off = -1;
+    return 1;
+}
+
+/* Where the move starts: jump_start_offset before its first event (take-off or hand plant, else
+ * the landing), within the clip and before that event; a hand plant at or before it is dropped. */
+static void span_start(const mm_moves *m, mm_move_clip *mc, int clip_first)
+{
+    int event = mc->take_off >= 0 ? mc->take_off : mc->landing;
+    if (mc->hand_plant >= 0 && mc->hand_plant < event) event = mc->hand_plant;
+    int lead = event - (int)lroundf(m->desc.jump_start_offset / m->db->interval);
+    mc->start = lead > clip_first ? lead : clip_first;
+    if (mc->start >= event) mc->start = event > clip_first ? event - 1 : clip_first;
+    if (mc->hand_plant >= 0 && mc->hand_plant <= mc->start) mc->hand_plant = -1;
+}
+
+/* The obstacle's near face in the clip (forward of the root at the start): ahead of every joint
+ * below the planted hand (a knee against the wall) from the start to just after the plant, among
+ * those not beyond the hand. -INFINITY: no such joint. */
+static float near_face(const mm_database *db, const mm_move_clip *mc, mm_vec3 hand)
+{
+    float face = -INFINITY;
+    int until = mc->hand_plant + (int)lroundf(FACE_AFTER_PLANT / db->interval);
+    for (int f = mc->start; f <= until && f < mc->landing; ++f) {
+        mm_xform rf = root_at(db, mc, f);
+        for (int j = 1; j < db->joint_count; ++j) {
+            mm_vec3 p = mm_xform_apply_point(rf, bone_in_root(db, f, j).translation);
+            if (p.y < hand.y - FACE_BELOW_HAND && p.z < hand.z + FACE_BEYOND_HAND) face = fmaxf(face, p.z);
+        }
+    }
+    return face;
+}
+
+/* The hand planted at HandPlant (the lower one) and where it plants: forward of the root at the
+ * start, above the clip's ground there, in from the near face. No hand joint: no hand plant. */
+static void measure_plant(const mm_moves *m, mm_move_clip *mc)
+{
+    const mm_database *db = m->db;
+    float low = INFINITY;
+    for (int k = 0; k < 2; ++k) {
+        if (m->hand[k] < 0) continue;
+        float y = bone_in_root(db, mc->hand_plant, m->hand[k]).translation.y;
+        if (y < low) low = y, mc->hand = m->hand[k];
+    }
+    if (mc->hand < 0) {
+        mc->hand_plant = -1;
+        return;
+    }
+    mm_vec3 hand = mm_xform_apply_point(root_at(db, mc, mc->hand_plant),
+                                        bone_in_root(db, mc->hand_plant, mc->hand).translation);
+    mc->plant_distance = hand.z;
+    mc->plant_height = hand.y - clip_ground(m, mc->start);
+    float face = near_face(db, mc, hand);
+    mc->hand_inset = isfinite(face)
+                         ? clampf(hand.z - face + HAND_INSET_MARGIN, HAND_INSET_MIN, HAND_INSET_MAX)
+                         : HAND_INSET_DEFAULT;
+}
+
 /* One span of frames tagged as the move: its events and measures in *mc (mc->clip -1: unusable). */
 static void setup_span(mm_moves *m, mm_move_clip *mc, int first, int last)
 {
@@ -269,80 +379,12 @@ static void setup_span(mm_moves *m, mm_move_clip *mc, int first, int last)
     /* the tag may cover the move alone: the clip around it gives the approach and the recovery */
     const mm_db_clip *clip = &db->clips[db->frame_clip[first]];
     int clip_first = clip->first_frame, clip_last = clip->first_frame + clip->frame_count - 1;
-    int e0 = first - EVENT_SEARCH_FRAMES > clip_first ? first - EVENT_SEARCH_FRAMES : clip_first,
-        e1 = last + EVENT_SEARCH_FRAMES < clip_last ? last + EVENT_SEARCH_FRAMES : clip_last;
     mc->first = first;
     mc->last = clip_last;
-    mc->take_off = find_event(db, mm_search_tag_mask(db, "TakeOff"), e0, e1);
-    mc->hand_plant = find_event(db, mm_search_tag_mask(db, "HandPlant"), e0, e1);
-    mc->landing = find_event(db, mm_search_tag_mask(db, "Landing"), e0, e1);
-    if (mc->take_off < 0 || mc->landing < 0) { /* the longest run without foot contact: the flight */
-        int best = 0, best_start = -1;
-        for (int f = first; f <= last;) {
-            if (db->contacts[f] != 0) {
-                ++f;
-                continue;
-            }
-            int e = f;
-            while (e + 1 <= last && db->contacts[e + 1] == 0) ++e;
-            if (e - f + 1 > best && f > first && e < last) best = e - f + 1, best_start = f;
-            f = e + 1;
-        }
-        if (best >= MIN_FLIGHT_FRAMES) {
-            if (mc->take_off < 0) mc->take_off = best_start - 1;
-            if (mc->landing < 0) mc->landing = best_start + best;
-        }
-    }
-    if (mc->landing < 0) {
-        if (mc->hand_plant < 0) return; /* nothing to aim at */
-        mc->landing = last - (int)(m->desc.recover_time / db->interval);
-    }
-    if (mc->landing <= first || (mc->hand_plant >= 0 && mc->hand_plant >= mc->landing)) return;
-    if (mc->take_off >= mc->landing) mc->take_off = -1;
-    /* start jump_start_offset before the first event (take-off or hand plant), within the clip */
-    int event = mc->take_off >= 0 ? mc->take_off : mc->landing;
-    if (mc->hand_plant >= 0 && mc->hand_plant < event) event = mc->hand_plant;
-    int lead = event - (int)lroundf(m->desc.jump_start_offset / db->interval);
-    mc->start = lead > clip_first ? lead : clip_first;
-    if (mc->start >= event) mc->start = event > clip_first ? event - 1 : clip_first;
-    if (mc->hand_plant >= 0 && mc->hand_plant <= mc->start) mc->hand_plant = -1;
-    mm_xform start_root = mm_xform_identity();
-    if (mc->hand_plant >= 0) { /* the hand planted: the lower one */
-        float low = INFINITY;
-        for (int k = 0; k < 2; ++k) {
-            if (m->hand[k] < 0) continue;
-            float y = bone_in_root(db, mc->hand_plant, m->hand[k]).translation.y;
-            if (y < low) low = y, mc->hand = m->hand[k];
-        }
-        if (mc->hand >= 0) {
-            mm_xform r = advance_root(db, mc->start, 0.0f, (float)(mc->hand_plant - mc->start) * db->interval,
-                                      start_root);
-            mm_vec3 hand = mm_xform_apply_point(r, bone_in_root(db, mc->hand_plant, mc->hand).translation);
-            mc->plant_distance = hand.z;
-            mc->plant_height = hand.y - clip_ground(m, mc->start);
-            /* the near face: ahead of every joint below the top (a knee against the wall) from
-             * the start to just after the plant, among those not beyond the hand */
-            float face = -INFINITY;
-            int until = mc->hand_plant + (int)lroundf(FACE_AFTER_PLANT / db->interval);
-            for (int f = mc->start; f <= until && f < mc->landing; ++f) {
-                mm_xform rf =
-                    advance_root(db, mc->start, 0.0f, (float)(f - mc->start) * db->interval, start_root);
-                for (int j = 1; j < db->joint_count; ++j) {
-                    mm_vec3 p = mm_xform_apply_point(rf, bone_in_root(db, f, j).translation);
-                    if (p.y < hand.y - FACE_BELOW_HAND && p.z < hand.z + FACE_BEYOND_HAND)
-                        face = fmaxf(face, p.z);
-                }
-            }
-            mc->hand_inset = isfinite(face)
-                                 ? clampf(hand.z - face + HAND_INSET_MARGIN, HAND_INSET_MIN, HAND_INSET_MAX)
-                                 : HAND_INSET_DEFAULT;
-        } else {
-            mc->hand_plant = -1;
-        }
-    }
-    mm_xform land =
-        advance_root(db, mc->start, 0.0f, (float)(mc->landing - mc->start) * db->interval, start_root);
-    mc->land_distance = land.translation.z;
+    if (!span_events(m, mc, first, last, clip_first, clip_last)) return;
+    span_start(m, mc, clip_first);
+    if (mc->hand_plant >= 0) measure_plant(m, mc);
+    mc->land_distance = root_at(db, mc, mc->landing).translation.z;
     mc->rise = clip_ground(m, mc->landing) - clip_ground(m, mc->start);
     mc->onto = mc->rise > ONTO_MIN_RISE;
     mc->clip = db->frame_clip[first];
@@ -443,6 +485,36 @@ int mm_moves_pick_side(const mm_moves *m, const mm_character *c, int option)
     return there < here - SIDE_TIE ? twin : option;
 }
 
+/* The feet standing: the ankles' and toes' (the feet's first children) heights above the ground
+ * at the first idle frame, the lower of each pair. */
+static void measure_standing(mm_moves *m)
+{
+    const mm_database *db = m->db;
+    int stand = 0; /* the first idle frame */
+    for (int k = 0; k < db->clip_count; ++k)
+        if (db->clips[k].type == MM_CLIP_IDLE) {
+            stand = db->clips[k].first_frame;
+            break;
+        }
+    m->ankle_height = 0.0f;
+    float y = INFINITY;
+    for (int k = 0; k < 2; ++k)
+        if (m->foot[k] >= 0) y = fminf(y, bone_in_root(db, stand, m->foot[k]).translation.y);
+    if (isfinite(y)) m->ankle_height = y;
+    m->toe_height = m->ankle_height;
+    float toe = INFINITY;
+    for (int k = 0; k < 2; ++k) {
+        m->toe[k] = -1;
+        for (int j = 1; m->foot[k] >= 0 && j < db->joint_count; ++j)
+            if (db->joints[j].parent == m->foot[k]) {
+                toe = fminf(toe, bone_in_root(db, stand, j).translation.y);
+                m->toe[k] = j;
+                break;
+            }
+    }
+    if (isfinite(toe)) m->toe_height = toe;
+}
+
 mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scene, const mm_moves_desc *desc,
                         mm_error *err)
 {
@@ -474,29 +546,7 @@ mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scen
     m->foot[0] = find_joint(db, d->left_foot ? d->left_foot : "LeftFoot");
     m->foot[1] = find_joint(db, d->right_foot ? d->right_foot : "RightFoot");
     d->left_hand = d->right_hand = d->left_foot = d->right_foot = NULL; /* the caller's strings */
-    int stand = 0; /* the standing ankle height: the first idle frame's lower ankle */
-    for (int k = 0; k < db->clip_count; ++k)
-        if (db->clips[k].type == MM_CLIP_IDLE) {
-            stand = db->clips[k].first_frame;
-            break;
-        }
-    m->ankle_height = 0.0f;
-    float y = INFINITY;
-    for (int k = 0; k < 2; ++k)
-        if (m->foot[k] >= 0) y = fminf(y, bone_in_root(db, stand, m->foot[k]).translation.y);
-    if (isfinite(y)) m->ankle_height = y;
-    m->toe_height = m->ankle_height;
-    float toe = INFINITY;
-    for (int k = 0; k < 2; ++k) {
-        m->toe[k] = -1;
-        for (int j = 1; m->foot[k] >= 0 && j < db->joint_count; ++j)
-            if (db->joints[j].parent == m->foot[k]) {
-                toe = fminf(toe, bone_in_root(db, stand, j).translation.y);
-                m->toe[k] = j;
-                break;
-            }
-    }
-    if (isfinite(toe)) m->toe_height = toe;
+    measure_standing(m);
     setup_clips(m);
     m->enabled = scene != NULL && m->option_count > 0;
     return MM_OK;
