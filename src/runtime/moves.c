@@ -705,6 +705,74 @@ static int clear_at(const mm_moves *m, mm_vec3 p, float h)
     return mm_moves_penetration(m->scene, pts, n) <= 0.0f;
 }
 
+/* The first distance along f from root, from s0 to s1 in PROBE_STEP steps, with ground (want 1)
+ * or with none (want 0) from `up` above to `down` below the root's height. -1: none. */
+static float probe_along(const mm_moves *m, mm_vec3 root, mm_vec3 f, float s0, float s1, float up, float down,
+                         int want)
+{
+    float h;
+    for (float s = s0; s <= s1; s += PROBE_STEP)
+        if (ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), up, down, &h) == want) return s;
+    return -1.0f;
+}
+
+/* A jump's distance along f from root (*dist: the clip's own, at least): past a gap on the way, to
+ * the ground across it; onto a wall on the way, or over one too thin to stand on. *need: the
+ * distance the world asks for, *over: the top of a wall to clear. 0: nowhere to land (no ground
+ * across the gap, a wall too high). */
+static int jump_distance(const mm_moves *m, mm_vec3 root, mm_vec3 f, float *dist, float *need, float *over)
+{
+    const mm_moves_desc *d = &m->desc;
+    float y = root.y;
+    /* the world is looked at as far as the first jump clip reaches, whichever clip plays (a short
+     * hop must not miss the wall or the gap a longer jump sees) */
+    const mm_move_clip *first = clip_of(m, MM_MOVE_JUMP);
+    float look = first ? fmaxf(*dist, first->land_distance) : *dist;
+    /* a gap before the natural landing: land past it, where the ground is within reach */
+    float ledge =
+        probe_along(m, root, f, 0.0f, look + LOOK_BEYOND_JUMP, d->max_jump_height, d->step_height, 0);
+    float across = ledge >= 0.0f ? probe_along(m, root, f, ledge, d->max_jump_distance, d->max_jump_height,
+                                               d->step_height, 1)
+                                 : -1.0f;
+    if (ledge >= 0.0f && across < 0.0f) return 0;
+    if (across >= 0.0f)
+        *dist = fmaxf(*dist, across + GAP_LANDING_MARGIN), *need = across + GAP_LANDING_MARGIN;
+    mm_obstacle o;
+    mm_obstacle_desc od;
+    memset(&od, 0, sizeof od);
+    od.max_distance = fmaxf(*dist, look) + LOOK_BEYOND_JUMP;
+    if (mm_scene_measure_obstacle(m->scene, root, f, &od, &o) && o.top - y > d->step_height) {
+        if (o.top - y > d->max_jump_height) return 0; /* a wall too high to jump onto */
+        float near = o.distance, far = o.distance + o.depth;
+        if (o.depth >= STAND_MIN_DEPTH) {
+            *dist = clampf(*dist, near + ONTO_MIN_IN, far - ONTO_MIN_FROM_EDGE); /* onto it */
+            *need = *dist;
+        } else { /* too thin to stand on: over it */
+            *dist = fmaxf(*dist, far + d->landing_margin);
+            *need = far + d->landing_margin;
+            *over = o.top;
+        }
+    }
+    return 1;
+}
+
+/* The landing in *land: from p on along f, the first spot where the body has room (not inside a
+ * wall, not against a gap's far side) on the ground below height y. 0: none within
+ * ROOM_SEARCH_DISTANCE, or no ground within max_jump_height on the way. */
+static int room_to_land(const mm_moves *m, mm_vec3 p, mm_vec3 f, float y, mm_vec3 *land)
+{
+    float h;
+    for (float extra = 0.0f; extra <= ROOM_SEARCH_DISTANCE; extra += ROOM_SEARCH_STEP) {
+        mm_vec3 q = mm_vec3_add(p, mm_vec3_scale(f, extra));
+        if (!ground_at(m, mm_vec3_make(q.x, y, q.z), m->desc.max_jump_height, INFINITY, &h)) return 0;
+        if (clear_at(m, q, h)) {
+            *land = mm_vec3_make(q.x, h, q.z);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* The landing of a jump or a drop along the root's facing: past a ledge, across a gap, onto a
  * wall in the way, always where the body has room. 0 when there is nowhere to land (a jump at a
  * ledge with no ground across: the caller drops instead). */
@@ -714,58 +782,16 @@ static int plan_landing(const mm_moves *m, const mm_character *c, const mm_move_
     *over = NAN;
     const mm_moves_desc *d = &m->desc;
     mm_vec3 root = c->root.translation, f = mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1));
-    float y = root.y, dist = fmaxf(mc->land_distance, MIN_JUMP_DISTANCE), h;
+    float dist = fmaxf(mc->land_distance, MIN_JUMP_DISTANCE);
     *need = NAN; /* the distance the world asks for, if any (a gap's far side, a wall) */
-    if (drop) {  /* the ledge: where the ground falls away */
-        float ledge = -1.0f;
-        for (float s = 0.0f; s <= d->ledge_probe + LEDGE_SEARCH_BEYOND && ledge < 0.0f; s += PROBE_STEP)
-            if (!ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->step_height, d->step_height, &h))
-                ledge = s;
+    if (drop) {  /* past the ledge: where the ground falls away */
+        float ledge = probe_along(m, root, f, 0.0f, d->ledge_probe + LEDGE_SEARCH_BEYOND, d->step_height,
+                                  d->step_height, 0);
         if (ledge >= 0.0f) dist = fmaxf(dist, ledge + DROP_PAST_LEDGE);
-    } else {
-        /* the world is looked at as far as the first jump clip reaches, whichever clip plays (a
-         * short hop must not miss the wall or the gap a longer jump sees) */
-        const mm_move_clip *first = clip_of(m, MM_MOVE_JUMP);
-        float look = first ? fmaxf(dist, first->land_distance) : dist;
-        /* a gap before the natural landing: land past it, where the ground is within reach */
-        float ledge = -1.0f, across = -1.0f;
-        for (float s = 0.0f; s <= look + LOOK_BEYOND_JUMP && ledge < 0.0f; s += PROBE_STEP)
-            if (!ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
-                ledge = s;
-        for (float s = ledge; ledge >= 0.0f && s <= d->max_jump_distance && across < 0.0f; s += PROBE_STEP)
-            if (ground_at(m, mm_vec3_add(root, mm_vec3_scale(f, s)), d->max_jump_height, d->step_height, &h))
-                across = s;
-        if (ledge >= 0.0f && across < 0.0f) return 0;
-        if (across >= 0.0f)
-            dist = fmaxf(dist, across + GAP_LANDING_MARGIN), *need = across + GAP_LANDING_MARGIN;
-        mm_obstacle o;
-        mm_obstacle_desc od;
-        memset(&od, 0, sizeof od);
-        od.max_distance = fmaxf(dist, look) + LOOK_BEYOND_JUMP;
-        if (mm_scene_measure_obstacle(m->scene, root, f, &od, &o) && o.top - y > d->step_height) {
-            if (o.top - y > d->max_jump_height) return 0; /* a wall too high to jump onto */
-            float near = o.distance, far = o.distance + o.depth;
-            if (o.depth >= STAND_MIN_DEPTH) {
-                dist = clampf(dist, near + ONTO_MIN_IN, far - ONTO_MIN_FROM_EDGE); /* onto it */
-                *need = dist;
-            } else { /* too thin to stand on: over it */
-                dist = fmaxf(dist, far + d->landing_margin);
-                *need = far + d->landing_margin;
-                *over = o.top;
-            }
-        }
+    } else if (!jump_distance(m, root, f, &dist, need, over)) {
+        return 0;
     }
-    mm_vec3 p = mm_vec3_add(root, mm_vec3_scale(f, dist));
-    /* where the body has room (not inside a wall, not against a gap's far side): on ahead */
-    for (float extra = 0.0f; extra <= ROOM_SEARCH_DISTANCE; extra += ROOM_SEARCH_STEP) {
-        mm_vec3 q = mm_vec3_add(p, mm_vec3_scale(f, extra));
-        if (!ground_at(m, mm_vec3_make(q.x, y, q.z), d->max_jump_height, INFINITY, &h)) return 0;
-        if (clear_at(m, q, h)) {
-            *land = mm_vec3_make(q.x, h, q.z);
-            return 1;
-        }
-    }
-    return 0;
+    return room_to_land(m, mm_vec3_add(root, mm_vec3_scale(f, dist)), f, root.y, land);
 }
 
 /* Does clip mc serve a move of this kind? (the jump serves as the drop without a drop clip) */
@@ -1234,10 +1260,9 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
         return;
     }
     if ((pressed || (moving && ledge)) && drop) {
-        int near_ledge = ledge;
-        for (float s = PROBE_STEP; s <= d->ledge_probe + LEDGE_SEARCH_BEYOND && !near_ledge; s += PROBE_STEP)
-            near_ledge = !ground_at(m, mm_vec3_add(root, mm_vec3_scale(mm_vec3_normalize(facing), s)),
-                                    d->step_height, d->step_height, &h);
+        int near_ledge = ledge || probe_along(m, root, mm_vec3_normalize(facing), PROBE_STEP,
+                                              d->ledge_probe + LEDGE_SEARCH_BEYOND, d->step_height,
+                                              d->step_height, 0) >= 0.0f;
         if (near_ledge && (pressed || mm_vec3_dot(dir, mm_vec3_normalize(facing)) > LEDGE_HEADING_COS)) {
             if ((mc = pick_jump(m, c, MM_MOVE_DROP, 1, &land, &over)) != NULL)
                 start_jump(m, c, MM_MOVE_DROP, mc, land, over);
