@@ -951,26 +951,32 @@ static mm_xform predict(const mm_moves *m, const mm_character *c, int bone, floa
     return mm_xform_make(r.rotation, p);
 }
 
-/* How far p must rise to be out of the top of a box it is in, when within window of that top. */
-static float lift_out(const mm_scene *scene, mm_vec3 p, float window)
+/* (lx, lz): p's horizontal position in box's frame (turned by -yaw about +Y about its centre). */
+static void box_local(const mm_scene_box *box, mm_vec3 p, float *lx, float *lz)
+{
+    float sn = sinf(box->yaw), cs = cosf(box->yaw);
+    float px = p.x - box->position.x, pz = p.z - box->position.z;
+    *lx = cs * px - sn * pz, *lz = sn * px + cs * pz;
+}
+
+/* How far p must rise to be LIFT_MARGIN above the top of a box it is in, when within window
+ * under that top (INFINITY: at any depth), counting the box's footprint grown by reach. */
+static float lift_out(const mm_scene *scene, mm_vec3 p, float window, float reach)
 {
     float lift = 0.0f;
     for (int b = 0; b < scene->box_count; ++b) {
         const mm_scene_box *box = &scene->boxes[b];
-        float top = box->position.y + box->size.y;
+        float top = box->position.y + box->size.y, lx, lz;
         if (p.y >= top + LIFT_MARGIN || p.y < top - window || p.y < box->position.y) continue;
-        float sn = sinf(box->yaw), cs = cosf(box->yaw);
-        float px = p.x - box->position.x, pz = p.z - box->position.z;
-        float lx = cs * px - sn * pz, lz = sn * px + cs * pz;
-        if (fabsf(lx) > 0.5f * box->size.x + LIFT_MARGIN || fabsf(lz) > 0.5f * box->size.z + LIFT_MARGIN)
-            continue;
+        box_local(box, p, &lx, &lz);
+        if (fabsf(lx) > 0.5f * box->size.x + reach || fabsf(lz) > 0.5f * box->size.z + reach) continue;
         lift = fmaxf(lift, top + LIFT_MARGIN - p.y);
     }
     return lift;
 }
 
 /* How far the root at height y must rise so that no joint of the clip's pose at clip time t is
- * inside a box near its top (within 0.25 m of it: a joint deeper than that hits a face, which
+ * inside a box within window of its top (a joint deeper than that is against a face, which
  * lifting does not cure). */
 static float clearance(const mm_moves *m, const mm_character *c, float t, float y, float window)
 {
@@ -983,34 +989,23 @@ static float clearance(const mm_moves *m, const mm_character *c, float t, float 
     mm_xform root = advance_root(db, c->frame, c->frame_fraction, fmaxf(ahead, 0.0f), c->root);
     root.translation.y = y;
     float lift = 0.0f;
-    for (int j = 1; j < db->joint_count; ++j)
-        lift =
-            fmaxf(lift, lift_out(m->scene, mm_xform_apply_point(root, bone_in_root(db, frame, j).translation),
-                                 window));
+    for (int j = 1; j < db->joint_count; ++j) {
+        mm_vec3 p = mm_xform_apply_point(root, bone_in_root(db, frame, j).translation);
+        lift = fmaxf(lift, lift_out(m->scene, p, window, LIFT_MARGIN));
+    }
     return lift;
 }
 
 /* How far the root at height y must rise so that every joint of the pose at database frame
  * `frame` (the root at `root`, the hands excepted: they are matched onto the top) that is over a
- * box, at any depth in it, is above its top. */
+ * box (within LIFT_REACH of its footprint), at any depth in it, is above its top. */
 static float over_tops(const mm_moves *m, int frame, mm_xform root)
 {
-    const mm_scene *scene = m->scene;
     float lift = 0.0f;
     for (int j = 1; j < m->db->joint_count; ++j) {
         if (j == m->hand[0] || j == m->hand[1]) continue;
         mm_vec3 p = mm_xform_apply_point(root, bone_in_root(m->db, frame, j).translation);
-        for (int b = 0; b < scene->box_count; ++b) {
-            const mm_scene_box *box = &scene->boxes[b];
-            float top = box->position.y + box->size.y;
-            if (p.y >= top + LIFT_MARGIN || p.y < box->position.y) continue;
-            float sn = sinf(box->yaw), cs = cosf(box->yaw);
-            float px = p.x - box->position.x, pz = p.z - box->position.z;
-            float lx = cs * px - sn * pz, lz = sn * px + cs * pz;
-            if (fabsf(lx) > 0.5f * box->size.x + LIFT_REACH || fabsf(lz) > 0.5f * box->size.z + LIFT_REACH)
-                continue;
-            lift = fmaxf(lift, top + LIFT_MARGIN - p.y);
-        }
+        lift = fmaxf(lift, lift_out(m->scene, p, INFINITY, LIFT_REACH));
     }
     return lift;
 }
@@ -1049,10 +1044,9 @@ static float plan_lift(mm_moves *m, const mm_character *c, float t, float dt)
     return lift * u * u * (3.0f - 2.0f * u);
 }
 
-static void before_move(mm_moves *m, mm_character *c, float dt)
+/* The target matches of the move playing stepped to clip time t + dt: the root corrected. */
+static void match_targets(mm_moves *m, mm_character *c, float t, float dt)
 {
-    if (!m->started) return; /* the character starts playing it on this update */
-    float t = clip_time(m, c);
     for (int k = 0; k < 2; ++k) {
         if (!m->match_on[k]) continue;
         mm_xform correction;
@@ -1060,31 +1054,93 @@ static void before_move(mm_moves *m, mm_character *c, float dt)
         if (mm_target_match_step(&m->match[k], t, dt, pred, &correction))
             mm_character_set_root(c, mm_xform_mul(correction, c->root));
     }
-    /* the schedule, raised where the pose about to play would cut into a box's top (a trailing leg
-     * over a wall, a toe on its edge); the lift rises at once and settles back smoothly */
-    float y = schedule(m, t + dt);
-    /* after the hand plant the body goes over the top: a joint deeper in is lifted over too */
+}
+
+/* m under a box's top within which a joint of the move playing at clip time t is lifted out:
+ * after the landing only a toe dipping into the surface stood on; after the hand plant the body
+ * goes over the top, so a joint deeper in is lifted over too. */
+static float lift_window(const mm_moves *m, float t)
+{
     const mm_move_clip *mc = &m->active;
-    float window = mc && mc->hand_plant >= 0 && t >= (float)(mc->hand_plant - mc->start) * m->db->interval
-                       ? OVER_WINDOW
-                       : CLEAR_WINDOW;
-    int look = mc && mc->hand_plant < 0 ? JUMP_LOOK_TICKS : LOOK_TICKS;
+    if (t >= clip_seconds(m->db, mc, mc->landing)) return LANDED_WINDOW;
+    return mc->hand_plant >= 0 && t >= clip_seconds(m->db, mc, mc->hand_plant) ? OVER_WINDOW : CLEAR_WINDOW;
+}
+
+/* The reactive lift (m->lift) for the tick from clip time t: the pose about to play over the
+ * next ticks, at the schedule's height with the lift kept, out of the boxes' tops; it rises at
+ * most LIFT_RATE, settles back with LIFT_SETTLE, stays under max_lift and adds nothing from the
+ * landing on (then the feet stand on the surface found). */
+static void react_lift(mm_moves *m, const mm_character *c, float t, float dt)
+{
+    const mm_move_clip *mc = &m->active;
+    float window = lift_window(m, t);
+    int look = mc->hand_plant < 0 ? JUMP_LOOK_TICKS : LOOK_TICKS;
     float kept = m->lift * expf(-dt / LIFT_SETTLE), need = 0.0f;
-    for (int k = 1; k <= look; ++k)
-        need = fmaxf(need, clearance(m, c, t + (float)k * dt, schedule(m, t + (float)k * dt) + kept, window));
-    /* until the landing (then the feet stand on the surface found), and never more than a hop */
-    if (mc && t + dt >= (float)(mc->landing - mc->start) * m->db->interval) need = 0.0f;
+    if (!(t + dt >= clip_seconds(m->db, mc, mc->landing)))
+        for (int k = 1; k <= look; ++k)
+            need = fmaxf(need,
+                         clearance(m, c, t + (float)k * dt, schedule(m, t + (float)k * dt) + kept, window));
     m->lift = fminf(fminf(kept + need, m->lift + LIFT_RATE * dt), m->desc.max_lift);
-    m->planned_lift = plan_lift(m, c, t, dt);
-    float lift = fmaxf(m->lift, m->planned_lift);
+}
+
+/* The root at height y raised by lift, the feet's locks with it (a foot the clip has planted on
+ * what it stepped onto would otherwise stay held inside the wall), the simulation to the root. */
+static void raise_root(mm_moves *m, mm_character *c, float y, float lift)
+{
     mm_xform root = c->root;
     root.translation.y = y + lift;
     mm_character_set_root(c, root);
-    /* the lift raises the whole body: the feet's locks with it (a foot the clip has planted on
-     * what it stepped onto would otherwise stay held inside the wall) */
     mm_character_move_foot_locks(c, mm_vec3_make(0.0f, lift - m->applied_lift, 0.0f));
     m->applied_lift = lift;
     mm_character_teleport_simulation(c, c->root.translation, c->root.rotation);
+}
+
+/* Before the character's update during a move: the targets matched, the root at the schedule's
+ * height raised where the pose about to play would cut into a box's top (a trailing leg over a
+ * wall, a toe on its edge) by the larger of the reactive and the planned lift. */
+static void before_move(mm_moves *m, mm_character *c, float dt)
+{
+    if (!m->started) return; /* the character starts playing it on this update */
+    float t = clip_time(m, c);
+    match_targets(m, c, t, dt);
+    float y = schedule(m, t + dt);
+    react_lift(m, c, t, dt);
+    m->planned_lift = plan_lift(m, c, t, dt);
+    raise_root(m, c, y, fmaxf(m->lift, m->planned_lift));
+}
+
+/* The pose as played at clip time t (with its transition offsets and the feet's IK) may still cut
+ * a top the prediction cleared: the reactive lift raised for the next tick (as fast as ever; the
+ * hands excepted: they are matched onto the top). */
+static void lift_played_pose(mm_moves *m, const mm_character *c, float t, float dt)
+{
+    float window = lift_window(m, t), extra = 0.0f;
+    for (int j = 1; j < m->db->joint_count; ++j)
+        if (j != m->hand[0] && j != m->hand[1])
+            extra = fmaxf(extra, lift_out(m->scene, c->global[j].translation, window, LIFT_MARGIN));
+    m->lift = fminf(m->lift + fminf(extra, LIFT_RATE * dt), m->desc.max_lift);
+}
+
+/* The targets' errors when the move reaches them on this tick (clip time t_before to t, the root
+ * from root_before): the hand's at HandPlant; the root's horizontal one at Landing, at the Landing
+ * itself between the tick's ends (a fast landing moves centimetres in a tick). */
+static void measure_errors(mm_moves *m, const mm_character *c, float t_before, float t, mm_vec3 root_before)
+{
+    const mm_move_clip *mc = &m->active;
+    if (mc->hand_plant >= 0 && m->match_on[0]) {
+        float tp = clip_seconds(m->db, mc, mc->hand_plant);
+        if (t_before < tp && t >= tp)
+            m->hand_error = mm_vec3_distance(c->global[mc->hand].translation, m->hand_target);
+    }
+    float tl = clip_seconds(m->db, mc, mc->landing);
+    if (t_before < tl && t >= tl) {
+        mm_vec3 r = c->root.translation;
+        if (t_before >= 0.0f && t > t_before)
+            r = mm_vec3_add(root_before,
+                            mm_vec3_scale(mm_vec3_sub(r, root_before), (tl - t_before) / (t - t_before)));
+        float dx = r.x - m->land_target.x, dz = r.z - m->land_target.z;
+        m->land_error = sqrtf(dx * dx + dz * dz);
+    }
 }
 
 static float lower_ankle(const mm_character *c)
@@ -1092,60 +1148,17 @@ static float lower_ankle(const mm_character *c)
     return fminf(c->raw_contact_positions[0].y, c->raw_contact_positions[2].y);
 }
 
-/* root_before: the root as this tick's update began (after before_move), at clip time t_before. */
-static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 root_before, float dt)
+/* The move hands back: the root onto the ground under the body (the pose kept), the simulation to
+ * the root, the feet's height error added to the landing's, the move recorded, locomotion. */
+static void hand_back(mm_moves *m, mm_character *c)
 {
-    const mm_database *db = m->db;
-    if (!m->started) {
-        if (!c->move_playing) { /* it did not start: give up */
-            m->kind = MM_MOVE_NONE;
-            return;
-        }
-        m->started = true;
-        t_before = -1.0f;
-    }
-    float t = clip_time(m, c);
-    const mm_move_clip *mc = &m->active;
-    /* the pose as played (with its transition offsets and the feet's IK) may still cut a top the
-     * prediction cleared: lifted out on the next tick */
-    if (mc) { /* after the landing only a toe dipping into the surface stood on */
-        float window = t >= (float)(mc->landing - mc->start) * db->interval ? LANDED_WINDOW
-                       : mc->hand_plant >= 0 && t >= (float)(mc->hand_plant - mc->start) * db->interval
-                           ? OVER_WINDOW
-                           : CLEAR_WINDOW,
-              extra = 0.0f;
-        for (int j = 1; j < db->joint_count; ++j) /* not the hands: matched onto the top */
-            if (j != m->hand[0] && j != m->hand[1])
-                extra = fmaxf(extra, lift_out(m->scene, c->global[j].translation, window));
-        m->lift = fminf(m->lift + fminf(extra, LIFT_RATE * dt), m->desc.max_lift);
-    }
-    if (mc && mc->hand_plant >= 0 && m->match_on[0]) {
-        float tp = (float)(mc->hand_plant - mc->start) * db->interval;
-        if (t_before < tp && t >= tp)
-            m->hand_error = mm_vec3_distance(c->global[mc->hand].translation, m->hand_target);
-    }
-    if (mc) {
-        float tl = (float)(mc->landing - mc->start) * db->interval;
-        if (t_before < tl && t >= tl) { /* at the Landing itself, between this tick's ends (a fast
-                                           landing moves centimetres in a tick) */
-            mm_vec3 r = c->root.translation;
-            if (t_before >= 0.0f && t > t_before)
-                r = mm_vec3_add(root_before,
-                                mm_vec3_scale(mm_vec3_sub(r, root_before), (tl - t_before) / (t - t_before)));
-            float dx = r.x - m->land_target.x, dz = r.z - m->land_target.z;
-            m->land_error = sqrtf(dx * dx + dz * dz);
-        }
-    }
-    if (mm_character_move_playing(c) && t < MAX_MOVE_TIME) return;
-    /* handed back: the root onto the ground under the body, the simulation to the root */
     /* the feet's height: the lowest of heel (the ankle) and toe, each less its standing height (a
      * foot pitched on landing stands on its toes) */
     float feet = fminf(lower_ankle(c) - m->ankle_height,
                        fminf(c->raw_contact_positions[1].y, c->raw_contact_positions[3].y) - m->toe_height),
           h;
     mm_vec3 r = c->root.translation;
-    if (mm_vec3_length(flat(mm_vec3_sub(r, m->land_target))) <
-        LAND_ERROR_RADIUS) /* the feet on the ground aimed at */
+    if (mm_vec3_length(flat(mm_vec3_sub(r, m->land_target))) < LAND_ERROR_RADIUS) /* on the ground aimed at */
         m->land_error =
             sqrtf(m->land_error * m->land_error + (feet - m->land_target.y) * (feet - m->land_target.y));
     if (ground_at(m, mm_vec3_make(r.x, feet, r.z), m->desc.step_height, INFINITY, &h))
@@ -1161,59 +1174,87 @@ static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 roo
     m->fall_velocity = 0.0f;
 }
 
-/* Locomotion on the scene, before the character's update: on the ground (steps followed, falls
- * under gravity) and out of the walls. */
-static void keep_on_ground(mm_moves *m, mm_character *c, float dt)
+/* After the character's update during a move; root_before: the root as this tick's update began
+ * (after before_move), at clip time t_before. */
+static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 root_before, float dt)
+{
+    if (!m->started) {
+        if (!c->move_playing) { /* it did not start: give up */
+            m->kind = MM_MOVE_NONE;
+            return;
+        }
+        m->started = true;
+        t_before = -1.0f;
+    }
+    float t = clip_time(m, c);
+    lift_played_pose(m, c, t, dt);
+    measure_errors(m, c, t_before, t, root_before);
+    if (mm_character_move_playing(c) && t < MAX_MOVE_TIME) return;
+    hand_back(m, c);
+}
+
+/* The root on the ground: a step up followed through the pose's offsets, with nothing under the
+ * feet a fall under gravity. */
+static void follow_ground(mm_moves *m, mm_character *c, float dt)
 {
     const mm_moves_desc *d = &m->desc;
     mm_vec3 r = c->root.translation;
     float h;
-    if (ground_at(m, r, d->step_height, INFINITY, &h)) {
-        if (h > r.y + GROUND_TOLERANCE) { /* a step up: the body follows through the pose's offsets */
-            mm_character_shift_root(c, mm_vec3_make(0.0f, h - r.y, 0.0f));
-            m->fall_velocity = 0.0f;
-        } else if (r.y - h > GROUND_TOLERANCE) { /* nothing under the feet: fall */
-            m->fall_velocity += d->gravity * dt;
-            mm_xform root = c->root;
-            root.translation.y = fmaxf(h, r.y - m->fall_velocity * dt);
-            mm_character_set_root(c, root);
-            if (c->root.translation.y <= h) m->fall_velocity = 0.0f;
-        } else {
-            m->fall_velocity = 0.0f;
-        }
+    if (!ground_at(m, r, d->step_height, INFINITY, &h)) return;
+    if (h > r.y + GROUND_TOLERANCE) { /* a step up */
+        mm_character_shift_root(c, mm_vec3_make(0.0f, h - r.y, 0.0f));
+        m->fall_velocity = 0.0f;
+    } else if (r.y - h > GROUND_TOLERANCE) { /* nothing under the feet: fall */
+        m->fall_velocity += d->gravity * dt;
+        mm_xform root = c->root;
+        root.translation.y = fmaxf(h, r.y - m->fall_velocity * dt);
+        mm_character_set_root(c, root);
+        if (c->root.translation.y <= h) m->fall_velocity = 0.0f;
+    } else {
+        m->fall_velocity = 0.0f;
     }
-    /* the collider: a circle about the root against the walls (boxes whose top is above a step) */
+}
+
+/* p (horizontally) out of box's footprint by radius, through the nearer side when inside it.
+ * false: p is already clear of it. */
+static bool push_out_of_box(const mm_scene_box *box, float radius, mm_vec3 *p)
+{
+    float sn = sinf(box->yaw), cs = cosf(box->yaw), hx = 0.5f * box->size.x, hz = 0.5f * box->size.z, lx, lz;
+    box_local(box, *p, &lx, &lz);
+    float cx = clampf(lx, -hx, hx), cz = clampf(lz, -hz, hz);
+    float ex = lx - cx, ez = lz - cz, e = sqrtf(ex * ex + ez * ez);
+    if (e >= radius) return false;
+    if (e > 1e-6f) {
+        ex *= (radius - e) / e, ez *= (radius - e) / e;
+    } else if (hx - fabsf(lx) < hz - fabsf(lz)) { /* inside: out through the nearer side */
+        ex = (lx >= 0.0f ? 1.0f : -1.0f) * (hx - fabsf(lx) + radius), ez = 0.0f;
+    } else {
+        ez = (lz >= 0.0f ? 1.0f : -1.0f) * (hz - fabsf(lz) + radius), ex = 0.0f;
+    }
+    p->x += cs * ex + sn * ez; /* back to the world: turn by +yaw */
+    p->z += -sn * ex + cs * ez;
+    return true;
+}
+
+/* The collider: a circle of radius about the root, and the simulation with it, out of the walls
+ * (boxes whose top is above a step and whose bottom is below collider_height). */
+static void push_out_of_walls(mm_moves *m, mm_character *c)
+{
+    const mm_moves_desc *d = &m->desc;
     const mm_scene *s = m->scene;
     for (int b = 0; b < s->box_count; ++b) {
         const mm_scene_box *box = &s->boxes[b];
         float y = c->root.translation.y;
         if (box->position.y + box->size.y <= y + d->step_height || box->position.y >= y + d->collider_height)
             continue;
-        float sn = sinf(box->yaw), cs = cosf(box->yaw), hx = 0.5f * box->size.x, hz = 0.5f * box->size.z;
-        for (int which = 0; which < 2; ++which) { /* the root, and the simulation with it */
-            mm_vec3 moved = which == 0 ? c->root.translation : c->trajectory->position, *p = &moved;
-            float px = p->x - box->position.x, pz = p->z - box->position.z;
-            float lx = cs * px - sn * pz, lz = sn * px + cs * pz;
-            float cx = clampf(lx, -hx, hx), cz = clampf(lz, -hz, hz);
-            float ex = lx - cx, ez = lz - cz, e = sqrtf(ex * ex + ez * ez);
-            if (e >= d->radius) continue;
-            if (e > 1e-6f) {
-                ex *= (d->radius - e) / e, ez *= (d->radius - e) / e;
-            } else if (hx - fabsf(lx) < hz - fabsf(lz)) { /* inside: out through the nearer side */
-                ex = (lx >= 0.0f ? 1.0f : -1.0f) * (hx - fabsf(lx) + d->radius), ez = 0.0f;
-            } else {
-                ez = (lz >= 0.0f ? 1.0f : -1.0f) * (hz - fabsf(lz) + d->radius), ex = 0.0f;
-            }
-            p->x += cs * ex + sn * ez; /* back to the world: turn by +yaw */
-            p->z += -sn * ex + cs * ez;
-            if (which == 0) {
-                mm_xform root = c->root;
-                root.translation = moved;
-                mm_character_set_root(c, root);
-            } else {
-                mm_character_push_simulation(c, moved);
-            }
+        mm_vec3 p = c->root.translation;
+        if (push_out_of_box(box, d->radius, &p)) {
+            mm_xform root = c->root;
+            root.translation = p;
+            mm_character_set_root(c, root);
         }
+        p = c->trajectory->position;
+        if (push_out_of_box(box, d->radius, &p)) mm_character_push_simulation(c, p);
     }
 }
 
@@ -1235,41 +1276,38 @@ static void stay_on_ledge(mm_moves *m, mm_character *c, const mm_input *in, mm_v
     mm_character_halt_simulation(c);
 }
 
-/* After the character's update in locomotion: a move to start? */
-static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int pressed)
+/* The jump key, or walking on at a ledge: a jump (across a gap, onto a wall) or, at a ledge with
+ * nothing across, a drop. 1: done (a move started, or a drop called for had nowhere to land). */
+static int jump_or_drop(mm_moves *m, mm_character *c, int pressed, int moving, int ledge, mm_vec3 dir,
+                        mm_vec3 facing)
 {
     const mm_moves_desc *d = &m->desc;
-    mm_vec3 root = c->root.translation, desired = mm_vec3_make(0, 0, 0), land;
-    if (in) mm_trajectory_desired(c->trajectory, in, &desired, NULL);
-    desired = flat(desired);
-    float speed = mm_vec3_length(desired), h;
-    mm_vec3 facing = flat(mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1)));
-    mm_vec3 dir =
-        speed > DIRECTION_MIN_SPEED ? mm_vec3_scale(desired, 1.0f / speed) : mm_vec3_normalize(facing);
-    int moving = speed > d->moving_speed && m->fall_velocity == 0.0f;
-    mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
-    int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
-    /* no move right after one; but a drop where walking on would fall waits only LEDGE_COOLDOWN:
-     * a move may end a step from a ledge (a climb onto a wall half a metre deep) */
-    if (m->since_move < d->cooldown && !(moving && ledge && m->since_move >= LEDGE_COOLDOWN)) return;
     const mm_move_clip *drop = clip_of(m, MM_MOVE_DROP), *jump = clip_of(m, MM_MOVE_JUMP), *mc;
-    /* the jump key: a jump (across a gap, onto a wall); at a ledge with nothing across, a drop */
+    mm_vec3 land;
     float over;
     if (pressed && jump && (mc = pick_jump(m, c, MM_MOVE_JUMP, 0, &land, &over)) != NULL) {
         start_jump(m, c, MM_MOVE_JUMP, mc, land, over);
-        return;
+        return 1;
     }
-    if ((pressed || (moving && ledge)) && drop) {
-        int near_ledge = ledge || probe_along(m, root, mm_vec3_normalize(facing), PROBE_STEP,
-                                              d->ledge_probe + LEDGE_SEARCH_BEYOND, d->step_height,
-                                              d->step_height, 0) >= 0.0f;
-        if (near_ledge && (pressed || mm_vec3_dot(dir, mm_vec3_normalize(facing)) > LEDGE_HEADING_COS)) {
-            if ((mc = pick_jump(m, c, MM_MOVE_DROP, 1, &land, &over)) != NULL)
-                start_jump(m, c, MM_MOVE_DROP, mc, land, over);
-            return;
-        }
-    }
-    if (!moving) return;
+    if (!(pressed || (moving && ledge)) || !drop) return 0;
+    int near_ledge =
+        ledge || probe_along(m, c->root.translation, mm_vec3_normalize(facing), PROBE_STEP,
+                             d->ledge_probe + LEDGE_SEARCH_BEYOND, d->step_height, d->step_height, 0) >= 0.0f;
+    if (!near_ledge || !(pressed || mm_vec3_dot(dir, mm_vec3_normalize(facing)) > LEDGE_HEADING_COS))
+        return 0;
+    if ((mc = pick_jump(m, c, MM_MOVE_DROP, 1, &land, &over)) != NULL)
+        start_jump(m, c, MM_MOVE_DROP, mc, land, over);
+    return 1;
+}
+
+/* Moving along dir toward a wall (within WALL_HEADING_COS of its face): the move its height and
+ * depth call for (mm_moves_choose), started when the wall is where it was in the chosen clip. */
+static void toward_wall(mm_moves *m, mm_character *c, mm_vec3 dir, mm_vec3 facing)
+{
+    const mm_moves_desc *d = &m->desc;
+    const mm_move_clip *mc;
+    mm_vec3 land;
+    float over;
     float reach = 0.0f; /* the farthest any move starts from a wall */
     for (int k = 0; k < m->option_count; ++k)
         reach = fmaxf(reach, fmaxf(m->options[k].plant_distance, MIN_WALL_REACH));
@@ -1277,7 +1315,7 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
     mm_obstacle_desc od;
     memset(&od, 0, sizeof od);
     od.max_distance = reach + d->trigger_slack + WALL_LOOK_MARGIN;
-    if (!mm_scene_measure_obstacle(m->scene, root, dir, &od, &o)) return;
+    if (!mm_scene_measure_obstacle(m->scene, c->root.translation, dir, &od, &o)) return;
     mm_vec3 n = flat(o.hit.normal);
     if (mm_vec3_length(n) < 1e-4f || mm_vec3_dot(dir, mm_vec3_normalize(n)) > -WALL_HEADING_COS)
         return; /* not toward it */
@@ -1298,6 +1336,50 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
     start_vault(m, c, kind, mc, &o);
 }
 
+/* After the character's update in locomotion: a move to start? Not within cooldown of the last
+ * one, but a drop where walking on would fall waits only LEDGE_COOLDOWN (a move may end a step
+ * from a ledge: a climb onto a wall half a metre deep). */
+static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int pressed)
+{
+    const mm_moves_desc *d = &m->desc;
+    mm_vec3 root = c->root.translation, desired = mm_vec3_make(0, 0, 0);
+    if (in) mm_trajectory_desired(c->trajectory, in, &desired, NULL);
+    desired = flat(desired);
+    float speed = mm_vec3_length(desired), h;
+    mm_vec3 facing = flat(mm_quat_rotate(c->root.rotation, mm_vec3_make(0, 0, 1)));
+    mm_vec3 dir =
+        speed > DIRECTION_MIN_SPEED ? mm_vec3_scale(desired, 1.0f / speed) : mm_vec3_normalize(facing);
+    int moving = speed > d->moving_speed && m->fall_velocity == 0.0f;
+    mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
+    int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
+    if (m->since_move < d->cooldown && !(moving && ledge && m->since_move >= LEDGE_COOLDOWN)) return;
+    if (jump_or_drop(m, c, pressed, moving, ledge, dir, facing) || !moving) return;
+    toward_wall(m, c, dir, facing);
+}
+
+/* A tick during a move: bent before the character's update, measured (and handed back) after. */
+static void update_move(mm_moves *m, mm_character *c, const mm_input *in, float dt)
+{
+    float t_before = m->started ? clip_time(m, c) : -1.0f;
+    before_move(m, c, dt);
+    mm_vec3 root_before = c->root.translation;
+    mm_character_update(c, in, dt);
+    after_move(m, c, t_before, root_before, dt);
+}
+
+/* A tick of locomotion on the scene: on the ground and out of the walls, the character's update,
+ * kept from walking off a ledge, then a move to start? */
+static void update_locomotion(mm_moves *m, mm_character *c, const mm_input *in, float dt, int pressed)
+{
+    m->since_move += dt;
+    follow_ground(m, c, dt);
+    push_out_of_walls(m, c);
+    mm_vec3 before = c->root.translation;
+    mm_character_update(c, in, dt);
+    stay_on_ledge(m, c, in, before);
+    look_for_move(m, c, in, pressed);
+}
+
 void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
 {
     if (!m || !c) return;
@@ -1310,18 +1392,8 @@ void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
     m->time += dt;
     int pressed = in && in->jump && !m->jump_held;
     m->jump_held = in && in->jump;
-    if (m->kind != MM_MOVE_NONE) {
-        float t_before = m->started ? clip_time(m, c) : -1.0f;
-        before_move(m, c, dt);
-        mm_vec3 root_before = c->root.translation;
-        mm_character_update(c, in, dt);
-        after_move(m, c, t_before, root_before, dt);
-        return;
-    }
-    m->since_move += dt;
-    keep_on_ground(m, c, dt);
-    mm_vec3 before = c->root.translation;
-    mm_character_update(c, in, dt);
-    stay_on_ledge(m, c, in, before);
-    look_for_move(m, c, in, pressed);
+    if (m->kind != MM_MOVE_NONE)
+        update_move(m, c, in, dt);
+    else
+        update_locomotion(m, c, in, dt, pressed);
 }
