@@ -1,6 +1,7 @@
 #include <mm/skeleton.h>
 
 #include <string.h>
+#include "math_private.h"
 
 mm_result mm_skeleton_init(mm_skeleton *s, int joint_count, const mm_allocator *allocator)
 {
@@ -46,8 +47,6 @@ void mm_skeleton_scale(mm_skeleton *s, float factor)
         s->joints[i].end_site = mm_vec3_scale(s->joints[i].end_site, factor);
     }
 }
-
-static int finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
 mm_result mm_skeleton_validate(const mm_skeleton *s, mm_error *err)
 {

@@ -16,6 +16,7 @@
 #include "runtime/character/root_motion.h"
 #include "runtime/character/transition.h"
 #include "runtime/character/warping.h"
+#include "math_private.h"
 
 /* ---- a small skeleton: root, hips, two legs with toes, a spine of two and a head ---- */
 
@@ -389,13 +390,13 @@ static void test_root_motion_pull_and_clamps(void **state)
     t.position = mm_vec3_make(0, 0, 0.1f);
     t.facing = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 1.5f);
     mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
-    assert_float_equal(mm_yaw_of(r.root.rotation), 1.5f - d.sync_max_angle, 1e-5f);
+    assert_float_equal(yaw_of(r.root.rotation), 1.5f - d.sync_max_angle, 1e-5f);
     /* a move: its root motion alone, no pull, no clamp; the height kept */
     r.root = mm_xform_make(mm_quat_identity(), mm_vec3_make(0, 0.7f, 0));
     t.position = mm_vec3_make(5.0f, 0, 0);
     mm_root_motion_update(&r, &d, &t, &intent, played, true, dt);
     assert_vec3_near(r.root.translation, mm_vec3_make(0, 0.7f, 0.1f), 1e-6f);
-    assert_float_equal(mm_yaw_of(r.root.rotation), 0.0f, 1e-6f);
+    assert_float_equal(yaw_of(r.root.rotation), 0.0f, 1e-6f);
     mm_trajectory_free(&t);
 }
 

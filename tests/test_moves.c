@@ -429,6 +429,13 @@ static void test_no_scene(void **state)
     mm_moves_defaults(&d);
     d.fall_start = 2.0f;
     assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &d, &err), MM_ERR_OUT_OF_RANGE);
+    mm_moves_defaults(&d);
+    d.max_lift = -0.1f; /* the numbers added after cooldown are checked too */
+    assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &d, &err), MM_ERR_OUT_OF_RANGE);
+    mm_moves_defaults(&d);
+    assert_true(d.max_jump_distance > 0.0f && d.moving_speed > 0.0f && d.collider_height > 0.0f &&
+                d.knee_height < d.chest_height && d.max_lift > 0.0f);
+    assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &d, &err), MM_OK);
 }
 
 /* LAFAN1 with its moves (lafan1_moves.json) on every shipped scene: the moves expected,

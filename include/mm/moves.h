@@ -82,6 +82,18 @@ typedef struct mm_moves_desc {
     float radius;                       /* m: the collider, a circle about the root; 0.4 */
     float cooldown;                     /* s after a move before the next can start (a drop at a
                                            ledge waits 0.15 s at most); 0.25 */
+    float max_jump_distance;            /* m ahead of the root: the farthest a jump looks for the far
+                                           side of a gap; 3.0 */
+    float moving_speed;                 /* m/s: a desired speed above this is moving on (walls and
+                                           ledges trigger moves); at or below it, the character stops
+                                           at a ledge; 0.5 */
+    float collider_height;              /* m: a box whose bottom is this far above the root is
+                                           walked under, not a wall; 1.8 */
+    float knee_height, chest_height;    /* m above a landing spot where room for the body (radius)
+                                           is tested; 0.4, 1.2 */
+    float max_lift;                     /* m: the most the reactive lift raises the root during a
+                                           move (a joint of the pose about to play, or as played,
+                                           inside a box's top; the planned lift is not capped); 0.6 */
     const char *left_hand, *right_hand; /* joints; "LeftHand", "RightHand" */
     const char *left_foot, *right_foot; /* joints; "LeftFoot", "RightFoot" */
 } mm_moves_desc;
@@ -93,6 +105,10 @@ void mm_moves_defaults(mm_moves_desc *d);
 
 /* Frames of a move (from its start) over which the lift over a wall is planned. */
 #define MM_MOVES_PLAN_FRAMES 512
+
+/* Keys of a move's height schedule: the start, the hand plant or two for a jump's flight, the
+ * landing, the hand-back. */
+#define MM_MOVES_MAX_KEYS 6
 
 /* A move clip as found in the database. Frames are database frames; -1: none. */
 typedef struct mm_move_clip {
@@ -148,8 +164,10 @@ typedef struct mm_moves {
     bool started;             /* the character has begun playing it */
     mm_target_match match[2]; /* hand at HandPlant, root at Landing (horizontal and yaw) */
     bool match_on[2];
-    float key_time[6], key_y[6]; /* the root's height schedule (clip time, height) */
-    int key_shape[6];            /* per segment: 0 linear, 1 smooth, 2 falling, 3 rising */
+    /* the root's height schedule: per key its clip time and height; per segment its shape (0
+     * linear, 1 smooth, 2 falling, 3 rising) */
+    float key_time[MM_MOVES_MAX_KEYS], key_y[MM_MOVES_MAX_KEYS];
+    int key_shape[MM_MOVES_MAX_KEYS];
     int key_count;
     mm_vec3 hand_target, land_target; /* where the hand and the feet go (land_target.y: ground) */
     float hand_error, land_error;     /* m, measured when the events are reached */

@@ -45,7 +45,7 @@ typedef struct mm_gait_params {
 typedef struct mm_trajectory_desc {
     mm_gait_params gaits[MM_GAIT_COUNT]; /* per gait; see mm_trajectory_defaults */
     float gait_halflife;                 /* s: gait style weights follow the input's gait; 0.2 */
-    float history_seconds;               /* the recorded past; 10 */
+    float history_seconds;               /* s: the recorded past; 10 */
     float history_rate;                  /* samples per second of the past; 60 */
     const mm_allocator *allocator;
 } mm_trajectory_desc;

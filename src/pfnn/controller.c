@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "pfnn/pfnn_private.h"
+#include "math_private.h"
 
 #define TL            120
 #define HALF          60
@@ -68,7 +69,6 @@ struct mm_pfnn_controller {
 /* ---- small helpers ---------------------------------------------------------------------------- */
 
 static float lerpf(float a, float b, float t) { return a + (b - a) * t; }
-static float clampf(float v, float lo, float hi) { return v < lo ? lo : v > hi ? hi : v; }
 
 /* Rotation by yaw about Y (0 faces +Z): x' = cos x + sin z, z' = -sin x + cos z. */
 static mm_vec3 rot_y(float yaw, mm_vec3 v)
@@ -76,12 +76,12 @@ static mm_vec3 rot_y(float yaw, mm_vec3 v)
     float c = cosf(yaw), s = sinf(yaw);
     return mm_vec3_make(c * v.x + s * v.z, v.y, -s * v.x + c * v.z);
 }
-static float yaw_of(float dx, float dz) { return atan2f(dx, dz); }
+static float yaw_of_direction(float dx, float dz) { return atan2f(dx, dz); }
 
 /* Direction between a and b (yaw angles, shortest way), as a unit (x, z). */
 static void mix_dir(float ax, float az, float bx, float bz, float t, float *ox, float *oz)
 {
-    float a = yaw_of(ax, az), b = yaw_of(bx, bz);
+    float a = yaw_of_direction(ax, az), b = yaw_of_direction(bx, bz);
     float d = b - a;
     while (d > (float)MM_PI) d -= (float)TWO_PI;
     while (d < -(float)MM_PI) d += (float)TWO_PI;
@@ -104,8 +104,6 @@ static mm_quat exp_half(float lx, float ly, float lz)
     float s = sinf(n) / n;
     return mm_quat_normalize(mm_quat_make(lx * s, ly * s, lz * s, cosf(n)));
 }
-
-static mm_quat yaw_quat(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make(0.0f, 1.0f, 0.0f), yaw); }
 
 float mm_pfnn_height_flat(float x, float z, void *user)
 {
@@ -255,7 +253,7 @@ static void refresh_state(mm_pfnn_controller *c)
     s->frame = c->frame;
     s->phase = c->phase;
     s->root_position = mm_vec3_make(c->pos[HALF].x * inv, c->root_h[HALF] * inv, c->pos[HALF].z * inv);
-    s->root_yaw = yaw_of(c->dir_x[HALF], c->dir_z[HALF]);
+    s->root_yaw = yaw_of_direction(c->dir_x[HALF], c->dir_z[HALF]);
     for (int g = 0; g < MM_PFNN_GAIT_COUNT; ++g) s->gait[g] = c->gait[HALF][g];
     for (int k = 0; k < 4; ++k) s->contacts[k] = c->y[MM_PFNN_Y_CONTACTS + k];
     s->target_velocity = mm_vec3_make(c->target_vx * vel, 0.0f, c->target_vz * vel);
@@ -388,7 +386,7 @@ const mm_pfnn_state *mm_pfnn_controller_state(const mm_pfnn_controller *ctrl) { 
 void mm_pfnn_controller_assemble_input(const mm_pfnn_controller *c, float *x)
 {
     mm_vec3 root = mm_vec3_make(c->pos[HALF].x, c->root_h[HALF], c->pos[HALF].z);
-    float yaw = yaw_of(c->dir_x[HALF], c->dir_z[HALF]);
+    float yaw = yaw_of_direction(c->dir_x[HALF], c->dir_z[HALF]);
     for (int s = 0; s < MM_PFNN_TRAJ_SAMPLES; ++s) {
         int i = 10 * s;
         mm_vec3 p = rot_y(-yaw, mm_vec3_sub(c->pos[i], root));
@@ -399,7 +397,7 @@ void mm_pfnn_controller_assemble_input(const mm_pfnn_controller *c, float *x)
         x[MM_PFNN_X_TRAJ_DIR_Z + s] = d.z;
         for (int g = 0; g < MM_PFNN_GAIT_COUNT; ++g)
             x[MM_PFNN_X_GAIT + g * MM_PFNN_TRAJ_SAMPLES + s] = g < 5 ? c->gait[i][g] : 0.0f;
-        float side_yaw = yaw_of(c->dir_x[i], c->dir_z[i]);
+        float side_yaw = yaw_of_direction(c->dir_x[i], c->dir_z[i]);
         mm_vec3 r = mm_vec3_add(c->pos[i], rot_y(side_yaw, mm_vec3_make(SIDE_WIDTH, 0.0f, 0.0f)));
         mm_vec3 l = mm_vec3_add(c->pos[i], rot_y(side_yaw, mm_vec3_make(-SIDE_WIDTH, 0.0f, 0.0f)));
         x[MM_PFNN_X_HEIGHT_RIGHT + s] = height_cm(c, r.x, r.z) - root.y;
@@ -407,7 +405,7 @@ void mm_pfnn_controller_assemble_input(const mm_pfnn_controller *c, float *x)
         x[MM_PFNN_X_HEIGHT_LEFT + s] = height_cm(c, l.x, l.z) - root.y;
     }
     mm_vec3 prev = mm_vec3_make(c->pos[HALF - 1].x, c->root_h[HALF - 1], c->pos[HALF - 1].z);
-    float prev_yaw = yaw_of(c->dir_x[HALF - 1], c->dir_z[HALF - 1]);
+    float prev_yaw = yaw_of_direction(c->dir_x[HALF - 1], c->dir_z[HALF - 1]);
     for (int j = 0; j < J; ++j) {
         mm_vec3 p = rot_y(-prev_yaw, mm_vec3_sub(c->joint_pos[j], prev));
         mm_vec3 v = rot_y(-prev_yaw, c->joint_vel[j]);
@@ -515,7 +513,7 @@ static void update_trajectory(mm_pfnn_controller *c, const float *y, float stand
         memcpy(c->gait[i], c->gait[i + 1], sizeof c->gait[i]);
     }
     /* current: the predicted root motion */
-    float yaw = yaw_of(c->dir_x[HALF], c->dir_z[HALF]);
+    float yaw = yaw_of_direction(c->dir_x[HALF], c->dir_z[HALF]);
     mm_vec3 move = rot_y(yaw, mm_vec3_make(y[MM_PFNN_Y_ROOT_X], 0.0f, y[MM_PFNN_Y_ROOT_Z]));
     move = mm_vec3_scale(move, stand_scale);
     c->pos[HALF] = mm_vec3_add(c->pos[HALF], move);
@@ -527,7 +525,7 @@ static void update_trajectory(mm_pfnn_controller *c, const float *y, float stand
     collide(c, &c->pos[HALF]);
     /* future: carried along, then toward the network's trajectory */
     for (int i = HALF + 1; i < TL; ++i) c->pos[i] = mm_vec3_add(c->pos[i], move);
-    float new_yaw = yaw_of(d.x, d.z);
+    float new_yaw = yaw_of_direction(d.x, d.z);
     for (int i = HALF + 1; i < TL; ++i) {
         float u = (float)(i - HALF) / 10.0f;
         int k = (int)u;
@@ -555,7 +553,7 @@ static void run_frame(mm_pfnn_controller *c, const mm_pfnn_input *in)
     sample_heights(c);
     mm_pfnn_controller_assemble_input(c, c->x);
     mm_vec3 root = mm_vec3_make(c->pos[HALF].x, c->root_h[HALF], c->pos[HALF].z);
-    float yaw = yaw_of(c->dir_x[HALF], c->dir_z[HALF]);
+    float yaw = yaw_of_direction(c->dir_x[HALF], c->dir_z[HALF]);
     evaluate(c);
     float stand_scale = powf(clampf(1.0f - c->gait[HALF][GAIT_STAND], 0.0f, 1.0f), 0.25f);
     update_trajectory(c, c->y, stand_scale);

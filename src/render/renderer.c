@@ -9,6 +9,7 @@
 
 #include "gl_api.h"
 #include "render_internal.h"
+#include "math_private.h"
 
 #define MAX_SHADOWS 64
 
@@ -405,8 +406,6 @@ int mm_render_find_head(const mm_joint *joints, int count)
             return j;
     return 0;
 }
-
-static bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
 static void draw_sphere(mm_renderer *r, GLint u_model, GLint u_normal, GLint u_color, mm_vec3 p, float radius,
                         mm_rgba color)

@@ -7,8 +7,7 @@
 #include <math.h>
 
 #include <mm/leg_ik.h>
-
-static inline int finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+#include "math_private.h"
 
 static inline double clampd(double x, double lo, double hi) { return x < lo ? lo : x > hi ? hi : x; }
 

@@ -5,8 +5,7 @@
 #include <math.h>
 
 #include <mm/spring.h>
-
-static int finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+#include "math_private.h"
 
 /* In the spring's own time u = y t: v(u) = g + (j0 + k u) e^(-u), k = j1 / y. */
 typedef struct vspring {

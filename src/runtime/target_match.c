@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "math_private.h"
+
 void mm_target_match_init(mm_target_match *m, int bone, mm_vec3 target_position, mm_quat target_rotation,
                           float start_time, float end_time)
 {
@@ -24,17 +26,13 @@ void mm_target_match_set_normalized(mm_target_match *m, float start, float end, 
     m->end_time = end * clip_duration;
 }
 
-static float wrap_angle(float a) { return remainderf(a, (float)(2.0 * MM_PI)); }
-
 float mm_target_match_yaw(mm_quat q)
 {
     if (!(fabsf(q.y) > 0.0f) && !(fabsf(q.w) > 0.0f)) return 0.0f;
     return wrap_angle(2.0f * atan2f(q.y, q.w));
 }
 
-static bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 static bool finite4(mm_quat q) { return isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w); }
-static float clamp01(float v) { return v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v; }
 
 bool mm_target_match_step(mm_target_match *m, float time, float dt, mm_xform predicted_end,
                           mm_xform *correction)

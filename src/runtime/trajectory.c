@@ -5,6 +5,22 @@
 
 #include <mm/spring.h>
 
+/* The ranges mm_trajectory_init accepts: beyond them a number is a unit mistake. */
+/* m/s: the fastest gait speed (a sprint is 10) */
+#define MAX_GAIT_SPEED 50.0f
+/* s: the longest half-life (a minute: no spring at all) */
+#define MAX_HALFLIFE 60.0f
+/* s: the longest history (an hour) */
+#define MAX_HISTORY_SECONDS 3600.0f
+/* samples per second of the history: at least one, at most well past any tick rate */
+#define MIN_HISTORY_RATE 1.0f
+#define MAX_HISTORY_RATE 1000.0f
+/* samples the history holds beyond seconds x rate: one at each end of the span */
+#define HISTORY_SLACK 2
+/* the stick's squared length under which it asks for no facing (0.01 of its travel): a stick at
+ * rest does not turn the character */
+#define STICK_TURN_MIN_SQ 1e-4f
+
 static mm_gait_params gait(float forward, float side, float backward, float velocity, float rotation)
 {
     mm_gait_params g = {forward, side, backward, velocity, rotation};
@@ -34,16 +50,16 @@ mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, c
     const mm_trajectory_desc *d = &t->desc;
     for (int g = 0; g < MM_GAIT_COUNT; ++g) {
         const mm_gait_params *p = &d->gaits[g];
-        if (!sane(p->forward_speed, 0, 50) || !sane(p->side_speed, 0, 50) ||
-            !sane(p->backward_speed, 0, 50) || !sane(p->velocity_halflife, 0, 60) ||
-            !sane(p->rotation_halflife, 0, 60))
+        if (!sane(p->forward_speed, 0, MAX_GAIT_SPEED) || !sane(p->side_speed, 0, MAX_GAIT_SPEED) ||
+            !sane(p->backward_speed, 0, MAX_GAIT_SPEED) || !sane(p->velocity_halflife, 0, MAX_HALFLIFE) ||
+            !sane(p->rotation_halflife, 0, MAX_HALFLIFE))
             return MM_ERR_OUT_OF_RANGE;
     }
-    if (!sane(d->gait_halflife, 0, 60) || !sane(d->history_seconds, 0, 3600) ||
-        !sane(d->history_rate, 1, 1000))
+    if (!sane(d->gait_halflife, 0, MAX_HALFLIFE) || !sane(d->history_seconds, 0, MAX_HISTORY_SECONDS) ||
+        !sane(d->history_rate, MIN_HISTORY_RATE, MAX_HISTORY_RATE))
         return MM_ERR_OUT_OF_RANGE;
     if (allocator) t->allocator = *allocator;
-    int capacity = (int)ceil(d->history_seconds * d->history_rate) + 2;
+    int capacity = (int)ceil(d->history_seconds * d->history_rate) + HISTORY_SLACK;
     t->history_position = (mm_vec3 *)mm_alloc_array(&t->allocator, (size_t)capacity, sizeof(mm_vec3));
     t->history_facing = (mm_quat *)mm_alloc_array(&t->allocator, (size_t)capacity, sizeof(mm_quat));
     if (!t->history_position || !t->history_facing) {
@@ -122,7 +138,7 @@ static mm_quat target_facing(const mm_trajectory *t, const mm_input *in)
             return facing_toward(in->facing[0], in->facing[1]);
         return t->target_facing;
     }
-    if (x * x + z * z > 1e-4f) return facing_toward(x, z);
+    if (x * x + z * z > STICK_TURN_MIN_SQ) return facing_toward(x, z);
     return t->target_facing;
 }
 

@@ -4,6 +4,17 @@
 #include <math.h>
 #include <string.h>
 
+#include "math_private.h"
+
+/* radians: the largest yaw a box may have (a larger one is degrees, or garbage: sinf and cosf
+ * lose their precision) */
+#define MAX_YAW 1.0e4f
+/* m: boxes this close along a ray are one solid (touching, or rounding apart) */
+#define SOLID_TOLERANCE 1e-4f
+/* m: how far inside, and in front of, an obstacle's near face its top and floor are measured from:
+ * clear of the face's own rounding, far less than any box */
+#define FACE_STEP 1e-3f
+
 void mm_scene_init(mm_scene *scene, float ground)
 {
     if (!scene) return;
@@ -18,7 +29,7 @@ mm_result mm_scene_add_box(mm_scene *scene, mm_vec3 position, mm_vec3 size, floa
     if (!scene) return MM_ERR_INVALID_ARGUMENT;
     if (scene->box_count < 0 || scene->box_count >= MM_SCENE_MAX_BOXES) return MM_ERR_LIMIT;
     if (!in_range(position.x) || !in_range(position.y) || !in_range(position.z) || !in_range(size.x) ||
-        !in_range(size.y) || !in_range(size.z) || !isfinite(yaw) || fabsf(yaw) > 1.0e4f)
+        !in_range(size.y) || !in_range(size.z) || !isfinite(yaw) || fabsf(yaw) > MAX_YAW)
         return MM_ERR_OUT_OF_RANGE;
     if (size.x < 0.0f || size.y < 0.0f || size.z < 0.0f) return MM_ERR_OUT_OF_RANGE;
     mm_scene_box *b = &scene->boxes[scene->box_count++];
@@ -106,8 +117,6 @@ static bool slab(const float o[3], const float d[3], const float half[3], float 
 }
 
 /* ---- ray casts -------------------------------------------------------------------------- */
-
-static bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
 /* The nearest hit of o + t d (d unit), 0 <= t <= max_t, with the boxes and, when with_ground,
  * the ground. */
@@ -224,7 +233,6 @@ bool mm_scene_ground_probe(const mm_scene *scene, mm_vec3 point, float step_heig
  * point (touching or overlapping boxes are one solid), up to limit. */
 static float solid_exit(const mm_scene *scene, mm_vec3 p, mm_vec3 d, float limit)
 {
-    const float tolerance = 1e-4f;
     int count = scene->box_count < 0                    ? 0
                 : scene->box_count > MM_SCENE_MAX_BOXES ? MM_SCENE_MAX_BOXES
                                                         : scene->box_count;
@@ -238,7 +246,7 @@ static float solid_exit(const mm_scene *scene, mm_vec3 p, mm_vec3 d, float limit
             to_local_point(&f, p, lo);
             to_local_vector(&f, d, ld);
             if (!slab(lo, ld, f.half, &tn, &tf, &axis)) continue;
-            if (tn <= t + tolerance && tf > next) next = tf;
+            if (tn <= t + SOLID_TOLERANCE && tf > next) next = tf;
         }
         if (!(next > t + 1e-6f)) break;
         t = next;
@@ -247,6 +255,8 @@ static float solid_exit(const mm_scene *scene, mm_vec3 p, mm_vec3 d, float limit
     return t;
 }
 
+/* m above the feet: the default forward rays of the obstacle measure, a step above the ground to
+ * head height every 0.4 m (mm_obstacle_desc.probe_heights) */
 static const float default_probes[] = {0.3f, 0.7f, 1.1f, 1.5f, 1.9f};
 
 bool mm_scene_measure_obstacle(const mm_scene *scene, mm_vec3 feet, mm_vec3 forward,
@@ -295,7 +305,7 @@ bool mm_scene_measure_obstacle(const mm_scene *scene, mm_vec3 feet, mm_vec3 forw
     o.too_deep = o.depth >= d.max_depth;
 
     /* top: straight up from just inside the near face */
-    float step_in = o.depth * 0.5f < 1e-3f ? o.depth * 0.5f : 1e-3f;
+    float step_in = o.depth * 0.5f < FACE_STEP ? o.depth * 0.5f : FACE_STEP;
     mm_vec3 inner = mm_vec3_add(o.hit.point, mm_vec3_scale(dir, step_in));
     float ceiling = feet.y + d.max_height;
     float up_limit = ceiling - inner.y;
@@ -309,7 +319,7 @@ bool mm_scene_measure_obstacle(const mm_scene *scene, mm_vec3 feet, mm_vec3 forw
     }
 
     /* floor: straight down from just in front of the face */
-    mm_vec3 front = mm_vec3_sub(o.hit.point, mm_vec3_scale(dir, 1e-3f));
+    mm_vec3 front = mm_vec3_sub(o.hit.point, mm_vec3_scale(dir, FACE_STEP));
     mm_scene_hit below;
     if (cast(scene, front, mm_vec3_make(0.0f, -1.0f, 0.0f), INFINITY, true, &below))
         o.floor = below.point.y;

@@ -11,6 +11,7 @@
 #include <mm/warp.h>
 
 #include "state.h"
+#include "math_private.h"
 
 /* s: the end of a one-shot clip only extrapolates its trajectory: not a place for a search to go */
 #define END_MARGIN 0.25f
@@ -416,8 +417,6 @@ bool mm_character_move_playing(const mm_character *c)
 {
     return c && c->state && (c->state->move.pending || c->state->move.playing);
 }
-
-static bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
 void mm_character_shift_root(mm_character *c, mm_vec3 delta)
 {

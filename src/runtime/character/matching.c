@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "math_private.h"
 
 /* m/s: the simulated character counts as stopped */
 #define IDLE_STOPPED 0.01f
@@ -12,8 +13,6 @@
 /* m/s: under this simulated speed the velocity-change weights come in with the speed (a start is
  * the pose's to choose: with the trajectory alone a standing pose went into the run-up of a jump) */
 #define VELOCITY_CHANGE_FROM_SPEED 0.5f
-
-static float wrap_angle(float a) { return remainderf(a, (float)(2.0 * MM_PI)); }
 
 void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
 {

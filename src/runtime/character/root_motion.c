@@ -2,30 +2,23 @@
 #include "root_motion.h"
 
 #include <math.h>
+#include "math_private.h"
 
 /* the share of the gait's full forward speed from which the angle correction works */
 #define ANGLE_CORRECTION_FROM_SPEED 0.9f
-
-float mm_yaw_of(mm_quat q)
-{
-    mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
-    return atan2f(f.x, f.z);
-}
-
-static float wrap_angle(float a) { return remainderf(a, (float)(2.0 * MM_PI)); }
 
 void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const mm_trajectory *t,
                            const mm_intent *intent, mm_root_played played, bool free_root, float dt)
 {
     r->played = played;
     mm_vec3 v = mm_quat_rotate(r->root.rotation, played.velocity);
-    float yaw = mm_yaw_of(r->root.rotation) + played.yaw_rate * dt;
+    float yaw = yaw_of(r->root.rotation) + played.yaw_rate * dt;
     mm_vec3 position = mm_vec3_add(r->root.translation, mm_vec3_scale(v, dt));
     float pull = free_root ? 0.0f : d->sync_halflife > 0.0f ? 1.0f - exp2f(-dt / d->sync_halflife) : 1.0f;
     mm_vec3 gap = mm_vec3_sub(t->position, position);
     gap.y = 0.0f;
     position = mm_vec3_add(position, mm_vec3_scale(gap, pull));
-    yaw += wrap_angle(mm_yaw_of(t->facing) - yaw) * pull;
+    yaw += wrap_angle(yaw_of(t->facing) - yaw) * pull;
     mm_vec3 off = mm_vec3_sub(position, t->position);
     off.y = 0.0f;
     float dist = mm_vec3_length(off);
@@ -35,16 +28,16 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
      * the one asked for is turned away at a bounded rate, as the animation alone may never quite
      * line up */
     float full = t->desc.gaits[intent->gait].forward_speed;
-    float error = wrap_angle(mm_yaw_of(intent->desired_facing) - yaw);
+    float error = wrap_angle(yaw_of(intent->desired_facing) - yaw);
     if (!free_root && full > 0.0f && mm_vec3_length(t->velocity) >= ANGLE_CORRECTION_FROM_SPEED * full &&
         fabsf(error) < d->angle_threshold) {
         float step = d->angle_revise_speed * dt;
         yaw += error > step ? step : error < -step ? -step : error;
     }
-    float angle = wrap_angle(yaw - mm_yaw_of(t->facing));
+    float angle = wrap_angle(yaw - yaw_of(t->facing));
     if (!free_root && fabsf(angle) > d->sync_max_angle)
-        yaw = mm_yaw_of(t->facing) + (angle > 0 ? d->sync_max_angle : -d->sync_max_angle);
+        yaw = yaw_of(t->facing) + (angle > 0 ? d->sync_max_angle : -d->sync_max_angle);
     /* the height is kept: 0 on flat ground, or where the move layer put the character */
-    r->root = mm_xform_make(mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), wrap_angle(yaw)),
-                            mm_vec3_make(position.x, r->root.translation.y, position.z));
+    r->root =
+        mm_xform_make(yaw_quat(wrap_angle(yaw)), mm_vec3_make(position.x, r->root.translation.y, position.z));
 }

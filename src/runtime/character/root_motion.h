@@ -22,7 +22,4 @@ typedef struct mm_root_motion {
 void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const mm_trajectory *t,
                            const mm_intent *intent, mm_root_played played, bool free_root, float dt);
 
-/* rad: the facing (about +Y) of a rotation. */
-float mm_yaw_of(mm_quat q);
-
 #endif

@@ -1,0 +1,37 @@
+/* math_private.h - small math helpers shared by the library's files, one copy
+ * each: clamping, the horizontal part of a vector, yaw about +Y, angle wrapping, finiteness.
+ * Internal: not part of the public headers. */
+#ifndef MM_MATH_PRIVATE_H
+#define MM_MATH_PRIVATE_H
+
+#include <math.h>
+#include <stdbool.h>
+
+#include <mm/math.h>
+
+/* v clamped to [lo, hi] (NaN stays NaN). */
+static inline float clampf(float v, float lo, float hi) { return v < lo ? lo : v > hi ? hi : v; }
+
+/* v clamped to [0, 1] (NaN stays NaN). */
+static inline float clamp01(float v) { return v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v; }
+
+/* The horizontal part of v (y set to 0). */
+static inline mm_vec3 flat(mm_vec3 v) { return mm_vec3_make(v.x, 0.0f, v.z); }
+
+/* The yaw (radians about +Y, 0 facing +Z) of the direction q turns +Z to. */
+static inline float yaw_of(mm_quat q)
+{
+    mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
+    return atan2f(f.x, f.z);
+}
+
+/* The rotation by yaw radians about +Y. */
+static inline mm_quat yaw_quat(float yaw) { return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), yaw); }
+
+/* An angle wrapped into [-pi, pi]. */
+static inline float wrap_angle(float a) { return remainderf(a, (float)(2.0 * MM_PI)); }
+
+/* Are all three coordinates finite? */
+static inline bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+#endif /* MM_MATH_PRIVATE_H */
