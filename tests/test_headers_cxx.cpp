@@ -1,12 +1,15 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
 #include <mm/config_json.h>
+#include <mm/database_build.h>
 #include <mm/distance.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
 #include <mm/mixer.h>
 #include <mm/move_detect.h>
 #include <mm/moves.h>
+#include <mm/pfnn_character.h>
 #include <mm/render.h>
+#include <mm/runtime.h>
 #include <mm/scene_json.h>
 #include <mm/target_match.h>
 #include <mm/view.h>
