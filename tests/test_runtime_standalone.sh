@@ -1,6 +1,6 @@
 #!/bin/sh
 # The runtime library stands alone: libmm_runtime.so needs libc, libm and pthreads and nothing
-# else (no cJSON, no assimp, no part of mm_build), every symbol it leaves undefined is glibc's, and
+# else (no cJSON, no assimp, no part of mm_build), every symbol it leaves undefined is theirs, and
 # examples/embed.c links against it, libm and libpthread alone with every symbol of every library
 # resolved (-Wl,--no-undefined,--no-allow-shlib-undefined) and starts with all of them bound
 # (LD_BIND_NOW). libmm_pfnn.so likewise needs only libmm_runtime, libc and libm. And no header of
@@ -34,15 +34,25 @@ needed() {
 needed "$runtime" "$system"
 needed "$pfnn" "libmm_runtime|$system"
 
-# every undefined symbol of the runtime is versioned by glibc (weak hooks and sanitizer entry
-# points aside)
-others=$(nm -D --undefined-only "$runtime" | awk '$1 == "U" { print $2 }' | grep -v '@GLIBC_' |
-    grep -Ev '^__(asan|ubsan|tsan|lsan|sanitizer)_' || true)
-if [ -n "$others" ]; then
+# every symbol the runtime leaves undefined (weak hooks aside) is defined by libc, libm or pthreads
+# (and in a sanitizer build by its runtime, which intercepts malloc, memcpy and the like)
+provided="$out/system_defined.txt"
+: >"$provided"
+for lib in $(ldd "$runtime" | awk '/=>/ { print $3 }'); do
+    if basename "$lib" | grep -Eq "^($system)\.so"; then
+        nm -D --defined-only "$lib" | awk '{ print $3 }' | sed 's/@.*//' >>"$provided"
+    fi
+done
+sort -u "$provided" -o "$provided"
+nm -D --undefined-only "$runtime" | awk '$1 == "U" { print $2 }' | sed 's/@.*//' | sort -u >"$out/runtime_undefined.txt"
+others=$(comm -23 "$out/runtime_undefined.txt" "$provided")
+if [ ! -s "$provided" ]; then
+    bad "ldd found none of libc, libm, pthreads for $runtime"
+elif [ -n "$others" ]; then
     bad "libmm_runtime.so uses symbols from outside libc, libm and pthreads:"
     echo "$others" | head -20
 else
-    echo "  libmm_runtime.so: $(nm -D --undefined-only "$runtime" | grep -c ' U ') undefined symbols, all glibc's"
+    echo "  libmm_runtime.so: $(wc -l <"$out/runtime_undefined.txt" | tr -d ' ') undefined symbols, all from libc, libm, pthreads"
 fi
 
 # every function a header of the library declares, the library defines (mm/runtime.h lists the
