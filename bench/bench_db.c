@@ -10,7 +10,7 @@
 #include <time.h>
 
 #include <mm/config_json.h>
-#include <mm/database.h>
+#include <mm/database_build.h>
 
 static double now(void)
 {

@@ -2,7 +2,7 @@
  * the built-in set). Every so often a tick gets hostile input: NaN or huge stick values, dt of 0,
  * negative, or a whole second. Reports the largest distance between the simulated trajectory and
  * the character's root, ticks whose pose holds a NaN (must be 0) and heap allocations after
- * start-up (must be 0: malloc is wrapped at link time, so every call from libmm is counted).
+ * start-up (must be 0: malloc is wrapped at link time, so every call from mm's libraries is counted).
  * usage: bench_soak [SECONDS] [CHARACTERS]   (defaults 3600 and 16). Exit 1 on a NaN or an
  * allocation; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L

@@ -1,10 +1,10 @@
 /* embed.c - the whole embedding of mm in an engine: load a database, make a character, feed it
- * input every tick, read its pose.   usage: embed DB.mmdb */
+ * input every tick, read its pose. It links the mm_runtime library alone (with libm and pthreads):
+ * no JSON, no build.   usage: embed DB.mmdb */
 #include <stdio.h>
 #include <string.h>
 
-#include <mm/config_json.h>
-#include <mm/mm.h>
+#include <mm/runtime.h>
 
 int main(int argc, char **argv)
 {
@@ -28,8 +28,8 @@ int main(int argc, char **argv)
         mm_database_free(&db);
         return 1;
     }
-    /* 3. One context per character, with the settings the database was tuned with (the runtime
-     * block of its config; NULL instead of &desc: the defaults). Everything it needs is
+    /* 3. One context per character, with the settings the database was tuned with (stored in it
+     * in binary when it was built; NULL instead of &desc: the defaults). Everything it needs is
      * allocated here. */
     mm_character_desc desc;
     mm_character hero;

@@ -1,6 +1,7 @@
 /* libFuzzer target: the .mmdb loader. Any bytes must load or be refused; a loaded database must
- * be safe to read everywhere (the dump reads every array; the distance curves are read through
- * their own functions). The checksum is skipped for most inputs so the fuzzer reaches the
+ * be safe to read everywhere (the dump reads every array and the settings section; the distance
+ * curves are read through their own functions; the settings make a character desc and a moves
+ * desc). The checksum is skipped for most inputs so the fuzzer reaches the
  * structural checks behind it. */
 #include <stddef.h>
 #include <stdint.h>
@@ -8,8 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <mm/character.h>
 #include <mm/database.h>
+#include <mm/database_build.h>
 #include <mm/distance_matching.h>
+#include <mm/moves.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -39,6 +43,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             (void)mm_distance_time_after(&curve, t, 0.5f);
             (void)mm_distance_match_to_target(&curve, mm_distance_segment_at(&curve, t), 0.25f, &at);
         }
+        /* the settings section, as a game reads it */
+        mm_character_desc desc;
+        if (mm_character_desc_from_database(&desc, &db, &err) != MM_OK) __builtin_trap();
+        mm_moves_desc moves;
+        mm_moves_desc_from_database(&moves, &db);
+        (void)moves;
     } else if (err.message[0] == 0) {
         __builtin_trap();
     }

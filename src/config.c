@@ -100,6 +100,8 @@ static mm_result validate_runtime(const mm_runtime_config *rt, mm_error *err)
              rt->transition_halflife);
     if ((s & MM_RUNTIME_IDLE_SPEED) && !(finite_nonneg(rt->idle_speed) && rt->idle_speed <= 50.0f))
         FAIL("runtime.idle_speed: %g m/s is out of range (0 to 50 m/s)", rt->idle_speed);
+    if ((s & MM_RUNTIME_SYNC_HALFLIFE) && !(finite_nonneg(rt->sync_halflife) && rt->sync_halflife <= 60.0f))
+        FAIL("runtime.sync_halflife: %g s is out of range (0 to 60 s)", rt->sync_halflife);
     const mm_runtime_gait *gaits[3] = {&rt->walk, &rt->run, &rt->crouch};
     static const char *const gait_names[3] = {"walk", "run", "crouch"};
     for (int g = 0; g < 3; ++g) {

@@ -3,6 +3,7 @@
 #include <math.h>
 
 #include <mm/character.h>
+#include <mm/database_build.h>
 #include <mm/input.h>
 
 #include "runtime/character/state.h"

@@ -6,6 +6,7 @@
 #include "test_util.h"
 
 #include <mm/distance_curve.h>
+#include <mm/distance_curve_build.h>
 #include <mm/spring.h>
 
 #include "runtime/character/feet.h"

@@ -243,38 +243,6 @@ static void desc_from_text(const char *text, mm_character_desc *d)
     mm_config_free(&cfg);
 }
 
-/* The desc a database was tuned with is its saved config's, field for field the same as parsing
- * that config and applying it; without a saved config the defaults; a saved config that does not
- * parse is an error naming it, and the desc holds the defaults. */
-static void test_desc_from_database(void **state)
-{
-    (void)state;
-    mm_character_desc got, want;
-    mm_error err;
-    memset(&err, 0, sizeof err);
-    assert_int_equal(mm_character_desc_from_database(&got, &db, &err), MM_OK);
-    desc_from_text(db.config_json, &want);
-    assert_memory_equal(&got, &want, sizeof got);
-    assert_true(got.sync_halflife == 0.1f); /* configs/synth.json's runtime block */
-    desc_from_text("{\"runtime\": {\"distance_matching\": true, \"warping\": true}}", &want);
-    assert_true(want.distance_matching && want.warping);
-
-    const char *saved = db.config_json;
-    db.config_json = NULL;
-    mm_character_defaults(&want);
-    assert_int_equal(mm_character_desc_from_database(&got, &db, &err), MM_OK);
-    assert_memory_equal(&got, &want, sizeof got);
-
-    char broken[] = "{\"runtime\": {\"sync_halflife\": \"fast\"}}";
-    db.config_json = broken;
-    memset(&err, 0, sizeof err);
-    assert_int_not_equal(mm_character_desc_from_database(&got, &db, &err), MM_OK);
-    assert_non_null(strstr(err.message, "sync_halflife"));
-    assert_memory_equal(&got, &want, sizeof got);
-    db.config_json = saved;
-    assert_int_equal(mm_character_desc_from_database(NULL, &db, &err), MM_ERR_INVALID_ARGUMENT);
-}
-
 /* The database's config with its runtime object taken out (configs/synth.json carries one):
  * a config that sets nothing at run time. Free with free(). */
 static char *config_without_runtime(const char *text)
@@ -653,7 +621,6 @@ int main(void)
         cmocka_unit_test(test_parse_runtime),
         cmocka_unit_test(test_docs_list_runtime),
         cmocka_unit_test(test_apply_defaults_bit_identical),
-        cmocka_unit_test(test_desc_from_database),
         cmocka_unit_test(test_save_tuning_round_trip),
         cmocka_unit_test(test_save_tuning_default_bones),
         cmocka_unit_test(test_save_errors),

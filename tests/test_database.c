@@ -1,7 +1,8 @@
 /* Database build against analytic motions, the .mmdb round trip, and bad database files. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
-#include <mm/database.h>
+#include <mm/database_build.h>
+#include <mm/distance_curve_build.h>
 
 #include "db/process.h"
 #include "test_databases.h"
@@ -506,7 +507,8 @@ static void test_bad_files(void **state)
     expect_refused(&db, 100, none, 1, MM_ERR_UNEXPECTED_EOF, "truncated header");
     expect_refused(&db, db.size - 64, none, 1, MM_ERR_UNEXPECTED_EOF, "truncated");
     expect_refused(&db, db.size, 12, 1, MM_ERR_OUT_OF_RANGE, "version");
-    { /* a file of format version 1 (before the distance curves) asks to be rebuilt */
+    { /* a file of format version 1 (before the distance curves) or 2 (before the settings) asks to be
+       * rebuilt */
         unsigned char *old = aligned_alloc(MM_DB_ALIGN, (db.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
         memcpy(old, db.data, db.size);
         old[12] = 1;
@@ -514,7 +516,7 @@ static void test_bad_files(void **state)
         mm_error e;
         memset(&e, 0, sizeof e);
         assert_int_equal(mm_database_load_memory(old, db.size, true, &out, &e), MM_ERR_OUT_OF_RANGE);
-        assert_string_equal(e.message, "format version 1, this mm reads version 2: rebuild it");
+        assert_string_equal(e.message, "format version 1, this mm reads version 3: rebuild it");
         free(old);
     }
     expect_refused(&db, db.size, db.size / 2, 1, MM_ERR_SYNTAX, "checksum");
@@ -555,6 +557,165 @@ static void test_bad_files(void **state)
     mm_database out;
     assert_int_equal(mm_database_load("/nonexistent/x.mmdb", NULL, &out, &err), MM_ERR_IO);
     assert_string_equal(err.file, "/nonexistent/x.mmdb");
+    mm_database_free(&db);
+}
+
+/* Loading a copy of db whose settings section change() altered (checksum skipped) fails with
+ * MM_ERR_SYNTAX and a message containing what; with the checksum, the checksum fails first. */
+static void expect_bad_settings(const mm_database *db, void (*change)(mm_database_settings *s),
+                                const char *what)
+{
+    unsigned char *copy = aligned_alloc(MM_DB_ALIGN, (db->size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
+    memcpy(copy, db->data, db->size);
+    mm_database_settings *s = (mm_database_settings *)(copy + ((const unsigned char *)db->settings -
+                                                               (const unsigned char *)db->data));
+    change(s);
+    mm_database out;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_result r = mm_database_load_memory(copy, db->size, false, &out, &err);
+    if (r != MM_ERR_SYNTAX || !strstr(err.message, what))
+        print_error("got %s '%s', wanted '%s'\n", mm_result_name(r), err.message, what);
+    assert_int_equal(r, MM_ERR_SYNTAX);
+    assert_non_null(strstr(err.message, what));
+    assert_null(out.data);
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_load_memory(copy, db->size, true, &out, &err), MM_ERR_SYNTAX);
+    assert_non_null(strstr(err.message, "checksum"));
+    free(copy);
+}
+
+static void unknown_runtime_bit(mm_database_settings *s) { s->set |= 1u << 12; }
+static void nan_sync(mm_database_settings *s)
+{
+    s->set |= MM_RUNTIME_SYNC_HALFLIFE;
+    s->sync_halflife = NAN;
+}
+static void long_sync(mm_database_settings *s)
+{
+    s->set |= MM_RUNTIME_SYNC_HALFLIFE;
+    s->sync_halflife = 61.0f;
+}
+static void zero_interval(mm_database_settings *s)
+{
+    s->set |= MM_RUNTIME_SEARCH_INTERVAL;
+    s->search_interval = 0.0f;
+}
+static void unset_favour(mm_database_settings *s) { s->next_pose_favour = 0.5f; }
+static void hips_position(mm_database_settings *s)
+{
+    s->position_set |= 1u << 2; /* Hips has a velocity feature only */
+    s->joint_position_weights[2] = 1.0f;
+}
+static void root_velocity_weight(mm_database_settings *s)
+{
+    s->weight_set |= MM_SETTINGS_BODY_VELOCITY_WEIGHT;
+}
+static void negative_weight(mm_database_settings *s) { s->joint_velocity_weights[0] = -1.0f; }
+static void infinite_multiplier(mm_database_settings *s) { s->angle_multiplier = INFINITY; }
+static void unknown_gait_bit(mm_database_settings *s) { s->walk.set |= 1u << 5; }
+static void slow_turn(mm_database_settings *s)
+{
+    s->run.set |= MM_RUNTIME_ROTATION_HALFLIFE;
+    s->run.rotation_halflife = -0.2f;
+}
+static void switch_two(mm_database_settings *s)
+{
+    s->set |= MM_RUNTIME_DISTANCE_MATCHING;
+    s->distance_matching = 2;
+}
+static void switch_unset(mm_database_settings *s) { s->warping = 1; }
+static void role_past_end(mm_database_settings *s) { s->roles[MM_ROLE_LEFT_FOOT] = 7; }
+static void role_negative(mm_database_settings *s) { s->roles[MM_ROLE_HEAD] = -2; }
+
+/* The settings section: what the build wrote from the config, read back through a validating load;
+ * a crafted section is refused with a message naming the field (never read past a failed check). */
+static void test_settings_section(void **state)
+{
+    (void)state;
+    mm_database db = build_small();
+    const mm_database_settings *s = db.settings;
+    assert_non_null(s);
+    /* the config's defaults: feet position 0.75 and velocity 1, hips velocity 1, the multipliers */
+    assert_int_equal(s->position_set, 0x3);
+    assert_int_equal(s->velocity_set, 0x7);
+    assert_true(s->joint_position_weights[0] == 0.75f && s->joint_position_weights[1] == 0.75f);
+    assert_true(s->joint_velocity_weights[2] == 1.0f && s->joint_position_weights[2] == 0.0f);
+    assert_int_equal(s->weight_set, MM_SETTINGS_POSITION_MULTIPLIER | MM_SETTINGS_ANGLE_MULTIPLIER);
+    assert_true(s->position_multiplier == 1.0f && s->angle_multiplier == 1.5f &&
+                s->body_velocity_weight == 0.0f);
+    assert_int_equal(s->set, 0);
+    assert_int_equal(s->walk.set | s->run.set | s->crouch.set, 0);
+    /* roles: the simulation bone is joint 0, the source skeleton follows; no hands, no head */
+    assert_string_equal(db.joints[s->roles[MM_ROLE_HIPS]].name, "Hips");
+    assert_string_equal(db.joints[s->roles[MM_ROLE_LEFT_FOOT]].name, "LeftFoot");
+    assert_string_equal(db.joints[s->roles[MM_ROLE_RIGHT_TOE]].name, "RightToe");
+    assert_int_equal(s->roles[MM_ROLE_LEFT_HAND], -1);
+    assert_int_equal(s->roles[MM_ROLE_HEAD], -1);
+    assert_int_equal(db.joint_count, 7);
+
+    expect_bad_settings(&db, unknown_runtime_bit, "settings: runtime bits 0x1000 are unknown");
+    expect_bad_settings(&db, nan_sync, "settings: runtime.sync_halflife: nan s is out of range");
+    expect_bad_settings(&db, long_sync,
+                        "settings: runtime.sync_halflife: 61 s is out of range (from 0, at most 60 s)");
+    expect_bad_settings(&db, zero_interval,
+                        "settings: runtime.search_interval: 0 s is out of range (above 0");
+    expect_bad_settings(&db, unset_favour, "settings: runtime.next_pose_favour is not set but holds 0.5");
+    expect_bad_settings(&db, hips_position, "position weight bits 0x4 name matched bones without a position");
+    expect_bad_settings(&db, root_velocity_weight,
+                        "settings: weight bits 0x1 are unknown or name feature groups");
+    expect_bad_settings(&db, negative_weight,
+                        "settings: joint_velocity_weights[0]: -1 must be finite and >= 0");
+    expect_bad_settings(&db, infinite_multiplier, "settings: angle_multiplier: inf is out of range");
+    expect_bad_settings(&db, unknown_gait_bit, "settings: runtime.walk: bits 0x20 are unknown");
+    expect_bad_settings(&db, slow_turn, "settings: runtime.run.rotation_halflife: -0.2 s is out of range");
+    expect_bad_settings(&db, switch_two, "settings: runtime.distance_matching: 2 is not 0 or 1");
+    expect_bad_settings(&db, switch_unset, "settings: runtime.warping: 1 is not 0 (not set)");
+    expect_bad_settings(&db, role_past_end,
+                        "settings: roles.left_foot: joint 7 is not -1 nor one of the 7 joints");
+    expect_bad_settings(&db, role_negative, "settings: roles.head: joint -2");
+
+    /* the section's size must be exactly one mm_database_settings (section 24 in the header) */
+    unsigned char *copy = aligned_alloc(MM_DB_ALIGN, (db.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
+    memcpy(copy, db.data, db.size);
+    size_t size_at = 88 + 16 * 24 + 8;
+    uint64_t size;
+    memcpy(&size, copy + size_at, 8);
+    assert_int_equal(size, sizeof(mm_database_settings));
+    size -= 4;
+    memcpy(copy + size_at, &size, 8);
+    mm_database out;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_load_memory(copy, db.size, false, &out, &err), MM_ERR_SYNTAX);
+    assert_non_null(strstr(err.message, "section 24"));
+    free(copy);
+
+    /* a config whose runtime value loading would refuse is refused when building */
+    mm_clip clip;
+    make_motion(&clip, 60, 60.0f, 0.0, 1.0);
+    mm_config cfg;
+    test_config(&cfg, 1);
+    cfg.runtime.set = MM_RUNTIME_SYNC_HALFLIFE;
+    cfg.runtime.sync_halflife = 90.0f;
+    mm_database bad;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &bad, &err), MM_ERR_OUT_OF_RANGE);
+    assert_non_null(strstr(err.message, "runtime.sync_halflife"));
+    /* set fields are stored, and only they */
+    cfg.runtime.sync_halflife = 0.2f;
+    cfg.runtime.idle_speed = 3.0f; /* not set: not stored */
+    cfg.runtime.run.set = MM_RUNTIME_SIDE_SPEED;
+    cfg.runtime.run.side_speed = 1.7f;
+    cfg.runtime.run.forward_speed = 9.0f; /* not set */
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &bad, &err), MM_OK);
+    assert_int_equal(bad.settings->set, MM_RUNTIME_SYNC_HALFLIFE);
+    assert_true(bad.settings->sync_halflife == 0.2f && bad.settings->idle_speed == 0.0f);
+    assert_int_equal(bad.settings->run.set, MM_RUNTIME_SIDE_SPEED);
+    assert_true(bad.settings->run.side_speed == 1.7f && bad.settings->run.forward_speed == 0.0f);
+    mm_database_free(&bad);
+    mm_config_free(&cfg);
+    mm_clip_free(&clip);
     mm_database_free(&db);
 }
 
@@ -787,6 +948,7 @@ int main(void)
         cmocka_unit_test(test_tags_and_ranges),
         cmocka_unit_test(test_save_load_round_trip),
         cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_settings_section),
         cmocka_unit_test(test_distance_curves),
         cmocka_unit_test(test_bad_configs),
         cmocka_unit_test(test_threads),

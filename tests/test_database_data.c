@@ -3,7 +3,7 @@
 #include <math.h>
 
 #include <mm/config_json.h>
-#include <mm/database.h>
+#include <mm/database_build.h>
 
 #include "test_util.h"
 

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include <mm/config_json.h>
-#include <mm/database.h>
+#include <mm/database_build.h>
 #include <mm/synth.h>
 
 /* Builds the config at path; with synth, its clips come from mm_synth_generate (no files read). */

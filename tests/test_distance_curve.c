@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include <mm/distance_curve.h>
+#include <mm/distance_curve_build.h>
 
 #include "test_distance_paths.h"
 #include "test_hostile.h"

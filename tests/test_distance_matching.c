@@ -6,6 +6,7 @@
 #include <math.h>
 
 #include <mm/distance_curve.h>
+#include <mm/distance_curve_build.h>
 #include <mm/distance_matching.h>
 
 #include "test_distance_paths.h"

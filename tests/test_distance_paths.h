@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include <mm/distance_curve.h>
+#include <mm/distance_curve_build.h>
 #include <mm/spring.h>
 
 #include "test_util.h"

@@ -1,7 +1,9 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
 #include <mm/config_json.h>
 #include <mm/distance_curve.h>
+#include <mm/distance_curve_build.h>
 #include <mm/distance_matching.h>
+#include <mm/database_build.h>
 #include <mm/input_json.h>
 #include <mm/leg_ik.h>
 #include <mm/mm.h>
@@ -10,7 +12,9 @@
 #include <mm/moves.h>
 #include <mm/pose.h>
 #include <mm/prediction.h>
+#include <mm/pfnn_character.h>
 #include <mm/render.h>
+#include <mm/runtime.h>
 #include <mm/scene_json.h>
 #include <mm/target_match.h>
 #include <mm/view.h>

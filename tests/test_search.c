@@ -2,6 +2,7 @@
  * and bias on small crafted databases. */
 #include <math.h>
 
+#include <mm/database_build.h>
 #include <mm/search.h>
 
 #include "test_databases.h"

@@ -5,7 +5,7 @@
 #include <unistd.h>
 
 #include <mm/config_json.h>
-#include <mm/database.h>
+#include <mm/database_build.h>
 #include <mm/similarity.h>
 #include <mm/synth.h>
 

@@ -6,7 +6,7 @@
 #include <unistd.h>
 
 #include <mm/config_json.h>
-#include <mm/database.h>
+#include <mm/database_build.h>
 #include <mm/search.h>
 
 #include "cli.h"
@@ -115,6 +115,100 @@ static void text_percentiles(const char *name, const mm_speed_percentiles *p)
         printf("  %s    -    -    - (0)", name);
 }
 
+/* The runtime settings: the fields set, as "name value" items (runtime fields, then the gaits'),
+ * the weights given (per matched bone by joint name) and the roles. json: as JSON objects. */
+static void print_settings(const mm_database *db, int json)
+{
+    const mm_database_settings *s = db->settings;
+    const char *names[8] = {
+        "pose_trajectory_ratio", "next_pose_favour",    "loop_anim_favour", "continuing_bias",
+        "search_interval",       "transition_halflife", "idle_speed",       "sync_halflife"};
+    const float values[8] = {
+        s->pose_trajectory_ratio, s->next_pose_favour,    s->loop_anim_favour, s->continuing_bias,
+        s->search_interval,       s->transition_halflife, s->idle_speed,       s->sync_halflife};
+    const mm_runtime_gait *gaits[3] = {&s->walk, &s->run, &s->crouch};
+    const char *gait_names[3] = {"walk", "run", "crouch"};
+    const char *gait_fields[5] = {"forward_speed", "side_speed", "backward_speed", "velocity_halflife",
+                                  "rotation_halflife"};
+    const char *roles[MM_ROLE_COUNT] = {"hips",      "left_foot", "right_foot", "left_toe",
+                                        "right_toe", "left_hand", "right_hand", "head"};
+    const char *bone[MM_MAX_MATCH_BONES] = {NULL}; /* matched bone slot -> joint name */
+    for (int g = 0; g < db->group_count; ++g) {
+        int slot = mm_database_matched_bone(db, g);
+        if (slot >= 0) bone[slot] = db->joints[db->groups[g].bone].name;
+    }
+    int fields = 0;
+    printf(json ? ", \"settings\": {\"runtime\": {" : "settings:   runtime");
+    for (int k = 0; k < 8; ++k)
+        if (s->set & (1u << k))
+            printf(json ? "%s\"%s\": %.9g" : "%s%s %g", fields++ ? (json ? ", " : " ") : " ", names[k],
+                   values[k]);
+    const unsigned switch_bits[2] = {MM_RUNTIME_DISTANCE_MATCHING, MM_RUNTIME_WARPING};
+    const char *switch_names[2] = {"distance_matching", "warping"};
+    const uint32_t switches[2] = {s->distance_matching, s->warping};
+    for (int k = 0; k < 2; ++k)
+        if (s->set & switch_bits[k])
+            printf(json ? "%s\"%s\": %s" : "%s%s %s", fields++ ? (json ? ", " : " ") : " ", switch_names[k],
+                   switches[k] ? "true" : "false");
+    for (int g = 0; g < 3; ++g) {
+        const mm_runtime_gait *a = gaits[g];
+        const float v[5] = {a->forward_speed, a->side_speed, a->backward_speed, a->velocity_halflife,
+                            a->rotation_halflife};
+        if (!a->set) continue;
+        if (json) printf("%s\"%s\": {", fields++ ? ", " : "", gait_names[g]);
+        for (int k = 0, n = 0; k < 5; ++k)
+            if (a->set & (1u << k)) {
+                if (json)
+                    printf("%s\"%s\": %.9g", n++ ? ", " : "", gait_fields[k], v[k]);
+                else
+                    printf(" %s.%s %g", gait_names[g], gait_fields[k], v[k]), ++fields;
+            }
+        if (json) printf("}");
+    }
+    if (!json && !fields) printf(" none set (the defaults)");
+    printf(json ? "}, \"weights\": {" : "\n            weights");
+    int weights = 0;
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
+        unsigned pos = (s->position_set >> b) & 1u, vel = (s->velocity_set >> b) & 1u;
+        if (!pos && !vel) continue;
+        if (json) {
+            printf("%s", weights++ ? ", " : "");
+            cli_json_string(stdout, bone[b] ? bone[b] : "?");
+            printf(": {");
+            if (pos) printf("\"position\": %.9g", s->joint_position_weights[b]);
+            if (vel) printf("%s\"velocity\": %.9g", pos ? ", " : "", s->joint_velocity_weights[b]);
+            printf("}");
+        } else {
+            printf("%s %s", weights++ ? "," : "", bone[b] ? bone[b] : "?");
+            if (pos) printf(" position %g", s->joint_position_weights[b]);
+            if (vel) printf(" velocity %g", s->joint_velocity_weights[b]);
+        }
+    }
+    const unsigned weight_bits[3] = {MM_SETTINGS_BODY_VELOCITY_WEIGHT, MM_SETTINGS_POSITION_MULTIPLIER,
+                                     MM_SETTINGS_ANGLE_MULTIPLIER};
+    const char *weight_names[3] = {"body_velocity_weight", "position_multiplier", "angle_multiplier"};
+    const float weight_values[3] = {s->body_velocity_weight, s->position_multiplier, s->angle_multiplier};
+    for (int k = 0; k < 3; ++k)
+        if (s->weight_set & weight_bits[k])
+            printf(json ? "%s\"%s\": %.9g" : "%s %s %g", weights++ ? (json ? ", " : ",") : "",
+                   weight_names[k], weight_values[k]);
+    if (!json && !weights) printf(" none");
+    printf(json ? "}, \"roles\": {" : "\n            roles");
+    for (int k = 0; k < MM_ROLE_COUNT; ++k) {
+        int j = s->roles[k];
+        if (json) {
+            printf("%s\"%s\": ", k ? ", " : "", roles[k]);
+            if (j >= 0)
+                cli_json_string(stdout, db->joints[j].name);
+            else
+                printf("null");
+        } else {
+            printf(" %s %s", roles[k], j >= 0 ? db->joints[j].name : "-");
+        }
+    }
+    printf(json ? "}}" : "\n");
+}
+
 static int cmd_info(int argc, char **argv)
 {
     const char *path = NULL;
@@ -179,7 +273,9 @@ static int cmd_info(int argc, char **argv)
             json_percentiles("backward", &speeds[k].backward);
             printf("}");
         }
-        printf("]}\n");
+        printf("]");
+        print_settings(&db, 1);
+        printf("}\n");
     } else {
         printf("file:       %s (%zu bytes, format version %d)\n", path, db.size, MM_DB_VERSION);
         printf("frames:     %d (%.1f s at %.6g s per frame)\n", db.frame_count, db.frame_count * db.interval,
@@ -194,6 +290,7 @@ static int cmd_info(int argc, char **argv)
                    db.groups[g].offset + db.groups[g].dims - 1, db.groups[g].weight, db.groups[g].scale);
         printf("distance:   %d segments (%d stops, %d pivots, %d without a stop), %d clips start from rest\n",
                dist.segments, dist.stops, dist.pivots, dist.none, dist.starts);
+        print_settings(&db, 0);
         printf("speeds:     root m/s in its facing frame, p10 p50 p90 (frames); still: under %g m/s\n",
                (double)MM_SPEED_SUMMARY_STILL);
         for (int k = 0; k < speed_count; ++k) {

@@ -12,7 +12,6 @@
 #include <string.h>
 
 #include <mm/character.h>
-#include <mm/config_json.h>
 #include <mm/input_json.h>
 #include <mm/mm.h>
 #include <mm/moves.h>
@@ -28,21 +27,11 @@
 /* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
 #define SIM_MAX_FRAMES 2160000
 
-/* The four contact joints (left heel, left toe, right heel, right toe) from the embedded config. */
+/* The four contact joints (left heel, left toe, right heel, right toe): the database's bone roles. */
 static void contact_joints(const mm_database *db, int joints[4])
 {
-    mm_config cfg;
-    memset(&cfg, 0, sizeof cfg);
-    mm_config_defaults(&cfg);
-    if (db->config_json && db->config_json[0])
-        mm_config_parse_json(db->config_json, strlen(db->config_json), "embedded", NULL, &cfg, NULL);
-    const char *names[4] = {cfg.left_foot, cfg.left_toe, cfg.right_foot, cfg.right_toe};
-    for (int k = 0; k < 4; ++k) {
-        joints[k] = -1;
-        for (int j = 0; j < db->joint_count; ++j)
-            if (strcmp(db->joints[j].name, names[k]) == 0) joints[k] = j;
-    }
-    mm_config_free(&cfg);
+    const mm_role roles[4] = {MM_ROLE_LEFT_FOOT, MM_ROLE_LEFT_TOE, MM_ROLE_RIGHT_FOOT, MM_ROLE_RIGHT_TOE};
+    for (int k = 0; k < 4; ++k) joints[k] = db->settings ? db->settings->roles[roles[k]] : -1;
 }
 
 /* The largest second difference of any joint's world position over the database's clips played
@@ -191,7 +180,7 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_searcher searcher;
     mm_character c;
     mm_character_desc desc;
-    /* the runtime tuning saved in the database's config (docs/config.md, "runtime") */
+    /* the runtime tuning saved in the database (its settings section, from its config's "runtime") */
     if (mm_character_desc_from_database(&desc, &db, &err) != MM_OK) {
         mm_database_free(&db);
         return cli_report(&err);
@@ -207,8 +196,10 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_database_free(&db);
         return cli_report(&err);
     }
-    mm_moves moves; /* without a scene: plain locomotion */
-    mm_moves_init(&moves, &db, scene_path ? &scene : NULL, NULL, NULL);
+    mm_moves moves; /* without a scene: plain locomotion; hands and feet by the database's roles */
+    mm_moves_desc moves_desc;
+    mm_moves_desc_from_database(&moves_desc, &db);
+    mm_moves_init(&moves, &db, scene_path ? &scene : NULL, &moves_desc, NULL);
     int frames = (int)floor(seconds * fps + 1e-6), n = db.joint_count;
     mm_skeleton skel;
     mm_skeleton_init(&skel, n, NULL);

@@ -28,8 +28,11 @@
  * Instead of inertialization, transitions may go through seed 000's five-slot crossfade mixer
  * (desc.transition_mode, mm/mixer.h, docs/transitions.md).
  *
- * A database's config may carry runtime tuning (mm_config.runtime, the config's "runtime" object):
- * mm_character_desc_apply_config writes it into a desc.
+ * A database carries the runtime tuning it was built with (its settings section,
+ * mm_database_settings: the config's feature weights, its "runtime" object and its bone roles):
+ * mm_character_desc_from_database makes a desc of it, in this library, with no JSON.
+ * (mm_character_desc_apply_config, mm/config.h in the mm_build library, applies a config's tuning
+ * to a desc directly, for tools that load a config file at run time.)
  *
  * Moves (mm/moves.h) play a clip through mm_character_play_move: no search until its end frame,
  * root motion as animated (not pulled toward the simulation); the move layer may set the root
@@ -40,12 +43,11 @@
  * The tick runs in stages (src/runtime/character/, one module each): input -> trajectory,
  * playback, search, transition, root motion, warping, feet, pose.
  *
- * Functions: mm_character_defaults mm_character_default_params mm_character_desc_apply_config
+ * Functions: mm_character_defaults mm_character_default_params mm_character_desc_from_database
  *            mm_character_init mm_character_free mm_character_update mm_character_tune
- *            mm_character_play_move
- *            mm_character_move_playing mm_character_shift_root mm_character_set_root
- *            mm_character_move_foot_locks mm_character_translate mm_character_teleport_simulation
- *            mm_character_push_simulation mm_character_halt_simulation
+ *            mm_character_play_move mm_character_move_playing mm_character_shift_root
+ *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
+ *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -156,15 +158,16 @@ void mm_character_defaults(mm_character_desc *d);
 /* The search parameters mm_character_init uses when desc->use_params is false. */
 void mm_character_default_params(const mm_database *db, mm_search_params *p);
 
-/* Makes d's search parameters and trajectory explicit and applies cfg's tuning: when
- * d->use_params is false, d->params becomes mm_character_default_params (and use_params true);
- * when d->has_trajectory is false, d->trajectory becomes mm_trajectory_defaults (and
- * has_trajectory true). Then cfg's feature weights (features.bones[].position_weight /
- * velocity_weight matched by bone name, body_velocity_weight, position_multiplier,
- * angle_multiplier; only for the feature groups db has) and every field set in cfg->runtime are
- * written into d. With the config db was built from, and no runtime fields set, the character
- * behaves exactly as with d unchanged. cfg may be NULL (only the first step). */
-void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg);
+/* The character settings a database was tuned with, from its settings section (no JSON, no
+ * allocation): mm_character_defaults; then d->params = mm_character_default_params and
+ * d->trajectory = mm_trajectory_defaults (use_params and has_trajectory true); then the stored
+ * feature weights and every runtime field the settings set; and d->left_foot / d->right_foot the
+ * names of the joints of the left and right foot roles where the database has them (they point
+ * into db: they live as long as it does). The same desc, field for field, as
+ * mm_character_desc_apply_config (mm/config.h) with the config the database was built from. A
+ * database without settings (db->settings NULL: not loaded nor built) gives the defaults.
+ * MM_ERR_INVALID_ARGUMENT without d or db. */
+mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err);
 
 /* How the clip time advanced this tick (mm_character.playback). */
 typedef enum mm_character_playback {

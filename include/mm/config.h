@@ -1,14 +1,17 @@
 /* mm/config.h - what a database is built from: sampling, bone roles, matched features, clips,
- * tags and blend clips; and the runtime tuning a database carries along.
+ * tags and blend clips; and the runtime tuning a database carries along (the mm_build library).
  *
- * The config is plain C data. It is usually read from JSON (mm/config_json.h, in the mm_io
- * library); docs/config.md documents every field with its meaning, unit and default, and
- * `mm config explain` prints the same text. mm_config_defaults gives the defaults listed there.
+ * The config is plain C data. It is usually read from JSON (mm/config_json.h); docs/config.md
+ * documents every field with its meaning, unit and default, and `mm config explain` prints the
+ * same text. mm_config_defaults gives the defaults listed there. mm_database_build
+ * (mm/database_build.h) writes the runtime tuning into the database's settings section in binary
+ * (mm_database_settings, mm/database.h), which the runtime reads without this header.
  *
  * Time ranges: clip frame ranges are half-open [begin, end) in frames of the source file; tag
  * ranges are [begin, end] in seconds from the start of the source file.
  *
  * Functions: mm_config_defaults mm_config_free mm_config_validate mm_config_tag_index
+ *            mm_character_desc_apply_config
  */
 #ifndef MM_CONFIG_H
 #define MM_CONFIG_H
@@ -16,6 +19,8 @@
 #include <stdbool.h>
 
 #include "alloc.h"
+#include "character.h"
+#include "database.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"
@@ -24,14 +29,10 @@
 extern "C" {
 #endif
 
-#define MM_MAX_TAGS         64 /* tags are bits of a 64-bit mask */
-#define MM_TAG_NAME_MAX     32 /* including the terminating zero */
-#define MM_MAX_MATCH_BONES  16 /* bones whose position / velocity are features */
-#define MM_MAX_TRAJ_SAMPLES 16 /* trajectory sample times, past and future */
-#define MM_MAX_MIRROR_PAIRS 8  /* left/right name patterns */
+/* MM_MAX_TAGS, MM_TAG_NAME_MAX, MM_MAX_MATCH_BONES, MM_MAX_TRAJ_SAMPLES and mm_clip_type are in
+ * mm/database.h, shared with the databases. */
+#define MM_MAX_MIRROR_PAIRS 8 /* left/right name patterns */
 #define MM_PATH_MAX         512
-
-typedef enum mm_clip_type { MM_CLIP_LOCOMOTION = 0, MM_CLIP_IDLE = 1 } mm_clip_type;
 
 /* Feature kinds of a matched bone (bit mask). */
 enum mm_match_features { MM_MATCH_POSITION = 1u << 0, MM_MATCH_VELOCITY = 1u << 1 };
@@ -77,38 +78,10 @@ typedef struct mm_config_mirror_pair {
 
 /* Runtime tuning a config may carry (its "runtime" object): what the character controller and
  * the search use at run time, so that a database brings its tuning along. Nothing here changes
- * the database; a field whose bit is not in `set` is not set and keeps the runtime's default
- * (mm_character_desc_apply_config in mm/character.h applies the set ones). */
-enum mm_runtime_field {
-    MM_RUNTIME_POSE_TRAJECTORY_RATIO = 1u << 0,
-    MM_RUNTIME_NEXT_POSE_FAVOUR = 1u << 1,
-    MM_RUNTIME_LOOP_ANIM_FAVOUR = 1u << 2,
-    MM_RUNTIME_CONTINUING_BIAS = 1u << 3,
-    MM_RUNTIME_SEARCH_INTERVAL = 1u << 4,
-    MM_RUNTIME_TRANSITION_HALFLIFE = 1u << 5,
-    MM_RUNTIME_IDLE_SPEED = 1u << 6,
-    MM_RUNTIME_SYNC_HALFLIFE = 1u << 7,
-    MM_RUNTIME_DISTANCE_MATCHING = 1u << 8,
-    MM_RUNTIME_WARPING = 1u << 9
-};
-enum mm_runtime_gait_field {
-    MM_RUNTIME_FORWARD_SPEED = 1u << 0,
-    MM_RUNTIME_SIDE_SPEED = 1u << 1,
-    MM_RUNTIME_BACKWARD_SPEED = 1u << 2,
-    MM_RUNTIME_VELOCITY_HALFLIFE = 1u << 3,
-    MM_RUNTIME_ROTATION_HALFLIFE = 1u << 4
-};
-
-/* One gait's speeds and half-lives (the fields of mm_gait_params, mm/trajectory.h). */
-typedef struct mm_runtime_gait {
-    unsigned set;            /* mm_runtime_gait_field bits of the fields given */
-    float forward_speed;     /* m/s, >= 0 */
-    float side_speed;        /* m/s, >= 0 */
-    float backward_speed;    /* m/s, >= 0 */
-    float velocity_halflife; /* s, > 0 */
-    float rotation_halflife; /* s, > 0 */
-} mm_runtime_gait;
-
+ * the database's motion; a field whose bit (mm_runtime_field, mm/database.h) is not in `set` is
+ * not set and keeps the runtime's default. mm_database_build stores it in the database's settings
+ * section (mm_database_settings); mm_character_desc_apply_config applies it to a desc directly.
+ * mm_runtime_gait (one gait's speeds and half-lives) is in mm/database.h. */
 typedef struct mm_runtime_config {
     unsigned set;                /* mm_runtime_field bits of the fields given */
     float pose_trajectory_ratio; /* [0, 1] (mm_search_params) */
@@ -190,6 +163,18 @@ void mm_config_free(mm_config *c);
 mm_result mm_config_validate(const mm_config *c, mm_error *err);
 /* Index of a tag name, or -1. */
 int mm_config_tag_index(const mm_config *c, const char *name);
+
+/* Makes d's search parameters and trajectory explicit and applies cfg's tuning: when
+ * d->use_params is false, d->params becomes mm_character_default_params (and use_params true);
+ * when d->has_trajectory is false, d->trajectory becomes mm_trajectory_defaults (and
+ * has_trajectory true). Then cfg's feature weights (features.bones[].position_weight /
+ * velocity_weight matched by bone name, body_velocity_weight, position_multiplier,
+ * angle_multiplier; only for the feature groups db has) and every field set in cfg->runtime are
+ * written into d. With the config db was built from, and no runtime fields set, the character
+ * behaves exactly as with d unchanged. cfg may be NULL (only the first step). For tools that
+ * apply a config file at run time (mm view --config); a game reads the same tuning from the
+ * database with mm_character_desc_from_database (mm/character.h), which gives the same desc. */
+void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg);
 
 #ifdef __cplusplus
 }

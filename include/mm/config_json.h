@@ -1,4 +1,4 @@
-/* mm/config_json.h - database configs as JSON files (in the mm_io library, which uses cJSON).
+/* mm/config_json.h - database configs as JSON files (the mm_build library, which uses cJSON).
  *
  * The format is documented field by field in docs/config.md, generated from the same table that
  * `mm config explain` prints (mm_config_field_docs). Unknown fields are errors (a typo must not
@@ -9,7 +9,6 @@
  * relative ones against the config file's folder, then cfg->data_dir (if set), then $MM_DATA_DIR.
  *
  * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
- *            mm_character_desc_from_database
  *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
  *            mm_config_save_tuning mm_config_save_clip_tags mm_config_save_clip
  */
@@ -35,12 +34,6 @@ mm_result mm_config_parse_json(const char *text, size_t size, const char *name, 
 /* Reads and parses a config file; base_dir is the file's folder. out_text (may be NULL)
  * receives the file's text (malloc'd, zero-terminated) for embedding in a database. */
 mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text, mm_error *err);
-
-/* The character settings a database was tuned with: mm_character_defaults, then the `runtime`
- * block and feature weights of the config saved in db (mm_character_desc_apply_config). A
- * database without a saved config gives the defaults. Returns MM_ERR_PARSE (err names the field)
- * when the saved config does not parse; d then holds the defaults. */
-mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err);
 
 typedef struct mm_config_field_doc {
     const char *path;     /* "features.bones[].position_weight" */

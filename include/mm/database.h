@@ -1,10 +1,12 @@
-/* mm/database.h - the motion database: poses, features, clips, tags, and its .mmdb file.
+/* mm/database.h - the motion database: poses, features, clips, tags, its runtime settings, and
+ * its .mmdb file (the mm_runtime library).
  *
  * A database is built once, offline, from a config and the source clips it names
- * (mm_database_build), saved to a .mmdb file, and loaded at run time (mm_database_load*), where
- * it is read-only. Everything lives in ONE buffer laid out exactly as the file: loading
- * validates the header and the array offsets and points into the buffer, with no pointer
- * fix-ups, so a file can be read or mapped and used in place. docs/format.md specifies it.
+ * (mm_database_build in mm/database_build.h, the mm_build library), saved to a .mmdb file, and
+ * loaded at run time (mm_database_load*), where it is read-only. Everything lives in ONE buffer
+ * laid out exactly as the file: loading validates the header and the array offsets and points
+ * into the buffer, with no pointer fix-ups, so a file can be read or mapped and used in place.
+ * docs/format.md specifies it.
  *
  * Skeleton: joint 0 is the simulation bone ("root"): the character's position on the ground and
  * its facing, extracted from the source (docs/database.md). The source root (hips) is its child.
@@ -16,14 +18,17 @@
  * MM_DB_LARGE_BLOCK consecutive frames (a block may span the end of one clip and the start of
  * the next: a box only bounds) give frame-order tools a cheap lower bound.
  *
+ * Settings (mm_database_settings, db->settings): the runtime tuning the database was built with,
+ * in binary: the config's feature weights resolved against the database's feature groups, its
+ * `runtime` object with the bits of the fields it sets, and the joints of its bone roles.
+ * mm_character_desc_from_database (mm/character.h) makes a character desc of them, with no JSON.
+ *
  * Character frame: positions and directions are expressed relative to the simulation bone:
  * x is the character's local X (its left, since it faces +Z with Y up), z its forward, y up.
  *
- * Functions: mm_database_build mm_database_save mm_database_write mm_database_load
- *            mm_database_load_memory mm_database_free mm_database_pose mm_database_matched_bone
- *            mm_database_find_clip
- *            mm_database_dump mm_feature_kind_name mm_database_distance_curve
- *            mm_database_speed_summary
+ * Functions: mm_database_save mm_database_load mm_database_load_memory mm_database_free
+ *            mm_database_pose mm_database_matched_bone mm_database_find_clip mm_feature_kind_name
+ *            mm_database_distance_curve
  *
  * Distance curves (mm/distance_curve.h): each clip's root (joint 0) path measured at build time by
  * mm_distance_curve_build (stop speed MM_DISTANCE_STOP_SPEED_DEFAULT), stored as flat arrays and
@@ -35,11 +40,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 
 #include "alloc.h"
 #include "clip.h"
-#include "config.h"
 #include "distance_curve.h"
 #include "math.h"
 #include "result.h"
@@ -49,11 +52,19 @@
 extern "C" {
 #endif
 
-#define MM_DB_VERSION     2
+#define MM_DB_VERSION     3
 #define MM_DB_ALIGN       64  /* every array starts at a multiple of this in the buffer */
 #define MM_DB_SIMD_WIDTH  8   /* dims_padded is a multiple of this */
 #define MM_DB_SMALL_BLOCK 16  /* frames per small bounding box */
 #define MM_DB_LARGE_BLOCK 128 /* frames per large bounding box */
+
+/* Limits shared with the configs (mm/config.h) the databases are built from. */
+#define MM_MAX_TAGS         64 /* tags are bits of a 64-bit mask */
+#define MM_TAG_NAME_MAX     32 /* including the terminating zero */
+#define MM_MAX_MATCH_BONES  16 /* bones whose position / velocity are features */
+#define MM_MAX_TRAJ_SAMPLES 16 /* trajectory sample times, past and future */
+
+typedef enum mm_clip_type { MM_CLIP_LOCOMOTION = 0, MM_CLIP_IDLE = 1 } mm_clip_type;
 
 /* Contact bits of mm_database.contacts. */
 enum mm_contact_bits {
@@ -107,6 +118,98 @@ typedef struct mm_db_distance_clip {
     float path_length;     /* m: the curve's path_length */
     float stop_speed;      /* m/s: the stop threshold the curve was built with */
 } mm_db_distance_clip;
+
+/* ---- runtime settings -------------------------------------------------------------------- */
+
+/* Bits of mm_database_settings.set (and of mm_runtime_config.set in mm/config.h): which runtime
+ * fields the config gives. A field whose bit is clear keeps the runtime's default. */
+enum mm_runtime_field {
+    MM_RUNTIME_POSE_TRAJECTORY_RATIO = 1u << 0,
+    MM_RUNTIME_NEXT_POSE_FAVOUR = 1u << 1,
+    MM_RUNTIME_LOOP_ANIM_FAVOUR = 1u << 2,
+    MM_RUNTIME_CONTINUING_BIAS = 1u << 3,
+    MM_RUNTIME_SEARCH_INTERVAL = 1u << 4,
+    MM_RUNTIME_TRANSITION_HALFLIFE = 1u << 5,
+    MM_RUNTIME_IDLE_SPEED = 1u << 6,
+    MM_RUNTIME_SYNC_HALFLIFE = 1u << 7,
+    MM_RUNTIME_DISTANCE_MATCHING = 1u << 8,
+    MM_RUNTIME_WARPING = 1u << 9
+};
+#define MM_RUNTIME_FIELDS_ALL 0x3ffu
+enum mm_runtime_gait_field {
+    MM_RUNTIME_FORWARD_SPEED = 1u << 0,
+    MM_RUNTIME_SIDE_SPEED = 1u << 1,
+    MM_RUNTIME_BACKWARD_SPEED = 1u << 2,
+    MM_RUNTIME_VELOCITY_HALFLIFE = 1u << 3,
+    MM_RUNTIME_ROTATION_HALFLIFE = 1u << 4
+};
+#define MM_RUNTIME_GAIT_FIELDS_ALL 0x1fu
+
+/* One gait's speeds and half-lives (the fields of mm_gait_params, mm/trajectory.h); 24 bytes,
+ * stored as it is in the settings section. */
+typedef struct mm_runtime_gait {
+    uint32_t set;            /* mm_runtime_gait_field bits of the fields given */
+    float forward_speed;     /* m/s, [0, 50] */
+    float side_speed;        /* m/s, [0, 50] */
+    float backward_speed;    /* m/s, [0, 50] */
+    float velocity_halflife; /* s, (0, 60] */
+    float rotation_halflife; /* s, (0, 60] */
+} mm_runtime_gait;
+
+/* Bits of mm_database_settings.weight_set: the weights of the feature groups that are not per
+ * bone, given where the database has such a group. */
+enum mm_settings_weight_field {
+    MM_SETTINGS_BODY_VELOCITY_WEIGHT = 1u << 0, /* a root velocity group */
+    MM_SETTINGS_POSITION_MULTIPLIER = 1u << 1,  /* trajectory position groups */
+    MM_SETTINGS_ANGLE_MULTIPLIER = 1u << 2      /* trajectory direction groups */
+};
+
+/* The bone roles the runtime needs, as indices of mm_database_settings.roles. */
+typedef enum mm_role {
+    MM_ROLE_HIPS = 0,
+    MM_ROLE_LEFT_FOOT = 1,
+    MM_ROLE_RIGHT_FOOT = 2,
+    MM_ROLE_LEFT_TOE = 3,
+    MM_ROLE_RIGHT_TOE = 4,
+    MM_ROLE_LEFT_HAND = 5,
+    MM_ROLE_RIGHT_HAND = 6,
+    MM_ROLE_HEAD = 7,
+    MM_ROLE_COUNT = 8
+} mm_role;
+
+/* The runtime tuning a database carries (its settings section, 300 bytes stored as they are;
+ * docs/format.md). Written by mm_database_build from the config: what
+ * mm_character_desc_apply_config would take from it, resolved against this database. Loading
+ * checks every value: set bits known, values finite and in their ranges, zero where not set. */
+typedef struct mm_database_settings {
+    /* Feature weights (the config's features): per matched bone (mm_pose_data.bones order, the
+     * order of mm_search_params' joint weights), bit b of position_set / velocity_set says
+     * joint_position_weights[b] / joint_velocity_weights[b] is given: the config names that bone
+     * with that feature. Weights are finite and >= 0. */
+    uint32_t weight_set;   /* mm_settings_weight_field bits */
+    uint32_t position_set; /* bit per matched bone */
+    uint32_t velocity_set; /* bit per matched bone */
+    float joint_position_weights[MM_MAX_MATCH_BONES];
+    float joint_velocity_weights[MM_MAX_MATCH_BONES];
+    float body_velocity_weight;
+    float position_multiplier;
+    float angle_multiplier;
+    /* The config's runtime object (mm_runtime_config, mm/config.h) */
+    uint32_t set;                /* mm_runtime_field bits */
+    float pose_trajectory_ratio; /* [0, 1] */
+    float next_pose_favour;      /* > 0 */
+    float loop_anim_favour;      /* > 0 */
+    float continuing_bias;       /* >= 0 */
+    float search_interval;       /* s, (0, 10] */
+    float transition_halflife;   /* s, (0, 60] */
+    float idle_speed;            /* m/s, [0, 50] */
+    float sync_halflife;         /* s, [0, 60] */
+    uint32_t distance_matching;  /* 0 or 1 */
+    uint32_t warping;            /* 0 or 1 */
+    mm_runtime_gait walk, run, crouch;
+    /* Bone roles: joint indices (mm_role order), -1 where the config names no joint */
+    int32_t roles[MM_ROLE_COUNT];
+} mm_database_settings;
 
 /* The seed's PoseData of one frame, assembled by mm_database_pose. Positions and directions are
  * in the character frame of that frame; units m, m/s, rad/s. */
@@ -173,6 +276,9 @@ typedef struct mm_database {
                                                    * are relative to the clip's first frame */
     int distance_segment_count;
 
+    /* The runtime settings it was built with (mm_character_desc_from_database reads them) */
+    const mm_database_settings *settings;
+
     /* Storage: the whole file */
     const void *data;
     size_t size;
@@ -186,23 +292,6 @@ typedef struct mm_db_load_desc {
     bool no_map;                   /* read into memory instead of mapping the file */
     const mm_allocator *allocator; /* for the read buffer; NULL: malloc */
 } mm_db_load_desc;
-
-typedef struct mm_db_build_desc {
-    const char *config_json;       /* text to embed (the config as read); NULL: none */
-    const mm_allocator *allocator; /* NULL: malloc */
-    void (*progress)(int done, int total,
-                     void *user); /* optional, called per clip (from the calling thread) */
-    void *progress_user;
-    int threads; /* 0 or 1: the calling thread alone; at most MM_DB_MAX_THREADS. The bytes never depend on it
-                  */
-} mm_db_build_desc;
-
-#define MM_DB_MAX_THREADS 64
-
-/* Builds a database. sources[i] is config->clips[i]'s file, loaded, in metres (scale applied),
- * at any frame rate. The result owns one buffer in file layout. */
-mm_result mm_database_build(const mm_config *config, const mm_clip *sources, const mm_db_build_desc *desc,
-                            mm_database *out, mm_error *err);
 
 /* Writes the database's buffer (atomically: temporary file and rename). */
 mm_result mm_database_save(const mm_database *db, const char *path, mm_error *err);
@@ -242,39 +331,6 @@ static inline float mm_database_feature_raw(const mm_database *db, int frame, in
     return db->features[(size_t)frame * (size_t)db->dims_padded + (size_t)d] * db->feature_scale[d] +
            db->feature_mean[d];
 }
-
-/* Deterministic text form of everything in the database (for diffs and bug reports). Numbers are
- * printed with %.9g in the C locale. */
-mm_result mm_database_dump(const mm_database *db, FILE *out);
-
-/* Root speeds of one kind of motion in the database, for setting the runtime's gait speeds
- * (docs/config.md "Gait speeds from the data"; mm db info prints them). Each frame's root
- * velocity (root_velocity: horizontal, in the root's facing frame) counts as forward when within
- * 45 degrees of the facing, backward within 45 degrees of the opposite, sideways (either side)
- * otherwise; frames slower than MM_SPEED_SUMMARY_STILL have no direction and count as still.
- * A percentile q is the sorted value at index floor(q (n - 1)); 0 with no frames. */
-#define MM_SPEED_SUMMARY_STILL 0.1f /* m/s */
-#define MM_SPEED_SUMMARY_MAX   6    /* 4 gait tags, untagged locomotion, idle */
-typedef struct mm_speed_percentiles {
-    int frames;          /* frames moving this way */
-    float p10, p50, p90; /* m/s */
-} mm_speed_percentiles;
-typedef struct mm_speed_summary {
-    char name[MM_TAG_NAME_MAX]; /* a gait tag as the database spells it ("Walk", "run"), "locomotion"
-                                   (locomotion clips' frames without a gait tag) or "idle" (idle
-                                   clips' frames) */
-    int frames;                 /* frames of this kind */
-    int still;                  /* of them, slower than MM_SPEED_SUMMARY_STILL */
-    mm_speed_percentiles forward, side, backward;
-} mm_speed_summary;
-
-/* One summary per kind of motion the database has, in this order: a tag named after each gait
- * (mm_gait_name, mm/gait.h, any case: walk, run, crouch, jump) that tags frames, then locomotion
- * frames without a gait tag, then idle; a frame with two gait tags counts in both. *count
- * receives how many (at most MM_SPEED_SUMMARY_MAX). Allocates scratch (a allocator; NULL: malloc)
- * and frees it. */
-mm_result mm_database_speed_summary(const mm_database *db, const mm_allocator *a,
-                                    mm_speed_summary out[MM_SPEED_SUMMARY_MAX], int *count);
 
 #ifdef __cplusplus
 }

@@ -1,8 +1,9 @@
 /* mm/distance_curve.h - distance curves: how far a clip's root has travelled, and how far it is
  * from its next stop or pivot, frame by frame (seed 003).
  *
- * A clip's distance curves are made offline from its root path (mm_distance_curve_build; the
- * database build makes one per clip and stores it in the .mmdb, mm/database.h): the travelled
+ * A clip's distance curves are made offline from its root path (mm/distance_curve_build.h, in the
+ * mm_build library; the database build makes one per clip and stores it in the .mmdb,
+ * mm/database.h): the travelled
  * path length per frame (monotonic over the whole clip), and per segment the signed distance to
  * the segment's stop or pivot point (negative before it, 0 at it, positive after it). A stop or
  * pivot is where the root speed is lowest below a threshold; clips with several stops are split
@@ -10,18 +11,14 @@
  * nothing else; distance matching (mm/distance_matching.h) moves a playhead with them.
  *
  *   mm_distance_curve c;
- *   mm_distance_desc d = {0};
- *   d.positions = root_xz; d.components = 2; d.frame_count = n; d.fps = 30; d.loop = 0;
- *   mm_distance_curve_build(&c, &d, &err);               offline; allocates once
+ *   mm_database_distance_curve(&db, clip, &c);           a view into the database
  *   float left = -mm_distance_signed(&c, t);             m to the stop ahead (no allocation)
- *   mm_distance_curve_free(&c);
  *
  * Units: metres, seconds; distances are measured on the ground plane (x, z), Y up. The queries
  * are free of allocation and give finite results for any input (NaN times, invalid curves).
  *
- * Functions: mm_distance_curve_build mm_distance_curve_free mm_distance_curve_validate
- *            mm_distance_duration mm_distance_travelled mm_distance_segment_at mm_distance_signed
- *            mm_distance_time_after mm_distance_clip_speed
+ * Functions: mm_distance_curve_validate mm_distance_duration mm_distance_travelled mm_distance_segment_at
+ * mm_distance_signed mm_distance_time_after mm_distance_clip_speed
  */
 #ifndef MM_DISTANCE_CURVE_H
 #define MM_DISTANCE_CURVE_H
@@ -55,8 +52,8 @@ typedef struct mm_distance_segment {
 } mm_distance_segment;
 
 /* A clip's distance curves: flat float arrays plus a segment table (ready to be stored in a file).
- * A curve made by mm_distance_curve_build owns one block; to read one stored elsewhere, fill the
- * fields yourself with block NULL (and check it with mm_distance_curve_validate). */
+ * A curve made by mm_distance_curve_build (mm/distance_curve_build.h) owns one block; to read one stored
+ * elsewhere, fill the fields yourself with block NULL (and check it with mm_distance_curve_validate). */
 typedef struct mm_distance_curve {
     int32_t frame_count; /* >= 2 */
     int32_t loop;        /* 1: the frame after the last is the first */
@@ -69,33 +66,6 @@ typedef struct mm_distance_curve {
     void *block;                         /* owned allocation, or NULL for a view */
     mm_allocator allocator;
 } mm_distance_curve;
-
-/* Defaults: stop_speed 0.1 m/s; loop_step interpolated from the steps around the wrap. */
-typedef struct mm_distance_desc {
-    const float *positions; /* root positions, frame_count rows of `components` floats */
-    int components;         /* 2: (x, z) per frame; 3: (x, y, z) per frame (y ignored) */
-    int frame_count;        /* >= 2 */
-    float fps;              /* > 0 */
-    int loop;               /* nonzero: a loop clip */
-    float stop_speed;       /* m/s; 0: MM_DISTANCE_STOP_SPEED_DEFAULT */
-    float loop_step;        /* m: path from the last frame to the first when a loop wraps; 0: the
-                             * cubic through the two steps before and the two after the wrap */
-    const mm_allocator *allocator;
-} mm_distance_desc;
-
-/* ---- building (offline) ---------------------------------------------------------------- */
-
-/* Builds the curves (allocates one block; offline). Stops: each run of frames whose speed (mean
- * of the two adjacent ground steps, times fps) is below stop_speed marks the first frame of the
- * run whose speed is within a quarter of stop_speed of the run's lowest, moved on while the speed
- * keeps falling (the earliest moment at rest, or the bottom of a pivot). A run at the start of a
- * one-shot clip is not a stop (the clip starts from rest: its distance counts from the start). A
- * segment ends with the run after its marker (where the root speeds up again); the last one runs
- * to the end of the clip. err (may be NULL) says which frame or field is wrong.
- * MM_ERR_INVALID_ARGUMENT for bad sizes or parameters, MM_ERR_BAD_NUMBER for a non-finite
- * position, MM_ERR_OUT_OF_MEMORY. On failure c is zeroed. */
-mm_result mm_distance_curve_build(mm_distance_curve *c, const mm_distance_desc *desc, mm_error *err);
-void mm_distance_curve_free(mm_distance_curve *c);
 
 /* ---- queries (no allocation) ------------------------------------------------------------ */
 

@@ -1,4 +1,4 @@
-/* mm/input_json.h - input scripts as JSON files (in the mm_io library, which uses cJSON).
+/* mm/input_json.h - input scripts as JSON files (in the mm_build library, which uses cJSON).
  *
  *   {"keys": [{"t": 0.0, "stick": [0, 1], "gait": "walk"},
  *             {"t": 2.0, "stick": [1, 0], "gait": "run", "strafe": true, "facing": [0, 1]}]}

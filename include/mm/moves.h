@@ -34,7 +34,8 @@
  * mm_character_update. The layer never allocates; all its state is in mm_moves, which the
  * caller owns. docs/moves.md describes the parameters and the measured results.
  *
- * Functions: mm_moves_defaults mm_moves_init mm_moves_update mm_moves_choose mm_move_kind_name
+ * Functions: mm_moves_defaults mm_moves_desc_from_database mm_moves_init mm_moves_update
+ *            mm_moves_choose mm_move_kind_name
  *            mm_moves_pick_side mm_moves_penetration
  */
 #ifndef MM_MOVES_H
@@ -99,6 +100,10 @@ typedef struct mm_moves_desc {
 } mm_moves_desc;
 
 void mm_moves_defaults(mm_moves_desc *d);
+/* mm_moves_defaults with the hands and feet of the database's bone roles (its settings section,
+ * mm_database_settings.roles) where it has them: the names point into db (they live as long as it
+ * does). */
+void mm_moves_desc_from_database(mm_moves_desc *d, const mm_database *db);
 
 /* At most this many move clips (spans tagged as a move) are kept; further ones are ignored. */
 #define MM_MOVES_MAX_CLIPS 160

@@ -1,4 +1,5 @@
-/* mm/pfnn.h - the phase-functioned neural network character (Holden, Komura, Saito 2017).
+/* mm/pfnn.h - the phase-functioned neural network character (Holden, Komura, Saito 2017); the
+ * mm_pfnn library (libc and libm, on mm_runtime).
  *
  * An alternative to database search: a small network predicts, every 60 Hz frame, the next pose,
  * the root motion, the change of the locomotion phase and the future trajectory, from the past and
@@ -7,7 +8,9 @@
  *
  * This module runs the released weights (not shipped with mm; see docs/pfnn.md). Three parts:
  *   - the network: load, evaluate at any phase in one of three modes (below);
- *   - the character: the release's 31-joint skeleton, as an mm_skeleton in metres;
+ *   - the character: the release's 31-joint skeleton, as an mm_skeleton in metres (loaded by
+ *     mm_pfnn_character_load, mm/pfnn_character.h: it reads the release's BVH, so it is in the
+ *     mm_build library);
  *   - the controller: seed 004's per-frame update (target blending, gaits, trajectory prediction,
  *     obstacle avoidance, terrain heights, network input, prediction, trajectory and pose update).
  *
@@ -26,7 +29,7 @@
  *
  * Functions: mm_pfnn_network_load mm_pfnn_network_free mm_pfnn_network_eval mm_pfnn_network_has_mode
  *            mm_pfnn_network_bytes mm_pfnn_network_layer mm_pfnn_spline_coefficients mm_pfnn_wrap_phase
- *            mm_pfnn_mode_name mm_pfnn_mode_parse mm_pfnn_character_load
+ *            mm_pfnn_mode_name mm_pfnn_mode_parse
  *            mm_pfnn_controller_create mm_pfnn_controller_destroy mm_pfnn_controller_reset
  *            mm_pfnn_controller_step mm_pfnn_controller_state mm_pfnn_controller_assemble_input
  *            mm_pfnn_controller_local_pose mm_pfnn_height_flat mm_pfnn_height_slopes
@@ -141,15 +144,6 @@ void mm_pfnn_spline_coefficients(double phase, double coef[MM_PFNN_CONTROL_POINT
  * onto it, so that float phases 2 pi k / 4, / 10 and / 50 select their sample exactly. */
 double mm_pfnn_wrap_phase(double phase);
 
-/* ---- character -------------------------------------------------------------------------------- */
-
-/* The release's 31-joint skeleton: names and End Sites from dir/bvh/rest.bvh, parents from
- * dir/character_parents.bin, rest offsets from the translations of dir/character_xforms.bin
- * (centimetres, converted to metres). Rotation orders ZYX; the root translates. out must not be
- * initialised; free with mm_skeleton_free. */
-mm_result mm_pfnn_character_load(const char *dir, const mm_allocator *allocator, mm_skeleton *out,
-                                 mm_error *err);
-
 /* ---- controller ------------------------------------------------------------------------------- */
 
 /* Ground height (metres) at world (x, z). */
@@ -261,7 +255,7 @@ const mm_pfnn_state *mm_pfnn_controller_state(const mm_pfnn_controller *ctrl);
 /* The network input the current state gives, before any new player input (after a reset it is
  * the demo's X_C_reset). x holds MM_PFNN_INPUT_DIM floats. */
 void mm_pfnn_controller_assemble_input(const mm_pfnn_controller *ctrl, float *x);
-/* The pose as local rotations and translations of skeleton (from mm_pfnn_character_load): the
+/* The pose as local rotations and translations of skeleton (mm_pfnn_character_load): the
  * root at the smoothed hips position, each joint's rotation relative to its parent's, the other
  * translations the rest offsets. Arrays of MM_PFNN_JOINT_COUNT. */
 void mm_pfnn_controller_local_pose(const mm_pfnn_controller *ctrl, const mm_skeleton *skeleton,

@@ -16,7 +16,7 @@
  * Queries for the moves (seed 000, 三.4): a ground probe (the surface a foot would stand on) and
  * an obstacle measure (the wall ahead: its distance, height and depth, found with rays).
  *
- * Loading scenes from JSON is in mm/scene_json.h (the mm_io library); the format and these
+ * Loading scenes from JSON is in mm/scene_json.h (the mm_build library); the format and these
  * functions are described in docs/scene.md.
  *
  * Functions: mm_scene_init mm_scene_add_box mm_scene_box_centre mm_scene_raycast

@@ -1,4 +1,4 @@
-/* mm/scene_json.h - scenes as JSON files (in the mm_io library, which uses cJSON).
+/* mm/scene_json.h - scenes as JSON files (in the mm_build library, which uses cJSON).
  *
  *   {"ground": 0.0,
  *    "boxes": [{"position": [0, 0, 3], "size": [4, 1, 0.4], "yaw": 90}]}

@@ -15,9 +15,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <mm/database_build.h>
+#include <mm/distance_curve_build.h>
+
 #include "db/db_file.h"
 #include "db/features.h"
 #include "db/process.h"
+#include "db/settings_build.h"
 #include "search/pool.h"
 
 typedef struct built {
@@ -742,12 +746,28 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     p.dims = dims;
     p.dims_padded = dims_padded;
     p.interval = cfg->interval;
+    /* the runtime settings, resolved against the database's skeleton and feature groups */
+    mm_database view;
+    memset(&view, 0, sizeof view);
+    view.joints = x.joints;
+    view.joint_count = jc;
+    view.groups = x.groups;
+    view.group_count = group_count;
+    mm_database_settings settings;
+    r = mm__db_settings_resolve(cfg, &view, &settings, err);
+    if (r != MM_OK) {
+        free_distance(&dist, b.count);
+        free_arrays(&x);
+        free_builder(&b);
+        return r;
+    }
     const char *json = desc && desc->config_json ? desc->config_json : "";
     const void *data[MM__SEC_COUNT] = {
-        x.joints,     x.clips,    x.tag_names,     x.groups,        x.frame_clip,  x.frame_next,
-        x.frame_tags, x.contacts, x.root_velocity, x.root_yaw_rate, x.rotations,   x.positions,
-        x.features,   x.mean,     x.scale,         x.small_min,     x.small_max,   x.large_min,
-        x.large_max,  json,       dist.clips,      dist.travelled,  dist.distance, dist.segments};
+        x.joints,     x.clips,        x.tag_names,   x.groups,        x.frame_clip,
+        x.frame_next, x.frame_tags,   x.contacts,    x.root_velocity, x.root_yaw_rate,
+        x.rotations,  x.positions,    x.features,    x.mean,          x.scale,
+        x.small_min,  x.small_max,    x.large_min,   x.large_max,     json,
+        dist.clips,   dist.travelled, dist.distance, dist.segments,   &settings};
     memcpy(p.data, data, sizeof data);
     p.size[MM__SEC_CONFIG_JSON] = strlen(json) + 1;
     p.size[MM__SEC_DISTANCE_SEGMENTS] = sizeof(mm_distance_segment) * (size_t)dist.segment_count;

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <mm/database.h>
+#include <mm/database_build.h>
 
 #include "db/process.h"
 

@@ -1,5 +1,5 @@
 /* Deterministic text form of a database, for diffs and bug reports. */
-#include <mm/database.h>
+#include <mm/database_build.h>
 
 #include <ctype.h>
 #include <math.h>
@@ -23,6 +23,57 @@ static void vec(FILE *out, mm_vec3 v)
     num(out, v.x);
     num(out, v.y);
     num(out, v.z);
+}
+
+/* The settings section: every field, set or not, with the set bits in hex. */
+static void dump_settings(const mm_database *db, FILE *out)
+{
+    const mm_database_settings *s = db->settings;
+    fprintf(out, "settings weights set %x position_set %x velocity_set %x\n", (unsigned)s->weight_set,
+            (unsigned)s->position_set, (unsigned)s->velocity_set);
+    fputs("settings joint_position_weights", out);
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) num(out, s->joint_position_weights[b]);
+    fputs("\nsettings joint_velocity_weights", out);
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) num(out, s->joint_velocity_weights[b]);
+    fputs("\nsettings body_velocity_weight", out);
+    num(out, s->body_velocity_weight);
+    fputs(" position_multiplier", out);
+    num(out, s->position_multiplier);
+    fputs(" angle_multiplier", out);
+    num(out, s->angle_multiplier);
+    fprintf(out, "\nsettings runtime set %x", (unsigned)s->set);
+    const char *names[8] = {
+        "pose_trajectory_ratio", "next_pose_favour",    "loop_anim_favour", "continuing_bias",
+        "search_interval",       "transition_halflife", "idle_speed",       "sync_halflife"};
+    const float values[8] = {
+        s->pose_trajectory_ratio, s->next_pose_favour,    s->loop_anim_favour, s->continuing_bias,
+        s->search_interval,       s->transition_halflife, s->idle_speed,       s->sync_halflife};
+    for (int k = 0; k < 8; ++k) {
+        fprintf(out, " %s", names[k]);
+        num(out, values[k]);
+    }
+    fprintf(out, " distance_matching %u warping %u\n", (unsigned)s->distance_matching, (unsigned)s->warping);
+    const mm_runtime_gait *gaits[3] = {&s->walk, &s->run, &s->crouch};
+    const char *gait_names[3] = {"walk", "run", "crouch"};
+    for (int g = 0; g < 3; ++g) {
+        const mm_runtime_gait *a = gaits[g];
+        fprintf(out, "settings %s set %x forward_speed", gait_names[g], (unsigned)a->set);
+        num(out, a->forward_speed);
+        fputs(" side_speed", out);
+        num(out, a->side_speed);
+        fputs(" backward_speed", out);
+        num(out, a->backward_speed);
+        fputs(" velocity_halflife", out);
+        num(out, a->velocity_halflife);
+        fputs(" rotation_halflife", out);
+        num(out, a->rotation_halflife);
+        fputc('\n', out);
+    }
+    const char *roles[MM_ROLE_COUNT] = {"hips",      "left_foot", "right_foot", "left_toe",
+                                        "right_toe", "left_hand", "right_hand", "head"};
+    fputs("settings roles", out);
+    for (int k = 0; k < MM_ROLE_COUNT; ++k) fprintf(out, " %s %d", roles[k], (int)s->roles[k]);
+    fputc('\n', out);
 }
 
 mm_result mm_database_dump(const mm_database *db, FILE *out)
@@ -57,6 +108,7 @@ mm_result mm_database_dump(const mm_database *db, FILE *out)
         num(out, grp->scale);
         fputc('\n', out);
     }
+    if (db->settings) dump_settings(db, out);
     for (int d = 0; d < db->dims_padded; ++d) {
         fprintf(out, "dim %d mean", d);
         num(out, db->feature_mean[d]);

@@ -1,4 +1,4 @@
-/* The .mmdb file: packing, validation on load, saving, the text dump and per-frame PoseData.
+/* The .mmdb file: packing, validation on load, saving and per-frame PoseData.
  *
  * Layout (little-endian, docs/format.md): a fixed header with the counts and, for each section,
  * its offset and size; then the sections, each starting at a multiple of MM_DB_ALIGN. The
@@ -10,6 +10,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <float.h>
 #include <math.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -46,6 +47,11 @@ _Static_assert(sizeof(mm_db_clip) == 104, "mm_db_clip layout changed: bump MM_DB
 _Static_assert(sizeof(mm_feature_group) == 92, "mm_feature_group layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_db_distance_clip) == 16, "mm_db_distance_clip layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_distance_segment) == 20, "mm_distance_segment layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_runtime_gait) == 24, "mm_runtime_gait layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_database_settings) == 300,
+               "mm_database_settings layout changed: bump MM_DB_VERSION");
+_Static_assert(offsetof(mm_database_settings, walk) == 196 && offsetof(mm_database_settings, roles) == 268,
+               "mm_database_settings layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_quat) == 16 && sizeof(mm_vec3) == 12, "vector layout");
 _Static_assert(offsetof(mm__db_header, checksum) == 16, "header layout");
 
@@ -79,6 +85,7 @@ void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT])
     size[MM__SEC_DISTANCE_SIGNED] = f * 4;
     /* free size: a whole number of segments, checked against the clips on load */
     size[MM__SEC_DISTANCE_SEGMENTS] = p->size[MM__SEC_DISTANCE_SEGMENTS];
+    size[MM__SEC_SETTINGS] = sizeof(mm_database_settings);
 }
 
 static void point_into(mm_database *db, const unsigned char *base, const mm__db_header *h)
@@ -120,6 +127,7 @@ static void point_into(mm_database *db, const unsigned char *base, const mm__db_
     db->distance_segments = (const mm_distance_segment *)AT(MM__SEC_DISTANCE_SEGMENTS);
     db->distance_segment_count =
         (int)(h->sections[MM__SEC_DISTANCE_SEGMENTS].size / sizeof(mm_distance_segment));
+    db->settings = (const mm_database_settings *)AT(MM__SEC_SETTINGS);
 #undef AT
 }
 
@@ -345,6 +353,152 @@ static mm_result validate_distance(const mm_database *db, mm_error *err)
     return MM_OK;
 }
 
+/* ---- the settings section ----------------------------------------------------------------- */
+
+/* A float field of the settings: its bit in the set mask, where it is, and the range it must be
+ * in when set (lo excluded when lo_open; FLT_MAX: no upper bound but finite). */
+typedef struct settings_rule {
+    unsigned bit;
+    size_t offset;
+    const char *name, *unit;
+    float lo, hi;
+    int lo_open;
+} settings_rule;
+
+#define RULE(bit, field, unit, lo, hi, open)                                                                 \
+    {                                                                                                        \
+        bit, offsetof(mm_database_settings, field), #field, unit, lo, hi, open                               \
+    }
+static const settings_rule runtime_rules[] = {
+    RULE(MM_RUNTIME_POSE_TRAJECTORY_RATIO, pose_trajectory_ratio, "", 0.0f, 1.0f, 0),
+    RULE(MM_RUNTIME_NEXT_POSE_FAVOUR, next_pose_favour, "", 0.0f, FLT_MAX, 1),
+    RULE(MM_RUNTIME_LOOP_ANIM_FAVOUR, loop_anim_favour, "", 0.0f, FLT_MAX, 1),
+    RULE(MM_RUNTIME_CONTINUING_BIAS, continuing_bias, "", 0.0f, FLT_MAX, 0),
+    RULE(MM_RUNTIME_SEARCH_INTERVAL, search_interval, " s", 0.0f, 10.0f, 1),
+    RULE(MM_RUNTIME_TRANSITION_HALFLIFE, transition_halflife, " s", 0.0f, 60.0f, 1),
+    RULE(MM_RUNTIME_IDLE_SPEED, idle_speed, " m/s", 0.0f, 50.0f, 0),
+    RULE(MM_RUNTIME_SYNC_HALFLIFE, sync_halflife, " s", 0.0f, 60.0f, 0),
+};
+static const settings_rule weight_rules[] = {
+    RULE(MM_SETTINGS_BODY_VELOCITY_WEIGHT, body_velocity_weight, "", 0.0f, FLT_MAX, 0),
+    RULE(MM_SETTINGS_POSITION_MULTIPLIER, position_multiplier, "", 0.0f, FLT_MAX, 0),
+    RULE(MM_SETTINGS_ANGLE_MULTIPLIER, angle_multiplier, "", 0.0f, FLT_MAX, 0),
+};
+#undef RULE
+#define GAIT_RULE(bit, field, unit, lo, hi, open)                                                            \
+    {                                                                                                        \
+        bit, offsetof(mm_runtime_gait, field), #field, unit, lo, hi, open                                    \
+    }
+static const settings_rule gait_rules[] = {
+    GAIT_RULE(MM_RUNTIME_FORWARD_SPEED, forward_speed, " m/s", 0.0f, 50.0f, 0),
+    GAIT_RULE(MM_RUNTIME_SIDE_SPEED, side_speed, " m/s", 0.0f, 50.0f, 0),
+    GAIT_RULE(MM_RUNTIME_BACKWARD_SPEED, backward_speed, " m/s", 0.0f, 50.0f, 0),
+    GAIT_RULE(MM_RUNTIME_VELOCITY_HALFLIFE, velocity_halflife, " s", 0.0f, 60.0f, 1),
+    GAIT_RULE(MM_RUNTIME_ROTATION_HALFLIFE, rotation_halflife, " s", 0.0f, 60.0f, 1),
+};
+#undef GAIT_RULE
+
+static int in_rule(const settings_rule *r, float v)
+{
+    return isfinite(v) && (r->lo_open ? v > r->lo : v >= r->lo) && v <= r->hi;
+}
+
+/* The float fields of rules in the struct at base: set ones in range, the others zero. */
+static mm_result check_rules(const unsigned char *base, unsigned set, const settings_rule *rules, int count,
+                             const char *prefix, mm_result code, mm_error *err)
+{
+    for (int i = 0; i < count; ++i) {
+        const settings_rule *r = &rules[i];
+        float v;
+        memcpy(&v, base + r->offset, sizeof v);
+        if ((set & r->bit) && !in_rule(r, v)) {
+            if (r->hi == FLT_MAX)
+                return mm_error_set(err, code, 0, 0, "settings: %s%s: %g is out of range (%s %g)", prefix,
+                                    r->name, (double)v, r->lo_open ? "above" : "at least", (double)r->lo);
+            return mm_error_set(err, code, 0, 0, "settings: %s%s: %g%s is out of range (%s %g, at most %g%s)",
+                                prefix, r->name, (double)v, r->unit, r->lo_open ? "above" : "from",
+                                (double)r->lo, (double)r->hi, r->unit);
+        }
+        if (!(set & r->bit) && v != 0.0f)
+            return mm_error_set(err, code, 0, 0, "settings: %s%s is not set but holds %g (must be 0)", prefix,
+                                r->name, (double)v);
+    }
+    return MM_OK;
+}
+
+mm_result mm__db_settings_validate(const mm_database *db, const mm_database_settings *s, mm_result code,
+                                   mm_error *err)
+{
+#define FAIL(...) return mm_error_set(err, code, 0, 0, __VA_ARGS__)
+    /* which weights db has groups for */
+    uint32_t positions = 0, velocities = 0;
+    unsigned weights = 0;
+    for (int g = 0; g < db->group_count; ++g) {
+        int kind = db->groups[g].kind, slot = mm_database_matched_bone(db, g);
+        if (kind == MM_FEATURE_BONE_POSITION && slot >= 0) positions |= 1u << slot;
+        if (kind == MM_FEATURE_BONE_VELOCITY && slot >= 0) velocities |= 1u << slot;
+        if (kind == MM_FEATURE_ROOT_VELOCITY) weights |= MM_SETTINGS_BODY_VELOCITY_WEIGHT;
+        if (kind == MM_FEATURE_TRAJ_POSITION) weights |= MM_SETTINGS_POSITION_MULTIPLIER;
+        if (kind == MM_FEATURE_TRAJ_DIRECTION) weights |= MM_SETTINGS_ANGLE_MULTIPLIER;
+    }
+    if (s->weight_set & ~weights)
+        FAIL("settings: weight bits 0x%x are unknown or name feature groups the database does not have",
+             (unsigned)(s->weight_set & ~weights));
+    if (s->position_set & ~positions)
+        FAIL("settings: position weight bits 0x%x name matched bones without a position feature",
+             (unsigned)(s->position_set & ~positions));
+    if (s->velocity_set & ~velocities)
+        FAIL("settings: velocity weight bits 0x%x name matched bones without a velocity feature",
+             (unsigned)(s->velocity_set & ~velocities));
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
+        const float w[2] = {s->joint_position_weights[b], s->joint_velocity_weights[b]};
+        const uint32_t set[2] = {s->position_set, s->velocity_set};
+        static const char *const what[2] = {"joint_position_weights", "joint_velocity_weights"};
+        for (int k = 0; k < 2; ++k) {
+            if ((set[k] >> b) & 1u) {
+                if (!(isfinite(w[k]) && w[k] >= 0.0f))
+                    FAIL("settings: %s[%d]: %g must be finite and >= 0", what[k], b, (double)w[k]);
+            } else if (w[k] != 0.0f) {
+                FAIL("settings: %s[%d] is not set but holds %g (must be 0)", what[k], b, (double)w[k]);
+            }
+        }
+    }
+    const unsigned char *base = (const unsigned char *)s;
+    mm_result r = check_rules(base, s->weight_set, weight_rules, 3, "", code, err);
+    if (r != MM_OK) return r;
+    if (s->set & ~MM_RUNTIME_FIELDS_ALL)
+        FAIL("settings: runtime bits 0x%x are unknown", (unsigned)(s->set & ~MM_RUNTIME_FIELDS_ALL));
+    r = check_rules(base, s->set, runtime_rules, (int)(sizeof runtime_rules / sizeof runtime_rules[0]),
+                    "runtime.", code, err);
+    if (r != MM_OK) return r;
+    const uint32_t switches[2] = {s->distance_matching, s->warping};
+    const unsigned switch_bits[2] = {MM_RUNTIME_DISTANCE_MATCHING, MM_RUNTIME_WARPING};
+    static const char *const switch_names[2] = {"distance_matching", "warping"};
+    for (int k = 0; k < 2; ++k)
+        if (switches[k] > ((s->set & switch_bits[k]) ? 1u : 0u))
+            FAIL("settings: runtime.%s: %u is not %s", switch_names[k], (unsigned)switches[k],
+                 (s->set & switch_bits[k]) ? "0 or 1" : "0 (not set)");
+    const mm_runtime_gait *gaits[3] = {&s->walk, &s->run, &s->crouch};
+    static const char *const gait_prefix[3] = {"runtime.walk.", "runtime.run.", "runtime.crouch."};
+    static const char *const gait_names[3] = {"walk", "run", "crouch"};
+    for (int g = 0; g < 3; ++g) {
+        if (gaits[g]->set & ~MM_RUNTIME_GAIT_FIELDS_ALL)
+            FAIL("settings: runtime.%s: bits 0x%x are unknown", gait_names[g],
+                 (unsigned)(gaits[g]->set & ~MM_RUNTIME_GAIT_FIELDS_ALL));
+        r = check_rules((const unsigned char *)gaits[g], gaits[g]->set, gait_rules, 5, gait_prefix[g], code,
+                        err);
+        if (r != MM_OK) return r;
+    }
+    static const char *const roles[MM_ROLE_COUNT] = {"hips",      "left_foot", "right_foot", "left_toe",
+                                                     "right_toe", "left_hand", "right_hand", "head"};
+    for (int k = 0; k < MM_ROLE_COUNT; ++k)
+        if (s->roles[k] < -1 || s->roles[k] >= db->joint_count)
+            FAIL("settings: roles.%s: joint %d is not -1 nor one of the %d joints", roles[k],
+                 (int)s->roles[k], db->joint_count);
+    return MM_OK;
+#undef FAIL
+}
+
 mm_result mm_database_distance_curve(const mm_database *db, int clip, mm_distance_curve *out)
 {
     if (out) memset(out, 0, sizeof *out);
@@ -370,6 +524,7 @@ mm_result mm_database_load_memory(const void *data, size_t size, bool verify_che
     point_into(&db, (const unsigned char *)data, &h);
     r = validate_references(&db, err);
     if (r == MM_OK) r = validate_distance(&db, err);
+    if (r == MM_OK) r = mm__db_settings_validate(&db, db.settings, MM_ERR_SYNTAX, err);
     if (r != MM_OK) return r;
     db.data = data;
     db.size = size;

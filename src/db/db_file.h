@@ -29,6 +29,7 @@ enum mm__db_section {
     MM__SEC_DISTANCE_TRAVELLED,
     MM__SEC_DISTANCE_SIGNED,
     MM__SEC_DISTANCE_SEGMENTS,
+    MM__SEC_SETTINGS,
     MM__SEC_COUNT
 };
 
@@ -42,6 +43,13 @@ typedef struct mm__db_parts {
 
 /* Expected byte size of each section for the given counts. */
 void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT]);
+
+/* Checks settings against db (its joint count and feature groups, already validated): set bits
+ * known and only for feature groups db has, values finite and in their ranges, zero where not
+ * set, roles -1 or a joint. code is the result on failure (MM_ERR_SYNTAX for a file,
+ * MM_ERR_OUT_OF_RANGE for a config); err says which field. */
+mm_result mm__db_settings_validate(const mm_database *db, const mm_database_settings *settings,
+                                   mm_result code, mm_error *err);
 
 /* Packs parts into one aligned buffer in file layout and points out into it. */
 mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out,

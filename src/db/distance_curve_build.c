@@ -1,6 +1,6 @@
 /* The distance curve builder (offline: it allocates). See mm/distance_curve.h and
  * docs/distance.md, "Distance curves". */
-#include <mm/distance_curve.h>
+#include <mm/distance_curve_build.h>
 
 #include <math.h>
 #include <string.h>

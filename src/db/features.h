@@ -2,7 +2,7 @@
 #ifndef MM_DB_FEATURES_H
 #define MM_DB_FEATURES_H
 
-#include <mm/database.h>
+#include <mm/database_build.h>
 
 /* Lays out the feature groups for a config and skeleton (joint 0 the simulation root). Fills
  * groups (at most MM_MAX_MATCH_BONES * 2 + 1 + 2 * MM_MAX_TRAJ_SAMPLES) and returns the count,

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <mm/database.h>
+#include <mm/database_build.h>
 #include <mm/move_detect.h>
 
 #include "db/process.h"

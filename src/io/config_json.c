@@ -825,21 +825,6 @@ mm_result mm_config_parse_json(const char *text, size_t size, const char *name, 
     return parse_config(text, size, name, base_dir, cfg, NULL, err);
 }
 
-mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err)
-{
-    if (!d) return MM_ERR_INVALID_ARGUMENT;
-    mm_character_defaults(d);
-    if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
-    if (!db->config_json || !db->config_json[0]) return MM_OK;
-    mm_config cfg;
-    memset(&cfg, 0, sizeof cfg);
-    mm_result r = mm_config_parse_json(db->config_json, strlen(db->config_json), "the database's config",
-                                       NULL, &cfg, err);
-    if (r == MM_OK) mm_character_desc_apply_config(d, db, &cfg);
-    mm_config_free(&cfg);
-    return r;
-}
-
 mm_result mm_config_load_json(const char *path, mm_config *cfg, char **out_text, mm_error *err)
 {
     if (out_text) *out_text = NULL;

@@ -1,7 +1,7 @@
 /* The release's 31-joint character: rest.bvh for names and End Sites, character_parents.bin for the
  * hierarchy, character_xforms.bin (local rest transforms, centimetres) for the offsets. */
 #include <mm/bvh.h>
-#include <mm/pfnn.h>
+#include <mm/pfnn_character.h>
 
 #include <math.h>
 #include <stdio.h>

@@ -1,0 +1,84 @@
+/* mm/database_build.h - building a motion database and reading it as text (the mm_build
+ * library: the offline side of mm/database.h).
+ *
+ * mm_database_build makes a database from a config (mm/config.h) and its source clips: it
+ * extracts the simulation bone, mirrors and blends clips, labels contacts, computes and
+ * normalises the features and distance curves, and writes the config's runtime tuning into the
+ * settings section (docs/format.md). The result is saved with mm_database_save and loaded by the
+ * runtime (mm/database.h, the mm_runtime library) with no part of this header.
+ *
+ * Functions: mm_database_build mm_database_dump mm_database_speed_summary
+ */
+#ifndef MM_DATABASE_BUILD_H
+#define MM_DATABASE_BUILD_H
+
+#include <stdio.h>
+
+#include "alloc.h"
+#include "clip.h"
+#include "config.h"
+#include "database.h"
+#include "result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct mm_db_build_desc {
+    const char *config_json;       /* text to embed (the config as read); NULL: none */
+    const mm_allocator *allocator; /* NULL: malloc */
+    void (*progress)(int done, int total,
+                     void *user); /* optional, called per clip (from the calling thread) */
+    void *progress_user;
+    int threads; /* 0 or 1: the calling thread alone; at most MM_DB_MAX_THREADS. The bytes never depend on it
+                  */
+} mm_db_build_desc;
+
+#define MM_DB_MAX_THREADS 64
+
+/* Builds a database. sources[i] is config->clips[i]'s file, loaded, in metres (scale applied),
+ * at any frame rate. The result owns one buffer in file layout. Its settings section holds the
+ * config's runtime tuning resolved against the database (mm_database_settings): the feature
+ * weights of the groups it has, the runtime fields set, the joints of the bone roles; a value out
+ * of the range loading accepts is MM_ERR_OUT_OF_RANGE. */
+mm_result mm_database_build(const mm_config *config, const mm_clip *sources, const mm_db_build_desc *desc,
+                            mm_database *out, mm_error *err);
+
+/* Deterministic text form of everything in the database, its settings included (for diffs and
+ * bug reports). Numbers are printed with %.9g in the C locale. */
+mm_result mm_database_dump(const mm_database *db, FILE *out);
+
+/* Root speeds of one kind of motion in the database, for setting the runtime's gait speeds
+ * (docs/config.md "Gait speeds from the data"; mm db info prints them). Each frame's root
+ * velocity (root_velocity: horizontal, in the root's facing frame) counts as forward when within
+ * 45 degrees of the facing, backward within 45 degrees of the opposite, sideways (either side)
+ * otherwise; frames slower than MM_SPEED_SUMMARY_STILL have no direction and count as still.
+ * A percentile q is the sorted value at index floor(q (n - 1)); 0 with no frames. */
+#define MM_SPEED_SUMMARY_STILL 0.1f /* m/s */
+#define MM_SPEED_SUMMARY_MAX   6    /* 4 gait tags, untagged locomotion, idle */
+typedef struct mm_speed_percentiles {
+    int frames;          /* frames moving this way */
+    float p10, p50, p90; /* m/s */
+} mm_speed_percentiles;
+typedef struct mm_speed_summary {
+    char name[MM_TAG_NAME_MAX]; /* a gait tag as the database spells it ("Walk", "run"), "locomotion"
+                                   (locomotion clips' frames without a gait tag) or "idle" (idle
+                                   clips' frames) */
+    int frames;                 /* frames of this kind */
+    int still;                  /* of them, slower than MM_SPEED_SUMMARY_STILL */
+    mm_speed_percentiles forward, side, backward;
+} mm_speed_summary;
+
+/* One summary per kind of motion the database has, in this order: a tag named after each gait
+ * (mm_gait_name, any case: walk, run, crouch, jump) that tags frames, then locomotion frames
+ * without a gait tag, then idle; a frame with two gait tags counts in both. *count receives how
+ * many (at most MM_SPEED_SUMMARY_MAX). Allocates scratch (a allocator; NULL: malloc) and frees
+ * it. */
+mm_result mm_database_speed_summary(const mm_database *db, const mm_allocator *a,
+                                    mm_speed_summary out[MM_SPEED_SUMMARY_MAX], int *count);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_DATABASE_BUILD_H */

@@ -1,0 +1,80 @@
+/* A character's settings from the database's settings section (mm_database_settings): the runtime
+ * tuning and bone roles the database was built with, in binary. No JSON, no allocation. The build
+ * library's mm_character_desc_apply_config gives the same desc from the config itself
+ * (tests/test_settings.c compares them). */
+#include <mm/character.h>
+#include <mm/moves.h>
+
+#include <string.h>
+
+/* The name of the joint of role k, or NULL when the database has none. */
+static const char *role_name(const mm_database *db, mm_role k)
+{
+    int j = db->settings ? db->settings->roles[k] : -1;
+    return j >= 0 && j < db->joint_count ? db->joints[j].name : NULL;
+}
+
+mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err)
+{
+    if (!d) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no desc");
+    mm_character_defaults(d);
+    if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
+    const mm_database_settings *s = db->settings;
+    if (!s) return MM_OK;
+    mm_character_default_params(db, &d->params);
+    d->use_params = true;
+    mm_trajectory_defaults(&d->trajectory);
+    d->has_trajectory = true;
+
+    /* the feature weights the config gave the database's groups */
+    mm_search_params *p = &d->params;
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
+        if ((s->position_set >> b) & 1u) p->joint_position_weights[b] = s->joint_position_weights[b];
+        if ((s->velocity_set >> b) & 1u) p->joint_velocity_weights[b] = s->joint_velocity_weights[b];
+    }
+    if (s->weight_set & MM_SETTINGS_BODY_VELOCITY_WEIGHT) p->body_velocity_weight = s->body_velocity_weight;
+    if (s->weight_set & MM_SETTINGS_POSITION_MULTIPLIER) p->position_multiplier = s->position_multiplier;
+    if (s->weight_set & MM_SETTINGS_ANGLE_MULTIPLIER) p->angle_multiplier = s->angle_multiplier;
+
+    /* the runtime fields set */
+    if (s->set & MM_RUNTIME_POSE_TRAJECTORY_RATIO) p->pose_trajectory_ratio = s->pose_trajectory_ratio;
+    if (s->set & MM_RUNTIME_NEXT_POSE_FAVOUR) p->next_pose_favour = s->next_pose_favour;
+    if (s->set & MM_RUNTIME_LOOP_ANIM_FAVOUR) p->loop_anim_favour = s->loop_anim_favour;
+    if (s->set & MM_RUNTIME_CONTINUING_BIAS) p->continuing_bias = s->continuing_bias;
+    if (s->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = s->search_interval;
+    if (s->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = s->transition_halflife;
+    if (s->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = s->idle_speed;
+    if (s->set & MM_RUNTIME_SYNC_HALFLIFE) d->sync_halflife = s->sync_halflife;
+    if (s->set & MM_RUNTIME_DISTANCE_MATCHING) d->distance_matching = s->distance_matching != 0;
+    if (s->set & MM_RUNTIME_WARPING) d->warping = s->warping != 0;
+    const mm_runtime_gait *from[3] = {&s->walk, &s->run, &s->crouch};
+    const mm_gait to[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
+    for (int g = 0; g < 3; ++g) {
+        const mm_runtime_gait *a = from[g];
+        mm_gait_params *t = &d->trajectory.gaits[to[g]];
+        if (a->set & MM_RUNTIME_FORWARD_SPEED) t->forward_speed = a->forward_speed;
+        if (a->set & MM_RUNTIME_SIDE_SPEED) t->side_speed = a->side_speed;
+        if (a->set & MM_RUNTIME_BACKWARD_SPEED) t->backward_speed = a->backward_speed;
+        if (a->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = a->velocity_halflife;
+        if (a->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = a->rotation_halflife;
+    }
+
+    /* the feet by role, whatever the skeleton calls them */
+    const char *left = role_name(db, MM_ROLE_LEFT_FOOT), *right = role_name(db, MM_ROLE_RIGHT_FOOT);
+    if (left) d->left_foot = left;
+    if (right) d->right_foot = right;
+    return MM_OK;
+}
+
+void mm_moves_desc_from_database(mm_moves_desc *d, const mm_database *db)
+{
+    if (!d) return;
+    mm_moves_defaults(d);
+    if (!db) return;
+    const char **names[4] = {&d->left_hand, &d->right_hand, &d->left_foot, &d->right_foot};
+    const mm_role roles[4] = {MM_ROLE_LEFT_HAND, MM_ROLE_RIGHT_HAND, MM_ROLE_LEFT_FOOT, MM_ROLE_RIGHT_FOOT};
+    for (int k = 0; k < 4; ++k) {
+        const char *name = role_name(db, roles[k]);
+        if (name) *names[k] = name;
+    }
+}
