@@ -285,8 +285,6 @@ static void test_robust(void **state)
 
     /* every frame excluded: the character keeps playing what it plays */
     mm_character_desc d = default_desc();
-    d.use_params = true;
-    mm_search_params_defaults(&db, &d.params);
     d.params.required_tags = (uint64_t)1 << 63;
     make_character(&c, &d);
     in.stick[0] = 0;
@@ -427,7 +425,7 @@ static void test_distance_matching_rate(void **state)
         /* what the search picks is not this test's business: without the velocity-change weights
          * the start leads into a loop at 0.7, 0.8 and 1.0 (with them, at 1.0 the start and stop
          * clips' steady walking wins, as it does at 0.9 either way, and no loop plays) */
-        d.velocity_change_ratio = 0.0f;
+        d.velocity_change_ratio = MM_OFF;
         mm_character c;
         make_character(&c, &d);
         mm_input in = stick_input(0.0f, sticks[s]);
@@ -655,7 +653,7 @@ static void test_feet_hold_under_pull(void **state)
 static double landing_speed(float plant_time, float *worst_step, int *landings)
 {
     mm_character_desc d = default_desc();
-    d.plant_time = plant_time;
+    d.plant_time = plant_time > 0.0f ? plant_time : MM_OFF;
     mm_character c;
     make_character(&c, &d);
     mm_input in = stick_input(0.0f, 1.0f);
@@ -978,7 +976,7 @@ static mm_character_desc runtime_desc(const mm_database *data)
 static float stop_time_on(mm_database *data, mm_searcher *data_searcher, float velocity_change_ratio)
 {
     mm_character_desc d = runtime_desc(data);
-    d.velocity_change_ratio = velocity_change_ratio;
+    d.velocity_change_ratio = velocity_change_ratio > 0.0f ? velocity_change_ratio : MM_OFF;
     float sum = 0.0f;
     for (int run = 0; run < 5; ++run) {
         mm_character c;
@@ -1040,8 +1038,7 @@ static void test_run_stop(void **state)
     assert_true(longest > 0.2f); /* the built-in set has run stops */
     mm_character_desc d = runtime_desc(&db);
     mm_trajectory_desc td;
-    mm_trajectory_defaults(&td);
-    if (d.has_trajectory) td = d.trajectory;
+    mm_trajectory_resolve_desc(&d.trajectory, &td);
     float allowed = longest + td.gaits[MM_GAIT_RUN].velocity_halflife + d.search_interval;
     float on = stop_time(d.velocity_change_ratio), off = stop_time(0.0f);
     print_message(

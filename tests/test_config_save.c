@@ -272,13 +272,14 @@ static void test_apply_defaults_bit_identical(void **state)
     char *no_runtime = config_without_runtime(db.config_json);
     desc_from_text(no_runtime, &d);
     cJSON_free(no_runtime);
-    assert_true(d.use_params && d.has_trajectory);
+    mm_character_desc run;
+    mm_character_desc_resolve(&db, &d, &run);
     mm_search_params p;
     mm_character_default_params(&db, &p);
-    assert_memory_equal(&p, &d.params, sizeof p);
+    assert_memory_equal(&p, &run.params, sizeof p);
     mm_trajectory_desc t;
     mm_trajectory_defaults(&t);
-    assert_memory_equal(&t, &d.trajectory, sizeof t);
+    assert_memory_equal(&t, &run.trajectory, sizeof t);
     simulate(&d, b, &tb);
     assert_int_equal(ta, tb);
     assert_memory_equal(a, b, n * sizeof(mm_xform));
@@ -432,7 +433,7 @@ static void test_save_tuning_default_bones(void **state)
     const char *path = out_path("tune_defaults.json");
     write_text(path, "{\"scale\": 1, \"clips\": [{\"file\": \"a.bvh\"}]}\n");
     mm_character_desc d;
-    mm_character_defaults(&d); /* use_params false: the default params */
+    mm_character_defaults(&d); /* params zero: the default params */
     d.transition_halflife = 0.3f;
     mm_error err;
     memset(&err, 0, sizeof err);

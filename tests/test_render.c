@@ -12,6 +12,8 @@
 #include <mm/render.h>
 #include <mm/view.h>
 
+#include "runtime/character/state.h"
+
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -497,9 +499,10 @@ static void test_tuning_steps_select_and_clamp(void **state)
     float w0 = fx.ch.desc.params.body_velocity_weight;
     mm_view_tuning_step(&t, -2);
     assert_float_equal(fx.ch.desc.params.body_velocity_weight, w0 / 1.5625f, 1e-6f * (1.0f + w0));
-    t.desc.params.body_velocity_weight = 0.0f;
+    t.desc.params.body_velocity_weight = MM_OFF; /* 0: zero means default in a desc */
     mm_view_tuning_step(&t, -1);
-    assert_float_equal(fx.ch.desc.params.body_velocity_weight, 0.0f, 0.0f);
+    assert_float_equal(fx.ch.desc.params.body_velocity_weight, MM_OFF, 0.0f);
+    assert_float_equal(fx.ch.state->desc.params.body_velocity_weight, 0.0f, 0.0f); /* as it runs */
     mm_view_tuning_step(&t, 1);
     assert_float_equal(fx.ch.desc.params.body_velocity_weight, 0.1f, 1e-6f);
     /* selection wraps both ways; the last entries are the run gait's */

@@ -80,10 +80,8 @@ static void assert_same_desc(const mm_character_desc *a, const mm_character_desc
     SAME(velocity_change_ratio);
     SAME(velocity_change_speed);
     SAME(method);
-    SAME(use_params);
     assert_same_params(&a->params, &b->params);
     assert_same_trajectory(&a->trajectory, &b->trajectory);
-    SAME(has_trajectory);
     SAME(transition_mode);
     SAME(crossfade_time);
     SAME(no_foot_ik);
@@ -166,7 +164,6 @@ static void test_synth_same_desc(void **state)
     mm_database db;
     assert_int_equal(test_build_synth_database(&db), 0);
     mm_character_desc d = check_same_desc(&db);
-    assert_true(d.use_params && d.has_trajectory);
     assert_true(d.sync_halflife == 0.1f); /* synth.json's runtime object */
     assert_true(d.trajectory.gaits[MM_GAIT_WALK].side_speed == 0.5f);
     assert_true(d.trajectory.gaits[MM_GAIT_RUN].forward_speed == 3.8f);
@@ -355,13 +352,97 @@ static void test_no_settings(void **state)
     assert_memory_equal(&md, &mwant, sizeof md);
 }
 
+/* Zero means default in a character desc, and a database that sets a field to 0 keeps its meaning:
+ * a config's runtime sync_halflife 0 (the root on the simulation every tick), idle_speed 0, a walk
+ * side_speed 0 and a weight 0 reach the character as 0, by the settings section and by the config;
+ * a zeroed desc with one field set runs as the defaults plus that field, bit for bit. */
+static void test_zero_keeps_its_meaning(void **state)
+{
+    (void)state;
+    mm_database db;
+    assert_int_equal(test_build_synth_database(&db), 0);
+    mm_searcher searcher;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, &err), MM_OK);
+    /* the settings section: a copy of the database's with zeros set */
+    mm_database_settings zeros = *db.settings;
+    zeros.set |= MM_RUNTIME_SYNC_HALFLIFE | MM_RUNTIME_IDLE_SPEED;
+    zeros.sync_halflife = zeros.idle_speed = 0.0f;
+    zeros.walk.set |= MM_RUNTIME_SIDE_SPEED;
+    zeros.walk.side_speed = 0.0f;
+    zeros.weight_set |= MM_SETTINGS_BODY_VELOCITY_WEIGHT;
+    zeros.body_velocity_weight = 0.0f;
+    mm_database with = db;
+    with.settings = &zeros;
+    mm_character_desc d;
+    assert_int_equal(mm_character_desc_from_database(&d, &with, &err), MM_OK);
+    /* the config: the same zeros */
+    mm_character_desc e;
+    desc_from_embedded_config(&db, &e);
+    mm_config cfg;
+    mm_config_defaults(&cfg);
+    cfg.runtime.set = MM_RUNTIME_SYNC_HALFLIFE | MM_RUNTIME_IDLE_SPEED;
+    cfg.runtime.walk.set = MM_RUNTIME_SIDE_SPEED;
+    mm_character_desc_apply_config(&e, &db, &cfg); /* sync_halflife, idle_speed, side_speed 0 */
+    e.params.body_velocity_weight = MM_OFF;
+    const mm_character_desc *descs[2] = {&d, &e};
+    for (int k = 0; k < 2; ++k) {
+        mm_character c;
+        assert_int_equal(mm_character_init(&c, &db, &searcher, descs[k], &err), MM_OK);
+        assert_true(c.desc.sync_halflife < 0.0f && c.state->desc.sync_halflife == 0.0f);
+        assert_true(c.state->desc.idle_speed == 0.0f);
+        assert_true(c.trajectory->desc.gaits[MM_GAIT_WALK].side_speed == 0.0f);
+        assert_true(c.state->desc.params.body_velocity_weight == 0.0f);
+        /* and it does what 0 says: the root on the simulation every tick */
+        mm_input in;
+        memset(&in, 0, sizeof in);
+        in.stick[1] = 1.0f;
+        for (int t = 0; t < 90; ++t) {
+            mm_character_update(&c, &in, 1.0f / 60.0f);
+            float dx = c.root.translation.x - c.trajectory->position.x,
+                  dz = c.root.translation.z - c.trajectory->position.z;
+            assert_true(dx * dx + dz * dz < 1e-10f);
+        }
+        mm_character_free(&c);
+    }
+    /* a zeroed desc with one field set: the defaults plus that field */
+    mm_character_desc zero, full;
+    memset(&zero, 0, sizeof zero);
+    zero.transition_halflife = 0.35f;
+    mm_character_defaults(&full);
+    full.transition_halflife = 0.35f;
+    mm_character a, b;
+    assert_int_equal(mm_character_init(&a, &db, &searcher, &zero, &err), MM_OK);
+    assert_int_equal(mm_character_init(&b, &db, &searcher, &full, &err), MM_OK);
+    assert_memory_equal(&a.desc, &b.desc, sizeof a.desc);
+    assert_true(a.state->desc.transition_halflife == 0.35f && a.state->desc.search_interval == 0.1f);
+    mm_input_script script;
+    assert_int_equal(mm_input_script_random(&script, 7, NULL), MM_OK);
+    for (int t = 0; t < 600; ++t) {
+        mm_input in;
+        mm_input_script_sample(&script, (float)t / 60.0f, &in);
+        mm_character_update(&a, &in, 1.0f / 60.0f);
+        mm_character_update(&b, &in, 1.0f / 60.0f);
+    }
+    assert_memory_equal(a.global, b.global, sizeof(mm_xform) * (size_t)db.joint_count);
+    /* resolving a resolved desc changes nothing */
+    mm_character_desc again;
+    mm_character_desc_resolve(&db, &a.desc, &again);
+    assert_memory_equal(&again, &a.desc, sizeof again);
+    mm_input_script_free(&script);
+    mm_character_free(&a);
+    mm_character_free(&b);
+    mm_searcher_free(&searcher);
+    mm_database_free(&db);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_synth_same_desc),
-        cmocka_unit_test(test_lafan1_same_desc),
-        cmocka_unit_test(test_roles_any_naming),
-        cmocka_unit_test(test_no_settings),
+        cmocka_unit_test(test_synth_same_desc),        cmocka_unit_test(test_lafan1_same_desc),
+        cmocka_unit_test(test_roles_any_naming),       cmocka_unit_test(test_no_settings),
+        cmocka_unit_test(test_zero_keeps_its_meaning),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

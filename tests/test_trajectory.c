@@ -140,8 +140,20 @@ static void test_bad_input(void **state)
     d.gaits[MM_GAIT_RUN].forward_speed = NAN;
     assert_int_equal(mm_trajectory_init(&t, &d, NULL), MM_ERR_OUT_OF_RANGE);
     mm_trajectory_defaults(&d);
-    d.history_rate = 0;
+    d.history_rate = MM_OFF; /* 0 samples per second */
     assert_int_equal(mm_trajectory_init(&t, &d, NULL), MM_ERR_OUT_OF_RANGE);
+    /* zero means default: a zeroed desc with one field set is the defaults plus that field, and
+     * MM_OFF makes a field 0 */
+    mm_trajectory_desc zero, want;
+    memset(&zero, 0, sizeof zero);
+    zero.gaits[MM_GAIT_WALK].side_speed = MM_OFF;
+    zero.gait_halflife = 0.5f;
+    assert_int_equal(mm_trajectory_init(&t, &zero, NULL), MM_OK);
+    mm_trajectory_defaults(&want);
+    want.gaits[MM_GAIT_WALK].side_speed = 0.0f;
+    want.gait_halflife = 0.5f;
+    assert_memory_equal(&t.desc, &want, sizeof want);
+    mm_trajectory_free(&t);
 }
 
 int main(void)

@@ -189,7 +189,7 @@ int mm_cmd_simulate(int argc, char **argv)
     if (distance_matching >= 0) desc.distance_matching = distance_matching != 0;
     if (warping >= 0) desc.warping = warping != 0;
     if (transition >= 0) desc.transition_mode = (mm_transition_mode)transition;
-    if (crossfade_time >= 0) desc.crossfade_time = (float)crossfade_time;
+    if (crossfade_time >= 0) desc.crossfade_time = crossfade_time > 0 ? (float)crossfade_time : MM_OFF;
     if (mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK ||
         mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK) {
         mm_input_script_free(&script);

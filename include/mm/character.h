@@ -43,7 +43,8 @@
  * The tick runs in stages (src/runtime/character/, one module each): input -> trajectory,
  * playback, search, transition, root motion, warping, feet, pose.
  *
- * Functions: mm_character_defaults mm_character_default_params mm_character_desc_from_database
+ * Functions: mm_character_defaults mm_character_default_params mm_character_desc_resolve
+ *            mm_character_desc_from_database
  *            mm_character_init mm_character_free mm_character_update mm_character_tune
  *            mm_character_play_move mm_character_move_playing mm_character_shift_root
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
@@ -73,44 +74,79 @@ typedef enum mm_transition_mode {
                                       a winner the mixer cancels is dropped (cancelled_transitions) */
 } mm_transition_mode;
 
+/* Defaults of mm_character_desc, listed once. Zero means default: a field left 0 takes the value
+ * here, so a zero-initialized desc with one field set is the defaults plus that field. Where 0 is
+ * a value of its own (a half-life of 0: at once; a clamp of 0; a switch off), set MM_OFF (any
+ * negative value): the field is then 0. Integer fields likewise (any negative: 0). */
+#define MM_CHARACTER_SEARCH_INTERVAL       0.1f  /* s */
+#define MM_CHARACTER_TURN_THRESHOLD        0.5f  /* rad */
+#define MM_CHARACTER_TRANSITION_HALFLIFE   0.2f  /* s */
+#define MM_CHARACTER_CROSSFADE_TIME        0.2f  /* s */
+#define MM_CHARACTER_IDLE_SPEED            0.15f /* m/s */
+#define MM_CHARACTER_IDLE_HYSTERESIS       0.1f  /* m/s */
+#define MM_CHARACTER_IDLE_ROOT_SPEED       1.0f  /* m/s */
+#define MM_CHARACTER_SYNC_HALFLIFE         0.3f  /* s */
+#define MM_CHARACTER_SYNC_MAX_DISTANCE     0.3f  /* m */
+#define MM_CHARACTER_SYNC_MAX_ANGLE        0.6f  /* rad */
+#define MM_CHARACTER_ANGLE_THRESHOLD       0.35f /* rad */
+#define MM_CHARACTER_ANGLE_REVISE_SPEED    0.0f  /* rad/s: off */
+#define MM_CHARACTER_SKIP_FRAMES           3
+#define MM_CHARACTER_VELOCITY_CHANGE_RATIO 0.9f
+#define MM_CHARACTER_VELOCITY_CHANGE_SPEED 2.0f   /* m/s */
+#define MM_CHARACTER_PLANT_TIME            0.033f /* s */
+#define MM_CHARACTER_UNLOCK_RADIUS         0.4f   /* m */
+#define MM_CHARACTER_FOOT_HALFLIFE         0.1f   /* s */
+#define MM_CHARACTER_MAX_HIP_DROP          0.1f   /* m */
+#define MM_CHARACTER_RATE_MIN              0.75f
+#define MM_CHARACTER_RATE_MAX              1.25f
+#define MM_CHARACTER_STRIDE_MIN            0.8f
+#define MM_CHARACTER_STRIDE_MAX            1.2f
+#define MM_CHARACTER_ORIENTATION_SPEED     10.0f   /* 1/s */
+#define MM_CHARACTER_ORIENTATION_MAX       1.5708f /* rad: 90 degrees */
+#define MM_CHARACTER_NEXT_POSE_FAVOUR      0.6f
+#define MM_CHARACTER_END_MARGIN            0.25f /* s */
+
 typedef struct mm_character_desc {
-    float search_interval;       /* s between searches; 0.1 */
-    float turn_threshold;        /* rad: a desired-direction change that searches at once; 0.5 */
-    float transition_halflife;   /* s: inertialization decay; 0.2 */
+    float search_interval;       /* s between searches (MM_OFF: every tick) */
+    float turn_threshold;        /* rad: a desired-direction change that searches at once */
+    float transition_halflife;   /* s: inertialization decay (MM_OFF: none, the jump shows) */
     float idle_speed;            /* m/s: desired speed under which idle is asked for, once the
-                                    simulated speed is under idle_speed + idle_hysteresis too; 0.15 */
-    float idle_hysteresis;       /* m/s: leave idle above idle_speed + this; 0.1 */
+                                    simulated speed is under idle_speed + idle_hysteresis too
+                                    (MM_OFF: never) */
+    float idle_hysteresis;       /* m/s: leave idle above idle_speed + this */
     float idle_root_speed;       /* m/s: idle is not asked for while the root motion played is
-                                    this fast or faster, unless the simulation has stopped; 1.0
-                                    (0: off) */
-    float sync_halflife;         /* s: the root is pulled toward the simulation; 0.3 */
-    float sync_max_distance;     /* m: clamp of the root's distance to the simulation; 0.3 */
-    float sync_max_angle;        /* rad: clamp of the root's facing to the simulation's; 0.6 */
+                                    this fast or faster, unless the simulation has stopped (MM_OFF:
+                                    no such wait) */
+    float sync_halflife;         /* s: the root is pulled toward the simulation (MM_OFF: put on it
+                                    every tick) */
+    float sync_max_distance;     /* m: clamp of the root's distance to the simulation */
+    float sync_max_angle;        /* rad: clamp of the root's facing to the simulation's */
     float angle_threshold;       /* rad: at full speed, a facing error below this is corrected
-                                    (the seed's AngleThreshold); 0.35 */
-    float angle_revise_speed;    /* rad/s: how fast (the seed's AngleReviseSpeed); 0: off */
+                                    (the seed's AngleThreshold) */
+    float angle_revise_speed;    /* rad/s: how fast (the seed's AngleReviseSpeed); default off */
     int skip_frames;             /* the winner is "where playback goes anyway" within this many
-                                    frames ahead in the same clip; 3 */
+                                    frames ahead in the same clip */
     float velocity_change_ratio; /* the search's pose_trajectory_ratio while the simulated velocity
                                     must change (a stop, a turn, a start: |desired - current|): it
                                     moves from params' toward this in proportion to the change,
                                     fully at velocity_change_speed, so that the trajectory outweighs
                                     the pose and stops and turns can win over carrying on (under
                                     0.5 m/s it comes in with the simulated speed: a start is the
-                                    pose's to choose); 0.9 (0 or at most params' ratio: off) */
-    float velocity_change_speed; /* m/s; 2.0 */
-    mm_search_method method;     /* MM_SEARCH_FAST */
-    bool use_params;             /* use params below instead of mm_search_params_defaults with
-                                    next_pose_favour 0.6 and the frames tagged "DoNotUse",
-                                    "Jump", "VaultLow", "VaultHigh", "Climb" or "Drop" (moves
-                                    the locomotion search must not pick) and the last
-                                    0.25 s of one-shot clips excluded */
+                                    pose's to choose); MM_OFF (or at most params' ratio): off */
+    float velocity_change_speed; /* m/s */
+    mm_search_method method;     /* MM_SEARCH_FAST (0) */
+    /* The search's parameters, field by field: a zero field takes mm_character_default_params'
+     * (the database's weights, next_pose_favour MM_CHARACTER_NEXT_POSE_FAVOUR, the frames tagged
+     * "DoNotUse", "Jump", "VaultLow", "VaultHigh", "Climb" or "Drop" (moves the locomotion search
+     * must not pick) and the last MM_CHARACTER_END_MARGIN s of one-shot clips excluded); MM_OFF
+     * makes a weight, pose_trajectory_ratio or end_margin 0; excluded_tags add to the defaults'.
+     * current_frame and type are the character's own. */
     mm_search_params params;
-    mm_trajectory_desc trajectory; /* zeroed: mm_trajectory_defaults */
-    bool has_trajectory;
+    /* The simulation (mm/trajectory.h): zero fields take mm_trajectory_defaults'. */
+    mm_trajectory_desc trajectory;
     /* Transitions (docs/transitions.md): inertialization (transition_halflife) or seed 000's
-     * crossfade mixer, whose transitions take crossfade_time (s; 0.2) */
-    mm_transition_mode transition_mode; /* MM_TRANSITION_INERTIALIZE */
+     * crossfade mixer, whose transitions take crossfade_time (s) */
+    mm_transition_mode transition_mode; /* MM_TRANSITION_INERTIALIZE (0) */
     float crossfade_time;
     /* Foot locking and two-bone IK, on the contact labels of the frame playing: while the heel
      * label is on, the ankle is held where it was planted; while only the toe label is on, the
@@ -119,54 +155,60 @@ typedef struct mm_character_desc {
      * animation pulls more than unlock_radius away is planted again where the foot is (it creeps
      * after the animation); released, the difference fades with foot_halflife. The hips come
      * down (at most max_hip_drop) where the legs cannot reach their targets. The legs reach them
-     * by two-bone IK (hip, knee, ankle), the knee bending in its animated plane, the foot keeping
-     * its animated orientation (turned by the foot's turn). */
+     * by the leg IK (mm/leg_ik.h), the knee bending about its hinge, the foot keeping its animated
+     * orientation (turned by the foot's turn). */
     bool no_foot_ik;                    /* turn foot locking and IK off */
     float plant_time;                   /* s: over this time before a free foot's contact label
                                            turns on in the clip playing, its step on the ground
                                            plane shrinks linearly to nothing, and on the tick the
                                            label turns on it is planted where it was: it lands at
                                            rest, not at the speed a transition's offsets or the
-                                           root's pull gave it; 0.033 (0: off) */
-    float unlock_radius;                /* m; 0.4 */
-    float foot_halflife;                /* s; 0.1 */
+                                           root's pull gave it (MM_OFF: off) */
+    float unlock_radius;                /* m */
+    float foot_halflife;                /* s */
     float max_hip_drop;                 /* m: how far the hips may be lowered so that the legs
-                                           reach their targets; 0.1 (0: never) */
+                                           reach their targets (MM_OFF: never) */
     const char *left_foot, *right_foot; /* ankle joints (the knee and hip are their parents);
-                                           "LeftFoot", "RightFoot" */
+                                           NULL: "LeftFoot", "RightFoot" */
     /* Distance matching and stride warping (mm/distance_matching.h, mm/warp.h, docs/distance.md
      * "In the controller"), on the database's distance curves. Off: the clock drives playback at
      * rate 1, as before. Frames tagged "NoDistanceMatching" always play at rate 1, unwarped. */
     bool distance_matching;       /* one-shot clips advance by the distance the simulated root travelled;
                                      stops and pivots match to the predicted stop or pivot point; loops
-                                     play at desired speed / clip speed; false */
+                                     play at desired speed / clip speed; default off */
     bool warping;                 /* stride warping: the legs stretched along the movement by the speed
-                                     the clamped play rate leaves over; false */
-    float rate_min, rate_max;     /* play-rate clamp; 0.75, 1.25 ((0, 0): no clamp) */
-    float stride_min, stride_max; /* stride-scale clamp; 0.8, 1.2 ((0, 0): no clamp) */
+                                     the clamped play rate leaves over; default off */
+    float rate_min, rate_max;     /* play-rate clamp (both MM_OFF: no clamp) */
+    float stride_min, stride_max; /* stride-scale clamp (both MM_OFF: no clamp) */
     /* orientation warping, with warping on: while strafing on a forward or backward locomotion
      * clip, the legs turn toward the movement and the spine turns back (docs/distance.md) */
     float orientation_speed; /* 1/s: how fast the angle follows (a critically damped spring of
-                                half-life ln 2 / speed); 10 (0: at once) */
-    float orientation_max;   /* rad: the largest correction; MM_WARP_ORIENTATION_MAX_DEFAULT (90 deg) */
+                                half-life ln 2 / speed; MM_OFF: at once) */
+    float orientation_max;   /* rad: the largest correction */
     double (*clock)(void);   /* optional: seconds, to time searches (c->last_search_us) */
     const mm_allocator *allocator;
 } mm_character_desc;
 
+/* Every field of d at its default (the values above, written out). */
 void mm_character_defaults(mm_character_desc *d);
 
-/* The search parameters mm_character_init uses when desc->use_params is false. */
+/* The desc a character runs with, written out: every zero field at its default (params over
+ * mm_character_default_params(db), trajectory over mm_trajectory_defaults), every MM_OFF kept;
+ * resolving it again changes nothing. db may be NULL (params are then left as they are). out may
+ * be in. mm_character.desc is this of the desc given to mm_character_init. */
+void mm_character_desc_resolve(const mm_database *db, const mm_character_desc *in, mm_character_desc *out);
+
+/* The search parameters a desc's zero params resolve to (see mm_character_desc.params). */
 void mm_character_default_params(const mm_database *db, mm_search_params *p);
 
 /* The character settings a database was tuned with, from its settings section (no JSON, no
  * allocation): mm_character_defaults; then d->params = mm_character_default_params and
- * d->trajectory = mm_trajectory_defaults (use_params and has_trajectory true); then the stored
- * feature weights and every runtime field the settings set; and d->left_foot / d->right_foot the
- * names of the joints of the left and right foot roles where the database has them (they point
- * into db: they live as long as it does). The same desc, field for field, as
- * mm_character_desc_apply_config (mm/config.h) with the config the database was built from. A
- * database without settings (db->settings NULL: not loaded nor built) gives the defaults.
- * MM_ERR_INVALID_ARGUMENT without d or db. */
+ * d->trajectory = mm_trajectory_defaults; then the stored feature weights and every runtime field
+ * the settings set (a value of 0 as MM_OFF, so that it keeps its meaning); and d->left_foot / d->right_foot
+ * the names of the joints of the left and right foot roles where the database has them (they point into db:
+ * they live as long as it does). The same desc, field for field, as mm_character_desc_apply_config
+ * (mm/config.h) with the config the database was built from. A database without settings (db->settings NULL:
+ * not loaded nor built) gives the defaults. MM_ERR_INVALID_ARGUMENT without d or db. */
 mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err);
 
 /* How the clip time advanced this tick (mm_character.playback). */
@@ -186,7 +228,8 @@ typedef struct mm_character_state mm_character_state;
 typedef struct mm_character {
     const mm_database *db;
     const mm_searcher *searcher;
-    mm_character_desc desc;          /* as given to mm_character_init, defaults filled in */
+    mm_character_desc desc;          /* as given to mm_character_init or mm_character_tune, written
+                                        out (mm_character_desc_resolve) */
     const mm_trajectory *trajectory; /* the simulated character (mm/trajectory.h) */
 
     /* the output pose: local rotations and positions ([joint_count]; joint 0 is the root, in the
@@ -253,7 +296,7 @@ bool mm_character_move_playing(const mm_character *c);
 
 /* Changes the tuning live, from the next update: d's search parameters and method, timing,
  * idle, sync, angle and foot fields, distance matching and warping switches and clamps, clock,
- * and (when d->has_trajectory) the simulation's gait parameters. What init laid out stays (the
+ * and the simulation's gait parameters (zero fields: the defaults, as at init). What init laid out stays (the
  * feet's joints, the transition mode, the allocator). NULL is ignored. */
 void mm_character_tune(mm_character *c, const mm_character_desc *d);
 

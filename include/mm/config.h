@@ -164,15 +164,12 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err);
 /* Index of a tag name, or -1. */
 int mm_config_tag_index(const mm_config *c, const char *name);
 
-/* Makes d's search parameters and trajectory explicit and applies cfg's tuning: when
- * d->use_params is false, d->params becomes mm_character_default_params (and use_params true);
- * when d->has_trajectory is false, d->trajectory becomes mm_trajectory_defaults (and
- * has_trajectory true). Then cfg's feature weights (features.bones[].position_weight /
+/* Applies cfg's tuning to d: cfg's feature weights (features.bones[].position_weight /
  * velocity_weight matched by bone name, body_velocity_weight, position_multiplier,
  * angle_multiplier; only for the feature groups db has) and every field set in cfg->runtime are
- * written into d. With the config db was built from, and no runtime fields set, the character
- * behaves exactly as with d unchanged. cfg may be NULL (only the first step). For tools that
- * apply a config file at run time (mm view --config); a game reads the same tuning from the
+ * written into d (a 0 as MM_OFF, where zero means default in d). With the config db was built from, and no
+ * runtime fields set, the character behaves exactly as with d unchanged. cfg may be NULL (nothing changes).
+ * For tools that apply a config file at run time (mm view --config); a game reads the same tuning from the
  * database with mm_character_desc_from_database (mm/character.h), which gives the same desc. */
 void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg);
 

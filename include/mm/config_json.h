@@ -64,10 +64,10 @@ void mm_config_free_sources(const mm_config *cfg, mm_clip *clips);
  * config, and written atomically (a temporary file and a rename: a failure leaves the file as it
  * was). Errors name the file (err->file) and the field or clip. */
 
-/* Writes d's tuning: the `runtime` object with every field (d's search parameters, or
- * mm_character_default_params when d->use_params is false; d's search_interval,
- * transition_halflife and idle_speed; the walk, run and crouch gaits of d->trajectory, or of
- * mm_trajectory_defaults when d->has_trajectory is false), and the feature weights under
+/* Writes d's tuning, as the character runs with it (mm_character_desc_resolve: zero fields at
+ * their defaults, MM_OFF as 0): the `runtime` object with every field (d's search parameters;
+ * d's search_interval, transition_halflife and idle_speed; the walk, run and crouch gaits of
+ * d->trajectory), and the feature weights under
  * `features`: features.bones[].position_weight / velocity_weight from d's
  * joint_position_weights / joint_velocity_weights, matched by bone name in db's matched-bone
  * order, and body_velocity_weight, position_multiplier, angle_multiplier, each only where db has

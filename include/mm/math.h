@@ -36,6 +36,9 @@ extern "C" {
 
 #define MM_PI         3.14159265358979323846
 #define MM_DEG_TO_RAD (MM_PI / 180.0)
+/* In a desc where zero means default: the field is 0 (at once, none, off), not its default. Any
+ * negative value means the same. */
+#define MM_OFF        (-1.0f)
 #define MM_RAD_TO_DEG (180.0 / MM_PI)
 
 typedef struct mm_vec3 {

@@ -60,8 +60,8 @@ extern "C" {
 #define MM_SEARCH_MAX_THREADS 16
 
 typedef enum mm_search_method {
-    MM_SEARCH_BRUTE = 0,
-    MM_SEARCH_FAST = 1,
+    MM_SEARCH_FAST = 0, /* the default: zero in a desc */
+    MM_SEARCH_BRUTE = 1,
     MM_SEARCH_FACING = 2
 } mm_search_method;
 

@@ -19,8 +19,8 @@
  *
  * Units: metres, seconds, radians; Y up; facing is a rotation about +Y (identity faces +Z).
  *
- * Functions: mm_trajectory_defaults mm_trajectory_init mm_trajectory_free mm_trajectory_reset
- *            mm_trajectory_teleport mm_trajectory_update mm_trajectory_sample mm_trajectory_desired
+ * Functions: mm_trajectory_resolve_desc mm_trajectory_defaults mm_trajectory_init mm_trajectory_free
+ * mm_trajectory_reset mm_trajectory_teleport mm_trajectory_update mm_trajectory_sample mm_trajectory_desired
  */
 #ifndef MM_TRAJECTORY_H
 #define MM_TRAJECTORY_H
@@ -42,17 +42,25 @@ typedef struct mm_gait_params {
     float rotation_halflife; /* s: how quickly the facing follows (the seed's angular speed) */
 } mm_gait_params;
 
+/* Zero means default in every field of mm_trajectory_desc (and of its gaits): a zero-initialized
+ * desc with one field set is the defaults plus that field; MM_OFF (any negative value) makes a
+ * field 0 (a speed of 0, a half-life of 0: at once, no recorded past). Defaults: walk 1.5 / 1.1 /
+ * 1.0 m/s (forward / side / backward) with half-lives 0.25 s (velocity) and 0.2 s (facing); run
+ * 4.0 / 2.6 / 2.2 m/s, 0.3 s and 0.25 s; crouch 0.9 / 0.7 / 0.6 m/s, 0.25 s and 0.2 s; jump as
+ * run; gait_halflife 0.2 s, history_seconds 10 s, history_rate 60 per second. */
 typedef struct mm_trajectory_desc {
-    mm_gait_params gaits[MM_GAIT_COUNT]; /* per gait; see mm_trajectory_defaults */
-    float gait_halflife;                 /* s: gait style weights follow the input's gait; 0.2 */
-    float history_seconds;               /* s: the recorded past; 10 */
-    float history_rate;                  /* samples per second of the past; 60 */
+    mm_gait_params gaits[MM_GAIT_COUNT]; /* per gait */
+    float gait_halflife;                 /* s: gait style weights follow the input's gait */
+    float history_seconds;               /* s: the recorded past */
+    float history_rate;                  /* samples per second of the past */
     const mm_allocator *allocator;
 } mm_trajectory_desc;
 
-/* Defaults: walk 1.5 / 1.1 / 1.0 m/s with half-lives 0.25 s (velocity) and 0.2 s (facing); run
- * 4.0 / 2.6 / 2.2 m/s, 0.3 s and 0.25 s; crouch 0.9 / 0.7 / 0.6 m/s; jump as run. */
+/* Every field of d at its default (written out). */
 void mm_trajectory_defaults(mm_trajectory_desc *d);
+/* in with its zero fields at their defaults and its negative ones at 0 (what mm_trajectory_init
+ * runs with); out may be in. */
+void mm_trajectory_resolve_desc(const mm_trajectory_desc *in, mm_trajectory_desc *out);
 
 typedef struct mm_trajectory {
     mm_vec3 position, velocity, acceleration; /* on the ground (y = 0) */

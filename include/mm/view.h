@@ -91,8 +91,8 @@ void mm_view_input(const mm_view_keys *k, float camera_yaw, mm_input *out);
 
 /* Live tuning: a list of the character's cost weights (mm_search_params), favours, search and
  * transition timing, and trajectory parameters per gait, one of them selected, changed in steps on
- * a copy of the character's desc (desc, with the trajectory's gait parameters and has_trajectory
- * set) that each step hands to the character (mm_character_tune). */
+ * a copy of the character's desc (written out: mm_character_desc_resolve) that each step hands to
+ * the character (mm_character_tune). */
 #define MM_VIEW_TUNING_MAX 48
 
 typedef struct mm_view_tuning_entry {

@@ -300,16 +300,30 @@ mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, 
     if (!config_path || !db || !d)
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
                             "a config path, database and desc are needed");
-    mm_search_params params;
-    if (d->use_params)
-        params = d->params;
-    else
-        mm_character_default_params(db, &params);
+    /* the values the character runs with: zero fields at their defaults, MM_OFF as 0 */
+    mm_character_desc run;
+    mm_character_desc_resolve(db, d, &run);
+    d = &run;
+    mm_search_params params = run.params;
     mm_trajectory_desc traj;
-    if (d->has_trajectory)
-        traj = d->trajectory;
-    else
-        mm_trajectory_defaults(&traj);
+    mm_trajectory_resolve_desc(&run.trajectory, &traj);
+    float *zeroed[] = {&params.pose_trajectory_ratio,
+                       &params.body_velocity_weight,
+                       &params.position_multiplier,
+                       &params.angle_multiplier,
+                       &params.next_pose_favour,
+                       &params.loop_anim_favour,
+                       &params.continuing_bias,
+                       &run.search_interval,
+                       &run.transition_halflife,
+                       &run.idle_speed,
+                       &run.sync_halflife};
+    for (size_t k = 0; k < sizeof zeroed / sizeof zeroed[0]; ++k)
+        if (*zeroed[k] < 0.0f) *zeroed[k] = 0.0f;
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
+        if (params.joint_position_weights[b] < 0.0f) params.joint_position_weights[b] = 0.0f;
+        if (params.joint_velocity_weights[b] < 0.0f) params.joint_velocity_weights[b] = 0.0f;
+    }
 
     mm_config cfg;
     cJSON *root = NULL;

@@ -22,9 +22,7 @@ void mm_view_tuning_init(mm_view_tuning *t, mm_character *c)
 {
     memset(t, 0, sizeof *t);
     t->character = c;
-    t->desc = c->desc;
-    t->desc.trajectory = c->trajectory->desc;
-    t->desc.has_trajectory = true;
+    t->desc = c->desc; /* written out: every value shown is the one in use */
     mm_search_params *p = &t->desc.params;
     const mm_database *db = c->db;
     add(t, "pose_trajectory_ratio", &p->pose_trajectory_ratio, 0.05f, false, 0.0f, 1.0f);
@@ -73,7 +71,8 @@ void mm_view_tuning_step(mm_view_tuning *t, int direction)
 {
     if (t->count <= 0 || direction == 0) return;
     mm_view_tuning_entry *e = &t->entries[t->selected];
-    float v = isfinite(*e->value) ? *e->value : e->min;
+    /* a value of 0 is kept as MM_OFF in the desc, where zero means default */
+    float v = isfinite(*e->value) ? fmaxf(*e->value, 0.0f) : e->min;
     if (e->multiply) {
         /* a zero weight cannot grow by a factor: it starts again from a tenth */
         if (v <= 0.0f && direction > 0) v = 0.1f / e->step;
@@ -81,7 +80,8 @@ void mm_view_tuning_step(mm_view_tuning *t, int direction)
     } else {
         v += e->step * (float)direction;
     }
-    *e->value = fminf(fmaxf(v, e->min), e->max);
+    v = fminf(fmaxf(v, e->min), e->max);
+    *e->value = v == 0.0f ? MM_OFF : v;
     mm_character_tune(t->character, &t->desc);
 }
 
@@ -93,8 +93,9 @@ size_t mm_view_tuning_text(const mm_view_tuning *t, char *out, size_t n)
     int lines = t->count < 5 ? t->count : 5;
     for (int k = 0; k < lines; ++k) {
         int i = ((t->selected - lines / 2 + k) % t->count + t->count) % t->count;
-        int w = snprintf(out + at, n - at, "%s%c %-28s %.4g", k == 0 ? "" : "\n",
-                         i == t->selected ? '>' : ' ', t->entries[i].name, (double)*t->entries[i].value);
+        int w =
+            snprintf(out + at, n - at, "%s%c %-28s %.4g", k == 0 ? "" : "\n", i == t->selected ? '>' : ' ',
+                     t->entries[i].name, (double)fmaxf(*t->entries[i].value, 0.0f));
         if (w < 0) break;
         at = (size_t)w >= n - at ? n - 1 : at + (size_t)w;
     }

@@ -7,6 +7,9 @@
 
 #include <string.h>
 
+/* A stored value for a desc field where zero means default: 0 stays 0 (MM_OFF). */
+static float kept(float v) { return v == 0.0f ? MM_OFF : v; }
+
 /* The name of the joint of role k, or NULL when the database has none. */
 static const char *role_name(const mm_database *db, mm_role k)
 {
@@ -21,30 +24,28 @@ mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_databas
     if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
     const mm_database_settings *s = db->settings;
     if (!s) return MM_OK;
-    mm_character_default_params(db, &d->params);
-    d->use_params = true;
-    mm_trajectory_defaults(&d->trajectory);
-    d->has_trajectory = true;
 
     /* the feature weights the config gave the database's groups */
     mm_search_params *p = &d->params;
     for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
-        if ((s->position_set >> b) & 1u) p->joint_position_weights[b] = s->joint_position_weights[b];
-        if ((s->velocity_set >> b) & 1u) p->joint_velocity_weights[b] = s->joint_velocity_weights[b];
+        if ((s->position_set >> b) & 1u) p->joint_position_weights[b] = kept(s->joint_position_weights[b]);
+        if ((s->velocity_set >> b) & 1u) p->joint_velocity_weights[b] = kept(s->joint_velocity_weights[b]);
     }
-    if (s->weight_set & MM_SETTINGS_BODY_VELOCITY_WEIGHT) p->body_velocity_weight = s->body_velocity_weight;
-    if (s->weight_set & MM_SETTINGS_POSITION_MULTIPLIER) p->position_multiplier = s->position_multiplier;
-    if (s->weight_set & MM_SETTINGS_ANGLE_MULTIPLIER) p->angle_multiplier = s->angle_multiplier;
+    if (s->weight_set & MM_SETTINGS_BODY_VELOCITY_WEIGHT)
+        p->body_velocity_weight = kept(s->body_velocity_weight);
+    if (s->weight_set & MM_SETTINGS_POSITION_MULTIPLIER)
+        p->position_multiplier = kept(s->position_multiplier);
+    if (s->weight_set & MM_SETTINGS_ANGLE_MULTIPLIER) p->angle_multiplier = kept(s->angle_multiplier);
 
     /* the runtime fields set */
-    if (s->set & MM_RUNTIME_POSE_TRAJECTORY_RATIO) p->pose_trajectory_ratio = s->pose_trajectory_ratio;
-    if (s->set & MM_RUNTIME_NEXT_POSE_FAVOUR) p->next_pose_favour = s->next_pose_favour;
-    if (s->set & MM_RUNTIME_LOOP_ANIM_FAVOUR) p->loop_anim_favour = s->loop_anim_favour;
-    if (s->set & MM_RUNTIME_CONTINUING_BIAS) p->continuing_bias = s->continuing_bias;
-    if (s->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = s->search_interval;
-    if (s->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = s->transition_halflife;
-    if (s->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = s->idle_speed;
-    if (s->set & MM_RUNTIME_SYNC_HALFLIFE) d->sync_halflife = s->sync_halflife;
+    if (s->set & MM_RUNTIME_POSE_TRAJECTORY_RATIO) p->pose_trajectory_ratio = kept(s->pose_trajectory_ratio);
+    if (s->set & MM_RUNTIME_NEXT_POSE_FAVOUR) p->next_pose_favour = kept(s->next_pose_favour);
+    if (s->set & MM_RUNTIME_LOOP_ANIM_FAVOUR) p->loop_anim_favour = kept(s->loop_anim_favour);
+    if (s->set & MM_RUNTIME_CONTINUING_BIAS) p->continuing_bias = kept(s->continuing_bias);
+    if (s->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = kept(s->search_interval);
+    if (s->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = kept(s->transition_halflife);
+    if (s->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = kept(s->idle_speed);
+    if (s->set & MM_RUNTIME_SYNC_HALFLIFE) d->sync_halflife = kept(s->sync_halflife);
     if (s->set & MM_RUNTIME_DISTANCE_MATCHING) d->distance_matching = s->distance_matching != 0;
     if (s->set & MM_RUNTIME_WARPING) d->warping = s->warping != 0;
     const mm_runtime_gait *from[3] = {&s->walk, &s->run, &s->crouch};
@@ -52,11 +53,11 @@ mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_databas
     for (int g = 0; g < 3; ++g) {
         const mm_runtime_gait *a = from[g];
         mm_gait_params *t = &d->trajectory.gaits[to[g]];
-        if (a->set & MM_RUNTIME_FORWARD_SPEED) t->forward_speed = a->forward_speed;
-        if (a->set & MM_RUNTIME_SIDE_SPEED) t->side_speed = a->side_speed;
-        if (a->set & MM_RUNTIME_BACKWARD_SPEED) t->backward_speed = a->backward_speed;
-        if (a->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = a->velocity_halflife;
-        if (a->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = a->rotation_halflife;
+        if (a->set & MM_RUNTIME_FORWARD_SPEED) t->forward_speed = kept(a->forward_speed);
+        if (a->set & MM_RUNTIME_SIDE_SPEED) t->side_speed = kept(a->side_speed);
+        if (a->set & MM_RUNTIME_BACKWARD_SPEED) t->backward_speed = kept(a->backward_speed);
+        if (a->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = kept(a->velocity_halflife);
+        if (a->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = kept(a->rotation_halflife);
     }
 
     /* the feet by role, whatever the skeleton calls them */

@@ -39,6 +39,30 @@ void mm_trajectory_defaults(mm_trajectory_desc *d)
     d->history_rate = 60.0f;
 }
 
+static float resolved(float given, float fallback)
+{
+    return given == 0.0f ? fallback : given < 0.0f ? 0.0f : given;
+}
+
+void mm_trajectory_resolve_desc(const mm_trajectory_desc *in, mm_trajectory_desc *out)
+{
+    mm_trajectory_desc def, r = *in;
+    mm_trajectory_defaults(&def);
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        const mm_gait_params *a = &in->gaits[g], *b = &def.gaits[g];
+        mm_gait_params *o = &r.gaits[g];
+        o->forward_speed = resolved(a->forward_speed, b->forward_speed);
+        o->side_speed = resolved(a->side_speed, b->side_speed);
+        o->backward_speed = resolved(a->backward_speed, b->backward_speed);
+        o->velocity_halflife = resolved(a->velocity_halflife, b->velocity_halflife);
+        o->rotation_halflife = resolved(a->rotation_halflife, b->rotation_halflife);
+    }
+    r.gait_halflife = resolved(in->gait_halflife, def.gait_halflife);
+    r.history_seconds = resolved(in->history_seconds, def.history_seconds);
+    r.history_rate = resolved(in->history_rate, def.history_rate);
+    *out = r;
+}
+
 static int sane(float v, float lo, float hi) { return isfinite(v) && v >= lo && v <= hi; }
 
 mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, const mm_allocator *allocator)
@@ -46,7 +70,7 @@ mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, c
     if (!t) return MM_ERR_INVALID_ARGUMENT;
     memset(t, 0, sizeof *t);
     mm_trajectory_defaults(&t->desc);
-    if (desc) t->desc = *desc;
+    if (desc) mm_trajectory_resolve_desc(desc, &t->desc);
     const mm_trajectory_desc *d = &t->desc;
     for (int g = 0; g < MM_GAIT_COUNT; ++g) {
         const mm_gait_params *p = &d->gaits[g];

@@ -13,55 +13,176 @@
 #include "state.h"
 #include "math_private.h"
 
-/* s: the end of a one-shot clip only extrapolates its trajectory: not a place for a search to go */
-#define END_MARGIN 0.25f
-
 /* docs/runtime.md, "Why the defaults are what they are", has what was measured for them. */
 void mm_character_defaults(mm_character_desc *d)
 {
     memset(d, 0, sizeof *d);
-    d->search_interval = 0.1f;
-    d->turn_threshold = 0.5f;
-    d->transition_halflife = 0.2f;
-    d->crossfade_time = 0.2f;
-    d->idle_speed = 0.15f;
-    d->idle_hysteresis = 0.1f;
-    d->idle_root_speed = 1.0f;
-    d->sync_halflife = 0.3f;
-    d->sync_max_distance = 0.3f;
-    d->sync_max_angle = 0.6f;
-    d->angle_threshold = 0.35f;
-    d->angle_revise_speed = 0.0f;
-    d->skip_frames = 3;
-    d->velocity_change_ratio = 0.9f;
-    d->velocity_change_speed = 2.0f;
-    d->unlock_radius = 0.4f;
-    d->foot_halflife = 0.1f;
-    d->plant_time = 0.033f;
-    d->max_hip_drop = 0.1f;
+    d->search_interval = MM_CHARACTER_SEARCH_INTERVAL;
+    d->turn_threshold = MM_CHARACTER_TURN_THRESHOLD;
+    d->transition_halflife = MM_CHARACTER_TRANSITION_HALFLIFE;
+    d->crossfade_time = MM_CHARACTER_CROSSFADE_TIME;
+    d->idle_speed = MM_CHARACTER_IDLE_SPEED;
+    d->idle_hysteresis = MM_CHARACTER_IDLE_HYSTERESIS;
+    d->idle_root_speed = MM_CHARACTER_IDLE_ROOT_SPEED;
+    d->sync_halflife = MM_CHARACTER_SYNC_HALFLIFE;
+    d->sync_max_distance = MM_CHARACTER_SYNC_MAX_DISTANCE;
+    d->sync_max_angle = MM_CHARACTER_SYNC_MAX_ANGLE;
+    d->angle_threshold = MM_CHARACTER_ANGLE_THRESHOLD;
+    d->angle_revise_speed = MM_CHARACTER_ANGLE_REVISE_SPEED;
+    d->skip_frames = MM_CHARACTER_SKIP_FRAMES;
+    d->velocity_change_ratio = MM_CHARACTER_VELOCITY_CHANGE_RATIO;
+    d->velocity_change_speed = MM_CHARACTER_VELOCITY_CHANGE_SPEED;
+    d->unlock_radius = MM_CHARACTER_UNLOCK_RADIUS;
+    d->foot_halflife = MM_CHARACTER_FOOT_HALFLIFE;
+    d->plant_time = MM_CHARACTER_PLANT_TIME;
+    d->max_hip_drop = MM_CHARACTER_MAX_HIP_DROP;
     d->left_foot = "LeftFoot";
     d->right_foot = "RightFoot";
     d->method = MM_SEARCH_FAST;
-    d->distance_matching = false;
-    d->warping = false;
-    d->rate_min = MM_DISTANCE_RATE_MIN_DEFAULT;
-    d->rate_max = MM_DISTANCE_RATE_MAX_DEFAULT;
-    d->stride_min = 0.8f;
-    d->stride_max = 1.2f;
-    d->orientation_speed = 10.0f;
-    d->orientation_max = MM_WARP_ORIENTATION_MAX_DEFAULT;
+    d->rate_min = MM_CHARACTER_RATE_MIN;
+    d->rate_max = MM_CHARACTER_RATE_MAX;
+    d->stride_min = MM_CHARACTER_STRIDE_MIN;
+    d->stride_max = MM_CHARACTER_STRIDE_MAX;
+    d->orientation_speed = MM_CHARACTER_ORIENTATION_SPEED;
+    d->orientation_max = MM_CHARACTER_ORIENTATION_MAX;
+    mm_trajectory_defaults(&d->trajectory);
+}
+
+/* A desc field written out: 0 takes the default; a negative value (MM_OFF) stays. */
+static float written(float given, float fallback) { return given == 0.0f ? fallback : given; }
+/* ... and as the stages read it: MM_OFF is 0. */
+static float effective(float value) { return value < 0.0f ? 0.0f : value; }
+
+/* The search parameters of a desc written out, field by field over mm_character_default_params. */
+static void write_params(const mm_database *db, const mm_search_params *given, mm_search_params *out)
+{
+    mm_search_params p;
+    mm_character_default_params(db, &p);
+    p.pose_trajectory_ratio = written(given->pose_trajectory_ratio, p.pose_trajectory_ratio);
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
+        p.joint_position_weights[b] = written(given->joint_position_weights[b], p.joint_position_weights[b]);
+        p.joint_velocity_weights[b] = written(given->joint_velocity_weights[b], p.joint_velocity_weights[b]);
+    }
+    p.body_velocity_weight = written(given->body_velocity_weight, p.body_velocity_weight);
+    p.position_multiplier = written(given->position_multiplier, p.position_multiplier);
+    p.angle_multiplier = written(given->angle_multiplier, p.angle_multiplier);
+    p.next_pose_favour = written(given->next_pose_favour, p.next_pose_favour);
+    p.loop_anim_favour = written(given->loop_anim_favour, p.loop_anim_favour);
+    p.continuing_bias = written(given->continuing_bias, p.continuing_bias);
+    p.exclude_window = given->exclude_window != 0 ? given->exclude_window : p.exclude_window;
+    p.end_margin = given->end_margin != 0 ? given->end_margin : p.end_margin;
+    p.required_tags |= given->required_tags;
+    p.excluded_tags |= given->excluded_tags;
+    p.facing_threshold = written(given->facing_threshold, p.facing_threshold);
+    *out = p;
+}
+
+void mm_character_desc_resolve(const mm_database *db, const mm_character_desc *in, mm_character_desc *out)
+{
+    mm_character_desc def, r = *in;
+    mm_character_defaults(&def);
+#define WRITE(field) r.field = written(in->field, def.field)
+    WRITE(search_interval);
+    WRITE(turn_threshold);
+    WRITE(transition_halflife);
+    WRITE(crossfade_time);
+    WRITE(idle_speed);
+    WRITE(idle_hysteresis);
+    WRITE(idle_root_speed);
+    WRITE(sync_halflife);
+    WRITE(sync_max_distance);
+    WRITE(sync_max_angle);
+    WRITE(angle_threshold);
+    WRITE(angle_revise_speed);
+    WRITE(velocity_change_ratio);
+    WRITE(velocity_change_speed);
+    WRITE(plant_time);
+    WRITE(unlock_radius);
+    WRITE(foot_halflife);
+    WRITE(max_hip_drop);
+    WRITE(rate_min);
+    WRITE(rate_max);
+    WRITE(stride_min);
+    WRITE(stride_max);
+    WRITE(orientation_speed);
+    WRITE(orientation_max);
+#undef WRITE
+    r.skip_frames = in->skip_frames != 0 ? in->skip_frames : def.skip_frames;
+    if (db) write_params(db, &in->params, &r.params);
+    const mm_trajectory_desc *t = &in->trajectory, *td = &def.trajectory;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        const mm_gait_params *a = &t->gaits[g], *b = &td->gaits[g];
+        mm_gait_params *o = &r.trajectory.gaits[g];
+        o->forward_speed = written(a->forward_speed, b->forward_speed);
+        o->side_speed = written(a->side_speed, b->side_speed);
+        o->backward_speed = written(a->backward_speed, b->backward_speed);
+        o->velocity_halflife = written(a->velocity_halflife, b->velocity_halflife);
+        o->rotation_halflife = written(a->rotation_halflife, b->rotation_halflife);
+    }
+    r.trajectory.gait_halflife = written(t->gait_halflife, td->gait_halflife);
+    r.trajectory.history_seconds = written(t->history_seconds, td->history_seconds);
+    r.trajectory.history_rate = written(t->history_rate, td->history_rate);
+    *out = r;
+}
+
+/* A written-out desc as the stages read it: every MM_OFF a 0. */
+static void effective_desc(const mm_character_desc *in, mm_character_desc *out)
+{
+    mm_character_desc r = *in;
+#define ZERO(field) r.field = effective(in->field)
+    ZERO(search_interval);
+    ZERO(turn_threshold);
+    ZERO(transition_halflife);
+    ZERO(crossfade_time);
+    ZERO(idle_speed);
+    ZERO(idle_hysteresis);
+    ZERO(idle_root_speed);
+    ZERO(sync_halflife);
+    ZERO(sync_max_distance);
+    ZERO(sync_max_angle);
+    ZERO(angle_threshold);
+    ZERO(angle_revise_speed);
+    ZERO(velocity_change_ratio);
+    ZERO(velocity_change_speed);
+    ZERO(plant_time);
+    ZERO(unlock_radius);
+    ZERO(foot_halflife);
+    ZERO(max_hip_drop);
+    ZERO(rate_min);
+    ZERO(rate_max);
+    ZERO(stride_min);
+    ZERO(stride_max);
+    ZERO(orientation_speed);
+    ZERO(orientation_max);
+    ZERO(params.pose_trajectory_ratio);
+    ZERO(params.body_velocity_weight);
+    ZERO(params.position_multiplier);
+    ZERO(params.angle_multiplier);
+    ZERO(params.next_pose_favour);
+    ZERO(params.loop_anim_favour);
+    ZERO(params.continuing_bias);
+    ZERO(params.facing_threshold);
+    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
+        ZERO(params.joint_position_weights[b]);
+        ZERO(params.joint_velocity_weights[b]);
+    }
+#undef ZERO
+    if (r.skip_frames < 0) r.skip_frames = 0;
+    if (r.params.exclude_window < 0) r.params.exclude_window = 0;
+    if (r.params.end_margin < 0) r.params.end_margin = 0;
+    *out = r;
 }
 
 void mm_character_default_params(const mm_database *db, mm_search_params *p)
 {
     mm_search_params_defaults(db, p);
     /* keep playing unless a frame is clearly better (docs/runtime.md, "Why the defaults") */
-    p->next_pose_favour = 0.6f;
+    p->next_pose_favour = MM_CHARACTER_NEXT_POSE_FAVOUR;
     /* the moves (mm/moves.h) play their clips themselves: never a place for locomotion to go */
     p->excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump") |
                        mm_search_tag_mask(db, "VaultLow") | mm_search_tag_mask(db, "VaultHigh") |
                        mm_search_tag_mask(db, "Climb") | mm_search_tag_mask(db, "Drop");
-    p->end_margin = (int)ceilf(END_MARGIN / db->interval);
+    p->end_margin = (int)ceilf(MM_CHARACTER_END_MARGIN / db->interval);
 }
 
 /* The one block of a character's state: the state struct, then its arrays. */
@@ -146,25 +267,25 @@ static void pose_from_animation(mm_character_state *s, int joint_count)
     mm_rig_forward(&s->rig, 1, &s->pose);
 }
 
-/* The desc's values that the stages read as they are, and the copies init made of them. */
-static void apply_tuning(mm_character *c, const mm_character_desc *d)
+/* A new tuning: the desc resolved (as at init; what init laid out kept), and the copies of its
+ * values the stages keep. */
+static void apply_tuning(mm_character *c, const mm_character_desc *given)
 {
     mm_character_state *s = c->state;
+    mm_character_desc kept = c->desc;
+    mm_character_desc_resolve(c->db, given, &c->desc);
+    c->desc.left_foot = c->desc.right_foot = NULL; /* not kept: the caller's strings */
+    c->desc.transition_mode = kept.transition_mode;
+    c->desc.allocator = kept.allocator;
+    effective_desc(&c->desc, &s->desc);
+    mm_trajectory_resolve_desc(&c->desc.trajectory, &s->desc.trajectory);
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) s->trajectory.desc.gaits[g] = s->desc.trajectory.gaits[g];
+    const mm_character_desc *d = &s->desc;
     mm_playback_params *pp = &s->playback_params;
     pp->distance_matching = d->distance_matching, pp->warping = d->warping;
     pp->rate_min = d->rate_min, pp->rate_max = d->rate_max;
     pp->stride_min = d->stride_min, pp->stride_max = d->stride_max;
     pp->idle_speed = d->idle_speed;
-    if (d != &c->desc) {
-        mm_character_desc kept = c->desc;
-        c->desc = *d;
-        c->desc.left_foot = c->desc.right_foot = NULL;
-        c->desc.transition_mode = kept.transition_mode;
-        c->desc.allocator = kept.allocator;
-        if (!d->use_params) mm_character_default_params(c->db, &c->desc.params), c->desc.use_params = true;
-        for (int g = 0; d->has_trajectory && g < MM_GAIT_COUNT; ++g)
-            s->trajectory.desc.gaits[g] = d->trajectory.gaits[g];
-    }
 }
 
 mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_searcher *searcher,
@@ -175,13 +296,14 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     if (!db || !searcher || searcher->db != db)
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
                             "a character needs a database and its searcher");
-    mm_character_defaults(&c->desc);
-    if (desc) c->desc = *desc;
-    if (c->desc.allocator) c->allocator = *c->desc.allocator;
+    mm_character_desc zero;
+    memset(&zero, 0, sizeof zero);
     c->db = db;
     c->searcher = searcher;
-    mm_character_desc *d = &c->desc;
-    if (!d->use_params) mm_character_default_params(db, &d->params), d->use_params = true;
+    const mm_character_desc *given = desc ? desc : &zero;
+    mm_character_desc_resolve(db, given, &c->desc);
+    c->desc.transition_mode = given->transition_mode;
+    if (c->desc.allocator) c->allocator = *c->desc.allocator;
     size_t size, n = (size_t)db->joint_count;
     lay_out(NULL, n, (size_t)db->dims_padded, &size);
     char *block = (char *)mm_alloc_array(&c->allocator, 1, size);
@@ -189,16 +311,15 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     mm_character_state *s = lay_out(block, n, (size_t)db->dims_padded, &size);
     s->block = block;
     c->state = s;
-    mm_result r =
-        mm_trajectory_init(&s->trajectory, d->has_trajectory ? &d->trajectory : NULL, &c->allocator);
+    mm_result r = mm_trajectory_init(&s->trajectory, &c->desc.trajectory, &c->allocator);
     if (r != MM_OK) {
         mm_character_free(c);
         return mm_error_set(err, r, 0, 0, "trajectory: bad parameters");
     }
-    mm_rig_init(&s->rig, db->joints, db->joint_count, d->left_foot, d->right_foot);
+    mm_rig_init(&s->rig, db->joints, db->joint_count, given->left_foot, given->right_foot);
     mm_rig_learn_hinges(&s->rig, db);
-    d->left_foot = d->right_foot = NULL; /* not kept: the caller's strings */
-    apply_tuning(c, d);
+    apply_tuning(c, &c->desc);
+    const mm_character_desc *d = &s->desc;
     s->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");
     float *query = s->matching.query;
     mm_matching_init(&s->matching, db, query);
@@ -274,7 +395,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     if (!c || !c->state || !(dt > 0.0f) || !isfinite(dt)) return;
     mm_character_state *s = c->state;
     const mm_database *db = c->db;
-    const mm_character_desc *d = &c->desc;
+    const mm_character_desc *d = &s->desc;
 
     /* 1. input -> trajectory: the simulation, and what the input asks for */
     mm_intent_update(&s->trajectory, in, dt, &s->intent);

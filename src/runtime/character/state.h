@@ -25,6 +25,7 @@ typedef struct mm_move_playback {
 } mm_move_playback;
 
 struct mm_character_state {
+    mm_character_desc desc; /* the tuning the stages read: mm_character.desc with every MM_OFF a 0 */
     mm_rig rig;
     mm_trajectory trajectory; /* 1. input -> trajectory */
     mm_intent intent;
