@@ -430,8 +430,17 @@ static void test_no_scene(void **state)
     d.fall_start = 2.0f;
     assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &d, &err), MM_ERR_OUT_OF_RANGE);
     mm_moves_defaults(&d);
-    d.max_lift = -0.1f; /* the numbers added after cooldown are checked too */
+    d.max_lift = 1e9f; /* the numbers added after cooldown are checked too */
     assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &d, &err), MM_ERR_OUT_OF_RANGE);
+    /* zero means default, MM_OFF is 0 */
+    mm_moves_desc zero;
+    memset(&zero, 0, sizeof zero);
+    zero.radius = 0.3f;
+    zero.cooldown = MM_OFF;
+    assert_int_equal(mm_moves_init(&m, &synth_db, NULL, &zero, &err), MM_OK);
+    mm_moves_defaults(&d);
+    assert_true(m.desc.radius == 0.3f && m.desc.cooldown == 0.0f && m.desc.gravity == d.gravity &&
+                m.desc.max_lift == d.max_lift);
     mm_moves_defaults(&d);
     assert_true(d.max_jump_distance > 0.0f && d.moving_speed > 0.0f && d.collider_height > 0.0f &&
                 d.knee_height < d.chest_height && d.max_lift > 0.0f);

@@ -59,6 +59,8 @@ extern "C" {
 /* "jump", "vault_low", "vault_high", "climb", "drop"; NULL for anything else. */
 const char *mm_move_kind_name(mm_move_kind kind);
 
+/* Zero means default in every number of mm_moves_desc (the values below, set by
+ * mm_moves_defaults); MM_OFF (any negative value) makes it 0. NULL names: the defaults. */
 typedef struct mm_moves_desc {
     float max_jump_height;              /* m: the highest surface a jump lands on, above the feet (the
                                            seed's Max jump height); 1.2 */

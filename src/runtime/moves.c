@@ -521,19 +521,31 @@ mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scen
     if (!m) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no move layer given");
     memset(m, 0, sizeof *m);
     if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "the move layer needs a database");
-    mm_moves_defaults(&m->desc);
+    mm_moves_desc def;
+    mm_moves_defaults(&def);
+    m->desc = def;
     if (desc) m->desc = *desc;
     mm_moves_desc *d = &m->desc;
-    const float *check[] = {
-        &d->max_jump_height,     &d->jump_start_offset, &d->rise_start,      &d->fall_start,
-        &d->step_height,         &d->ledge_probe,       &d->trigger_slack,   &d->low_max_height,
-        &d->high_max_height,     &d->short_max_depth,   &d->landing_margin,  &d->recover_time,
-        &d->transition_halflife, &d->gravity,           &d->radius,          &d->cooldown,
-        &d->max_jump_distance,   &d->moving_speed,      &d->collider_height, &d->knee_height,
-        &d->chest_height,        &d->max_lift};
-    for (size_t i = 0; i < sizeof check / sizeof check[0]; ++i)
-        if (!isfinite(*check[i]) || *check[i] < 0.0f || *check[i] > PARAM_MAX)
+    /* zero means default; MM_OFF (negative) is 0 */
+    float *field[] = {&d->max_jump_height,     &d->jump_start_offset, &d->rise_start,      &d->fall_start,
+                      &d->step_height,         &d->ledge_probe,       &d->trigger_slack,   &d->low_max_height,
+                      &d->high_max_height,     &d->short_max_depth,   &d->landing_margin,  &d->recover_time,
+                      &d->transition_halflife, &d->gravity,           &d->radius,          &d->cooldown,
+                      &d->max_jump_distance,   &d->moving_speed,      &d->collider_height, &d->knee_height,
+                      &d->chest_height,        &d->max_lift};
+    const float fallback[] = {
+        def.max_jump_height,     def.jump_start_offset, def.rise_start,      def.fall_start,
+        def.step_height,         def.ledge_probe,       def.trigger_slack,   def.low_max_height,
+        def.high_max_height,     def.short_max_depth,   def.landing_margin,  def.recover_time,
+        def.transition_halflife, def.gravity,           def.radius,          def.cooldown,
+        def.max_jump_distance,   def.moving_speed,      def.collider_height, def.knee_height,
+        def.chest_height,        def.max_lift};
+    for (size_t i = 0; i < sizeof field / sizeof field[0]; ++i) {
+        float v = *field[i];
+        *field[i] = v == 0.0f ? fallback[i] : v < 0.0f ? 0.0f : v;
+        if (!isfinite(*field[i]) || *field[i] > PARAM_MAX)
             return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "move parameter %d out of range", (int)i);
+    }
     if (d->rise_start > 1.0f || d->fall_start > 1.0f || d->rise_start > d->fall_start)
         return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
                             "rise_start and fall_start must be fractions with rise_start <= fall_start");
