@@ -44,7 +44,7 @@
  * playback, search, transition, root motion, warping, feet, pose.
  *
  * Functions: mm_character_defaults mm_character_default_params mm_character_desc_resolve
- *            mm_character_desc_from_database
+ *            mm_character_desc_from_database mm_character_desc_apply_settings
  *            mm_character_init mm_character_free mm_character_update mm_character_tune
  *            mm_character_play_move mm_character_move_playing mm_character_shift_root
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
@@ -210,6 +210,10 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p);
  * (mm/config.h) with the config the database was built from. A database without settings (db->settings NULL:
  * not loaded nor built) gives the defaults. MM_ERR_INVALID_ARGUMENT without d or db. */
 mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err);
+
+/* Writes the tuning of settings s (a database's, or one made from a config) into d: the stored
+ * feature weights and every runtime field s sets (a 0 as MM_OFF); the rest of d is kept. */
+void mm_character_desc_apply_settings(mm_character_desc *d, const mm_database_settings *s);
 
 /* How the clip time advanced this tick (mm_character.playback). */
 typedef enum mm_character_playback {

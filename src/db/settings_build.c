@@ -81,59 +81,11 @@ mm_result mm__db_settings_resolve(const mm_config *cfg, const mm_database *db, m
     return mm__db_settings_validate(db, out, MM_ERR_OUT_OF_RANGE, err);
 }
 
-/* A config's value for a desc field where zero means default: 0 stays 0 (MM_OFF). */
-static float kept(float v) { return v == 0.0f ? MM_OFF : v; }
-
-/* It takes an mm_config, so it belongs to the build library; the runtime reads the same tuning
- * from the settings section (mm_character_desc_from_database). */
+/* It takes an mm_config, so it belongs to the build library: the config's settings as the build
+ * stores them, applied as the runtime applies a database's. */
 void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg)
 {
-    if (!d || !db) return;
-    if (!cfg) return;
-    mm_search_params *p = &d->params;
-    for (int g = 0; g < db->group_count; ++g) { /* the feature weights, as the database's groups */
-        const mm_feature_group *grp = &db->groups[g];
-        if (grp->kind == MM_FEATURE_BONE_POSITION || grp->kind == MM_FEATURE_BONE_VELOCITY) {
-            int slot = mm_database_matched_bone(db, g);
-            const char *name =
-                grp->bone >= 0 && grp->bone < db->joint_count ? db->joints[grp->bone].name : "";
-            for (int b = 0; b < cfg->bone_count && slot >= 0; ++b) {
-                if (strcmp(cfg->bones[b].name, name) != 0) continue;
-                if (grp->kind == MM_FEATURE_BONE_POSITION && (cfg->bones[b].features & MM_MATCH_POSITION))
-                    p->joint_position_weights[slot] = kept(cfg->bones[b].position_weight);
-                if (grp->kind == MM_FEATURE_BONE_VELOCITY && (cfg->bones[b].features & MM_MATCH_VELOCITY))
-                    p->joint_velocity_weights[slot] = kept(cfg->bones[b].velocity_weight);
-                break;
-            }
-        } else if (grp->kind == MM_FEATURE_ROOT_VELOCITY) {
-            p->body_velocity_weight = kept(cfg->body_velocity_weight);
-        } else if (grp->kind == MM_FEATURE_TRAJ_POSITION) {
-            p->position_multiplier = kept(cfg->position_multiplier);
-        } else if (grp->kind == MM_FEATURE_TRAJ_DIRECTION) {
-            p->angle_multiplier = kept(cfg->angle_multiplier);
-        }
-    }
-    const mm_runtime_config *rt = &cfg->runtime;
-    if (rt->set & MM_RUNTIME_POSE_TRAJECTORY_RATIO)
-        p->pose_trajectory_ratio = kept(rt->pose_trajectory_ratio);
-    if (rt->set & MM_RUNTIME_NEXT_POSE_FAVOUR) p->next_pose_favour = kept(rt->next_pose_favour);
-    if (rt->set & MM_RUNTIME_LOOP_ANIM_FAVOUR) p->loop_anim_favour = kept(rt->loop_anim_favour);
-    if (rt->set & MM_RUNTIME_CONTINUING_BIAS) p->continuing_bias = kept(rt->continuing_bias);
-    if (rt->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = kept(rt->search_interval);
-    if (rt->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = kept(rt->transition_halflife);
-    if (rt->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = kept(rt->idle_speed);
-    if (rt->set & MM_RUNTIME_SYNC_HALFLIFE) d->sync_halflife = kept(rt->sync_halflife);
-    if (rt->set & MM_RUNTIME_DISTANCE_MATCHING) d->distance_matching = rt->distance_matching;
-    if (rt->set & MM_RUNTIME_WARPING) d->warping = rt->warping;
-    const mm_runtime_gait *from[3] = {&rt->walk, &rt->run, &rt->crouch};
-    const mm_gait to[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
-    for (int g = 0; g < 3; ++g) {
-        const mm_runtime_gait *s = from[g];
-        mm_gait_params *t = &d->trajectory.gaits[to[g]];
-        if (s->set & MM_RUNTIME_FORWARD_SPEED) t->forward_speed = kept(s->forward_speed);
-        if (s->set & MM_RUNTIME_SIDE_SPEED) t->side_speed = kept(s->side_speed);
-        if (s->set & MM_RUNTIME_BACKWARD_SPEED) t->backward_speed = kept(s->backward_speed);
-        if (s->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = kept(s->velocity_halflife);
-        if (s->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = kept(s->rotation_halflife);
-    }
+    if (!d || !db || !cfg) return;
+    mm_database_settings s;
+    if (mm__db_settings_resolve(cfg, db, &s, NULL) == MM_OK) mm_character_desc_apply_settings(d, &s);
 }

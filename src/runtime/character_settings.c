@@ -17,14 +17,9 @@ static const char *role_name(const mm_database *db, mm_role k)
     return j >= 0 && j < db->joint_count ? db->joints[j].name : NULL;
 }
 
-mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err)
+void mm_character_desc_apply_settings(mm_character_desc *d, const mm_database_settings *s)
 {
-    if (!d) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no desc");
-    mm_character_defaults(d);
-    if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
-    const mm_database_settings *s = db->settings;
-    if (!s) return MM_OK;
-
+    if (!d || !s) return;
     /* the feature weights the config gave the database's groups */
     mm_search_params *p = &d->params;
     for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
@@ -59,7 +54,15 @@ mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_databas
         if (a->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = kept(a->velocity_halflife);
         if (a->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = kept(a->rotation_halflife);
     }
+}
 
+mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err)
+{
+    if (!d) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no desc");
+    mm_character_defaults(d);
+    if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
+    if (!db->settings) return MM_OK;
+    mm_character_desc_apply_settings(d, db->settings);
     /* the feet by role, whatever the skeleton calls them */
     const char *left = role_name(db, MM_ROLE_LEFT_FOOT), *right = role_name(db, MM_ROLE_RIGHT_FOOT);
     if (left) d->left_foot = left;

@@ -48,6 +48,38 @@ void mm_character_defaults(mm_character_desc *d)
     mm_trajectory_defaults(&d->trajectory);
 }
 
+/* The desc's numbers where zero means default and MM_OFF is 0 (skip_frames, params and trajectory
+ * are resolved apart), as pointers into d. */
+#define DESC_SCALARS 24
+static void desc_scalars(mm_character_desc *d, float *out[DESC_SCALARS])
+{
+    float *all[DESC_SCALARS] = {&d->search_interval,
+                                &d->turn_threshold,
+                                &d->transition_halflife,
+                                &d->crossfade_time,
+                                &d->idle_speed,
+                                &d->idle_hysteresis,
+                                &d->idle_root_speed,
+                                &d->sync_halflife,
+                                &d->sync_max_distance,
+                                &d->sync_max_angle,
+                                &d->angle_threshold,
+                                &d->angle_revise_speed,
+                                &d->velocity_change_ratio,
+                                &d->velocity_change_speed,
+                                &d->plant_time,
+                                &d->unlock_radius,
+                                &d->foot_halflife,
+                                &d->max_hip_drop,
+                                &d->rate_min,
+                                &d->rate_max,
+                                &d->stride_min,
+                                &d->stride_max,
+                                &d->orientation_speed,
+                                &d->orientation_max};
+    memcpy(out, all, sizeof all);
+}
+
 /* A desc field written out: 0 takes the default; a negative value (MM_OFF) stays. */
 static float written(float given, float fallback) { return given == 0.0f ? fallback : given; }
 /* ... and as the stages read it: MM_OFF is 0. */
@@ -81,32 +113,10 @@ void mm_character_desc_resolve(const mm_database *db, const mm_character_desc *i
 {
     mm_character_desc def, r = *in;
     mm_character_defaults(&def);
-#define WRITE(field) r.field = written(in->field, def.field)
-    WRITE(search_interval);
-    WRITE(turn_threshold);
-    WRITE(transition_halflife);
-    WRITE(crossfade_time);
-    WRITE(idle_speed);
-    WRITE(idle_hysteresis);
-    WRITE(idle_root_speed);
-    WRITE(sync_halflife);
-    WRITE(sync_max_distance);
-    WRITE(sync_max_angle);
-    WRITE(angle_threshold);
-    WRITE(angle_revise_speed);
-    WRITE(velocity_change_ratio);
-    WRITE(velocity_change_speed);
-    WRITE(plant_time);
-    WRITE(unlock_radius);
-    WRITE(foot_halflife);
-    WRITE(max_hip_drop);
-    WRITE(rate_min);
-    WRITE(rate_max);
-    WRITE(stride_min);
-    WRITE(stride_max);
-    WRITE(orientation_speed);
-    WRITE(orientation_max);
-#undef WRITE
+    float *field[DESC_SCALARS], *fallback[DESC_SCALARS];
+    desc_scalars(&r, field);
+    desc_scalars(&def, fallback);
+    for (int k = 0; k < DESC_SCALARS; ++k) *field[k] = written(*field[k], *fallback[k]);
     r.skip_frames = in->skip_frames != 0 ? in->skip_frames : def.skip_frames;
     if (db) write_params(db, &in->params, &r.params);
     const mm_trajectory_desc *t = &in->trajectory, *td = &def.trajectory;
@@ -129,42 +139,21 @@ void mm_character_desc_resolve(const mm_database *db, const mm_character_desc *i
 static void effective_desc(const mm_character_desc *in, mm_character_desc *out)
 {
     mm_character_desc r = *in;
-#define ZERO(field) r.field = effective(in->field)
-    ZERO(search_interval);
-    ZERO(turn_threshold);
-    ZERO(transition_halflife);
-    ZERO(crossfade_time);
-    ZERO(idle_speed);
-    ZERO(idle_hysteresis);
-    ZERO(idle_root_speed);
-    ZERO(sync_halflife);
-    ZERO(sync_max_distance);
-    ZERO(sync_max_angle);
-    ZERO(angle_threshold);
-    ZERO(angle_revise_speed);
-    ZERO(velocity_change_ratio);
-    ZERO(velocity_change_speed);
-    ZERO(plant_time);
-    ZERO(unlock_radius);
-    ZERO(foot_halflife);
-    ZERO(max_hip_drop);
-    ZERO(rate_min);
-    ZERO(rate_max);
-    ZERO(stride_min);
-    ZERO(stride_max);
-    ZERO(orientation_speed);
-    ZERO(orientation_max);
-    ZERO(params.pose_trajectory_ratio);
-    ZERO(params.body_velocity_weight);
-    ZERO(params.position_multiplier);
-    ZERO(params.angle_multiplier);
-    ZERO(params.next_pose_favour);
-    ZERO(params.loop_anim_favour);
-    ZERO(params.continuing_bias);
-    ZERO(params.facing_threshold);
+    float *field[DESC_SCALARS];
+    desc_scalars(&r, field);
+    for (int k = 0; k < DESC_SCALARS; ++k) *field[k] = effective(*field[k]);
+#define ZERO(field) r.field = effective(in->field);
+    ZERO(params.pose_trajectory_ratio)
+    ZERO(params.body_velocity_weight)
+    ZERO(params.position_multiplier)
+    ZERO(params.angle_multiplier)
+    ZERO(params.next_pose_favour)
+    ZERO(params.loop_anim_favour)
+    ZERO(params.continuing_bias)
+    ZERO(params.facing_threshold)
     for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
-        ZERO(params.joint_position_weights[b]);
-        ZERO(params.joint_velocity_weights[b]);
+        ZERO(params.joint_position_weights[b])
+        ZERO(params.joint_velocity_weights[b])
     }
 #undef ZERO
     if (r.skip_frames < 0) r.skip_frames = 0;
