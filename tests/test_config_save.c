@@ -5,6 +5,7 @@
 #include <cjson/cJSON.h>
 #include <math.h>
 
+#include <mm/character_config.h>
 #include <mm/character.h>
 #include <mm/config_json.h>
 #include <mm/input.h>

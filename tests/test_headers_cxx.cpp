@@ -1,4 +1,5 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
+#include <mm/character_config.h>
 #include <mm/config_json.h>
 #include <mm/distance_curve.h>
 #include <mm/distance_curve_build.h>

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <sys/stat.h>
 
+#include <mm/character_config.h>
 #include <mm/character.h>
 #include <mm/config_json.h>
 #include <mm/moves.h>

@@ -11,6 +11,7 @@
 
 #include <GLFW/glfw3.h>
 
+#include <mm/character_config.h>
 #include <mm/character.h>
 #include <mm/config_json.h>
 #include <mm/input_json.h>

@@ -31,7 +31,7 @@
  * A database carries the runtime tuning it was built with (its settings section,
  * mm_database_settings: the config's feature weights, its "runtime" object and its bone roles):
  * mm_character_desc_from_database makes a desc of it, in this library, with no JSON.
- * (mm_character_desc_apply_config, mm/config.h in the mm_build library, applies a config's tuning
+ * (mm_character_desc_apply_config, mm/character_config.h in the mm_build library, applies a config's tuning
  * to a desc directly, for tools that load a config file at run time.)
  *
  * Moves (mm/moves.h) play a clip through mm_character_play_move: no search until its end frame,
@@ -207,7 +207,7 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p);
  * the settings set (a value of 0 as MM_OFF, so that it keeps its meaning); and d->left_foot / d->right_foot
  * the names of the joints of the left and right foot roles where the database has them (they point into db:
  * they live as long as it does). The same desc, field for field, as mm_character_desc_apply_config
- * (mm/config.h) with the config the database was built from. A database without settings (db->settings NULL:
+ * (mm/character_config.h) with the config the database was built from. A database without settings (db->settings NULL:
  * not loaded nor built) gives the defaults. MM_ERR_INVALID_ARGUMENT without d or db. */
 mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err);
 

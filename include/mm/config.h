@@ -11,7 +11,6 @@
  * ranges are [begin, end] in seconds from the start of the source file.
  *
  * Functions: mm_config_defaults mm_config_free mm_config_validate mm_config_tag_index
- *            mm_character_desc_apply_config
  */
 #ifndef MM_CONFIG_H
 #define MM_CONFIG_H
@@ -19,7 +18,6 @@
 #include <stdbool.h>
 
 #include "alloc.h"
-#include "character.h"
 #include "database.h"
 #include "math.h"
 #include "result.h"
@@ -163,15 +161,6 @@ void mm_config_free(mm_config *c);
 mm_result mm_config_validate(const mm_config *c, mm_error *err);
 /* Index of a tag name, or -1. */
 int mm_config_tag_index(const mm_config *c, const char *name);
-
-/* Applies cfg's tuning to d: cfg's feature weights (features.bones[].position_weight /
- * velocity_weight matched by bone name, body_velocity_weight, position_multiplier,
- * angle_multiplier; only for the feature groups db has) and every field set in cfg->runtime are
- * written into d (a 0 as MM_OFF, where zero means default in d). With the config db was built from, and no
- * runtime fields set, the character behaves exactly as with d unchanged. cfg may be NULL (nothing changes).
- * For tools that apply a config file at run time (mm view --config); a game reads the same tuning from the
- * database with mm_character_desc_from_database (mm/character.h), which gives the same desc. */
-void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg);
 
 #ifdef __cplusplus
 }

@@ -10,14 +10,13 @@
  *
  * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
  *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
- *            mm_config_save_tuning mm_config_save_clip_tags mm_config_save_clip
+ *            mm_config_save_clip_tags mm_config_save_clip
  */
 #ifndef MM_CONFIG_JSON_H
 #define MM_CONFIG_JSON_H
 
 #include <stddef.h>
 
-#include "character.h"
 #include "clip.h"
 #include "config.h"
 #include "database.h"
@@ -63,18 +62,6 @@ void mm_config_free_sources(const mm_config *cfg, mm_clip *clips);
  * arrays of numbers on one line, numbers in their shortest form), the result is checked as a
  * config, and written atomically (a temporary file and a rename: a failure leaves the file as it
  * was). Errors name the file (err->file) and the field or clip. */
-
-/* Writes d's tuning, as the character runs with it (mm_character_desc_resolve: zero fields at
- * their defaults, MM_OFF as 0): the `runtime` object with every field (d's search parameters;
- * d's search_interval, transition_halflife and idle_speed; the walk, run and crouch gaits of
- * d->trajectory), and the feature weights under
- * `features`: features.bones[].position_weight / velocity_weight from d's
- * joint_position_weights / joint_velocity_weights, matched by bone name in db's matched-bone
- * order, and body_velocity_weight, position_multiplier, angle_multiplier, each only where db has
- * the feature group. When the config lists no bones (the defaults), the default bones are
- * written out. */
-mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, const mm_character_desc *d,
-                                mm_error *err);
 
 /* Replaces the tag ranges [begin, end] (seconds from the start of the source file) of tag in the
  * config clip named clip_name (its name as the config gives it, or the one derived from its file)

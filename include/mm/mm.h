@@ -11,6 +11,7 @@
 #include "alloc.h"
 #include "bvh.h"
 #include "character.h"
+#include "character_config.h"
 #include "clip.h"
 #include "config.h"
 #include "database.h"

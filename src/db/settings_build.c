@@ -1,13 +1,11 @@
 /* The runtime settings a config gives a database: resolved into the settings section by the build
- * (mm__db_settings_resolve), and applied to a character desc directly
+ * (mm__db_settings_resolve), which src/tuning/ also applies to a character desc directly
  * (mm_character_desc_apply_config, for tools that load a config at run time). The runtime reads
  * the section with mm_character_desc_from_database (src/runtime/character_settings.c): the two
  * give the same desc (tests/test_settings.c). */
 #include "db/settings_build.h"
 
 #include <string.h>
-
-#include <mm/character.h>
 
 #include "db/db_file.h"
 
@@ -79,13 +77,4 @@ mm_result mm__db_settings_resolve(const mm_config *cfg, const mm_database *db, m
             if (strcmp(db->joints[j].name, roles[k]) == 0) out->roles[k] = j;
     }
     return mm__db_settings_validate(db, out, MM_ERR_OUT_OF_RANGE, err);
-}
-
-/* It takes an mm_config, so it belongs to the build library: the config's settings as the build
- * stores them, applied as the runtime applies a database's. */
-void mm_character_desc_apply_config(mm_character_desc *d, const mm_database *db, const mm_config *cfg)
-{
-    if (!d || !db || !cfg) return;
-    mm_database_settings s;
-    if (mm__db_settings_resolve(cfg, db, &s, NULL) == MM_OK) mm_character_desc_apply_settings(d, &s);
 }

@@ -1,7 +1,6 @@
-/* Writing tuned values back into a config file: the runtime tuning and feature weights, and clip
- * tag ranges. The file is read with cJSON, changed in place (every other field kept, in its
- * order), printed with two-space indentation (arrays of numbers on one line), checked by parsing
- * it as a config, and written atomically. */
+/* Writing into a config file: clip tag ranges and clips (the runtime tuning: src/tuning/).  The file is read
+ * with cJSON, changed in place (every other field kept, in its order), printed with two-space indentation
+ * (arrays of numbers on one line), checked by parsing it as a config, and written atomically. */
 #define _POSIX_C_SOURCE 200809L
 #include <mm/config_json.h>
 
@@ -11,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/config_doc.h"
 #include "io/file.h"
 
 /* ---- printing --------------------------------------------------------------------------- */
@@ -171,7 +171,7 @@ static double short_double(float f)
 }
 
 /* Sets obj[key] to a number, in place when the key exists. 0: out of memory. */
-static int set_number(cJSON *obj, const char *key, float value)
+int mm__json_set_number(cJSON *obj, const char *key, float value)
 {
     cJSON *n = cJSON_CreateNumber(short_double(value));
     if (!n) return 0;
@@ -181,7 +181,7 @@ static int set_number(cJSON *obj, const char *key, float value)
 }
 
 /* Sets obj[key] to true or false, in place when the key exists. 0: out of memory. */
-static int set_bool(cJSON *obj, const char *key, bool value)
+int mm__json_set_bool(cJSON *obj, const char *key, bool value)
 {
     cJSON *b = cJSON_CreateBool(value);
     if (!b) return 0;
@@ -191,7 +191,7 @@ static int set_bool(cJSON *obj, const char *key, bool value)
 }
 
 /* obj[key] when it is an object; else a new object there (replacing what was). NULL: no memory. */
-static cJSON *object_at(cJSON *obj, const char *key)
+cJSON *mm__json_object_at(cJSON *obj, const char *key)
 {
     cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (cJSON_IsObject(v)) return v;
@@ -207,7 +207,7 @@ static cJSON *object_at(cJSON *obj, const char *key)
 
 /* The config file: its text checked as a config (errors name the file, and the line for JSON
  * syntax), and its JSON tree. */
-static mm_result load_doc(const char *path, mm_config *cfg, cJSON **out_root, mm_error *err)
+mm_result mm__config_doc_load(const char *path, mm_config *cfg, cJSON **out_root, mm_error *err)
 {
     *out_root = NULL;
     memset(cfg, 0, sizeof *cfg);
@@ -233,7 +233,7 @@ static mm_result load_doc(const char *path, mm_config *cfg, cJSON **out_root, mm
 }
 
 /* Prints root, checks the result is a valid config and writes it atomically. Deletes root. */
-static mm_result save_doc(const char *path, cJSON *root, mm_error *err)
+mm_result mm__config_doc_save(const char *path, cJSON *root, mm_error *err)
 {
     text_buf b = {NULL, 0, 0, 0};
     put_value(&b, root, 0);
@@ -259,138 +259,11 @@ static mm_result save_doc(const char *path, cJSON *root, mm_error *err)
     return r;
 }
 
-static mm_result no_memory(cJSON *root, mm_config *cfg, mm_error *err)
+mm_result mm__config_doc_no_memory(cJSON *root, mm_config *cfg, mm_error *err)
 {
     cJSON_Delete(root);
     mm_config_free(cfg);
     return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-}
-
-/* ---- tuning ----------------------------------------------------------------------------- */
-
-/* The database's group of kind for the joint named name (any joint when name is NULL), or -1. */
-static int find_group(const mm_database *db, int kind, const char *name)
-{
-    for (int g = 0; g < db->group_count; ++g) {
-        const mm_feature_group *grp = &db->groups[g];
-        if (grp->kind != kind) continue;
-        if (!name) return g;
-        if (grp->bone >= 0 && grp->bone < db->joint_count && strcmp(db->joints[grp->bone].name, name) == 0)
-            return g;
-    }
-    return -1;
-}
-
-/* Writes the weights of the bones the database matches into bone (a features.bones entry). */
-static int set_bone_weights(cJSON *bone, const mm_database *db, const mm_search_params *p, const char *name)
-{
-    int g = find_group(db, MM_FEATURE_BONE_POSITION, name),
-        slot = g >= 0 ? mm_database_matched_bone(db, g) : -1;
-    if (slot >= 0 && !set_number(bone, "position_weight", p->joint_position_weights[slot])) return 0;
-    g = find_group(db, MM_FEATURE_BONE_VELOCITY, name);
-    slot = g >= 0 ? mm_database_matched_bone(db, g) : -1;
-    if (slot >= 0 && !set_number(bone, "velocity_weight", p->joint_velocity_weights[slot])) return 0;
-    return 1;
-}
-
-mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, const mm_character_desc *d,
-                                mm_error *err)
-{
-    mm__error_set_file(err, config_path);
-    if (!config_path || !db || !d)
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                            "a config path, database and desc are needed");
-    /* the values the character runs with: zero fields at their defaults, MM_OFF as 0 */
-    mm_character_desc run;
-    mm_character_desc_resolve(db, d, &run);
-    d = &run;
-    mm_search_params params = run.params;
-    mm_trajectory_desc traj;
-    mm_trajectory_resolve_desc(&run.trajectory, &traj);
-    float *zeroed[] = {&params.pose_trajectory_ratio,
-                       &params.body_velocity_weight,
-                       &params.position_multiplier,
-                       &params.angle_multiplier,
-                       &params.next_pose_favour,
-                       &params.loop_anim_favour,
-                       &params.continuing_bias,
-                       &run.search_interval,
-                       &run.transition_halflife,
-                       &run.idle_speed,
-                       &run.sync_halflife};
-    for (size_t k = 0; k < sizeof zeroed / sizeof zeroed[0]; ++k)
-        if (*zeroed[k] < 0.0f) *zeroed[k] = 0.0f;
-    for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
-        if (params.joint_position_weights[b] < 0.0f) params.joint_position_weights[b] = 0.0f;
-        if (params.joint_velocity_weights[b] < 0.0f) params.joint_velocity_weights[b] = 0.0f;
-    }
-
-    mm_config cfg;
-    cJSON *root = NULL;
-    mm_result r = load_doc(config_path, &cfg, &root, err);
-    if (r != MM_OK) return r;
-
-    /* features: the weights the search uses, for the groups the database has */
-    cJSON *features = object_at(root, "features");
-    if (!features) return no_memory(root, &cfg, err);
-    cJSON *bones = cJSON_GetObjectItemCaseSensitive(features, "bones");
-    if (!bones) { /* the default bones: write them out to hold the weights */
-        bones = cJSON_AddArrayToObject(features, "bones");
-        for (int i = 0; bones && i < cfg.bone_count; ++i) {
-            const mm_config_bone *cb = &cfg.bones[i];
-            cJSON *o = cJSON_CreateObject();
-            if (!o || !cJSON_AddItemToArray(bones, o)) {
-                cJSON_Delete(o);
-                return no_memory(root, &cfg, err);
-            }
-            if (!cJSON_AddStringToObject(o, "name", cb->name) ||
-                (!(cb->features & MM_MATCH_POSITION) && !cJSON_AddFalseToObject(o, "position")) ||
-                (!(cb->features & MM_MATCH_VELOCITY) && !cJSON_AddFalseToObject(o, "velocity")) ||
-                ((cb->features & MM_MATCH_POSITION) &&
-                 !set_number(o, "position_weight", cb->position_weight)) ||
-                ((cb->features & MM_MATCH_VELOCITY) &&
-                 !set_number(o, "velocity_weight", cb->velocity_weight)))
-                return no_memory(root, &cfg, err);
-        }
-        if (!bones) return no_memory(root, &cfg, err);
-    }
-    for (int i = 0; i < cfg.bone_count; ++i) { /* array entry i is cfg.bones[i] */
-        cJSON *o = cJSON_GetArrayItem(bones, i);
-        if (o && !set_bone_weights(o, db, &params, cfg.bones[i].name)) return no_memory(root, &cfg, err);
-    }
-    if ((find_group(db, MM_FEATURE_ROOT_VELOCITY, NULL) >= 0 &&
-         !set_number(features, "body_velocity_weight", params.body_velocity_weight)) ||
-        (find_group(db, MM_FEATURE_TRAJ_POSITION, NULL) >= 0 &&
-         !set_number(features, "position_multiplier", params.position_multiplier)) ||
-        (find_group(db, MM_FEATURE_TRAJ_DIRECTION, NULL) >= 0 &&
-         !set_number(features, "angle_multiplier", params.angle_multiplier)))
-        return no_memory(root, &cfg, err);
-
-    /* runtime: every field */
-    cJSON *rt = object_at(root, "runtime");
-    if (!rt || !set_number(rt, "pose_trajectory_ratio", params.pose_trajectory_ratio) ||
-        !set_number(rt, "next_pose_favour", params.next_pose_favour) ||
-        !set_number(rt, "loop_anim_favour", params.loop_anim_favour) ||
-        !set_number(rt, "continuing_bias", params.continuing_bias) ||
-        !set_number(rt, "search_interval", d->search_interval) ||
-        !set_number(rt, "transition_halflife", d->transition_halflife) ||
-        !set_number(rt, "idle_speed", d->idle_speed) || !set_number(rt, "sync_halflife", d->sync_halflife) ||
-        !set_bool(rt, "distance_matching", d->distance_matching) || !set_bool(rt, "warping", d->warping))
-        return no_memory(root, &cfg, err);
-    static const char *const gait_keys[3] = {"walk", "run", "crouch"};
-    static const mm_gait gaits[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};
-    for (int g = 0; g < 3; ++g) {
-        const mm_gait_params *gp = &traj.gaits[gaits[g]];
-        cJSON *o = object_at(rt, gait_keys[g]);
-        if (!o || !set_number(o, "forward_speed", gp->forward_speed) ||
-            !set_number(o, "side_speed", gp->side_speed) ||
-            !set_number(o, "backward_speed", gp->backward_speed) ||
-            !set_number(o, "velocity_halflife", gp->velocity_halflife) ||
-            !set_number(o, "rotation_halflife", gp->rotation_halflife))
-            return no_memory(root, &cfg, err);
-    }
-    mm_config_free(&cfg);
-    return save_doc(config_path, root, err);
 }
 
 /* ---- clip tags -------------------------------------------------------------------------- */
@@ -410,7 +283,7 @@ mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_nam
                             range_count);
     mm_config cfg;
     cJSON *root = NULL;
-    mm_result r = load_doc(config_path, &cfg, &root, err);
+    mm_result r = mm__config_doc_load(config_path, &cfg, &root, err);
     if (r != MM_OK) return r;
     int clip = -1;
     for (int i = 0; i < cfg.clip_count && clip < 0; ++i)
@@ -433,7 +306,7 @@ mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_nam
     if (range_count == 0) {
         cJSON *tags = cJSON_GetObjectItemCaseSensitive(item, "tags");
         if (cJSON_IsObject(tags)) cJSON_DeleteItemFromObjectCaseSensitive(tags, tag);
-        return save_doc(config_path, root, err);
+        return mm__config_doc_save(config_path, root, err);
     }
     if (!declared) { /* add the name to the top-level list */
         cJSON *names = cJSON_GetObjectItemCaseSensitive(root, "tags");
@@ -441,14 +314,14 @@ mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_nam
         cJSON *s = cJSON_CreateString(tag);
         if (!names || !s || !cJSON_AddItemToArray(names, s)) {
             cJSON_Delete(s);
-            return no_memory(root, NULL, err);
+            return mm__config_doc_no_memory(root, NULL, err);
         }
     }
-    cJSON *tags = object_at(item, "tags");
+    cJSON *tags = mm__json_object_at(item, "tags");
     cJSON *list = cJSON_CreateArray();
     if (!tags || !list) {
         cJSON_Delete(list);
-        return no_memory(root, NULL, err);
+        return mm__config_doc_no_memory(root, NULL, err);
     }
     for (int i = 0; i < range_count; ++i) {
         cJSON *pair = cJSON_CreateArray();
@@ -464,7 +337,7 @@ mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_nam
             cJSON_Delete(e);
             if (pair) cJSON_Delete(pair);
             cJSON_Delete(list);
-            return no_memory(root, NULL, err);
+            return mm__config_doc_no_memory(root, NULL, err);
         }
     }
     int ok = cJSON_GetObjectItemCaseSensitive(tags, tag)
@@ -472,9 +345,9 @@ mm_result mm_config_save_clip_tags(const char *config_path, const char *clip_nam
                  : cJSON_AddItemToObject(tags, tag, list);
     if (!ok) {
         cJSON_Delete(list);
-        return no_memory(root, NULL, err);
+        return mm__config_doc_no_memory(root, NULL, err);
     }
-    return save_doc(config_path, root, err);
+    return mm__config_doc_save(config_path, root, err);
 }
 
 /* ---- whole clips ------------------------------------------------------------------------ */
@@ -548,7 +421,7 @@ mm_result mm_config_save_clip(const char *config_path, const mm_config_saved_cli
                                 clip->name, i);
     mm_config cfg;
     cJSON *root = NULL;
-    mm_result r = load_doc(config_path, &cfg, &root, err);
+    mm_result r = mm__config_doc_load(config_path, &cfg, &root, err);
     if (r != MM_OK) return r;
     cJSON *clips = cJSON_GetObjectItemCaseSensitive(root, "clips");
     int own = cJSON_IsArray(clips) ? cJSON_GetArraySize(clips) : 0, inherited = cfg.clip_count - own, at = -1;
@@ -573,7 +446,7 @@ mm_result mm_config_save_clip(const char *config_path, const mm_config_saved_cli
     }
     if (!ok) {
         cJSON_Delete(o);
-        return no_memory(root, NULL, err);
+        return mm__config_doc_no_memory(root, NULL, err);
     }
-    return save_doc(config_path, root, err);
+    return mm__config_doc_save(config_path, root, err);
 }

@@ -1,6 +1,6 @@
 /* A character's settings from the database's settings section (mm_database_settings): the runtime
  * tuning and bone roles the database was built with, in binary. No JSON, no allocation. The build
- * library's mm_character_desc_apply_config gives the same desc from the config itself
+ * library's mm_character_desc_apply_config (src/tuning/) gives the same desc from the config itself
  * (tests/test_settings.c compares them). */
 #include <mm/character.h>
 #include <mm/moves.h>

@@ -366,6 +366,20 @@ static const mm_distance_curve *distance_curve_playing(const mm_character_state 
     return curve;
 }
 
+/* Playback's rate this tick: by distance matching (on the distance curve of the clip playing) when
+ * it or warping is on and no move plays, else by the clock. */
+static void choose_play_rate(mm_character_state *s, const mm_database *db, const mm_input *in, float dt)
+{
+    if ((s->desc.distance_matching || s->desc.warping) && !s->move.playing && !s->move.pending) {
+        mm_distance_curve curve;
+        int first = db->clips[db->frame_clip[s->playback.frame]].first_frame;
+        mm_playback_match_distance(&s->playback, &s->playback_params, distance_curve_playing(s, db, &curve),
+                                   first, &s->trajectory, in, &s->intent, dt);
+    } else {
+        mm_playback_by_clock(&s->playback);
+    }
+}
+
 /* What the clip playing says of the feet this tick: its contact label, and how soon each foot's
  * turns on (within plant_time). */
 static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *p, float plant_time)
@@ -390,14 +404,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_intent_update(&s->trajectory, in, dt, &s->intent);
 
     /* 2. playback: by the clock, or by distance matching (never during a move) */
-    if ((d->distance_matching || d->warping) && !s->move.playing && !s->move.pending) {
-        mm_distance_curve curve;
-        int first = db->clips[db->frame_clip[s->playback.frame]].first_frame;
-        mm_playback_match_distance(&s->playback, &s->playback_params, distance_curve_playing(s, db, &curve),
-                                   first, &s->trajectory, in, &s->intent, dt);
-    } else {
-        mm_playback_by_clock(&s->playback);
-    }
+    choose_play_rate(s, db, in, dt);
     bool ended = mm_playback_advance(&s->playback, db->frame_next, db->interval, dt);
     mm_transition_advance(&s->transition, db, &s->playback, dt);
 
