@@ -207,8 +207,8 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p);
  * the settings set (a value of 0 as MM_OFF, so that it keeps its meaning); and d->left_foot / d->right_foot
  * the names of the joints of the left and right foot roles where the database has them (they point into db:
  * they live as long as it does). The same desc, field for field, as mm_character_desc_apply_config
- * (mm/character_config.h) with the config the database was built from. A database without settings (db->settings NULL:
- * not loaded nor built) gives the defaults. MM_ERR_INVALID_ARGUMENT without d or db. */
+ * (mm/character_config.h) with the config the database was built from. A database without settings
+ * (db->settings NULL: not loaded nor built) gives the defaults. MM_ERR_INVALID_ARGUMENT without d or db. */
 mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err);
 
 /* Writes the tuning of settings s (a database's, or one made from a config) into d: the stored
