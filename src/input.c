@@ -163,3 +163,8 @@ mm_result mm_input_script_random(mm_input_script *s, uint64_t seed, const mm_inp
     s->key_count = n;
     return MM_OK;
 }
+
+mm_gait mm_input_gait(const mm_input *in)
+{
+    return in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? in->gait : MM_GAIT_WALK;
+}

@@ -10,7 +10,7 @@
  *
  * The gaits and their names are in mm/gait.h.
  *
- * Functions: mm_input_script_init mm_input_script_free mm_input_script_validate
+ * Functions: mm_input_gait mm_input_script_init mm_input_script_free mm_input_script_validate
  *            mm_input_script_sample mm_input_script_sample_tick mm_input_script_random
  */
 #ifndef MM_INPUT_H
@@ -36,6 +36,9 @@ typedef struct mm_input {
     float facing[2]; /* x, z: the direction to face when strafing (unit) */
     bool jump;       /* the jump button: pressed on this tick (mm_input_script_sample_tick) */
 } mm_input;
+
+/* The gait in asks for: in->gait, or MM_GAIT_WALK when in is NULL or its gait out of range. */
+mm_gait mm_input_gait(const mm_input *in);
 
 typedef struct mm_input_key {
     float t; /* seconds, >= 0, increasing */

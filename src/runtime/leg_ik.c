@@ -56,7 +56,7 @@ static dvec square_to(dvec v, dvec u)
  * (a leg thrown sideways in a jump); the pole's side otherwise (a knee the animation hyperextends
  * is bent forward); turned from the one toward the other about ac in between. It depends on the
  * animation and the pole alone, never on how far the leg must bend (a side that did flipped as the
- * bend asked for passed the animated one: knee pops of 20-45 cm). */
+ * bend asked for passed the animated one: docs/distance.md, "One leg IK"). */
 static dvec knee_side(dvec ac, dvec own, double bent, dvec pole)
 {
     double pl = dlen(pole);

@@ -7,6 +7,11 @@
 #include <mm/spring.h>
 #include "math_private.h"
 
+/* the spring's own time between the samples searched for the last moment at the rest speed */
+#define REST_SEARCH_STEP 0.05
+/* halvings of the interval holding that moment: past double precision */
+#define BISECTION_STEPS 60
+
 /* In the spring's own time u = y t: v(u) = g + (j0 + k u) e^(-u), k = j1 / y. */
 typedef struct vspring {
     double g[3], j0[3], k[3], y;
@@ -114,7 +119,7 @@ static mm_result predict_stop(mm_vec3 velocity, mm_vec3 acceleration, float half
         lo = u0;
         hi = HORIZON;
     } else {
-        const double h = 0.05;
+        const double h = REST_SEARCH_STEP;
         int last = -1;
         for (int i = (int)(fmin(u0, HORIZON) / h) + 1; i >= 0 && last < 0; --i)
             if (vs_speed(&s, i * h) >= rest) last = i;
@@ -122,7 +127,7 @@ static mm_result predict_stop(mm_vec3 velocity, mm_vec3 acceleration, float half
         lo = last * h;
         hi = lo + h;
     }
-    for (int it = 0; it < 60; ++it) {
+    for (int it = 0; it < BISECTION_STEPS; ++it) {
         double mid = 0.5 * (lo + hi);
         if (vs_speed(&s, mid) >= rest)
             lo = mid;
@@ -167,7 +172,7 @@ static mm_result predict_pivot(mm_vec3 velocity, mm_vec3 acceleration, mm_vec3 t
     int i = 1;
     while (i < steps && ALONG(i * h) < 0.0) ++i;
     double lo = (i - 1) * h, hi = i * h;
-    for (int it = 0; it < 60; ++it) {
+    for (int it = 0; it < BISECTION_STEPS; ++it) {
         double mid = 0.5 * (lo + hi);
         if (ALONG(mid) < 0.0)
             lo = mid;
@@ -194,7 +199,7 @@ mm_result mm_distance_predict_trajectory(const mm_trajectory *t, const mm_input 
     if (stop) prediction_zero(stop);
     if (pivot) prediction_zero(pivot);
     if (!t) return MM_ERR_INVALID_ARGUMENT;
-    int g = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
+    int g = (int)mm_input_gait(in);
     float halflife = t->desc.gaits[g].velocity_halflife;
     mm_result r = MM_OK;
     if (stop) r = mm_distance_predict_stop(t->velocity, t->acceleration, halflife, rest_speed, stop);

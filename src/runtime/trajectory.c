@@ -168,7 +168,7 @@ static mm_quat target_facing(const mm_trajectory *t, const mm_input *in)
 
 static const mm_gait_params *gait_of(const mm_trajectory *t, const mm_input *in)
 {
-    int g = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
+    int g = (int)mm_input_gait(in);
     return &t->desc.gaits[g];
 }
 
@@ -239,7 +239,7 @@ void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
     t->facing = s.facing;
     t->angular_velocity = s.angular_velocity;
     t->target_facing = facing;
-    int g = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? (int)in->gait : MM_GAIT_WALK;
+    int g = (int)mm_input_gait(in);
     for (int i = 0; i < MM_GAIT_COUNT; ++i)
         mm_spring_update(&t->gait_weights[i], &t->gait_rates[i], i == g ? 1.0f : 0.0f, t->desc.gait_halflife,
                          dt);

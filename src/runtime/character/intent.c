@@ -10,7 +10,7 @@ void mm_intent_update(mm_trajectory *t, const mm_input *in, float dt, mm_intent 
     float dx = t->position.x - before.x, dz = t->position.z - before.z;
     out->travelled = sqrtf(dx * dx + dz * dz);
     mm_trajectory_desired(t, in, &out->desired_velocity, &out->desired_facing);
-    out->gait = in && (int)in->gait >= 0 && in->gait < MM_GAIT_COUNT ? in->gait : MM_GAIT_WALK;
+    out->gait = mm_input_gait(in);
     out->strafe = in && in->strafe;
 }
 
