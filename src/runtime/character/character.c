@@ -4,14 +4,10 @@
 #include <mm/character.h>
 
 #include <math.h>
-#include <stdalign.h>
 #include <string.h>
 
-#include <mm/distance_matching.h>
-#include <mm/warp.h>
-
-#include "state.h"
 #include "math_private.h"
+#include "state.h"
 
 /* docs/runtime.md, "Why the defaults are what they are", has what was measured for them. */
 void mm_character_defaults(mm_character_desc *d)
@@ -174,42 +170,40 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p)
     p->end_margin = (int)ceilf(MM_CHARACTER_END_MARGIN / db->interval);
 }
 
-/* The one block of a character's state: the state struct, then its arrays. */
-typedef struct block_layout {
-    size_t size, at;
-} block_layout;
+/* bytes: every array of the character's one block starts on a multiple of this (what malloc gives) */
+#define BLOCK_ALIGN 16
 
-static void *carve(char *block, block_layout *l, size_t bytes)
+/* The next `bytes` of the character's one block (block NULL: only counted), at offset *at. */
+static void *carve(char *block, size_t *at, size_t bytes)
 {
-    const size_t align = 16;
-    void *p = block ? block + l->at : NULL;
-    l->at += (bytes + align - 1) / align * align;
+    void *p = block ? block + *at : NULL;
+    *at += (bytes + BLOCK_ALIGN - 1) / BLOCK_ALIGN * BLOCK_ALIGN;
     return p;
 }
 
 /* Lays out (block NULL: measures) the state and its arrays in block. */
 static mm_character_state *lay_out(char *block, size_t joints, size_t dims, size_t *size)
 {
-    block_layout l = {0, 0};
-    mm_character_state *s = (mm_character_state *)carve(block, &l, sizeof(mm_character_state));
+    size_t at = 0;
+    mm_character_state *s = (mm_character_state *)carve(block, &at, sizeof(mm_character_state));
     mm_character_state unused;
     if (!s) s = &unused;
     mm_transition *tr = &s->transition;
-    s->pose.local_rotations = (mm_quat *)carve(block, &l, joints * sizeof(mm_quat));
-    s->pose.local_positions = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
-    s->pose.global = (mm_xform *)carve(block, &l, joints * sizeof(mm_xform));
-    tr->rotations = (mm_quat *)carve(block, &l, joints * sizeof(mm_quat));
-    tr->previous_rotations = (mm_quat *)carve(block, &l, joints * sizeof(mm_quat));
-    tr->positions = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
-    tr->previous_positions = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
-    tr->rotation_offset = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
-    tr->rotation_offset_velocity = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
-    tr->position_offset = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
-    tr->position_offset_velocity = (mm_vec3 *)carve(block, &l, joints * sizeof(mm_vec3));
-    tr->slot_rotations = (mm_quat *)carve(block, &l, (MM_MIXER_SLOTS + 1) * joints * sizeof(mm_quat));
-    tr->slot_positions = (mm_vec3 *)carve(block, &l, MM_MIXER_SLOTS * joints * sizeof(mm_vec3));
-    s->matching.query = (float *)carve(block, &l, dims * sizeof(float));
-    *size = l.at;
+    s->pose.local_rotations = (mm_quat *)carve(block, &at, joints * sizeof(mm_quat));
+    s->pose.local_positions = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    s->pose.global = (mm_xform *)carve(block, &at, joints * sizeof(mm_xform));
+    tr->rotations = (mm_quat *)carve(block, &at, joints * sizeof(mm_quat));
+    tr->previous_rotations = (mm_quat *)carve(block, &at, joints * sizeof(mm_quat));
+    tr->positions = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->previous_positions = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->rotation_offset = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->rotation_offset_velocity = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->position_offset = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->position_offset_velocity = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->slot_rotations = (mm_quat *)carve(block, &at, (MM_MIXER_SLOTS + 1) * joints * sizeof(mm_quat));
+    tr->slot_positions = (mm_vec3 *)carve(block, &at, MM_MIXER_SLOTS * joints * sizeof(mm_vec3));
+    s->matching.query = (float *)carve(block, &at, dims * sizeof(float));
+    *size = at;
     return block ? s : NULL;
 }
 
