@@ -87,11 +87,7 @@ static void test_loop_circle(void **state)
     const int n = 120;
     const float fps = 30.0f;
     const double r = 2.0;
-    for (int i = 0; i < n; ++i) { /* one turn in 4 s; frame n would be frame 0 again */
-        double a = 2.0 * MM_PI * i / n;
-        pos[2 * i] = (float)(r * cos(a));
-        pos[2 * i + 1] = (float)(r * sin(a));
-    }
+    circle_loop(pos, n, r); /* one turn in 4 s */
     mm_distance_curve c = build(pos, 2, n, fps, 1);
     const double chord = 2.0 * r * sin(MM_PI / n), L = n * chord, T = 4.0;
     /* advancing over the wrap lands after it */
@@ -110,10 +106,7 @@ static void test_loop_stops(void **state)
     const float fps = 30.0f;
     const int n = 120;
     for (loop_stops = 1; loop_stops <= 2; ++loop_stops) {
-        for (int i = 0; i < n; ++i) { /* along -X, on and on: the loop's root does not come back */
-            pos[2 * i] = (float)-stopping_loop(i / fps);
-            pos[2 * i + 1] = 0.25f;
-        }
+        stopping_loop_path(pos, n, fps);
         mm_distance_curve c = build(pos, 2, n, fps, 1);
         const double L = stopping_loop(loop_T);
         /* the segment holding the wrap: 0.5 m before the stop at the wrap is before the wrap */

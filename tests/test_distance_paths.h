@@ -85,4 +85,25 @@ static inline double two_stops(double t)
     return 4.9;
 }
 
+/* A loop of n frames once round a circle of radius r on the ground: (x, z) pairs into pos; frame n
+ * would be frame 0 again. */
+static inline void circle_loop(float *pos, int n, double r)
+{
+    for (int i = 0; i < n; ++i) {
+        double a = 2.0 * MM_PI * i / n;
+        pos[2 * i] = (float)(r * cos(a));
+        pos[2 * i + 1] = (float)(r * sin(a));
+    }
+}
+
+/* The stopping loop (stopping_loop) along -X, on and on (a loop whose root does not come back), at
+ * z = 0.25: n frames at fps into pos as (x, z) pairs. */
+static inline void stopping_loop_path(float *pos, int n, float fps)
+{
+    for (int i = 0; i < n; ++i) {
+        pos[2 * i] = (float)-stopping_loop(i / fps);
+        pos[2 * i + 1] = 0.25f;
+    }
+}
+
 #endif /* MM_TEST_DISTANCE_PATHS_H */

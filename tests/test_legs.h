@@ -7,6 +7,7 @@
 
 #include <mm/leg_ik.h>
 
+#include "test_hostile.h"
 #include "test_util.h"
 
 /* A leg with thigh and shin 0.45 m, the knee bent forward (+Z) toward the foot. */
@@ -30,6 +31,17 @@ static inline void assert_lengths_kept(const mm_leg_pose *a, const mm_leg_pose *
 {
     assert_near(mm_vec3_distance(a->hip, a->knee), mm_vec3_distance(b->hip, b->knee), 1e-5);
     assert_near(mm_vec3_distance(a->knee, a->foot), mm_vec3_distance(b->knee, b->foot), 1e-5);
+}
+
+/* Two legs (left at +X, right at -X), some with a hostile foot or hip (test_hostile.h's rng). */
+static inline void hostile_legs(test_rng *rng, mm_leg_pose legs[2])
+{
+    for (int i = 0; i < 2; ++i) {
+        legs[i] = make_leg(mm_vec3_make(0.1f - 0.2f * (float)i, 0.9f, 0.0f),
+                           mm_vec3_make(0.1f, 0.1f, 0.2f - 0.4f * (float)i));
+        if (test_rng_next(rng) % 4 == 0) legs[i].foot = hostile3(rng);
+        if (test_rng_next(rng) % 8 == 0) legs[i].hip = hostile3(rng);
+    }
 }
 
 #endif /* MM_TEST_LEGS_H */

@@ -285,12 +285,7 @@ static void test_hostile_numbers(void **state)
     test_rng rng = {77};
     for (int k = 0; k < 20000; ++k) {
         mm_leg_pose legs[2];
-        for (int i = 0; i < 2; ++i) {
-            legs[i] = make_leg(mm_vec3_make(0.1f - 0.2f * i, 0.9f, 0.0f),
-                               mm_vec3_make(0.1f, 0.1f, 0.2f - 0.4f * i));
-            if (test_rng_next(&rng) % 4 == 0) legs[i].foot = hostile3(&rng);
-            if (test_rng_next(&rng) % 8 == 0) legs[i].hip = hostile3(&rng);
-        }
+        hostile_legs(&rng, legs);
         mm_leg_warp out[2];
         float drop = 0.0f;
         mm_warp_stride(legs, 2, hostile3(&rng), hostile(&rng), hostile(&rng), out, &drop);
