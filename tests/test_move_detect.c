@@ -182,8 +182,17 @@ static void test_standing_and_bad_input(void **state)
     assert_int_equal(mm_moves_detect(j, 100, 0.0f, NULL, m, 2, &count, &err), MM_ERR_INVALID_ARGUMENT);
     mm_move_params p;
     mm_move_params_defaults(&p);
-    p.level_change = -1.0f;
+    p.level_change = NAN;
     assert_int_equal(mm_moves_detect(j, 100, FPS, &p, m, 2, &count, &err), MM_ERR_OUT_OF_RANGE);
+    /* zero means default: a zeroed params finds what the defaults find */
+    mm_move by_default[2], by_zero[2];
+    int n_default = -1, n_zero = -2;
+    assert_int_equal(mm_moves_detect(j, 100, FPS, NULL, by_default, 2, &n_default, &err), MM_OK);
+    memset(&p, 0, sizeof p);
+    assert_int_equal(mm_moves_detect(j, 100, FPS, &p, by_zero, 2, &n_zero, &err), MM_OK);
+    assert_true(n_default >= 1);
+    assert_int_equal(n_zero, n_default);
+    assert_memory_equal(by_zero, by_default, sizeof(mm_move) * (size_t)n_default);
     assert_string_equal(mm_move_kind_tag(MM_MOVE_VAULT_HIGH), "VaultHigh");
     assert_string_equal(mm_move_kind_name(MM_MOVE_DROP), "drop");
     assert_null(mm_move_kind_name(MM_MOVE_KIND_COUNT));

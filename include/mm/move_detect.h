@@ -55,6 +55,7 @@ enum mm_move_track {
     MM_MOVE_TRACK_COUNT = 7
 };
 
+/* Zero means default in every field (the values in brackets); MM_OFF (any negative value) is 0. */
 typedef struct mm_move_params {
     float plant_speed;       /* m/s: a foot or hand slower than this may be planted [0.5] */
     float min_plant_time;    /* s: shorter plants and gaps are flicker [0.1] */

@@ -163,11 +163,16 @@ mm_result mm_moves_detect(const mm_vec3 *tracks, int frame_count, float fps, con
     if (!tracks || !count || frame_count < 0 || (capacity > 0 && !out) || !(fps > 0.0f) || !isfinite(fps))
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
                             "moves: tracks, a frame count and fps > 0 are needed");
-    const float *fields = &p.plant_speed;
-    for (size_t i = 0; i < sizeof p / sizeof(float); ++i)
-        if (!isfinite(fields[i]) || fields[i] < 0.0f)
-            return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
-                                "moves: parameter %zu must be finite and >= 0", i);
+    /* zero means default; MM_OFF (negative) is 0 */
+    mm_move_params def;
+    mm_move_params_defaults(&def);
+    float *fields = &p.plant_speed;
+    const float *fallback = &def.plant_speed;
+    for (size_t i = 0; i < sizeof p / sizeof(float); ++i) {
+        fields[i] = fields[i] == 0.0f ? fallback[i] : fields[i] < 0.0f ? 0.0f : fields[i];
+        if (!isfinite(fields[i]))
+            return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "moves: parameter %zu must be finite", i);
+    }
     for (size_t i = 0; i < (size_t)frame_count * MM_MOVE_TRACK_COUNT; ++i)
         if (!isfinite(tracks[i].x) || !isfinite(tracks[i].y) || !isfinite(tracks[i].z))
             return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "moves: frame %d has a non-finite position",

@@ -59,7 +59,7 @@ static void velocity_change_weights(const mm_character_desc *d, const mm_traject
 {
     mm_vec3 desired = intent->desired_velocity, v = t->velocity;
     float dx = desired.x - v.x, dz = desired.z - v.z, change = sqrtf(dx * dx + dz * dz);
-    float speed = sqrtf(v.x * v.x + v.z * v.z);
+    float speed = mm_intent_ground_speed(t);
     if (speed < VELOCITY_CHANGE_FROM_SPEED) change *= speed / VELOCITY_CHANGE_FROM_SPEED;
     if (change > 0.0f && d->velocity_change_speed > 0.0f &&
         d->velocity_change_ratio > p->pose_trajectory_ratio && d->velocity_change_ratio <= 1.0f) {

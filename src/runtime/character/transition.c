@@ -66,13 +66,13 @@ static mm_root_played crossfade_play(mm_transition *tr, const mm_database *db, c
     return sum;
 }
 
-static void play_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, mm_quat *rot,
-                      mm_vec3 *pos)
+/* The pose played (into rot and pos) and its root motion: the playhead's, or the mixer's blend. */
+static mm_root_played play_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, mm_quat *rot,
+                                mm_vec3 *pos)
 {
-    if (tr->mode == MM_TRANSITION_CROSSFADE)
-        crossfade_play(tr, db, p, rot, pos);
-    else
-        pose_at(db, p->frame, (float)p->fraction, rot, pos);
+    if (tr->mode == MM_TRANSITION_CROSSFADE) return crossfade_play(tr, db, p, rot, pos);
+    pose_at(db, p->frame, (float)p->fraction, rot, pos);
+    return root_at(db, p->frame, p);
 }
 
 static mm_root_played play_root(mm_transition *tr, const mm_database *db, const mm_playback *p)
@@ -210,7 +210,7 @@ void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playb
     size_t n = (size_t)db->joint_count;
     memcpy(tr->previous_rotations, tr->rotations, sizeof(mm_quat) * n);
     memcpy(tr->previous_positions, tr->positions, sizeof(mm_vec3) * n);
-    play_pose(tr, db, p, tr->rotations, tr->positions);
+    mm_root_played played = play_pose(tr, db, p, tr->rotations, tr->positions);
     mm_transition_decay(tr, db->joint_count, halflife, dt);
-    *root = mm_transition_decay_root(tr, play_root(tr, db, p), halflife, dt);
+    *root = mm_transition_decay_root(tr, played, halflife, dt);
 }
