@@ -1,0 +1,93 @@
+/* mm/posture.h - what kind of pose a body holds: upright, crouched, bent over, lying, or a
+ * calibration pose (arms straight out), judged from world joint positions (the mm_build library).
+ *
+ * The database build uses it to keep poses out of ordinary locomotion (docs/database.md,
+ * "Postures"): calibration and lying frames are removed from locomotion and idle clips, crouched
+ * and bent-over ones are tagged with the crouch gait. mm simulate uses it to measure the posture
+ * of what it played (docs/metrics.md). Both judge against the same reference: the head's height
+ * in an upright pose of the same body, so that any skeleton and unit works.
+ *
+ *   mm_posture_reference ref = {mm_posture_reference_height(head_heights, n)};
+ *   mm_posture p = mm_posture_classify(world, &joints, ground_y, &ref);
+ *
+ * Functions: mm_posture_name mm_posture_reference_height mm_posture_stature mm_posture_classify
+ *            mm_posture_arms_out mm_posture_remove_flicker
+ */
+#ifndef MM_POSTURE_H
+#define MM_POSTURE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "math.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum mm_posture {
+    MM_POSTURE_UPRIGHT = 0,
+    MM_POSTURE_CROUCHED,    /* the head low: knees bent or a stoop */
+    MM_POSTURE_BENT,        /* the trunk leaning far from vertical (bent over at the waist) */
+    MM_POSTURE_LYING,       /* the head near the ground */
+    MM_POSTURE_CALIBRATION, /* upright with both arms straight out (a T pose) */
+    MM_POSTURE_COUNT
+} mm_posture;
+
+/* Thresholds, as fractions of the reference (the upright head height) or angles. Measured on the
+ * LAFAN1 takes (docs/database.md, "Postures"): upright walking and running carry the head at
+ * 0.92-1.0 of the reference, the stooped walk at 0.77-0.87; the hips-to-head line leans 2-30
+ * degrees in upright motion and 40-65 in the stoop; a T pose holds the hands 0.8 of the stature
+ * apart at 0.9 of the head's height, walking at most 0.6. */
+#define MM_POSTURE_CROUCHED_HEIGHT 0.88f /* head below this x reference: crouched */
+#define MM_POSTURE_LYING_HEIGHT    0.5f  /* head below this x reference: lying */
+#define MM_POSTURE_BENT_DEGREES    40.0f /* hips-to-head line farther from vertical: bent over */
+#define MM_POSTURE_HEAD_TO_STATURE 0.92f /* the head joint's height as a fraction of the stature */
+#define MM_POSTURE_ARMS_OUT        0.6f  /* hands farther apart than this x stature: arms out */
+#define MM_POSTURE_CALIBRATION_ARMS                                                                          \
+    0.75f                                   /* a calibration pose: hands farther apart than this x           \
+                                               stature, */
+#define MM_POSTURE_CALIBRATION_HANDS  0.75f /* and both above this x reference */
+#define MM_POSTURE_REFERENCE_QUANTILE 0.9f  /* the reference: this quantile of the head's heights */
+#define MM_POSTURE_MIN_SECONDS        0.25f /* shorter runs of a posture are flicker */
+
+/* The joints the judgement reads (indices into the world positions; -1: the skeleton has none).
+ * hips and head are needed; without the hands a pose is never a calibration pose. */
+typedef struct mm_posture_joints {
+    int hips, head, left_hand, right_hand;
+} mm_posture_joints;
+
+typedef struct mm_posture_reference {
+    float head_height; /* m above the ground: the head's height when upright, > 0 */
+} mm_posture_reference;
+
+/* "upright", "crouched", "bent", "lying", "calibration"; NULL if out of range. */
+const char *mm_posture_name(mm_posture p);
+
+/* The reference head height from the head's heights above the ground over many frames of a body's
+ * motion: their MM_POSTURE_REFERENCE_QUANTILE quantile (a body upright for at least a tenth of the
+ * time gives its upright height). Reorders heights. 0 when n < 1. */
+float mm_posture_reference_height(float *heights, int n);
+
+/* The stature the reference implies: head_height / MM_POSTURE_HEAD_TO_STATURE. */
+float mm_posture_stature(const mm_posture_reference *ref);
+
+/* The posture of one pose: world joint positions (metres, +Y up) over ground at height ground_y.
+ * Calibration wins over the others, then lying, bent, crouched. Upright when a needed joint is
+ * missing, a position is not finite, or the reference is not positive. */
+mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *joints, float ground_y,
+                               const mm_posture_reference *ref);
+
+/* Both hands farther apart than MM_POSTURE_ARMS_OUT x the stature (false without hands). */
+bool mm_posture_arms_out(const mm_vec3 *world, const mm_posture_joints *joints,
+                         const mm_posture_reference *ref);
+
+/* Runs of one posture shorter than min_frames take the posture of the run before them (the run
+ * after, at the start): a pose that dips under a threshold for a few frames is not a crouch. */
+void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MM_POSTURE_H */
