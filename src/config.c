@@ -26,6 +26,8 @@ void mm_config_defaults(mm_config *c)
     c->contact_height = 0.05f;
     c->contact_speed = 0.6f;
     c->contact_min_time = 0.1f;
+    c->postures_detect = true;
+    c->postures_pad = 0.25f;
     c->bone_count = 3;
     set_name(c->bones[0].name, "LeftFoot");
     set_name(c->bones[1].name, "RightFoot");
@@ -137,6 +139,8 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
     if (!finite_positive(c->contact_height)) FAIL("contacts.height: %g must be positive", c->contact_height);
     if (!finite_positive(c->contact_speed)) FAIL("contacts.speed: %g must be positive", c->contact_speed);
     if (!finite_nonneg(c->contact_min_time)) FAIL("contacts.min_time: %g must be >= 0", c->contact_min_time);
+    if (!finite_nonneg(c->postures_pad) || c->postures_pad > 10.0f)
+        FAIL("postures.pad: %g must be in [0, 10] seconds", c->postures_pad);
     if (!(isfinite(c->forward_axis.x) && isfinite(c->forward_axis.y) && isfinite(c->forward_axis.z)) ||
         mm_vec3_length(c->forward_axis) < 1e-6f)
         FAIL("roles.forward_axis must be a non-zero vector");

@@ -12,6 +12,21 @@
 #include "cli.h"
 #include "commands.h"
 
+/* What the postures of the takes did to the database (docs/database.md, "Postures"). */
+static void print_postures(const mm_db_build_report *report)
+{
+    const int *n = report->source_frames;
+    if (report->reference_head_height <= 0) {
+        printf("postures: not judged (no locomotion or idle clip with a head and hips)\n");
+        return;
+    }
+    printf(
+        "postures: upright head height %.2f m; source frames upright %d, left out: calibration %d, lying %d; "
+        "tagged Crouch: crouched %d, bent %d\n",
+        report->reference_head_height, n[MM_POSTURE_UPRIGHT], n[MM_POSTURE_CALIBRATION], n[MM_POSTURE_LYING],
+        n[MM_POSTURE_CROUCHED], n[MM_POSTURE_BENT]);
+}
+
 static void progress(int done, int total, void *user)
 {
     (void)user;
@@ -53,6 +68,8 @@ static int cmd_build(int argc, char **argv)
     desc.config_json = text;
     desc.progress = progress;
     desc.threads = (int)threads;
+    mm_db_build_report report;
+    desc.report = &report;
     mm_database db;
     snprintf(err.file, sizeof err.file, "%s", config);
     mm_result r = mm_database_build(&cfg, sources, &desc, &db, &err);
@@ -68,6 +85,7 @@ static int cmd_build(int argc, char **argv)
     }
     printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out,
            db.frame_count, db.dims, db.clip_count, db.size, cli_now() - t0, t1 - t0, t2 - t1);
+    print_postures(&report);
     mm_database_free(&db);
     return 0;
 }

@@ -119,6 +119,11 @@ typedef struct mm_config {
     float contact_speed;    /* metres/second under which it may be in contact */
     float contact_min_time; /* seconds: shorter runs of on or off are flicker and removed */
 
+    /* Postures (mm/posture.h): locomotion and idle clips lose their calibration and lying frames,
+     * and their crouched and bent-over frames are tagged Crouch (docs/database.md, "Postures") */
+    bool postures_detect; /* default true */
+    float postures_pad;   /* seconds kept out around a removed posture; default 0.25 */
+
     /* Features */
     int bone_count;
     mm_config_bone bones[MM_MAX_MATCH_BONES]; /* the seed's Bones */

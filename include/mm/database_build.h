@@ -18,11 +18,20 @@
 #include "clip.h"
 #include "config.h"
 #include "database.h"
+#include "posture.h"
 #include "result.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* What a build found in its sources (mm_db_build_desc.report). */
+typedef struct mm_db_build_report {
+    float reference_head_height;         /* m: the upright head height postures are judged by (0: none) */
+    int source_frames[MM_POSTURE_COUNT]; /* source frames of the locomotion and idle clips judged to
+                                            hold each posture (mm/posture.h): calibration and lying
+                                            ones are left out, crouched and bent ones tagged Crouch */
+} mm_db_build_report;
 
 typedef struct mm_db_build_desc {
     const char *config_json;       /* text to embed (the config as read); NULL: none */
@@ -32,6 +41,7 @@ typedef struct mm_db_build_desc {
     void *progress_user;
     int threads; /* 0 or 1: the calling thread alone; at most MM_DB_MAX_THREADS. The bytes never depend on it
                   */
+    mm_db_build_report *report; /* optional: filled with what the build found */
 } mm_db_build_desc;
 
 #define MM_DB_MAX_THREADS 64

@@ -18,6 +18,7 @@
 #include <mm/database_build.h>
 #include <mm/distance_curve_build.h>
 
+#include "db/build_postures.h"
 #include "db/db_file.h"
 #include "db/features.h"
 #include "db/process.h"
@@ -35,6 +36,8 @@ typedef struct built {
 
 typedef struct builder {
     const mm_config *cfg;
+    const mm__postures *postures;
+    const mm_clip *sources; /* [cfg->clip_count] */
     const mm_allocator *a;
     mm_error *err;
     built *clips;
@@ -60,29 +63,63 @@ static void free_builder(builder *b)
     free(b->clips);
 }
 
-static uint64_t tags_at(const mm_config *cfg, int config_clip, float t)
+/* The tags of config clip config_clip's source at time t: its tag ranges, and its posture's. */
+static uint64_t tags_at(const builder *b, int config_clip, float t)
 {
     uint64_t mask = 0;
     if (config_clip < 0) return 0;
-    const mm_config_clip *c = &cfg->clips[config_clip];
+    const mm_config_clip *c = &b->cfg->clips[config_clip];
     for (int i = 0; i < c->tag_range_count; ++i)
         if (t >= c->tag_ranges[i].begin - 1e-4f && t <= c->tag_ranges[i].end + 1e-4f)
             mask |= (uint64_t)1 << c->tag_ranges[i].tag;
-    return mask;
+    const mm_clip *source = &b->sources[config_clip];
+    return mask | mm__postures_tags(b->postures, config_clip, t, source->fps, source->frame_count);
 }
 
+static mm_result process_range(builder *b, int ci, const mm_clip *src, mm_config_range range, int piece);
+
+/* The database clips of config clip ci: one per range (the ranges less the postures left out). */
 static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
 {
     const mm_config *cfg = b->cfg;
     const mm_config_clip *cc = &cfg->clips[ci];
     mm_config_range whole = {0, src->frame_count};
-    int ranges = cc->range_count ? cc->range_count : 1;
-    for (int r = 0; r < ranges; ++r) {
+    int given = cc->range_count ? cc->range_count : 1, ranges = 0;
+    for (int r = 0; r < given; ++r) {
         mm_config_range range = cc->range_count ? cc->ranges[r] : whole;
         if (range.end > src->frame_count || range.end - range.begin < 2)
             return mm_error_set(b->err, MM_ERR_OUT_OF_RANGE, 0, 0,
                                 "clips[%d] (%s).ranges[%d]: [%d, %d) does not fit the file's %d frames", ci,
                                 cc->name, r, range.begin, range.end, src->frame_count);
+    }
+    /* the ranges as given, less the postures left out (a loop clip is kept whole) */
+    size_t room = 0;
+    for (int r = 0; r < given; ++r)
+        room += (size_t)((cc->range_count ? cc->ranges[r] : whole).end -
+                         (cc->range_count ? cc->ranges[r] : whole).begin);
+    mm_config_range *pieces = (mm_config_range *)malloc(sizeof(mm_config_range) * room);
+    if (!pieces) return mm_error_set(b->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    for (int r = 0; r < given; ++r) {
+        mm_config_range range = cc->range_count ? cc->ranges[r] : whole;
+        if (cc->loop)
+            pieces[ranges++] = range;
+        else
+            ranges += mm__postures_split(b->postures, cfg, ci, src, range, pieces + ranges);
+    }
+    mm_result res = MM_OK;
+    for (int r = 0; r < ranges && res == MM_OK; ++r)
+        res = process_range(b, ci, src, pieces[r], ranges > 1 ? r : -1);
+    free(pieces);
+    return res;
+}
+
+/* One database clip (and its mirror) from frames range of config clip ci's source; piece: its
+ * number among the clip's ranges (-1: the only one). */
+static mm_result process_range(builder *b, int ci, const mm_clip *src, mm_config_range range, int piece)
+{
+    const mm_config *cfg = b->cfg;
+    const mm_config_clip *cc = &cfg->clips[ci];
+    {
         mm_clip resampled;
         mm_result res = mm__clip_extract(src, range.begin, range.end, cfg->interval, &resampled, b->a);
         if (res != MM_OK)
@@ -92,8 +129,8 @@ static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
         res = mm__clip_add_root(&resampled, cfg, &x.clip, b->a, b->err);
         mm_clip_free(&resampled);
         if (res != MM_OK) return res;
-        if (ranges > 1)
-            snprintf(x.meta.name, MM_NAME_MAX, "%.50s#%d", cc->name, r);
+        if (piece >= 0)
+            snprintf(x.meta.name, MM_NAME_MAX, "%.50s#%d", cc->name, piece);
         else
             snprintf(x.meta.name, MM_NAME_MAX, "%s", cc->name);
         x.meta.type = cc->type;
@@ -276,6 +313,7 @@ static mm_result pass_error(mm_error *to, const mm_error *from, mm_result r)
 /* Stage 1: each config clip's database clips (ranges, mirrors) into its own list. */
 typedef struct source_job {
     const mm_config *cfg;
+    const mm__postures *postures;
     const mm_clip *sources;
     builder *parts;   /* [clip_count] */
     mm_error *errors; /* [clip_count] */
@@ -290,6 +328,8 @@ static void source_unit(void *ctx, int ci, int worker)
     source_job *j = (source_job *)ctx;
     builder *part = &j->parts[ci];
     part->cfg = j->cfg;
+    part->postures = j->postures;
+    part->sources = j->sources;
     part->err = &j->errors[ci];
     j->results[ci] = process_config_clip(part, ci, &j->sources[ci]);
     int done = atomic_fetch_add(&j->done, 1) + 1;
@@ -306,6 +346,7 @@ static mm_result process_sources(builder *b, const mm_clip *sources, const mm_db
     source_job j;
     memset(&j, 0, sizeof j);
     j.cfg = b->cfg;
+    j.postures = b->postures;
     j.sources = sources;
     j.parts = (builder *)calloc((size_t)n, sizeof(builder));
     j.errors = (mm_error *)calloc((size_t)n, sizeof(mm_error));
@@ -473,11 +514,11 @@ static void clip_unit(void *ctx, int i, int worker)
         x->frame_next[g] = f + 1 < n ? g + 1 : (bc->meta.loop ? first : -1);
         if (bc->blend < 0) {
             x->frame_tags[g] =
-                tags_at(cfg, bc->config_clip, bc->meta.source_start + (float)f * cfg->interval);
+                tags_at(j->b, bc->config_clip, bc->meta.source_start + (float)f * cfg->interval);
         } else {
             float u = bc->meta.loop ? (float)f / n : (float)f / (float)(n - 1);
-            x->frame_tags[g] = tags_at(cfg, bc->tag_clip_left, bc->start_left + u * bc->period_left) |
-                               tags_at(cfg, bc->tag_clip_right, bc->start_right + u * bc->period_right);
+            x->frame_tags[g] = tags_at(j->b, bc->tag_clip_left, bc->start_left + u * bc->period_left) |
+                               tags_at(j->b, bc->tag_clip_right, bc->start_right + u * bc->period_right);
         }
     }
     memcpy(x->rotations + (size_t)first * nj, c->rotations, (size_t)n * nj * sizeof(mm_quat));
@@ -625,9 +666,18 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     mm_searcher_pool *pool =
         desc && desc->threads > 1 ? mm__pool_create(desc->threads, desc->allocator) : NULL;
     int workers = mm__pool_size(pool);
+    mm__postures postures;
+    r = mm__postures_find(cfg, sources, &postures, desc ? desc->report : NULL, err);
+    if (r != MM_OK) {
+        mm__pool_destroy(pool);
+        mm__postures_free(&postures);
+        return r;
+    }
     builder b;
     memset(&b, 0, sizeof b);
     b.cfg = cfg;
+    b.postures = &postures;
+    b.sources = sources;
     b.err = err;
     int total = cfg->clip_count + cfg->blend_count;
     r = process_sources(&b, sources, desc, pool);
@@ -635,10 +685,15 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
         r = process_blend(&b, i);
         if (desc && desc->progress) desc->progress(cfg->clip_count + i + 1, total, desc->progress_user);
     }
+    if (r == MM_OK && b.count == 0)
+        r = mm_error_set(
+            err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+            "no frames left: every clip's frames are calibration or lying poses (postures.detect)");
     if (r == MM_OK) r = check_skeletons(&b);
     if (r != MM_OK) {
         mm__pool_destroy(pool);
         free_builder(&b);
+        mm__postures_free(&postures);
         return r;
     }
 
@@ -652,6 +707,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     if (group_count < 0) {
         mm__pool_destroy(pool);
         free_builder(&b);
+        mm__postures_free(&postures);
         return err ? err->code : MM_ERR_NOT_FOUND;
     }
     int dims_padded = (dims + MM_DB_SIMD_WIDTH - 1) / MM_DB_SIMD_WIDTH * MM_DB_SIMD_WIDTH;
@@ -661,7 +717,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     size_t large = (size_t)(frames + MM_DB_LARGE_BLOCK - 1) / MM_DB_LARGE_BLOCK;
     x.joints = (mm_joint *)calloc(nj, sizeof(mm_joint));
     x.clips = (mm_db_clip *)calloc((size_t)b.count, sizeof(mm_db_clip));
-    x.tag_names = (char(*)[MM_TAG_NAME_MAX])calloc((size_t)cfg->tag_count + 1, MM_TAG_NAME_MAX);
+    x.tag_names = (char(*)[MM_TAG_NAME_MAX])calloc((size_t)postures.tag_count + 1, MM_TAG_NAME_MAX);
     x.frame_clip = (int32_t *)calloc(nf, 4);
     x.frame_next = (int32_t *)calloc(nf, 4);
     x.frame_tags = (uint64_t *)calloc(nf, 8);
@@ -704,6 +760,8 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     if (r == MM_OK) {
         memcpy(x.joints, skel->joints, nj * sizeof(mm_joint));
         for (int t = 0; t < cfg->tag_count; ++t) memcpy(x.tag_names[t], cfg->tag_names[t], MM_TAG_NAME_MAX);
+        if (postures.crouch_tag >= cfg->tag_count)
+            snprintf(x.tag_names[postures.crouch_tag], MM_TAG_NAME_MAX, "Crouch");
         for (int i = 0, f = 0; i < b.count; f += b.clips[i++].clip.frame_count) first[i] = f;
         cj.b = &b;
         cj.x = &x;
@@ -733,6 +791,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
         free_distance(&dist, b.count);
         free_arrays(&x);
         free_builder(&b);
+        mm__postures_free(&postures);
         return r;
     }
 
@@ -741,7 +800,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     p.frame_count = frames;
     p.joint_count = jc;
     p.clip_count = b.count;
-    p.tag_count = cfg->tag_count;
+    p.tag_count = postures.tag_count;
     p.group_count = group_count;
     p.dims = dims;
     p.dims_padded = dims_padded;
@@ -759,6 +818,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
         free_distance(&dist, b.count);
         free_arrays(&x);
         free_builder(&b);
+        mm__postures_free(&postures);
         return r;
     }
     const char *json = desc && desc->config_json ? desc->config_json : "";
@@ -775,5 +835,6 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     free_distance(&dist, b.count);
     free_arrays(&x);
     free_builder(&b);
+    mm__postures_free(&postures);
     return r;
 }

@@ -58,6 +58,13 @@ static const mm_config_field_doc docs[] = {
     {"contacts.speed", "number", "m/s", "0.6", "... and moves horizontally slower than this."},
     {"contacts.min_time", "number", "s", "0.1",
      "Contact or lift-off runs shorter than this are flicker and are removed."},
+    {"postures.detect", "bool", "", "true",
+     "Judge the posture of every frame of the locomotion and idle clips (docs/database.md, \"Postures\"): "
+     "calibration poses (arms straight out) and lying frames are left out, with postures.pad around them; "
+     "crouched and bent-over frames get the tag Crouch (added after the config's tags unless one of them is "
+     "named so), the crouch gait, which an ordinary walk or run does not play. Frames the config tags with a "
+     "gait (walk, run, crouch, jump) keep what the config says."},
+    {"postures.pad", "number", "s", "0.25", "Seconds left out before and after a calibration or lying pose."},
     {"features.bones", "[object]", "", "LeftFoot, RightFoot (position and velocity), Hips (velocity)",
      "The bones whose position and velocity, relative to the character, are matched (the seed's Bones)."},
     {"features.bones[].name", "string", "", "", "Joint name."},
@@ -529,9 +536,9 @@ static float whole_rate_interval(float interval)
 
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
-    static const char *const keys[] = {"interval", "scale",        "roles", "root_smoothing", "contacts",
-                                       "features", "mirror_pairs", "tags",  "clips",          "blend_clips",
-                                       "runtime",  "extends",      NULL};
+    static const char *const keys[] = {
+        "interval",     "scale", "roles", "root_smoothing", "contacts", "postures", "features",
+        "mirror_pairs", "tags",  "clips", "blend_clips",    "runtime",  "extends",  NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
@@ -548,6 +555,13 @@ static mm_result parse_root(ctx *c, const cJSON *root)
         if ((r = get_number(c, contacts, "height", "contacts", &cfg->contact_height)) != MM_OK) return r;
         if ((r = get_number(c, contacts, "speed", "contacts", &cfg->contact_speed)) != MM_OK) return r;
         if ((r = get_number(c, contacts, "min_time", "contacts", &cfg->contact_min_time)) != MM_OK) return r;
+    }
+    const cJSON *postures = cJSON_GetObjectItemCaseSensitive(root, "postures");
+    if (postures) {
+        static const char *const pkeys[] = {"detect", "pad", NULL};
+        if ((r = check_keys(c, postures, "postures", pkeys)) != MM_OK) return r;
+        if ((r = get_bool(c, postures, "detect", "postures", &cfg->postures_detect)) != MM_OK) return r;
+        if ((r = get_number(c, postures, "pad", "postures", &cfg->postures_pad)) != MM_OK) return r;
     }
     const cJSON *features = cJSON_GetObjectItemCaseSensitive(root, "features");
     if (features && (r = parse_features(c, features)) != MM_OK) return r;

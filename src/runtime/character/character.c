@@ -301,6 +301,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     }
     mm_rig_init(&s->rig, db->joints, db->joint_count, given->left_foot, given->right_foot);
     mm_rig_learn_hinges(&s->rig, db);
+    mm_rig_learn_planted_heights(&s->rig, db);
     apply_tuning(c, &c->desc);
     const mm_character_desc *d = &s->desc;
     s->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");

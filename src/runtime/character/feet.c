@@ -56,10 +56,16 @@ void mm_feet_record(mm_feet *f, const mm_rig *rig, const mm_rig_pose *pose)
     }
 }
 
+/* A height for a lock placed at y: not below planted above the ground (when the feet keep to it). */
+static float above_ground(const mm_feet_ground *ground, float planted, float y)
+{
+    return ground->hold && y < ground->height + planted ? ground->height + planted : y;
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). */
 static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
-                         const mm_feet_contacts *contacts, int k, float dt, const mm_rig_pose *pose,
-                         mm_quat *orientation)
+                         const mm_feet_contacts *contacts, int k, const mm_feet_ground *ground, float dt,
+                         const mm_rig_pose *pose, mm_quat *orientation)
 {
     int ankle = rig->ankle[k], toe = rig->toe[k];
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
@@ -97,19 +103,21 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
             f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
         }
     }
-    int planted = 0; /* plant where the foot is now */
+    int planted = 0; /* plant where the foot is now, never lower than the data plants it */
     if (heel_on && !f->heel_locked[k]) {
         f->heel_locked[k] = true;
         f->heel_lock[k] = out;
+        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], out.y);
         planted = 1;
     }
     if (toe_on && !f->toe_locked[k]) {
         f->toe_locked[k] = true;
         f->toe_lock[k] = mm_vec3_add(out, mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
+        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k].y);
         planted = 1;
     }
-    if (planted) { /* held exactly from here */
-        f->offset[k] = f->heel_locked[k] ? mm_vec3_make(0, 0, 0) : mm_vec3_sub(out, foot_source(f, k, a, t));
+    if (planted) { /* held exactly from here (a lock raised to the ground: once the offset has faded) */
+        f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
         f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
     }
     if (f->heel_locked[k] && f->toe_locked[k]) {
@@ -173,18 +181,42 @@ static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig
     }
 }
 
+/* A toe below floor_y (an animated foot pitched into the ground, or a transition's offset) is lifted
+ * by pitching the foot about its ankle, as far as the foot's length allows. The globals of the ankle
+ * and the toe must be current; sets the ankle's local rotation (the caller runs the forward
+ * kinematics again). Returns whether it turned the foot. */
+static int lift_toe(const mm_rig *rig, int k, float floor_y, mm_rig_pose *pose)
+{
+    int ankle = rig->ankle[k], toe = rig->toe[k];
+    if (ankle < 0 || toe < 0) return 0;
+    mm_xform *g = pose->global;
+    mm_vec3 a = g[ankle].translation, v = mm_vec3_sub(g[toe].translation, a);
+    if (!(a.y + v.y < floor_y)) return 0;
+    float length = mm_vec3_length(v), across = sqrtf(v.x * v.x + v.z * v.z), rise = floor_y - a.y;
+    if (!(across > 1e-4f) || !(fabsf(rise) < length)) return 0;
+    float keep = sqrtf(length * length - rise * rise) / across;
+    mm_vec3 lifted = mm_vec3_make(v.x * keep, rise, v.z * keep);
+    mm_quat ankle_world = mm_quat_normalize(mm_quat_mul(mm_quat_between(v, lifted), g[ankle].rotation));
+    int knee = rig->joints[ankle].parent;
+    pose->local_rotations[ankle] =
+        mm_quat_normalize(mm_quat_mul(mm_quat_conj(g[knee].rotation), ankle_world));
+    return 1;
+}
+
 void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                     const mm_feet_contacts *contacts, float ground, bool hold_ground, float dt,
                     mm_rig_pose *pose)
 {
     mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}};
     mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
+    mm_feet_ground on_ground = {ground, hold_ground};
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
-        target[k] = lock_foot(f, d, rig, contacts, k, dt, pose, &orientation[k]);
-        /* never below the ground: the root's height in locomotion (it stands on the ground, which a
-         * scene may put anywhere) */
-        if (hold_ground && target[k].y < ground) target[k].y = ground;
+        target[k] = lock_foot(f, d, rig, contacts, k, &on_ground, dt, pose, &orientation[k]);
+        /* never lower than the data puts a planted ankle above the ground (the root's height in
+         * locomotion: it stands on the ground, which a scene may put anywhere) */
+        if (hold_ground && target[k].y < ground + rig->planted_ankle[k])
+            target[k].y = ground + rig->planted_ankle[k];
         f->lock[k] = target[k];
     }
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) lower_hips(f, d, rig, target, dt, pose);
@@ -210,4 +242,9 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
     }
     f->placed = true;
     mm_rig_forward(rig, 1, pose); /* below the ankles */
+    if (hold_ground) {
+        int lifted = 0;
+        for (int k = 0; k < 2; ++k) lifted |= lift_toe(rig, k, ground + rig->planted_toe[k], pose);
+        if (lifted) mm_rig_forward(rig, 1, pose);
+    }
 }

@@ -29,6 +29,13 @@ typedef struct mm_feet_contacts {
     float until_label[2]; /* s until foot k's label turns on, when within plant_time; -1 otherwise */
 } mm_feet_contacts;
 
+/* The ground a foot stands on: its height, and whether the feet keep to it (not during a move,
+ * whose root follows its clip). */
+typedef struct mm_feet_ground {
+    float height;
+    bool hold;
+} mm_feet_ground;
+
 /* Records the raw contact positions (ankles and toes of the pose as it comes). */
 void mm_feet_record(mm_feet *f, const mm_rig *rig, const mm_rig_pose *pose);
 

@@ -1,6 +1,7 @@
 /* The character's rig: legs, pelvis and spine found by name and parentage. */
 #include "rig.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 static int find_joint(const mm_joint *joints, int joint_count, const char *name)
@@ -100,4 +101,49 @@ mm_vec3 mm_rig_knee_pole(const mm_rig *rig, const mm_rig_pose *pose, int k)
     /* thigh a u + h s and shin (L - a) u - h s have cross(thigh, shin) = L h cross(s, u): along the
      * hinge when s = cross(u, hinge) */
     return mm_vec3_cross(ac, hinge);
+}
+
+/* frames read per planted height (evenly spaced over the labelled frames of the database) */
+#define PLANTED_SAMPLES 1024
+
+/* Joint j's height above joint 0 (the root, on the ground) in database frame f. */
+static float height_above_root(const mm_rig *rig, const mm_database *db, int f, int j)
+{
+    const mm_quat *r = mm_database_rotations(db, f);
+    const mm_vec3 *p = mm_database_positions(db, f);
+    /* from the joint up to the root: p = offset in the parent, rotated by the parent's global */
+    mm_vec3 v = mm_vec3_make(0, 0, 0);
+    for (int k = j; k > 0; k = rig->joints[k].parent) v = mm_vec3_add(p[k], mm_quat_rotate(r[k], v));
+    return mm_quat_rotate(r[0], v).y;
+}
+
+static int compare_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median height of joint j over the sampled frames whose label bit is on (0 without any). */
+static float planted_height(const mm_rig *rig, const mm_database *db, int j, unsigned bit)
+{
+    float h[PLANTED_SAMPLES];
+    int labelled = 0, n = 0;
+    for (int f = 0; f < db->frame_count; ++f) labelled += (db->contacts[f] & bit) != 0;
+    int step = labelled > PLANTED_SAMPLES ? labelled / PLANTED_SAMPLES + 1 : 1;
+    for (int f = 0, seen = 0; f < db->frame_count && n < PLANTED_SAMPLES; ++f)
+        if ((db->contacts[f] & bit) && seen++ % step == 0) h[n++] = height_above_root(rig, db, f, j);
+    if (n == 0) return 0.0f;
+    qsort(h, (size_t)n, sizeof(float), compare_float);
+    return h[n / 2];
+}
+
+void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db)
+{
+    static const unsigned heel_bit[2] = {MM_CONTACT_LEFT_HEEL, MM_CONTACT_RIGHT_HEEL},
+                          toe_bit[2] = {MM_CONTACT_LEFT_TOE, MM_CONTACT_RIGHT_TOE};
+    for (int k = 0; k < 2; ++k) {
+        rig->planted_ankle[k] =
+            rig->ankle[k] >= 0 ? planted_height(rig, db, rig->ankle[k], heel_bit[k]) : 0.0f;
+        rig->planted_toe[k] = rig->toe[k] >= 0 ? planted_height(rig, db, rig->toe[k], toe_bit[k]) : 0.0f;
+    }
 }

@@ -20,10 +20,17 @@ typedef struct mm_rig {
     /* per leg: the knee's hinge, the axis it bends about, in the knee joint's own frame (learned
      * from the database: cross(thigh, shin) where the knee is clearly bent); zero when unknown */
     mm_vec3 hinge[2];
+    /* per leg: the ankle's and the toe's height above the ground (the root's height) where the
+     * database labels them planted (the median over its labelled frames); 0 when unknown */
+    float planted_ankle[2], planted_toe[2];
 } mm_rig;
 
 /* Learns each knee's hinge from the frames of db (whose skeleton the rig was made on). */
 void mm_rig_learn_hinges(mm_rig *rig, const mm_database *db);
+
+/* Learns each foot's planted heights (mm_rig.planted_ankle, planted_toe) from the frames of db
+ * whose contact labels are on. */
+void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db);
 
 /* A pose on the rig: local rotations and positions (joint 0: the root, in the world) and the
  * global transforms they give. */

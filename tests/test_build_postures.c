@@ -1,0 +1,167 @@
+/* The database build's postures (docs/database.md, "Postures"): calibration poses cut out of
+ * locomotion clips with their margin, crouched frames tagged Crouch, on a hand-made take whose
+ * postures are known frame by frame. */
+#include <math.h>
+#include <mm/database_build.h>
+
+#include "test_util.h"
+
+#define FPS    30.0f
+#define FRAMES 300 /* 10 s */
+/* the hand-made take: a T pose over source frames [60, 120), a crouch over [180, 240) */
+#define T_BEGIN      60
+#define T_END        120
+#define CROUCH_BEGIN 180
+#define CROUCH_END   240
+
+/* Hips 1 m up; a spine, the head 0.55 m above the hips; hands hanging beside the spine; legs
+ * with feet 0.95 m below the hips. */
+static void make_skeleton(mm_skeleton *s)
+{
+    assert_int_equal(mm_skeleton_init(s, 9, NULL), MM_OK);
+    const char *names[9] = {"Hips",     "Spine2",  "Head",      "LeftHand", "RightHand",
+                            "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
+    const int parents[9] = {-1, 0, 1, 1, 1, 0, 5, 0, 7};
+    const float off[9][3] = {{0, 1, 0},          {0, 0.3f, 0},       {0, 0.25f, 0},
+                             {0.2f, -0.45f, 0},  {-0.2f, -0.45f, 0}, {0.1f, -0.9f, 0},
+                             {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},  {0, -0.05f, 0.15f}};
+    for (int j = 0; j < 9; ++j) {
+        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
+        s->joints[j].parent = parents[j];
+        s->joints[j].offset = mm_vec3_make(off[j][0], off[j][1], off[j][2]);
+        s->joints[j].order = MM_EULER_ZYX;
+    }
+    s->joints[0].flags = MM_JOINT_TRANSLATES;
+}
+
+/* Walks straight along +Z at 1 m/s; arms straight out in the T pose, the hips 0.3 m lower in the
+ * crouch (the head at 0.8 of its upright height above the ground). */
+static void make_take(mm_clip *clip)
+{
+    mm_skeleton s;
+    make_skeleton(&s);
+    assert_int_equal(mm_clip_init(clip, &s, FRAMES, FPS, NULL), MM_OK);
+    mm_skeleton_free(&s);
+    for (int f = 0; f < FRAMES; ++f) {
+        int t_pose = f >= T_BEGIN && f < T_END, crouch = f >= CROUCH_BEGIN && f < CROUCH_END;
+        mm_clip_positions(clip, f)[0] = mm_vec3_make(0.0f, crouch ? 0.7f : 1.0f, (float)f / FPS);
+        if (t_pose) {
+            mm_clip_positions(clip, f)[3] = mm_vec3_make(0.8f, 0.15f, 0.0f);
+            mm_clip_positions(clip, f)[4] = mm_vec3_make(-0.8f, 0.15f, 0.0f);
+        }
+    }
+}
+
+static void make_config(mm_config *cfg)
+{
+    mm_config_defaults(cfg);
+    cfg->scale = 1.0f;
+    cfg->root_smoothing = 0.0f;
+    cfg->clip_count = 1;
+    cfg->clips = calloc(1, sizeof(mm_config_clip));
+    snprintf(cfg->clips[0].name, MM_NAME_MAX, "take");
+    snprintf(cfg->clips[0].file, MM_PATH_MAX, "take.bvh");
+}
+
+/* The source time of database frame f. */
+static double source_time(const mm_database *db, int f)
+{
+    const mm_db_clip *c = &db->clips[db->frame_clip[f]];
+    return c->source_start + (f - c->first_frame) * db->interval;
+}
+
+static void test_calibration_cut_and_crouch_tagged(void **state)
+{
+    (void)state;
+    mm_clip take;
+    make_take(&take);
+    mm_config cfg;
+    make_config(&cfg);
+    mm_db_build_report report;
+    mm_db_build_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.report = &report;
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, &take, &desc, &db, NULL), MM_OK);
+    /* the reference: the head 1.55 m up, the ground 0.05 m up (the feet's toes) */
+    assert_near(report.reference_head_height, 1.5, 1e-4);
+    assert_int_equal(report.source_frames[MM_POSTURE_CALIBRATION], T_END - T_BEGIN);
+    assert_int_equal(report.source_frames[MM_POSTURE_CROUCHED], CROUCH_END - CROUCH_BEGIN);
+    assert_int_equal(report.source_frames[MM_POSTURE_UPRIGHT], FRAMES - 120);
+    /* the T pose and 0.25 s (8 frames) on each side left out: [0, 52) and [128, 300) */
+    int pad = (int)lroundf(cfg.postures_pad * FPS);
+    assert_int_equal(db.clip_count, 2);
+    assert_string_equal(db.clips[0].name, "take#0");
+    assert_string_equal(db.clips[1].name, "take#1");
+    assert_near(db.clips[0].source_start, 0.0, 1e-6);
+    assert_near(db.clips[1].source_start, (T_END + pad) / FPS, 1e-5);
+    assert_near((db.clips[0].frame_count - 1) * db.interval, (T_BEGIN - pad - 1) / FPS, 1e-4);
+    /* the crouch, and nothing else, carries the new tag Crouch */
+    assert_int_equal(db.tag_count, 1);
+    assert_string_equal(db.tag_names[0], "Crouch");
+    for (int f = 0; f < db.frame_count; ++f) {
+        double t = source_time(&db, f);
+        assert_true(t < T_BEGIN / FPS - 0.2 || t > (T_END - 1) / FPS + 0.2);
+        int crouched = t > CROUCH_BEGIN / FPS - 1e-3 && t < (CROUCH_END - 1) / FPS + 1e-3;
+        int near_edge = fabs(t - CROUCH_BEGIN / FPS) < 0.02 || fabs(t - CROUCH_END / FPS) < 0.04;
+        if (!near_edge) assert_int_equal(db.frame_tags[f] & 1u, (uint64_t)crouched);
+    }
+    mm_database_free(&db);
+
+    /* a tag of the config named crouch in any case is the one used */
+    cfg.tag_count = 2;
+    snprintf(cfg.tag_names[0], MM_TAG_NAME_MAX, "DoNotUse");
+    snprintf(cfg.tag_names[1], MM_TAG_NAME_MAX, "crouch");
+    assert_int_equal(mm_database_build(&cfg, &take, NULL, &db, NULL), MM_OK);
+    assert_int_equal(db.tag_count, 2);
+    uint64_t any = 0;
+    for (int f = 0; f < db.frame_count; ++f) any |= db.frame_tags[f];
+    assert_int_equal(any, 2u);
+    mm_database_free(&db);
+
+    /* off: the take as given */
+    cfg.postures_detect = false;
+    assert_int_equal(mm_database_build(&cfg, &take, &desc, &db, NULL), MM_OK);
+    assert_int_equal(db.clip_count, 1);
+    assert_int_equal(db.frame_count, (FRAMES - 1) * 2 + 1);
+    for (int f = 0; f < db.frame_count; ++f) assert_int_equal(db.frame_tags[f], 0);
+    assert_true(report.reference_head_height == 0.0f);
+    mm_database_free(&db);
+
+    /* idle clips are judged too; other kinds (and loop clips' cuts) are not */
+    cfg.postures_detect = true;
+    cfg.clips[0].loop = true;
+    assert_int_equal(mm_database_build(&cfg, &take, NULL, &db, NULL), MM_OK);
+    assert_int_equal(db.clip_count, 1);
+    mm_database_free(&db);
+    mm_config_free(&cfg);
+    mm_clip_free(&take);
+}
+
+/* No tag left for Crouch: a clear error that says how out. */
+static void test_no_room_for_the_tag(void **state)
+{
+    (void)state;
+    mm_clip take;
+    make_take(&take);
+    mm_config cfg;
+    make_config(&cfg);
+    cfg.tag_count = MM_MAX_TAGS;
+    for (int t = 0; t < MM_MAX_TAGS; ++t) snprintf(cfg.tag_names[t], MM_TAG_NAME_MAX, "tag%d", t);
+    mm_database db;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_build(&cfg, &take, NULL, &db, &err), MM_ERR_LIMIT);
+    assert_non_null(strstr(err.message, "postures.detect"));
+    mm_config_free(&cfg);
+    mm_clip_free(&take);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_calibration_cut_and_crouch_tagged),
+        cmocka_unit_test(test_no_room_for_the_tag),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
