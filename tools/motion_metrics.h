@@ -82,7 +82,8 @@ void motion_metrics_reference(motion_metrics *m, const mm_posture_joints *joints
                               const double planted[4]);
 /* The same from the motion itself, frames x joint_count world positions (the posture's joints
  * given): the head height is mm_posture_reference_height of the head's heights, each contact
- * joint's planted height the 5th percentile of its heights. */
+ * joint's planted height the 5th percentile of its heights (above the ground: call it after
+ * motion_metrics_scene). */
 void motion_metrics_reference_from_motion(motion_metrics *m, const mm_posture_joints *joints,
                                           const mm_vec3 *world, long frames);
 
