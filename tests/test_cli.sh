@@ -216,10 +216,35 @@ script_dir=$data/../../scripts/input
 expect_exit 0 "$mm" simulate "$tmp/synth.mmdb" --input "$script_dir/turn_90.json" --seconds 5 -o "$tmp/sim1.bvh" --metrics "$tmp/sim1.json"
 expect_exit 0 "$mm" simulate "$tmp/synth.mmdb" --input "$script_dir/turn_90.json" --seconds 5 -o "$tmp/sim2.bvh" --metrics "$tmp/sim2.json"
 if cmp -s "$tmp/sim1.bvh" "$tmp/sim2.bvh"; then ok; else bad "two simulations of one script differ"; fi
-for key in foot_slide_cm_s foot_slide_raw_cm_s traj_err_cm heading_err_deg response_s max_pop_cm db_max_pop_cm searches transitions_per_s nan_frames search_median_us search_p99_us; do
+for key in foot_slide_cm_s foot_slide_raw_cm_s traj_err_cm heading_err_deg response_s max_pop_cm db_max_pop_cm searches transitions_per_s nan_frames search_median_us search_p99_us \
+    below_ground_cm contact_height_err_cm contact_share foot_slide_height_cm_s pop_p99_cm db_pop_p99_cm head_p2_cm \
+    head_p5_cm head_p50_cm db_head_p5_cm db_head_p50_cm crouched_s bent_s lying_s calibration_s arms_out_s \
+    hands_apart_max_cm; do
     expect_grep "\"$key\": " "$tmp/sim1.json"
 done
 expect_grep '"nan_frames": 0' "$tmp/sim1.json"
+# what the database gives: numbers on the built-in set (its roles name a head, hands, feet and toes)
+for key in contact_height_err_cm contact_share foot_slide_height_cm_s pop_p99_cm db_pop_p99_cm head_p50_cm \
+    db_head_p50_cm crouched_s calibration_s arms_out_s hands_apart_max_cm; do
+    expect_grep "\"$key\": [0-9]" "$tmp/sim1.json"
+done
+# mm metrics on the motion written, against the same database: the same pose measures (the BVH
+# holds the motion to 9 digits)
+expect_exit 0 "$mm" metrics "$tmp/sim1.bvh" --db "$tmp/synth.mmdb" -o "$tmp/sim1_bvh.json"
+for key in max_pop_cm pop_p99_cm below_ground_cm foot_slide_height_cm_s head_p2_cm head_p50_cm db_pop_p99_cm \
+    db_head_p5_cm crouched_s bent_s calibration_s arms_out_s hands_apart_max_cm; do
+    a=$(sed -n "s/.*\"$key\": \([-0-9.e+]*\).*/\1/p" "$tmp/sim1.json")
+    b=$(sed -n "s/.*\"$key\": \([-0-9.e+]*\).*/\1/p" "$tmp/sim1_bvh.json")
+    if [ -n "$a" ] && awk -v a="$a" -v b="$b" 'BEGIN { exit !(b != "" && a - b < 1e-3 && b - a < 1e-3) }'; then
+        ok
+    else
+        bad "$key: mm simulate $a, mm metrics on its BVH $b"
+    fi
+done
+expect_grep '"contact_share": null' "$tmp/sim1_bvh.json"
+# a file without the database's joints
+expect_exit 1 "$mm" metrics "$data/bvh/chain2.bvh" --db "$tmp/synth.mmdb"
+expect_grep "no joint 'Hips' (a bone role of the database)" "$tmp/err"
 expect_exit 0 "$mm" bvh info "$tmp/sim1.bvh"
 expect_grep "frames: *300" "$tmp/out"
 expect_exit 0 "$mm" simulate "$tmp/synth.mmdb" --random 5 --seconds 3 --fps 30 -o "$tmp/sim3.bvh" --metrics "$tmp/sim3.json"

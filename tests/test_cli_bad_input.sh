@@ -135,6 +135,9 @@ readers() { # FILE: every command that reads FILE fails naming it
     fails "$f" "$mm" similarity info "$sim" --db "$f"
     fails "$f" "$mm" pfnn eval --weights "$tmp/no_weights" --x "$f" --phase 0 -o "$o/y.bin"
     fails "$f" "$mm" render "$f" -o "$o/frames" --seconds 0.1
+    fails "$f" "$mm" metrics "$f"
+    fails "$f" "$mm" metrics "$tmp/set/idle.bvh" --db "$f"
+    fails "$f" "$mm" metrics "$tmp/set/idle.bvh" --scene "$f"
 }
 for f in "$tmp/missing" "$tmp/empty" "$tmp/garbage" "$tmp/folder"; do readers "$f"; done
 # a folder where a file is expected is called one

@@ -142,6 +142,18 @@ int cli_parse_options(const char *command, int argc, char **argv, const cli_opti
     return 0;
 }
 
+int cli_parse_scale(const char *command, const cli_option *option, const char *value)
+{
+    double *scale = (double *)option->target, x = 0.0;
+    if (strcmp(value, "auto") == 0)
+        *scale = 0.0;
+    else if (cli_parse_double(value, &x) && x > 0 && x <= 1000)
+        *scale = x;
+    else
+        return cli_usage_error(command, "--scale needs a factor in (0, 1000] or auto");
+    return 0;
+}
+
 FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
 {
     struct stat st;

@@ -47,6 +47,9 @@ struct cli_option {
 };
 int cli_parse_options(const char *command, int argc, char **argv, const cli_option *options, int option_count,
                       const char *usage, const char **args, int max_args);
+/* A CLI_CUSTOM parser of --scale: a factor in (0, 1000], or auto (stored as 0: detect the unit);
+ * target is a double. */
+int cli_parse_scale(const char *command, const cli_option *option, const char *value);
 /* The number of elements of an array (an option table). */
 #define CLI_COUNT(array) ((int)(sizeof(array) / sizeof((array)[0])))
 /* Parses a whole argument as a decimal number (no hexadecimal, inf or nan) that a float holds

@@ -133,9 +133,9 @@ int mm_cmd_pfnn_run(int argc, char **argv)
         goto done;
     }
     /* contacts: the network's order is left heel, left toe, right heel, right toe */
-    static const char *contact_names[4] = {"LeftFoot", "LeftToeBase", "RightFoot", "RightToeBase"};
     int contact[4];
-    for (int k = 0; k < 4; ++k) contact[k] = mm_skeleton_find(&skel, contact_names[k]);
+    mm_posture_joints posture_joints;
+    motion_metrics_roles_by_name(&skel, contact, &posture_joints);
     int n = skel.joint_count;
     mm_xform *global = malloc(sizeof(mm_xform) * (size_t)n);
     mm_vec3 *world = malloc(sizeof(mm_vec3) * (size_t)n);
@@ -146,6 +146,9 @@ int mm_cmd_pfnn_run(int argc, char **argv)
         status = 1;
         goto done;
     }
+    /* no database: no upright head height or planted heights to measure the posture and the feet
+     * against (mm metrics on the BVH measures them against the motion itself) */
+    motion_metrics_reference(&mx, &posture_joints, 0.0f, NULL);
     /* the metrics file is opened first, so that a bad path fails before the run and leaves no
        motion behind */
     char tmp[4096 + 32];
@@ -193,8 +196,8 @@ int mm_cmd_pfnn_run(int argc, char **argv)
         goto done;
     }
     if (m) {
-        motion_metrics_extra x = {NAN, NAN, NAN,
-                                  (double)mm_pfnn_network_bytes(net, mode) / (1024.0 * 1024.0)};
+        motion_metrics_extra x = {NAN, NAN, NAN, (double)mm_pfnn_network_bytes(net, mode) / (1024.0 * 1024.0),
+                                  NAN, NAN, NAN};
         motion_metrics_write_json(&mx, m, &x);
         status = cli_commit(m, tmp, metrics, 0);
         if (status != 0) remove(out); /* the motion without its metrics: nothing */

@@ -15,19 +15,6 @@
 #include "cli.h"
 #include "commands.h"
 
-/* --scale: a factor, or auto (0) to detect the unit. */
-static int parse_scale(const char *command, const cli_option *option, const char *value)
-{
-    double *scale = (double *)option->target, x = 0.0;
-    if (strcmp(value, "auto") == 0)
-        *scale = 0.0;
-    else if (cli_parse_double(value, &x) && x > 0 && x <= 1000)
-        *scale = x;
-    else
-        return cli_usage_error(command, "--scale needs a factor in (0, 1000] or auto");
-    return 0;
-}
-
 int mm_cmd_render(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *scene_path = NULL;
@@ -54,7 +41,7 @@ int mm_cmd_render(int argc, char **argv)
          .max = 36000,
          .open_min = 1,
          .need = "a number in (0, 36000]"},
-        {.name = "--scale", .kind = CLI_CUSTOM, .target = &scale, .parse = parse_scale},
+        {.name = "--scale", .kind = CLI_CUSTOM, .target = &scale, .parse = cli_parse_scale},
     };
     int status = cli_parse_options("render", argc, argv, options, CLI_COUNT(options), usage, &in, 1);
     if (status) return status;

@@ -27,60 +27,6 @@
 /* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
 #define SIM_MAX_FRAMES 2160000
 
-/* The four contact joints (left heel, left toe, right heel, right toe): the database's bone roles. */
-static void contact_joints(const mm_database *db, int joints[4])
-{
-    const mm_role roles[4] = {MM_ROLE_LEFT_FOOT, MM_ROLE_LEFT_TOE, MM_ROLE_RIGHT_FOOT, MM_ROLE_RIGHT_TOE};
-    for (int k = 0; k < 4; ++k) joints[k] = db->settings ? db->settings->roles[roles[k]] : -1;
-}
-
-/* The largest second difference of any joint's world position over the database's clips played
- * in order, resampled to fps (cm). */
-static double database_max_pop(const mm_database *db, float fps)
-{
-    mm_skeleton s;
-    if (mm_skeleton_init(&s, db->joint_count, NULL) != MM_OK) return NAN;
-    memcpy(s.joints, db->joints, sizeof(mm_joint) * (size_t)db->joint_count);
-    int n = db->joint_count;
-    mm_xform *g[3];
-    for (int k = 0; k < 3; ++k) g[k] = malloc(sizeof(mm_xform) * (size_t)n);
-    mm_quat *rot = malloc(sizeof(mm_quat) * (size_t)n);
-    mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
-    double worst = 0.0;
-    for (int c = 0; c < db->clip_count; ++c) {
-        const mm_db_clip *clip = &db->clips[c];
-        double duration = (clip->frame_count - 1) * db->interval;
-        int samples = (int)floor(duration * fps) + 1;
-        for (int i = 0; i < samples; ++i) {
-            double x = i / fps / db->interval;
-            int f0 = (int)floor(x), f1 = f0 + 1 < clip->frame_count ? f0 + 1 : f0;
-            float a = (float)(x - f0);
-            const mm_quat *r0 = mm_database_rotations(db, clip->first_frame + f0),
-                          *r1 = mm_database_rotations(db, clip->first_frame + f1);
-            const mm_vec3 *p0 = mm_database_positions(db, clip->first_frame + f0),
-                          *p1 = mm_database_positions(db, clip->first_frame + f1);
-            for (int j = 0; j < n; ++j) {
-                rot[j] = mm_quat_slerp(r0[j], r1[j], a);
-                pos[j] = mm_vec3_lerp(p0[j], p1[j], a);
-            }
-            mm_fk(&s, rot, pos, g[i % 3]);
-            if (i < 2) continue;
-            for (int j = 0; j < n; ++j) {
-                mm_vec3 d = mm_vec3_add(
-                    mm_vec3_sub(g[i % 3][j].translation, mm_vec3_scale(g[(i + 2) % 3][j].translation, 2.0f)),
-                    g[(i + 1) % 3][j].translation);
-                double pop = 100.0 * mm_vec3_length(d);
-                if (pop > worst) worst = pop;
-            }
-        }
-    }
-    for (int k = 0; k < 3; ++k) free(g[k]);
-    free(rot);
-    free(pos);
-    mm_skeleton_free(&s);
-    return worst;
-}
-
 int mm_cmd_simulate(int argc, char **argv)
 {
     const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL,
@@ -208,11 +154,19 @@ int mm_cmd_simulate(int argc, char **argv)
     r = mm_clip_init(&clip, &skel, frames, (float)fps, NULL);
     mm_skeleton_free(&skel);
     int contact[4];
-    contact_joints(&db, contact);
+    mm_posture_joints posture_joints;
+    motion_metrics_roles_of_database(&db, contact, &posture_joints);
     motion_metrics mx;
     mm_vec3 *world = malloc(sizeof(mm_vec3) * (size_t)n);
     int metrics_ok = motion_metrics_init(&mx, n, contact, fps, frames) == 0 && world;
     if (metrics_ok && scene_path) motion_metrics_scene(&mx, &scene);
+    /* what the database gives the metrics: its own pops, its upright head height and where its
+     * feet are planted */
+    motion_metrics_db dbm;
+    if (metrics_ok && metrics) {
+        metrics_ok = motion_metrics_database(&db, fps, &dbm) == 0;
+        motion_metrics_reference(&mx, &posture_joints, dbm.reference, dbm.planted);
+    }
     int status = 0;
     /* the motion and the metrics go to temporary files, opened now so that a bad path fails before
      * the run; they are renamed into place only when they and the video were all written, so a
@@ -275,8 +229,13 @@ int mm_cmd_simulate(int argc, char **argv)
     if (status == 0) fwrite(text, 1, size, bf);
     free(text);
     if (status == 0 && m) {
-        motion_metrics_extra x = {database_max_pop(&db, (float)fps), c.searches, c.transitions / seconds,
-                                  (double)(db.size + searcher.memory) / (1024.0 * 1024.0)};
+        motion_metrics_extra x = {.db_max_pop_cm = dbm.max_pop_cm,
+                                  .searches = c.searches,
+                                  .transitions_per_s = c.transitions / seconds,
+                                  .memory_mb = (double)(db.size + searcher.memory) / (1024.0 * 1024.0),
+                                  .db_pop_p99_cm = dbm.pop_p99_cm,
+                                  .db_head_p5_cm = dbm.head_p5_cm,
+                                  .db_head_p50_cm = dbm.head_p50_cm};
         motion_metrics_write_json(&mx, m, &x);
     }
     /* close the temporary files, finish the video, and only then rename: a failure at any step

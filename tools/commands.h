@@ -8,6 +8,8 @@ int mm_cmd_config(int argc, char **argv);
 int mm_cmd_convert(int argc, char **argv);
 int mm_cmd_db(int argc, char **argv);
 int mm_cmd_import(int argc, char **argv);
+/* mm metrics (tools/cmd_metrics.c) */
+int mm_cmd_metrics(int argc, char **argv);
 /* mm moves detect (tools/cmd_moves.c) */
 int mm_cmd_moves(int argc, char **argv);
 int mm_cmd_pfnn(int argc, char **argv);

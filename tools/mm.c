@@ -28,6 +28,7 @@ static const struct command {
     {"pfnn", mm_cmd_pfnn},         {"similarity", mm_cmd_similarity},
     {"simulate", mm_cmd_simulate}, {"render", mm_cmd_render},
     {"view", mm_cmd_view},         {"moves", mm_cmd_moves},
+    {"metrics", mm_cmd_metrics},
 };
 
 static void usage(FILE *f)
@@ -53,6 +54,8 @@ static void usage(FILE *f)
         "                                    for beside CONFIG, in DIR, then in $MM_DATA_DIR)\n"
         "  db info FILE [--json]             frames, dims, clips, tags, feature groups\n"
         "  db dump FILE                      everything in a database as deterministic text\n"
+        "  metrics FILE.bvh [--db DB.mmdb] [--scale S|auto] [--scene SCENE.json] [-o OUT.json]\n"
+        "                                    the metrics of the motion alone (docs/metrics.md)\n"
         "  moves detect FILE.bvh [--config CONFIG] [--json] [--write CONFIG.json] [--as NAME] [--no-mirror]\n"
         "                                    jumps, vaults, climbs and drops with their events; --write\n"
         "                                    adds them to a config as tagged clips\n"

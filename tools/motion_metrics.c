@@ -1,10 +1,13 @@
 /* The quality metrics of docs/metrics.md, shared by mm simulate and mm pfnn run. */
+#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "motion_metrics.h"
 
+#include <mm/clip.h>
+#include <mm/gait.h>
 #include <mm/moves.h>
 
 int motion_metrics_init(motion_metrics *m, int joint_count, const int contact_joint[4], double fps,
@@ -17,12 +20,19 @@ int motion_metrics_init(motion_metrics *m, int joint_count, const int contact_jo
     for (int k = 0; k < 3; ++k)
         m->world[k] = malloc(sizeof(mm_vec3) * (size_t)(joint_count > 0 ? joint_count : 1));
     m->frame_capacity = frames > 0 ? frames : 1;
-    m->frame_us = malloc(sizeof(float) * (size_t)m->frame_capacity);
-    m->search_us = malloc(sizeof(float) * (size_t)m->frame_capacity);
-    if (!m->world[0] || !m->world[1] || !m->world[2] || !m->frame_us || !m->search_us) {
+    size_t cap = (size_t)m->frame_capacity;
+    m->frame_us = malloc(sizeof(float) * cap);
+    m->search_us = malloc(sizeof(float) * cap);
+    m->head_height = malloc(sizeof(float) * cap);
+    m->pop = malloc(sizeof(float) * cap);
+    m->posture = calloc(cap, 1);
+    m->crouch = calloc(cap, 1);
+    if (!m->world[0] || !m->world[1] || !m->world[2] || !m->frame_us || !m->search_us || !m->head_height ||
+        !m->pop || !m->posture || !m->crouch) {
         motion_metrics_free(m);
         return -1;
     }
+    motion_metrics_reference(m, NULL, 0.0f, NULL);
     return 0;
 }
 
@@ -31,6 +41,10 @@ void motion_metrics_free(motion_metrics *m)
     for (int k = 0; k < 3; ++k) free(m->world[k]);
     free(m->frame_us);
     free(m->search_us);
+    free(m->head_height);
+    free(m->pop);
+    free(m->posture);
+    free(m->crouch);
     memset(m, 0, sizeof *m);
 }
 
@@ -48,19 +62,92 @@ void motion_metrics_input(motion_metrics *m, double t, const mm_input *in, mm_ve
     }
     if (stick_on) m->last_stick_direction = stick_direction;
     m->had_stick = stick_on;
+    m->crouch_input = in->gait == MM_GAIT_CROUCH;
 }
 
-void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, unsigned contacts,
-                          const mm_vec3 *raw_contacts, mm_vec3 sim_position, float sim_yaw, mm_vec3 root,
-                          float root_yaw, float frame_us)
+void motion_metrics_reference(motion_metrics *m, const mm_posture_joints *joints, float head_height,
+                              const double planted[4])
 {
-    long f = m->frames++;
+    mm_posture_joints none = {-1, -1, -1, -1};
+    m->posture_joints = joints ? *joints : none;
+    m->reference.head_height = head_height > 0 ? head_height : 0.0f;
+    for (int k = 0; k < 4; ++k) m->planted[k] = planted ? planted[k] : NAN;
+}
+
+/* The ground under a point: without a scene y = 0; with one, the highest surface under it (the
+ * ground plane or a box top) at most MOTION_METRICS_STEP_HEIGHT above it, else the ground plane. */
+static double ground_under(const motion_metrics *m, mm_vec3 p)
+{
+    if (!m->scene) return 0.0;
+    mm_scene_hit hit;
+    if (mm_scene_ground_probe(m->scene, p, MOTION_METRICS_STEP_HEIGHT, INFINITY, &hit)) return hit.point.y;
+    return m->scene->ground;
+}
+
+static int finite3(mm_vec3 p) { return isfinite(p.x) && isfinite(p.y) && isfinite(p.z); }
+
+/* The ground the body stands on, for the head's height and the posture: the lowest of the grounds
+ * under the contact joints (the head's without them). */
+static double support_ground(const motion_metrics *m, const mm_vec3 *world)
+{
+    if (!m->scene) return 0.0;
+    double g = INFINITY;
+    for (int k = 0; k < 4; ++k)
+        if (m->contact_joint[k] >= 0 && finite3(world[m->contact_joint[k]]))
+            g = fmin(g, ground_under(m, world[m->contact_joint[k]]));
+    if (isfinite(g)) return g;
+    int head = m->posture_joints.head;
+    return head >= 0 && finite3(world[head]) ? ground_under(m, world[head]) : m->scene->ground;
+}
+
+/* A joint's height above the ground under it (m). */
+static double height_above(const motion_metrics *m, mm_vec3 p) { return p.y - ground_under(m, p); }
+
+void motion_metrics_reference_from_motion(motion_metrics *m, const mm_posture_joints *joints,
+                                          const mm_vec3 *world, long frames)
+{
+    motion_metrics_reference(m, joints, 0.0f, NULL);
+    float *h = malloc(sizeof(float) * (size_t)(frames > 0 ? frames : 1));
+    if (!h) return;
+    int n = m->joint_count, head = m->posture_joints.head, count = 0;
+    if (head >= 0) {
+        for (long f = 0; f < frames; ++f) {
+            const mm_vec3 *w = world + (size_t)f * (size_t)n;
+            if (finite3(w[head])) h[count++] = (float)(w[head].y - support_ground(m, w));
+        }
+        m->reference.head_height = fmaxf(mm_posture_reference_height(h, count), 0.0f);
+    }
+    for (int k = 0; k < 4; ++k) {
+        int j = m->contact_joint[k];
+        if (j < 0) continue;
+        for (long f = 0; f < frames; ++f) h[f] = (float)height_above(m, world[(size_t)f * (size_t)n + j]);
+        m->planted[k] = motion_metrics_percentile(h, frames, 0.05);
+    }
+    free(h);
+}
+
+double motion_metrics_frame_pop(const mm_vec3 *now, const mm_vec3 *before, const mm_vec3 *before2, int n)
+{
+    double worst = 0.0;
+    for (int j = 0; j < n; ++j) {
+        double x = (double)now[j].x - 2.0 * before[j].x + before2[j].x,
+               y = (double)now[j].y - 2.0 * before[j].y + before2[j].y,
+               z = (double)now[j].z - 2.0 * before[j].z + before2[j].z;
+        double d = sqrt(x * x + y * y + z * z);
+        if (d > worst) worst = d; /* a NaN is left out */
+    }
+    return worst;
+}
+
+/* The measures of the pose of frame f (world positions), kept in m->world[f % 3]. */
+static void pose_frame(motion_metrics *m, long f, const mm_vec3 *world)
+{
     int n = m->joint_count;
     mm_vec3 *now = m->world[f % 3], *before = m->world[(f + 2) % 3], *before2 = m->world[(f + 1) % 3];
     int bad = 0;
     for (int j = 0; j < n; ++j) {
         mm_vec3 p = world[j];
-        bad |= !isfinite(p.x) || !isfinite(p.y) || !isfinite(p.z);
+        bad |= !finite3(p);
         now[j] = p;
     }
     m->nan_frames += bad;
@@ -70,11 +157,74 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
         double depth = n > 1 ? mm_moves_penetration(m->scene, world + 1, n - 1) : 0.0;
         if (depth > m->penetration_max) m->penetration_max = depth;
     }
-    if (f >= 2)
-        for (int j = 0; j < n; ++j) {
-            mm_vec3 d = mm_vec3_add(mm_vec3_sub(now[j], mm_vec3_scale(before[j], 2.0f)), before2[j]);
-            m->max_pop = fmax(m->max_pop, 100.0 * mm_vec3_length(d));
+    int keep = f < m->frame_capacity;
+    if (f >= 2) {
+        double pop = motion_metrics_frame_pop(now, before, before2, n);
+        m->max_pop = fmax(m->max_pop, 100.0 * pop);
+        if (f - 2 < m->frame_capacity) m->pop[f - 2] = (float)pop;
+    }
+    for (int j = 1; j < n; ++j) {
+        double depth = -height_above(m, now[j]);
+        if (depth > m->below_ground) m->below_ground = depth;
+    }
+    const mm_posture_joints *pj = &m->posture_joints;
+    double support = support_ground(m, now);
+    if (keep) {
+        m->head_height[f] =
+            pj->head >= 0 && finite3(now[pj->head]) ? (float)(now[pj->head].y - support) : NAN;
+        m->posture[f] = m->reference.head_height > 0
+                            ? (uint8_t)mm_posture_classify(now, pj, (float)support, &m->reference)
+                            : MM_POSTURE_UPRIGHT;
+        m->crouch[f] = (uint8_t)(m->crouch_input != 0);
+    }
+    if (m->reference.head_height > 0 && mm_posture_arms_out(now, pj, &m->reference)) ++m->arms_out_frames;
+    if (pj->left_hand >= 0 && pj->right_hand >= 0) {
+        double apart = mm_vec3_length(mm_vec3_sub(now[pj->left_hand], now[pj->right_hand]));
+        if (apart > m->hands_apart_max) m->hands_apart_max = apart;
+    }
+    /* the height-weighted slide: a foot or toe within MOTION_METRICS_SLIDE_HEIGHT of its planted
+     * height counts its ground speed with weight 2 - 2^(max(h, 0) / H), whatever the labels say */
+    if (f >= 1)
+        for (int k = 0; k < 4; ++k) {
+            int j = m->contact_joint[k];
+            if (j < 0 || !isfinite(m->planted[k])) continue;
+            double h = height_above(m, now[j]) - m->planted[k];
+            if (!(h < MOTION_METRICS_SLIDE_HEIGHT)) continue;
+            double w = 2.0 - pow(2.0, fmax(h, 0.0) / MOTION_METRICS_SLIDE_HEIGHT);
+            double dx = (double)now[j].x - before[j].x, dz = (double)now[j].z - before[j].z;
+            double v = 100.0 * sqrt(dx * dx + dz * dz) * m->fps;
+            if (!isfinite(v)) continue;
+            m->slide_height_sum += w * v;
+            m->slide_height_weight += w;
         }
+}
+
+void motion_metrics_pose(motion_metrics *m, const mm_vec3 *world)
+{
+    m->pose_only = 1;
+    pose_frame(m, m->frames++, world);
+}
+
+void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, unsigned contacts,
+                          const mm_vec3 *raw_contacts, mm_vec3 sim_position, float sim_yaw, mm_vec3 root,
+                          float root_yaw, float frame_us)
+{
+    long f = m->frames++;
+    pose_frame(m, f, world);
+    mm_vec3 *now = m->world[f % 3], *before = m->world[(f + 2) % 3];
+    /* the contact labels: their share, the labelled joints' height against their planted height */
+    for (int k = 0; k < 4; ++k) {
+        int j = m->contact_joint[k];
+        if (j < 0) continue;
+        m->contact_pairs += 1;
+        if (!(contacts & (1u << k))) continue;
+        m->contact_on += 1;
+        double e = fabs(height_above(m, now[j]) - m->planted[k]);
+        if (isfinite(e)) {
+            m->contact_err_sum += e;
+            m->contact_err_count += 1;
+        }
+    }
     mm_vec3 raw[4];
     for (int k = 0; k < 4; ++k)
         raw[k] = raw_contacts               ? raw_contacts[k]
@@ -146,6 +296,22 @@ static double quantile(float *values, long n, double q)
     return q == 0.5 ? values[n / 2] : values[(long)(q * (double)(n - 1))];
 }
 
+double motion_metrics_percentile(const float *v, long n, double q)
+{
+    float *sorted = malloc(sizeof(float) * (size_t)(n > 0 ? n : 1));
+    if (!sorted) return NAN;
+    long count = 0;
+    for (long i = 0; i < n; ++i)
+        if (isfinite(v[i])) sorted[count++] = v[i];
+    double r = NAN;
+    if (count > 0) {
+        qsort(sorted, (size_t)count, sizeof(float), compare_float);
+        r = sorted[(long)floor(q * (double)(count - 1))];
+    }
+    free(sorted);
+    return r;
+}
+
 double motion_metrics_foot_slide(const motion_metrics *m)
 {
     return m->slide_frames > 0 ? m->slide_sum / m->slide_frames : NAN;
@@ -156,13 +322,56 @@ double motion_metrics_traj_err(const motion_metrics *m)
     return m->frames ? m->traj_err / (double)m->frames : NAN;
 }
 
+int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
+{
+    long frames = m->frames < m->frame_capacity ? m->frames : m->frame_capacity;
+    const mm_posture_joints *pj = &m->posture_joints;
+    int labels = !m->pose_only, hands = pj->left_hand >= 0 && pj->right_hand >= 0;
+    int posture = m->reference.head_height > 0 && pj->hips >= 0 && pj->head >= 0;
+    out->below_ground_cm = 100.0 * m->below_ground;
+    out->contact_height_err_cm =
+        labels && m->contact_err_count > 0 ? 100.0 * m->contact_err_sum / m->contact_err_count : NAN;
+    out->contact_share = labels && m->contact_pairs > 0 ? m->contact_on / m->contact_pairs : NAN;
+    out->foot_slide_height_cm_s =
+        m->slide_height_weight > 0 ? m->slide_height_sum / m->slide_height_weight : NAN;
+    out->max_pop_cm = m->max_pop;
+    out->pop_p99_cm = 100.0 * motion_metrics_percentile(m->pop, frames - 2, 0.99);
+    out->head_p2_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.02);
+    out->head_p5_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.05);
+    out->head_p50_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.5);
+    out->crouched_s = out->bent_s = out->lying_s = out->calibration_s = NAN;
+    out->arms_out_s = m->reference.head_height > 0 && hands ? m->arms_out_frames / m->fps : NAN;
+    out->hands_apart_max_cm = hands ? 100.0 * m->hands_apart_max : NAN;
+    if (posture) {
+        uint8_t *p = malloc((size_t)(frames > 0 ? frames : 1));
+        if (!p) return -1; /* the posture's seconds stay NAN */
+        memcpy(p, m->posture, (size_t)frames);
+        long min_frames = lround(MM_POSTURE_MIN_SECONDS * m->fps);
+        mm_posture_remove_flicker(p, (int)frames, min_frames > 1 ? (int)min_frames : 1);
+        long count[MM_POSTURE_COUNT] = {0};
+        for (long f = 0; f < frames; ++f)
+            if (p[f] == MM_POSTURE_CALIBRATION || !m->crouch[f]) ++count[p[f] < MM_POSTURE_COUNT ? p[f] : 0];
+        free(p);
+        out->crouched_s = count[MM_POSTURE_CROUCHED] / m->fps;
+        out->bent_s = count[MM_POSTURE_BENT] / m->fps;
+        out->lying_s = count[MM_POSTURE_LYING] / m->fps;
+        out->calibration_s = count[MM_POSTURE_CALIBRATION] / m->fps;
+    }
+    return 0;
+}
+
 void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_extra *x)
 {
     long frames = m->frames < m->frame_capacity ? m->frames : m->frame_capacity;
-    double frame_median = quantile(m->frame_us, frames, 0.5);
+    int controller = !m->pose_only;
+    double frame_median = controller ? quantile(m->frame_us, frames, 0.5) : NAN;
     double search_median = quantile(m->search_us, m->search_count, 0.5);
     double search_p99 = quantile(m->search_us, m->search_count, 0.99);
-    double n = m->frames ? (double)m->frames : NAN;
+    double n = m->frames && controller ? (double)m->frames : NAN;
+    motion_metrics_seen s;
+    motion_metrics_summary(m, &s); /* out of memory: the posture's seconds are null */
+    const motion_metrics_extra none = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+    if (!x) x = &none;
     fprintf(f, "{\n");
     json_number(f, "foot_slide_cm_s", motion_metrics_foot_slide(m), 0);
     json_number(f, "foot_slide_raw_cm_s", m->slide_frames > 0 ? m->raw_sum / m->slide_frames : NAN, 0);
@@ -170,15 +379,32 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "heading_err_deg", m->heading_err / n, 0);
     json_number(f, "response_s", m->responses ? m->response_sum / m->responses : NAN, 0);
     json_number(f, "max_pop_cm", m->max_pop, 0);
-    json_number(f, "db_max_pop_cm", x ? x->db_max_pop_cm : NAN, 0);
-    json_number(f, "searches", x ? x->searches : NAN, 0);
-    json_number(f, "transitions_per_s", x ? x->transitions_per_s : NAN, 0);
+    json_number(f, "db_max_pop_cm", x->db_max_pop_cm, 0);
+    json_number(f, "searches", x->searches, 0);
+    json_number(f, "transitions_per_s", x->transitions_per_s, 0);
     json_number(f, "nan_frames", m->nan_frames, 0);
     json_number(f, "search_median_us", search_median, 0);
     json_number(f, "search_p99_us", search_p99, 0);
     json_number(f, "frame_median_us", frame_median, 0);
-    json_number(f, "memory_mb", x ? x->memory_mb : NAN, 0);
+    json_number(f, "memory_mb", x->memory_mb, 0);
     json_number(f, "penetration_max_cm", m->scene ? 100.0 * m->penetration_max : NAN, 0);
+    json_number(f, "below_ground_cm", s.below_ground_cm, 0);
+    json_number(f, "contact_height_err_cm", s.contact_height_err_cm, 0);
+    json_number(f, "contact_share", s.contact_share, 0);
+    json_number(f, "foot_slide_height_cm_s", s.foot_slide_height_cm_s, 0);
+    json_number(f, "pop_p99_cm", s.pop_p99_cm, 0);
+    json_number(f, "db_pop_p99_cm", x->db_pop_p99_cm, 0);
+    json_number(f, "head_p2_cm", s.head_p2_cm, 0);
+    json_number(f, "head_p5_cm", s.head_p5_cm, 0);
+    json_number(f, "head_p50_cm", s.head_p50_cm, 0);
+    json_number(f, "db_head_p5_cm", x->db_head_p5_cm, 0);
+    json_number(f, "db_head_p50_cm", x->db_head_p50_cm, 0);
+    json_number(f, "crouched_s", s.crouched_s, 0);
+    json_number(f, "bent_s", s.bent_s, 0);
+    json_number(f, "lying_s", s.lying_s, 0);
+    json_number(f, "calibration_s", s.calibration_s, 0);
+    json_number(f, "arms_out_s", s.arms_out_s, 0);
+    json_number(f, "hands_apart_max_cm", s.hands_apart_max_cm, 0);
     fprintf(f, "  \"moves\": [");
     for (int k = 0; k < m->move_count; ++k) {
         fprintf(f, "%s\n    {\"kind\": \"%s\", \"t_start\": %.6g, \"t_end\": %.6g, \"target_error_cm\": ",
@@ -196,4 +422,154 @@ float motion_metrics_yaw(mm_quat q)
 {
     mm_vec3 f = mm_quat_rotate(q, mm_vec3_make(0, 0, 1));
     return atan2f(f.x, f.z);
+}
+
+void motion_metrics_roles_of_database(const mm_database *db, int contact[4], mm_posture_joints *joints)
+{
+    const mm_role roles[4] = {MM_ROLE_LEFT_FOOT, MM_ROLE_LEFT_TOE, MM_ROLE_RIGHT_FOOT, MM_ROLE_RIGHT_TOE};
+    const int32_t *r = db->settings ? db->settings->roles : NULL;
+    for (int k = 0; k < 4; ++k) contact[k] = r ? r[roles[k]] : -1;
+    joints->hips = r ? r[MM_ROLE_HIPS] : -1;
+    joints->head = r ? r[MM_ROLE_HEAD] : -1;
+    joints->left_hand = r ? r[MM_ROLE_LEFT_HAND] : -1;
+    joints->right_hand = r ? r[MM_ROLE_RIGHT_HAND] : -1;
+}
+
+static int find_either(const mm_skeleton *s, const char *a, const char *b)
+{
+    int j = mm_skeleton_find(s, a);
+    return j >= 0 ? j : mm_skeleton_find(s, b);
+}
+
+void motion_metrics_roles_by_name(const mm_skeleton *s, int contact[4], mm_posture_joints *joints)
+{
+    contact[0] = mm_skeleton_find(s, "LeftFoot");
+    contact[1] = find_either(s, "LeftToeBase", "LeftToe");
+    contact[2] = mm_skeleton_find(s, "RightFoot");
+    contact[3] = find_either(s, "RightToeBase", "RightToe");
+    joints->hips = mm_skeleton_find(s, "Hips");
+    joints->head = mm_skeleton_find(s, "Head");
+    joints->left_hand = mm_skeleton_find(s, "LeftHand");
+    joints->right_hand = mm_skeleton_find(s, "RightHand");
+}
+
+/* A tag that names a gait other than walk and run (crouch, jump), in any case. */
+static int other_gait_tag(const char *name)
+{
+    for (int g = MM_GAIT_CROUCH; g <= MM_GAIT_JUMP; ++g) {
+        const char *gait = mm_gait_name((mm_gait)g);
+        size_t i = 0;
+        while (gait[i] && tolower((unsigned char)name[i]) == gait[i]) ++i;
+        if (!gait[i] && !name[i]) return 1;
+    }
+    return 0;
+}
+
+/* The largest second difference over joints of every sample of the database's clips played in
+ * order at fps (from each clip's third sample on), in pops[] (m); returns their count, -1 when out of
+ * memory. */
+static long database_pops(const mm_database *db, const mm_skeleton *s, double fps, float **pops)
+{
+    int n = db->joint_count;
+    long total = 0;
+    for (int c = 0; c < db->clip_count; ++c) {
+        double duration = (db->clips[c].frame_count - 1) * (double)db->interval;
+        total += (long)floor(duration * fps) + 1;
+    }
+    mm_xform *g = malloc(sizeof(mm_xform) * (size_t)n);
+    mm_vec3 *w[3];
+    for (int k = 0; k < 3; ++k) w[k] = malloc(sizeof(mm_vec3) * (size_t)n);
+    mm_quat *rot = malloc(sizeof(mm_quat) * (size_t)n);
+    mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
+    *pops = malloc(sizeof(float) * (size_t)(total > 0 ? total : 1));
+    long count = 0;
+    if (!g || !w[0] || !w[1] || !w[2] || !rot || !pos || !*pops) {
+        free(*pops);
+        *pops = NULL;
+        count = -1;
+    } else {
+        for (int c = 0; c < db->clip_count; ++c) {
+            const mm_db_clip *clip = &db->clips[c];
+            double duration = (clip->frame_count - 1) * (double)db->interval;
+            int samples = (int)floor(duration * fps) + 1;
+            for (int i = 0; i < samples; ++i) {
+                double x = i / fps / db->interval;
+                int f0 = (int)floor(x), f1 = f0 + 1 < clip->frame_count ? f0 + 1 : f0;
+                float a = (float)(x - f0);
+                const mm_quat *r0 = mm_database_rotations(db, clip->first_frame + f0),
+                              *r1 = mm_database_rotations(db, clip->first_frame + f1);
+                const mm_vec3 *p0 = mm_database_positions(db, clip->first_frame + f0),
+                              *p1 = mm_database_positions(db, clip->first_frame + f1);
+                for (int j = 0; j < n; ++j) {
+                    rot[j] = mm_quat_slerp(r0[j], r1[j], a);
+                    pos[j] = mm_vec3_lerp(p0[j], p1[j], a);
+                }
+                mm_fk(s, rot, pos, g);
+                for (int j = 0; j < n; ++j) w[i % 3][j] = g[j].translation;
+                if (i >= 2)
+                    (*pops)[count++] =
+                        (float)motion_metrics_frame_pop(w[i % 3], w[(i + 2) % 3], w[(i + 1) % 3], n);
+            }
+        }
+    }
+    free(g);
+    for (int k = 0; k < 3; ++k) free(w[k]);
+    free(rot);
+    free(pos);
+    return count;
+}
+
+int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db *out)
+{
+    out->max_pop_cm = out->pop_p99_cm = out->head_p5_cm = out->head_p50_cm = NAN;
+    out->reference = 0.0f;
+    for (int k = 0; k < 4; ++k) out->planted[k] = NAN;
+    int n = db->joint_count, contact[4];
+    mm_posture_joints pj;
+    motion_metrics_roles_of_database(db, contact, &pj);
+    mm_skeleton s;
+    if (mm_skeleton_init(&s, n, NULL) != MM_OK) return -1;
+    memcpy(s.joints, db->joints, sizeof(mm_joint) * (size_t)n);
+    float *pops = NULL;
+    long pop_count = database_pops(db, &s, fps, &pops);
+    /* the frames: heights above the ground (joint 0, the simulation root, is on it at y = 0) */
+    size_t frames = (size_t)(db->frame_count > 0 ? db->frame_count : 1);
+    mm_xform *g = malloc(sizeof(mm_xform) * (size_t)n);
+    float *all = malloc(sizeof(float) * frames), *upright = malloc(sizeof(float) * frames);
+    float *planted[4];
+    for (int k = 0; k < 4; ++k) planted[k] = malloc(sizeof(float) * frames);
+    int ok = pop_count >= 0 && g && all && upright && planted[0] && planted[1] && planted[2] && planted[3];
+    if (ok) {
+        uint64_t other = 0; /* tags of the gaits that are not upright locomotion */
+        for (int t = 0; t < db->tag_count && t < MM_MAX_TAGS; ++t)
+            if (other_gait_tag(db->tag_names[t])) other |= 1ull << t;
+        long all_count = 0, upright_count = 0, planted_count[4] = {0};
+        for (int f = 0; f < db->frame_count; ++f) {
+            mm_fk(&s, mm_database_rotations(db, f), mm_database_positions(db, f), g);
+            int type = db->clips[db->frame_clip[f]].type;
+            if (pj.head >= 0) {
+                float h = g[pj.head].translation.y;
+                if (type == MM_CLIP_LOCOMOTION || type == MM_CLIP_IDLE) all[all_count++] = h;
+                if (type == MM_CLIP_LOCOMOTION && !(db->frame_tags[f] & other)) upright[upright_count++] = h;
+            }
+            for (int k = 0; k < 4; ++k)
+                if (contact[k] >= 0 && (db->contacts[f] & (1u << k)))
+                    planted[k][planted_count[k]++] = g[contact[k]].translation.y;
+        }
+        out->max_pop_cm = 0.0;
+        for (long i = 0; i < pop_count; ++i) out->max_pop_cm = fmax(out->max_pop_cm, 100.0 * pops[i]);
+        out->pop_p99_cm = 100.0 * motion_metrics_percentile(pops, pop_count, 0.99);
+        out->head_p5_cm = 100.0 * motion_metrics_percentile(upright, upright_count, 0.05);
+        out->head_p50_cm = 100.0 * motion_metrics_percentile(upright, upright_count, 0.5);
+        out->reference = all_count > 0 ? fmaxf(mm_posture_reference_height(all, (int)all_count), 0.0f) : 0.0f;
+        for (int k = 0; k < 4; ++k)
+            out->planted[k] = motion_metrics_percentile(planted[k], planted_count[k], 0.5);
+    }
+    free(pops);
+    free(g);
+    free(all);
+    free(upright);
+    for (int k = 0; k < 4; ++k) free(planted[k]);
+    mm_skeleton_free(&s);
+    return ok ? 0 : -1;
 }

@@ -39,14 +39,12 @@ typedef enum mm_posture {
  * 0.92-1.0 of the reference, the stooped walk at 0.77-0.87; the hips-to-head line leans 2-30
  * degrees in upright motion and 40-65 in the stoop; a T pose holds the hands 0.8 of the stature
  * apart at 0.9 of the head's height, walking at most 0.6. */
-#define MM_POSTURE_CROUCHED_HEIGHT 0.88f /* head below this x reference: crouched */
-#define MM_POSTURE_LYING_HEIGHT    0.5f  /* head below this x reference: lying */
-#define MM_POSTURE_BENT_DEGREES    40.0f /* hips-to-head line farther from vertical: bent over */
-#define MM_POSTURE_HEAD_TO_STATURE 0.92f /* the head joint's height as a fraction of the stature */
-#define MM_POSTURE_ARMS_OUT        0.6f  /* hands farther apart than this x stature: arms out */
-#define MM_POSTURE_CALIBRATION_ARMS                                                                          \
-    0.75f                                   /* a calibration pose: hands farther apart than this x           \
-                                               stature, */
+#define MM_POSTURE_CROUCHED_HEIGHT    0.88f /* head below this x reference: crouched */
+#define MM_POSTURE_LYING_HEIGHT       0.5f  /* head below this x reference: lying */
+#define MM_POSTURE_BENT_DEGREES       40.0f /* hips-to-head line farther from vertical: bent over */
+#define MM_POSTURE_HEAD_TO_STATURE    0.92f /* the head joint's height as a fraction of the stature */
+#define MM_POSTURE_ARMS_OUT           0.6f  /* hands farther apart than this x stature: arms out */
+#define MM_POSTURE_CALIBRATION_ARMS   0.75f /* a calibration pose: hands farther apart than this x stature */
 #define MM_POSTURE_CALIBRATION_HANDS  0.75f /* and both above this x reference */
 #define MM_POSTURE_REFERENCE_QUANTILE 0.9f  /* the reference: this quantile of the head's heights */
 #define MM_POSTURE_MIN_SECONDS        0.25f /* shorter runs of a posture are flicker */

@@ -1,0 +1,129 @@
+/* Posture (mm/posture.h): hand-made poses of a body whose upright head is at 1.6 m, and the
+ * flicker removal on hand-made sequences. */
+#include <math.h>
+
+#include <mm/posture.h>
+
+#include "test_util.h"
+
+/* joints: 0 hips, 1 head, 2 left hand, 3 right hand */
+static const mm_posture_joints JOINTS = {0, 1, 2, 3};
+static const mm_posture_reference REF = {1.6f};
+
+/* A body: the hips at height hips_y, the trunk (hips to head, 0.65 m) leaning lean degrees toward
+ * +X, the hands hanging beside the hips or (arms_out) straight out at shoulder height. */
+static void body(mm_vec3 *w, float hips_y, float lean, int arms_out)
+{
+    float a = lean * (float)MM_DEG_TO_RAD;
+    w[0] = mm_vec3_make(0.0f, hips_y, 0.0f);
+    w[1] = mm_vec3_make(0.65f * sinf(a), hips_y + 0.65f * cosf(a), 0.0f);
+    if (arms_out) {
+        w[2] = mm_vec3_make(-0.8f, w[1].y - 0.15f, 0.0f);
+        w[3] = mm_vec3_make(0.8f, w[1].y - 0.15f, 0.0f);
+    } else {
+        w[2] = mm_vec3_make(-0.2f, hips_y - 0.05f, 0.0f);
+        w[3] = mm_vec3_make(0.2f, hips_y - 0.05f, 0.0f);
+    }
+}
+
+static void test_poses(void **state)
+{
+    (void)state;
+    mm_vec3 w[4];
+    body(w, 0.95f, 0.0f, 0); /* the head at 1.6: upright */
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    assert_false(mm_posture_arms_out(w, &JOINTS, &REF));
+    body(w, 0.63f, 0.0f, 0); /* the head at 1.28 = 0.8 of the reference, the trunk upright */
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_CROUCHED);
+    body(w, 0.95f, 60.0f, 0); /* bent 60 degrees at the waist */
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_BENT);
+    body(w, 0.95f, 30.0f, 0); /* a 30 degree lean with the head at 1.51 (0.94): upright */
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    body(w, 0.15f, 90.0f, 0); /* on the ground */
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_LYING);
+    body(w, 0.95f, 0.0f, 1); /* a T pose: the hands 1.6 m apart at 1.45 m */
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_CALIBRATION);
+    assert_true(mm_posture_arms_out(w, &JOINTS, &REF));
+    /* the same T pose on ground 2 m up is the same pose */
+    for (int j = 0; j < 4; ++j) w[j].y += 2.0f;
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 2.0f, &REF), MM_POSTURE_CALIBRATION);
+    /* arms out but crouched: crouched */
+    body(w, 0.63f, 0.0f, 1);
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_CROUCHED);
+    assert_true(mm_posture_arms_out(w, &JOINTS, &REF));
+    /* without hands never a calibration pose; without a reference or a head always upright */
+    body(w, 0.95f, 0.0f, 1);
+    mm_posture_joints no_hands = {0, 1, -1, -1}, no_head = {0, -1, 2, 3};
+    assert_int_equal(mm_posture_classify(w, &no_hands, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    assert_false(mm_posture_arms_out(w, &no_hands, &REF));
+    body(w, 0.15f, 90.0f, 0);
+    assert_int_equal(mm_posture_classify(w, &no_head, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    mm_posture_reference none = {0.0f};
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &none), MM_POSTURE_UPRIGHT);
+    w[1].x = NAN;
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    assert_string_equal(mm_posture_name(MM_POSTURE_CALIBRATION), "calibration");
+    assert_null(mm_posture_name(MM_POSTURE_COUNT));
+}
+
+static void test_reference_height(void **state)
+{
+    (void)state;
+    float h[100];
+    for (int i = 0; i < 100; ++i) h[i] = (float)((i * 37) % 100) / 100.0f; /* 0 .. 0.99, shuffled */
+    /* the 0.9 quantile: rank floor(0.9 x 99) = 89 */
+    assert_near(mm_posture_reference_height(h, 100), 0.89, 1e-6);
+    assert_near(mm_posture_reference_height(h, 0), 0.0, 0.0);
+    mm_posture_reference r = {1.84f};
+    assert_near(mm_posture_stature(&r), 2.0, 1e-6);
+}
+
+/* Runs a..: a string of posture letters (u c b l t) through the flicker removal. */
+static void flicker(const char *in, int min_frames, const char *want)
+{
+    const char *letters = "ucblt";
+    uint8_t p[256];
+    int n = (int)strlen(in);
+    for (int i = 0; i < n; ++i) p[i] = (uint8_t)(strchr(letters, in[i]) - letters);
+    mm_posture_remove_flicker(p, n, min_frames);
+    char got[257];
+    for (int i = 0; i < n; ++i) got[i] = letters[p[i]];
+    got[n] = 0;
+    assert_string_equal(got, want);
+}
+
+static void test_flicker(void **state)
+{
+    (void)state;
+    /* a short dip in a long run goes */
+    flicker("uuuuuuccuuuuuu", 4, "uuuuuuuuuuuuuu");
+    /* long runs stay */
+    flicker("uuuuccccbbbb", 4, "uuuuccccbbbb");
+    /* at the start a short run takes the run after; at the end the run before */
+    flicker("ccuuuuuu", 4, "uuuuuuuu");
+    flicker("uuuuuubb", 4, "uuuuuuuu");
+    /* short runs in a row all join the run before */
+    flicker("uuuucblcuuuu", 4, "uuuuuuuuuuuu");
+    /* two short runs at the start: the first joins the second, which is then long enough */
+    flicker("ccbbbuuuuu", 4, "bbbbbuuuuu");
+    /* and when the two are still short together, both join the run after */
+    flicker("cbuuuuu", 4, "uuuuuuu");
+    /* a crouch of 4 frames between uprights stays, one of 3 goes */
+    flicker("uuuuccccuuuubbbuuuu", 4, "uuuuccccuuuuuuuuuuu");
+    /* a whole sequence of one short run is left as it is, and everything at a minimum of 1; short
+     * runs alone make one run */
+    flicker("ccu", 4, "uuu");
+    flicker("ccc", 4, "ccc");
+    flicker("ucbltu", 1, "ucbltu");
+    flicker("", 4, "");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_poses),
+        cmocka_unit_test(test_reference_height),
+        cmocka_unit_test(test_flicker),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
