@@ -868,6 +868,31 @@ static void test_sheet_render_tiles_lines_and_labels(void **state)
     free(rgb);
 }
 
+/* Poses no body holds: a tile of NaN joints, a joint 1e30 m away, a body 1 km up. The sheet is
+ * still drawn, its cameras finite. */
+static void test_sheet_hostile_poses(void **state)
+{
+    (void)state;
+    mm_joint joints[FIG_JOINTS];
+    mm_xform poses[SHEET_COLS * SHEET_ROWS * FIG_JOINTS];
+    double times[SHEET_COLS * SHEET_ROWS];
+    mm_sheet_desc d;
+    fig_sheet(&d, joints, poses, times);
+    for (int j = 0; j < FIG_JOINTS; ++j) poses[FIG_JOINTS + j].translation.x = NAN;
+    poses[2 * FIG_JOINTS + 4].translation = mm_vec3_make(1e30f, -1e30f, 1e30f);
+    for (int j = 0; j < FIG_JOINTS; ++j) poses[3 * FIG_JOINTS + j].translation.y += 1000.0f;
+    times[4] = INFINITY;
+    mm_camera cams[SHEET_COLS * SHEET_ROWS];
+    assert_int_equal(mm_sheet_cameras(&d, cams, NULL), MM_OK);
+    for (int t = 0; t < SHEET_COLS * SHEET_ROWS; ++t)
+        assert_true(isfinite(cams[t].distance) && isfinite(cams[t].target.x) && isfinite(cams[t].target.y) &&
+                    isfinite(cams[t].target.z) && isfinite(cams[t].yaw));
+    uint8_t *rgb = malloc((size_t)SHEET_W * SHEET_H * 3);
+    assert_non_null(rgb);
+    assert_int_equal(mm_sheet_render(&d, rgb, NULL), MM_OK);
+    free(rgb);
+}
+
 /* mm render --contact-sheet on a hand-written BVH (centimetres, a body walking along +Z): the PNG
  * has the size asked for and as many outlined tiles as the grid, each one different. */
 static void test_sheet_of_a_bvh_through_the_program(void **state)
@@ -972,6 +997,7 @@ int main(void)
         cmocka_unit_test(test_sheet_feet_and_facing),
         cmocka_unit_test(test_sheet_frames_every_pose_alike),
         cmocka_unit_test(test_sheet_render_tiles_lines_and_labels),
+        cmocka_unit_test(test_sheet_hostile_poses),
         cmocka_unit_test(test_sheet_of_a_bvh_through_the_program),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);

@@ -43,6 +43,8 @@ expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/x.pn
 expect_grep "tiles of 32 x 90" "$tmp/err"
 expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/x.png" -o "$tmp/frames2"
 [ ! -e "$tmp/x.png" ] && ok || bad "a refused contact sheet left x.png"
+expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" -o "$tmp/frames2" --grid 2x2
+expect_grep "grid goes with --contact-sheet" "$tmp/err"
 
 # mm simulate --video: frames every 1/30 s of the 1 s simulated, and the motion beside them
 expect_exit 0 "$mm" simulate "$tmp/s.mmdb" --input "$src/scripts/input/turn_90.json" --seconds 1 \

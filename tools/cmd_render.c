@@ -112,7 +112,7 @@ static int contact_sheet(const char *in, const char *out, const mm_clip *clip, d
 int mm_cmd_render(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *scene_path = NULL, *sheet = NULL;
-    int size[2] = {0, 0}, grid[2] = {6, 4};
+    int size[2] = {0, 0}, grid[2] = {0, 0};
     double fps = 30.0, from = 0.0, seconds = -1.0, scale = 0.0; /* scale 0: auto */
     const char *usage =
         "usage: mm render FILE.bvh -o OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--fps 30] [--from S] "
@@ -149,6 +149,8 @@ int mm_cmd_render(int argc, char **argv)
     }
     int width = size[0], height = size[1];
     if (!in || (!out == !sheet)) return cli_usage_error("render", "%s", usage);
+    if (grid[0] && !sheet) return cli_usage_error("render", "--grid goes with --contact-sheet");
+    if (!grid[0]) grid[0] = 6, grid[1] = 4;
     if (sheet) {
         mm_sheet_desc probe = {.columns = grid[0], .rows = grid[1], .width = width, .height = height};
         int tw, th;

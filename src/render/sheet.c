@@ -295,11 +295,14 @@ static void text(canvas *c, int x0, int y0, int scale, const char *s, rgb8 color
     }
 }
 
-/* The row at which height y shows in a tile of camera cam (pitch 0: the same row across it). */
+/* The row at which height y shows in a tile of camera cam (pitch 0: the same row across it); -1
+ * when it is off the tile. */
 static int row_of(const mm_camera *cam, int tw, int th, float y)
 {
     float px, py;
-    if (!mm_camera_project(cam, tw, th, mm_vec3_make(cam->target.x, y, cam->target.z), &px, &py)) return -1;
+    if (!mm_camera_project(cam, tw, th, mm_vec3_make(cam->target.x, y, cam->target.z), &px, &py) ||
+        !(py > -1.0f && py < (float)th + 1.0f))
+        return -1; /* off the tile (or not a number) */
     return (int)floorf(py);
 }
 
@@ -404,8 +407,10 @@ mm_result mm_sheet_render(const mm_sheet_desc *d, uint8_t *rgb, mm_error *err)
         int ground_row = row_of(&cameras[t], tw, th, ground);
         if (ground_row >= 0)
             for (int y = y0 + ground_row; y < y0 + th; ++y) hline(&c, y, 1, earth_color, true);
-        if (isfinite(head_y)) hline(&c, y0 + row_of(&cameras[t], tw, th, head_y), line, head_color, true);
-        if (isfinite(feet_y)) hline(&c, y0 + row_of(&cameras[t], tw, th, feet_y), line, feet_color, true);
+        int head_row = isfinite(head_y) ? row_of(&cameras[t], tw, th, head_y) : -1;
+        int feet_row = isfinite(feet_y) ? row_of(&cameras[t], tw, th, feet_y) : -1;
+        if (head_row >= 0) hline(&c, y0 + head_row, line, head_color, true);
+        if (feet_row >= 0) hline(&c, y0 + feet_row, line, feet_color, true);
         if (ground_row >= 0) hline(&c, y0 + ground_row, line + 1, ground_color, false);
         /* the label in the band */
         char s[128];
