@@ -142,11 +142,13 @@ float mm_render_facing(const mm_joint *joints, int count, const mm_xform *global
 /* ---- contact sheets ---- */
 
 /* Many poses of one body side by side in one image, to check posture at a glance: columns x rows
- * tiles, left to right then top to bottom, each the pose seen from its right side turned 20
- * degrees toward its front (the body faces the tile's right), the camera level (pitch 0) and
- * centred on the body. Every tile has the same camera distance and height, so heights compare
- * across tiles, chosen so that every pose, head sphere included, fits whole in its tile above a
- * band at the bottom. Each tile shows:
+ * tiles, left to right then top to bottom, each the pose seen from its left side turned 20
+ * degrees toward its front (mm_render_facing; the body faces the tile's left), the camera level
+ * (pitch 0) and centred on the body. Every tile has the same camera distance and height, so heights
+ * compare across tiles, chosen so that every pose, head sphere included, fits whole in its tile
+ * above a band at the bottom. Every tile is lit alike whatever the body's heading (the pose is
+ * turned about the camera's target to face the renderer's light the same way). The body's joints
+ * named "right" are drawn tan, the others in the renderer's body colour. Each tile shows:
  *   the ground: a dark line at ground_height, the background below it earth-coloured (drawn
  *     behind the body, so a joint below the ground shows on the earth, crossed by the line);
  *   a blue line at the head joint's height and a green one at the lowest foot joint's
