@@ -36,12 +36,15 @@ expect_grep '^      "input": "scripts/input/straight_walk.json",$' "$json"
 expect_grep '^      "seed": 2,$' "$json"
 expect_grep '^      "nan_frames": {"count": 2, "mean": 0, "worst": 0, "worst_run": "random_01"},$' "$json"
 
-# the same runs again, one at a time: the same report but for the timings
+# the same runs again, one at a time: the same report but for the timings (report.md's last table)
 expect_exit 0 report "$tmp/s.mmdb" 2 "$tmp/b" --scripts straight_walk --seeds 2 --jobs 1
 grep -v '_us"' "$tmp/a/report.json" >"$tmp/a.txt"
 grep -v '_us"' "$tmp/b/report.json" >"$tmp/b.txt"
 if cmp -s "$tmp/a.txt" "$tmp/b.txt"; then ok; else bad "report.json differs between two reports"; diff "$tmp/a.txt" "$tmp/b.txt"; fi
 [ "$(grep -c '_us"' "$tmp/a/report.json")" -gt 0 ] && ok || bad "no timing keys in report.json"
+sed '/^## Wall-clock timing/,$d' "$tmp/a/report.md" >"$tmp/a.md"
+sed '/^## Wall-clock timing/,$d' "$tmp/b/report.md" >"$tmp/b.md"
+if cmp -s "$tmp/a.md" "$tmp/b.md"; then ok; else bad "report.md differs before its timings"; diff "$tmp/a.md" "$tmp/b.md"; fi
 
 # usage errors
 expect_exit 2 report
