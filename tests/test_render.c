@@ -2,9 +2,11 @@
  * decoded back, and headless frames whose pixels are checked against the geometry (a sphere
  * covers the disc its projection predicts, the character lies where its joints project, the
  * overlay's glyph pixels are where the font says, a scene box covers the hull of its projected
- * corners). */
+ * corners), and contact sheets (every pose whole in its tile at one scale, outlines, lines and
+ * labels where the cameras put them). */
 #include <math.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -645,6 +647,330 @@ static void test_box_covers_its_projected_hull(void **state)
     assert_true(fabs(count - area) < 0.05 * area);
 }
 
+/* ---- contact sheets ---- */
+
+/* A stick figure facing +Z (its left on +X): hips, spine, head, legs with feet, hands. */
+enum { FIG_JOINTS = 9, SHEET_COLS = 3, SHEET_ROWS = 2, SHEET_W = 480, SHEET_H = 360 };
+static const char *fig_names[FIG_JOINTS] = {"Hips",       "Spine",     "Head",     "LeftUpLeg", "LeftFoot",
+                                            "RightUpLeg", "RightFoot", "LeftHand", "RightHand"};
+static const int fig_parents[FIG_JOINTS] = {-1, 0, 1, 0, 3, 0, 5, 1, 1};
+static const float fig_rest[FIG_JOINTS][3] = {{0, 0.95f, 0},     {0, 1.3f, 0},        {0, 1.65f, 0},
+                                              {0.1f, 0.9f, 0},   {0.1f, 0.08f, 0},    {-0.1f, 0.9f, 0},
+                                              {-0.1f, 0.08f, 0}, {0.25f, 1.0f, 0.1f}, {-0.25f, 1.0f, 0.1f}};
+
+static void fig_joints(mm_joint *joints)
+{
+    memset(joints, 0, sizeof(mm_joint) * FIG_JOINTS);
+    for (int j = 0; j < FIG_JOINTS; ++j) {
+        snprintf(joints[j].name, sizeof joints[j].name, "%s", fig_names[j]);
+        joints[j].parent = fig_parents[j];
+    }
+}
+
+/* Tile i's pose: 0 upright, 1 moved and turned, 2 lying along its facing, 3 a foot 5 cm below the
+ * ground, 4 crouched, 5 arms straight out. */
+static void fig_pose(int tile, mm_xform *g)
+{
+    float yaw[SHEET_COLS * SHEET_ROWS] = {0.0f, 1.2f, 0.4f, -2.0f, 2.8f, -0.7f};
+    float ox = 3.0f * (float)tile, oz = tile == 1 ? 5.0f : -1.0f * (float)tile;
+    for (int j = 0; j < FIG_JOINTS; ++j) {
+        float x = fig_rest[j][0], y = fig_rest[j][1], z = fig_rest[j][2];
+        if (tile == 2) { /* lying on its back, head first along +Z */
+            z = y;
+            y = 0.12f;
+        }
+        if (tile == 3 && j == 4) y = -0.05f;
+        if (tile == 4) y *= 0.6f;
+        if (tile == 5 && j >= 7) x = j == 7 ? 0.8f : -0.8f, y = 1.4f;
+        float c = cosf(yaw[tile]), s = sinf(yaw[tile]);
+        g[j].rotation = mm_quat_identity();
+        g[j].translation = mm_vec3_make(ox + c * x + s * z, y, oz - s * x + c * z);
+    }
+}
+
+static void fig_sheet(mm_sheet_desc *d, mm_joint *joints, mm_xform *poses, double *times)
+{
+    fig_joints(joints);
+    for (int t = 0; t < SHEET_COLS * SHEET_ROWS; ++t) {
+        fig_pose(t, poses + t * FIG_JOINTS);
+        times[t] = 0.5 * t;
+    }
+    memset(d, 0, sizeof *d);
+    d->columns = SHEET_COLS;
+    d->rows = SHEET_ROWS;
+    d->width = SHEET_W;
+    d->height = SHEET_H;
+    d->joint_count = FIG_JOINTS;
+    d->joints = joints;
+    d->poses = poses;
+    d->times = times;
+}
+
+static void test_sheet_feet_and_facing(void **state)
+{
+    (void)state;
+    mm_joint joints[FIG_JOINTS];
+    mm_xform g[FIG_JOINTS];
+    fig_joints(joints);
+    int feet[FIG_JOINTS];
+    assert_int_equal(mm_render_find_feet(joints, FIG_JOINTS, feet, FIG_JOINTS), 2);
+    assert_int_equal(feet[0], 4);
+    assert_int_equal(feet[1], 6);
+    assert_int_equal(mm_render_find_feet(joints, FIG_JOINTS, feet, 1), 1);
+    snprintf(joints[6].name, sizeof joints[6].name, "r_ANKLE");
+    snprintf(joints[0].name, sizeof joints[0].name, "RootToe"); /* joint 0 never */
+    assert_int_equal(mm_render_find_feet(joints, FIG_JOINTS, feet, FIG_JOINTS), 2);
+    fig_joints(joints);
+    fig_pose(0, g);
+    assert_float_equal(mm_render_facing(joints, FIG_JOINTS, g, 9.0f), 0.0f, 1e-5f);
+    fig_pose(1, g); /* turned by 1.2 rad */
+    assert_float_equal(mm_render_facing(joints, FIG_JOINTS, g, 9.0f), 1.2f, 1e-5f);
+    fig_pose(2, g); /* lying, turned by 0.4: the left-right line is still horizontal */
+    assert_float_equal(mm_render_facing(joints, FIG_JOINTS, g, 9.0f), 0.4f, 1e-5f);
+    /* no left or right joints, or a vertical left-right line: the fallback */
+    assert_float_equal(mm_render_facing(joints, 3, g, 9.0f), 9.0f, 0.0f);
+    fig_pose(0, g);
+    for (int j = 0; j < FIG_JOINTS; ++j) g[j].translation.x = g[j].translation.z = 0.0f;
+    assert_float_equal(mm_render_facing(joints, FIG_JOINTS, g, 9.0f), 9.0f, 0.0f);
+}
+
+static void test_sheet_frames_every_pose_alike(void **state)
+{
+    (void)state;
+    mm_joint joints[FIG_JOINTS];
+    mm_xform poses[SHEET_COLS * SHEET_ROWS * FIG_JOINTS];
+    double times[SHEET_COLS * SHEET_ROWS];
+    mm_sheet_desc d;
+    fig_sheet(&d, joints, poses, times);
+    int tw = 0, th = 0;
+    assert_int_equal(mm_sheet_tile_size(&d, &tw, &th, NULL), MM_OK);
+    assert_int_equal(tw, SHEET_W / SHEET_COLS);
+    assert_int_equal(th, SHEET_H / SHEET_ROWS);
+    mm_camera cams[SHEET_COLS * SHEET_ROWS];
+    assert_int_equal(mm_sheet_cameras(&d, cams, NULL), MM_OK);
+    float ground_row = -1.0f, used_w = 0.0f, used_h = 0.0f, top = 1e9f, bottom = -1e9f;
+    for (int t = 0; t < SHEET_COLS * SHEET_ROWS; ++t) {
+        const mm_camera *c = &cams[t];
+        /* the same distance and height everywhere, level: heights compare across tiles */
+        assert_float_equal(c->distance, cams[0].distance, 0.0f);
+        assert_float_equal(c->target.y, cams[0].target.y, 0.0f);
+        assert_float_equal(c->pitch, 0.0f, 0.0f);
+        float px, py;
+        assert_true(mm_camera_project(c, tw, th, mm_vec3_make(c->target.x, 0.0f, c->target.z), &px, &py));
+        if (t == 0) ground_row = py;
+        assert_float_equal(py, ground_row, 1e-3f);
+        /* the whole body, spheres included, inside the tile and above the label's band (2 lines of
+           the 1x font and its padding) */
+        const mm_xform *g = poses + t * FIG_JOINTS;
+        float x0 = 1e9f, x1 = -1e9f;
+        for (int j = 0; j < FIG_JOINTS; ++j) {
+            assert_true(mm_camera_project(c, tw, th, g[j].translation, &px, &py));
+            float depth = mm_vec3_distance(mm_camera_eye(c), g[j].translation);
+            float r = 0.5f * (float)th / tanf(0.5f * c->fov_y) * (j == 2 ? 0.1f : 0.036f) / depth * 1.05f;
+            assert_true(px - r >= 1.0f && px + r <= (float)tw - 1.0f);
+            assert_true(py - r >= 1.0f && py + r <= (float)th - 2 * 9 - 4);
+            x0 = fminf(x0, px - r), x1 = fmaxf(x1, px + r);
+            top = fminf(top, py - r), bottom = fmaxf(bottom, py + r);
+        }
+        used_w = fmaxf(used_w, x1 - x0);
+        /* the body faces the tile's left: a point ahead of the hips lies left of them */
+        float yaw = mm_render_facing(joints, FIG_JOINTS, g, 0.0f), hx, hy, ax, ay;
+        mm_vec3 hips = g[0].translation, ahead = mm_vec3_make(hips.x + sinf(yaw), hips.y, hips.z + cosf(yaw));
+        assert_true(mm_camera_project(c, tw, th, hips, &hx, &hy));
+        assert_true(mm_camera_project(c, tw, th, ahead, &ax, &ay));
+        assert_true(ax < hx - 10.0f);
+    }
+    used_h = bottom - top;
+    /* as large as the tiles allow: the lying body spans most of a tile's width or the tallest most of
+       its height */
+    assert_true(used_w > 0.8f * (float)tw || used_h > 0.8f * (float)(th - 2 * 9 - 4));
+}
+
+static void test_sheet_render_tiles_lines_and_labels(void **state)
+{
+    (void)state;
+    mm_joint joints[FIG_JOINTS];
+    mm_xform poses[SHEET_COLS * SHEET_ROWS * FIG_JOINTS];
+    double times[SHEET_COLS * SHEET_ROWS];
+    mm_sheet_desc d;
+    fig_sheet(&d, joints, poses, times);
+    uint8_t *rgb = malloc((size_t)SHEET_W * SHEET_H * 3);
+    assert_non_null(rgb);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_sheet_render(&d, rgb, &err), MM_OK);
+    const int tw = SHEET_W / SHEET_COLS, th = SHEET_H / SHEET_ROWS;
+    const uint8_t border[3] = {50, 52, 56}, red[3] = {200, 24, 24}, head[3] = {40, 90, 210},
+                  ground[3] = {70, 48, 28};
+#define PX(x, y) (rgb + ((size_t)(y)*SHEET_W + (size_t)(x)) * 3)
+#define IS(p, c) ((p)[0] == (c)[0] && (p)[1] == (c)[1] && (p)[2] == (c)[2])
+    /* every tile is outlined */
+    for (int r = 0; r < SHEET_ROWS; ++r)
+        for (int x = 0; x < SHEET_W; ++x)
+            assert_true(IS(PX(x, r * th), border) && IS(PX(x, r * th + th - 1), border));
+    for (int c = 0; c < SHEET_COLS; ++c)
+        for (int y = 0; y < SHEET_H; ++y)
+            assert_true(IS(PX(c * tw, y), border) && IS(PX(c * tw + tw - 1, y), border));
+    mm_camera cams[SHEET_COLS * SHEET_ROWS];
+    assert_int_equal(mm_sheet_cameras(&d, cams, NULL), MM_OK);
+    for (int t = 0; t < SHEET_COLS * SHEET_ROWS; ++t) {
+        int x0 = (t % SHEET_COLS) * tw, y0 = (t / SHEET_COLS) * th, reds = 0, bodies = 0;
+        for (int y = y0 + 1; y < y0 + th - 1; ++y)
+            for (int x = x0 + 1; x < x0 + tw - 1; ++x) {
+                const uint8_t *p = PX(x, y);
+                reds += IS(p, red);
+                /* the body's default colour, lit: blue above red */
+                bodies += p[2] > p[0] + 20 && p[2] < 200 && !IS(p, head);
+            }
+        /* only the tile with a foot below the ground has a red label */
+        if (t == 3)
+            assert_true(reds > 100);
+        else
+            assert_int_equal(reds, 0);
+        assert_true(bodies > 100);
+        /* the head line left of the body (where the feet line does not cover it: not on the lying
+           body), the ground line across the tile */
+        const mm_xform *g = poses + t * FIG_JOINTS;
+        float px, py;
+        assert_true(mm_camera_project(&cams[t], tw, th,
+                                      mm_vec3_make(cams[t].target.x, g[2].translation.y, cams[t].target.z),
+                                      &px, &py));
+        if (t != 2) assert_true(IS(PX(x0 + 2, y0 + (int)floorf(py)), head));
+        assert_true(mm_camera_project(&cams[t], tw, th,
+                                      mm_vec3_make(cams[t].target.x, 0.0f, cams[t].target.z), &px, &py));
+        for (int x = x0 + 1; x < x0 + tw - 1; ++x) assert_true(IS(PX(x, y0 + (int)floorf(py)), ground));
+        /* tile 1 is tile 0's pose moved and turned: the same picture but for its label's time; the
+           other poses differ */
+        for (int u = 0; u < t; ++u) {
+            int ux = (u % SHEET_COLS) * tw, uy = (u / SHEET_COLS) * th, differ = 0, label_rows = 2 * 9 + 4;
+            for (int y = 1; y < th - 1; ++y)
+                for (int x = 1; x < tw - 1; ++x)
+                    if (memcmp(PX(x0 + x, y0 + y), PX(ux + x, uy + y), 3) != 0) {
+                        ++differ;
+                        if (t == 1) assert_true(y >= th - label_rows);
+                    }
+            assert_true(differ > (t == 1 ? 0 : 200));
+        }
+    }
+    char path[1024];
+    snprintf(path, sizeof path, "%s/sheet.png", MM_TEST_OUT);
+    assert_int_equal(mm_png_write(path, rgb, SHEET_W, SHEET_H, &err), MM_OK);
+#undef PX
+#undef IS
+    /* a bad grid, tiles too small */
+    d.columns = 0;
+    assert_int_equal(mm_sheet_render(&d, rgb, &err), MM_ERR_OUT_OF_RANGE);
+    assert_non_null(strstr(err.message, "1 to 32"));
+    d.columns = 8;
+    d.rows = 6;
+    assert_int_equal(mm_sheet_render(&d, rgb, &err), MM_ERR_OUT_OF_RANGE);
+    assert_non_null(strstr(err.message, "at least 64"));
+    free(rgb);
+}
+
+/* Poses no body holds: a tile of NaN joints, a joint 1e30 m away, a body 1 km up. The sheet is
+ * still drawn, its cameras finite. */
+static void test_sheet_hostile_poses(void **state)
+{
+    (void)state;
+    mm_joint joints[FIG_JOINTS];
+    mm_xform poses[SHEET_COLS * SHEET_ROWS * FIG_JOINTS];
+    double times[SHEET_COLS * SHEET_ROWS];
+    mm_sheet_desc d;
+    fig_sheet(&d, joints, poses, times);
+    for (int j = 0; j < FIG_JOINTS; ++j) poses[FIG_JOINTS + j].translation.x = NAN;
+    poses[2 * FIG_JOINTS + 4].translation = mm_vec3_make(1e30f, -1e30f, 1e30f);
+    for (int j = 0; j < FIG_JOINTS; ++j) poses[3 * FIG_JOINTS + j].translation.y += 1000.0f;
+    times[4] = INFINITY;
+    mm_camera cams[SHEET_COLS * SHEET_ROWS];
+    assert_int_equal(mm_sheet_cameras(&d, cams, NULL), MM_OK);
+    for (int t = 0; t < SHEET_COLS * SHEET_ROWS; ++t)
+        assert_true(isfinite(cams[t].distance) && isfinite(cams[t].target.x) && isfinite(cams[t].target.y) &&
+                    isfinite(cams[t].target.z) && isfinite(cams[t].yaw));
+    uint8_t *rgb = malloc((size_t)SHEET_W * SHEET_H * 3);
+    assert_non_null(rgb);
+    assert_int_equal(mm_sheet_render(&d, rgb, NULL), MM_OK);
+    free(rgb);
+}
+
+/* mm render --contact-sheet on a hand-written BVH (centimetres, a body walking along +Z): the PNG
+ * has the size asked for and as many outlined tiles as the grid, each one different. */
+static void test_sheet_of_a_bvh_through_the_program(void **state)
+{
+    (void)state;
+    const char *mm = getenv("MM_BIN");
+    if (!mm) {
+        printf("MM_BIN is not set (run through ctest): skipping\n");
+        skip();
+    }
+    char bvh[1024], png[1024], cmd[4096];
+    snprintf(bvh, sizeof bvh, "%s/sheet_walk.bvh", MM_TEST_OUT);
+    snprintf(png, sizeof png, "%s/sheet_walk.png", MM_TEST_OUT);
+    FILE *f = fopen(bvh, "w");
+    assert_non_null(f);
+    fprintf(f, "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition Zrotation "
+               "Yrotation Xrotation\n");
+    const char *limbs[3][2] = {{"Spine", "Head"}, {"LeftUpLeg", "LeftFoot"}, {"RightUpLeg", "RightFoot"}};
+    const char *offsets[3][2] = {{"0 30 0", "0 35 0"}, {"10 -5 0", "0 -85 0"}, {"-10 -5 0", "0 -85 0"}};
+    for (int l = 0; l < 3; ++l)
+        fprintf(f,
+                " JOINT %s\n {\n  OFFSET %s\n  CHANNELS 3 Zrotation Yrotation Xrotation\n  JOINT %s\n  {\n"
+                "   OFFSET %s\n   CHANNELS 3 Zrotation Yrotation Xrotation\n   End Site\n   {\n    OFFSET 0 "
+                "%s 0\n   }\n  }\n }\n",
+                limbs[l][0], offsets[l][0], limbs[l][1], offsets[l][1], l == 0 ? "10" : "-5");
+    fprintf(f, "}\nMOTION\nFrames: 40\nFrame Time: 0.05\n");
+    for (int i = 0; i < 40; ++i) {
+        double swing = 35.0 * sin(0.4 * i);
+        fprintf(f, "0 95 %g 0 0 0  0 0 %g 0 0 0  0 0 %g 0 0 %g  0 0 %g 0 0 %g\n", 6.0 * i, 0.3 * swing, swing,
+                fabs(swing) * 0.5, -swing, fabs(swing) * 0.5);
+    }
+    fclose(f);
+    snprintf(cmd, sizeof cmd,
+             "\"%s\" render \"%s\" --contact-sheet \"%s\" --grid 4x3 --size 640x480 >/dev/null", mm, bvh,
+             png);
+    assert_int_equal(system(cmd), 0);
+    int w = 0, h = 0;
+    unsigned char *rgb = decode_png(png, &w, &h);
+    assert_non_null(rgb);
+    assert_int_equal(w, 640);
+    assert_int_equal(h, 480);
+    /* runs of border-coloured whole columns and rows: the outlines, one run more than tiles */
+    const unsigned char border[3] = {50, 52, 56};
+    int runs[2] = {0, 0};
+    for (int axis = 0; axis < 2; ++axis) {
+        int along = axis ? h : w, across = axis ? w : h, previous = 0;
+        for (int i = 0; i < along; ++i) {
+            int whole = 1;
+            for (int k = 0; k < across && whole; ++k) {
+                size_t x = (size_t)(axis ? k : i), y = (size_t)(axis ? i : k);
+                whole = memcmp(rgb + (y * (size_t)w + x) * 3, border, 3) == 0;
+            }
+            runs[axis] += whole && !previous;
+            previous = whole;
+        }
+    }
+    assert_int_equal(runs[0], 4 + 1);
+    assert_int_equal(runs[1], 3 + 1);
+    /* every tile differs from the next (the legs swing; the labels' times differ anyway, so above
+       the label band) */
+    const int tw = 640 / 4, th = 480 / 3;
+    for (int t = 1; t < 12; ++t) {
+        int x0 = (t % 4) * tw, y0 = (t / 4) * th, px = ((t - 1) % 4) * tw, py = ((t - 1) / 4) * th,
+            differ = 0;
+        for (int y = 1; y < th / 2; ++y)
+            for (int x = 1; x < tw - 1; ++x)
+                differ += memcmp(rgb + ((size_t)(y0 + y) * 640 + (size_t)(x0 + x)) * 3,
+                                 rgb + ((size_t)(py + y) * 640 + (size_t)(px + x)) * 3, 3) != 0;
+        assert_true(differ > 20);
+    }
+    free(rgb);
+    /* a grid that is not COLUMNSxROWS is a usage error */
+    snprintf(cmd, sizeof cmd, "\"%s\" render \"%s\" --contact-sheet \"%s\" --grid 4by3 2>/dev/null", mm, bvh,
+             png);
+    int status = system(cmd);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 2);
+}
+
 int main(void)
 {
     mm_error err;
@@ -668,6 +994,11 @@ int main(void)
         cmocka_unit_test(test_tuning_steps_select_and_clamp),
         cmocka_unit_test(test_box_corners_by_hand),
         cmocka_unit_test(test_box_covers_its_projected_hull),
+        cmocka_unit_test(test_sheet_feet_and_facing),
+        cmocka_unit_test(test_sheet_frames_every_pose_alike),
+        cmocka_unit_test(test_sheet_render_tiles_lines_and_labels),
+        cmocka_unit_test(test_sheet_hostile_poses),
+        cmocka_unit_test(test_sheet_of_a_bvh_through_the_program),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     mm_offscreen_destroy(offscreen);

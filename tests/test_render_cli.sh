@@ -28,6 +28,24 @@ expect_grep "missing.bvh" "$tmp/err"
 expect_exit 1 "$mm" render "$tmp/synth/walk_1.40.bvh" -o "$tmp/file" --seconds 0.1
 expect_grep "not a folder" "$tmp/err"
 
+# mm render --contact-sheet: one PNG of the size asked for (tiles: tests/test_render.c); the grid
+# and the tiles it makes are checked before anything is drawn
+expect_exit 0 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/sheet.png" --grid 3x2 --size 480x360
+expect_grep "6 frames (3 x 2)" "$tmp/out"
+expect_png "$tmp/sheet.png" 480x360
+expect_exit 0 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/sheet_default.png" --seconds 1
+expect_grep "24 frames (6 x 4) from 0.00 to 1.00 s" "$tmp/out"
+expect_png "$tmp/sheet_default.png" 1920x1080
+expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/x.png" --grid 6
+expect_grep "grid needs COLUMNSxROWS" "$tmp/err"
+expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/x.png" --grid 0x4
+expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/x.png" --grid 20x4 --size 640x360
+expect_grep "tiles of 32 x 90" "$tmp/err"
+expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" --contact-sheet "$tmp/x.png" -o "$tmp/frames2"
+[ ! -e "$tmp/x.png" ] && ok || bad "a refused contact sheet left x.png"
+expect_exit 2 "$mm" render "$tmp/synth/walk_1.40.bvh" -o "$tmp/frames2" --grid 2x2
+expect_grep "grid goes with --contact-sheet" "$tmp/err"
+
 # mm simulate --video: frames every 1/30 s of the 1 s simulated, and the motion beside them
 expect_exit 0 "$mm" simulate "$tmp/s.mmdb" --input "$src/scripts/input/turn_90.json" --seconds 1 \
     -o "$tmp/sim.bvh" --metrics "$tmp/sim.json" --video "$tmp/simframes" --size 128x72

@@ -1,7 +1,10 @@
 /* mm render FILE.bvh -o OUT [--size WxH] [--fps F] [--from S] [--seconds T] [--scale S|auto]
  *           [--scene SCENE.json]
+ * mm render FILE.bvh --contact-sheet OUT.png [--grid 6x4] [--size 1920x1080] [--from S]
+ *           [--seconds T] [--scale S|auto] [--scene SCENE.json]
  * Draws a BVH clip headless (OSMesa) into an MP4 or GIF (through ffmpeg) or a folder of PNG
- * frames, with a scene's boxes when given; the camera follows the root. */
+ * frames, with a scene's boxes when given; the camera follows the root. With --contact-sheet, one
+ * PNG of COLUMNS x ROWS frames evenly spaced from the first to the last (mm_sheet_render). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,13 +18,93 @@
 #include "cli.h"
 #include "commands.h"
 
+/* --grid: COLUMNSxROWS, each 1 to 32. */
+static int parse_grid(const char *command, const cli_option *option, const char *value)
+{
+    int *grid = (int *)option->target;
+    long columns = 0, rows = 0;
+    const char *x = strchr(value, 'x');
+    char first[16];
+    if (x && (size_t)(x - value) < sizeof first) {
+        memcpy(first, value, (size_t)(x - value));
+        first[x - value] = '\0';
+        if (cli_parse_int(first, 1, 32, &columns) && cli_parse_int(x + 1, 1, 32, &rows)) {
+            grid[0] = (int)columns;
+            grid[1] = (int)rows;
+            return 0;
+        }
+    }
+    return cli_usage_error(command, "--grid needs COLUMNSxROWS, each 1 to 32 (e.g. 6x4), not '%s'", value);
+}
+
+/* The contact sheet of [from, until]: columns x rows poses evenly spaced over it (each on the
+ * nearest frame), rendered into one PNG. */
+static int contact_sheet(const char *in, const char *out, const mm_clip *clip, double from, double until,
+                         const int grid[2], const int size[2], const mm_render_box *boxes, int box_count,
+                         float ground)
+{
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    int n = clip->skeleton.joint_count, tiles = grid[0] * grid[1], status = 0;
+    mm_sheet_desc d;
+    memset(&d, 0, sizeof d);
+    d.columns = grid[0];
+    d.rows = grid[1];
+    d.width = size[0];
+    d.height = size[1];
+    int tw, th;
+    if (mm_sheet_tile_size(&d, &tw, &th, &err) != MM_OK) return cli_usage_error("render", "%s", err.message);
+    mm_xform *poses = malloc(sizeof(mm_xform) * (size_t)n * (size_t)tiles);
+    double *times = malloc(sizeof(double) * (size_t)tiles);
+    mm_quat *rot = malloc(sizeof(mm_quat) * (size_t)n);
+    mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
+    uint8_t *rgb = malloc((size_t)size[0] * (size_t)size[1] * 3);
+    if (!poses || !times || !rot || !pos || !rgb) {
+        fprintf(stderr, "mm: out of memory\n");
+        status = 1;
+    } else {
+        for (int i = 0; i < tiles; ++i) {
+            double t = tiles > 1 ? from + (until - from) * i / (tiles - 1) : 0.5 * (from + until);
+            t = fmin(fmax(round(t * clip->fps) / clip->fps, from), until);
+            times[i] = t;
+            mm_clip_sample(clip, (float)t, rot, pos);
+            mm_fk(&clip->skeleton, rot, pos, poses + (size_t)i * (size_t)n);
+        }
+        d.joint_count = n;
+        d.joints = clip->skeleton.joints;
+        /* a database's simulation root, a point on the ground under the hips, is not the body */
+        d.first_joint = n > 1 && strcmp(clip->skeleton.joints[0].name, "SimulationRoot") == 0 ? 1 : 0;
+        d.poses = poses;
+        d.times = times;
+        d.ground_height = ground;
+        d.boxes = boxes;
+        d.box_count = box_count;
+        if (mm_sheet_render(&d, rgb, &err) != MM_OK ||
+            mm_png_write(out, rgb, size[0], size[1], &err) != MM_OK) {
+            if (!err.file[0]) snprintf(err.file, sizeof err.file, "%s", out);
+            status = cli_report(&err);
+        } else {
+            printf("%s: contact sheet of %s, %d frames (%d x %d) from %.2f to %.2f s, %d x %d\n", out, in,
+                   tiles, grid[0], grid[1], from, until, size[0], size[1]);
+        }
+    }
+    free(poses);
+    free(times);
+    free(rot);
+    free(pos);
+    free(rgb);
+    return status;
+}
+
 int mm_cmd_render(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL, *scene_path = NULL;
-    int size[2] = {640, 360};
+    const char *in = NULL, *out = NULL, *scene_path = NULL, *sheet = NULL;
+    int size[2] = {0, 0}, grid[2] = {0, 0};
     double fps = 30.0, from = 0.0, seconds = -1.0, scale = 0.0; /* scale 0: auto */
     const char *usage =
         "usage: mm render FILE.bvh -o OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--fps 30] [--from S] "
+        "[--seconds T] [--scale S|auto] [--scene SCENE.json]\n"
+        "       mm render FILE.bvh --contact-sheet OUT.png [--grid 6x4] [--size 1920x1080] [--from S] "
         "[--seconds T] [--scale S|auto] [--scene SCENE.json]";
     const cli_option options[] = {
         {.name = "-o", .kind = CLI_STRING, .target = &out},
@@ -42,11 +125,26 @@ int mm_cmd_render(int argc, char **argv)
          .open_min = 1,
          .need = "a number in (0, 36000]"},
         {.name = "--scale", .kind = CLI_CUSTOM, .target = &scale, .parse = cli_parse_scale},
+        {.name = "--contact-sheet", .kind = CLI_STRING, .target = &sheet},
+        {.name = "--grid", .kind = CLI_CUSTOM, .target = grid, .parse = parse_grid},
     };
     int status = cli_parse_options("render", argc, argv, options, CLI_COUNT(options), usage, &in, 1);
     if (status) return status;
+    if (size[0] == 0) {
+        size[0] = sheet ? 1920 : 640;
+        size[1] = sheet ? 1080 : 360;
+    }
     int width = size[0], height = size[1];
-    if (!in || !out) return cli_usage_error("render", "%s", usage);
+    if (!in || (!out == !sheet)) return cli_usage_error("render", "%s", usage);
+    if (grid[0] && !sheet) return cli_usage_error("render", "--grid goes with --contact-sheet");
+    if (!grid[0]) grid[0] = 6, grid[1] = 4;
+    if (sheet) {
+        mm_sheet_desc probe = {.columns = grid[0], .rows = grid[1], .width = width, .height = height};
+        int tw, th;
+        mm_error e;
+        if (mm_sheet_tile_size(&probe, &tw, &th, &e) != MM_OK)
+            return cli_usage_error("render", "%s", e.message);
+    }
     mm_error err;
     memset(&err, 0, sizeof err);
     static mm_scene obstacles; /* large: kept off the stack */
@@ -72,6 +170,12 @@ int mm_cmd_render(int argc, char **argv)
     double duration = mm_clip_duration(&clip);
     if (from > duration) from = duration;
     double until = seconds > 0 ? fmin(duration, from + seconds) : duration;
+    if (sheet) {
+        status = contact_sheet(in, sheet, &clip, from, until, grid, size, boxes, box_count,
+                               scene_path ? obstacles.ground : 0.0f);
+        mm_clip_free(&clip);
+        return status;
+    }
     int frames = (int)floor((until - from) * fps + 1e-6) + 1, n = clip.skeleton.joint_count;
     int *parents = malloc(sizeof(int) * (size_t)n);
     mm_xform *global = malloc(sizeof(mm_xform) * (size_t)n);

@@ -22,6 +22,7 @@
  *            mm_offscreen_create mm_offscreen_render mm_offscreen_destroy
  *            mm_png_write mm_png_read_size mm_video_open mm_video_write mm_video_close
  *            mm_video_encoder_available mm_text_measure mm_render_find_head mm_render_box_corners
+ *            mm_render_find_feet mm_render_facing mm_sheet_tile_size mm_sheet_cameras mm_sheet_render
  */
 #ifndef MM_RENDER_H
 #define MM_RENDER_H
@@ -127,6 +128,60 @@ int mm_render_find_head(const mm_joint *joints, int count);
 /* Size in pixels of text drawn by the renderer (the built-in 5x7 font at 2x: glyph cells of
  * 12 x 18 pixels per character, lines 18 pixels apart). */
 void mm_text_measure(const char *text, int *width, int *height);
+
+/* The joints named like a foot ("foot", "toe" or "ankle" in any case; joint 0, a root, never):
+ * at most max of their indices into out, in skeleton order. Returns how many. */
+int mm_render_find_feet(const mm_joint *joints, int count, int *out, int max);
+
+/* The yaw (rad about +Y, 0 facing +Z, as mm_camera's yaw) of the front of a pose: the horizontal
+ * direction at right angles to the line from the joints named "right" to those named "left" (any
+ * case; their mean positions), the left side on the +X side of a body facing +Z. fallback when
+ * the skeleton has no such joints or the line is vertical or not finite. */
+float mm_render_facing(const mm_joint *joints, int count, const mm_xform *global, float fallback);
+
+/* ---- contact sheets ---- */
+
+/* Many poses of one body side by side in one image, to check posture at a glance: columns x rows
+ * tiles, left to right then top to bottom, each the pose seen from its left side turned 20
+ * degrees toward its front (mm_render_facing; the body faces the tile's left), the camera level
+ * (pitch 0) and centred on the body. Every tile has the same camera distance and height, so heights
+ * compare across tiles, chosen so that every pose, head sphere included, fits whole in its tile
+ * above a band at the bottom. Every tile is lit alike whatever the body's heading (the pose is
+ * turned about the camera's target to face the renderer's light the same way). The body's joints
+ * named "right" are drawn tan, the others in the renderer's body colour. Each tile shows:
+ *   the ground: a dark line at ground_height, the background below it earth-coloured (drawn
+ *     behind the body, so a joint below the ground shows on the earth, crossed by the line);
+ *   a blue line at the head joint's height and a green one at the lowest foot joint's
+ *     (mm_render_find_feet; every joint when none is named so), drawn behind the body;
+ *   a label in the band: "t 1.25 s" and "head 165.2  feet 3.1 cm", the heights above the ground;
+ *     on a red panel, and those joints drawn red, when a joint is below the ground (by more than
+ *     1 mm); on a dark panel otherwise;
+ *   a one-pixel dark border.
+ * The label's font is the renderer's, at 1 to 3 times its 6 x 9 cell, the largest that fits. */
+typedef struct mm_sheet_desc {
+    int columns, rows;          /* tiles: 1 to 32 each */
+    int width, height;          /* the whole image (pixels); tiles are width / columns x height / rows,
+                                   each at least MM_SHEET_MIN_TILE pixels on a side; the pixels left
+                                   over at the right and bottom are border */
+    int joint_count;            /* of the body; joints before first_joint are neither drawn nor measured */
+    const mm_joint *joints;     /* names (head, feet, left and right are found by name) and parents */
+    int first_joint;            /* 0, or 1 to leave out a simulation root on the ground */
+    const mm_xform *poses;      /* columns x rows poses of joint_count world transforms, tile by tile */
+    const double *times;        /* the time of each tile's pose (s), for its label; NULL: none shown */
+    float ground_height;        /* m */
+    const mm_render_box *boxes; /* a scene's obstacles, drawn in every tile */
+    int box_count;
+} mm_sheet_desc;
+
+#define MM_SHEET_MIN_TILE 64
+
+/* Each tile's width and height; MM_OK, or MM_ERR_OUT_OF_RANGE when the grid or the size is out of
+ * range or the tiles would be too small. */
+mm_result mm_sheet_tile_size(const mm_sheet_desc *d, int *tile_width, int *tile_height, mm_error *err);
+/* The camera of every tile (columns x rows of them), for a tile of mm_sheet_tile_size. */
+mm_result mm_sheet_cameras(const mm_sheet_desc *d, mm_camera *cameras, mm_error *err);
+/* Renders the sheet headless (OSMesa) into rgb: width x height x 3 bytes, top row first. */
+mm_result mm_sheet_render(const mm_sheet_desc *d, uint8_t *rgb, mm_error *err);
 
 /* ---- OpenGL renderer ---- */
 
