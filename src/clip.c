@@ -68,7 +68,31 @@ void mm_clip_scale(mm_clip *clip, float factor)
     for (size_t i = 0; i < n; ++i) clip->positions[i] = mm_vec3_scale(clip->positions[i], factor);
 }
 
-void mm_clip_sample(const mm_clip *clip, float t, mm_quat *out_rotations, mm_vec3 *out_positions)
+/* The pose between frames f1 and f1 + 1 (a in (0, 1)) on the Catmull-Rom splines through the
+ * frames; a missing neighbour (before the first frame, after the last) is the reflection of the
+ * frame beyond, which makes that end's tangent the one-sided difference. */
+static void sample_cubic(const mm_clip *clip, int f1, float a, mm_quat *out_rotations, mm_vec3 *out_positions)
+{
+    int n = clip->frame_count, jc = clip->skeleton.joint_count;
+    int f0 = f1 - 1, f2 = f1 + 1, f3 = f1 + 2;
+    const mm_quat *r1 = mm_clip_rotations(clip, f1), *r2 = mm_clip_rotations(clip, f2);
+    const mm_vec3 *p1 = mm_clip_positions(clip, f1), *p2 = mm_clip_positions(clip, f2);
+    const mm_quat *r0 = f0 >= 0 ? mm_clip_rotations(clip, f0) : NULL;
+    const mm_quat *r3 = f3 < n ? mm_clip_rotations(clip, f3) : NULL;
+    const mm_vec3 *p0 = f0 >= 0 ? mm_clip_positions(clip, f0) : NULL;
+    const mm_vec3 *p3 = f3 < n ? mm_clip_positions(clip, f3) : NULL;
+    for (int j = 0; j < jc; ++j) {
+        mm_quat q0 = r0 ? r0[j] : mm_quat_mul(mm_quat_mul(r1[j], mm_quat_inverse(r2[j])), r1[j]);
+        mm_quat q3 = r3 ? r3[j] : mm_quat_mul(mm_quat_mul(r2[j], mm_quat_inverse(r1[j])), r2[j]);
+        mm_vec3 x0 = p0 ? p0[j] : mm_vec3_sub(mm_vec3_scale(p1[j], 2.0f), p2[j]);
+        mm_vec3 x3 = p3 ? p3[j] : mm_vec3_sub(mm_vec3_scale(p2[j], 2.0f), p1[j]);
+        out_rotations[j] = mm_quat_catmull_rom(q0, r1[j], r2[j], q3, a);
+        out_positions[j] = mm_vec3_catmull_rom(x0, p1[j], p2[j], x3, a);
+    }
+}
+
+void mm_clip_sample_frame(const mm_clip *clip, double x, mm_interp interp, mm_quat *out_rotations,
+                          mm_vec3 *out_positions)
 {
     int jc = clip->skeleton.joint_count;
     if (clip->frame_count < 1) {
@@ -78,11 +102,19 @@ void mm_clip_sample(const mm_clip *clip, float t, mm_quat *out_rotations, mm_vec
         }
         return;
     }
-    double x = isfinite(t) ? (double)t * clip->fps : 0.0;
-    if (x < 0.0) x = 0.0;
+    if (!(x > 0.0)) x = 0.0; /* and NaN */
     double last = clip->frame_count - 1;
     if (x > last) x = last;
     int f0 = (int)floor(x);
+    if (interp == MM_INTERP_CUBIC) {
+        if (f0 == x) { /* on a frame: that frame itself */
+            memcpy(out_rotations, mm_clip_rotations(clip, f0), sizeof(mm_quat) * (size_t)jc);
+            memcpy(out_positions, mm_clip_positions(clip, f0), sizeof(mm_vec3) * (size_t)jc);
+            return;
+        }
+        sample_cubic(clip, f0, (float)(x - f0), out_rotations, out_positions);
+        return;
+    }
     int f1 = f0 + 1 < clip->frame_count ? f0 + 1 : f0;
     float a = (float)(x - f0);
     const mm_quat *r0 = mm_clip_rotations(clip, f0), *r1 = mm_clip_rotations(clip, f1);
@@ -93,17 +125,32 @@ void mm_clip_sample(const mm_clip *clip, float t, mm_quat *out_rotations, mm_vec
     }
 }
 
-mm_result mm_clip_resample(mm_clip *dst, const mm_clip *src, float fps, const mm_allocator *allocator)
+void mm_clip_sample(const mm_clip *clip, float t, mm_quat *out_rotations, mm_vec3 *out_positions)
 {
-    if (!dst || !src || !isfinite(fps) || fps <= 0.0f) return MM_ERR_INVALID_ARGUMENT;
+    mm_clip_sample_frame(clip, isfinite(t) ? (double)t * clip->fps : 0.0, MM_INTERP_LINEAR, out_rotations,
+                         out_positions);
+}
+
+mm_result mm_clip_resample_interp(mm_clip *dst, const mm_clip *src, float fps, mm_interp interp,
+                                  const mm_allocator *allocator)
+{
+    if (!dst || !src || !isfinite(fps) || fps <= 0.0f ||
+        (interp != MM_INTERP_LINEAR && interp != MM_INTERP_CUBIC))
+        return MM_ERR_INVALID_ARGUMENT;
     double duration = src->frame_count < 2 ? 0.0 : (double)(src->frame_count - 1) / src->fps;
     double frames = src->frame_count == 0 ? 0.0 : floor(duration * fps + 1e-4) + 1.0;
     if (frames > MM_MAX_FRAMES) return MM_ERR_LIMIT;
     mm_result r = mm_clip_init(dst, &src->skeleton, (int)frames, fps, allocator);
     if (r != MM_OK) return r;
     for (int f = 0; f < dst->frame_count; ++f)
-        mm_clip_sample(src, (float)((double)f / fps), mm_clip_rotations(dst, f), mm_clip_positions(dst, f));
+        mm_clip_sample_frame(src, (double)f * src->fps / fps, interp, mm_clip_rotations(dst, f),
+                             mm_clip_positions(dst, f));
     return MM_OK;
+}
+
+mm_result mm_clip_resample(mm_clip *dst, const mm_clip *src, float fps, const mm_allocator *allocator)
+{
+    return mm_clip_resample_interp(dst, src, fps, MM_INTERP_LINEAR, allocator);
 }
 
 void mm_fk(const mm_skeleton *s, const mm_quat *local_rotations, const mm_vec3 *local_positions,

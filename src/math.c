@@ -295,18 +295,21 @@ mm_mat3 mm_quat_to_mat3(mm_quat quat)
 
 /* ---- log / exp ------------------------------------------------------------------------------- */
 
-mm_vec3 mm_quat_log(mm_quat quat)
+/* Rotation vector (axis * full angle, angle in [0, pi]) of q, which need not be unit. */
+static void dq_log(const double quat[4], double out[3])
 {
-    double q[4];
-    dq_from_quat(quat, q);
+    double q[4] = {quat[0], quat[1], quat[2], quat[3]};
     if (q[3] < 0.0) { /* -q is the same rotation with angle <= pi */
         for (int c = 0; c < 4; c++) q[c] = -q[c];
     }
     /* For q = |q| (axis sin(angle/2), cos(angle/2)): s = |q| sin(angle/2), w = |q| cos(angle/2). */
     double s = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
     double w = q[3];
-    if (!(s > 0.0) && !(w > 0.0)) return mm_vec3_make(0.0f, 0.0f, 0.0f); /* zero quaternion */
-    double scale;                                                        /* angle / s */
+    if (!(s > 0.0) && !(w > 0.0)) { /* zero quaternion */
+        out[0] = out[1] = out[2] = 0.0;
+        return;
+    }
+    double scale; /* angle / s */
     if (s < 1e-6 * w) {
         /* 2 atan(s/w) / s = (2/w) (1 - (s/w)^2 / 3 + ...); the next term is below 1e-24. */
         double r = s / w;
@@ -314,13 +317,13 @@ mm_vec3 mm_quat_log(mm_quat quat)
     } else {
         scale = 2.0 * atan2(s, w) / s; /* s >= 1e-6 w > 0, or s > 0 when w == 0 */
     }
-    return mm_vec3_make((float)(q[0] * scale), (float)(q[1] * scale), (float)(q[2] * scale));
+    for (int c = 0; c < 3; c++) out[c] = q[c] * scale;
 }
 
-mm_quat mm_quat_exp(mm_vec3 v)
+/* Unit quaternion of the rotation vector v (inverse of dq_log). */
+static void dq_exp(const double v[3], double q[4])
 {
-    double x = v.x, y = v.y, z = v.z;
-    double angle = sqrt(x * x + y * y + z * z);
+    double angle = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     double h = 0.5 * angle;
     double scale; /* sin(angle / 2) / angle */
     if (angle < 1e-4) {
@@ -330,8 +333,117 @@ mm_quat mm_quat_exp(mm_vec3 v)
     } else {
         scale = sin(h) / angle;
     }
-    double q[4] = {x * scale, y * scale, z * scale, cos(h)};
+    for (int c = 0; c < 3; c++) q[c] = v[c] * scale;
+    q[3] = cos(h);
+}
+
+mm_vec3 mm_quat_log(mm_quat quat)
+{
+    double q[4], v[3];
+    dq_from_quat(quat, q);
+    dq_log(q, v);
+    return mm_vec3_make((float)v[0], (float)v[1], (float)v[2]);
+}
+
+mm_quat mm_quat_exp(mm_vec3 v)
+{
+    double d[3] = {v.x, v.y, v.z}, q[4];
+    dq_exp(d, q);
     return dq_to_quat(q);
+}
+
+/* ---- splines ------------------------------------------------------------------------------ */
+
+/* Rotation vector of a^-1 b (the turn from a to b in a's frame, shortest); a and b unit. */
+static void dq_delta(const double a[4], const double b[4], double out[3])
+{
+    double ac[4] = {-a[0], -a[1], -a[2], a[3]}, d[4];
+    dq_mul(ac, b, d);
+    dq_log(d, out);
+}
+
+/* out = q exp(v * s), for unit q. */
+static void dq_mul_exp(const double q[4], const double v[3], double s, double out[4])
+{
+    double sv[3] = {v[0] * s, v[1] * s, v[2] * s}, e[4];
+    dq_exp(sv, e);
+    dq_mul(q, e, out);
+}
+
+/* The curve of mm_quat_hermite at t in (0, 1), with a and b unit and double; w0, w1 the
+ * tangents at a and b. Control points c1 = a exp(w0/3) and c2 = b exp(-w1/3); the curve is
+ * a exp(w0/3 B1(t)) exp(log(c1^-1 c2) B2(t)) exp(w1/3 B3(t)) with the cumulative Bernstein
+ * bases B1 = 1 - (1-t)^3, B2 = 3t^2 - 2t^3, B3 = t^3. B1' = 3 and B2' = B3' = 0 at t = 0,
+ * B1' = B2' = 0 and B3' = 3 at t = 1, so the angular velocity is w0 at a and w1 at b; all
+ * three are 1 at t = 1 and the product telescopes to b (or -b). */
+static void dq_hermite(const double a[4], const double w0[3], const double b[4], const double w1[3], double t,
+                       double out[4])
+{
+    double c1[4], c2[4], mid[3], x[4], y[4];
+    dq_mul_exp(a, w0, 1.0 / 3.0, c1);
+    dq_mul_exp(b, w1, -1.0 / 3.0, c2);
+    dq_delta(c1, c2, mid);
+    double u = 1.0 - t;
+    double b1 = 1.0 - u * u * u, b2 = t * t * (3.0 - 2.0 * t), b3 = t * t * t;
+    dq_mul_exp(a, w0, b1 / 3.0, x);
+    dq_mul_exp(x, mid, b2, y);
+    dq_mul_exp(y, w1, b3 / 3.0, out);
+    dq_normalize(out);
+}
+
+/* q and b as doubles, normalised. */
+static void dq_unit(mm_quat q, double out[4])
+{
+    dq_from_quat(q, out);
+    dq_normalize(out);
+}
+
+/* b or -b, whichever is nearer the curve's end c (the curve arrives at one of them). */
+static mm_quat end_key(mm_quat b, const double c[4])
+{
+    double d = c[0] * b.x + c[1] * b.y + c[2] * b.z + c[3] * b.w;
+    return d < 0.0 ? mm_quat_make(-b.x, -b.y, -b.z, -b.w) : b;
+}
+
+mm_quat mm_quat_hermite(mm_quat a, mm_vec3 w0, mm_quat b, mm_vec3 w1, float t)
+{
+    double qa[4], qb[4], v0[3] = {w0.x, w0.y, w0.z}, v1[3] = {w1.x, w1.y, w1.z}, out[4];
+    if (!(t > 0.0f)) return a;
+    dq_unit(a, qa);
+    dq_unit(b, qb);
+    dq_hermite(qa, v0, qb, v1, t < 1.0f ? (double)t : 1.0, out);
+    return t < 1.0f ? dq_to_quat(out) : end_key(b, out);
+}
+
+mm_vec3 mm_quat_catmull_rom_tangent(mm_quat prev, mm_quat q, mm_quat next)
+{
+    double qp[4], qq[4], qn[4], d0[3], d1[3];
+    dq_unit(prev, qp);
+    dq_unit(q, qq);
+    dq_unit(next, qn);
+    dq_delta(qp, qq, d0);
+    dq_delta(qq, qn, d1);
+    return mm_vec3_make((float)(0.5 * (d0[0] + d1[0])), (float)(0.5 * (d0[1] + d1[1])),
+                        (float)(0.5 * (d0[2] + d1[2])));
+}
+
+mm_quat mm_quat_catmull_rom(mm_quat q0, mm_quat q1, mm_quat q2, mm_quat q3, float t)
+{
+    double a[4], b[4], c[4], d[4], d0[3], d1[3], d2[3], w1[3], w2[3], out[4];
+    if (!(t > 0.0f)) return q1;
+    dq_unit(q0, a);
+    dq_unit(q1, b);
+    dq_unit(q2, c);
+    dq_unit(q3, d);
+    dq_delta(a, b, d0);
+    dq_delta(b, c, d1);
+    dq_delta(c, d, d2);
+    for (int k = 0; k < 3; k++) {
+        w1[k] = 0.5 * (d0[k] + d1[k]);
+        w2[k] = 0.5 * (d1[k] + d2[k]);
+    }
+    dq_hermite(b, w1, c, w2, t < 1.0f ? (double)t : 1.0, out);
+    return t < 1.0f ? dq_to_quat(out) : end_key(q2, out);
 }
 
 /* ---- decompositions ------------------------------------------------------------------------ */

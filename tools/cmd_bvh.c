@@ -207,7 +207,7 @@ static int cmd_convert(int argc, char **argv)
     mm_bvh_free(&bvh);
     if (r != MM_OK) return cli_report(&err);
     if (fps > 0.0) {
-        r = mm_clip_resample(&resampled, &clip, (float)fps, NULL);
+        r = mm_clip_resample_interp(&resampled, &clip, (float)fps, MM_INTERP_CUBIC, NULL);
         mm_clip_free(&clip);
         if (r != MM_OK) {
             fprintf(stderr, "mm: %s: cannot resample to %g fps: %s\n", in, fps, mm_result_str(r));

@@ -12,7 +12,8 @@
  *   mm_clip_free(&clip);
  *
  * Functions: mm_clip_init mm_clip_free mm_clip_copy mm_clip_rotations mm_clip_positions
- *            mm_clip_duration mm_clip_scale mm_clip_resample mm_clip_sample
+ *            mm_clip_duration mm_clip_scale mm_clip_sample_frame mm_clip_sample
+ *            mm_clip_resample_interp mm_clip_resample
  *            mm_fk mm_clip_fk mm_global_to_local mm_skeleton_estimate_height mm_unit_scale_for_height
  */
 #ifndef MM_CLIP_H
@@ -60,12 +61,31 @@ float mm_clip_duration(const mm_clip *clip);
 /* Multiplies all lengths (offsets, End Sites, translations) by factor. */
 void mm_clip_scale(mm_clip *clip, float factor);
 
-/* Pose at time t seconds (clamped to the clip): rotations by slerp, translations linearly,
- * between the two nearest frames. out arrays hold joint_count entries. */
+/* How a clip is read between its frames. */
+typedef enum mm_interp {
+    /* rotations by slerp, translations linearly, between the two nearest frames: the velocity
+     * jumps at every frame */
+    MM_INTERP_LINEAR = 0,
+    /* C1 splines through the frames (mm_quat_catmull_rom, mm_vec3_catmull_rom in mm/math.h):
+     * tangents from the neighbouring frames, one-sided at the first and last; a whole frame
+     * position gives that frame exactly */
+    MM_INTERP_CUBIC = 1
+} mm_interp;
+
+/* Pose at frame position x (a fractional frame index, clamped to [0, frame_count - 1]; NaN reads
+ * frame 0). out arrays hold joint_count entries. A clip without frames gives the rest pose. */
+void mm_clip_sample_frame(const mm_clip *clip, double x, mm_interp interp, mm_quat *out_rotations,
+                          mm_vec3 *out_positions);
+
+/* Pose at time t seconds (clamped to the clip), MM_INTERP_LINEAR: mm_clip_sample_frame at t * fps. */
 void mm_clip_sample(const mm_clip *clip, float t, mm_quat *out_rotations, mm_vec3 *out_positions);
 
 /* Resamples src to fps into dst (not initialised): the new clip covers the same duration,
- * frame_count = floor(duration * fps + 1e-4) + 1, each frame sampled with mm_clip_sample. */
+ * frame_count = floor(duration * fps + 1e-4) + 1, frame f sampled at src frame position
+ * f * src->fps / fps (mm_clip_sample_frame). Going down in rate, frames are sampled, not
+ * filtered. mm_clip_resample is mm_clip_resample_interp with MM_INTERP_LINEAR. */
+mm_result mm_clip_resample_interp(mm_clip *dst, const mm_clip *src, float fps, mm_interp interp,
+                                  const mm_allocator *allocator);
 mm_result mm_clip_resample(mm_clip *dst, const mm_clip *src, float fps, const mm_allocator *allocator);
 
 /* Forward kinematics: global transforms of every joint from local rotations and translations.

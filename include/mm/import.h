@@ -47,7 +47,8 @@ typedef struct mm_import_desc {
     bool auto_scale; /* per take, pick the unit from the character's height as mm_bvh_detect_scale
                         does (the unit the file declares is tried first); overrides scale; fails
                         with MM_ERR_OUT_OF_RANGE when no unit gives a human height */
-    float fps;       /* sample rate of assimp takes; 0: each take's own rate. BVH keeps its rate */
+    float fps;       /* sample rate; 0: each take's own rate. BVH is resampled on C1 splines
+                        (mm_clip_resample_interp, MM_INTERP_CUBIC) */
     const mm_allocator *allocator; /* NULL: malloc */
 } mm_import_desc;
 

@@ -19,9 +19,10 @@
  *
  * Functions:
  *   vec3:  mm_vec3_make add sub scale mul neg dot cross length length_sq distance normalize lerp
+ *          catmull_rom
  *   quat:  mm_quat_identity make mul conj inverse dot normalize length rotate inv_rotate
  *          from_axis_angle abs nlerp slerp angle_between from_euler to_euler from_mat3 to_mat3
- *          log exp swing_twist between
+ *          log exp hermite catmull_rom_tangent catmull_rom swing_twist between
  *   mat3:  mm_mat3_identity mm_mat3_mul mm_mat3_mul_vec3 mm_mat3_transpose
  *   xform: mm_xform_identity mul inverse apply_point apply_vector
  */
@@ -117,6 +118,24 @@ static inline mm_vec3 mm_vec3_lerp(mm_vec3 a, mm_vec3 b, float t)
 {
     return mm_vec3_make(a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t);
 }
+/* Cubic Hermite interpolation from p1 (t = 0) to p2 (t = 1) with the Catmull-Rom tangents
+ * (p2 - p0) / 2 at p1 and (p3 - p1) / 2 at p2 (per unit t), from the neighbours p0 before p1 and
+ * p3 after p2: exact at t = 0 and 1, the velocity continuous from one segment to the next, and
+ * points on a line at equal steps give that line at constant speed. Where a neighbour is
+ * missing, pass the reflection (p0 = 2 p1 - p2, p3 = 2 p2 - p1): the tangent is then the
+ * one-sided difference p2 - p1. The curve never leaves [min, max] of the four points (per axis)
+ * by more than 1/8 of (max - min), 1/4 with a reflected neighbour: the tangent terms add at most
+ * t (1 - t) max |m| to a point between p1 and p2, and |m| <= (max - min) / 2 (one-sided: <= max
+ * - min). A unit step [0, 0, 1, 1] overshoots by 2/27. */
+static inline mm_vec3 mm_vec3_catmull_rom(mm_vec3 p0, mm_vec3 p1, mm_vec3 p2, mm_vec3 p3, float t)
+{
+    float t2 = t * t, t3 = t2 * t;
+    float h00 = 2.0f * t3 - 3.0f * t2 + 1.0f, h01 = 3.0f * t2 - 2.0f * t3;
+    float h10 = 0.5f * (t3 - 2.0f * t2 + t), h11 = 0.5f * (t3 - t2);
+    return mm_vec3_make(h00 * p1.x + h01 * p2.x + h10 * (p2.x - p0.x) + h11 * (p3.x - p1.x),
+                        h00 * p1.y + h01 * p2.y + h10 * (p2.y - p0.y) + h11 * (p3.y - p1.y),
+                        h00 * p1.z + h01 * p2.z + h10 * (p2.z - p0.z) + h11 * (p3.z - p1.z));
+}
 
 /* ---- quaternion ------------------------------------------------------------------------- */
 
@@ -197,6 +216,25 @@ mm_mat3 mm_quat_to_mat3(mm_quat q);
 mm_vec3 mm_quat_log(mm_quat q);
 /* Inverse of mm_quat_log: the rotation of |v| radians about v / |v|. */
 mm_quat mm_quat_exp(mm_vec3 v);
+
+/* C1 rotation splines. A tangent w at key q is an angular velocity in q's own frame, in radians
+ * per unit t: near q the curve is q exp(w dt) (mm_quat_exp). Keys may be given as q or -q in any
+ * mix: every step between neighbours is taken the short way round.
+ *
+ * mm_quat_hermite: the curve from a (t = 0) to b (t = 1) leaving a with tangent w0 and arriving
+ * at b with tangent w1 (the cumulative cubic Bezier form on control rotations a exp(w0/3) and
+ * b exp(-w1/3)). Returns a itself for t <= 0 and b itself (or -b, the sign the curve arrives
+ * with) for t >= 1; unit in between. With w0 = w1 = mm_quat_log(a^-1 b) it is mm_quat_slerp(a,
+ * b, t); for keys turning at a constant rate about a fixed axis, Catmull-Rom tangents give that
+ * turn exactly.
+ * mm_quat_catmull_rom_tangent: the tangent at q from its neighbours, the mean of the turns
+ * prev -> q and q -> next (each in q's frame: the turn's axis is the same in both of its ends').
+ * mm_quat_catmull_rom: mm_quat_hermite from q1 to q2 with the tangents at q1 (from q0, q2) and q2
+ * (from q1, q3). Where a neighbour is missing pass the reflection (q0 = q1 q2^-1 q1, q3 = q2
+ * q1^-1 q2): the tangent is then the one-sided turn q1 -> q2. */
+mm_quat mm_quat_hermite(mm_quat a, mm_vec3 w0, mm_quat b, mm_vec3 w1, float t);
+mm_vec3 mm_quat_catmull_rom_tangent(mm_quat prev, mm_quat q, mm_quat next);
+mm_quat mm_quat_catmull_rom(mm_quat q0, mm_quat q1, mm_quat q2, mm_quat q3, float t);
 
 /* Splits q into q = swing * twist, where twist rotates about the (unit or not) axis and swing
  * rotates about an axis perpendicular to it. Either output pointer may be NULL. When q has no

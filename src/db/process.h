@@ -2,6 +2,7 @@
  *
  * Every step takes a clip and makes a new one (the input is left alone):
  *   mm__clip_extract      frames [begin, end) of a source, resampled to the database interval
+ *                         (MM_INTERP_CUBIC, the splines running through the neighbouring frames)
  *   mm__clip_add_root     adds the simulation bone as joint 0 (position: a spine bone projected
  *                         to the ground; facing: a bone's forward axis projected; both smoothed)
  *   mm__clip_mirror       mirrors across the character's sagittal plane, swapping left and right

@@ -25,20 +25,32 @@ mm_result mm__clip_extract(const mm_clip *src, int begin, int end, float interva
                            const mm_allocator *a)
 {
     if (begin < 0 || end > src->frame_count || end - begin < 2) return MM_ERR_OUT_OF_RANGE;
-    mm_clip part;
-    mm_result r = mm_clip_init(&part, &src->skeleton, end - begin, src->fps, a);
-    if (r != MM_OK) return r;
-    size_t n = (size_t)(end - begin) * (size_t)src->skeleton.joint_count;
-    memcpy(part.rotations, mm_clip_rotations(src, begin), n * sizeof(mm_quat));
-    memcpy(part.positions, mm_clip_positions(src, begin), n * sizeof(mm_vec3));
     /* Same rate (to 1e-4 relative): keep the frames as they are. */
     if (fabs((double)src->fps * interval - 1.0) < 1e-4) {
-        *out = part;
+        mm_result r = mm_clip_init(out, &src->skeleton, end - begin, src->fps, a);
+        if (r != MM_OK) return r;
+        size_t n = (size_t)(end - begin) * (size_t)src->skeleton.joint_count;
+        memcpy(out->rotations, mm_clip_rotations(src, begin), n * sizeof(mm_quat));
+        memcpy(out->positions, mm_clip_positions(src, begin), n * sizeof(mm_vec3));
         return MM_OK;
     }
-    r = mm_clip_resample(out, &part, 1.0f / interval, a);
-    mm_clip_free(&part);
-    return r;
+    /* The database rate, whole when the interval is 1/N to float precision (the config reads
+     * 0.0166667 as 1/60), so that 30 fps frames land exactly on every other database frame. */
+    double rate = 1.0 / interval;
+    if (fabs(rate - floor(rate + 0.5)) < 1e-5 * rate) rate = floor(rate + 0.5);
+    double duration = (double)(end - begin - 1) / src->fps;
+    double frames = floor(duration * rate + 1e-4) + 1.0;
+    if (frames > MM_MAX_FRAMES) return MM_ERR_LIMIT;
+    mm_result r = mm_clip_init(out, &src->skeleton, (int)frames, 1.0f / interval, a);
+    if (r != MM_OK) return r;
+    /* Sampled on the whole source, so that the splines' tangents at the range's ends come from
+     * the frames just outside it when there are some. */
+    for (int f = 0; f < out->frame_count; ++f) {
+        double x = begin + (double)f * src->fps / rate;
+        if (x > end - 1) x = end - 1;
+        mm_clip_sample_frame(src, x, MM_INTERP_CUBIC, mm_clip_rotations(out, f), mm_clip_positions(out, f));
+    }
+    return MM_OK;
 }
 
 /* Gaussian smoothing of n samples of dim floats (stride dim) with sigma in samples. Samples

@@ -25,8 +25,9 @@ static const mm_config_field_doc docs[] = {
      "extend others; a cycle or a missing file is an error."},
     {"interval", "number", "s", "0.0166667 (1/60)",
      "Seconds between database frames (the seed's Interval: 0.05 gives 20 frames per second of animation). "
-     "Every clip is resampled to it, rotations by slerp. A value within 0.001% of 1/N for a whole rate N "
-     "(0.0166667, 0.05) is read as exactly 1/N, so that a tick at that rate is exactly one frame."},
+     "Every clip is resampled to it on C1 splines through its frames (docs/database.md, Resampling). A "
+     "value within 0.001% of 1/N for a whole rate N (0.0166667, 0.05) is read as exactly 1/N, so that a "
+     "tick at that rate is exactly one frame."},
     {"scale", "number", "", "0 (detect)",
      "Multiplies source lengths to get metres: 0.01 for centimetre files, 1 for metres. 0 detects the unit "
      "from the character's height (docs/bvh.md)."},

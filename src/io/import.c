@@ -114,7 +114,7 @@ static mm_result import_bvh(const char *path, const mm_import_desc *desc, mm_cli
     if (r != MM_OK) return r;
     if (desc && desc->fps > 0.0f && desc->fps != clip.fps) {
         mm_clip resampled;
-        r = mm_clip_resample(&resampled, &clip, desc->fps, allocator);
+        r = mm_clip_resample_interp(&resampled, &clip, desc->fps, MM_INTERP_CUBIC, allocator);
         mm_clip_free(&clip);
         if (r != MM_OK)
             return mm_error_set(err, r, 0, 0, "cannot resample to %g fps: %s", desc->fps, mm_result_str(r));
