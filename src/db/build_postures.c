@@ -178,6 +178,20 @@ void mm__postures_free(mm__postures *p)
     memset(p, 0, sizeof *p);
 }
 
+/* What the build does with a frame of posture q: -1 leaves it out, 1 keeps it tagged, 0 keeps it. */
+static int kind_of(uint8_t q) { return removed(q) ? -1 : crouched(q) ? 1 : 0; }
+
+/* Frame f is kept: its posture is kept, and every frame within pad of it (in the take) is of its
+ * kind, so that no piece holds the way into or out of a posture it is not of. */
+static int kept(const uint8_t *post, int frame_count, int f, int pad)
+{
+    int kind = kind_of(post[f]);
+    if (kind < 0) return 0;
+    for (int k = f - pad; k <= f + pad; ++k)
+        if (k >= 0 && k < frame_count && kind_of(post[k]) != kind) return 0;
+    return 1;
+}
+
 int mm__postures_split(const mm__postures *p, const mm_config *cfg, int ci, const mm_clip *source,
                        mm_config_range range, mm_config_range *out)
 {
@@ -187,31 +201,20 @@ int mm__postures_split(const mm__postures *p, const mm_config *cfg, int ci, cons
         return 1;
     }
     int pad = (int)lroundf(cfg->postures_pad * source->fps),
-        min_piece = (int)ceilf(MM__POSTURES_MIN_PIECE * source->fps);
+        min_piece = (int)ceilf(MM__POSTURES_MIN_PIECE * source->fps), n = source->frame_count;
     if (min_piece < 2) min_piece = 2;
     int count = 0;
     for (int f = range.begin; f < range.end;) {
-        /* the next kept frame: no removed posture within pad frames */
-        int keep_from = f;
-        for (;;) {
-            int near = 0;
-            for (int k = keep_from - pad; k <= keep_from + pad && !near; ++k)
-                near = k >= 0 && k < source->frame_count && removed(post[k]);
-            if (!near || keep_from >= range.end) break;
-            ++keep_from;
+        if (!kept(post, n, f, pad)) {
+            ++f;
+            continue;
         }
-        int e = keep_from;
-        for (;;) {
-            int near = 0;
-            for (int k = e - pad; k <= e + pad && !near; ++k)
-                near = k >= 0 && k < source->frame_count && removed(post[k]);
-            if (near || e >= range.end) break;
-            ++e;
-        }
+        int e = f + 1, kind = kind_of(post[f]);
+        while (e < range.end && kept(post, n, e, pad) && kind_of(post[e]) == kind) ++e;
         /* a range with nothing cut keeps its length; the pieces a cut leaves must be long enough */
-        int whole = keep_from == range.begin && e == range.end;
-        if (whole || e - keep_from >= min_piece) out[count++] = (mm_config_range){keep_from, e};
-        f = e > keep_from ? e : keep_from + 1;
+        int whole = f == range.begin && e == range.end;
+        if (whole || e - f >= min_piece) out[count++] = (mm_config_range){f, e};
+        f = e;
     }
     return count;
 }

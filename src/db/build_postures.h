@@ -25,10 +25,12 @@ mm_result mm__postures_find(const mm_config *cfg, const mm_clip *sources, mm__po
                             mm_db_build_report *report, mm_error *err);
 void mm__postures_free(mm__postures *p);
 
-/* The pieces of range [begin, end) of config clip ci that keep their frames (removed postures,
- * widened by cfg->postures_pad, cut out; pieces shorter than MM__POSTURES_MIN_PIECE seconds
- * dropped; a range with nothing cut out is kept as it is), in order. out holds room for end - begin pieces.
- * Returns how many. */
+/* The pieces of range [begin, end) of config clip ci that the database keeps, in order: the
+ * calibration and lying frames cut out, the crouched (tagged) frames apart from the others, each
+ * piece without the cfg->postures_pad seconds next to a frame of another kind (the way into or out
+ * of a posture belongs to neither), pieces shorter than MM__POSTURES_MIN_PIECE seconds dropped; a
+ * range with nothing cut out is kept as it is. out holds room for end - begin pieces. Returns how
+ * many. */
 #define MM__POSTURES_MIN_PIECE 0.5f
 int mm__postures_split(const mm__postures *p, const mm_config *cfg, int ci, const mm_clip *source,
                        mm_config_range range, mm_config_range *out);
