@@ -9,12 +9,6 @@
 #include "db/build_postures.h"
 #include "db/process.h"
 
-static int judged(const mm_config *cfg, int ci)
-{
-    mm_clip_type t = cfg->clips[ci].type;
-    return cfg->postures_detect && (t == MM_CLIP_LOCOMOTION || t == MM_CLIP_IDLE);
-}
-
 static int removed(uint8_t posture)
 {
     return posture == MM_POSTURE_CALIBRATION || posture == MM_POSTURE_LYING;
@@ -37,17 +31,36 @@ static int same_name_any_case(const char *a, const char *b)
     return *a == *b;
 }
 
+/* The tag is named after a gait. */
+static int gait_tag(const mm_config *cfg, int tag)
+{
+    for (int g = 0; g < MM_GAIT_COUNT; ++g)
+        if (same_name_any_case(cfg->tag_names[tag], mm_gait_name((mm_gait)g))) return 1;
+    return 0;
+}
+
 /* Config clip ci's frame at time t (s) carries a tag named after a gait: the config says what it is,
  * and its posture does not change that. */
 static int gait_tagged(const mm_config *cfg, int ci, float t)
 {
     const mm_config_clip *c = &cfg->clips[ci];
     for (int i = 0; i < c->tag_range_count; ++i) {
-        if (t < c->tag_ranges[i].begin - 1e-4f || t > c->tag_ranges[i].end + 1e-4f) continue;
-        for (int g = 0; g < MM_GAIT_COUNT; ++g)
-            if (same_name_any_case(cfg->tag_names[c->tag_ranges[i].tag], mm_gait_name((mm_gait)g))) return 1;
+        if (t >= c->tag_ranges[i].begin - 1e-4f && t <= c->tag_ranges[i].end + 1e-4f &&
+            gait_tag(cfg, c->tag_ranges[i].tag))
+            return 1;
     }
     return 0;
+}
+
+/* Config clip ci is judged: a locomotion or idle clip whose tags, if any, are gaits (a clip tagged
+ * otherwise, a move or data marked by hand, is the config's to describe). */
+static int judged(const mm_config *cfg, int ci)
+{
+    const mm_config_clip *c = &cfg->clips[ci];
+    if (!cfg->postures_detect || (c->type != MM_CLIP_LOCOMOTION && c->type != MM_CLIP_IDLE)) return 0;
+    for (int i = 0; i < c->tag_range_count; ++i)
+        if (!gait_tag(cfg, c->tag_ranges[i].tag)) return 0;
+    return 1;
 }
 
 /* World joint positions of every frame of a source clip ([frames x joints]), and its ground: the
