@@ -47,10 +47,19 @@ static void test_poses(void **state)
     /* the same T pose on ground 2 m up is the same pose */
     for (int j = 0; j < 4; ++j) w[j].y += 2.0f;
     assert_int_equal(mm_posture_classify(w, &JOINTS, 2.0f, &REF), MM_POSTURE_CALIBRATION);
-    /* arms out but crouched: crouched */
+    /* arms out but crouched: the arms spread, a gesture */
     body(w, 0.63f, 0.0f, 1);
-    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_CROUCHED);
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_ARMS_SPREAD);
     assert_true(mm_posture_arms_out(w, &JOINTS, &REF));
+    /* upright with the hands 1.6 m apart at the hips' height: spread, not a calibration pose */
+    body(w, 0.95f, 0.0f, 0);
+    w[2].x = -0.8f;
+    w[3].x = 0.8f;
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_ARMS_SPREAD);
+    /* 1.3 m apart (0.75 of the stature 1.74 m): still walking */
+    w[2].x = -0.65f;
+    w[3].x = 0.65f;
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
     /* without hands never a calibration pose; without a reference or a head always upright */
     body(w, 0.95f, 0.0f, 1);
     mm_posture_joints no_hands = {0, 1, -1, -1}, no_head = {0, -1, 2, 3};
@@ -63,6 +72,7 @@ static void test_poses(void **state)
     w[1].x = NAN;
     assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
     assert_string_equal(mm_posture_name(MM_POSTURE_CALIBRATION), "calibration");
+    assert_string_equal(mm_posture_name(MM_POSTURE_ARMS_SPREAD), "arms_spread");
     assert_null(mm_posture_name(MM_POSTURE_COUNT));
 }
 

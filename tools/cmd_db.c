@@ -20,11 +20,11 @@ static void print_postures(const mm_db_build_report *report)
         printf("postures: not judged (no locomotion or idle clip with a head and hips)\n");
         return;
     }
-    printf(
-        "postures: upright head height %.2f m; source frames upright %d, left out: calibration %d, lying %d; "
-        "tagged Crouch: crouched %d, bent %d\n",
-        report->reference_head_height, n[MM_POSTURE_UPRIGHT], n[MM_POSTURE_CALIBRATION], n[MM_POSTURE_LYING],
-        n[MM_POSTURE_CROUCHED], n[MM_POSTURE_BENT]);
+    printf("postures: upright head height %.2f m; source frames upright %d, left out: calibration %d, lying "
+           "%d, arms spread %d; "
+           "tagged Crouch: crouched %d, bent %d\n",
+           report->reference_head_height, n[MM_POSTURE_UPRIGHT], n[MM_POSTURE_CALIBRATION],
+           n[MM_POSTURE_LYING], n[MM_POSTURE_ARMS_SPREAD], n[MM_POSTURE_CROUCHED], n[MM_POSTURE_BENT]);
 }
 
 static void progress(int done, int total, void *user)

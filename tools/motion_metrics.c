@@ -339,7 +339,7 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
     out->head_p2_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.02);
     out->head_p5_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.05);
     out->head_p50_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.5);
-    out->crouched_s = out->bent_s = out->lying_s = out->calibration_s = NAN;
+    out->crouched_s = out->bent_s = out->lying_s = out->calibration_s = out->arms_spread_s = NAN;
     out->arms_out_s = m->reference.head_height > 0 && hands ? m->arms_out_frames / m->fps : NAN;
     out->hands_apart_max_cm = hands ? 100.0 * m->hands_apart_max : NAN;
     if (posture) {
@@ -356,6 +356,7 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
         out->bent_s = count[MM_POSTURE_BENT] / m->fps;
         out->lying_s = count[MM_POSTURE_LYING] / m->fps;
         out->calibration_s = count[MM_POSTURE_CALIBRATION] / m->fps;
+        out->arms_spread_s = count[MM_POSTURE_ARMS_SPREAD] / m->fps;
     }
     return 0;
 }
@@ -403,6 +404,7 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "bent_s", s.bent_s, 0);
     json_number(f, "lying_s", s.lying_s, 0);
     json_number(f, "calibration_s", s.calibration_s, 0);
+    json_number(f, "arms_spread_s", s.arms_spread_s, 0);
     json_number(f, "arms_out_s", s.arms_out_s, 0);
     json_number(f, "hands_apart_max_cm", s.hands_apart_max_cm, 0);
     fprintf(f, "  \"moves\": [");

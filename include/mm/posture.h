@@ -1,8 +1,9 @@
 /* mm/posture.h - what kind of pose a body holds: upright, crouched, bent over, lying, or a
- * calibration pose (arms straight out), judged from world joint positions (the mm_build library).
+ * calibration pose (arms straight out), or the arms spread wide, judged from world joint positions (the
+ * mm_build library).
  *
  * The database build uses it to keep poses out of ordinary locomotion (docs/database.md,
- * "Postures"): calibration and lying frames are removed from locomotion and idle clips, crouched
+ * "Postures"): calibration, lying and arms-spread frames are removed from locomotion and idle clips, crouched
  * and bent-over ones are tagged with the crouch gait. mm simulate uses it to measure the posture
  * of what it played (docs/metrics.md). Both judge against the same reference: the head's height
  * in an upright pose of the same body, so that any skeleton and unit works.
@@ -31,6 +32,7 @@ typedef enum mm_posture {
     MM_POSTURE_BENT,        /* the trunk leaning far from vertical (bent over at the waist) */
     MM_POSTURE_LYING,       /* the head near the ground */
     MM_POSTURE_CALIBRATION, /* upright with both arms straight out (a T pose) */
+    MM_POSTURE_ARMS_SPREAD, /* the hands wide apart otherwise: a gesture, not a walk */
     MM_POSTURE_COUNT
 } mm_posture;
 
@@ -59,7 +61,7 @@ typedef struct mm_posture_reference {
     float head_height; /* m above the ground: the head's height when upright, > 0 */
 } mm_posture_reference;
 
-/* "upright", "crouched", "bent", "lying", "calibration"; NULL if out of range. */
+/* "upright", "crouched", "bent", "lying", "calibration", "arms_spread"; NULL if out of range. */
 const char *mm_posture_name(mm_posture p);
 
 /* The reference head height from the head's heights above the ground over many frames of a body's
@@ -71,7 +73,7 @@ float mm_posture_reference_height(float *heights, int n);
 float mm_posture_stature(const mm_posture_reference *ref);
 
 /* The posture of one pose: world joint positions (metres, +Y up) over ground at height ground_y.
- * Calibration wins over the others, then lying, bent, crouched. Upright when a needed joint is
+ * Calibration wins over the others, then lying, arms spread, bent, crouched. Upright when a needed joint is
  * missing, a position is not finite, or the reference is not positive. */
 mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *joints, float ground_y,
                                const mm_posture_reference *ref);

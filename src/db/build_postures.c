@@ -11,7 +11,8 @@
 
 static int removed(uint8_t posture)
 {
-    return posture == MM_POSTURE_CALIBRATION || posture == MM_POSTURE_LYING;
+    return posture == MM_POSTURE_CALIBRATION || posture == MM_POSTURE_LYING ||
+           posture == MM_POSTURE_ARMS_SPREAD;
 }
 
 static int crouched(uint8_t posture) { return posture == MM_POSTURE_CROUCHED || posture == MM_POSTURE_BENT; }
