@@ -366,12 +366,13 @@ static mm_result process_sources(builder *b, const mm_clip *sources, const mm_db
             count += j.parts[i].count;
         }
         if (r == MM_OK &&
-            !(b->clips = (built *)malloc(sizeof(built) * (size_t)(count + 2 * b->cfg->blend_count))))
+            !(b->clips = (built *)malloc(sizeof(built) * (size_t)(count + 2 * b->cfg->blend_count + 1))))
             r = mm_error_set(b->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
         if (r == MM_OK) {
             b->capacity = count + 2 * b->cfg->blend_count;
             for (int i = 0; i < n; ++i) { /* the clips move; their lists go */
-                memcpy(b->clips + b->count, j.parts[i].clips, sizeof(built) * (size_t)j.parts[i].count);
+                if (j.parts[i].count > 0) /* a clip whose frames were all left out has none */
+                    memcpy(b->clips + b->count, j.parts[i].clips, sizeof(built) * (size_t)j.parts[i].count);
                 b->count += j.parts[i].count;
                 free(j.parts[i].clips);
             }
