@@ -8,6 +8,7 @@
  * (docs/database.md, "Spans of a take"). */
 #include <ctype.h>
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,13 +27,16 @@
 #define KIND_COUNT (MM_POSTURE_COUNT + 2)
 /* A crouched or bent stretch whose hips come lower than this x their upright height goes down to
  * the ground (kneeling, squatting, sitting, picking something up): not a way of walking. */
-#define DOWN_HIPS   0.65f
-#define ROLE_COUNT  5
-#define ROLE_HIPS   0
-#define ROLE_ROOT   1
-#define ROLE_HEAD   2
-#define ROLE_L_HAND 3
-#define ROLE_R_HAND 4
+#define DOWN_HIPS 0.65f
+/* Lying down, getting up and going down to the ground and back take at most this long (s): the
+ * crouched or bent frames farther from a lying frame or from the hips' lowest are another motion. */
+#define TRANSITION_SECONDS 2.0f
+#define ROLE_COUNT         5
+#define ROLE_HIPS          0
+#define ROLE_ROOT          1
+#define ROLE_HEAD          2
+#define ROLE_L_HAND        3
+#define ROLE_R_HAND        4
 static const char *const role_names[ROLE_COUNT] = {"hips", "root_bone", "head", "left_hand", "right_hand"};
 
 static int lower(int c) { return tolower((unsigned char)c); }
@@ -228,10 +232,11 @@ static int low(int k) { return k == MM_POSTURE_CROUCHED || k == MM_POSTURE_BENT 
 /* Each frame's kind of span from the world positions w [n x jc] (n >= 1): its posture, judged against
  * the take's upright head height (mm_posture_reference_height of the head's heights above the
  * ground: the median over frames of the lowest joint's height, as the database build takes them),
- * short runs merged (mm_posture_remove_flicker); then each stretch of low frames (crouched, bent,
- * lying) that holds a lying frame has its other frames GETTING_UP (lying down, getting up), and one
- * whose hips come below DOWN_HIPS x their upright height (their heights' same quantile) is DOWN.
- * Returns the reference; -1 when out of memory. */
+ * short runs merged (mm_posture_remove_flicker); then, in each stretch of low frames (crouched, bent,
+ * lying), the crouched and bent frames within TRANSITION_SECONDS of a lying frame are GETTING_UP
+ * (lying down, getting up), and those within TRANSITION_SECONDS of a frame with the hips below
+ * DOWN_HIPS x their upright height (their heights' same quantile) DOWN. Returns the reference; -1
+ * when out of memory. */
 static float judge(const mm_vec3 *w, int n, int jc, float fps, const int roles[ROLE_COUNT],
                    unsigned char *kind)
 {
@@ -253,16 +258,35 @@ static float judge(const mm_vec3 *w, int n, int jc, float fps, const int roles[R
     for (int f = 0; f < n; ++f)
         kind[f] = (unsigned char)mm_posture_classify(w + (size_t)f * (size_t)jc, &joints, ground, &ref);
     mm_posture_remove_flicker(kind, n, (int)lroundf(MM_POSTURE_MIN_SECONDS * fps));
-    for (int f = 0; f < n;) {
-        int e = f, lying = 0, down = 0;
-        for (; e < n && low(kind[e]); ++e) {
-            lying |= kind[e] == MM_POSTURE_LYING;
-            down |= hips[(size_t)e * (size_t)jc].y - ground < DOWN_HIPS * upright_hips;
-        }
-        for (int k = f; k < e && (lying || down); ++k)
-            if (kind[k] != MM_POSTURE_LYING) kind[k] = lying ? GETTING_UP : DOWN;
-        f = e > f ? e : f + 1;
+    /* the frames of a low stretch within TRANSITION_SECONDS of a lying frame of it, or of a frame
+     * of it with the hips down: two passes give each frame its distance to the nearest */
+    int *to_lying = malloc(sizeof(int) * (size_t)n), *to_down = malloc(sizeof(int) * (size_t)n);
+    if (!to_lying || !to_down) {
+        free(to_lying);
+        free(to_down);
+        return -1.0f;
     }
+    for (int pass = 0; pass < 2; ++pass)
+        for (int i = 0, last_lying = -1, last_down = -1; i < n; ++i) {
+            int f = pass ? n - 1 - i : i;
+            if (!low(kind[f])) {
+                last_lying = last_down = -1;
+                if (!pass) to_lying[f] = to_down[f] = INT_MAX;
+                continue;
+            }
+            if (kind[f] == MM_POSTURE_LYING) last_lying = f;
+            if (hips[(size_t)f * (size_t)jc].y - ground < DOWN_HIPS * upright_hips) last_down = f;
+            int dl = last_lying >= 0 ? abs(f - last_lying) : INT_MAX,
+                dd = last_down >= 0 ? abs(f - last_down) : INT_MAX;
+            to_lying[f] = pass && to_lying[f] < dl ? to_lying[f] : dl;
+            to_down[f] = pass && to_down[f] < dd ? to_down[f] : dd;
+        }
+    int reach = (int)lroundf(TRANSITION_SECONDS * fps);
+    for (int f = 0; f < n; ++f)
+        if (low(kind[f]) && kind[f] != MM_POSTURE_LYING && (to_lying[f] <= reach || to_down[f] <= reach))
+            kind[f] = to_lying[f] <= reach ? GETTING_UP : DOWN;
+    free(to_lying);
+    free(to_down);
     return ref.head_height;
 }
 
@@ -343,9 +367,9 @@ int mm_cmd_bvh_spans(int argc, char **argv)
     status = find_roles(&clip.skeleton, path, given, from_config, config, roles);
     int n = clip.frame_count, jc = clip.skeleton.joint_count;
     mm_xform *g = malloc(sizeof(mm_xform) * (size_t)jc);
-    mm_vec3 *w = malloc(sizeof(mm_vec3) * (size_t)n * (size_t)jc);
-    unsigned char *kind = calloc((size_t)n, 1), *excluded = calloc((size_t)n, 1),
-                  *idle = calloc((size_t)n, 1), *in = calloc((size_t)n, 1);
+    mm_vec3 *w = malloc(sizeof(mm_vec3) * ((size_t)n + 1) * (size_t)jc);
+    unsigned char *kind = calloc((size_t)n + 1, 1), *excluded = calloc((size_t)n + 1, 1),
+                  *idle = calloc((size_t)n + 1, 1), *in = calloc((size_t)n + 1, 1);
     int(*spans)[2] = malloc(sizeof(int[2]) * ((size_t)n + 1));
     float reference = 0.0f;
     if (!status && (!g || !w || !kind || !excluded || !idle || !in || !spans)) {
@@ -357,7 +381,7 @@ int mm_cmd_bvh_spans(int argc, char **argv)
             mm_clip_fk(&clip, f, g);
             for (int j = 0; j < jc; ++j) w[(size_t)f * (size_t)jc + (size_t)j] = g[j].translation;
         }
-        reference = judge(w, n, jc, clip.fps, roles, kind);
+        reference = n > 0 ? judge(w, n, jc, clip.fps, roles, kind) : 0.0f;
         if (reference < 0) {
             fprintf(stderr, "mm: out of memory\n");
             status = 1;

@@ -65,8 +65,8 @@ static int print_diagnosis(const mm_database *db, const mm_db_build_report *repo
            db->settings && db->settings->roles[MM_ROLE_HEAD] >= 0 ? "the head's height / 0.92"
                                                                   : "the top joint's height / 0.92");
     printf(
-        "gait:       the runtime's speeds at full stick against the locomotion each gait plays: p10 p50 p90 "
-        "(frames), and the frames within /%g to x%g of the speed\n",
+        "gait:       the runtime's speeds against the locomotion each gait plays: p10 p50 p90 (frames); the "
+        "frames near the speed (/%g to x%g)\n",
         (double)MM_DIAGNOSE_SPEED_BAND, (double)MM_DIAGNOSE_SPEED_BAND);
     for (int k = 0; k < MM_DIAGNOSE_SPEEDS; ++k) {
         const mm_speed_coverage *c = &d.speeds[k];
