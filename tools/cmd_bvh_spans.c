@@ -2,8 +2,8 @@
  *                   [--pad 1] [--idle-speed 0.15] [--idle-min 1] [--low-hips H]
  *                   [--write CONFIG.json [--as NAME] [--no-mirror]]
  * The frame spans of a take for a database config, on any skeleton: each frame's posture
- * (mm/posture.h) against the take's own upright head height; calibration, lying and getting-up
- * spans (widened by --pad) left out; in the rest, idle where the root stands, locomotion
+ * (mm/posture.h) against the take's own upright head height; calibration, lying, getting-up and
+ * down spans (widened by --pad) left out; in the rest, idle where the root stands, locomotion
  * elsewhere. Prints JSON, or writes the locomotion and idle spans into a config as two clips
  * (docs/database.md, "Spans of a take"). */
 #include <ctype.h>
@@ -21,7 +21,8 @@
 #include "cli.h"
 #include "commands.h"
 
-/* The kinds of span a frame is in: the postures, and the way into or out of lying. */
+/* The kinds of span a frame is in: the postures, the way into or out of lying, and going down to
+ * the ground. */
 #define GETTING_UP MM_POSTURE_COUNT
 #define DOWN       (MM_POSTURE_COUNT + 1)
 #define KIND_COUNT (MM_POSTURE_COUNT + 2)
@@ -307,8 +308,8 @@ int mm_cmd_bvh_spans(int argc, char **argv)
     const char *path = NULL, *config = NULL, *write = NULL, *as = NULL;
     const char *given[ROLE_COUNT] = {NULL}, *from_config[ROLE_COUNT] = {NULL};
     int no_mirror = 0;
-    double scale = -1.0, low = -1.0, pad = 1.0, idle_speed = 0.15,
-           idle_min = 1.0; /* scale, low -1: not given */
+    /* scale and low -1: not given */
+    double scale = -1.0, low = -1.0, pad = 1.0, idle_speed = 0.15, idle_min = 1.0;
     const char *number = "a number >= 0";
     const cli_option options[] = {
         {.name = "--config", .kind = CLI_STRING, .target = &config, .need = "a config path"},

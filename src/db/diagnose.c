@@ -154,18 +154,24 @@ static const char *role_use(int k)
 {
     switch (k) {
     case MM_ROLE_HIPS:
-        return "foot IK cannot lower the hips where the legs fall short";
+        return "the build did not judge postures (T poses and lying stay in) and the metrics cannot judge "
+               "the "
+               "character's posture";
     case MM_ROLE_LEFT_FOOT:
     case MM_ROLE_RIGHT_FOOT:
-        return "foot locking and IK leave that foot alone: it will slide";
+        return "that foot has no heel contacts, and foot locking and IK find it only by the name LeftFoot or "
+               "RightFoot: it may slide";
     case MM_ROLE_LEFT_TOE:
     case MM_ROLE_RIGHT_TOE:
-        return "foot locking holds that ankle only and the toe contact is not used";
+        return "that foot has no toe contacts: foot locking holds the heel only";
     case MM_ROLE_LEFT_HAND:
     case MM_ROLE_RIGHT_HAND:
-        return "moves that plant a hand (vaults, climbs) cannot place it and calibration poses are not found";
+        return "moves that plant a hand (vaults, climbs) find it only by the name LeftHand or RightHand, and "
+               "the build found no calibration pose";
     default:
-        return "postures are not judged (T poses and lying stay in) and the head's height is not measured";
+        return "the build did not judge postures (T poses and lying stay in) and the metrics cannot measure "
+               "the "
+               "head's height";
     }
 }
 
