@@ -25,7 +25,7 @@ trap 'rm -rf "$tmp"' EXIT
 printf '{\n  "extends": "%s/configs/mocap.json"\n}\n' "$src" >"$tmp/lafan1.json"
 for take in walk4_subject1 multipleActions1_subject1 multipleActions1_subject2 multipleActions1_subject3 \
     multipleActions1_subject4; do
-    "$mm" bvh spans "$data/lafan1/$take.bvh" --scale 0.01 --write "$tmp/lafan1.json" >/dev/null
+    "$mm" bvh spans "$data/lafan1/$take.bvh" --config "$src/configs/mocap.json" --write "$tmp/lafan1.json" >/dev/null
 done
 
 # the tags listed first, so that their order does not depend on which take has which move

@@ -134,8 +134,18 @@ if [ ! -e "$tmp/c.mmdb" ]; then ok; else bad "a failed build left its output"; f
 # the main job: the built-in motion set and its database config
 expect_exit 0 "$mm" synth "$tmp/synth/set"
 expect_exit 0 "$mm" db build "$data/../../configs/synth.json" --data "$tmp/synth/set" -o "$tmp/synth.mmdb"
+# its diagnostics (docs/database.md, "Diagnostics"): the runtime's run sideways and backward have no
+# run moving that way; nothing else
+expect_grep '^warnings: *2 ' "$tmp/out"
+expect_grep '^  speed_not_covered: run side at 0.55 m/s' "$tmp/out"
+expect_grep '^  speed_not_covered: run backward at 1.00 m/s' "$tmp/out"
+expect_grep '^  run  side .* NOT COVERED$' "$tmp/out"
+expect_grep '^  walk forward *1.50 m/s default .* covered$' "$tmp/out"
 expect_exit 0 "$mm" db info "$tmp/synth.mmdb" --json
 expect_grep '"clips": 63' "$tmp/out"
+expect_grep '"gait_speeds": \[{"gait": "walk", "direction": "forward", "speed": 1.5, "source": "default", ' "$tmp/out"
+expect_grep '"warnings": \[{"code": "speed_not_covered", "message": "run side at 0.55 m/s' "$tmp/out"
+if [ "$(grep -o '"code": ' "$tmp/out" | wc -l)" -eq 2 ]; then ok; else bad "db info --json: not 2 warnings"; fi
 expect_grep '"speeds": \[{"name": "Walk", "frames": [0-9]*, "still": [0-9]*, "forward": {"frames": [1-9][0-9]*, "p10": 1\.0[45]' "$tmp/out"
 expect_grep '"tags": \["DoNotUse", "Jump", "Walk", "Run"\]' "$tmp/out"
 expect_grep '"distance": {"segments": [0-9]*, "stops": [1-9][0-9]*, "pivots": [0-9]*, "no_stop": [0-9]*, "starts": [1-9]' "$tmp/out"
@@ -209,6 +219,45 @@ if grep -q '"name":"standing"' "$tmp/spans.flat"; then bad "a take without locom
 expect_exit 0 "$mm" db build "$tmp/spans.json" --data "$set_dir" -o "$tmp/spans.mmdb"
 expect_exit 0 "$mm" db info "$tmp/spans.mmdb"
 expect_grep "^clips: *9 (5 idle, 0 loop, 4 mirrored" "$tmp/out"
+# a walk alone: no idle clip, no stop, no start, and the walk's other speeds and the run uncovered
+printf '{"clips": [{"file": "walk_1.40.bvh", "loop": true}]}\n' >"$tmp/walk_only.json"
+expect_exit 0 "$mm" db build "$tmp/walk_only.json" --data "$set_dir" -o "$tmp/walk_only.mmdb"
+for code in no_idle no_stops no_starts speed_not_covered; do expect_grep "^  $code: " "$tmp/out"; done
+expect_grep "add an idle clip" "$tmp/out"
+expect_exit 0 "$mm" db info "$tmp/walk_only.mmdb"
+expect_grep "^  no_idle: " "$tmp/out"
+expect_grep "^height: *1.6[0-9] m standing" "$tmp/out"
+
+# bvh spans on any skeleton: the joints renamed (no Hips: the root, whose children are the legs
+# and spine; the head and hands by their endings) give the same spans, the roles found by name; a
+# config's roles are taken as they are; without a head, an error that lists the joints
+sed -e 's/^ROOT Hips/ROOT root_joint/' -e 's/JOINT Head$/JOINT torso_head/' -e 's/JOINT LeftHand$/JOINT lWrist/' \
+    -e 's/JOINT RightHand$/JOINT rWrist/' "$set_dir/walk_stop.bvh" >"$tmp/renamed.bvh"
+expect_exit 0 "$mm" bvh spans "$tmp/renamed.bvh"
+expect_grep '"roles": {"hips": "root_joint", "root_bone": "root_joint", "head": "torso_head", "left_hand": "lWrist", "right_hand": "rWrist"}' "$tmp/out"
+sed -n '/"postures"/,$p' "$tmp/out" >"$tmp/renamed.spans"
+sed -n '/"postures"/,$p' "$tmp/walk_stop.spans" >"$tmp/walk_stop.tail"
+if cmp -s "$tmp/renamed.spans" "$tmp/walk_stop.tail"; then ok; else bad "renamed joints gave other spans"; fi
+expect_grep '"calibration": \[\]' "$tmp/out"
+expect_exit 0 "$mm" bvh spans "$set_dir/walk_stop.bvh" --config "$data/../../configs/synth.json"
+expect_grep '"root_bone": "Spine2"' "$tmp/out"
+expect_exit 1 "$mm" bvh spans "$tmp/renamed.bvh" --config "$data/../../configs/synth.json"
+expect_grep "no joint named 'Hips' (roles.hips of " "$tmp/err"
+expect_grep "its joints: root_joint, LeftUpLeg" "$tmp/err"
+sed 's/JOINT torso_head$/JOINT Skull/' "$tmp/renamed.bvh" >"$tmp/nohead.bvh"
+expect_exit 1 "$mm" bvh spans "$tmp/nohead.bvh"
+expect_grep "no joint named Head .*--head NAME" "$tmp/err"
+expect_grep "its joints: .*, Skull, " "$tmp/err"
+expect_exit 0 "$mm" bvh spans "$tmp/nohead.bvh" --head Skull --hips root_joint --root-bone Spine2
+expect_grep '"roles": {"hips": "root_joint", "root_bone": "Spine2", "head": "Skull"' "$tmp/out"
+expect_exit 0 "$mm" bvh spans "$set_dir/walk_stop.bvh" --low-hips 0.6
+expect_grep "deprecated" "$tmp/err"
+if [ -n "${MM_DATA_DIR:-}" ]; then
+    # the CMU take opens with a T pose: a calibration span from frame 0, left out with a second
+    expect_exit 0 "$mm" bvh spans "$MM_DATA_DIR/pfnn/bvh/LocomotionFlat09_000.bvh"
+    expect_grep '"calibration": \[\[0, [0-9]*\]\]' "$tmp/out"
+    expect_grep '"excluded": \[\[0, [0-9]*\]' "$tmp/out"
+fi
 
 # simulate: a character on scripted and random input; the BVH is deterministic, the metrics JSON
 # carries every documented key

@@ -12,8 +12,10 @@
 #include <mm/database_build.h>
 #include <mm/synth.h>
 
-/* Builds the config at path; with synth, its clips come from mm_synth_generate (no files read). */
-static inline int test_build_database_at(const char *path, int synth, mm_database *db)
+/* Builds the config at path; with synth, its clips come from mm_synth_generate (no files read).
+ * report: the build's report, or NULL. */
+static inline int test_build_database_report(const char *path, int synth, mm_database *db,
+                                             mm_db_build_report *report)
 {
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -44,11 +46,17 @@ static inline int test_build_database_at(const char *path, int synth, mm_databas
     mm_db_build_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.config_json = text;
+    desc.report = report;
     mm_result r = mm_database_build(&cfg, sources, &desc, db, &err);
     mm_config_free_sources(&cfg, sources);
     mm_config_free(&cfg);
     free(text);
     return r == MM_OK ? 0 : -1;
+}
+
+static inline int test_build_database_at(const char *path, int synth, mm_database *db)
+{
+    return test_build_database_report(path, synth, db, NULL);
 }
 
 static inline int test_build_synth_database(mm_database *db)

@@ -5,6 +5,7 @@
 #include <mm/distance_curve_build.h>
 #include <mm/distance_matching.h>
 #include <mm/database_build.h>
+#include <mm/diagnose.h>
 #include <mm/input_json.h>
 #include <mm/leg_ik.h>
 #include <mm/mm.h>

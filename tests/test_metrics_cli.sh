@@ -96,6 +96,8 @@ expect_exit 1 "$mm" metrics "$tmp/m.bvh" --db "$tmp/missing.mmdb"
 expect_exit 1 "$mm" metrics "$tmp/m.bvh" --scene "$tmp/missing.json"
 expect_exit 1 "$mm" metrics "$tmp/m.bvh" -o "$tmp/no/such/dir/x.json"
 expect_exit 0 "$mm" help
-expect_grep "^  metrics FILE.bvh" "$tmp/out"
+expect_grep "^  metrics  " "$tmp/out"
+expect_exit 0 "$mm" metrics --help
+expect_grep "^usage: mm metrics FILE.bvh" "$tmp/out"
 
 finish test_metrics_cli

@@ -83,4 +83,15 @@ void cli_file_stem(const char *path, char *out, size_t size);
 /* How a config names a clip file: relative to $MM_DATA_DIR when it is inside it, else as given. */
 void cli_config_file_name(const char *path, char *out, size_t size);
 
+/* The help (tools/help.c): one table of every command's summary and full usage (each option with its
+ * default). cli_help_list prints the list of commands. cli_help prints the usage of command sub
+ * (sub NULL or not one of command's subcommands: the command's own usage and the names of its
+ * subcommands, or all its subcommands' usages when it has none of its own); 1 when command has
+ * no entry. cli_help_known: command is in the table. cli_wants_help: argv (argv[0] the command)
+ * holds --help or -h. */
+void cli_help_list(FILE *f);
+int cli_help(FILE *f, const char *command, const char *sub);
+int cli_help_known(const char *command);
+int cli_wants_help(int argc, char **argv);
+
 #endif

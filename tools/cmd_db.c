@@ -1,4 +1,4 @@
-/* mm db build | info | dump */
+/* mm db build | info | dump | search */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -7,6 +7,8 @@
 
 #include <mm/config_json.h>
 #include <mm/database_build.h>
+#include <mm/diagnose.h>
+#include <mm/gait.h>
 #include <mm/search.h>
 
 #include "cli.h"
@@ -25,6 +27,62 @@ static void print_postures(const mm_db_build_report *report)
            "tagged Crouch: crouched %d, bent %d\n",
            report->reference_head_height, n[MM_POSTURE_UPRIGHT], n[MM_POSTURE_CALIBRATION],
            n[MM_POSTURE_LYING], n[MM_POSTURE_ARMS_SPREAD], n[MM_POSTURE_CROUCHED], n[MM_POSTURE_BENT]);
+}
+
+/* What the database lacks (mm/diagnose.h): its height, the gait speeds against the data, the
+ * warnings; as text, or as JSON members (json). Returns 0, or 1 after printing an error. */
+static int print_diagnosis(const mm_database *db, const mm_db_build_report *report, int json)
+{
+    mm_diagnosis d;
+    mm_result r = mm_database_diagnose(db, report, NULL, &d);
+    if (r != MM_OK) {
+        fprintf(stderr, "mm: cannot diagnose the database: %s\n", mm_result_str(r));
+        return 1;
+    }
+    static const char *const directions[3] = {"forward", "side", "backward"};
+    if (json) {
+        printf(", \"height\": %.4g, \"gait_speeds\": [", d.height);
+        for (int k = 0; k < MM_DIAGNOSE_SPEEDS; ++k) {
+            const mm_speed_coverage *c = &d.speeds[k];
+            printf("%s{\"gait\": \"%s\", \"direction\": \"%s\", \"speed\": %.4g, \"source\": \"%s\", "
+                   "\"frames\": %d, "
+                   "\"p10\": %.4g, \"p50\": %.4g, \"p90\": %.4g, \"near\": %d, \"covered\": %s}",
+                   k ? ", " : "", mm_gait_name((mm_gait)c->gait), directions[c->direction], c->speed,
+                   c->from_settings ? "settings" : "default", c->frames, c->p10, c->p50, c->p90, c->near,
+                   c->covered ? "true" : "false");
+        }
+        printf("], \"warnings\": [");
+        for (int i = 0; i < d.count; ++i) {
+            printf("%s{\"code\": \"%s\", \"message\": ", i ? ", " : "",
+                   mm_diagnostic_code_name(d.items[i].code));
+            cli_json_string(stdout, d.items[i].message);
+            printf("}");
+        }
+        printf("]");
+        return 0;
+    }
+    printf("height:     %.2f m standing (%s)\n", d.height,
+           db->settings && db->settings->roles[MM_ROLE_HEAD] >= 0 ? "the head's height / 0.92"
+                                                                  : "the top joint's height / 0.92");
+    printf(
+        "gait:       the runtime's speeds against the locomotion each gait plays: p10 p50 p90 (frames); the "
+        "frames near the speed (/%g to x%g)\n",
+        (double)MM_DIAGNOSE_SPEED_BAND, (double)MM_DIAGNOSE_SPEED_BAND);
+    for (int k = 0; k < MM_DIAGNOSE_SPEEDS; ++k) {
+        const mm_speed_coverage *c = &d.speeds[k];
+        printf("  %-4s %-8s %5.2f m/s %-8s", mm_gait_name((mm_gait)c->gait), directions[c->direction],
+               c->speed, c->from_settings ? "settings" : "default");
+        if (c->frames)
+            printf("  data %.2f %.2f %.2f (%d)", c->p10, c->p50, c->p90, c->frames);
+        else
+            printf("  data    -    -    - (0)");
+        printf("  near %d (%.1f s)  %s\n", c->near, c->near * db->interval,
+               c->covered ? "covered" : "NOT COVERED");
+    }
+    printf("warnings:   %d%s\n", d.count, d.count ? " (docs/database.md, \"Diagnostics\")" : "");
+    for (int i = 0; i < d.count; ++i)
+        printf("  %s: %s\n", mm_diagnostic_code_name(d.items[i].code), d.items[i].message);
+    return 0;
 }
 
 static void progress(int done, int total, void *user)
@@ -86,8 +144,9 @@ static int cmd_build(int argc, char **argv)
     printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out,
            db.frame_count, db.dims, db.clip_count, db.size, cli_now() - t0, t1 - t0, t2 - t1);
     print_postures(&report);
+    status = print_diagnosis(&db, &report, 0);
     mm_database_free(&db);
-    return 0;
+    return status;
 }
 
 static int load(const char *path, mm_database *db)
@@ -293,6 +352,7 @@ static int cmd_info(int argc, char **argv)
         }
         printf("]");
         print_settings(&db, 1);
+        status = print_diagnosis(&db, NULL, 1);
         printf("}\n");
     } else {
         printf("file:       %s (%zu bytes, format version %d)\n", path, db.size, MM_DB_VERSION);
@@ -333,9 +393,10 @@ static int cmd_info(int argc, char **argv)
             printf("%s%s%s\n", one.starts ? " start" : "", k->loop ? " loop" : "",
                    k->blend_left >= 0 ? " blend" : "");
         }
+        status = print_diagnosis(&db, NULL, 0);
     }
     mm_database_free(&db);
-    return 0;
+    return status;
 }
 
 static int cmd_dump(int argc, char **argv)

@@ -31,7 +31,7 @@ static void print_event(FILE *f, const char *name, int frame, float fps, int jso
     }
 }
 
-static int detect(int argc, char **argv)
+static int cmd_detect(int argc, char **argv)
 {
     const char *in = NULL, *config = NULL, *write = NULL, *as = NULL;
     int json = 0, no_mirror = 0;
@@ -160,7 +160,7 @@ static int detect(int argc, char **argv)
 
 int mm_cmd_moves(int argc, char **argv)
 {
-    if (argc >= 2 && strcmp(argv[1], "detect") == 0) return detect(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "detect") == 0) return cmd_detect(argc - 1, argv + 1);
     return cli_usage_error("moves", "usage: mm moves detect FILE.bvh [--config CONFIG.json] [--json] "
                                     "[--write CONFIG.json] [--as NAME] [--no-mirror]");
 }

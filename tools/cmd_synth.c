@@ -209,9 +209,6 @@ int mm_cmd_synth(int argc, char **argv)
             if (i + 1 >= argc || !cli_parse_double(argv[i + 1], &fps) || fps < 10.0 || fps > 240.0)
                 return cli_usage_error("synth", "--fps needs a number from 10 to 240");
             ++i;
-        } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("%s\n", SYNTH_USAGE);
-            return 0;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return cli_usage_error("synth", "unknown option '%s'\n%s", argv[i], SYNTH_USAGE);
         } else if (!outdir) {

@@ -4,6 +4,8 @@
 #define MM_TOOLS_COMMANDS_H
 
 int mm_cmd_bvh(int argc, char **argv);
+/* mm bvh spans (tools/cmd_bvh_spans.c) */
+int mm_cmd_bvh_spans(int argc, char **argv);
 int mm_cmd_config(int argc, char **argv);
 int mm_cmd_convert(int argc, char **argv);
 int mm_cmd_db(int argc, char **argv);

@@ -20,6 +20,7 @@
 #include "distance_matching.h"
 #include "gait.h"
 #include "database_build.h"
+#include "diagnose.h"
 #include "import.h"
 #include "input.h"
 #include "leg_ik.h"
