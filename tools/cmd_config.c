@@ -167,22 +167,27 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
     printf("roles:        (confidence: 1 name and geometry agree, 0.9 a name on the limb geometry found,\n"
            "              0.8 geometry alone, 0.6 a name alone, lower when they disagree)\n");
     char text[256];
+    int w = 18; /* the names' column */
+    for (int i = 0; i < MM_BODY_ROLE_COUNT; ++i)
+        if (r->roles[i].joint >= 0 && (int)strlen(s->joints[r->roles[i].joint].name) > w)
+            w = (int)strlen(s->joints[r->roles[i].joint].name);
     for (int i = 0; i < MM_BODY_ROLE_COUNT; ++i) {
         const mm_role_match *m = &r->roles[i];
         const char *name = m->joint >= 0 ? s->joints[m->joint].name : "-";
         if (m->joint < 0 && (i == MM_BODY_LEFT_TOE || i == MM_BODY_RIGHT_TOE)) {
-            printf("  %-13s %-18s  --   no toe joint: the ankle's (%s)\n", mm_body_role_name((mm_body_role)i),
-                   i == MM_BODY_LEFT_TOE ? cfg->left_toe : cfg->right_toe, "the toe contact is the ankle");
+            printf("  %-13s %-*s  --   no toe joint: the toe contact is the ankle's\n",
+                   mm_body_role_name((mm_body_role)i), w,
+                   i == MM_BODY_LEFT_TOE ? cfg->left_toe : cfg->right_toe);
             continue;
         }
         evidence_text(m, s, text, sizeof text);
-        printf("  %-13s %-18s %.2f  %s\n", mm_body_role_name((mm_body_role)i), name, (double)m->confidence,
+        printf("  %-13s %-*s %.2f  %s\n", mm_body_role_name((mm_body_role)i), w, name, (double)m->confidence,
                text);
     }
     char axis[64];
     snprintf(axis, sizeof axis, "[%g, %g, %g]", (double)r->forward_axis.x, (double)r->forward_axis.y,
              (double)r->forward_axis.z);
-    printf("  %-13s %-18s %.2f  ", "forward_axis", axis, (double)r->forward_confidence);
+    printf("  %-13s %-*s %.2f  ", "forward_axis", w, axis, (double)r->forward_confidence);
     if (r->forward_toes_degrees >= 0.0f) printf("toes %.0f deg off", (double)r->forward_toes_degrees);
     if (r->forward_toes_degrees >= 0.0f && r->forward_travel_degrees >= 0.0f) printf(", ");
     if (r->forward_travel_degrees >= 0.0f)
@@ -310,6 +315,7 @@ static int cmd_init(int argc, char **argv)
     mm_config_init_report rep;
     if (status == 0) {
         mm_config_init_desc desc = {scale, no_tuning != 0};
+        memset(&err, 0, sizeof err);
         mm_result r = mm_config_init(takes, take_count, &desc, &cfg, &rep, &err);
         if (r != MM_OK) {
             status = cli_report(&err);
