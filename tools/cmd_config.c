@@ -147,8 +147,8 @@ static void speed_text(const mm_gait_speed_estimate *e, char *out, size_t size)
         snprintf(out, size, "%.2f (q%.2g of %.1f s)", (double)e->speed, (double)e->quantile,
                  (double)e->seconds);
     else
-        snprintf(out, size, "%.2f (none this way: %s)", (double)e->speed,
-                 e->quantile > 0.0f ? "the slowest" : "the slowest the takes have");
+        snprintf(out, size, "%.2f (the takes do not move this way: %s)", (double)e->speed,
+                 e->speed <= MM_GAIT_SPEED_MIN ? "a creep" : "the walk's");
 }
 
 static void print_report(const mm_config_init_report *rep, const mm_config *cfg, const mm_skeleton *s,
@@ -195,8 +195,9 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
     if (r->forward_toes_degrees < 0.0f && r->forward_travel_degrees < 0.0f)
         printf("no toes, no travel: +Z assumed");
     printf("\n");
-    printf("sides:        from %s; left (+X facing +Z) in %.0f%% of the poses\n",
-           r->sides_from_names ? "the names" : "geometry", 100.0 * (double)r->side_agreement);
+    printf(
+        "sides:        from %s; the left limbs on the +X side (facing +Z) in %.0f%% of the sampled poses\n",
+        r->sides_from_names ? "the names" : "geometry", 100.0 * (double)r->side_agreement);
     if (r->mirror) {
         printf("mirror:       yes (%s: ", r->naming);
         for (int i = 0; i < r->mirror_pair_count; ++i)
@@ -212,8 +213,9 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
            (double)rep->locomotion_seconds, (double)rep->idle_seconds, (double)rep->excluded_seconds);
     if (rep->moving_seconds > 0.0f) {
         static const char *const gait[2] = {"walk", "run"}, *const dir[3] = {"forward", "side", "backward"};
-        printf("gait speeds:  m/s, from %.1f s of moving %.2g s windows of the locomotion\n",
-               (double)rep->moving_seconds, (double)MM_GAIT_WINDOW);
+        printf(
+            "gait speeds:  m/s, from %.1f s of windows (%.2g s, shorter in short spans) of the locomotion\n",
+            (double)rep->moving_seconds, (double)MM_GAIT_WINDOW);
         for (int g = 0; g < 2; ++g)
             for (int d = 0; d < 3; ++d) {
                 speed_text(&rep->speeds[g][d], text, sizeof text);

@@ -89,8 +89,9 @@ typedef struct mm_config_init_report {
      * quantile sideways and backward, of windows slower than MM_GAIT_SPEED_RUN; run: the 0.95 quantile of
      * all windows (the fastest the takes hold, running or not), forward the median of the running
      * ones when faster (a short run among long walks). A direction with under 0.25 s of
-     * windows gets the slowest forward speed (the 0.1 quantile), and no speed is set without
-     * moving windows at all. Rounded to 0.05 m/s; a run is never slower than the walk. */
+     * windows gets MM_GAIT_SPEED_MIN (a creep: asking more only drags the feet), one with running
+     * alone the walk the 0.1 quantile of it, and no speed is set without moving windows at all.
+     * Rounded to 0.05 m/s; a run is never slower than the walk. */
     mm_gait_speed_estimate speeds[2][3];
     float moving_seconds; /* seconds of windows faster than MM_GAIT_SPEED_MIN */
 } mm_config_init_report;

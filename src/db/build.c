@@ -371,7 +371,8 @@ static mm_result process_sources(builder *b, const mm_clip *sources, const mm_db
         if (r == MM_OK) {
             b->capacity = count + 2 * b->cfg->blend_count;
             for (int i = 0; i < n; ++i) { /* the clips move; their lists go */
-                memcpy(b->clips + b->count, j.parts[i].clips, sizeof(built) * (size_t)j.parts[i].count);
+                if (j.parts[i].count)     /* a clip whose frames all went (postures) has no list */
+                    memcpy(b->clips + b->count, j.parts[i].clips, sizeof(built) * (size_t)j.parts[i].count);
                 b->count += j.parts[i].count;
                 free(j.parts[i].clips);
             }

@@ -219,19 +219,13 @@ static void estimate_speeds(speed_list lists[3], mm_config_init_report *rep, mm_
     mm_gait_speed_estimate(*e)[3] = rep->speeds;
     memset(rep->speeds, 0, sizeof rep->speeds);
     rep->moving_seconds = (float)(lists[0].seconds + lists[1].seconds + lists[2].seconds);
-    mm_gait_speed_estimate slowest = {0.0f, 0.0f, 0.0f};
-    if (!quantile_below(&lists[0], 0.0f, 0.1f, &slowest)) { /* too little forward motion */
-        if (!quantile_below(&lists[1], 0.0f, 0.1f, &slowest) &&
-            !quantile_below(&lists[2], 0.0f, 0.1f, &slowest))
-            return; /* the takes never move: the runtime keeps its defaults */
-    }
+    if (rep->moving_seconds < 0.25f) return; /* the takes never move: the runtime keeps its defaults */
     static const float walk_q[3] = {0.85f, 0.6f, 0.6f};
     for (int d = 0; d < 3; ++d) {
         if (!quantile_below(&lists[d], MM_GAIT_SPEED_RUN, walk_q[d], &e[0][d]) &&
-            !quantile_below(&lists[d], 0.0f, 0.1f, &e[0][d])) { /* no walking this way: the slowest */
-            e[0][d] = slowest;
-            e[0][d].seconds = 0.0f;
-            e[0][d].quantile = 0.0f;
+            !quantile_below(&lists[d], 0.0f, 0.1f, &e[0][d])) { /* running alone: the slowest of it */
+            e[0][d].speed = MM_GAIT_SPEED_MIN;                  /* not moving this way: a creep */
+            e[0][d].seconds = e[0][d].quantile = 0.0f;
         }
         if (!quantile_below(&lists[d], 0.0f, 0.95f, &e[1][d])) {
             e[1][d] = e[0][d];
@@ -467,7 +461,7 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
             for (int k = 2;; ++k) {
                 snprintf(idle, sizeof idle, "%s_idle", stem);
                 if (!name_used(out, stem) && !name_used(out, idle)) break;
-                snprintf(stem, sizeof stem, "%s_%d", base, k);
+                snprintf(stem, sizeof stem, "%.47s_%d", base, k % 100000);
             }
             r = add_clip(out, &takes[t], stem, "", s->locomotion, s->locomotion_count, MM_CLIP_LOCOMOTION,
                          roles->mirror);

@@ -139,8 +139,9 @@ typedef struct finder {
     const mm_skeleton *s;
     int jc;
     int *depth;
-    float *seg;     /* [jc] bone length: the joint's translation from its parent, first frame */
-    float *longest; /* [jc] longest chain of bones below the joint */
+    unsigned char *leaf; /* [jc] no joint below */
+    float *seg;          /* [jc] bone length: the joint's translation from its parent, first frame */
+    float *longest;      /* [jc] longest chain of bones below the joint */
     int samples;
     mm_vec3 *pos;  /* [samples * jc] world positions */
     mm_vec3 *tip;  /* [samples * jc] End Site positions (the joint's own without one) */
@@ -176,11 +177,15 @@ static float chain_length(const finder *f, int a, int j)
     return len;
 }
 
-/* The joints from just below ancestor a down to j, top first; returns how many. */
+#define CHAIN_MAX 256 /* joints in a limb or a spine: longer ones are not looked at */
+
+/* The joints from just below ancestor a down to j, top first; returns how many (0 when over
+ * CHAIN_MAX). */
 static int path_below(const finder *f, int a, int j, int *out)
 {
     int n = 0;
     for (int k = j; k >= 0 && k != a; k = f->s->joints[k].parent) ++n;
+    if (n > CHAIN_MAX) return 0;
     int i = n;
     for (int k = j; k >= 0 && k != a; k = f->s->joints[k].parent) out[--i] = k;
     return n;
@@ -221,7 +226,7 @@ static int longest_chain(const finder *f, int c, int *out)
 {
     int n = 0;
     out[n++] = c;
-    for (;;) {
+    while (n < CHAIN_MAX) {
         int next = -1;
         float best = -1.0f;
         for (int k = c + 1; k < f->jc; ++k)
@@ -229,9 +234,10 @@ static int longest_chain(const finder *f, int c, int *out)
                 best = f->seg[k] + f->longest[k];
                 next = k;
             }
-        if (next < 0) return n;
+        if (next < 0) break;
         out[n++] = c = next;
     }
+    return n;
 }
 
 static int cmp_float(const void *a, const void *b)
@@ -502,8 +508,6 @@ static int chain_name_side(const finder *f, const int *chain, int n)
     return votes > 0 ? 1 : votes < 0 ? -1 : 0;
 }
 
-#define CHAIN_MAX 256
-
 typedef struct limb {
     int chain[CHAIN_MAX];
     int n;
@@ -519,26 +523,19 @@ static mm_result find_roles(finder *f, const mm_clip *takes, int count, mm_xform
     /* legs: the lowest end, and the lowest end of another chain that parts well above it */
     int A = -1, B = -1;
     for (int j = 0; j < jc; ++j) {
-        int leaf = 1;
-        for (int k = j + 1; k < jc && leaf; ++k) leaf = s->joints[k].parent != j;
-        if (!leaf) continue;
+        if (!f->leaf[j]) continue;
         if (A < 0 || f->height[j] < f->height[A]) A = j;
     }
     for (int j = 0; A >= 0 && j < jc; ++j) {
-        int leaf = 1;
-        for (int k = j + 1; k < jc && leaf; ++k) leaf = s->joints[k].parent != j;
-        if (!leaf || j == A) continue;
+        if (!f->leaf[j] || j == A) continue;
         int c = lca(f, A, j);
         if (c < 0 || chain_length(f, c, A) < 0.25f * T || chain_length(f, c, j) < 0.25f * T) continue;
         if (f->height[j] > 0.25f * T) continue; /* not down at the ground */
         if (B < 0 || f->height[j] < f->height[B]) B = j;
     }
     int top = -1; /* the highest end: the head */
-    for (int j = 0; j < jc; ++j) {
-        int leaf = 1;
-        for (int k = j + 1; k < jc && leaf; ++k) leaf = s->joints[k].parent != j;
-        if (leaf && (top < 0 || f->height[j] > f->height[top])) top = j;
-    }
+    for (int j = 0; j < jc; ++j)
+        if (f->leaf[j] && (top < 0 || f->height[j] > f->height[top])) top = j;
     int legs_at = A >= 0 && B >= 0 ? lca(f, A, B) : -1;
     int hips_geo = legs_at >= 0 && top >= 0 ? lca(f, legs_at, top) : -1;
     if (hips_geo >= 0 && (hips_geo == top || is_ancestor(f, top, A))) hips_geo = -1;
@@ -559,7 +556,7 @@ static mm_result find_roles(finder *f, const mm_clip *takes, int count, mm_xform
     if (hips_geo >= 0) {
         int ends[2] = {A, B};
         for (int i = 0; i < 2; ++i) {
-            leg[i].n = path_below(f, legs_at == hips_geo ? hips_geo : legs_at, ends[i], leg[i].chain);
+            leg[i].n = path_below(f, legs_at, ends[i], leg[i].chain);
             leg[i].end = after_two_longest(f, leg[i].chain, leg[i].n, 0);
         }
         have_legs = leg[0].n > 0 && leg[1].n > 0;
@@ -781,8 +778,10 @@ mm_result mm_skeleton_roles_find(const mm_clip *takes, int count, mm_skeleton_ro
     f.tip = (mm_vec3 *)malloc(sizeof(mm_vec3) * per);
     f.rot = (mm_quat *)malloc(sizeof(mm_quat) * per);
     f.names = (name_info *)calloc((size_t)jc, sizeof(name_info));
+    f.leaf = (unsigned char *)malloc((size_t)jc);
     mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
-    if (!f.depth || !f.seg || !f.longest || !f.height || !f.pos || !f.tip || !f.rot || !f.names || !g) {
+    if (!f.depth || !f.seg || !f.longest || !f.height || !f.pos || !f.tip || !f.rot || !f.names || !f.leaf ||
+        !g) {
         r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     } else {
         const mm_vec3 *first = takes[0].frame_count > 0 ? mm_clip_positions(&takes[0], 0) : NULL;
@@ -792,6 +791,8 @@ mm_result mm_skeleton_roles_find(const mm_clip *takes, int count, mm_skeleton_ro
             f.seg[j] = p >= 0 ? mm_vec3_length(first ? first[j] : s->joints[j].offset) : 0.0f;
             parse_name(s->joints[j].name, &f.names[j]);
         }
+        memset(f.leaf, 1, (size_t)jc);
+        for (int j = 1; j < jc; ++j) f.leaf[s->joints[j].parent] = 0;
         for (int j = jc - 1; j > 0; --j) {
             int p = s->joints[j].parent;
             f.longest[p] = fmaxf(f.longest[p], f.seg[j] + f.longest[j]);
@@ -810,6 +811,7 @@ mm_result mm_skeleton_roles_find(const mm_clip *takes, int count, mm_skeleton_ro
     free(f.tip);
     free(f.rot);
     free(f.names);
+    free(f.leaf);
     free(g);
     return r;
 }
