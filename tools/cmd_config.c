@@ -238,7 +238,8 @@ static int cmd_init(int argc, char **argv)
     static const char *const usage =
         "usage: mm config init TAKE... [-o CONFIG.json] [--force] [--name-prefix P] [--scale S|auto] "
         "[--no-tuning]";
-    const char *out = NULL, *prefix = "";
+    static const char default_prefix[] = "";
+    const char *out = NULL, *prefix = default_prefix;
     int force = 0, no_tuning = 0;
     double scale = 0.0;
     const cli_option options[] = {
@@ -267,6 +268,11 @@ static int cmd_init(int argc, char **argv)
     if (strlen(prefix) > 24) {
         free(files);
         return cli_usage_error("config init", "--name-prefix: at most 24 characters");
+    }
+    if ((out && !out[0]) || (prefix != default_prefix && !prefix[0])) {
+        free(files);
+        return cli_usage_error("config init", "%s needs a non-empty value",
+                               out && !out[0] ? "-o" : "--name-prefix");
     }
     struct stat st;
     if (out && !force && stat(out, &st) == 0) {
@@ -308,6 +314,7 @@ static int cmd_init(int argc, char **argv)
             else
                 snprintf(names[t][1], MM_PATH_MAX, "%s%.40s", prefix, stem);
             takes[t].file = names[t][0];
+            takes[t].path = files[i];
             takes[t].take = lists[i].count > 1 ? lists[i].names[k] : NULL;
             takes[t].name = names[t][1];
             takes[t].clip = &lists[i].clips[k];
@@ -320,6 +327,10 @@ static int cmd_init(int argc, char **argv)
         memset(&err, 0, sizeof err);
         mm_result r = mm_config_init(takes, take_count, &desc, &cfg, &rep, &err);
         if (r != MM_OK) {
+            if (!err.file[0] && file_count == 1)
+                snprintf(err.file, sizeof err.file, "%s", files[0]);
+            else if (!err.file[0])
+                snprintf(err.file, sizeof err.file, "%.200s and %d more", files[0], file_count - 1);
             status = cli_report(&err);
         } else {
             print_report(&rep, &cfg, &takes[0].clip->skeleton, take_count);

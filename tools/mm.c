@@ -47,6 +47,7 @@ static void usage(FILE *f)
         "                                    adds them to a config as clips NAME and NAME_idle\n"
         "  config explain [FIELD] [--markdown]  what every database config field means\n"
         "  config check CONFIG               validate a config and find its files\n"
+        "  config init TAKE... -o CONFIG     a whole config from the takes: roles, clips, speeds\n"
         "  convert BVH_DIR FBX_DIR [--batch-size 10] [--blender PATH]\n"
         "                                    BVH files to FBX through Blender, batch-size takes per file\n"
         "  import info FILE [--json]         the takes of a BVH, FBX, glTF or Collada file\n"

@@ -57,6 +57,7 @@ void mm_take_spans_free(mm_take_spans *spans);
 
 typedef struct mm_config_init_take {
     const char *file;    /* the clip file, as the config is to name it */
+    const char *path;    /* where it was read from, for messages; NULL: file */
     const char *take;    /* the take's name in a file of several; NULL or "": the file's first */
     const char *name;    /* the locomotion clip's name (the idle clip adds "_idle"); NULL: the file's
                             name without folder and extension. Names are made unique (_2, _3 ...) */
@@ -67,7 +68,7 @@ typedef struct mm_config_init_take {
 typedef struct mm_gait_speed_estimate {
     float speed;    /* m/s, what the config gets */
     float seconds;  /* seconds of moving windows it comes from; 0: none (a fallback) */
-    float quantile; /* the quantile of their speeds taken (0.6, 0.85, 0.95); 0 for a fallback */
+    float quantile; /* the quantile of their speeds taken (0.5, 0.6, 0.85, 0.95); 0 for a fallback */
 } mm_gait_speed_estimate;
 
 #define MM_GAIT_SPEED_RUN 2.2f /* m/s: windows faster than this are running, not walking */
@@ -85,13 +86,13 @@ typedef struct mm_config_init_report {
     float seconds; /* of all the takes */
     float locomotion_seconds, idle_seconds, excluded_seconds;
     mm_skeleton_roles roles;
-    /* [0] walk, [1] run; forward, side, backward. Walk: the 0.85 quantile forward, the 0.6
-     * quantile sideways and backward, of windows slower than MM_GAIT_SPEED_RUN; run: the 0.95 quantile of
-     * all windows (the fastest the takes hold, running or not), forward the median of the running
-     * ones when faster (a short run among long walks). A direction with under 0.25 s of
-     * windows gets MM_GAIT_SPEED_MIN (a creep: asking more only drags the feet), one with running
-     * alone the walk the 0.1 quantile of it, and no speed is set without moving windows at all.
-     * Rounded to 0.05 m/s; a run is never slower than the walk. */
+    /* [0] walk, [1] run; forward, side, backward. Walk: the 0.85 quantile forward, the median
+     * sideways, the 0.6 quantile backward, of windows slower than MM_GAIT_SPEED_RUN; run: the 0.95 quantile
+     * of all windows (the fastest the takes hold, running or not), forward the median of the running ones
+     * when faster (a short run among long walks). A direction with under 0.25 s of windows gets
+     * MM_GAIT_SPEED_MIN (a creep: asking more only drags the feet), one with running alone the walk the 0.1
+     * quantile of it, and no speed is set without moving windows at all. Rounded to 0.05 m/s; a run is never
+     * slower than the walk. */
     mm_gait_speed_estimate speeds[2][3];
     float moving_seconds; /* seconds of windows faster than MM_GAIT_SPEED_MIN */
 } mm_config_init_report;

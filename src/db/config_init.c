@@ -220,7 +220,7 @@ static void estimate_speeds(speed_list lists[3], mm_config_init_report *rep, mm_
     memset(rep->speeds, 0, sizeof rep->speeds);
     rep->moving_seconds = (float)(lists[0].seconds + lists[1].seconds + lists[2].seconds);
     if (rep->moving_seconds < 0.25f) return; /* the takes never move: the runtime keeps its defaults */
-    static const float walk_q[3] = {0.85f, 0.6f, 0.6f};
+    static const float walk_q[3] = {0.85f, 0.5f, 0.6f};
     for (int d = 0; d < 3; ++d) {
         if (!quantile_below(&lists[d], MM_GAIT_SPEED_RUN, walk_q[d], &e[0][d]) &&
             !quantile_below(&lists[d], 0.0f, 0.1f, &e[0][d])) { /* running alone: the slowest of it */
@@ -386,11 +386,14 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
     if (rep->up_confidence < 0.15f) {
         rep->up_axis = 1; /* no telling: the BVH convention */
     } else if (rep->up_axis != 1) {
-        return mm_error_set(err, MM_ERR_UNSUPPORTED, 0, 0,
-                            "%s: the body stands along %s, not +Y (the height lies along that axis, "
-                            "confidence %.2f): mm reads motion as +Y up and does not turn it; export the "
-                            "takes with +Y up",
-                            takes[first].file, mm_axis_name(rep->up_axis), rep->up_confidence);
+        if (err)
+            snprintf(err->file, sizeof err->file, "%s",
+                     takes[first].path ? takes[first].path : takes[first].file);
+        return mm_error_set(
+            err, MM_ERR_UNSUPPORTED, 0, 0,
+            "the body stands along %s, not +Y (the height lies along that axis, confidence "
+            "%.2f): mm reads motion as +Y up and does not turn it; export the takes with +Y up",
+            mm_axis_name(rep->up_axis), (double)rep->up_confidence);
     }
     /* unit */
     float raw_height = upright_height(takes, count);
@@ -416,10 +419,14 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         if (r == MM_OK) {
             ++made;
             mm_clip_scale(&metric[t], (float)rep->scale);
-            if (t > 0 && !reorder_like(&metric[0].skeleton, &metric[t]))
+            if (t > 0 && !reorder_like(&metric[0].skeleton, &metric[t])) {
+                if (err)
+                    snprintf(err->file, sizeof err->file, "%s",
+                             takes[t].path ? takes[t].path : takes[t].file);
                 r = mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                                 "%s has another skeleton than %s (joint names or parents differ)",
-                                 takes[t].file, takes[0].file);
+                                 "another skeleton than %s's (joint names or parents differ)",
+                                 takes[0].path ? takes[0].path : takes[0].file);
+            }
         }
     }
     if (r == MM_OK) {
