@@ -123,6 +123,7 @@ readers() { # FILE: every command that reads FILE fails naming it
     fails "$f" "$mm" bvh convert "$f" "$o/convert.bvh"
     fails "$f" "$mm" import info "$f"
     fails "$f" "$mm" config check "$f"
+    fails "$f" "$mm" config init "$f" -o "$o/init.json"
     fails "$f" "$mm" db build "$f" -o "$o/build.mmdb"
     fails "$f" "$mm" db info "$f"
     fails "$f" "$mm" db dump "$f"
@@ -233,6 +234,7 @@ fails "--bogus" "$mm" bvh convert "$chain" "$o/c.bvh" --bogus
 fails "--bogus" "$mm" bvh spans "$chain" --bogus
 fails "--bogus" "$mm" import info "$chain" --bogus
 fails "--bogus" "$mm" config explain --bogus
+fails "--bogus" "$mm" config init "$tmp/set/idle.bvh" -o "$o/init.json" --bogus
 fails "--bogus" "$mm" db build "$tmp/db.json" -o "$o/b.mmdb" --bogus
 fails "--bogus" "$mm" db info "$db" --bogus
 fails "--bogus" "$mm" db search "$db" --frame 0 --bogus
@@ -268,6 +270,13 @@ long=$(printf '%0100d' 0)
 fails "$long" "$mm" bvh spans "$tmp/set/walk_1.40.bvh" --write "$tmp/spans.json" --as "$long"
 if [ "$(cat "$tmp/spans.json")" = '{"clips": []}' ]; then ok; else bad "bvh spans --write changed the config on failure"; fi
 values --scale "$not_numbers 0 -1" "$mm" import info "$chain"
+# config init: its options; a skeleton that is no body; an output it cannot write
+names -o "$mm" config init "$tmp/set/idle.bvh"
+names --name-prefix "$mm" config init "$tmp/set/idle.bvh" -o "$o/init.json"
+values --scale "$not_numbers 0 -1 1001" "$mm" config init "$tmp/set/idle.bvh" -o "$o/init.json"
+fails "$chain" "$mm" config init "$chain" -o "$o/init.json"
+fails "$nodir" "$mm" config init "$tmp/set/idle.bvh" -o "$nodir/init.json"
+fails "$tmp/folder" "$mm" config init "$tmp/set/idle.bvh" -o "$tmp/folder" --force
 values --fps "$not_numbers 0 -1 10001" "$mm" import info "$chain"
 names -o "$mm" db build "$tmp/db.json"
 names --data "$mm" db build "$tmp/db.json" -o "$o/b.mmdb"

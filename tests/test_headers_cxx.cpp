@@ -1,5 +1,6 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
 #include <mm/character_config.h>
+#include <mm/config_init.h>
 #include <mm/config_json.h>
 #include <mm/distance_curve.h>
 #include <mm/distance_curve_build.h>
@@ -18,6 +19,7 @@
 #include <mm/render.h>
 #include <mm/runtime.h>
 #include <mm/scene_json.h>
+#include <mm/skeleton_roles.h>
 #include <mm/target_match.h>
 #include <mm/view.h>
 #include <mm/warp.h>
@@ -49,6 +51,7 @@ int main()
         std::fabs(correction.translation.x - 1.0f) > 1e-6f)
         return 1;
     if (std::string(mm_move_kind_name(MM_MOVE_VAULT_LOW)) != "vault_low") return 1;
+    if (std::string(mm_body_role_name(MM_BODY_LEFT_TOE)) != "left_toe") return 1;
     if (std::string(mm_move_kind_tag(MM_MOVE_VAULT_HIGH)) != "VaultHigh") return 1;
     mm_mixer mixer;
     mm_mixer_init(&mixer, 0, 0.0f);

@@ -74,6 +74,19 @@ static const help_entry entries[] = {
      "Reads and validates a database config and looks for each of its clip files (beside CONFIG, then\n"
      "in $MM_DATA_DIR); exits 1 when any is missing.\n"
      "  CONFIG             the database config (JSON)\n"},
+    {"config init", "a whole database config from the takes: roles, clips, gait speeds",
+     "usage: mm config init TAKE... [-o CONFIG.json] [--force] [--name-prefix P] [--scale S|auto] "
+     "[--no-tuning]\n"
+     "Writes a database config from the takes alone and prints what it found and how sure it is: the\n"
+     "bone roles (by names in the common conventions and by the skeleton's geometry), the forward axis,\n"
+     "the mirror pairs, the unit, idle and locomotion clips per take, walk and run speeds from the takes\n"
+     "(docs/config.md, \"A config from your takes\").\n"
+     "  TAKE...            BVH, FBX, glTF or Collada files (+Y up)\n"
+     "  -o, --output PATH  the config to write (default: print the report only)\n"
+     "  --force            replace an existing config\n"
+     "  --name-prefix P    a prefix for the clip names (default: none)\n"
+     "  --scale S|auto     metres per file unit (default: auto, from the body's height)\n"
+     "  --no-tuning        leave out the runtime tuning of configs/mocap.json (default: carried)\n"},
     {"convert", "BVH files to FBX through Blender",
      "usage: mm convert BVH_DIR FBX_DIR [--batch-size 10] [--blender PATH] [--verbose]\n"
      "Converts the .bvh files of a folder, sorted by name, to FBX through Blender: batches of\n"

@@ -10,7 +10,7 @@
  *
  * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
  *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
- *            mm_config_save_clip_tags mm_config_save_clip
+ *            mm_config_save_clip_tags mm_config_save_clip mm_config_save_json
  */
 #ifndef MM_CONFIG_JSON_H
 #define MM_CONFIG_JSON_H
@@ -95,6 +95,13 @@ typedef struct mm_config_saved_clip {
  * name, so that writing the same clips again changes nothing; tag names not yet listed are added
  * to `tags`. A name belonging to a clip of the config this one extends is MM_ERR_DUPLICATE_NAME. */
 mm_result mm_config_save_clip(const char *config_path, const mm_config_saved_clip *clip, mm_error *err);
+
+/* Writes cfg as a new config file at path (replacing any file there, atomically): interval,
+ * scale, roles, features.bones and clips always; every other field where it differs from
+ * mm_config_defaults (the runtime object: the fields set). Reading the file back gives cfg (its
+ * clips, tags and values, floats in their shortest form). cfg is validated first
+ * (mm_config_validate). */
+mm_result mm_config_save_json(const char *path, const mm_config *cfg, mm_error *err);
 
 #ifdef __cplusplus
 }

@@ -450,3 +450,299 @@ mm_result mm_config_save_clip(const char *config_path, const mm_config_saved_cli
     }
     return mm__config_doc_save(config_path, root, err);
 }
+
+/* ---- a whole config --------------------------------------------------------------------- */
+
+/* A float as a JSON number in its shortest form; NULL when out of memory. */
+static cJSON *number(float v) { return cJSON_CreateNumber(short_double(v)); }
+
+/* obj[key] = item, taking it; 0 (and item deleted) when out of memory. */
+static int add(cJSON *obj, const char *key, cJSON *item)
+{
+    if (!item) return 0;
+    if (!cJSON_AddItemToObject(obj, key, item)) {
+        cJSON_Delete(item);
+        return 0;
+    }
+    return 1;
+}
+
+static int push(cJSON *array, cJSON *item)
+{
+    if (!item) return 0;
+    if (!cJSON_AddItemToArray(array, item)) {
+        cJSON_Delete(item);
+        return 0;
+    }
+    return 1;
+}
+
+static cJSON *number_pair(double a, double b)
+{
+    cJSON *p = cJSON_CreateArray();
+    if (p && (!push(p, cJSON_CreateNumber(a)) || !push(p, cJSON_CreateNumber(b)))) {
+        cJSON_Delete(p);
+        return NULL;
+    }
+    return p;
+}
+
+static cJSON *roles_object(const mm_config *c)
+{
+    cJSON *o = cJSON_CreateObject(), *axis = cJSON_CreateArray();
+    const char *keys[] = {"hips", "root_bone", "facing_bone"};
+    const char *values[] = {c->hips, c->root_bone, c->facing_bone};
+    int ok = o && axis;
+    for (int i = 0; ok && i < 3; ++i) ok = add(o, keys[i], cJSON_CreateString(values[i]));
+    ok = ok && push(axis, number(c->forward_axis.x)) && push(axis, number(c->forward_axis.y)) &&
+         push(axis, number(c->forward_axis.z));
+    if (ok)
+        ok = add(o, "forward_axis", axis);
+    else
+        cJSON_Delete(axis);
+    const char *keys2[] = {"left_foot", "right_foot", "left_toe", "right_toe",
+                           "left_hand", "right_hand", "head"};
+    const char *values2[] = {c->left_foot, c->right_foot, c->left_toe, c->right_toe,
+                             c->left_hand, c->right_hand, c->head};
+    for (int i = 0; ok && i < 7; ++i) ok = add(o, keys2[i], cJSON_CreateString(values2[i]));
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+static cJSON *features_object(const mm_config *c, const mm_config *d)
+{
+    cJSON *o = cJSON_CreateObject(), *bones = cJSON_CreateArray();
+    int ok = o && bones;
+    for (int i = 0; ok && i < c->bone_count; ++i) {
+        const mm_config_bone *b = &c->bones[i];
+        cJSON *bo = cJSON_CreateObject();
+        ok = bo && add(bo, "name", cJSON_CreateString(b->name));
+        if (ok && !(b->features & MM_MATCH_POSITION)) ok = add(bo, "position", cJSON_CreateFalse());
+        if (ok && !(b->features & MM_MATCH_VELOCITY)) ok = add(bo, "velocity", cJSON_CreateFalse());
+        if (ok && (b->features & MM_MATCH_POSITION))
+            ok = add(bo, "position_weight", number(b->position_weight));
+        if (ok && (b->features & MM_MATCH_VELOCITY))
+            ok = add(bo, "velocity_weight", number(b->velocity_weight));
+        if (ok)
+            ok = push(bones, bo);
+        else
+            cJSON_Delete(bo);
+    }
+    if (ok)
+        ok = add(o, "bones", bones);
+    else
+        cJSON_Delete(bones);
+    int same_times = c->traj_count == d->traj_count;
+    for (int i = 0; same_times && i < c->traj_count; ++i) same_times = c->traj_times[i] == d->traj_times[i];
+    if (ok && !same_times) {
+        cJSON *times = cJSON_CreateArray();
+        ok = times != NULL;
+        for (int i = 0; ok && i < c->traj_count; ++i) ok = push(times, number(c->traj_times[i]));
+        if (ok)
+            ok = add(o, "trajectory_times", times);
+        else
+            cJSON_Delete(times);
+    }
+    if (ok && c->root_velocity != d->root_velocity)
+        ok = add(o, "root_velocity", cJSON_CreateBool(c->root_velocity));
+    if (ok && c->body_velocity_weight != d->body_velocity_weight)
+        ok = add(o, "body_velocity_weight", number(c->body_velocity_weight));
+    if (ok && c->position_multiplier != d->position_multiplier)
+        ok = add(o, "position_multiplier", number(c->position_multiplier));
+    if (ok && c->angle_multiplier != d->angle_multiplier)
+        ok = add(o, "angle_multiplier", number(c->angle_multiplier));
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+static cJSON *gait_object(const mm_runtime_gait *g)
+{
+    static const char *const keys[] = {"forward_speed", "side_speed", "backward_speed", "velocity_halflife",
+                                       "rotation_halflife"};
+    const float values[] = {g->forward_speed, g->side_speed, g->backward_speed, g->velocity_halflife,
+                            g->rotation_halflife};
+    cJSON *o = cJSON_CreateObject();
+    int ok = o != NULL;
+    for (int k = 0; ok && k < 5; ++k)
+        if (g->set & (1u << k)) ok = add(o, keys[k], number(values[k]));
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+static cJSON *runtime_object(const mm_runtime_config *rt)
+{
+    static const char *const keys[] = {
+        "pose_trajectory_ratio", "next_pose_favour",    "loop_anim_favour", "continuing_bias",
+        "search_interval",       "transition_halflife", "idle_speed",       "sync_halflife"};
+    const float values[] = {
+        rt->pose_trajectory_ratio, rt->next_pose_favour,    rt->loop_anim_favour, rt->continuing_bias,
+        rt->search_interval,       rt->transition_halflife, rt->idle_speed,       rt->sync_halflife};
+    cJSON *o = cJSON_CreateObject();
+    int ok = o != NULL;
+    for (int k = 0; ok && k < 8; ++k)
+        if (rt->set & (1u << k)) ok = add(o, keys[k], number(values[k]));
+    if (ok && (rt->set & MM_RUNTIME_DISTANCE_MATCHING))
+        ok = add(o, "distance_matching", cJSON_CreateBool(rt->distance_matching));
+    if (ok && (rt->set & MM_RUNTIME_WARPING)) ok = add(o, "warping", cJSON_CreateBool(rt->warping));
+    const mm_runtime_gait *gaits[3] = {&rt->walk, &rt->run, &rt->crouch};
+    static const char *const names[3] = {"walk", "run", "crouch"};
+    for (int g = 0; ok && g < 3; ++g)
+        if (gaits[g]->set) ok = add(o, names[g], gait_object(gaits[g]));
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+static cJSON *clip_json(const mm_config *c, const mm_config_clip *k)
+{
+    cJSON *o = cJSON_CreateObject();
+    int ok = o && add(o, "name", cJSON_CreateString(k->name)) && add(o, "file", cJSON_CreateString(k->file));
+    if (ok && k->take[0]) ok = add(o, "take", cJSON_CreateString(k->take));
+    if (ok && k->range_count > 0) {
+        cJSON *ranges = cJSON_CreateArray();
+        ok = ranges != NULL;
+        for (int i = 0; ok && i < k->range_count; ++i)
+            ok = push(ranges, number_pair(k->ranges[i].begin, k->ranges[i].end));
+        if (ok)
+            ok = add(o, "ranges", ranges);
+        else
+            cJSON_Delete(ranges);
+    }
+    if (ok && k->type == MM_CLIP_IDLE) ok = add(o, "type", cJSON_CreateString("idle"));
+    if (ok && k->loop) ok = add(o, "loop", cJSON_CreateTrue());
+    if (ok && k->mirror) ok = add(o, "mirror", cJSON_CreateTrue());
+    if (ok && k->tag_range_count > 0) {
+        cJSON *tags = cJSON_CreateObject();
+        ok = tags != NULL;
+        for (int i = 0; ok && i < k->tag_range_count; ++i) {
+            const mm_config_tag_range *t = &k->tag_ranges[i];
+            const char *name = c->tag_names[t->tag];
+            cJSON *list = cJSON_GetObjectItemCaseSensitive(tags, name);
+            if (!list && !(ok = add(tags, name, cJSON_CreateArray()))) break;
+            list = cJSON_GetObjectItemCaseSensitive(tags, name);
+            ok = push(list, number_pair(short_double(t->begin), short_double(t->end)));
+        }
+        if (ok)
+            ok = add(o, "tags", tags);
+        else
+            cJSON_Delete(tags);
+    }
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+mm_result mm_config_save_json(const char *path, const mm_config *c, mm_error *err)
+{
+    mm__error_set_file(err, path);
+    if (!path || !c)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "a path and a config are needed");
+    mm_result r = mm_config_validate(c, err);
+    if (r != MM_OK) return r;
+    for (int i = 0; i < c->tag_count; ++i)
+        if (!c->tag_names[i][0])
+            return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "tags[%d] is empty", i);
+    mm_config d;
+    mm_config_defaults(&d);
+    cJSON *root = cJSON_CreateObject();
+    int ok = root != NULL;
+    /* an interval of 1/N is written to 6 digits (0.0166667), which reads back as exactly 1/N */
+    double rate = 1.0 / (double)c->interval, whole = floor(rate + 0.5);
+    char text[32];
+    snprintf(text, sizeof text, "%.6g", 1.0 / whole);
+    double interval = fabs(rate - whole) <= 1e-5 * whole ? strtod(text, NULL) : short_double(c->interval);
+    ok = ok && add(root, "interval", cJSON_CreateNumber(interval)) && add(root, "scale", number(c->scale)) &&
+         add(root, "roles", roles_object(c));
+    if (ok && c->root_smoothing != d.root_smoothing)
+        ok = add(root, "root_smoothing", number(c->root_smoothing));
+    if (ok && (c->contact_height != d.contact_height || c->contact_speed != d.contact_speed ||
+               c->contact_min_time != d.contact_min_time)) {
+        cJSON *o = cJSON_CreateObject();
+        ok = o != NULL;
+        if (ok && c->contact_height != d.contact_height) ok = add(o, "height", number(c->contact_height));
+        if (ok && c->contact_speed != d.contact_speed) ok = add(o, "speed", number(c->contact_speed));
+        if (ok && c->contact_min_time != d.contact_min_time)
+            ok = add(o, "min_time", number(c->contact_min_time));
+        if (ok)
+            ok = add(root, "contacts", o);
+        else
+            cJSON_Delete(o);
+    }
+    if (ok && (c->postures_detect != d.postures_detect || c->postures_pad != d.postures_pad)) {
+        cJSON *o = cJSON_CreateObject();
+        ok = o != NULL;
+        if (ok && c->postures_detect != d.postures_detect)
+            ok = add(o, "detect", cJSON_CreateBool(c->postures_detect));
+        if (ok && c->postures_pad != d.postures_pad) ok = add(o, "pad", number(c->postures_pad));
+        if (ok)
+            ok = add(root, "postures", o);
+        else
+            cJSON_Delete(o);
+    }
+    ok = ok && add(root, "features", features_object(c, &d));
+    int same_pairs = c->mirror_pair_count == d.mirror_pair_count;
+    for (int i = 0; same_pairs && i < c->mirror_pair_count; ++i)
+        same_pairs = strcmp(c->mirror_pairs[i].left, d.mirror_pairs[i].left) == 0 &&
+                     strcmp(c->mirror_pairs[i].right, d.mirror_pairs[i].right) == 0;
+    if (ok && !same_pairs) {
+        cJSON *pairs = cJSON_CreateArray();
+        ok = pairs != NULL;
+        for (int i = 0; ok && i < c->mirror_pair_count; ++i) {
+            const char *pair[2] = {c->mirror_pairs[i].left, c->mirror_pairs[i].right};
+            ok = push(pairs, cJSON_CreateStringArray(pair, 2));
+        }
+        if (ok)
+            ok = add(root, "mirror_pairs", pairs);
+        else
+            cJSON_Delete(pairs);
+    }
+    if (ok && c->tag_count > 0) {
+        const char *names[MM_MAX_TAGS];
+        for (int i = 0; i < c->tag_count; ++i) names[i] = c->tag_names[i];
+        ok = add(root, "tags", cJSON_CreateStringArray(names, c->tag_count));
+    }
+    if (ok && (c->runtime.set || c->runtime.walk.set || c->runtime.run.set || c->runtime.crouch.set))
+        ok = add(root, "runtime", runtime_object(&c->runtime));
+    cJSON *clips = ok ? cJSON_CreateArray() : NULL;
+    ok = ok && clips != NULL;
+    for (int i = 0; ok && i < c->clip_count; ++i) ok = push(clips, clip_json(c, &c->clips[i]));
+    if (ok)
+        ok = add(root, "clips", clips);
+    else
+        cJSON_Delete(clips);
+    if (ok && c->blend_count > 0) {
+        cJSON *blends = cJSON_CreateArray();
+        ok = blends != NULL;
+        for (int i = 0; ok && i < c->blend_count; ++i) {
+            const mm_config_blend *b = &c->blends[i];
+            cJSON *o = cJSON_CreateObject();
+            ok = o && add(o, "name", cJSON_CreateString(b->name)) &&
+                 add(o, "left", cJSON_CreateString(c->clips[b->left].name)) &&
+                 add(o, "right", cJSON_CreateString(c->clips[b->right].name)) &&
+                 add(o, "weight", number(b->weight));
+            if (ok)
+                ok = push(blends, o);
+            else
+                cJSON_Delete(o);
+        }
+        if (ok)
+            ok = add(root, "blend_clips", blends);
+        else
+            cJSON_Delete(blends);
+    }
+    if (!ok) return mm__config_doc_no_memory(root, NULL, err);
+    return mm__config_doc_save(path, root, err);
+}
