@@ -106,9 +106,22 @@ static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
         else
             ranges += mm__postures_split(b->postures, cfg, ci, src, range, pieces + ranges);
     }
+    /* Joints above the hips are folded away before resampling: the hips' world motion is read
+     * on the splines then, whichever joints carried it in the file. */
     mm_result res = MM_OK;
+    mm_clip folded;
+    memset(&folded, 0, sizeof folded);
+    const mm_clip *body = src;
+    int body_root = mm__body_root(&src->skeleton, cfg);
+    if (body_root > 0) {
+        res = mm__clip_fold_root(src, body_root, &folded, b->a);
+        if (res != MM_OK)
+            res = mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): out of memory", ci, cc->name);
+        body = &folded;
+    }
     for (int r = 0; r < ranges && res == MM_OK; ++r)
-        res = process_range(b, ci, src, pieces[r], ranges > 1 ? r : -1);
+        res = process_range(b, ci, body, pieces[r], ranges > 1 ? r : -1);
+    if (body_root > 0) mm_clip_free(&folded);
     free(pieces);
     return res;
 }
@@ -662,6 +675,13 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     if (r != MM_OK) return r;
     if (cfg->clip_count < 1)
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
+    for (int i = 0; i < cfg->clip_count; ++i) {
+        mm_error why;
+        memset(&why, 0, sizeof why);
+        if (cfg->clips[i].mirror && (r = mm__mirror_check(&sources[i].skeleton, cfg, &why)) != MM_OK)
+            return mm_error_set(err, r, 0, 0, "clips[%d] (%s): cannot mirror: %s", i, cfg->clips[i].name,
+                                why.message);
+    }
     /* NULL (one thread, or no threads could start): everything runs on the calling thread */
     mm_searcher_pool *pool =
         desc && desc->threads > 1 ? mm__pool_create(desc->threads, desc->allocator) : NULL;
