@@ -302,6 +302,52 @@ static void test_other_children(void **state)
     mm_synth_set_free(&set);
 }
 
+/* The roles may name a joint above the hips: a Root on the ground under the hips as root_bone
+ * gives the database that the hips as root_bone give the take without it. */
+static void test_roles_above(void **state)
+{
+    (void)state;
+    const char *names[2] = {"walk_arc_left_r3.0", "turn_left_90"};
+    const char *text = "{\"scale\": 1, \"roles\": {\"root_bone\": \"%s\"}, \"clips\": ["
+                       "{\"name\": \"a\", \"file\": \"a.bvh\", \"loop\": true, \"mirror\": true},"
+                       "{\"name\": \"b\", \"file\": \"b.bvh\", \"mirror\": true}]}";
+    mm_synth_set set;
+    assert_int_equal(mm_synth_generate(NULL, &set, NULL), MM_OK);
+    mm_clip sources[2], moved[2];
+    double rounding = 0.0;
+    for (int i = 0; i < 2; ++i) {
+        for (int k = 0; k < set.clip_count; ++k)
+            if (strcmp(set.clips[k].name, names[i]) == 0)
+                assert_int_equal(mm_clip_copy(&sources[i], &set.clips[k].clip, NULL), MM_OK);
+        rounding = fmax(rounding, rearrange(&sources[i], GROUND_ROOT, 0, &moved[i]));
+    }
+    mm_synth_set_free(&set);
+    mm_config cfg[2];
+    mm_database db[2];
+    const char *root_bone[2] = {"Hips", "Root"};
+    for (int v = 0; v < 2; ++v) {
+        char json[1024];
+        snprintf(json, sizeof json, text, root_bone[v]);
+        memset(&cfg[v], 0, sizeof cfg[v]);
+        assert_int_equal(mm_config_parse_json(json, strlen(json), "roots", NULL, &cfg[v], NULL), MM_OK);
+        build(&cfg[v], v ? moved : sources, &db[v]);
+    }
+    double positions, features;
+    compare(&db[0], &db[1], rounding, &positions, &features);
+    double character = run_characters(&db[0], &db[1], MM_SOURCE_DIR "/scripts/input/turn_90.json", 4.0f);
+    print_message("root_bone Root: joints %.2g m, features %.2g of the tolerance, character %.2g m\n",
+                  positions, features, character);
+    assert_true(positions < 1e-4);
+    assert_true(features <= 1.0);
+    assert_true(character < 1e-3);
+    for (int v = 0; v < 2; ++v) {
+        mm_database_free(&db[v]);
+        mm_config_free(&cfg[v]);
+        mm_clip_free(&sources[v]);
+        mm_clip_free(&moved[v]);
+    }
+}
+
 static void test_synth(void **state)
 {
     (void)state;
@@ -366,6 +412,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_other_children),
+        cmocka_unit_test(test_roles_above),
         cmocka_unit_test(test_synth),
         cmocka_unit_test(test_lafan1),
     };

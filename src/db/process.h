@@ -8,7 +8,8 @@
  *   mm__clip_add_root     adds the simulation bone as joint 0 (position: a spine bone projected
  *                         to the ground; facing: a bone's forward axis projected; both smoothed);
  *                         the joints above the hips are folded into it
- *   mm__clip_mirror       mirrors across the character's sagittal plane, swapping left and right
+ *   mm__clip_mirror       mirrors across the character's sagittal plane, swapping left and right:
+ *                         the world pose reflected, made local with each joint's rest axes
  *   mm__clip_blend        blends two clips on a common (normalised) time base
  * and the analysis used by the build:
  *   mm__root_motion       per-frame root velocity and yaw rate, in the root's frame
@@ -43,9 +44,11 @@ mm_result mm__clip_fold_root(const mm_clip *src, int body, mm_clip *out, const m
 /* The database clip of a resampled source: joint 0 the simulation bone, then the source's joints
  * but those above the body root (mm__body_root), which are left out; the joints that hung from
  * them (the body root among them; the source root when nothing is above it) hang from the
- * simulation bone with their world transforms relative to it. */
-mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a,
-                            mm_error *err);
+ * simulation bone with their world transforms relative to it. The roles (root_bone, facing_bone)
+ * are read from src, any joint of it; body (NULL: src) gives the joints' motion: src with the
+ * joints above the body root folded by mm__clip_fold_root, then resampled alike. */
+mm_result mm__clip_add_root(const mm_clip *src, const mm_clip *body, const mm_config *cfg, mm_clip *out,
+                            const mm_allocator *a, mm_error *err);
 mm_result mm__clip_mirror(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a);
 /* Whether a skeleton can be mirrored under the config's pairs: every joint whose name carries a
  * side (a pattern of mirror_pairs, as a word of its own) has its partner, partners are each

@@ -184,10 +184,15 @@ mm_result mm__clip_fold_root(const mm_clip *src, int body, mm_clip *out, const m
     return r;
 }
 
-mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a,
-                            mm_error *err)
+mm_result mm__clip_add_root(const mm_clip *src, const mm_clip *body, const mm_config *cfg, mm_clip *out,
+                            const mm_allocator *a, mm_error *err)
 {
     const mm_skeleton *s = &src->skeleton;
+    if (!body) body = src;
+    if (body->frame_count != src->frame_count)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "the body has %d frames, the source %d",
+                            body->frame_count, src->frame_count);
+    const mm_skeleton *bs = &body->skeleton;
     int root_bone = mm_skeleton_find(s, cfg->root_bone);
     int facing = mm_skeleton_find(s, cfg->facing_bone);
     if (root_bone < 0)
@@ -196,10 +201,11 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
     if (facing < 0)
         return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "roles.facing_bone: no joint named '%s'",
                             cfg->facing_bone);
-    if (s->joint_count + 1 > MM_MAX_JOINTS) return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "too many joints");
+    if (bs->joint_count + 1 > MM_MAX_JOINTS) return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "too many joints");
 
-    int n = src->frame_count, jc = s->joint_count;
-    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
+    int n = src->frame_count, jc = bs->joint_count;
+    /* g: the source's globals (the roles), then the body's */
+    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)(s->joint_count + jc));
     float *track = (float *)malloc(sizeof(float) * 5 * (size_t)n); /* x z | dx dz */
     float *tmp = (float *)malloc(sizeof(float) * 3 * (size_t)n);
     unsigned char *folded = (unsigned char *)malloc((size_t)jc);
@@ -208,12 +214,12 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
     mm_result r = g && track && tmp && folded && map ? MM_OK : MM_ERR_OUT_OF_MEMORY;
     int taken = -1; /* a kept joint named like the simulation bone (one above the hips is left out) */
     if (r == MM_OK) {
-        mark_folded(s, mm__body_root(s, cfg), folded);
-        taken = mm_skeleton_find(s, MM__ROOT_NAME);
+        mark_folded(bs, mm__body_root(bs, cfg), folded);
+        taken = mm_skeleton_find(bs, MM__ROOT_NAME);
         if (taken >= 0 && folded[taken]) taken = -1;
         if (taken >= 0) r = MM_ERR_DUPLICATE_NAME;
     }
-    if (r == MM_OK) r = fold_skeleton(s, folded, MM__ROOT_NAME, MM_JOINT_TRANSLATES, &ns, map, a);
+    if (r == MM_OK) r = fold_skeleton(bs, folded, MM__ROOT_NAME, MM_JOINT_TRANSLATES, &ns, map, a);
     if (r == MM_OK) {
         r = mm_clip_init(out, &ns, src->frame_count, src->fps, a);
         mm_skeleton_free(&ns);
@@ -250,10 +256,10 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
     for (int f = 0; f < n; ++f) {
         float yaw = atan2f(dir[2 * f], dir[2 * f + 1]);
         mm_xform root = mm_xform_make(mm__quat_yaw(yaw), mm_vec3_make(pos[2 * f], 0.0f, pos[2 * f + 1]));
-        mm_xform to_root = mm_xform_inverse(root);
-        mm_clip_fk(src, f, g);
-        const mm_quat *sr = mm_clip_rotations(src, f);
-        const mm_vec3 *sp = mm_clip_positions(src, f);
+        mm_xform to_root = mm_xform_inverse(root), *gb = g + s->joint_count;
+        mm_clip_fk(body, f, gb);
+        const mm_quat *sr = mm_clip_rotations(body, f);
+        const mm_vec3 *sp = mm_clip_positions(body, f);
         mm_quat *rot = mm_clip_rotations(out, f);
         mm_vec3 *p = mm_clip_positions(out, f);
         rot[0] = root.rotation;
@@ -261,7 +267,7 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
         for (int j = 0; j < jc; ++j) {
             if (map[j] < 0) continue;
             if (out->skeleton.joints[map[j]].parent == 0) { /* the body (and what else hung above it) */
-                mm_xform local = mm_xform_mul(to_root, g[j]);
+                mm_xform local = mm_xform_mul(to_root, gb[j]);
                 rot[map[j]] = mm_quat_normalize(local.rotation);
                 p[map[j]] = local.translation;
             } else {
