@@ -196,19 +196,20 @@ static float unit(mm_vec3 v, float tiny, mm_vec3 *out)
 
 /* The rest pose's plane of symmetry (unit normal n). Partners' rest offsets (a joint without a
  * partner is its own) have directions u, u' with S u = u': their difference is along n, their
- * mean in the plane. n is the top eigenvector of sum w ((u - u')(u - u')^T - m m^T), m the mean.
- * A plane within 2 degrees of an axis plane is that plane (capture skeletons are drawn on the
- * axes; what is left is their asymmetry). x = 0 when nothing tells. */
+ * mean in the plane. n is the top eigenvector of sum w ((u - u')(u - u')^T - m m^T), m the mean,
+ * over the offsets both sides hold in one frame (under a joint without a partner: the hips' legs,
+ * the chest's shoulders, the spine) when there are partners among them, else over all (CMU's legs
+ * and arms start with zero offsets). A plane within 2 degrees of an axis plane is that plane
+ * (capture skeletons are drawn on the axes; what is left is their asymmetry). x = 0 when nothing
+ * tells. */
 static void rest_plane(const mm_skeleton *s, const int *partner, double n[3])
 {
-    double a[4][4] = {{0}};
-    int bones = 0;
+    double a[2][4][4] = {{{0}}}; /* [0]: offsets in one frame, [1]: all */
+    int pairs[2] = {0, 0}, bones = 0;
     float tiny = 1e-6f * fmaxf(longest_chain(s), 1e-6f);
     for (int j = 0; j < s->joint_count; ++j) {
-        int k = partner[j];
-        if (k < j || !rest_bone(s, j) || !rest_bone(s, k) ||
-            partner[s->joints[j].parent] != s->joints[k].parent)
-            continue;
+        int k = partner[j], p = s->joints[j].parent;
+        if (k < j || !rest_bone(s, j) || !rest_bone(s, k) || partner[p] != s->joints[k].parent) continue;
         mm_vec3 offsets[2][2] = {{s->joints[j].offset, s->joints[k].offset},
                                  {s->joints[j].end_site, s->joints[k].end_site}};
         int ends = s->joints[j].has_end_site && s->joints[k].has_end_site;
@@ -217,15 +218,19 @@ static void rest_plane(const mm_skeleton *s, const int *partner, double n[3])
             float lj = unit(offsets[e][0], tiny, &uj), lk = unit(offsets[e][1], tiny, &uk);
             if (lj == 0.0f || lk == 0.0f) continue;
             double w = 0.5 * (lj + lk);
-            add_outer(a, mm_vec3_sub(uj, uk), w);
-            add_outer(a, mm_vec3_scale(mm_vec3_add(uj, uk), 0.5f), -w);
+            int shared = e == 0 ? partner[p] == p : k == j; /* the offsets' frame: the parent's, or j's */
+            for (int set = shared ? 0 : 1; set < 2; ++set) {
+                add_outer(a[set], mm_vec3_sub(uj, uk), w);
+                add_outer(a[set], mm_vec3_scale(mm_vec3_add(uj, uk), 0.5f), -w);
+                pairs[set] += k != j;
+            }
             ++bones;
         }
     }
     n[0] = 1.0, n[1] = n[2] = 0.0;
     if (!bones) return;
     double v[4];
-    top_eigenvector(a, 3, v);
+    top_eigenvector(a[pairs[0] > 0 ? 0 : 1], 3, v);
     double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (!(len > 0.0)) return;
     for (int i = 0; i < 3; ++i) n[i] = v[i] / len;
