@@ -164,6 +164,16 @@ expect_grep '^  clip  35 walk_stop .* 1 stop$' "$tmp/out"
 expect_exit 1 "$mm" db build "$data/../../configs/synth.json" -o "$tmp/nosynth.mmdb"
 
 expect_grep "idle.bvh" "$tmp/err"
+# mirroring a skeleton with a side's joint and no partner is refused, naming both; unmirrored it builds
+mkdir -p "$tmp/onehand"
+sed 's/JOINT RightHand/JOINT RightPalm/' "$tmp/synth/set/walk_1.40.bvh" >"$tmp/onehand/walk.bvh"
+printf '{"scale": 1, "roles": {"right_hand": "RightPalm"}, "clips": [{"file": "walk.bvh", "mirror": %s}]}\n' true \
+    >"$tmp/onehand/mirror.json"
+printf '{"scale": 1, "roles": {"right_hand": "RightPalm"}, "clips": [{"file": "walk.bvh", "mirror": %s}]}\n' false \
+    >"$tmp/onehand/plain.json"
+expect_exit 1 "$mm" db build "$tmp/onehand/mirror.json" -o "$tmp/onehand.mmdb"
+expect_grep "cannot mirror: joint 'LeftHand' has no partner: no joint is named 'RightHand'" "$tmp/err"
+expect_exit 0 "$mm" db build "$tmp/onehand/plain.json" -o "$tmp/onehand.mmdb"
 
 # db search: the JSON contract, methods agree, filters, errors
 expect_exit 0 "$mm" db search "$tmp/synth.mmdb" --frame 500 --traj-from 3000 --top 3 --json

@@ -254,12 +254,11 @@ static void test_contacts(void **state)
     mm_clip_free(&clip);
 }
 
-/* A skeleton whose hips frame has its left-right axis along local z: the hips need a half-turn
- * about y to mirror (the only one of the four candidates that maps the legs and the spine), and
- * the legs below, with a single child straight down, fit both that half-turn and the identity.
- * Each must take its parent's half-turn: then a pose that is its own mirror (the rest pose)
- * keeps its local rotations, and transitions between a clip and a mirrored clip do not see a
- * half-turn in every leg joint. */
+/* A skeleton whose hips frame has its left-right axis along local z: its rest pose is symmetric
+ * across z = 0, so every joint mirrors with the half-turn about y (M times that reflection),
+ * also the legs below, whose single child straight down would fit the identity as well. Then a
+ * pose that is its own mirror (the rest pose) keeps its local rotations, and transitions between
+ * a clip and a mirrored clip do not see a half-turn in every leg joint. */
 static void test_mirror_chain(void **state)
 {
     (void)state;

@@ -76,7 +76,8 @@ static uint64_t tags_at(const builder *b, int config_clip, float t)
     return mask | mm__postures_tags(b->postures, config_clip, t, source->fps, source->frame_count);
 }
 
-static mm_result process_range(builder *b, int ci, const mm_clip *src, mm_config_range range, int piece);
+static mm_result process_range(builder *b, int ci, const mm_clip *src, const mm_clip *body,
+                               mm_config_range range, int piece);
 
 /* The database clips of config clip ci: one per range (the ranges less the postures left out). */
 static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
@@ -106,28 +107,44 @@ static mm_result process_config_clip(builder *b, int ci, const mm_clip *src)
         else
             ranges += mm__postures_split(b->postures, cfg, ci, src, range, pieces + ranges);
     }
+    /* Joints above the hips are folded away before resampling: the hips' world motion is read
+     * on the splines then, whichever joints carried it in the file. */
     mm_result res = MM_OK;
+    mm_clip folded;
+    memset(&folded, 0, sizeof folded);
+    int body_root = mm__body_root(&src->skeleton, cfg);
+    if (body_root > 0 && (res = mm__clip_fold_root(src, body_root, &folded, b->a)) != MM_OK)
+        res = mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): out of memory", ci, cc->name);
     for (int r = 0; r < ranges && res == MM_OK; ++r)
-        res = process_range(b, ci, src, pieces[r], ranges > 1 ? r : -1);
+        res = process_range(b, ci, src, body_root > 0 ? &folded : NULL, pieces[r], ranges > 1 ? r : -1);
+    if (body_root > 0) mm_clip_free(&folded);
     free(pieces);
     return res;
 }
 
-/* One database clip (and its mirror) from frames range of config clip ci's source; piece: its
- * number among the clip's ranges (-1: the only one). */
-static mm_result process_range(builder *b, int ci, const mm_clip *src, mm_config_range range, int piece)
+/* One database clip (and its mirror) from frames range of config clip ci's source (body: the
+ * source with the joints above the hips folded, or NULL); piece: its number among the clip's
+ * ranges (-1: the only one). */
+static mm_result process_range(builder *b, int ci, const mm_clip *src, const mm_clip *body,
+                               mm_config_range range, int piece)
 {
     const mm_config *cfg = b->cfg;
     const mm_config_clip *cc = &cfg->clips[ci];
     {
-        mm_clip resampled;
+        mm_clip resampled, resampled_body;
+        memset(&resampled_body, 0, sizeof resampled_body);
         mm_result res = mm__clip_extract(src, range.begin, range.end, cfg->interval, &resampled, b->a);
+        if (res == MM_OK && body) {
+            res = mm__clip_extract(body, range.begin, range.end, cfg->interval, &resampled_body, b->a);
+            if (res != MM_OK) mm_clip_free(&resampled);
+        }
         if (res != MM_OK)
             return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot resample", ci, cc->name);
         built x;
         memset(&x, 0, sizeof x);
-        res = mm__clip_add_root(&resampled, cfg, &x.clip, b->a, b->err);
+        res = mm__clip_add_root(&resampled, body ? &resampled_body : NULL, cfg, &x.clip, b->a, b->err);
         mm_clip_free(&resampled);
+        mm_clip_free(&resampled_body);
         if (res != MM_OK) return res;
         if (piece >= 0)
             snprintf(x.meta.name, MM_NAME_MAX, "%.50s#%d", cc->name, piece);
@@ -663,6 +680,13 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     if (r != MM_OK) return r;
     if (cfg->clip_count < 1)
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "clips: the config lists no clip");
+    for (int i = 0; i < cfg->clip_count; ++i) {
+        mm_error why;
+        memset(&why, 0, sizeof why);
+        if (cfg->clips[i].mirror && (r = mm__mirror_check(&sources[i].skeleton, cfg, &why)) != MM_OK)
+            return mm_error_set(err, r, 0, 0, "clips[%d] (%s): cannot mirror: %s", i, cfg->clips[i].name,
+                                why.message);
+    }
     /* NULL (one thread, or no threads could start): everything runs on the calling thread */
     mm_searcher_pool *pool =
         desc && desc->threads > 1 ? mm__pool_create(desc->threads, desc->allocator) : NULL;

@@ -3,9 +3,13 @@
  * Every step takes a clip and makes a new one (the input is left alone):
  *   mm__clip_extract      frames [begin, end) of a source, resampled to the database interval
  *                         (MM_INTERP_CUBIC, the splines running through the neighbouring frames)
+ *   mm__clip_fold_root    folds the joints above the hips into one static joint at the origin,
+ *                         the hips (and what else hung from those joints) at their world place
  *   mm__clip_add_root     adds the simulation bone as joint 0 (position: a spine bone projected
- *                         to the ground; facing: a bone's forward axis projected; both smoothed)
- *   mm__clip_mirror       mirrors across the character's sagittal plane, swapping left and right
+ *                         to the ground; facing: a bone's forward axis projected; both smoothed);
+ *                         the joints above the hips are folded into it
+ *   mm__clip_mirror       mirrors across the character's sagittal plane, swapping left and right:
+ *                         the world pose reflected, made local with each joint's rest axes
  *   mm__clip_blend        blends two clips on a common (normalised) time base
  * and the analysis used by the build:
  *   mm__root_motion       per-frame root velocity and yaw rate, in the root's frame
@@ -30,9 +34,27 @@ float mm__wrap_angle(float a);
 
 mm_result mm__clip_extract(const mm_clip *src, int begin, int end, float interval, mm_clip *out,
                            const mm_allocator *a);
-mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a,
-                            mm_error *err);
+/* The body's root: roles.hips when the skeleton has it, else joint 0. */
+int mm__body_root(const mm_skeleton *s, const mm_config *cfg);
+/* src with the joints above joint body (0 < body < joint_count) replaced by one joint 0 that
+ * keeps the top one's name and stays at the origin unrotated; the joints that hung from them
+ * (body among them) hang from it with their world transforms, translating, their rest positions
+ * as offsets. World transforms of the other joints are unchanged. */
+mm_result mm__clip_fold_root(const mm_clip *src, int body, mm_clip *out, const mm_allocator *a);
+/* The database clip of a resampled source: joint 0 the simulation bone, then the source's joints
+ * but those above the body root (mm__body_root), which are left out; the joints that hung from
+ * them (the body root among them; the source root when nothing is above it) hang from the
+ * simulation bone with their world transforms relative to it. The roles (root_bone, facing_bone)
+ * are read from src, any joint of it; body (NULL: src) gives the joints' motion: src with the
+ * joints above the body root folded by mm__clip_fold_root, then resampled alike. */
+mm_result mm__clip_add_root(const mm_clip *src, const mm_clip *body, const mm_config *cfg, mm_clip *out,
+                            const mm_allocator *a, mm_error *err);
 mm_result mm__clip_mirror(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a);
+/* Whether a skeleton can be mirrored under the config's pairs: every joint whose name carries a
+ * side (a pattern of mirror_pairs, as a word of its own) has its partner, partners are each
+ * other's, and partners' bones (rest offsets) are within 10% of each other's length. Fills err
+ * naming the joints. */
+mm_result mm__mirror_check(const mm_skeleton *s, const mm_config *cfg, mm_error *err);
 /* Clips with the simulation root as joint 0; a loop clip's frame after its last is its first. */
 mm_result mm__clip_blend(const mm_clip *left, int left_loop, const mm_clip *right, int right_loop,
                          float weight, float interval, mm_clip *out, const mm_allocator *a);

@@ -85,10 +85,114 @@ static void smooth(float *x, int n, int dim, float sigma, float *tmp)
         }
 }
 
-mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *out, const mm_allocator *a,
-                            mm_error *err)
+int mm__body_root(const mm_skeleton *s, const mm_config *cfg)
+{
+    int hips = cfg->hips[0] ? mm_skeleton_find(s, cfg->hips) : -1;
+    return hips >= 0 ? hips : 0;
+}
+
+/* The joints above the body root (its proper ancestors): folded[j] = 1. */
+static void mark_folded(const mm_skeleton *s, int body, unsigned char *folded)
+{
+    memset(folded, 0, (size_t)s->joint_count);
+    for (int j = s->joints[body].parent; j >= 0; j = s->joints[j].parent) folded[j] = 1;
+}
+
+/* The rest pose's world positions (identity rotations, rest offsets). */
+static void rest_positions(const mm_skeleton *s, mm_vec3 *out)
+{
+    for (int j = 0; j < s->joint_count; ++j) {
+        int p = s->joints[j].parent;
+        out[j] = p < 0 ? s->joints[j].offset : mm_vec3_add(out[p], s->joints[j].offset);
+    }
+}
+
+/* The skeleton that replaces the folded joints by one new joint 0 (name, flags): the kept joints
+ * follow in their order; those whose parent was folded (or that were the root) hang from joint 0,
+ * translate, and have their rest position as their offset. map[j]: j's new index (-1: folded). */
+static mm_result fold_skeleton(const mm_skeleton *s, const unsigned char *folded, const char *name,
+                               unsigned flags, mm_skeleton *out, int *map, const mm_allocator *a)
+{
+    int jc = s->joint_count, kept = 0;
+    for (int j = 0; j < jc; ++j) map[j] = folded[j] ? -1 : 1 + kept++;
+    mm_vec3 *rest = (mm_vec3 *)malloc(sizeof(mm_vec3) * (size_t)jc);
+    if (!rest) return MM_ERR_OUT_OF_MEMORY;
+    rest_positions(s, rest);
+    mm_result r = mm_skeleton_init(out, kept + 1, a);
+    if (r != MM_OK) {
+        free(rest);
+        return r;
+    }
+    snprintf(out->joints[0].name, MM_NAME_MAX, "%s", name);
+    out->joints[0].parent = -1;
+    out->joints[0].flags = flags;
+    out->joints[0].order = MM_EULER_NONE;
+    for (int j = 0; j < jc; ++j) {
+        if (map[j] < 0) continue;
+        mm_joint *nj = &out->joints[map[j]];
+        *nj = s->joints[j];
+        int p = s->joints[j].parent;
+        if (p < 0 || folded[p]) { /* hangs from joint 0 at its world place */
+            nj->parent = 0;
+            nj->flags |= MM_JOINT_TRANSLATES;
+            nj->offset = rest[j];
+        } else {
+            nj->parent = map[p];
+        }
+    }
+    free(rest);
+    return MM_OK;
+}
+
+mm_result mm__clip_fold_root(const mm_clip *src, int body, mm_clip *out, const mm_allocator *a)
 {
     const mm_skeleton *s = &src->skeleton;
+    int jc = s->joint_count;
+    unsigned char *folded = (unsigned char *)malloc((size_t)jc);
+    int *map = (int *)malloc(sizeof(int) * (size_t)jc);
+    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
+    mm_skeleton ns;
+    mm_result r = folded && map && g ? MM_OK : MM_ERR_OUT_OF_MEMORY;
+    if (r == MM_OK && (body <= 0 || body >= jc)) r = MM_ERR_INVALID_ARGUMENT;
+    if (r == MM_OK) {
+        mark_folded(s, body, folded);
+        r = fold_skeleton(s, folded, s->joints[0].name, 0, &ns, map, a);
+    }
+    if (r == MM_OK) {
+        r = mm_clip_init(out, &ns, src->frame_count, src->fps, a);
+        mm_skeleton_free(&ns);
+    }
+    if (r == MM_OK)
+        for (int f = 0; f < src->frame_count; ++f) {
+            mm_clip_fk(src, f, g);
+            const mm_quat *sr = mm_clip_rotations(src, f);
+            const mm_vec3 *sp = mm_clip_positions(src, f);
+            mm_quat *rot = mm_clip_rotations(out, f);
+            mm_vec3 *pos = mm_clip_positions(out, f);
+            rot[0] = mm_quat_identity();
+            pos[0] = mm_vec3_make(0.0f, 0.0f, 0.0f);
+            for (int j = 0; j < jc; ++j) {
+                if (map[j] < 0) continue;
+                int hangs = out->skeleton.joints[map[j]].parent == 0;
+                rot[map[j]] = hangs ? g[j].rotation : sr[j];
+                pos[map[j]] = hangs ? g[j].translation : sp[j];
+            }
+        }
+    free(folded);
+    free(map);
+    free(g);
+    return r;
+}
+
+mm_result mm__clip_add_root(const mm_clip *src, const mm_clip *body, const mm_config *cfg, mm_clip *out,
+                            const mm_allocator *a, mm_error *err)
+{
+    const mm_skeleton *s = &src->skeleton;
+    if (!body) body = src;
+    if (body->frame_count != src->frame_count)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "the body has %d frames, the source %d",
+                            body->frame_count, src->frame_count);
+    const mm_skeleton *bs = &body->skeleton;
     int root_bone = mm_skeleton_find(s, cfg->root_bone);
     int facing = mm_skeleton_find(s, cfg->facing_bone);
     if (root_bone < 0)
@@ -97,37 +201,38 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
     if (facing < 0)
         return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0, "roles.facing_bone: no joint named '%s'",
                             cfg->facing_bone);
-    if (mm_skeleton_find(s, MM__ROOT_NAME) >= 0)
-        return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "the source already has a joint named '%s'",
-                            MM__ROOT_NAME);
-    if (s->joint_count + 1 > MM_MAX_JOINTS) return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "too many joints");
+    if (bs->joint_count + 1 > MM_MAX_JOINTS) return mm_error_set(err, MM_ERR_LIMIT, 0, 0, "too many joints");
 
-    mm_skeleton ns;
-    mm_result r = mm_skeleton_init(&ns, s->joint_count + 1, a);
-    if (r != MM_OK) return mm_error_set(err, r, 0, 0, "out of memory");
-    snprintf(ns.joints[0].name, MM_NAME_MAX, "%s", MM__ROOT_NAME);
-    ns.joints[0].parent = -1;
-    ns.joints[0].flags = MM_JOINT_TRANSLATES;
-    ns.joints[0].order = MM_EULER_NONE;
-    for (int j = 0; j < s->joint_count; ++j) {
-        ns.joints[j + 1] = s->joints[j];
-        ns.joints[j + 1].parent = s->joints[j].parent + 1; /* the old root (-1) becomes a child of 0 */
-    }
-    ns.joints[1].flags |= MM_JOINT_TRANSLATES;
-    r = mm_clip_init(out, &ns, src->frame_count, src->fps, a);
-    mm_skeleton_free(&ns);
-    if (r != MM_OK) return mm_error_set(err, r, 0, 0, "out of memory");
-
-    int n = src->frame_count, jc = s->joint_count;
-    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
+    int n = src->frame_count, jc = bs->joint_count;
+    /* g: the source's globals (the roles), then the body's */
+    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)(s->joint_count + jc));
     float *track = (float *)malloc(sizeof(float) * 5 * (size_t)n); /* x z | dx dz */
     float *tmp = (float *)malloc(sizeof(float) * 3 * (size_t)n);
-    if (!g || !track || !tmp) {
+    unsigned char *folded = (unsigned char *)malloc((size_t)jc);
+    int *map = (int *)malloc(sizeof(int) * (size_t)jc);
+    mm_skeleton ns;
+    mm_result r = g && track && tmp && folded && map ? MM_OK : MM_ERR_OUT_OF_MEMORY;
+    int taken = -1; /* a kept joint named like the simulation bone (one above the hips is left out) */
+    if (r == MM_OK) {
+        mark_folded(bs, mm__body_root(bs, cfg), folded);
+        taken = mm_skeleton_find(bs, MM__ROOT_NAME);
+        if (taken >= 0 && folded[taken]) taken = -1;
+        if (taken >= 0) r = MM_ERR_DUPLICATE_NAME;
+    }
+    if (r == MM_OK) r = fold_skeleton(bs, folded, MM__ROOT_NAME, MM_JOINT_TRANSLATES, &ns, map, a);
+    if (r == MM_OK) {
+        r = mm_clip_init(out, &ns, src->frame_count, src->fps, a);
+        mm_skeleton_free(&ns);
+    }
+    if (r != MM_OK) {
         free(g);
         free(track);
         free(tmp);
-        mm_clip_free(out);
-        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+        free(folded);
+        free(map);
+        if (r == MM_ERR_DUPLICATE_NAME)
+            return mm_error_set(err, r, 0, 0, "the source already has a joint named '%s'", MM__ROOT_NAME);
+        return mm_error_set(err, r, 0, 0, "out of memory");
     }
     float *pos = track, *dir = track + 2 * n;
     mm_vec3 axis = mm_vec3_normalize(cfg->forward_axis);
@@ -151,20 +256,31 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_config *cfg, mm_clip *o
     for (int f = 0; f < n; ++f) {
         float yaw = atan2f(dir[2 * f], dir[2 * f + 1]);
         mm_xform root = mm_xform_make(mm__quat_yaw(yaw), mm_vec3_make(pos[2 * f], 0.0f, pos[2 * f + 1]));
-        mm_xform old_root = mm_xform_make(mm_clip_rotations(src, f)[0], mm_clip_positions(src, f)[0]);
-        mm_xform hips = mm_xform_mul(mm_xform_inverse(root), old_root);
+        mm_xform to_root = mm_xform_inverse(root), *gb = g + s->joint_count;
+        mm_clip_fk(body, f, gb);
+        const mm_quat *sr = mm_clip_rotations(body, f);
+        const mm_vec3 *sp = mm_clip_positions(body, f);
         mm_quat *rot = mm_clip_rotations(out, f);
         mm_vec3 *p = mm_clip_positions(out, f);
         rot[0] = root.rotation;
         p[0] = root.translation;
-        rot[1] = mm_quat_normalize(hips.rotation);
-        p[1] = hips.translation;
-        memcpy(rot + 2, mm_clip_rotations(src, f) + 1, sizeof(mm_quat) * (size_t)(jc - 1));
-        memcpy(p + 2, mm_clip_positions(src, f) + 1, sizeof(mm_vec3) * (size_t)(jc - 1));
+        for (int j = 0; j < jc; ++j) {
+            if (map[j] < 0) continue;
+            if (out->skeleton.joints[map[j]].parent == 0) { /* the body (and what else hung above it) */
+                mm_xform local = mm_xform_mul(to_root, gb[j]);
+                rot[map[j]] = mm_quat_normalize(local.rotation);
+                p[map[j]] = local.translation;
+            } else {
+                rot[map[j]] = sr[j];
+                p[map[j]] = sp[j];
+            }
+        }
     }
     free(g);
     free(track);
     free(tmp);
+    free(folded);
+    free(map);
     return MM_OK;
 }
 

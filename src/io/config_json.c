@@ -31,7 +31,10 @@ static const mm_config_field_doc docs[] = {
     {"scale", "number", "", "0 (detect)",
      "Multiplies source lengths to get metres: 0.01 for centimetre files, 1 for metres. 0 detects the unit "
      "from the character's height (docs/bvh.md)."},
-    {"roles.hips", "string", "", "Hips", "The pelvis joint (the source root in most skeletons)."},
+    {"roles.hips", "string", "", "Hips",
+     "The pelvis joint, where the body starts: joints above it (a Root or Reference joint, whatever "
+     "part of the travel they carry) are folded into the simulation bone, and the hips hang from it at "
+     "their world place (docs/database.md, \"Roots\")."},
     {"roles.root_bone", "string", "", "Spine2",
      "Joint projected to the ground to give the simulation bone's position (a spine joint moves more "
      "steadily "
@@ -89,10 +92,9 @@ static const mm_config_field_doc docs[] = {
      "The seed's AngleMultiplier: weight of the trajectory directions."},
     {"mirror_pairs", "[[string, string]]", "", "[[\"Left\", \"Right\"], [\"left\", \"right\"]]",
      "Name patterns of left and right joints for mirroring: a joint whose name contains the left pattern "
-     "pairs "
-     "with the joint named with the right pattern instead. A pattern starting with ^ matches only at the "
-     "start "
-     "(e.g. [\"^l\", \"^r\"] for lHip / rHip)."},
+     "pairs with the joint named with the right pattern instead. A pattern starting with ^ matches only "
+     "at the start (e.g. [\"^l\", \"^r\"] for lHip / rHip). A one-letter pattern names a side only "
+     "where no lowercase letter follows it (lHip, Hand_L; not lowerback)."},
     {"tags", "[string]", "", "[]",
      "Names of the tags clips may use (at most 64), e.g. the seed's Required and DoNotUse."},
     {"clips", "[object]", "", "",
@@ -111,7 +113,10 @@ static const mm_config_field_doc docs[] = {
     {"clips[].type", "string", "", "locomotion", "idle or locomotion: the search can require either."},
     {"clips[].loop", "bool", "", "false",
      "The frame after the last is the first: playback and trajectories wrap. A loop clip has one range."},
-    {"clips[].mirror", "bool", "", "false", "Also add the clip mirrored left to right (data augmentation)."},
+    {"clips[].mirror", "bool", "", "false",
+     "Also add the clip mirrored left to right (data augmentation; docs/database.md, \"Mirroring\"). "
+     "Refused when a joint named for a side has no partner, or partners' bones differ in length by more "
+     "than 10%."},
     {"clips[].tags", "{string: [[number, number]]}", "s", "{}",
      "Tag ranges: for each tag name, [begin, end] times in seconds from the start of the file."},
     {"blend_clips", "[object]", "", "[]",
