@@ -130,49 +130,46 @@ static mm_result process_range(builder *b, int ci, const mm_clip *src, const mm_
 {
     const mm_config *cfg = b->cfg;
     const mm_config_clip *cc = &cfg->clips[ci];
-    {
-        mm_clip resampled, resampled_body;
-        memset(&resampled_body, 0, sizeof resampled_body);
-        mm_result res = mm__clip_extract(src, range.begin, range.end, cfg->interval, &resampled, b->a);
-        if (res == MM_OK && body) {
-            res = mm__clip_extract(body, range.begin, range.end, cfg->interval, &resampled_body, b->a);
-            if (res != MM_OK) mm_clip_free(&resampled);
-        }
+    mm_clip resampled, resampled_body;
+    memset(&resampled_body, 0, sizeof resampled_body);
+    mm_result res = mm__clip_extract(src, range.begin, range.end, cfg->interval, &resampled, b->a);
+    if (res == MM_OK && body) {
+        res = mm__clip_extract(body, range.begin, range.end, cfg->interval, &resampled_body, b->a);
+        if (res != MM_OK) mm_clip_free(&resampled);
+    }
+    if (res != MM_OK) return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot resample", ci, cc->name);
+    built x;
+    memset(&x, 0, sizeof x);
+    res = mm__clip_add_root(&resampled, body ? &resampled_body : NULL, cfg, &x.clip, b->a, b->err);
+    mm_clip_free(&resampled);
+    mm_clip_free(&resampled_body);
+    if (res != MM_OK) return res;
+    if (piece >= 0)
+        snprintf(x.meta.name, MM_NAME_MAX, "%.50s#%d", cc->name, piece);
+    else
+        snprintf(x.meta.name, MM_NAME_MAX, "%s", cc->name);
+    x.meta.type = cc->type;
+    x.meta.loop = cc->loop;
+    x.meta.source = ci;
+    x.meta.blend_left = x.meta.blend_right = -1;
+    x.meta.source_start = (float)range.begin / src->fps;
+    x.config_clip = ci;
+    x.blend = -1;
+    if ((res = push(b, &x)) != MM_OK) {
+        mm_clip_free(&x.clip);
+        return res;
+    }
+    if (cc->mirror) {
+        built m = b->clips[b->count - 1];
+        res = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a);
         if (res != MM_OK)
-            return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot resample", ci, cc->name);
-        built x;
-        memset(&x, 0, sizeof x);
-        res = mm__clip_add_root(&resampled, body ? &resampled_body : NULL, cfg, &x.clip, b->a, b->err);
-        mm_clip_free(&resampled);
-        mm_clip_free(&resampled_body);
-        if (res != MM_OK) return res;
-        if (piece >= 0)
-            snprintf(x.meta.name, MM_NAME_MAX, "%.50s#%d", cc->name, piece);
-        else
-            snprintf(x.meta.name, MM_NAME_MAX, "%s", cc->name);
-        x.meta.type = cc->type;
-        x.meta.loop = cc->loop;
-        x.meta.source = ci;
-        x.meta.blend_left = x.meta.blend_right = -1;
-        x.meta.source_start = (float)range.begin / src->fps;
-        x.config_clip = ci;
-        x.blend = -1;
-        if ((res = push(b, &x)) != MM_OK) {
-            mm_clip_free(&x.clip);
+            return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot mirror", ci, cc->name);
+        size_t len = strlen(m.meta.name);
+        snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
+        m.meta.mirrored = 1;
+        if ((res = push(b, &m)) != MM_OK) {
+            mm_clip_free(&m.clip);
             return res;
-        }
-        if (cc->mirror) {
-            built m = b->clips[b->count - 1];
-            res = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a);
-            if (res != MM_OK)
-                return mm_error_set(b->err, res, 0, 0, "clips[%d] (%s): cannot mirror", ci, cc->name);
-            size_t len = strlen(m.meta.name);
-            snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
-            m.meta.mirrored = 1;
-            if ((res = push(b, &m)) != MM_OK) {
-                mm_clip_free(&m.clip);
-                return res;
-            }
         }
     }
     return MM_OK;
