@@ -122,34 +122,27 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     }
     mm_vec3 out = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
     mm_vec3 velocity = mm_vec3_add(source_velocity(f, k, a, t, dt), f->offset_velocity[k]);
-    bool landing = f->landing[k], wait = false;
+    bool wait = false;
     if (d->plant_time > 0.0f && f->placed && !was_locked) {
-        f->landing[k] = false;
-        /* landing: the foot's step on the ground plane shrinks to nothing over plant_time (w: the
-         * share of it gone), before its contact comes, where the foot is planted where it was; the
-         * difference is carried by the offset like any other. A transition's offsets, or the root's
-         * pull, would otherwise bring the foot down at the speed they give it, and the lock would
-         * stop it dead from there. A contact that comes without warning (a jump onto a frame whose
-         * label is on) is waited for: the landing runs its plant_time from there. */
-        float w = 0.0f;
-        if (heel_on || toe_on) {
-            if (landing && f->waited[k] == 0.0f) {
-                w = 1.0f; /* the landing ran before the contact */
-            } else {
-                f->waited[k] += dt;
-                w = f->waited[k] / d->plant_time;
-            }
-            wait = w < 1.0f - LANDING_DONE;
-            f->landing[k] = wait;
-            if (!wait) f->waited[k] = 0.0f;
-        } else {
-            float left = contacts->until_label[k];
-            f->waited[k] = 0.0f;
-            if (left >= 0.0f) w = 1.0f - left / d->plant_time, f->landing[k] = true;
+        /* landing: the foot's step on the ground plane shrinks to nothing as its contact comes (w:
+         * the share of plant_time gone before the label turns on), where the foot is planted where
+         * it was; the difference is carried by the offset like any other. A transition's offsets,
+         * or the root's pull, would otherwise bring the foot down at the speed they give it, and
+         * the lock would stop it dead from there. The share grows by at most a tick's worth each
+         * tick: a contact seen late (less than plant_time ahead, or on already: a jump onto a frame
+         * whose label is on) is planted once the landing has run its plant_time, waited for. A
+         * contact no longer coming ends the landing. */
+        bool on = heel_on || toe_on;
+        float left = contacts->until_label[k], w = 0.0f;
+        if (on || left >= 0.0f) {
+            float due = on ? 1.0f : fmaxf(1.0f - left / d->plant_time, 0.0f);
+            w = fmaxf(f->landed[k], fminf(f->landed[k] + dt / d->plant_time, due));
+            wait = on && w < 1.0f - LANDING_DONE;
+            if (w > 1.0f) w = 1.0f;
         }
+        f->landed[k] = on && !wait ? 0.0f : w;
         if (w > 0.0f) {
             mm_vec3 from = f->lock[k];
-            w = fminf(w, 1.0f);
             out.x = from.x + (1.0f - w) * (out.x - from.x);
             out.z = from.z + (1.0f - w) * (out.z - from.z);
             velocity.x *= 1.0f - w, velocity.z *= 1.0f - w;

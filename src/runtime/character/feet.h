@@ -21,8 +21,7 @@ typedef struct mm_feet {
     mm_vec3 turn[2], turn_velocity[2];
     bool placed;                        /* lock holds last tick's ankle targets (landing eases from them) */
     mm_vec3 last_ankle[2], last_toe[2]; /* last tick's animated ankles and toes (when placed) */
-    bool landing[2]; /* a foot whose contact is coming (or came without warning) is landing */
-    float waited[2]; /* s: how long a contact that came without warning has been waited for */
+    float landed[2]; /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 raw_contacts[4];           /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
