@@ -95,7 +95,7 @@ static float toe_floor(float y, float floor)
 
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
- * in velocity, so that the ankle keeps both (as inertialization does). */
+ * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
 static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                          const mm_feet_contacts *contacts, int k, const mm_feet_ground *ground, float dt,
                          const mm_rig_pose *pose, mm_quat *orientation)
@@ -112,8 +112,11 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
     f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(before, foot_source(f, k, a, t)));
-    f->offset_velocity[k] =
-        mm_vec3_add(f->offset_velocity[k], mm_vec3_sub(before_velocity, source_velocity(f, k, a, t, dt)));
+    /* the velocity on the ground plane only: upward the foot takes what it follows at once (let
+     * go, it lifts off as animated instead of dragging along the ground while its offset fades) */
+    mm_vec3 kept = mm_vec3_sub(before_velocity, source_velocity(f, k, a, t, dt));
+    kept.y = 0.0f;
+    f->offset_velocity[k] = mm_vec3_add(f->offset_velocity[k], kept);
     if (far) {
         /* pulled too far from the animation: released, and planted again below where the foot now
          * is, one spring step from rest toward the animation (the foot creeps after it) */

@@ -13,7 +13,8 @@
  * about it as animated; with both, the foot turns so that the toe stays on its lock too (turn: the
  * rotation added to the animated foot, a rotation vector, rad; it fades once a lock is let go).
  * Every change of what a foot follows is carried by offset, which decays: the ankle keeps its place,
- * and its velocity where the foot is let go (a foot is planted at rest: its landing slows it first). */
+ * and its velocity on the ground where the foot is let go (a foot is planted at rest: its landing
+ * slows it first). */
 typedef struct mm_feet {
     bool locked[2], heel_locked[2], toe_locked[2];
     mm_vec3 lock[2]; /* where the ankle is held this tick (its IK target) */
