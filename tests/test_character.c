@@ -645,11 +645,12 @@ static void test_feet_hold_under_pull(void **state)
 }
 
 /* Feet land at rest (plant_time): on a zigzag of walking and running on the built-in set, every
- * tick where a foot's contact label turns on (neither heel nor toe on the tick before) plants it
- * within 5 mm of where its target was on the tick before, on the ground plane (a toe-only landing
- * holds the toe there, and the ankle turns about it as the foot's turn fades); and the
- * ankles' mean ground speed on those ticks falls to under a third of what it is without. Returns
- * that mean speed (cm/s) for plant_time. */
+ * tick where a foot is planted from the air (its lock begins: neither heel nor toe held the tick
+ * before) plants it within 5 mm of where its target was on the tick before, on the ground plane (a
+ * toe-only landing holds the toe there, and the ankle turns about it as the foot's turn fades); and
+ * the ankles' mean ground speed on those ticks falls to under a third of what it is without. A
+ * contact that comes without warning (a jump onto a frame whose label is on) is planted plant_time
+ * later, once the landing has slowed the foot. Returns that mean speed (cm/s) for plant_time. */
 static double landing_speed(float plant_time, float *worst_step, int *landings)
 {
     mm_character_desc d = default_desc();
@@ -658,7 +659,7 @@ static double landing_speed(float plant_time, float *worst_step, int *landings)
     make_character(&c, &d);
     mm_input in = stick_input(0.0f, 1.0f);
     mm_vec3 last_target[2] = {{0, 0, 0}, {0, 0, 0}}, last_ankle[2] = {{0, 0, 0}, {0, 0, 0}};
-    unsigned last_label = 0;
+    bool last_locked[2] = {false, false};
     double sum = 0.0;
     *worst_step = 0.0f;
     *landings = 0;
@@ -668,11 +669,9 @@ static double landing_speed(float plant_time, float *worst_step, int *landings)
         in.stick[1] = phase == 1 || phase == 3 ? 0.6f : phase == 0 ? 1.0f : -1.0f;
         in.gait = (i / 360) % 2 ? MM_GAIT_RUN : MM_GAIT_WALK;
         mm_character_update(&c, &in, 1.0f / 60.0f);
-        unsigned label = db.contacts[c.frame];
         for (int k = 0; k < 2; ++k) {
             mm_vec3 ankle = c.global[c.foot_joint[k]].translation;
-            unsigned bits = 3u << (2 * k);
-            if (i > 0 && (label & bits) && !(last_label & bits)) {
+            if (i > 0 && c.foot_locked[k] && !last_locked[k]) {
                 mm_vec3 step = mm_vec3_sub(c.foot_lock[k], last_target[k]);
                 *worst_step = fmaxf(*worst_step, sqrtf(step.x * step.x + step.z * step.z));
                 mm_vec3 moved = mm_vec3_sub(ankle, last_ankle[k]);
@@ -681,8 +680,8 @@ static double landing_speed(float plant_time, float *worst_step, int *landings)
             }
             last_target[k] = c.foot_lock[k];
             last_ankle[k] = ankle;
+            last_locked[k] = c.foot_locked[k];
         }
-        last_label = label;
     }
     mm_character_free(&c);
     return *landings ? sum / *landings : 0.0;

@@ -507,9 +507,16 @@ static void test_feet_lock_holds_and_releases(void **state)
     }
     assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
     assert_vec3_near(b.global[R_FOOT].translation, mm_vec3_make(-0.1f, 0.06f, 0.05f), 1e-3f);
-    /* the label off: released; the difference fades with foot_halflife (half of it after one) */
+    /* the label off: released where it is held (the ankle keeps its place and velocity on that
+     * tick), then the difference fades with foot_halflife (half of it one half-life later) */
     mm_feet_contacts none = {0, {-1.0f, -1.0f}};
     int ticks = (int)lroundf(d.foot_halflife / dt);
+    make_body(&b);
+    b.positions[HIPS].z = 0.05f;
+    mm_rig_forward(&b.rig, 1, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &none, 0.0f, true, dt, &b.pose);
+    assert_false(f.locked[0]);
+    assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
     for (int k = 0; k < ticks; ++k) {
         make_body(&b);
         b.positions[HIPS].z = 0.05f;
@@ -531,15 +538,191 @@ static void test_feet_lock_holds_and_releases(void **state)
     assert_true(f.heel_locked[0]);
     float pulled = d.unlock_radius + 0.1f, y = (float)mm_spring_damping(d.foot_halflife);
     assert_float_equal(f.heel_lock[0].z, pulled * (1.0f - (1.0f + y * dt) * expf(-y * dt)), 1e-4f);
-    /* never below the ground held (the root's height) */
+    /* never below the ground held (the root's height): the ankle at least at its planted height
+     * above it (0 on this rig, which learned none), and high enough that its toe, 4 cm below it in
+     * this pose, is at most 1 cm (feet.c's TOE_SINK) below its own planted height (0) */
     memset(&f, 0, sizeof f);
     make_body(&b);
     mm_feet_update(&f, &d, &b.rig, &heel, 0.1f, true, dt, &b.pose);
-    assert_float_equal(f.lock[0].y, 0.1f, 0.0f);
+    assert_float_equal(f.lock[0].y, 0.1f + 0.04f - 0.01f, 1e-6f);
     memset(&f, 0, sizeof f);
     make_body(&b);
     mm_feet_update(&f, &d, &b.rig, &heel, 0.1f, false, dt, &b.pose); /* a move: no ground held */
     assert_float_equal(f.lock[0].y, 0.06f, 1e-6f);
+}
+
+/* A second difference |p2 - 2 p1 + p0| (m). */
+static float second_difference(mm_vec3 p0, mm_vec3 p1, mm_vec3 p2)
+{
+    return mm_vec3_length(mm_vec3_add(mm_vec3_sub(p2, mm_vec3_scale(p1, 2.0f)), p0));
+}
+
+/* The body at z along +Z (everything moved with its hips and root). */
+static void body_at(body *b, float z)
+{
+    make_body(b);
+    b->positions[HIPS].z = z;
+    mm_rig_forward(&b->rig, 1, &b->pose);
+}
+
+/* A foot let go keeps its velocity: the left heel held at P while the body stands, the body moving
+ * at v along +Z from the tick before the label turns off (its ankle at P on that tick). The ankle's
+ * target then follows the animation plus an offset that starts at 0 with velocity -v (what the foot
+ * had less what it follows) and decays on a critically damped spring: x(t) = -v t e^(-y t), y the
+ * damping of foot_halflife, so p(n) = P + v n dt (1 - e^(-y n dt)). Its largest second difference,
+ * 2 v dt (e^(-y dt) - e^(-2 y dt)) = 0.37 v dt, is where a jump to the animation's velocity gave v dt. */
+static void test_feet_release_keeps_velocity(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife);
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    for (int k = 0; k < 5; ++k) {
+        body_at(&b, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+    }
+    mm_vec3 P = f.heel_lock[0];
+    body_at(&b, -v * dt); /* still held, the animation one step behind */
+    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+    mm_vec3 last[3] = {P, P, P};
+    float worst = 0.0f;
+    for (int n = 0; n <= 20; ++n) {
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, &none, 0.0f, true, dt, &b.pose);
+        float t = (float)n * dt;
+        mm_vec3 expected = mm_vec3_add(P, mm_vec3_make(0, 0, v * t * (1.0f - expf(-y * t))));
+        assert_vec3_near(f.lock[0], expected, 1e-4f);
+        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
+    }
+    assert_false(f.locked[0]);
+    float bound = 2.0f * v * dt * (expf(-y * dt) - expf(-2.0f * y * dt));
+    assert_float_equal(worst, bound, 2e-4f);
+    assert_true(worst < 0.4f * v * dt);
+}
+
+/* A contact that comes without warning (the label on where it was not foreseen: a jump onto a frame
+ * whose label is on) is waited for over plant_time: with plant_time two ticks, a foot moving at v
+ * steps v dt / 2 on the tick its label turns on and is planted, at rest, on the next, where it is:
+ * second differences of v dt / 2, where planting at once stopped it dead (v dt). A contact that was
+ * foreseen (within plant_time the tick before) has slowed already and is planted on its tick. */
+static void test_feet_land_without_warning(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    float dt = 1.0f / 60.0f, v = 1.2f;
+    d.plant_time = 2.0f * dt;
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}}, heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    mm_vec3 p[8];
+    for (int n = 0; n < 8; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, 0.0f, true, dt, &b.pose);
+        p[n] = f.lock[0];
+        if (n == 5) assert_false(f.locked[0]); /* waited for */
+        if (n == 6) assert_true(f.heel_locked[0]);
+    }
+    assert_float_equal(p[4].z - p[3].z, v * dt, 1e-5f);
+    assert_float_equal(p[5].z - p[4].z, 0.5f * v * dt, 1e-5f);
+    assert_float_equal(p[6].z - p[5].z, 0.0f, 1e-5f);
+    assert_vec3_near(f.heel_lock[0], p[6], 1e-6f);
+    assert_vec3_near(p[7], p[6], 1e-6f);
+    for (int n = 2; n < 8; ++n)
+        assert_true(second_difference(p[n - 2], p[n - 1], p[n]) < 0.5f * v * dt + 1e-5f);
+    /* foreseen: the tick before the label, its step halves; on the label's tick it is planted */
+    memset(&f, 0, sizeof f);
+    mm_feet_contacts coming = {0, {dt, -1.0f}};
+    for (int n = 0; n < 7; ++n) {
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, n < 4 ? &none : n == 4 ? &coming : &heel, 0.0f, true, dt, &b.pose);
+        p[n] = f.lock[0];
+    }
+    assert_float_equal(p[4].z - p[3].z, 0.5f * v * dt, 1e-5f);
+    assert_float_equal(p[5].z - p[4].z, 0.0f, 1e-5f);
+    assert_vec3_near(f.heel_lock[0], p[5], 1e-6f);
+}
+
+/* The hips come down through a spring (half-life feet.c's HIP_DROP_HALFLIFE, 0.05 s), not at once:
+ * standing with straight legs, the ankles planted where they are asks for a drop of D = 0.84 m -
+ * 0.95 x 0.84 m (the reach the IK keeps, SOFT_REACH short of the leg), which the pelvis takes as a
+ * critically damped spring from rest does: D (1 - (1 + y t) e^(-y t)). Its largest second
+ * difference is on the first tick, D (1 - (1 + y dt) e^(-y dt)) = 0.11 D, where at once it was D. */
+static void test_feet_hips_come_down_smoothly(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    float dt = 1.0f / 60.0f, D = 0.84f - 0.95f * 0.84f, y = (float)mm_spring_damping(0.05f);
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_RIGHT_HEEL, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    mm_vec3 p[3] = {{0, 0.9f, 0}, {0, 0.9f, 0}, {0, 0.9f, 0}};
+    float worst = 0.0f;
+    for (int n = 1; n <= 30; ++n) {
+        make_body(&b);
+        mm_feet_update(&f, &d, &b.rig, &both, 0.0f, true, dt, &b.pose);
+        float t = (float)n * dt;
+        assert_float_equal(f.hip_drop, D * (1.0f - (1.0f + y * t) * expf(-y * t)), 1e-4f);
+        p[0] = p[1], p[1] = p[2], p[2] = b.global[HIPS].translation;
+        worst = fmaxf(worst, second_difference(p[0], p[1], p[2]));
+    }
+    assert_float_equal(worst, D * (1.0f - (1.0f + y * dt) * expf(-y * dt)), 1e-4f);
+    assert_float_equal(f.hip_drop, D, 1e-3f);
+}
+
+/* A free foot pitched toe down is raised by its ankle so that the toe stays at most 1 cm (feet.c's
+ * TOE_SINK) below its planted height (0 on this rig), smoothly: with the toe h below the ankle and the
+ * ankle at y, it is at y from h on, at h - 1 cm from h - 2 cm down, and on the parabola h - 1 cm +
+ * (y - h + 2 cm)^2 / 4 cm between. A target far out of a free leg's reach is brought in to its length
+ * and three widths of the IK's softening (1.15 x 0.84 m), not onto the length. */
+static void test_feet_toe_floor_and_far_targets(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = MM_OFF;
+    float dt = 1.0f / 60.0f, h = 0.04f, s = 0.01f;
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}};
+    float heights[] = {0.06f, h, h - 0.005f, h - s, h - 0.015f, h - 2.0f * s, 0.0f};
+    for (int i = 0; i < (int)(sizeof heights / sizeof heights[0]); ++i) {
+        mm_feet f;
+        memset(&f, 0, sizeof f);
+        body b;
+        for (int tick = 0; tick < 2; ++tick) { /* a ground far below, then at 0 */
+            make_body(&b);
+            b.positions[HIPS].y = 0.9f - (0.06f - heights[i]); /* the body lowered: ankle at heights[i] */
+            mm_rig_forward(&b.rig, 1, &b.pose);
+            mm_feet_update(&f, &d, &b.rig, &none, tick ? 0.0f : -1.0f, true, dt, &b.pose);
+        }
+        float yy = heights[i], expected = yy;
+        if (yy < h - 2.0f * s)
+            expected = h - s;
+        else if (yy < h)
+            expected = h - s + (yy - h + 2.0f * s) * (yy - h + 2.0f * s) / (4.0f * s);
+        assert_float_equal(f.lock[0].y, expected, 1e-5f);
+    }
+    /* far out of reach, free: in to 1.15 of the leg's length from the hip, along the same line */
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    make_body(&b);
+    mm_feet_update(&f, &d, &b.rig, &none, -1.0f, false, dt, &b.pose);
+    f.offset[0] = mm_vec3_make(0, 0, 1.5f);
+    f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
+    make_body(&b);
+    mm_feet_update(&f, &d, &b.rig, &none, -1.0f, false, dt, &b.pose);
+    /* the offset decayed one step from rest first: 1.5 (1 + y dt) e^(-y dt) */
+    float y = (float)mm_spring_damping(d.foot_halflife), z = 1.5f * (1.0f + y * dt) * expf(-y * dt);
+    mm_vec3 hip = mm_vec3_make(0.1f, 0.9f, 0.0f), along = mm_vec3_make(0.0f, -0.84f, z);
+    assert_vec3_near(f.lock[0], mm_vec3_add(hip, mm_vec3_scale(along, 1.15f * 0.84f / mm_vec3_length(along))),
+                     1e-4f);
 }
 
 int main(void)
@@ -556,6 +739,10 @@ int main(void)
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
         cmocka_unit_test(test_feet_lock_holds_and_releases),
+        cmocka_unit_test(test_feet_release_keeps_velocity),
+        cmocka_unit_test(test_feet_land_without_warning),
+        cmocka_unit_test(test_feet_hips_come_down_smoothly),
+        cmocka_unit_test(test_feet_toe_floor_and_far_targets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

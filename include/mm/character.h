@@ -95,7 +95,7 @@ typedef enum mm_transition_mode {
 #define MM_CHARACTER_VELOCITY_CHANGE_SPEED 2.0f   /* m/s */
 #define MM_CHARACTER_PLANT_TIME            0.033f /* s */
 #define MM_CHARACTER_UNLOCK_RADIUS         0.4f   /* m */
-#define MM_CHARACTER_FOOT_HALFLIFE         0.1f   /* s */
+#define MM_CHARACTER_FOOT_HALFLIFE         0.15f  /* s */
 #define MM_CHARACTER_MAX_HIP_DROP          0.1f   /* m */
 #define MM_CHARACTER_RATE_MIN              0.75f
 #define MM_CHARACTER_RATE_MAX              1.25f
@@ -153,17 +153,20 @@ typedef struct mm_character_desc {
      * toe is held and the ankle rolls about it as animated; with both, the foot turns (at most
      * 0.8 rad from its animated orientation) so that the toe stays on its lock too. A lock the
      * animation pulls more than unlock_radius away is planted again where the foot is (it creeps
-     * after the animation); released, the difference fades with foot_halflife. The hips come
-     * down (at most max_hip_drop) where the legs cannot reach their targets. The legs reach them
-     * by the leg IK (mm/leg_ik.h), the knee bending about its hinge, the foot keeping its animated
-     * orientation (turned by the foot's turn). */
+     * after the animation); released, the difference in place and velocity fades with
+     * foot_halflife. The hips come down (at most max_hip_drop, through a spring) where the legs
+     * cannot reach their targets, and an ankle is raised where its toe would go below the
+     * ground. The legs reach them by the leg IK (mm/leg_ik.h), the knee bending about its hinge,
+     * the foot keeping its animated orientation (turned by the foot's turn). */
     bool no_foot_ik;                    /* turn foot locking and IK off */
     float plant_time;                   /* s: over this time before a free foot's contact label
                                            turns on in the clip playing, its step on the ground
                                            plane shrinks linearly to nothing, and on the tick the
                                            label turns on it is planted where it was: it lands at
                                            rest, not at the speed a transition's offsets or the
-                                           root's pull gave it (MM_OFF: off) */
+                                           root's pull gave it; a label that turns on sooner (a
+                                           jump onto a frame whose label is on) waits for the rest
+                                           of this time (MM_OFF: off) */
     float unlock_radius;                /* m */
     float foot_halflife;                /* s */
     float max_hip_drop;                 /* m: how far the hips may be lowered so that the legs

@@ -18,7 +18,7 @@ static double soften(double len, double length, double soft)
 
 /* sine of the knee's bend (seen from the hip) from which the animated knee's side is trusted fully:
  * a nearly straight leg's side is noise that flips as the leg passes straight */
-#define BEND_SIDE_TRUST 0.1
+#define BEND_SIDE_TRUST 0.2
 /* cosine between the animated knee's side and the pole's from which that side is trusted fully (60
  * degrees: knees turn out that far; trust fades to none at 90) */
 #define SIDE_TOWARD_POLE 0.5

@@ -522,6 +522,10 @@ void mm_character_translate(mm_character *c, mm_vec3 delta)
     for (int j = 0; j < c->db->joint_count; ++j)
         s->pose.global[j].translation = mm_vec3_add(s->pose.global[j].translation, delta);
     for (int k = 0; k < 4; ++k) s->feet.raw_contacts[k] = mm_vec3_add(s->feet.raw_contacts[k], delta);
+    for (int k = 0; k < 2; ++k) { /* what the feet follow moved with the body, not by itself */
+        s->feet.last_ankle[k] = mm_vec3_add(s->feet.last_ankle[k], delta);
+        s->feet.last_toe[k] = mm_vec3_add(s->feet.last_toe[k], delta);
+    }
     s->trajectory.position = mm_vec3_add(s->trajectory.position, delta);
     publish(c);
 }

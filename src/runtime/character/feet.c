@@ -11,6 +11,18 @@
 #define SOFT_REACH 0.05f
 /* rad: the most a foot planted on heel and toe is turned from its animated orientation */
 #define MAX_FOOT_TURN 0.8f
+/* s: half-life of the spring the hips are lowered and raised through */
+#define HIP_DROP_HALFLIFE 0.05f
+/* a free foot's target far out of reach is brought in to the leg's length and this many widths of
+ * the IK's softening (SOFT_REACH of the length each) */
+#define ONTO_SOFT_WIDTHS 3.0f
+/* m: how far below its planted height a toe may go as the ankle is raised to keep it up (a soft
+ * floor: the ankle rises smoothly over twice this as the toe comes down) */
+#define TOE_SINK 0.01f
+/* m: below the soft floor, where a toe the leg cannot raise is lifted by pitching the foot */
+#define TOE_LIFT_MARGIN 0.002f
+/* a landing is done once this little of plant_time is left */
+#define LANDING_DONE 1e-4f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -21,6 +33,15 @@ static mm_vec3 foot_source(const mm_feet *f, int k, mm_vec3 ankle, mm_vec3 toe)
     if (f->toe_locked[k])
         return mm_vec3_sub(f->toe_lock[k], mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(toe, ankle)));
     return ankle;
+}
+
+/* The velocity of what foot k follows (foot_source with the locks as they are now) over the last
+ * tick, from last tick's animated ankle and toe; zero before the first tick. */
+static mm_vec3 source_velocity(const mm_feet *f, int k, mm_vec3 ankle, mm_vec3 toe, float dt)
+{
+    if (!f->placed) return mm_vec3_make(0, 0, 0);
+    mm_vec3 now = foot_source(f, k, ankle, toe), then = foot_source(f, k, f->last_ankle[k], f->last_toe[k]);
+    return mm_vec3_scale(mm_vec3_sub(now, then), 1.0f / dt);
 }
 
 /* Foot k's leg solved by the leg IK (mm/leg_ik.h) so that its ankle reaches target, the knee
@@ -62,7 +83,19 @@ static float above_ground(const mm_feet_ground *ground, float planted, float y)
     return ground->hold && y < ground->height + planted ? ground->height + planted : y;
 }
 
-/* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). */
+/* An ankle's height y kept so that its toe is at most TOE_SINK below floor (the ankle height at which
+ * the toe is at its planted height): unchanged from floor up, floor - TOE_SINK from 2 TOE_SINK below,
+ * a parabola between (continuous in value and slope, so that a foot coming down slows smoothly). */
+static float toe_floor(float y, float floor)
+{
+    float s = TOE_SINK, below = y - floor + 2.0f * s;
+    if (y >= floor) return y;
+    return below <= 0.0f ? floor - s : floor - s + below * below / (4.0f * s);
+}
+
+/* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
+ * offset decays first; a change of what the foot follows then adds to it the difference in place and
+ * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
 static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                          const mm_feet_contacts *contacts, int k, const mm_feet_ground *ground, float dt,
                          const mm_rig_pose *pose, mm_quat *orientation)
@@ -71,49 +104,70 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
     int heel_on = (contacts->label >> (2 * k)) & 1u, toe_on = (contacts->label >> (2 * k + 1)) & 1u;
     if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
-    mm_vec3 before = foot_source(f, k, a, t);
+    mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
-    /* pulled too far from the animation: released, and planted again below where the foot now is,
-     * one spring step toward the animation (the foot creeps after it) */
-    if (was_locked && mm_vec3_distance(before, a) > d->unlock_radius)
-        f->heel_locked[k] = f->toe_locked[k] = false;
+    mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
+    bool far = was_locked && mm_vec3_distance(before, a) > d->unlock_radius;
+    if (far) f->heel_locked[k] = f->toe_locked[k] = false;
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
     f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(before, foot_source(f, k, a, t)));
-    mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
+    /* the velocity on the ground plane only: upward the foot takes what it follows at once (let
+     * go, it lifts off as animated instead of dragging along the ground while its offset fades) */
+    mm_vec3 kept = mm_vec3_sub(before_velocity, source_velocity(f, k, a, t, dt));
+    kept.y = 0.0f;
+    f->offset_velocity[k] = mm_vec3_add(f->offset_velocity[k], kept);
+    if (far) {
+        /* pulled too far from the animation: released, and planted again below where the foot now
+         * is, one spring step from rest toward the animation (the foot creeps after it) */
+        f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
+        mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
+    }
     mm_vec3 out = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    mm_vec3 velocity = mm_vec3_add(source_velocity(f, k, a, t, dt), f->offset_velocity[k]);
+    bool wait = false;
     if (d->plant_time > 0.0f && f->placed && !was_locked) {
         /* landing: the foot's step on the ground plane shrinks to nothing as its contact comes (w:
-         * the share of plant_time gone; 1 on the tick the label turns on, where the foot is planted
-         * where it was), the difference carried by the offset like any other. A transition's
-         * offsets, or the root's pull, would otherwise bring the foot down at the speed they give
-         * it, and the lock would stop it dead from there. */
-        float w = 0.0f;
-        if (heel_on || toe_on) {
-            w = 1.0f;
-        } else {
-            float left = contacts->until_label[k];
-            if (left >= 0.0f) w = 1.0f - left / d->plant_time;
+         * the share of plant_time gone before the label turns on), where the foot is planted where
+         * it was; the difference is carried by the offset like any other. A transition's offsets,
+         * or the root's pull, would otherwise bring the foot down at the speed they give it, and
+         * the lock would stop it dead from there. The share grows by at most a tick's worth each
+         * tick: a contact seen late (less than plant_time ahead, or on already: a jump onto a frame
+         * whose label is on) is planted once the landing has run its plant_time, waited for. A
+         * contact no longer coming ends the landing. */
+        bool on = heel_on || toe_on;
+        float left = contacts->until_label[k], w = 0.0f;
+        if (on || left >= 0.0f) {
+            float due = on ? 1.0f : fmaxf(1.0f - left / d->plant_time, 0.0f);
+            w = fmaxf(f->landed[k], fminf(f->landed[k] + dt / d->plant_time, due));
+            wait = on && w < 1.0f - LANDING_DONE;
+            if (w > 1.0f) w = 1.0f;
         }
+        f->landed[k] = on && !wait ? 0.0f : w;
         if (w > 0.0f) {
             mm_vec3 from = f->lock[k];
             out.x = from.x + (1.0f - w) * (out.x - from.x);
             out.z = from.z + (1.0f - w) * (out.z - from.z);
+            velocity.x *= 1.0f - w, velocity.z *= 1.0f - w;
             f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
-            f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
+            f->offset_velocity[k] = mm_vec3_sub(velocity, source_velocity(f, k, a, t, dt));
         }
     }
-    int planted = 0; /* plant where the foot is now, never lower than the data plants it */
-    if (heel_on && !f->heel_locked[k]) {
+    /* planted where the foot is, at rest, never lower than the data plants it; a heel or a toe
+     * planted while the other holds takes its place on the foot as it is held */
+    bool held_heel = f->heel_locked[k], held_toe = f->toe_locked[k];
+    int planted = 0;
+    if (heel_on && !held_heel && !wait) {
+        f->heel_lock[k] = held_toe ? foot_source(f, k, a, t) : out;
+        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], f->heel_lock[k].y);
         f->heel_locked[k] = true;
-        f->heel_lock[k] = out;
-        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], out.y);
         planted = 1;
     }
-    if (toe_on && !f->toe_locked[k]) {
-        f->toe_locked[k] = true;
-        f->toe_lock[k] = mm_vec3_add(out, mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
+    if (toe_on && !held_toe && !wait) {
+        f->toe_lock[k] = mm_vec3_add(held_heel ? f->heel_lock[k] : out,
+                                     mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
         f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k].y);
+        f->toe_locked[k] = true;
         planted = 1;
     }
     if (planted) { /* held exactly from here (a lock raised to the ground: once the offset has faded) */
@@ -138,6 +192,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     } else {
         mm_spring_decay_vec3(&f->turn[k], &f->turn_velocity[k], d->foot_halflife, dt);
     }
+    f->last_ankle[k] = a, f->last_toe[k] = t;
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), pose->global[ankle].rotation);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
     return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
@@ -166,9 +221,10 @@ static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig
         need = fmaxf(need, down);
     }
     need = fminf(need, d->max_hip_drop);
-    /* down at once, up through a spring from rest, never past [0, max_hip_drop] */
-    mm_spring_update(&f->hip_drop, &f->hip_drop_velocity, need, d->foot_halflife, dt);
-    if (f->hip_drop < need) f->hip_drop = need, f->hip_drop_velocity = 0.0f;
+    /* through a spring both ways (a drop followed at once would move the body as fast as the need
+     * changes, which grows without bound as a target nears the leg's reach across), never past
+     * [0, max_hip_drop] */
+    mm_spring_update(&f->hip_drop, &f->hip_drop_velocity, need, HIP_DROP_HALFLIFE, dt);
     if (f->hip_drop > d->max_hip_drop || f->hip_drop < 0.0f) {
         f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), d->max_hip_drop);
         f->hip_drop_velocity = 0.0f;
@@ -217,21 +273,26 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
          * locomotion: it stands on the ground, which a scene may put anywhere) */
         if (hold_ground && target[k].y < ground + rig->planted_ankle[k])
             target[k].y = ground + rig->planted_ankle[k];
+        if (hold_ground && rig->toe[k] >= 0) { /* and high enough for the toe as the foot is turned */
+            mm_vec3 v = mm_quat_rotate(orientation[k], pose->local_positions[rig->toe[k]]);
+            target[k].y = toe_floor(target[k].y, ground + rig->planted_toe[k] - v.y);
+        }
         f->lock[k] = target[k];
     }
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) lower_hips(f, d, rig, target, dt, pose);
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
-        /* a target out of the leg's reach (a lock the hips moved away from, or the offset a released
-         * lock leaves) is brought onto the reach, and the offset with it: otherwise the offset fades
-         * out of reach (the leg stays straight) and then sweeps the ankle through its reach at the
-         * spring's speed */
+        /* a target far out of the leg's reach (a lock the hips moved away from, or the offset a
+         * released lock leaves) is brought in to a few widths of the softened reach, and the offset
+         * with it: otherwise the offset fades out of reach (the leg stays straight) and then sweeps
+         * the ankle through its reach at the spring's speed. Not onto the reach itself: the leg
+         * there is short of straight by the softening, and the ankle and knee would jump to it */
         mm_vec3 h = pose->global[rig->hip[k]].translation;
-        float reach = leg_length(rig, k, pose);
+        float beyond = leg_length(rig, k, pose) * (1.0f + ONTO_SOFT_WIDTHS * SOFT_REACH);
         mm_vec3 r = mm_vec3_sub(target[k], h);
         float len = mm_vec3_length(r);
-        if (!f->locked[k] && len > reach && len > 1e-6f) {
-            mm_vec3 u = mm_vec3_scale(r, 1.0f / len), onto = mm_vec3_add(h, mm_vec3_scale(u, reach));
+        if (!f->locked[k] && len > beyond && len > 1e-6f) {
+            mm_vec3 u = mm_vec3_scale(r, 1.0f / len), onto = mm_vec3_add(h, mm_vec3_scale(u, beyond));
             f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(onto, target[k]));
             float out = mm_vec3_dot(f->offset_velocity[k], u);
             if (out > 0.0f) f->offset_velocity[k] = mm_vec3_sub(f->offset_velocity[k], mm_vec3_scale(u, out));
@@ -244,7 +305,8 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
     mm_rig_forward(rig, 1, pose); /* below the ankles */
     if (hold_ground) {
         int lifted = 0;
-        for (int k = 0; k < 2; ++k) lifted |= lift_toe(rig, k, ground + rig->planted_toe[k], pose);
+        for (int k = 0; k < 2; ++k)
+            lifted |= lift_toe(rig, k, ground + rig->planted_toe[k] - TOE_SINK - TOE_LIFT_MARGIN, pose);
         if (lifted) mm_rig_forward(rig, 1, pose);
     }
 }

@@ -12,13 +12,17 @@
 /* The feet's state. The heel lock holds the ankle; the toe lock holds the toe, the ankle turning
  * about it as animated; with both, the foot turns so that the toe stays on its lock too (turn: the
  * rotation added to the animated foot, a rotation vector, rad; it fades once a lock is let go).
- * Every change of what a foot follows is carried by offset, which decays: the ankle never jumps. */
+ * Every change of what a foot follows is carried by offset, which decays: the ankle keeps its place,
+ * and its velocity on the ground where the foot is let go (a foot is planted at rest: its landing
+ * slows it first). */
 typedef struct mm_feet {
     bool locked[2], heel_locked[2], toe_locked[2];
     mm_vec3 lock[2]; /* where the ankle is held this tick (its IK target) */
     mm_vec3 heel_lock[2], toe_lock[2], offset[2], offset_velocity[2];
     mm_vec3 turn[2], turn_velocity[2];
-    bool placed;                       /* lock holds last tick's ankle targets (landing eases from them) */
+    bool placed;                        /* lock holds last tick's ankle targets (landing eases from them) */
+    mm_vec3 last_ankle[2], last_toe[2]; /* last tick's animated ankles and toes (when placed) */
+    float landed[2]; /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 raw_contacts[4];           /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
