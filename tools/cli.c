@@ -1,6 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
+#include <mm/bvh.h>
+
 #include <errno.h>
 #include <float.h>
 #include <math.h>
@@ -173,6 +175,25 @@ FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
     FILE *f = fopen(tmp, "wb");
     if (!f) fprintf(stderr, "mm: %s: cannot create: %s\n", path, strerror(errno));
     return f;
+}
+
+int cli_load_clip(const char *path, double scale, mm_clip *clip)
+{
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_bvh bvh;
+    if (mm_bvh_load(path, NULL, &bvh, &err) != MM_OK) return cli_report(&err);
+    mm_bvh_import_desc imp;
+    memset(&imp, 0, sizeof imp);
+    imp.auto_scale = !(scale > 0.0);
+    imp.scale = scale > 0.0 ? (float)scale : 0.0f;
+    mm_result r = mm_bvh_to_clip(&bvh, &imp, clip, &err);
+    mm_bvh_free(&bvh);
+    if (r != MM_OK) {
+        snprintf(err.file, sizeof err.file, "%s", path);
+        return cli_report(&err);
+    }
+    return 0;
 }
 
 int cli_finish(FILE *f, const char *tmp, const char *path)

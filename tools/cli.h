@@ -4,6 +4,7 @@
 
 #include <stdio.h>
 
+#include <mm/clip.h>
 #include <mm/result.h>
 
 /* Prints "mm: " + the formatted error on stderr. Returns 1 (an exit code). */
@@ -50,6 +51,9 @@ int cli_parse_options(const char *command, int argc, char **argv, const cli_opti
 /* A CLI_CUSTOM parser of --scale: a factor in (0, 1000], or auto (stored as 0: detect the unit);
  * target is a double. */
 int cli_parse_scale(const char *command, const cli_option *option, const char *value);
+/* Reads the BVH file at path as a clip in metres: scale metres per file unit, or 0 to detect the
+ * unit. 0 on success; otherwise reports the error, naming the file, and returns 1. */
+int cli_load_clip(const char *path, double scale, mm_clip *clip);
 /* The number of elements of an array (an option table). */
 #define CLI_COUNT(array) ((int)(sizeof(array) / sizeof((array)[0])))
 /* Parses a whole argument as a decimal number (no hexadecimal, inf or nan) that a float holds

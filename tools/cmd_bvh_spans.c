@@ -347,22 +347,10 @@ int mm_cmd_bvh_spans(int argc, char **argv)
         for (int k = 0; k < ROLE_COUNT; ++k) from_config[k] = names[k][0] ? names[k] : NULL;
         if (scale < 0) scale = cfg.scale;
     }
-    mm_bvh bvh;
-    if (mm_bvh_load(path, NULL, &bvh, &err) != MM_OK) {
-        mm_config_free(&cfg);
-        return cli_report(&err);
-    }
-    mm_bvh_import_desc imp;
-    memset(&imp, 0, sizeof imp);
-    imp.scale = scale > 0 ? (float)scale : 0.0f;
-    imp.auto_scale = scale <= 0;
     mm_clip clip;
-    snprintf(err.file, sizeof err.file, "%s", path);
-    mm_result r = mm_bvh_to_clip(&bvh, &imp, &clip, &err);
-    mm_bvh_free(&bvh);
-    if (r != MM_OK) {
+    if (cli_load_clip(path, scale, &clip)) {
         mm_config_free(&cfg);
-        return cli_report(&err);
+        return 1;
     }
     int roles[ROLE_COUNT];
     status = find_roles(&clip.skeleton, path, given, from_config, config, roles);

@@ -47,19 +47,8 @@ int mm_cmd_metrics(int argc, char **argv)
     memset(&err, 0, sizeof err);
     static mm_scene scene; /* about 7 KB: not on the stack */
     if (scene_path && mm_scene_load_json(scene_path, &scene, &err) != MM_OK) return cli_report(&err);
-    mm_bvh bvh;
-    if (mm_bvh_load(in, NULL, &bvh, &err) != MM_OK) return cli_report(&err);
-    mm_bvh_import_desc imp;
-    memset(&imp, 0, sizeof imp);
-    imp.auto_scale = scale == 0.0;
-    imp.scale = (float)scale;
     mm_clip clip;
-    mm_result r = mm_bvh_to_clip(&bvh, &imp, &clip, &err);
-    mm_bvh_free(&bvh);
-    if (r != MM_OK) {
-        snprintf(err.file, sizeof err.file, "%s", in);
-        return cli_report(&err);
-    }
+    if (cli_load_clip(in, scale, &clip)) return 1;
     mm_database db;
     memset(&db, 0, sizeof db);
     if (db_path && mm_database_load(db_path, NULL, &db, &err) != MM_OK) {

@@ -154,19 +154,8 @@ int mm_cmd_render(int argc, char **argv)
         if (mm_scene_load_json(scene_path, &obstacles, &err) != MM_OK) return cli_report(&err);
         box_count = mm_view_scene_boxes(&obstacles, boxes, MM_SCENE_MAX_BOXES);
     }
-    mm_bvh bvh;
-    if (mm_bvh_load(in, NULL, &bvh, &err) != MM_OK) return cli_report(&err);
-    mm_bvh_import_desc imp;
-    memset(&imp, 0, sizeof imp);
-    imp.auto_scale = scale == 0.0;
-    imp.scale = (float)scale;
     mm_clip clip;
-    mm_result r = mm_bvh_to_clip(&bvh, &imp, &clip, &err);
-    mm_bvh_free(&bvh);
-    if (r != MM_OK) {
-        snprintf(err.file, sizeof err.file, "%s", in);
-        return cli_report(&err);
-    }
+    if (cli_load_clip(in, scale, &clip)) return 1;
     double duration = mm_clip_duration(&clip);
     if (from > duration) from = duration;
     double until = seconds > 0 ? fmin(duration, from + seconds) : duration;

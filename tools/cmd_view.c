@@ -398,18 +398,8 @@ static int view_clip(const options *o)
 {
     mm_error err;
     memset(&err, 0, sizeof err);
-    mm_bvh bvh;
-    if (mm_bvh_load(o->clip, NULL, &bvh, &err) != MM_OK) return cli_report(&err);
-    mm_bvh_import_desc imp;
-    memset(&imp, 0, sizeof imp);
-    imp.auto_scale = true;
     mm_clip clip;
-    mm_result r = mm_bvh_to_clip(&bvh, &imp, &clip, &err);
-    mm_bvh_free(&bvh);
-    if (r != MM_OK) {
-        snprintf(err.file, sizeof err.file, "%s", o->clip);
-        return cli_report(&err);
-    }
+    if (cli_load_clip(o->clip, 0.0, &clip)) return 1;
     static clip_tags tags;
     int status = load_clip_tags(o, o->clip, &tags);
     int n = clip.skeleton.joint_count;
