@@ -280,7 +280,10 @@ static const help_entry entries[] = {
      "  --size WxH         the window's pixels (default 1280x720)\n"
      "  --frames N         run N frames and quit (default: until the window closes)\n"
      "  --screenshot PNG   save the last of the N frames\n"},
-    {"version", "print the version", "usage: mm version\nPrints the version.\n"},
+    {"version", "print the version",
+     "usage: mm version   (or mm --version)\n"
+     "Prints the program's version, the version of the mm library it runs with (mm_version(),\n"
+     "mm/version.h) and the .mmdb format version it reads (docs/embedding.md, \"Versions\").\n"},
     {"help", "this list, or a command's usage and options",
      "usage: mm help [COMMAND [SUBCOMMAND]]\n"
      "       mm COMMAND [SUBCOMMAND] --help   (or -h)\n"

@@ -38,11 +38,7 @@
 #include "spring.h"
 #include "synth.h"
 #include "trajectory.h"
+#include "version.h"
 #include "warp.h"
-
-#define MM_VERSION_MAJOR  0
-#define MM_VERSION_MINOR  1
-#define MM_VERSION_PATCH  0
-#define MM_VERSION_STRING "0.1.0"
 
 #endif /* MM_MM_H */

@@ -32,6 +32,7 @@
 #include "spring.h"
 #include "target_match.h"
 #include "trajectory.h"
+#include "version.h"
 #include "warp.h"
 
 #endif /* MM_RUNTIME_H */
