@@ -26,6 +26,7 @@
 #include "pose.h"
 #include "prediction.h"
 #include "result.h"
+#include "run.h"
 #include "scene.h"
 #include "search.h"
 #include "skeleton.h"
