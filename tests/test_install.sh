@@ -15,6 +15,7 @@ src=$2
 out=$3
 cc=$4
 flags=${5:-}
+# shellcheck disable=SC1091
 . "$src/tests/cli_checks.sh"
 rm -rf "$out"
 mkdir -p "$out"

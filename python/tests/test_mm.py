@@ -26,6 +26,10 @@ def test_the_library_is_the_packages_own():
     here = os.path.dirname(os.path.abspath(mm.__file__))
     assert os.path.dirname(_native.runtime._name).startswith(here)
     assert "LD_LIBRARY_PATH" not in os.environ or here not in os.environ["LD_LIBRARY_PATH"]
+    # every mm library mapped into the process is the package's copy (one runtime, not a build tree's)
+    with open("/proc/self/maps", encoding="utf-8") as f:
+        mapped = {line.split()[-1] for line in f if "libmm_" in line}
+    assert len(mapped) == 2 and all(p.startswith(here) for p in mapped), mapped
 
 
 def test_database_structure(db):
