@@ -42,6 +42,8 @@ static int not_idle(const mm_config_clip *c) { return c->type != MM_CLIP_IDLE; }
 /* neither idle nor a stop (the stops end standing still) */
 static int not_idle_nor_stop(const mm_config_clip *c) { return not_idle(c) && !strstr(c->name, "_stop"); }
 static int keep_all(const mm_config_clip *c) { return c != NULL; }
+/* the run loops alone: a run has no moment with both feet down */
+static int run_loops(const mm_config_clip *c) { return strncmp(c->name, "run_", 4) == 0 && c->loop; }
 static int lafan_walk(const mm_config_clip *c) { return strcmp(c->name, "walk4_subject1") == 0; }
 
 /* Builds config path with its clips filtered by keep and standing.make = make; with synth, the
@@ -170,7 +172,7 @@ static void check_made_clip(const mm_database *db, const mm_db_build_report *rep
     /* the diagnosis still warns, naming the clip and the frame */
     mm_diagnosis d;
     assert_int_equal(mm_database_diagnose(db, report, NULL, &d), MM_OK);
-    assert_int_equal(d.standing_clips, 2);
+    assert_int_equal(d.standing_clips, 2 * s->poses); /* each mirrored */
     int warned = 0;
     char frame[64];
     snprintf(frame, sizeof frame, "frame %d", s->from_frame);
@@ -182,6 +184,38 @@ static void check_made_clip(const mm_database *db, const mm_db_build_report *rep
     assert_int_equal(mm_database_diagnose(db, NULL, NULL, &d), MM_OK);
     assert_int_equal(d.items[0].code, MM_DIAG_NO_IDLE);
     assert_non_null(strstr(d.items[0].message, s->clip));
+}
+
+/* Every clip the build made: an idle loop holding one pose, upright, all four contacts planted,
+ * named after the frame; the stillest first; mirrors after their poses. Returns how many. */
+static int check_every_made_clip(const mm_database *db, const mm_db_build_report *report)
+{
+    int made = 0, first = -1, jc = db->joint_count;
+    mm_posture_joints pj = {joint(db, "Hips"), joint(db, "Head"), joint(db, "LeftHand"),
+                            joint(db, "RightHand")};
+    mm_posture_reference ref = {report->reference_head_height};
+    mm_vec3 w[MM_MAX_JOINTS];
+    for (int c = 0; c < db->clip_count; ++c) {
+        const mm_db_clip *k = &db->clips[c];
+        if (!starts_with(k->name, STANDING_PREFIX)) continue;
+        if (first < 0) first = c;
+        ++made;
+        assert_int_equal(k->type, MM_CLIP_IDLE);
+        assert_int_equal(k->loop, 1);
+        const mm_quat *a = mm_database_rotations(db, k->first_frame);
+        for (int i = 0; i < k->frame_count; ++i) {
+            const mm_quat *b = mm_database_rotations(db, k->first_frame + i);
+            for (int j = 0; j < jc; ++j) assert_true(fabsf(mm_quat_dot(a[j], b[j])) > 1.0f - 1e-6f);
+            assert_int_equal(db->contacts[k->first_frame + i], 15);
+        }
+        world_of(db, k->first_frame, w);
+        assert_int_equal(mm_posture_classify(w, &pj, w[0].y, &ref), MM_POSTURE_UPRIGHT);
+        print_message("  %s\n", k->name);
+    }
+    assert_true(first >= 0);
+    assert_string_equal(db->clips[first].name, report->standing.clip);
+    assert_int_equal(made, 2 * report->standing.poses);
+    return made;
 }
 
 /* What a run of the stop-and-go script did after its last stop settled: over 2 s windows, the
@@ -271,6 +305,7 @@ static void test_builtin_without_idle(void **state)
     mm_db_build_report report;
     assert_int_equal(build(MM_SOURCE_DIR "/configs/synth.json", 1, not_idle, true, &db, &report), 0);
     check_made_clip(&db, &report);
+    check_every_made_clip(&db, &report);
     standing_run r = run_stop_and_go(&db);
     print_run("built-in set without idle", &r);
     assert_true(r.windows >= 10);
@@ -294,7 +329,7 @@ static void test_pose_is_what_stands(void **state)
         build(MM_SOURCE_DIR "/configs/synth.json", 1, not_idle_nor_stop, false, &off, &report_off), 0);
     assert_int_equal(report_on.standing.status, MM_STANDING_MADE);
     assert_int_equal(report_off.standing.status, MM_STANDING_OFF);
-    assert_int_equal(on.clip_count, off.clip_count + 2);
+    assert_int_equal(on.clip_count, off.clip_count + 2 * report_on.standing.poses);
     for (int c = 0; c < off.clip_count; ++c) assert_int_not_equal(off.clips[c].type, MM_CLIP_IDLE);
     mm_diagnosis d;
     assert_int_equal(mm_database_diagnose(&off, &report_off, NULL, &d), MM_OK);
@@ -321,6 +356,71 @@ static void test_not_needed_with_idle(void **state)
     mm_database_free(&db);
 }
 
+/* standing.make in JSON: read, defaulted, refused with a wrong type or an unknown key (the field
+ * named), and written back by mm_config_save_json only when it differs from the default. */
+static void test_config_key(void **state)
+{
+    (void)state;
+    mm_config cfg, back;
+    memset(&cfg, 0, sizeof cfg);
+    memset(&back, 0, sizeof back);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    const char *off = "{\"standing\": {\"make\": false}}", *none = "{}",
+               *wrong = "{\"standing\": {\"make\": 1}}", *unknown = "{\"standing\": {\"poses\": 3}}";
+    assert_int_equal(mm_config_parse_json(none, strlen(none), "none.json", NULL, &cfg, &err), MM_OK);
+    assert_true(cfg.standing_make);
+    mm_config_free(&cfg);
+    assert_int_equal(mm_config_parse_json(off, strlen(off), "off.json", NULL, &cfg, &err), MM_OK);
+    assert_false(cfg.standing_make);
+    mm_config_free(&cfg);
+    assert_int_not_equal(mm_config_parse_json(wrong, strlen(wrong), "wrong.json", NULL, &cfg, &err), MM_OK);
+    assert_non_null(strstr(err.message, "standing"));
+    mm_config_free(&cfg);
+    memset(&err, 0, sizeof err);
+    assert_int_not_equal(mm_config_parse_json(unknown, strlen(unknown), "unknown.json", NULL, &cfg, &err),
+                         MM_OK);
+    assert_non_null(strstr(err.message, "poses"));
+    mm_config_free(&cfg);
+    /* saved and read back */
+    assert_int_equal(mm_config_load_json(MM_SOURCE_DIR "/configs/synth.json", &cfg, NULL, &err), MM_OK);
+    cfg.standing_make = false;
+    const char *path = MM_TEST_OUT "/standing_off.json";
+    assert_int_equal(mm_config_save_json(path, &cfg, &err), MM_OK);
+    assert_int_equal(mm_config_load_json(path, &back, NULL, &err), MM_OK);
+    assert_false(back.standing_make);
+    mm_config_free(&back);
+    cfg.standing_make = true;
+    assert_int_equal(mm_config_save_json(path, &cfg, &err), MM_OK);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char text[1 << 16];
+    text[fread(text, 1, sizeof text - 1, f)] = 0;
+    fclose(f);
+    assert_null(strstr(text, "standing")); /* the default is not written */
+    mm_config_free(&cfg);
+    remove(path);
+}
+
+/* Takes with no frame to stand on (runs alone): the build succeeds, makes nothing, and says why. */
+static void test_nothing_to_stand_on(void **state)
+{
+    (void)state;
+    mm_database db;
+    mm_db_build_report report;
+    assert_int_equal(build(MM_SOURCE_DIR "/configs/synth.json", 1, run_loops, true, &db, &report), 0);
+    assert_true(db.clip_count > 0);
+    assert_int_equal(report.standing.status, MM_STANDING_NOT_FOUND);
+    assert_int_equal(report.standing.poses, 0);
+    assert_int_equal(report.standing.standing_frames, 0);
+    for (int c = 0; c < db.clip_count; ++c) assert_int_not_equal(db.clips[c].type, MM_CLIP_IDLE);
+    mm_diagnosis d;
+    assert_int_equal(mm_database_diagnose(&db, &report, NULL, &d), MM_OK);
+    assert_int_equal(d.items[0].code, MM_DIAG_NO_IDLE);
+    assert_non_null(strstr(d.items[0].message, "both feet down"));
+    mm_database_free(&db);
+}
+
 /* LAFAN1's walk4_subject1 without its idle spans. */
 static void test_lafan_walk_without_idle(void **state)
 {
@@ -334,6 +434,7 @@ static void test_lafan_walk_without_idle(void **state)
     mm_db_build_report report;
     assert_int_equal(build(MM_DATA_CONFIGS "/lafan1.json", 0, lafan_walk, true, &db, &report), 0);
     check_made_clip(&db, &report);
+    check_every_made_clip(&db, &report);
     standing_run r = run_stop_and_go(&db);
     print_run("LAFAN1 walk4_subject1 without idle", &r);
     assert_true(r.idle_share > 0.99f);
@@ -345,10 +446,9 @@ static void test_lafan_walk_without_idle(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_builtin_without_idle),
-        cmocka_unit_test(test_pose_is_what_stands),
-        cmocka_unit_test(test_not_needed_with_idle),
-        cmocka_unit_test(test_lafan_walk_without_idle),
+        cmocka_unit_test(test_config_key),          cmocka_unit_test(test_builtin_without_idle),
+        cmocka_unit_test(test_pose_is_what_stands), cmocka_unit_test(test_not_needed_with_idle),
+        cmocka_unit_test(test_nothing_to_stand_on), cmocka_unit_test(test_lafan_walk_without_idle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -34,10 +34,12 @@ static void print_postures(const mm_db_build_report *report)
 static void print_standing(const mm_db_standing_report *s)
 {
     if (s->status == MM_STANDING_MADE)
-        printf("standing:   no idle clip: made %s%s, clip %s's frame %d (%.2f s) held for 2 s with the feet "
-               "planted (root %.3f m/s, joints %.3f m/s around it, feet %.2f m apart along the facing)\n",
-               s->clip, s->mirrored ? " and its mirror" : "", s->from_clip, s->from_frame, s->from_time,
-               s->root_speed, s->joint_speed, s->stride);
+        printf(
+            "standing:   no idle clip: made %d standing pose%s%s held for 2 s with the feet planted, the "
+            "stillest %s: clip %s's frame %d (%.2f s; root %.3f m/s, joints %.3f m/s around it, feet %.2f m "
+            "apart along the facing, %.2f m from the root)\n",
+            s->poses, s->poses == 1 ? "" : "s", s->mirrored ? " (and mirrors)" : "", s->clip, s->from_clip,
+            s->from_frame, s->from_time, s->root_speed, s->joint_speed, s->stride, s->offset);
     else if (s->status == MM_STANDING_OFF)
         printf("standing:   no idle clip, none made (standing.make is false)\n");
     else if (s->status == MM_STANDING_NOT_FOUND)

@@ -34,16 +34,20 @@ typedef enum mm_standing_status {
     MM_STANDING_NOT_FOUND       /* none, and no locomotion frame is upright with both feet down */
 } mm_standing_status;
 
-/* The standing clip a build made: which frame of which clip it holds, and how still that was. */
+/* The standing clips a build made: how many, and which frame of which clip the first (the stillest)
+ * holds, and how still that was. */
 typedef struct mm_db_standing_report {
     int status;                    /* mm_standing_status */
-    char clip[MM_NAME_MAX];        /* the clip made: "standing_from_<from_clip>_<from_frame>" */
+    int poses;                     /* standing clips made (mirrors aside): the stillest pose and those
+                                      nearly as still, each from its own clip */
+    char clip[MM_NAME_MAX];        /* the first clip made: "standing_from_<from_clip>_<from_frame>" */
     char from_clip[MM_NAME_MAX];   /* the database clip whose pose it holds */
     int from_frame;                /* that pose's frame in the source file (its own frame rate) */
     float from_time;               /* s: the same, in seconds from the start of the file */
     bool mirrored;                 /* the mirrored pose was added too ("<clip>_mirror") */
     float root_speed, joint_speed; /* m/s: the root's and the joints' mean speed around the frame */
     float stride;                  /* m: the ankles apart along the facing */
+    float offset;                  /* m: the ankles' midpoint from the root, on the ground */
     int standing_frames;           /* locomotion frames judged upright with both feet down */
 } mm_db_standing_report;
 

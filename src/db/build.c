@@ -298,8 +298,8 @@ static int same_name_any_case(const char *a, const char *b)
     return *a == *b;
 }
 
-/* With no idle clip (and standing.make), the stillest standing frame of the locomotion clips, held,
- * as an idle loop (db/standing.h), and its mirror when its clip is mirrored; says so in report. */
+/* With no idle clip (and standing.make), the stillest standing frames of the locomotion clips, held,
+ * as idle loops (db/standing.h), each mirrored when its clip is; says so in report. */
 static mm_result add_standing(builder *b, float head_height, mm_db_standing_report *report)
 {
     const mm_config *cfg = b->cfg;
@@ -343,60 +343,64 @@ static mm_result add_standing(builder *b, float head_height, mm_db_standing_repo
         candidates[count] = &c->clip;
         index[count++] = i;
     }
-    mm__standing_pick pick;
+    mm__standing_pick picks[MM__STANDING_POSES];
+    int found = 0;
     if (r == MM_OK)
-        r = mm__standing_find(cfg, candidates, (const uint8_t *const *)usable, count, head_height, &pick);
-    int from = r == MM_OK && pick.clip >= 0 ? index[pick.clip] : -1;
+        r = mm__standing_find(cfg, candidates, (const uint8_t *const *)usable, count, head_height,
+                              MM__STANDING_POSES, picks, &found, &said.standing_frames);
+    for (int k = 0; k < found; ++k) picks[k].clip = index[picks[k].clip]; /* now a builder clip */
     for (int i = 0; usable && i < count; ++i) free(usable[i]);
     free(usable);
     free(candidates);
     free(index);
     if (r != MM_OK) return mm_error_set(b->err, r, 0, 0, "standing: out of memory");
-    said.standing_frames = pick.standing_frames;
-    if (from < 0) {
-        if (report) *report = said;
-        return MM_OK;
-    }
-    const built *src = &b->clips[from];
-    const mm_clip *file = &b->sources[src->meta.source];
-    float t = src->meta.source_start + (float)pick.frame * cfg->interval;
-    said.status = MM_STANDING_MADE;
-    said.from_time = t;
-    said.from_frame = (int)lroundf(t * file->fps);
-    said.root_speed = pick.root_speed;
-    said.joint_speed = pick.joint_speed;
-    said.stride = pick.stride;
-    snprintf(said.from_clip, MM_NAME_MAX, "%s", src->meta.name);
-    built x;
-    memset(&x, 0, sizeof x);
-    snprintf(x.meta.name, MM_NAME_MAX, MM__STANDING_PREFIX "%.32s_%d", src->meta.name, said.from_frame);
-    snprintf(said.clip, MM_NAME_MAX, "%s", x.meta.name);
-    x.meta.type = MM_CLIP_IDLE;
-    x.meta.loop = 1;
-    x.meta.source = src->meta.source;
-    x.meta.blend_left = x.meta.blend_right = -1;
-    x.meta.source_start = t;
-    x.config_clip = -1; /* no tags: the pose stands in no gait */
-    x.blend = -1;
-    int mirror = cfg->clips[src->meta.source].mirror;
-    if ((r = mm__standing_hold(&src->clip, pick.frame, &x.clip, b->a)) != MM_OK)
-        return mm_error_set(b->err, r, 0, 0, "standing: out of memory");
-    if ((r = push(b, &x)) != MM_OK) {
-        mm_clip_free(&x.clip);
-        return r;
-    }
-    if (mirror) {
-        built m = b->clips[b->count - 1];
-        if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a)) != MM_OK)
-            return mm_error_set(b->err, r, 0, 0, "standing (%s): cannot mirror", x.meta.name);
-        size_t len = strlen(m.meta.name);
-        snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
-        m.meta.mirrored = 1;
-        if ((r = push(b, &m)) != MM_OK) {
-            mm_clip_free(&m.clip);
+    for (int k = 0; k < found; ++k) {
+        const built *src = &b->clips[picks[k].clip];
+        const mm_clip *file = &b->sources[src->meta.source];
+        float t = src->meta.source_start + (float)picks[k].frame * cfg->interval;
+        int source_frame = (int)lroundf(t * file->fps);
+        built x;
+        memset(&x, 0, sizeof x);
+        snprintf(x.meta.name, MM_NAME_MAX, MM__STANDING_PREFIX "%.32s_%d", src->meta.name, source_frame);
+        x.meta.type = MM_CLIP_IDLE;
+        x.meta.loop = 1;
+        x.meta.source = src->meta.source;
+        x.meta.blend_left = x.meta.blend_right = -1;
+        x.meta.source_start = t;
+        x.config_clip = -1; /* no tags: the pose stands in no gait */
+        x.blend = -1;
+        int mirror = cfg->clips[src->meta.source].mirror;
+        if (k == 0) {
+            said.status = MM_STANDING_MADE;
+            said.from_time = t;
+            said.from_frame = source_frame;
+            said.root_speed = picks[k].root_speed;
+            said.joint_speed = picks[k].joint_speed;
+            said.stride = picks[k].stride;
+            said.offset = picks[k].offset;
+            said.mirrored = mirror;
+            snprintf(said.from_clip, MM_NAME_MAX, "%s", src->meta.name);
+            snprintf(said.clip, MM_NAME_MAX, "%s", x.meta.name);
+        }
+        ++said.poses;
+        if ((r = mm__standing_hold(&src->clip, picks[k].frame, &x.clip, b->a)) != MM_OK)
+            return mm_error_set(b->err, r, 0, 0, "standing: out of memory");
+        if ((r = push(b, &x)) != MM_OK) {
+            mm_clip_free(&x.clip);
             return r;
         }
-        said.mirrored = true;
+        if (mirror) {
+            built m = b->clips[b->count - 1];
+            if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a)) != MM_OK)
+                return mm_error_set(b->err, r, 0, 0, "standing (%s): cannot mirror", x.meta.name);
+            size_t len = strlen(m.meta.name);
+            snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
+            m.meta.mirrored = 1;
+            if ((r = push(b, &m)) != MM_OK) {
+                mm_clip_free(&m.clip);
+                return r;
+            }
+        }
     }
     if (report) *report = said;
     return MM_OK;

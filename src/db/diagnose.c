@@ -195,12 +195,13 @@ mm_result mm_database_diagnose(const mm_database *db, const mm_db_build_report *
     if (db->frame_count > 0 && db->joint_count > 1) out->height = standing_height(db, v, g);
     mm_free(a, v);
     mm_free(a, g);
-    int made = -1; /* the first standing clip the build made */
+    int made = -1, poses = 0; /* the first standing clip the build made; those not mirrored */
     for (int c = 0; c < db->clip_count; ++c) {
         if (db->clips[c].type != MM_CLIP_IDLE) continue;
         ++out->idle_clips;
         if (strncmp(db->clips[c].name, MM__STANDING_PREFIX, strlen(MM__STANDING_PREFIX)) == 0) {
             ++out->standing_clips;
+            poses += !db->clips[c].mirrored;
             if (made < 0) made = c;
         }
     }
@@ -213,11 +214,13 @@ mm_result mm_database_diagnose(const mm_database *db, const mm_db_build_report *
             snprintf(from, sizeof from, " (clip %s's frame %d, %.2f s)", st->from_clip, st->from_frame,
                      st->from_time);
         add(out, MM_DIAG_NO_IDLE,
-            "no idle clip in the config: the build made %s, the stillest standing pose of the takes%s held "
-            "with the feet planted (standing.make), so stops stand still but do not breathe or shift: add "
+            "no idle clip in the config: the build made %d standing pose%s from the takes, held with the "
+            "feet "
+            "planted (standing.make), the stillest %s%s, so stops stand still but do not breathe or shift: "
+            "add "
             "an idle clip (a take of standing, \"type\": \"idle\"; mm bvh spans finds the standing spans "
             "of a take)",
-            db->clips[made].name, from);
+            poses, poses == 1 ? "" : "s", db->clips[made].name, from);
     } else if (!out->idle_clips)
         add(out, MM_DIAG_NO_IDLE,
             "no idle clip: stops will slide (the character has nothing to stand still on)%s: add an idle "

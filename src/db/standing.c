@@ -77,18 +77,30 @@ static void measure_clip(const mm_config *cfg, const mm_clip *c, float head_heig
     }
 }
 
-mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, const uint8_t *const *usable,
-                            int count, float head_height, mm__standing_pick *pick)
+/* Puts x into the list picks[0..*n) kept sorted by cost (at most max; ties keep the earlier). */
+static void insert_pick(mm__standing_pick *picks, int *n, int max, const mm__standing_pick *x)
 {
-    memset(pick, 0, sizeof *pick);
-    pick->clip = -1;
-    pick->frame = -1;
+    int at = *n;
+    while (at > 0 && x->cost < picks[at - 1].cost) --at;
+    if (at >= max) return;
+    int last = *n < max ? *n : max - 1;
+    for (int k = last; k > at; --k) picks[k] = picks[k - 1];
+    picks[at] = *x;
+    if (*n < max) ++*n;
+}
+
+mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, const uint8_t *const *usable,
+                            int count, float head_height, int max, mm__standing_pick *picks, int *found,
+                            int *standing_frames)
+{
+    *found = 0;
+    *standing_frames = 0;
     int longest = 0, jc = 0;
     for (int i = 0; i < count; ++i) {
         if (clips[i]->frame_count > longest) longest = clips[i]->frame_count;
         if (clips[i]->skeleton.joint_count > jc) jc = clips[i]->skeleton.joint_count;
     }
-    if (longest < 3 || jc < 1) return MM_OK;
+    if (longest < 3 || jc < 1 || max < 1) return MM_OK;
     size_t cells = (size_t)longest * (size_t)jc;
     mm_xform *globals = (mm_xform *)malloc(sizeof(mm_xform) * cells);
     mm_vec3 *world = (mm_vec3 *)malloc(sizeof(mm_vec3) * cells);
@@ -103,7 +115,6 @@ mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, c
         free(m);
         return MM_ERR_OUT_OF_MEMORY;
     }
-    float best = INFINITY;
     for (int i = 0; i < count; ++i) {
         const mm_clip *c = clips[i];
         int n = c->frame_count;
@@ -111,10 +122,13 @@ mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, c
         measure_clip(cfg, c, head_height, globals, world, contacts, heights, m);
         if (usable[i])
             for (int f = 0; f < n; ++f) m[f].standing &= usable[i][f] != 0;
-        for (int f = 0; f < n; ++f) pick->standing_frames += m[f].standing;
+        for (int f = 0; f < n; ++f) *standing_frames += m[f].standing;
         int half = (int)lroundf(0.5f * MM__STANDING_WINDOW * c->fps);
         if (half < 1) half = 1;
         if (2 * half + 2 > n) half = (n - 2) / 2;
+        mm__standing_pick best;
+        best.clip = -1;
+        best.cost = INFINITY;
         /* frame 0's speeds are a forward difference: windows start at frame 1 */
         for (int f = 1 + half; f + half < n; ++f) {
             if (!m[f].standing) continue;
@@ -129,17 +143,22 @@ mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, c
             joints /= (float)(2 * half + 1);
             float cost = root + joints + MM__STANDING_STRIDE * m[f].stride +
                          MM__STANDING_OFFSET * m[f].offset + (steady ? 0.0f : MM__STANDING_UNSTEADY);
-            if (cost < best) {
-                best = cost;
-                pick->clip = i;
-                pick->frame = f;
-                pick->root_speed = root;
-                pick->joint_speed = joints;
-                pick->stride = m[f].stride;
-                pick->cost = cost;
+            if (cost < best.cost) {
+                best.clip = i;
+                best.frame = f;
+                best.root_speed = root;
+                best.joint_speed = joints;
+                best.stride = m[f].stride;
+                best.offset = m[f].offset;
+                best.cost = cost;
             }
         }
+        if (best.clip >= 0) insert_pick(picks, found, max, &best);
     }
+    /* the stillest, and those nearly as still */
+    int keep = *found > 0 ? 1 : 0;
+    while (keep < *found && picks[keep].cost <= picks[0].cost + MM__STANDING_COST_MARGIN) ++keep;
+    *found = keep;
     free(globals);
     free(world);
     free(contacts);
