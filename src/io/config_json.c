@@ -70,11 +70,12 @@ static const mm_config_field_doc docs[] = {
      "gait (walk, run, crouch, jump) keep what the config says."},
     {"postures.pad", "number", "s", "0.25", "Seconds left out before and after a calibration or lying pose."},
     {"standing.make", "bool", "", "true",
-     "When no clip is an idle clip, make one: the stillest standing frame of the locomotion clips (upright, "
-     "both feet down, the root and joints slowest around it, the feet side by side under the body) held for "
-     "2 s as a loop, named standing_from_<clip>_<frame> (mirrored too when its clip is), so that a character "
-     "told to stop stands still instead of sliding on walking frames (docs/database.md, \"A standing pose "
-     "when the takes have no idle\"). mm db build says which frame it took; false: no such clip."},
+     "When no clip is an idle clip, make some: the stillest standing frame of the locomotion clips (upright, "
+     "both feet down, the root and joints slowest around it, the feet side by side under the body), and up "
+     "to 3 others nearly as still from other clips, each held for 2 s as an idle loop named "
+     "standing_from_<clip>_<frame> (mirrored too when its clip is), so that a character told to stop stands "
+     "still instead of sliding on walking frames (docs/database.md, \"A standing pose when the takes have no "
+     "idle\"). mm db build says which frames it took; false: none."},
     {"features.bones", "[object]", "", "LeftFoot, RightFoot (position and velocity), Hips (velocity)",
      "The bones whose position and velocity, relative to the character, are matched (the seed's Bones)."},
     {"features.bones[].name", "string", "", "", "Joint name."},
