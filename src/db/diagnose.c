@@ -214,12 +214,10 @@ mm_result mm_database_diagnose(const mm_database *db, const mm_db_build_report *
             snprintf(from, sizeof from, " (clip %s's frame %d, %.2f s)", st->from_clip, st->from_frame,
                      st->from_time);
         add(out, MM_DIAG_NO_IDLE,
-            "no idle clip in the config: the build made %d standing pose%s from the takes, held with the "
-            "feet "
-            "planted (standing.make), the stillest %s%s, so stops stand still but do not breathe or shift: "
-            "add "
-            "an idle clip (a take of standing, \"type\": \"idle\"; mm bvh spans finds the standing spans "
-            "of a take)",
+            "no idle clip in the config: the build made %d standing pose%s from the takes, "
+            "held with the feet planted (standing.make), the stillest %s%s, so stops stand "
+            "still but do not breathe or shift: add an idle clip (a take of standing, "
+            "\"type\": \"idle\"; mm bvh spans finds the standing spans of a take)",
             poses, poses == 1 ? "" : "s", db->clips[made].name, from);
     } else if (!out->idle_clips)
         add(out, MM_DIAG_NO_IDLE,
