@@ -48,8 +48,8 @@ static int lafan_walk(const mm_config_clip *c) { return strcmp(c->name, "walk4_s
 
 /* Builds config path with its clips filtered by keep and standing.make = make; with synth, the
  * clips come from mm_synth_generate. Returns 0, or -1 (printing why). */
-static int build(const char *path, int synth, int (*keep)(const mm_config_clip *), bool make, mm_database *db,
-                 mm_db_build_report *report)
+static int build_threads(const char *path, int synth, int (*keep)(const mm_config_clip *), bool make,
+                         int threads, mm_database *db, mm_db_build_report *report)
 {
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -83,12 +83,19 @@ static int build(const char *path, int synth, int (*keep)(const mm_config_clip *
     mm_db_build_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.report = report;
+    desc.threads = threads;
     mm_result r = mm_database_build(&cfg, sources, &desc, db, &err);
     if (r != MM_OK) fprintf(stderr, "%s: %s\n", path, err.message);
     mm_config_free_sources(&cfg, sources);
     mm_config_free(&cfg);
     free(text);
     return r == MM_OK ? 0 : -1;
+}
+
+static int build(const char *path, int synth, int (*keep)(const mm_config_clip *), bool make, mm_database *db,
+                 mm_db_build_report *report)
+{
+    return build_threads(path, synth, keep, make, 1, db, report);
 }
 
 static int find_clip(const mm_database *db, const char *name)
@@ -344,6 +351,21 @@ static void test_pose_is_what_stands(void **state)
     mm_database_free(&off);
 }
 
+/* The same bytes with the poses made, whatever the threads. */
+static void test_same_bytes_any_threads(void **state)
+{
+    (void)state;
+    mm_database one, three;
+    assert_int_equal(build_threads(MM_SOURCE_DIR "/configs/synth.json", 1, not_idle, true, 1, &one, NULL), 0);
+    assert_int_equal(build_threads(MM_SOURCE_DIR "/configs/synth.json", 1, not_idle, true, 3, &three, NULL),
+                     0);
+    assert_true(find_clip(&one, "standing_from_walk_start_16") >= 0);
+    assert_int_equal(one.size, three.size);
+    assert_memory_equal(one.data, three.data, one.size);
+    mm_database_free(&one);
+    mm_database_free(&three);
+}
+
 /* The config keeps an idle clip: nothing is made. */
 static void test_not_needed_with_idle(void **state)
 {
@@ -446,9 +468,13 @@ static void test_lafan_walk_without_idle(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_config_key),          cmocka_unit_test(test_builtin_without_idle),
-        cmocka_unit_test(test_pose_is_what_stands), cmocka_unit_test(test_not_needed_with_idle),
-        cmocka_unit_test(test_nothing_to_stand_on), cmocka_unit_test(test_lafan_walk_without_idle),
+        cmocka_unit_test(test_config_key),
+        cmocka_unit_test(test_builtin_without_idle),
+        cmocka_unit_test(test_pose_is_what_stands),
+        cmocka_unit_test(test_same_bytes_any_threads),
+        cmocka_unit_test(test_not_needed_with_idle),
+        cmocka_unit_test(test_nothing_to_stand_on),
+        cmocka_unit_test(test_lafan_walk_without_idle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
