@@ -21,16 +21,15 @@
 #define MM__STANDING_OFFSET      1.0f /* 1/s: a metre from the root to the feet's midpoint costs as 1 m/s */
 #define MM__STANDING_POSES       4    /* at most this many poses (each from its own clip) */
 #define MM__STANDING_COST_MARGIN 0.1f /* m/s: poses whose cost is within this of the stillest's */
-#define MM__STANDING_UNSTEADY                                                                                \
-    10.0f /* m/s: added when a frame's window is not all upright with both feet                              \
-             down (such a frame is taken only when no frame has one) */
+/* m/s: added when a frame's window is not all upright with both feet down (such a frame is taken
+ * only when no frame has one) */
+#define MM__STANDING_UNSTEADY 10.0f
 
 /* Frames tagged with one of these (any case) are not taken: locomotion never plays them (the moves'
  * tags, DoNotUse), and a crouch is no way to stand. */
-#define MM__STANDING_SKIP_TAGS                                                                               \
-    {                                                                                                        \
-        "DoNotUse", "Jump", "VaultLow", "VaultHigh", "Climb", "Drop", "Crouch"                               \
-    }
+/* clang-format off */
+#define MM__STANDING_SKIP_TAGS {"DoNotUse", "Jump", "VaultLow", "VaultHigh", "Climb", "Drop", "Crouch"}
+/* clang-format on */
 
 /* A frame chosen and what it measured. */
 typedef struct mm__standing_pick {
