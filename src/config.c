@@ -27,6 +27,7 @@ void mm_config_defaults(mm_config *c)
     c->contact_speed = 0.6f;
     c->contact_min_time = 0.1f;
     c->postures_detect = true;
+    c->standing_make = true;
     c->postures_pad = 0.25f;
     c->bone_count = 3;
     set_name(c->bones[0].name, "LeftFoot");

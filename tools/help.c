@@ -106,8 +106,8 @@ static const help_entry entries[] = {
     {"db build", "build a motion database from a config; warnings about what it lacks",
      "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N]\n"
      "Builds a motion database (docs/database.md) and prints what it found: the postures, the\n"
-     "runtime's gait speeds against the data, and warnings about what the database lacks\n"
-     "(docs/database.md, \"Diagnostics\").\n"
+     "standing poses it made when no clip is an idle clip (standing.make), the runtime's gait speeds\n"
+     "against the data, and warnings about what the database lacks (docs/database.md, \"Diagnostics\").\n"
      "  CONFIG             the database config (JSON); clip files are looked for beside it, in DIR,\n"
      "                     then in $MM_DATA_DIR\n"
      "  -o, --output FILE  the database to write (required)\n"
