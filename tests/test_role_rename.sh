@@ -94,6 +94,20 @@ build synth "$src/configs/synth.json" "$tmp/set" "$tmp/renamed.json" "$tmp/renam
 same synth moves --input "$src/scripts/input/moves_jump_gap.json" --scene "$src/scenes/jump_gap.json" --seconds 12
 same synth seed --random 7 --seconds 30
 same synth warped --input "$src/scripts/input/strafe.json" --seconds 15 --distance-matching on --warping on
+# mm metrics of the motion: the roles from each database, or from the renamed config against the
+# original's default names, give the same numbers; without roles the renamed feet are not found
+"$mm" metrics "$tmp/a.bvh" --db "$tmp/synth_a.mmdb" -o "$tmp/ma_db.json" || fail "mm metrics --db failed"
+"$mm" metrics "$tmp/b.bvh" --db "$tmp/synth_b.mmdb" -o "$tmp/mb_db.json" || fail "mm metrics --db failed (renamed)"
+cmp -s "$tmp/ma_db.json" "$tmp/mb_db.json" || fail "mm metrics --db: the renamed motion measures differently"
+"$mm" metrics "$tmp/a.bvh" --scale 1 -o "$tmp/ma.json" || fail "mm metrics failed"
+"$mm" metrics "$tmp/b.bvh" --scale 1 --config "$tmp/renamed.json" -o "$tmp/mb.json" || fail "mm metrics --config failed"
+cmp -s "$tmp/ma.json" "$tmp/mb.json" || fail "mm metrics --config: the renamed motion measures differently"
+"$mm" metrics "$tmp/b.bvh" --scale 1 -o "$tmp/mb_names.json" || fail "mm metrics failed (renamed, no roles)"
+for key in foot_slide_height_cm_s head_p50_cm; do
+    [ "$(get $key "$tmp/ma.json")" != null ] || fail "mm metrics: no $key on the original"
+    [ "$(get $key "$tmp/mb_names.json")" = null ] || fail "mm metrics: $key of the renamed motion without its roles"
+done
+echo "test_role_rename: synth_metrics: the same with --db, and with --config against the default names"
 
 # LAFAN1, when MM_DATA_DIR has it: a walking take and its mirror with configs/mocap.json's
 # settings (distance matching and warping on), and the climbs, drops and jumps `mm moves detect`
