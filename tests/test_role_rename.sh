@@ -107,6 +107,10 @@ for key in foot_slide_height_cm_s head_p50_cm; do
     [ "$(get $key "$tmp/ma.json")" != null ] || fail "mm metrics: no $key on the original"
     [ "$(get $key "$tmp/mb_names.json")" = null ] || fail "mm metrics: $key of the renamed motion without its roles"
 done
+if "$mm" metrics "$tmp/a.bvh" --scale 1 --config "$tmp/renamed.json" >/dev/null 2>"$tmp/err"; then
+    fail "mm metrics --config took a config whose roles the file does not have"
+fi
+grep -q "no joint 'b_toof_sx' (roles.left_foot of the config)" "$tmp/err" || fail "mm metrics --config: $(cat "$tmp/err")"
 echo "test_role_rename: synth_metrics: the same with --db, and with --config against the default names"
 
 # LAFAN1, when MM_DATA_DIR has it: a walking take and its mirror with configs/mocap.json's
