@@ -144,12 +144,15 @@ static const help_entry entries[] = {
      "                     search's defaults)\n"
      "  --json             print JSON (default: text)\n"},
     {"metrics", "the metrics a motion gives alone, on any BVH file",
-     "usage: mm metrics FILE.bvh [--db DB.mmdb] [--scale S|auto] [--scene SCENE.json] [-o OUT.json]\n"
+     "usage: mm metrics FILE.bvh [--db DB.mmdb | --config CONFIG.json] [--scale S|auto] [--scene "
+     "SCENE.json]\n"
+     "                  [-o OUT.json]\n"
      "The metrics of docs/metrics.md that a motion gives alone: pops, joints below the ground, the\n"
      "head's height, posture, arms, a foot slide measure without contact labels.\n"
      "  FILE.bvh           the motion\n"
-     "  --db DB.mmdb       take the bone roles and references from this database (default: common\n"
-     "                     joint names and the file itself)\n"
+     "  --db DB.mmdb       take the bone roles and references from this database (default: the\n"
+     "                     roles' default joint names and the file itself)\n"
+     "  --config CONFIG    instead: take the bone roles from this database config (by name)\n"
      "  --scale S|auto     multiply lengths by S to get metres (default auto)\n"
      "  --scene SCENE.json the ground and boxes the motion is on (default: flat ground)\n"
      "  -o OUT.json        write the metrics there (default: standard output)\n"},

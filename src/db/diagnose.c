@@ -160,15 +160,14 @@ static const char *role_use(int k)
                "character's posture";
     case MM_ROLE_LEFT_FOOT:
     case MM_ROLE_RIGHT_FOOT:
-        return "that foot has no heel contacts, and foot locking and IK find it only by the name LeftFoot or "
-               "RightFoot: it may slide";
+        return "that foot has no heel contacts, and foot locking and IK leave it free: it may slide";
     case MM_ROLE_LEFT_TOE:
     case MM_ROLE_RIGHT_TOE:
         return "that foot has no toe contacts: foot locking holds the heel only";
     case MM_ROLE_LEFT_HAND:
     case MM_ROLE_RIGHT_HAND:
-        return "moves that plant a hand (vaults, climbs) find it only by the name LeftHand or RightHand, and "
-               "the build found no calibration pose";
+        return "moves that plant a hand (vaults, climbs) have no hand to place, and the build found no "
+               "calibration pose";
     default:
         return "the build did not judge postures (T poses and lying stay in) and the metrics cannot measure "
                "the "
