@@ -12,8 +12,8 @@
 
 const char *const sv_naming_names[SV_NAMINGS] = {"Left/Right", "_L/_R", "l_/r_",    "L/R",
                                                  "Mixamo",     "CMU",   "Biovision"};
-const char *const sv_root_names[SV_ROOTS] = {"static root", "part root", "all root", "ground root",
-                                             "yaw root"};
+const char *const sv_root_names[SV_ROOTS_ALL] = {"static root", "part root",   "all root", "ground root",
+                                                 "yaw root",    "placed root", "two roots"};
 const char *const sv_axis_names[4] = {"+X", "-X", "+Z", "-Z"};
 
 /* ---- names --------------------------------------------------------------------------------- */
@@ -145,31 +145,50 @@ static mm_xform carrier(sv_root a, mm_xform hips, int f)
         return mm_xform_make(mm_quat_identity(), ground);
     case SV_ROOT_YAW:
         return mm_xform_make(yaw(heading + 0.3f * sinf(0.05f * (float)f)), ground);
+    case SV_ROOT_PLACED:
+        return mm_xform_make(yaw(0.7f), mm_vec3_make(2.0f, 0.0f, -3.0f));
+    case SV_ROOT_TWO: /* the Root under the Reference (at the origin, not turned) */
+        return mm_xform_make(yaw(-heading + 0.2f * cosf(0.03f * (float)f)), ground);
     default:
         return mm_xform_identity();
     }
 }
 
-void sv_reroot(const mm_clip *src, sv_root a, sv_variant *out)
+void sv_reroot_prop(const mm_clip *src, sv_root a, int prop, sv_variant *out)
 {
     memset(out, 0, sizeof *out);
     out->unit = 1.0;
     const mm_skeleton *s = &src->skeleton;
-    int jc = s->joint_count, n = jc + 1;
+    int tops = a == SV_ROOT_TWO ? 2 : 1, jc = s->joint_count, n = tops + jc + (prop != 0);
+    int moving = a != SV_ROOT_STATIC && a != SV_ROOT_PLACED;
     assert_true(n <= SV_MAX_JOINTS);
     mm_skeleton ns;
     assert_int_equal(mm_skeleton_init(&ns, n, NULL), MM_OK);
-    snprintf(ns.joints[0].name, MM_NAME_MAX, "Root");
+    snprintf(ns.joints[0].name, MM_NAME_MAX, "%s", tops == 2 ? "Reference" : "Root");
     ns.joints[0].parent = -1;
-    ns.joints[0].flags = a != SV_ROOT_STATIC ? MM_JOINT_TRANSLATES : 0;
     ns.joints[0].order = MM_EULER_ZYX;
     out->origin[0] = -1;
-    for (int j = 0; j < jc; ++j) {
-        ns.joints[1 + j] = s->joints[j];
-        ns.joints[1 + j].parent = s->joints[j].parent + 1; /* the root (-1) hangs from Root (0) */
-        out->origin[1 + j] = j;
+    if (tops == 2) {
+        snprintf(ns.joints[1].name, MM_NAME_MAX, "Root");
+        ns.joints[1].parent = 0;
+        ns.joints[1].order = MM_EULER_ZYX;
+        out->origin[1] = -1;
     }
-    ns.joints[1].flags |= MM_JOINT_TRANSLATES;
+    ns.joints[tops - 1].flags = moving ? MM_JOINT_TRANSLATES : 0;
+    if (a == SV_ROOT_PLACED) ns.joints[0].offset = mm_vec3_make(2.0f, 0.0f, -3.0f);
+    for (int j = 0; j < jc; ++j) {
+        ns.joints[tops + j] = s->joints[j];
+        ns.joints[tops + j].parent = s->joints[j].parent < 0 ? tops - 1 : s->joints[j].parent + tops;
+        out->origin[tops + j] = j;
+    }
+    ns.joints[tops].flags |= MM_JOINT_TRANSLATES;
+    if (prop) {
+        snprintf(ns.joints[n - 1].name, MM_NAME_MAX, "Prop");
+        ns.joints[n - 1].parent = tops - 1;
+        ns.joints[n - 1].offset = mm_vec3_make(0.0f, 0.1f, 0.0f);
+        ns.joints[n - 1].order = MM_EULER_ZYX;
+        out->origin[n - 1] = -1;
+    }
     assert_int_equal(mm_clip_init(&out->clip, &ns, src->frame_count, src->fps, NULL), MM_OK);
     mm_skeleton_free(&ns);
     for (int f = 0; f < src->frame_count; ++f) {
@@ -179,12 +198,40 @@ void sv_reroot(const mm_clip *src, sv_root a, sv_variant *out)
         mm_vec3 *p = mm_clip_positions(&out->clip, f);
         mm_xform hips = mm_xform_make(sr[0], sp[0]), top = carrier(a, hips, f);
         mm_xform local = mm_xform_mul(mm_xform_inverse(top), hips);
-        r[0] = top.rotation;
-        p[0] = top.translation;
-        memcpy(r + 1, sr, sizeof(mm_quat) * (size_t)jc);
-        memcpy(p + 1, sp, sizeof(mm_vec3) * (size_t)jc);
-        r[1] = local.rotation;
-        p[1] = local.translation;
+        r[tops - 1] = top.rotation;
+        p[tops - 1] = top.translation;
+        memcpy(r + tops, sr, sizeof(mm_quat) * (size_t)jc);
+        memcpy(p + tops, sp, sizeof(mm_vec3) * (size_t)jc);
+        r[tops] = local.rotation;
+        p[tops] = local.translation;
+    }
+}
+
+void sv_reroot(const mm_clip *src, sv_root a, sv_variant *out) { sv_reroot_prop(src, a, 0, out); }
+
+void sv_turn_rest_frames(const mm_clip *src, mm_quat turn, const char *prefix, sv_variant *out)
+{
+    sv_copy(src, out);
+    mm_skeleton *s = &out->clip.skeleton;
+    int jc = s->joint_count;
+    mm_quat turns[SV_MAX_JOINTS];
+    for (int j = 0; j < jc; ++j)
+        turns[j] =
+            !prefix || strncmp(s->joints[j].name, prefix, strlen(prefix)) == 0 ? turn : mm_quat_identity();
+    for (int j = 0; j < jc; ++j) {
+        int p = s->joints[j].parent;
+        if (p >= 0) s->joints[j].offset = mm_quat_rotate(mm_quat_conj(turns[p]), s->joints[j].offset);
+        s->joints[j].end_site = mm_quat_rotate(mm_quat_conj(turns[j]), s->joints[j].end_site);
+    }
+    for (int f = 0; f < out->clip.frame_count; ++f) {
+        mm_quat *r = mm_clip_rotations(&out->clip, f);
+        mm_vec3 *pos = mm_clip_positions(&out->clip, f);
+        for (int j = 0; j < jc; ++j) {
+            int p = s->joints[j].parent;
+            mm_quat before = p >= 0 ? mm_quat_conj(turns[p]) : mm_quat_identity();
+            r[j] = mm_quat_normalize(mm_quat_mul(before, mm_quat_mul(r[j], turns[j])));
+            if (p >= 0) pos[j] = mm_quat_rotate(before, pos[j]);
+        }
     }
 }
 
@@ -198,23 +245,7 @@ void sv_rest_axes(const mm_clip *src, int axis, sv_variant *out)
     static const float want[4][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 0, 1}, {0, 0, -1}};
     mm_vec3 y = mm_quat_inv_rotate(turn, mm_vec3_make(0, 1, 0));
     assert_true(fabsf(y.x - want[axis][0]) + fabsf(y.y) + fabsf(y.z - want[axis][2]) < 1e-6f);
-    sv_copy(src, out);
-    mm_skeleton *s = &out->clip.skeleton;
-    mm_quat back = mm_quat_conj(turn);
-    for (int j = 0; j < s->joint_count; ++j) {
-        if (s->joints[j].parent >= 0) s->joints[j].offset = mm_quat_rotate(back, s->joints[j].offset);
-        s->joints[j].end_site = mm_quat_rotate(back, s->joints[j].end_site);
-    }
-    for (int f = 0; f < out->clip.frame_count; ++f) {
-        mm_quat *r = mm_clip_rotations(&out->clip, f);
-        mm_vec3 *p = mm_clip_positions(&out->clip, f);
-        for (int j = 0; j < s->joint_count; ++j) {
-            int parent = s->joints[j].parent;
-            mm_quat before = parent >= 0 ? back : mm_quat_identity();
-            r[j] = mm_quat_normalize(mm_quat_mul(before, mm_quat_mul(r[j], turn)));
-            if (parent >= 0) p[j] = mm_quat_rotate(before, p[j]);
-        }
-    }
+    sv_turn_rest_frames(src, turn, NULL, out);
 }
 
 void sv_units(const mm_clip *src, double unit, sv_variant *out)

@@ -47,22 +47,33 @@ void sv_rename_joint(const mm_skeleton *skel, int joint, sv_naming n, char out[M
 
 /* ---- roots --------------------------------------------------------------------------------- */
 typedef enum sv_root {
-    SV_ROOT_STATIC, /* a Root joint at the origin above the hips, not moving */
-    SV_ROOT_PART,   /* a Root carrying half the horizontal travel, the hips the rest */
-    SV_ROOT_ALL,    /* a Root carrying all the travel (the hips only turn) */
-    SV_ROOT_GROUND, /* a Root on the ground under the hips, carrying the horizontal travel */
-    SV_ROOT_YAW,    /* a Root on the ground that turns too (the hips' heading and a wobble) */
-    SV_ROOTS
+    SV_ROOT_STATIC,            /* a Root joint at the origin above the hips, not moving */
+    SV_ROOT_PART,              /* a Root carrying half the horizontal travel, the hips the rest */
+    SV_ROOT_ALL,               /* a Root carrying all the travel (the hips only turn) */
+    SV_ROOT_GROUND,            /* a Root on the ground under the hips, carrying the horizontal travel */
+    SV_ROOT_YAW,               /* a Root on the ground that turns too (the hips' heading and a wobble) */
+    SV_ROOTS,                  /* the arrangements above are the matrix's; those below are more */
+    SV_ROOT_PLACED = SV_ROOTS, /* a Root joint elsewhere, turned 40 degrees, not moving */
+    SV_ROOT_TWO,               /* Reference at the origin, a turning Root on the ground under it, the hips
+                                  under that */
+    SV_ROOTS_ALL
 } sv_root;
-extern const char *const sv_root_names[SV_ROOTS];
+extern const char *const sv_root_names[SV_ROOTS_ALL];
 
 /* ---- the generators (src in metres, joint 0 the hips for sv_reroot) ------------------------- */
 void sv_copy(const mm_clip *src, sv_variant *out);
 void sv_rename(const mm_clip *src, sv_naming n, sv_variant *out);
 void sv_reroot(const mm_clip *src, sv_root a, sv_variant *out);
+/* ... and with prop, the joint above the hips holds another child, "Prop", 10 cm above it (the
+ * last joint; its origin is -1) */
+void sv_reroot_prop(const mm_clip *src, sv_root a, int prop, sv_variant *out);
 /* Every joint's rest frame turned so that the bones that pointed along +Y point along axis
  * (0 +X, 1 -X, 2 +Z, 3 -Z); the world motion is the same. */
 void sv_rest_axes(const mm_clip *src, int axis, sv_variant *out);
+/* The rest frames of the joints whose names start with prefix (NULL: every joint) turned by turn:
+ * world rotations R turn, local rotations turn_p^-1 r turn_j, offsets turn_p^-1 o (turn_j: turn
+ * or the identity); the world positions are the same. */
+void sv_turn_rest_frames(const mm_clip *src, mm_quat turn, const char *prefix, sv_variant *out);
 extern const char *const sv_axis_names[4];
 /* Lengths in units of `unit` metres (0.01: centimetres, 0.0254: inches). */
 void sv_units(const mm_clip *src, double unit, sv_variant *out);
