@@ -828,6 +828,68 @@ static void test_runtime_targets(void **state)
     assert_int_equal(misses, 0);
 }
 
+/* ---- the generator's own checks ------------------------------------------------------------ */
+
+/* The names each convention gives (by hand), and the FK check catching what a generator bug
+ * would do: an offset 0.2 mm off, two joints' origins swapped, a resampled take a frame late. */
+static void test_variant_checks(void **state)
+{
+    (void)state;
+    static const char *const upleg[SV_NAMINGS] = {"LeftUpLeg",           "UpLeg_L",   "l_upleg", "LUpLeg",
+                                                  "mixamorig:LeftUpLeg", "LeftUpLeg", "LeftHip"};
+    static const char *const toe[SV_NAMINGS] = {
+        "RightToe", "Toe_R", "r_toe", "RToe", "mixamorig:RightToeBase", "RightToeBase", "RightToe"};
+    /* games105's style: lHip is the thigh, lAnkle the ankle */
+    static const char *const ankle[SV_NAMINGS] = {"LeftAnkle",          "Ankle_L",  "l_ankle",  "LAnkle",
+                                                  "mixamorig:LeftFoot", "LeftFoot", "LeftAnkle"};
+    mm_skeleton s105;
+    assert_int_equal(mm_skeleton_init(&s105, 3, NULL), MM_OK);
+    snprintf(s105.joints[0].name, MM_NAME_MAX, "RootJoint");
+    snprintf(s105.joints[1].name, MM_NAME_MAX, "lHip");
+    snprintf(s105.joints[2].name, MM_NAME_MAX, "lAnkle");
+    const mm_clip *walk = &originals[1];
+    int j_upleg = mm_skeleton_find(&walk->skeleton, "LeftUpLeg"),
+        j_toe = mm_skeleton_find(&walk->skeleton, "RightToe");
+    assert_true(j_upleg >= 0 && j_toe >= 0);
+    for (int n = 0; n < SV_NAMINGS; ++n) {
+        char name[MM_NAME_MAX];
+        sv_rename_joint(&walk->skeleton, j_upleg, (sv_naming)n, name);
+        assert_string_equal(name, upleg[n]);
+        sv_rename_joint(&walk->skeleton, j_toe, (sv_naming)n, name);
+        assert_string_equal(name, toe[n]);
+        sv_rename_joint(&s105, 2, (sv_naming)n, name);
+        assert_string_equal(name, ankle[n]);
+        sv_rename_joint(&s105, 0, (sv_naming)n, name);
+        assert_string_equal(name, n == SV_NAMES_MIXAMO ? "mixamorig:RootJoint" : "RootJoint");
+    }
+    mm_skeleton_free(&s105);
+
+    sv_variant *v = calloc(1, sizeof *v);
+    sv_rename(walk, SV_NAMES_SUFFIX_LR, v);
+    assert_true(sv_fk_distance(walk, 1.0, v) < 1e-6);
+    for (int f = 0; f < v->clip.frame_count; ++f)
+        mm_clip_positions(&v->clip, f)[j_upleg].x += 2e-4f; /* 0.2 mm */
+    double d = sv_fk_distance(walk, 1.0, v);
+    assert_true(d > SV_FK_TOLERANCE && d < 3e-4);
+    for (int f = 0; f < v->clip.frame_count; ++f) mm_clip_positions(&v->clip, f)[j_upleg].x -= 2e-4f;
+    int a = v->origin[j_upleg];
+    v->origin[j_upleg] = v->origin[j_toe];
+    v->origin[j_toe] = a;
+    assert_true(sv_fk_distance(walk, 1.0, v) > 0.5); /* a thigh is not a toe */
+    sv_free(v);
+    sv_resample(walk, 30.0f, v);
+    assert_true(sv_fk_distance(walk, 1.0, v) < 1e-5);
+    mm_clip late;
+    assert_int_equal(mm_clip_init(&late, &walk->skeleton, walk->frame_count - 1, walk->fps, NULL), MM_OK);
+    size_t per = (size_t)walk->skeleton.joint_count;
+    memcpy(late.rotations, walk->rotations + per, per * (size_t)late.frame_count * sizeof(mm_quat));
+    memcpy(late.positions, walk->positions + per, per * (size_t)late.frame_count * sizeof(mm_vec3));
+    assert_true(sv_fk_distance(&late, 1.0, v) > 0.01); /* a frame at 1.4 m/s: 2.3 cm */
+    mm_clip_free(&late);
+    sv_free(v);
+    free(v);
+}
+
 /* ---- main ------------------------------------------------------------------------------------- */
 
 static int setup(void **state)
@@ -860,6 +922,12 @@ int main(int argc, char **argv)
     mkdir(out_dir, 0777);
     snprintf(out_dir, sizeof out_dir, "%s/skeleton_matrix/%s", MM_TEST_OUT, name);
     mkdir(out_dir, 0777);
+    const struct CMUnitTest builtin_tests[] = {
+        cmocka_unit_test(test_variant_checks),
+        cmocka_unit_test(test_same_database),
+        cmocka_unit_test(test_runtime_targets),
+    };
+    if (strcmp(name, "builtin") == 0) return cmocka_run_group_tests(builtin_tests, setup, teardown);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_same_database),
         cmocka_unit_test(test_runtime_targets),
