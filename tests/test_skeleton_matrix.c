@@ -7,10 +7,11 @@
  * For each FK-identical variant: mm_config_init on the takes as read back from BVH, the database
  * built from that config as it is, and compared with the original's: world joints within 0.1 mm,
  * features within 1e-4 of their group's scale; then characters on both play the shipped scripts
- * and must agree within 1 mm (the first tick where the frames they play part is printed).
+ * and must agree within 1 mm, or part at a tie that rounding decides (reported with its tick).
  * End to end through the CLI (mm config init, mm db build, mm simulate --metrics) on the original
- * and on each resampled variant: the runtime targets (docs/skeletons.md) on the scripts and seeds
- * the dataset must meet them on. Without MM_DATA_DIR only the built-in set runs. */
+ * and on each resampled variant: the runtime targets (docs/skeletons.md) on the scripts and two
+ * random seeds, but for each dataset's known misses. Without MM_DATA_DIR only the built-in set
+ * runs. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <sys/stat.h>
@@ -28,19 +29,14 @@
 #include "skeleton_variants.h"
 #include "test_util.h"
 
-#define KNOWN_DIFFERENCES                                                                                    \
-    {                                                                                                        \
-        NULL, NULL, 0, NULL                                                                                  \
-    }
 #define SCRIPTS_DIR       MM_SOURCE_DIR "/scripts/input/"
 #define CHARACTER_SECONDS 20.0f /* s of each script the characters of two databases play */
 #define SIMULATE_SECONDS  20    /* s of mm simulate per script and seed */
 #define SAME_JOINTS_M     1e-4  /* m: two databases' world joints */
 #define SAME_CHARACTER_M  1e-3  /* m: two characters' world joints */
-#define SAME_VELOCITY                                                                                        \
-    1e-3 /* m/s, rad/s: the simulation bone's velocities (rounding read 60 times a second) */
-#define PLAYHEAD_SAME 1e-4 /* frames: two playheads that agree to rounding */
-#define NEAR_TIE      1e-3 /* relative difference of two winners' costs that is a tie */
+#define SAME_VELOCITY     1e-3  /* m/s, rad/s: the simulation bone's velocities */
+#define PLAYHEAD_SAME     1e-4  /* frames: two playheads that agree to rounding */
+#define NEAR_TIE          1e-3  /* relative difference of two winners' costs that is a tie */
 
 /* The runtime targets (issue 21) */
 #define TARGET_SLIDE_CM_S 2.0  /* foot_slide_cm_s below this */
@@ -61,7 +57,7 @@ typedef struct dataset {
     const char *scripts[12]; /* the shipped scripts the runtime targets are measured on */
 } dataset;
 
-enum { T_SLIDE = 1, T_RAW = 2, T_TRAJ = 4, T_POP = 8, T_NAN = 16, T_BELOW = 32, T_ALL = 63 };
+enum { T_SLIDE = 1, T_RAW = 2, T_TRAJ = 4, T_POP = 8, T_NAN = 16, T_BELOW = 32 };
 static const char *const target_names[6] = {"slide", "raw slide", "trajectory", "pop", "NaN", "below ground"};
 
 /* The runtime targets each dataset misses today on an input (a script, or random_N), on the
