@@ -17,6 +17,7 @@
 #include <mm/synth.h>
 
 #include "db/process.h"
+#include "skeleton_variants.h"
 #include "test_util.h"
 
 typedef struct dataset {
@@ -149,44 +150,28 @@ static int turned_joint(const mm_skeleton *s, int j, const char *prefix)
 }
 
 /* src with the rest frames of some joints (turned_joint) turned by q: the same world motion
- * (world rotations R q_j, local rotations q_p^-1 r q_j, offsets q_p^-1 o, q_j the joint's turn:
- * q or the identity). */
+ * (skeleton_variants.h, sv_turn_rest_frames, which checks the world positions); and the world
+ * rotations R q_j, q_j the joint's turn (q or the identity). */
 static void rotate_rest_axes(const mm_clip *src, mm_quat q, const char *prefix, mm_clip *out)
 {
-    assert_int_equal(mm_clip_copy(out, src, NULL), MM_OK);
-    mm_skeleton *s = &out->skeleton;
-    int jc = s->joint_count;
-    mm_quat *turn = malloc(sizeof(mm_quat) * (size_t)jc);
-    for (int j = 0; j < jc; ++j) turn[j] = turned_joint(s, j, prefix) ? q : mm_quat_identity();
-    for (int j = 0; j < jc; ++j) {
-        int p = s->joints[j].parent;
-        if (p >= 0) s->joints[j].offset = mm_quat_rotate(mm_quat_conj(turn[p]), s->joints[j].offset);
-        s->joints[j].end_site = mm_quat_rotate(mm_quat_conj(turn[j]), s->joints[j].end_site);
-    }
-    for (int f = 0; f < out->frame_count; ++f) {
-        mm_quat *r = mm_clip_rotations(out, f);
-        mm_vec3 *pos = mm_clip_positions(out, f);
-        for (int j = 0; j < jc; ++j) {
-            int p = s->joints[j].parent;
-            mm_quat before = p >= 0 ? mm_quat_conj(turn[p]) : mm_quat_identity();
-            r[j] = mm_quat_mul(before, mm_quat_mul(r[j], turn[j]));
-            if (p >= 0) pos[j] = mm_quat_rotate(before, pos[j]);
-        }
-    }
+    sv_variant *v = malloc(sizeof *v);
+    assert_non_null(v);
+    sv_turn_rest_frames(src, q, prefix, v);
+    double worst = sv_check(src, 1.0, v, prefix ? prefix : "every joint");
+    *out = v->clip;
+    free(v);
+    int jc = out->skeleton.joint_count;
     mm_xform *a = malloc(sizeof(mm_xform) * (size_t)jc);
     mm_xform *b = malloc(sizeof(mm_xform) * (size_t)jc);
-    double worst = 0.0;
     for (int f = 0; f < out->frame_count; ++f) {
         mm_clip_fk(src, f, a);
         mm_clip_fk(out, f, b);
         for (int j = 0; j < jc; ++j) {
-            worst = fmax(worst, mm_vec3_distance(a[j].translation, b[j].translation));
-            worst = fmax(
-                worst, angle_between(mul(of_quat(a[j].rotation), of_quat(turn[j])), of_quat(b[j].rotation)));
+            mat turn = of_quat(turned_joint(&out->skeleton, j, prefix) ? q : mm_quat_identity());
+            worst = fmax(worst, angle_between(mul(of_quat(a[j].rotation), turn), of_quat(b[j].rotation)));
         }
     }
     assert_true(worst < 1e-5);
-    free(turn);
     free(a);
     free(b);
 }

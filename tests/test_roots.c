@@ -16,6 +16,7 @@
 #include <mm/search.h>
 #include <mm/synth.h>
 
+#include "skeleton_variants.h"
 #include "test_util.h"
 
 typedef enum arrangement {
@@ -33,92 +34,27 @@ typedef enum arrangement {
 static const char *const arrangement_names[ARRANGEMENTS] = {
     "hips", "static root", "placed root", "part root", "ground root", "yaw root", "all root", "two roots"};
 
-static mm_quat yaw(float angle) { return mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), angle); }
+/* The skeleton_variants.h arrangement of each (HIPS: the take as it is). */
+static const sv_root arrangement_roots[ARRANGEMENTS] = {SV_ROOT_STATIC, SV_ROOT_STATIC, SV_ROOT_PLACED,
+                                                        SV_ROOT_PART,   SV_ROOT_GROUND, SV_ROOT_YAW,
+                                                        SV_ROOT_ALL,    SV_ROOT_TWO};
 
-/* The world transform of the joint right above the hips at frame f, given the hips' world. */
-static mm_xform carrier(arrangement a, mm_xform hips, int f)
-{
-    mm_vec3 t = hips.translation, ground = mm_vec3_make(t.x, 0.0f, t.z);
-    mm_vec3 z = mm_quat_rotate(hips.rotation, mm_vec3_make(0, 0, 1));
-    float heading = atan2f(z.x, z.z);
-    switch (a) {
-    case PLACED_ROOT:
-        return mm_xform_make(yaw(0.7f), mm_vec3_make(2.0f, 0.0f, -3.0f));
-    case PART_ROOT:
-        return mm_xform_make(mm_quat_identity(), mm_vec3_make(0.5f * t.x, 0.0f, 0.5f * t.z));
-    case GROUND_ROOT:
-        return mm_xform_make(mm_quat_identity(), ground);
-    case YAW_ROOT:
-        return mm_xform_make(yaw(heading + 0.3f * sinf(0.05f * (float)f)), ground);
-    case ALL_ROOT:
-        return mm_xform_make(mm_quat_identity(), t);
-    case TWO_ROOTS:
-        return mm_xform_make(yaw(-heading + 0.2f * cosf(0.03f * (float)f)), ground);
-    default:
-        return mm_xform_identity();
-    }
-}
-
-/* src (whose root is the hips) with its motion moved as arrangement a says; prop: the joint
- * above the hips holds another child ("Prop", 10 cm above it), the last joint. Returns the
- * largest distance between a joint's world positions in src and out (float rounding). */
+/* src (whose root is the hips) with its motion moved as arrangement a says (sv_reroot_prop; prop:
+ * the joint above the hips holds another child, "Prop"). Returns the largest distance between a
+ * joint's world positions in src and out (float rounding). */
 static double rearrange(const mm_clip *src, arrangement a, int prop, mm_clip *out)
 {
     if (a == HIPS) {
         assert_int_equal(mm_clip_copy(out, src, NULL), MM_OK);
         return 0.0;
     }
-    const mm_skeleton *s = &src->skeleton;
-    int tops = a == TWO_ROOTS ? 2 : 1, jc = s->joint_count;
-    int n = tops + jc + prop, moving = a != STATIC_ROOT && a != PLACED_ROOT;
-    mm_skeleton ns;
-    assert_int_equal(mm_skeleton_init(&ns, n, NULL), MM_OK);
-    snprintf(ns.joints[0].name, MM_NAME_MAX, "%s", tops == 2 ? "Reference" : "Root");
-    ns.joints[0].parent = -1;
-    if (tops == 2) {
-        snprintf(ns.joints[1].name, MM_NAME_MAX, "Root");
-        ns.joints[1].parent = 0;
-    }
-    ns.joints[tops - 1].flags = moving ? MM_JOINT_TRANSLATES : 0;
-    ns.joints[tops - 1].order = MM_EULER_ZYX;
-    if (a == PLACED_ROOT) ns.joints[0].offset = mm_vec3_make(2.0f, 0.0f, -3.0f);
-    for (int j = 0; j < jc; ++j) {
-        ns.joints[tops + j] = s->joints[j];
-        ns.joints[tops + j].parent = s->joints[j].parent < 0 ? tops - 1 : s->joints[j].parent + tops;
-    }
-    if (prop) {
-        snprintf(ns.joints[n - 1].name, MM_NAME_MAX, "Prop");
-        ns.joints[n - 1].parent = tops - 1;
-        ns.joints[n - 1].offset = mm_vec3_make(0.0f, 0.1f, 0.0f);
-    }
-    assert_int_equal(mm_clip_init(out, &ns, src->frame_count, src->fps, NULL), MM_OK);
-    mm_skeleton_free(&ns);
-    for (int f = 0; f < src->frame_count; ++f) {
-        const mm_quat *sr = mm_clip_rotations(src, f);
-        const mm_vec3 *sp = mm_clip_positions(src, f);
-        mm_quat *r = mm_clip_rotations(out, f);
-        mm_vec3 *p = mm_clip_positions(out, f);
-        mm_xform hips = mm_xform_make(sr[0], sp[0]), top = carrier(a, hips, f);
-        r[tops - 1] = top.rotation;
-        p[tops - 1] = top.translation;
-        mm_xform local = mm_xform_mul(mm_xform_inverse(top), hips);
-        memcpy(r + tops, sr, sizeof(mm_quat) * (size_t)jc);
-        memcpy(p + tops, sp, sizeof(mm_vec3) * (size_t)jc);
-        r[tops] = local.rotation;
-        p[tops] = local.translation;
-    }
-    /* the same world joint positions */
-    mm_xform *g = malloc(sizeof(mm_xform) * (size_t)jc), *h = malloc(sizeof(mm_xform) * (size_t)n);
-    double worst = 0.0;
-    for (int f = 0; f < src->frame_count; ++f) {
-        mm_clip_fk(src, f, g);
-        mm_clip_fk(out, f, h);
-        for (int j = 0; j < jc; ++j)
-            worst = fmax(worst, mm_vec3_distance(g[j].translation, h[tops + j].translation));
-    }
+    sv_variant *v = malloc(sizeof *v);
+    assert_non_null(v);
+    sv_reroot_prop(src, arrangement_roots[a], prop, v);
+    double worst = sv_check(src, 1.0, v, arrangement_names[a]);
     assert_true(worst < 2e-5);
-    free(g);
-    free(h);
+    *out = v->clip;
+    free(v);
     return worst;
 }
 

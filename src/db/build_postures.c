@@ -65,30 +65,38 @@ static int judged(const mm_config *cfg, int ci)
 }
 
 /* World joint positions of every frame of a source clip ([frames x joints]), and its ground: the
- * median over frames of the lowest joint's height. */
-static mm_vec3 *world_positions(const mm_clip *c, float *ground)
+ * median over frames of the lowest body joint's height. The body is the hips and what hangs from
+ * them: a Root joint above the hips (at the origin, or on the ground under them) is not a foot,
+ * and counting it moved the ground, and so the postures, with the skeleton's arrangement. */
+static mm_vec3 *world_positions(const mm_clip *c, int hips, float *ground)
 {
     int n = c->frame_count, jc = c->skeleton.joint_count;
     mm_vec3 *w = (mm_vec3 *)malloc(sizeof(mm_vec3) * (size_t)n * (size_t)jc);
     mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
     float *lowest = (float *)malloc(sizeof(float) * (size_t)n);
-    if (!w || !g || !lowest) {
+    unsigned char *body = (unsigned char *)malloc((size_t)jc);
+    if (!w || !g || !lowest || !body) {
         free(w);
         free(g);
         free(lowest);
+        free(body);
         return NULL;
     }
+    for (int j = 0; j < jc; ++j) /* parents come first */
+        body[j] = (unsigned char)(j == hips ||
+                                  (c->skeleton.joints[j].parent >= 0 && body[c->skeleton.joints[j].parent]));
     for (int f = 0; f < n; ++f) {
         mm_clip_fk(c, f, g);
         lowest[f] = INFINITY;
         for (int j = 0; j < jc; ++j) {
             w[(size_t)f * (size_t)jc + (size_t)j] = g[j].translation;
-            lowest[f] = fminf(lowest[f], g[j].translation.y);
+            if (body[j]) lowest[f] = fminf(lowest[f], g[j].translation.y);
         }
     }
     *ground = n > 0 ? mm__quantile(lowest, n, 0.5f) : 0.0f;
     free(g);
     free(lowest);
+    free(body);
     return w;
 }
 
@@ -108,7 +116,7 @@ static mm_result judge(const mm_config *cfg, const mm_clip *sources, mm__posture
         mm_posture_joints j = joints_of(cfg, &c->skeleton);
         if (!judged(cfg, ci) || j.hips < 0 || j.head < 0 || c->frame_count < 1) continue;
         float ground;
-        mm_vec3 *w = world_positions(c, &ground);
+        mm_vec3 *w = world_positions(c, j.hips, &ground);
         if (!w) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory judging postures");
         int jc = c->skeleton.joint_count;
         if (heights) {

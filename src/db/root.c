@@ -234,14 +234,26 @@ mm_result mm__clip_add_root(const mm_clip *src, const mm_clip *body, const mm_co
             return mm_error_set(err, r, 0, 0, "the source already has a joint named '%s'", MM__ROOT_NAME);
         return mm_error_set(err, r, 0, 0, "out of memory");
     }
+    /* The roles are read from the body where it has them: its hips were folded before they were
+     * resampled, so that their world motion is the splines' whichever joints carried it in the
+     * file; the source's local splines under a turning root read other poses between its frames.
+     * A role above the hips (folded) is read from the source. */
+    int body_root_bone = body != src ? mm_skeleton_find(bs, cfg->root_bone) : -1;
+    int body_facing = body != src ? mm_skeleton_find(bs, cfg->facing_bone) : -1;
+    if (body_root_bone >= 0 && folded[body_root_bone]) body_root_bone = -1;
+    if (body_facing >= 0 && folded[body_facing]) body_facing = -1;
     float *pos = track, *dir = track + 2 * n;
     mm_vec3 axis = mm_vec3_normalize(cfg->forward_axis);
     float last_dx = 0.0f, last_dz = 1.0f;
     for (int f = 0; f < n; ++f) {
+        mm_xform *gb = g + s->joint_count;
         mm_clip_fk(src, f, g);
-        pos[2 * f] = g[root_bone].translation.x;
-        pos[2 * f + 1] = g[root_bone].translation.z;
-        mm_vec3 d = mm_quat_rotate(g[facing].rotation, axis);
+        if (body_root_bone >= 0 || body_facing >= 0) mm_clip_fk(body, f, gb);
+        mm_xform rb = body_root_bone >= 0 ? gb[body_root_bone] : g[root_bone];
+        mm_xform fb = body_facing >= 0 ? gb[body_facing] : g[facing];
+        pos[2 * f] = rb.translation.x;
+        pos[2 * f + 1] = rb.translation.z;
+        mm_vec3 d = mm_quat_rotate(fb.rotation, axis);
         float len = sqrtf(d.x * d.x + d.z * d.z);
         if (len > 1e-4f) { /* a forward axis pointing straight up keeps the last facing */
             last_dx = d.x / len;
