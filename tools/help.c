@@ -76,17 +76,21 @@ static const help_entry entries[] = {
      "  CONFIG             the database config (JSON)\n"},
     {"config init", "a whole database config from the takes: roles, clips, gait speeds",
      "usage: mm config init TAKE... [-o CONFIG.json] [--force] [--name-prefix P] [--scale S|auto] "
-     "[--no-tuning]\n"
+     "[--no-tuning] [--up AXIS] [--forward AXIS]\n"
      "Writes a database config from the takes alone and prints what it found and how sure it is: the\n"
-     "bone roles (by names in the common conventions and by the skeleton's geometry), the forward axis,\n"
-     "the mirror pairs, the unit, idle and locomotion clips per take, walk and run speeds from the takes\n"
-     "(docs/config.md, \"A config from your takes\").\n"
-     "  TAKE...            BVH, FBX, glTF or Collada files (+Y up)\n"
+     "axes (up and forward: the build turns other axes to +Y up, +Z forward), the bone roles (by names\n"
+     "in the common conventions and by the skeleton's geometry), the forward axis, the mirror pairs, the\n"
+     "unit, idle and locomotion clips per take with calibration poses, lying and getting up left out,\n"
+     "walk and run speeds from the takes (docs/config.md, \"A config from your takes\").\n"
+     "  TAKE...            BVH, FBX, glTF or Collada files, of any up axis\n"
      "  -o, --output PATH  the config to write (default: print the report only)\n"
      "  --force            replace an existing config\n"
      "  --name-prefix P    a prefix for the clip names (default: none)\n"
      "  --scale S|auto     metres per file unit (default: auto, from the body's height)\n"
-     "  --no-tuning        leave out the runtime tuning of configs/mocap.json (default: carried)\n"},
+     "  --no-tuning        leave out the runtime tuning of configs/mocap.json (default: carried)\n"
+     "  --up AXIS          the takes' up: +X, +Y, +Z, -X, -Y or -Z (default: detected from the poses)\n"
+     "  --forward AXIS     the way the character faces in the files, at right angles to up (default:\n"
+     "                     +Z; -Y for +Z up, +Y for -Z up)\n"},
     {"convert", "BVH files to FBX through Blender",
      "usage: mm convert BVH_DIR FBX_DIR [--batch-size 10] [--blender PATH] [--verbose]\n"
      "Converts the .bvh files of a folder, sorted by name, to FBX through Blender: batches of\n"

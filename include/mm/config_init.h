@@ -2,8 +2,10 @@
  * `mm config init` writes, docs/config.md "A config from your takes").
  *
  * From the takes of one skeleton, mm_config_init finds:
- *   - the up axis (mm_clip_up_axis: the takes must stand along +Y; the BVH reader does not turn
- *     axes, assimp turns FBX, glTF and Collada files to +Y up on import);
+ *   - the axes: up (mm_clip_up_axis; every take whose up is clear must agree) and the forward that
+ *     goes with it (mm_axes_forward), written as the config's axes so that the build turns the takes
+ *     to +Y up (the BVH reader does not turn axes; assimp turns FBX, glTF and Collada files to +Y up
+ *     on import); everything below is found on the takes turned;
  *   - the unit (mm_unit_scale_for_height of the body's upright height) and so the config's scale;
  *   - the bone roles, the facing bone's forward axis and the mirror pairs (mm/skeleton_roles.h);
  *   - for each take, frame spans (mm_take_spans_find): lying down (left out), standing still
@@ -77,11 +79,19 @@ typedef struct mm_gait_speed_estimate {
     1.0f /* s: root speeds are averaged over windows this long (shorter in                                   \
             spans under 4 windows: a quarter of the span) */
 
+/* Under this confidence (mm_clip_up_axis) a take's up is not clear: +Y is assumed (a body that
+ * stands along one axis gives 0.3 or more walking; 0 is a pose as wide as it is tall). */
+#define MM_UP_MIN_CONFIDENCE 0.15f
+
 typedef struct mm_config_init_report {
-    int up_axis;         /* mm_clip_up_axis of the first take: 1 (+Y) when the takes can be used */
-    float up_confidence; /* its confidence */
-    double scale;        /* file units to metres, as given or detected */
-    float height;        /* m: the body's upright height (joints and End Sites) */
+    int up_axis;         /* the takes' up (0..5 as mm_axis_name): given, detected, or +Y when unclear */
+    float up_confidence; /* mm_clip_up_axis's confidence on the first take with frames */
+    bool up_detected;    /* the confidence reached MM_UP_MIN_CONFIDENCE */
+    bool up_given;       /* desc gave it */
+    int forward_axis;    /* the takes' forward: given, else mm_axes_forward's for up */
+    bool forward_given;
+    double scale; /* file units to metres, as given or detected */
+    float height; /* m: the body's upright height (joints and End Sites) */
     float fps_min, fps_max;
     float seconds; /* of all the takes */
     float locomotion_seconds, idle_seconds, excluded_seconds;
@@ -98,7 +108,11 @@ typedef struct mm_config_init_report {
 } mm_config_init_report;
 
 typedef struct mm_config_init_desc {
-    double scale;   /* file units to metres; 0: detect from the body's height */
+    double scale;  /* file units to metres; 0: detect from the body's height */
+    bool up_given; /* up_axis is the takes' up (0..5 as mm_axis_name); else detected */
+    int up_axis;
+    bool forward_given; /* forward_axis is the way the character faces (0..5); else mm_axes_forward's */
+    int forward_axis;
     bool no_tuning; /* leave contacts and the runtime at their defaults (but the speeds). Else the
                        tuning measured on motion capture (configs/mocap.json, docs/config.md):
                        contacts.speed 0.3, runtime sync_halflife 0.1, distance matching and
@@ -112,9 +126,9 @@ typedef struct mm_config_init_desc {
  * run speeds, the tuning (mm_config_init_desc), one locomotion and one idle clip per take where
  * it has such spans; free with mm_config_free). desc may be NULL (detect the unit, with the
  * tuning). report (may be NULL) receives what
- * was found and how sure it is. Errors: MM_ERR_UNSUPPORTED (the takes are not +Y up),
- * MM_ERR_OUT_OF_RANGE (no unit gives a human height), the role finder's, MM_ERR_NOT_FOUND (no
- * take has frames to use). */
+ * was found and how sure it is. Errors: MM_ERR_INVALID_ARGUMENT (takes standing along different
+ * axes, forward along up, another skeleton), MM_ERR_OUT_OF_RANGE (no unit gives a human height), the role
+ * finder's, MM_ERR_NOT_FOUND (no take has frames to use). */
 mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_config_init_desc *desc,
                          mm_config *out, mm_config_init_report *report, mm_error *err);
 

@@ -297,12 +297,12 @@ static int cmp_float(const void *a, const void *b)
 
 /* The body's upright height in file units: the 0.9 quantile of the height over up to 16 frames of
  * every take. */
-static float upright_height(const mm_config_init_take *takes, int count)
+static float upright_height(const mm_clip *clips, int count)
 {
     float h[16 * 64];
     int n = 0, per = count > 64 ? 1 : 16;
     for (int t = 0; t < count && t < 1024 && n < (int)(sizeof h / sizeof h[0]); ++t) {
-        const mm_clip *c = takes[t].clip;
+        const mm_clip *c = &clips[t];
         int frames = c->frame_count < per ? c->frame_count : per;
         for (int k = 0; k < frames && n < (int)(sizeof h / sizeof h[0]); ++k) {
             int f = (int)((k + 0.5) * c->frame_count / frames);
@@ -379,35 +379,40 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         rep->fps_max = fmaxf(rep->fps_max, c->fps);
         rep->seconds += c->frame_count / c->fps;
     }
-    /* up */
+    /* up and forward: detected from the first take with frames (given in desc), and every take
+     * whose up is clear must agree */
     int first = 0;
     while (first < count - 1 && takes[first].clip->frame_count < 2) ++first;
+    int given_up = desc && desc->up_given && desc->up_axis >= 0 && desc->up_axis < 6 ? desc->up_axis : -1;
     rep->up_axis = mm_clip_up_axis(takes[first].clip, &rep->up_confidence);
-    if (rep->up_confidence < 0.15f) {
-        rep->up_axis = 1; /* no telling: the BVH convention */
-    } else if (rep->up_axis != 1) {
-        if (err)
-            snprintf(err->file, sizeof err->file, "%s",
-                     takes[first].path ? takes[first].path : takes[first].file);
-        return mm_error_set(
-            err, MM_ERR_UNSUPPORTED, 0, 0,
-            "the body stands along %s, not +Y (the height lies along that axis, confidence "
-            "%.2f): mm reads motion as +Y up and does not turn it; export the takes with +Y up",
-            mm_axis_name(rep->up_axis), (double)rep->up_confidence);
+    rep->up_detected = rep->up_confidence >= MM_UP_MIN_CONFIDENCE;
+    if (!rep->up_detected) rep->up_axis = MM_AXIS_POS_Y; /* no telling: the BVH convention */
+    for (int t = 0; t < count && given_up < 0; ++t) {
+        float confidence = 0.0f;
+        int up = takes[t].clip->frame_count >= 2 ? mm_clip_up_axis(takes[t].clip, &confidence) : rep->up_axis;
+        if (confidence >= MM_UP_MIN_CONFIDENCE && up != rep->up_axis) {
+            if (err)
+                snprintf(err->file, sizeof err->file, "%s", takes[t].path ? takes[t].path : takes[t].file);
+            return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                                "the body stands along %s (confidence %.2f) but along %s in %s: the takes of "
+                                "one config share their axes; give the up axis (--up)",
+                                mm_axis_name(up), (double)confidence, mm_axis_name(rep->up_axis),
+                                takes[first].path ? takes[first].path : takes[first].file);
+        }
     }
-    /* unit */
-    float raw_height = upright_height(takes, count);
-    rep->scale = scale > 0.0 ? scale : mm_unit_scale_for_height(raw_height);
-    if (!(rep->scale > 0.0))
-        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
-                            "the body is %g file units tall: no unit (metres, centimetres, millimetres, "
-                            "inches, feet, CMU units) gives a human height; give the scale",
-                            (double)raw_height);
-    rep->height = (float)(raw_height * rep->scale);
-    out->scale = (float)rep->scale;
-    out->interval = 1.0f / 60.0f;
+    rep->up_given = given_up >= 0;
+    if (given_up >= 0) rep->up_axis = given_up;
+    rep->forward_given = desc && desc->forward_given && desc->forward_axis >= 0 && desc->forward_axis < 6;
+    rep->forward_axis = mm_axes_forward(rep->up_axis, rep->forward_given ? desc->forward_axis : -1);
+    if (rep->forward_axis % 3 == rep->up_axis % 3)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "forward %s lies along up %s",
+                            mm_axis_name(rep->forward_axis), mm_axis_name(rep->up_axis));
+    out->axes_up = rep->up_axis;
+    out->axes_forward =
+        rep->up_axis == MM_AXIS_POS_Y && rep->forward_axis == MM_AXIS_POS_Z ? -1 : rep->forward_axis;
+    const mm_quat turn = mm_axes_turn(rep->up_axis, rep->forward_axis);
 
-    /* the takes in metres */
+    /* the takes turned to +Y up, +Z forward, then in metres */
     mm_clip *metric = (mm_clip *)calloc((size_t)count, sizeof(mm_clip));
     mm_take_spans *spans = (mm_take_spans *)calloc((size_t)count, sizeof(mm_take_spans));
     speed_list lists[3];
@@ -418,20 +423,34 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         r = mm_clip_copy(&metric[t], takes[t].clip, NULL);
         if (r == MM_OK) {
             ++made;
-            mm_clip_scale(&metric[t], (float)rep->scale);
-            if (t > 0 && !reorder_like(&metric[0].skeleton, &metric[t])) {
-                if (err)
-                    snprintf(err->file, sizeof err->file, "%s",
-                             takes[t].path ? takes[t].path : takes[t].file);
-                r = mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                                 "another skeleton than %s's (joint names or parents differ)",
-                                 takes[0].path ? takes[0].path : takes[0].file);
-            }
+            mm_clip_turn(&metric[t], turn);
+        }
+    }
+    /* unit */
+    float raw_height = r == MM_OK ? upright_height(metric, count) : 0.0f;
+    rep->scale = scale > 0.0 ? scale : mm_unit_scale_for_height(raw_height);
+    if (r == MM_OK && !(rep->scale > 0.0))
+        r = mm_error_set(
+            err, MM_ERR_OUT_OF_RANGE, 0, 0,
+            "the body is %g file units tall along %s: no unit (metres, centimetres, millimetres, "
+            "inches, feet, CMU units) gives a human height; give the scale (or the up axis)",
+            (double)raw_height, mm_axis_name(rep->up_axis));
+    rep->height = (float)(raw_height * rep->scale);
+    out->scale = (float)rep->scale;
+    out->interval = 1.0f / 60.0f;
+    for (int t = 0; t < count && r == MM_OK; ++t) {
+        mm_clip_scale(&metric[t], (float)rep->scale);
+        if (t > 0 && !reorder_like(&metric[0].skeleton, &metric[t])) {
+            if (err)
+                snprintf(err->file, sizeof err->file, "%s", takes[t].path ? takes[t].path : takes[t].file);
+            r = mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                             "another skeleton than %s's (joint names or parents differ)",
+                             takes[0].path ? takes[0].path : takes[0].file);
         }
     }
     if (r == MM_OK) {
         r = mm_skeleton_roles_find(metric, count, &rep->roles, err);
-    } else if (r == MM_ERR_OUT_OF_MEMORY) {
+    } else if (r == MM_ERR_OUT_OF_MEMORY && !(err && err->message[0])) {
         mm_error_set(err, r, 0, 0, "out of memory");
     }
     if (r == MM_OK) {
