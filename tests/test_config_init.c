@@ -679,8 +679,12 @@ static void test_spans(void **state)
     (void)state;
     const mm_clip *c = synth_clip("walk_start");
     mm_take_spans s;
-    int hips = mm_skeleton_find(&c->skeleton, "Hips"), root = mm_skeleton_find(&c->skeleton, "Spine2");
-    assert_int_equal(mm_take_spans_find(c, hips, root, NULL, &s), MM_OK);
+    const mm_take_joints joints = {
+        mm_skeleton_find(&c->skeleton, "Hips"), mm_skeleton_find(&c->skeleton, "Spine2"),
+        mm_skeleton_find(&c->skeleton, "Head"), mm_skeleton_find(&c->skeleton, "LeftHand"),
+        mm_skeleton_find(&c->skeleton, "RightHand")};
+    assert_int_equal(mm_take_spans_find(c, &joints, NULL, &s), MM_OK);
+    assert_true(s.arms_found);
     assert_int_equal(s.excluded_count, 0);
     assert_int_equal(s.idle_count, 1);
     assert_int_equal(s.idle[0].begin, 0);
@@ -689,14 +693,18 @@ static void test_spans(void **state)
     assert_int_equal(s.locomotion[0].begin, s.idle[0].end);
     assert_int_equal(s.locomotion[0].end, c->frame_count);
     mm_take_spans_free(&s);
-    /* hips "lower" than 2 m: the whole take is left out */
+    /* hips "lower" than 2 m (the deprecated rule): the whole take is left out */
     mm_take_spans_desc d;
     mm_take_spans_desc_defaults(&d);
     d.low_hips = 2.0f;
-    assert_int_equal(mm_take_spans_find(c, hips, root, &d, &s), MM_OK);
+    assert_int_equal(mm_take_spans_find(c, &joints, &d, &s), MM_OK);
     assert_int_equal(s.excluded_count, 1);
     assert_int_equal(s.idle_count + s.locomotion_count, 0);
     mm_take_spans_free(&s);
+    /* a needed joint out of range */
+    mm_take_joints bad = joints;
+    bad.head = 999;
+    assert_int_equal(mm_take_spans_find(c, &bad, NULL, &s), MM_ERR_INVALID_ARGUMENT);
 }
 
 /* A config with every kind of field, written and read back. */

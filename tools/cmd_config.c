@@ -230,8 +230,20 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
     } else {
         printf("mirror:       no (the names show no left and right convention)\n");
     }
-    printf("spans:        locomotion %.1f s, idle %.1f s, left out (lying down) %.1f s\n",
+    printf("spans:        locomotion %.1f s, idle %.1f s, left out %.1f s (the poses that are not motion,\n"
+           "              1 s around each)\n",
            (double)rep->locomotion_seconds, (double)rep->idle_seconds, (double)rep->excluded_seconds);
+    static const int left_out[] = {MM_POSTURE_CALIBRATION, MM_SPAN_A_POSE, MM_POSTURE_LYING,
+                                   MM_SPAN_GETTING_UP, MM_SPAN_DOWN};
+    static const char *const left_out_names[] = {"T pose", "A pose", "lying", "getting up or down",
+                                                 "down to the ground"};
+    printf("  left out:   ");
+    for (int k = 0; k < 5; ++k)
+        printf("%s %s %.1f s", k ? "," : "", left_out_names[k], (double)rep->kind_seconds[left_out[k]]);
+    printf("\n              from each frame's pose (mm/take_spans.h); %d of %d takes open with a calibration "
+           "pose%s\n",
+           rep->calibration_starts, takes,
+           rep->arms_missing ? "; A poses not looked for on some takes (no elbows and shoulders found)" : "");
     if (rep->moving_seconds > 0.0f) {
         static const char *const gait[2] = {"walk", "run"}, *const dir[3] = {"forward", "side", "backward"};
         printf(

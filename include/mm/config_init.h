@@ -8,14 +8,14 @@
  *     on import); everything below is found on the takes turned;
  *   - the unit (mm_unit_scale_for_height of the body's upright height) and so the config's scale;
  *   - the bone roles, the facing bone's forward axis and the mirror pairs (mm/skeleton_roles.h);
- *   - for each take, frame spans (mm_take_spans_find): lying down (left out), standing still
- *     (an idle clip) and the rest (a locomotion clip), mirrored when the mirror pairs pair the
- *     skeleton;
+ *   - for each take, frame spans (mm/take_spans.h, as mm bvh spans finds them): calibration poses
+ *     (T and A), lying, getting up and going down to the ground left out, standing still (an idle
+ *     clip) and the rest (a locomotion clip), mirrored when the mirror pairs pair the skeleton;
  *   - the runtime's walk and run speeds from the root speeds of the locomotion spans, so that the
  *     simulation asks only for speeds the takes have (mm_gait_speed_estimate);
  * and writes the tuning measured on motion capture (mm_config_init_desc).
  *
- * Functions: mm_take_spans_desc_defaults mm_take_spans_find mm_take_spans_free mm_config_init
+ * Functions: mm_config_init
  */
 #ifndef MM_CONFIG_INIT_H
 #define MM_CONFIG_INIT_H
@@ -26,34 +26,11 @@
 #include "config.h"
 #include "result.h"
 #include "skeleton_roles.h"
+#include "take_spans.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ---- frame spans of a take -------------------------------------------------------------- */
-
-typedef struct mm_take_spans_desc {
-    float low_hips;   /* m: hips lower than this are lying down or crawling; default 0.6 */
-    float pad;        /* s left out before and after such frames; default 1 */
-    float idle_speed; /* m/s: the root slower than this (over +-0.1 s) stands still; default 0.15 */
-    float idle_min;   /* s: ... for at least this long; default 1 */
-} mm_take_spans_desc;
-
-void mm_take_spans_desc_defaults(mm_take_spans_desc *desc);
-
-/* Half-open frame ranges, each of 2 frames or more. */
-typedef struct mm_take_spans {
-    int excluded_count, idle_count, locomotion_count;
-    mm_config_range *excluded, *idle, *locomotion; /* malloc'd */
-} mm_take_spans;
-
-/* The spans of a clip in metres, +Y up: excluded (hips low, widened by pad), idle (the rest where
- * the root bone's ground projection stands still long enough) and locomotion (the rest). hips
- * and root_bone are joint indices. desc NULL: the defaults. */
-mm_result mm_take_spans_find(const mm_clip *clip, int hips, int root_bone, const mm_take_spans_desc *desc,
-                             mm_take_spans *out);
-void mm_take_spans_free(mm_take_spans *spans);
 
 /* ---- the config ------------------------------------------------------------------------- */
 
@@ -95,6 +72,11 @@ typedef struct mm_config_init_report {
     float fps_min, fps_max;
     float seconds; /* of all the takes */
     float locomotion_seconds, idle_seconds, excluded_seconds;
+    /* seconds of the frames left out by kind (MM_SPAN_KIND_COUNT kinds: calibration, a_pose, lying,
+     * getting_up, down; before the pad) and the takes that open with a calibration pose */
+    float kind_seconds[MM_SPAN_KIND_COUNT];
+    int calibration_starts;
+    int arms_missing; /* takes on which no A pose was looked for (no elbows and shoulders found) */
     mm_skeleton_roles roles;
     /* [0] walk, [1] run; forward, side, backward. Walk: the 0.85 quantile forward, the median
      * sideways, the 0.6 quantile backward, of windows slower than MM_GAIT_SPEED_RUN; run: the 0.95 quantile

@@ -8,112 +8,6 @@
 
 #include "db/process.h"
 
-/* ---- frame spans ------------------------------------------------------------------------ */
-
-void mm_take_spans_desc_defaults(mm_take_spans_desc *d)
-{
-    d->low_hips = 0.6f;
-    d->pad = 1.0f;
-    d->idle_speed = 0.15f;
-    d->idle_min = 1.0f;
-}
-
-void mm_take_spans_free(mm_take_spans *s)
-{
-    if (!s) return;
-    free(s->excluded);
-    free(s->idle);
-    free(s->locomotion);
-    memset(s, 0, sizeof *s);
-}
-
-mm_result mm_take_spans_find(const mm_clip *clip, int hips, int root_bone, const mm_take_spans_desc *desc,
-                             mm_take_spans *out)
-{
-    memset(out, 0, sizeof *out);
-    mm_take_spans_desc d;
-    mm_take_spans_desc_defaults(&d);
-    if (desc) d = *desc;
-    int n = clip->frame_count, jc = clip->skeleton.joint_count;
-    if (hips < 0 || hips >= jc || root_bone < 0 || root_bone >= jc || !(clip->fps > 0.0f))
-        return MM_ERR_INVALID_ARGUMENT;
-    double fps = clip->fps;
-    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
-    double *x = (double *)malloc(sizeof(double) * 3 * (size_t)(n + 1));
-    unsigned char *excluded = (unsigned char *)calloc((size_t)n + 1, 1);
-    unsigned char *idle = (unsigned char *)calloc((size_t)n + 1, 1);
-    size_t room = (size_t)n / 2 + 1;
-    out->excluded = (mm_config_range *)malloc(sizeof(mm_config_range) * room);
-    out->idle = (mm_config_range *)malloc(sizeof(mm_config_range) * room);
-    out->locomotion = (mm_config_range *)malloc(sizeof(mm_config_range) * room);
-    if (!g || !x || !excluded || !idle || !out->excluded || !out->idle || !out->locomotion) {
-        free(g);
-        free(x);
-        free(excluded);
-        free(idle);
-        mm_take_spans_free(out);
-        return MM_ERR_OUT_OF_MEMORY;
-    }
-    for (int f = 0; f < n; ++f) {
-        mm_clip_fk(clip, f, g);
-        x[3 * f] = g[root_bone].translation.x;
-        x[3 * f + 1] = g[root_bone].translation.z;
-        x[3 * f + 2] = g[hips].translation.y;
-    }
-    /* excluded: hips low, widened by pad seconds on each side (pad and idle_min may be huge:
-     * clamped to the clip) */
-    int widen = (int)lround(fmin((double)d.pad * fps, (double)n));
-    for (int f = 0, last = -1; f < n; ++f) {
-        if (x[3 * f + 2] < d.low_hips) last = f;
-        if (last >= 0 && f - last <= widen) excluded[f] = 1;
-    }
-    for (int f = n - 1, next = -1; f >= 0; --f) {
-        if (x[3 * f + 2] < d.low_hips) next = f;
-        if (next >= 0 && next - f <= widen) excluded[f] = 1;
-    }
-    /* idle: root speed (central differences over +-0.1 s) below idle_speed for idle_min seconds */
-    int h = (int)lround(0.1 * fps) > 0 ? (int)lround(0.1 * fps) : 1;
-    int min_len = (int)lround(fmin((double)d.idle_min * fps, (double)n + 1.0));
-    for (int f = 0; f < n;) {
-        int e = f;
-        while (e < n && !excluded[e]) {
-            int a = e - h < 0 ? 0 : e - h, b = e + h >= n ? n - 1 : e + h;
-            double speed =
-                b > a ? hypot(x[3 * b] - x[3 * a], x[3 * b + 1] - x[3 * a + 1]) * fps / (b - a) : 0;
-            if (speed >= d.idle_speed) break;
-            ++e;
-        }
-        if (e - f >= min_len)
-            for (int k = f; k < e; ++k) idle[k] = 1;
-        f = e > f ? e : f + 1;
-    }
-    for (int kind = 0; kind < 3; ++kind) {
-        mm_config_range *list = kind == 0 ? out->excluded : kind == 1 ? out->idle : out->locomotion;
-        int *count = kind == 0 ? &out->excluded_count : kind == 1 ? &out->idle_count : &out->locomotion_count;
-        for (int f = 0; f < n;) {
-            int in = kind == 0   ? excluded[f]
-                     : kind == 1 ? (!excluded[f] && idle[f])
-                                 : (!excluded[f] && !idle[f]);
-            int e = f;
-            while (e < n && (kind == 0   ? excluded[e]
-                             : kind == 1 ? (!excluded[e] && idle[e])
-                                         : (!excluded[e] && !idle[e])) == in)
-                ++e;
-            if (in && e - f >= 2 && (size_t)*count < room) {
-                list[*count].begin = f;
-                list[*count].end = e;
-                ++*count;
-            }
-            f = e;
-        }
-    }
-    free(g);
-    free(x);
-    free(excluded);
-    free(idle);
-    return MM_OK;
-}
-
 /* ---- gait speeds ------------------------------------------------------------------------ */
 
 typedef struct speed_list {
@@ -459,14 +353,22 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         out->clips =
             (mm_config_clip *)mm_alloc_array(&out->allocator, (size_t)count * 2, sizeof(mm_config_clip));
         if (!out->clips) r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-        mm_take_spans_desc sd;
-        mm_take_spans_desc_defaults(&sd);
-        sd.low_hips = 0.375f * rep->height; /* 0.6 m for a body 1.6 m tall */
-        int hips = roles->roles[MM_BODY_HIPS].joint, root = roles->roles[MM_BODY_ROOT_BONE].joint;
+        int root = roles->roles[MM_BODY_ROOT_BONE].joint;
         int facing = roles->roles[MM_BODY_FACING_BONE].joint;
+        const mm_take_joints joints = {
+            roles->roles[MM_BODY_HIPS].joint, root, roles->roles[MM_BODY_HEAD].joint,
+            roles->roles[MM_BODY_LEFT_HAND].joint, roles->roles[MM_BODY_RIGHT_HAND].joint};
         for (int t = 0; t < count && r == MM_OK; ++t) {
             if (metric[t].frame_count < 2) continue;
-            r = mm_take_spans_find(&metric[t], hips, root, &sd, &spans[t]);
+            r = mm_take_spans_find(&metric[t], &joints, NULL, &spans[t]);
+            if (r == MM_OK) {
+                const mm_take_spans *s = &spans[t];
+                for (int f = 0; f < s->frame_count; ++f)
+                    rep->kind_seconds[s->kinds[f]] += 1.0f / metric[t].fps;
+                rep->calibration_starts += s->frame_count > 0 && (s->kinds[0] == MM_POSTURE_CALIBRATION ||
+                                                                  s->kinds[0] == MM_SPAN_A_POSE);
+                rep->arms_missing += !s->arms_found;
+            }
             if (r == MM_OK)
                 r = collect_speeds(&metric[t], &spans[t], root, facing, roles->forward_axis, lists);
             if (r != MM_OK) {
