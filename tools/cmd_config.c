@@ -235,8 +235,8 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
            (double)rep->locomotion_seconds, (double)rep->idle_seconds, (double)rep->excluded_seconds);
     static const int left_out[] = {MM_POSTURE_CALIBRATION, MM_SPAN_A_POSE, MM_POSTURE_LYING,
                                    MM_SPAN_GETTING_UP, MM_SPAN_DOWN};
-    static const char *const left_out_names[] = {"T pose", "A pose", "lying", "getting up or down",
-                                                 "down to the ground"};
+    static const char *const left_out_names[] = {"T pose", "A pose", "lying", "lying down or getting up",
+                                                 "kneeling or sitting"};
     printf("  left out:   ");
     for (int k = 0; k < 5; ++k)
         printf("%s %s %.1f s", k ? "," : "", left_out_names[k], (double)rep->kind_seconds[left_out[k]]);
