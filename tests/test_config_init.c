@@ -459,6 +459,7 @@ static void test_axes(void **state)
     };
     mm_database reference;
     memset(&reference, 0, sizeof reference);
+    static char reference_spans[1300];
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         char dir[1024], files[4096] = "";
         case_dir(cases[c].name, dir, sizeof dir);
@@ -508,6 +509,30 @@ static void test_axes(void **state)
         assert_int_equal(cfg.axes_up, cases[c].up);
         assert_int_equal(mm_axes_forward(cfg.axes_up, cfg.axes_forward), cases[c].forward);
         mm_config_free(&cfg);
+        /* mm bvh spans turns the take too, by the up it finds and by the config's axes: the spans
+         * of the original */
+        for (int with_config = 0; with_config < 2; ++with_config) {
+            char args[4096], log[1200], spans[1300];
+            snprintf(log, sizeof log, "%s/spans%d.json", dir, with_config);
+            snprintf(args, sizeof args, "bvh spans \"%s/walk_start.bvh\" %s%s%s", dir,
+                     with_config ? "--config \"" : "", with_config ? dir : "",
+                     with_config ? "/config.json\"" : "");
+            assert_int_equal(run_mm(args, log), 0);
+            FILE *f = fopen(log, "rb");
+            assert_non_null(f);
+            size_t n = fread(args, 1, sizeof args - 1, f);
+            fclose(f);
+            args[n] = 0;
+            const char *from = strstr(args, "\"upright_head_height\"");
+            assert_non_null(from);
+            if (c == 0 && !with_config) snprintf(reference_spans, sizeof reference_spans, "%s", from);
+            snprintf(spans, sizeof spans, "%s", from);
+            if (strcmp(spans, reference_spans) != 0)
+                fail_msg("%s: bvh spans%s gave\n%s\nnot\n%s", cases[c].name, with_config ? " --config" : "",
+                         spans, reference_spans);
+            if (!strstr(args, mm_axis_name(cases[c].up)))
+                fail_msg("%s: bvh spans: no up %s", cases[c].name, mm_axis_name(cases[c].up));
+        }
         if (c == 0) {
             reference = d;
             continue;

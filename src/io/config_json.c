@@ -935,6 +935,38 @@ void mm_config_free_sources(const mm_config *cfg, mm_clip *clips)
     free(clips);
 }
 
+mm_result mm_config_import_takes(const mm_config *cfg, const char *path, mm_clip_list *out, mm_error *err)
+{
+    /* takes of other axes are turned before the unit is detected: the height is measured along +Y */
+    int turned =
+        cfg->axes_up != MM_AXIS_POS_Y || mm_axes_forward(cfg->axes_up, cfg->axes_forward) != MM_AXIS_POS_Z;
+    mm_import_desc imp;
+    memset(&imp, 0, sizeof imp);
+    imp.scale = cfg->scale;
+    imp.auto_scale = cfg->scale == 0.0f && !turned;
+    mm_result r = mm_import_clips(path, &imp, out, err);
+    if (r != MM_OK || !turned) return r;
+    for (int t = 0; t < out->count; ++t) {
+        mm_clip *k = &out->clips[t];
+        mm_clip_turn(k, mm_axes_turn(cfg->axes_up, cfg->axes_forward));
+        if (cfg->scale != 0.0f) continue;
+        const mm_quat *rot = k->frame_count > 0 ? mm_clip_rotations(k, 0) : NULL;
+        const mm_vec3 *pos = k->frame_count > 0 ? mm_clip_positions(k, 0) : NULL;
+        double height = mm_skeleton_estimate_height(&k->skeleton, rot, pos);
+        double unit = mm_unit_scale_for_height(height);
+        if (unit == 0.0) {
+            mm_clip_list_free(out);
+            mm__error_set_file(err, path);
+            return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
+                                "cannot detect the unit: the character is %g units tall along axes.up %s, "
+                                "which is no human height; give the scale",
+                                height, mm_axis_name(cfg->axes_up));
+        }
+        mm_clip_scale(k, (float)unit);
+    }
+    return MM_OK;
+}
+
 mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err)
 {
     *out_clips = NULL;
@@ -959,38 +991,9 @@ mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_e
             r = mm_clip_copy(&clips[i], &clips[same], NULL);
             continue;
         }
-        /* takes of other axes are turned before the unit is detected: the height is measured along +Y */
-        int turned = cfg->axes_up != MM_AXIS_POS_Y ||
-                     mm_axes_forward(cfg->axes_up, cfg->axes_forward) != MM_AXIS_POS_Z;
-        mm_import_desc imp;
-        memset(&imp, 0, sizeof imp);
-        imp.scale = cfg->scale;
-        imp.auto_scale = cfg->scale == 0.0f && !turned;
         mm_clip_list takes;
-        r = mm_import_clips(paths[i], &imp, &takes, err);
+        r = mm_config_import_takes(cfg, paths[i], &takes, err);
         if (r != MM_OK) break;
-        for (int t = 0; t < takes.count && turned; ++t) {
-            mm_clip *k = &takes.clips[t];
-            mm_clip_turn(k, mm_axes_turn(cfg->axes_up, cfg->axes_forward));
-            if (cfg->scale != 0.0f) continue;
-            const mm_quat *rot = k->frame_count > 0 ? mm_clip_rotations(k, 0) : NULL;
-            const mm_vec3 *pos = k->frame_count > 0 ? mm_clip_positions(k, 0) : NULL;
-            double height = mm_skeleton_estimate_height(&k->skeleton, rot, pos);
-            double unit = mm_unit_scale_for_height(height);
-            if (unit == 0.0) {
-                mm__error_set_file(err, paths[i]);
-                r = mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
-                                 "cannot detect the unit: the character is %g units tall along axes.up %s, "
-                                 "which is no human height; give the scale",
-                                 height, mm_axis_name(cfg->axes_up));
-                break;
-            }
-            mm_clip_scale(k, (float)unit);
-        }
-        if (r != MM_OK) {
-            mm_clip_list_free(&takes);
-            break;
-        }
         int pick = 0;
         if (cfg->clips[i].take[0]) {
             pick = -1;
