@@ -354,6 +354,60 @@ static void test_take(void **state)
     mm_skeleton_free(&s);
 }
 
+/* A take over an obstacle course: walking on the floor (4 s), on a platform 0.8 m up (3 s), on the
+ * floor again (3 s) with a tuck jump in it (0.5 s in the air, the feet drawn up to the hips' old
+ * height). With one floor for the take the platform (30% of it) would lift the upright head height
+ * by 0.8 m and make every floor frame a crouch; the ground under each frame keeps them upright, and
+ * the jump keeps the floor it leaves. */
+static void test_ground(void **state)
+{
+    (void)state;
+    mm_skeleton s;
+    make_skeleton(&s);
+    const int n = 300, up = 120, down = 210, jump = 250, land = 265;
+    mm_clip clip;
+    assert_int_equal(mm_clip_init(&clip, &s, n, FPS, NULL), MM_OK);
+    float z = 0.0f;
+    for (int f = 0; f < n; ++f) {
+        float t = (float)f / FPS;
+        z += 1.3f / FPS;
+        pose p = standing(z);
+        p.swing = 25.0f * sinf(2.0f * (float)MM_PI * t / 1.1f);
+        p.stride = 0.8f * p.swing;
+        if (f >= up && f < down) p.hips.y += 0.8f;
+        mm_vec3 w[JOINTS];
+        if (f >= jump && f < land) { /* in the air, the knees drawn up: the feet 0.5 m up, the hips 1.2 m */
+            p.hips.y = 1.2f;
+            p.stride = 0.0f;
+            world_of(&p, w);
+            for (int side = 0; side < 2; ++side) {
+                int leg = side == 0 ? L_UPLEG : R_UPLEG;
+                w[leg + 1] = mm_vec3_add(w[leg], mm_vec3_make(0, -0.2f, 0.35f));
+                w[leg + 2] = mm_vec3_add(w[leg + 1], mm_vec3_make(0, -0.4f, -0.1f));
+            }
+        } else {
+            world_of(&p, w);
+        }
+        for (int j = 0; j < JOINTS; ++j) {
+            mm_clip_rotations(&clip, f)[j] = mm_quat_identity();
+            mm_clip_positions(&clip, f)[j] = parents[j] < 0 ? w[j] : mm_vec3_sub(w[j], w[parents[j]]);
+        }
+    }
+    const mm_take_joints joints = {HIPS, CHEST, HEAD, L_HAND, R_HAND};
+    mm_take_spans sp;
+    assert_int_equal(mm_take_spans_find(&clip, &joints, NULL, &sp), MM_OK);
+    print_message("upright head height %.3f m\n", (double)sp.upright_head_height);
+    assert_near(sp.upright_head_height, 1.62 - 0.08, 0.05);
+    for (int f = 0; f < n; ++f)
+        if (sp.kinds[f] != MM_POSTURE_UPRIGHT)
+            fail_msg("frame %d: %s, not upright", f, mm_span_kind_name(sp.kinds[f]));
+    assert_int_equal(sp.excluded_count, 0);
+    assert_int_equal(sp.locomotion_count, 1);
+    mm_take_spans_free(&sp);
+    mm_clip_free(&clip);
+    mm_skeleton_free(&s);
+}
+
 /* ---- LAFAN1 ----------------------------------------------------------------------------- */
 
 /* The frames of the take's opening run where the hands are more than 1.2 m apart at more than
@@ -468,6 +522,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_a_pose_shape),
         cmocka_unit_test(test_take),
+        cmocka_unit_test(test_ground),
         cmocka_unit_test(test_lafan1),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

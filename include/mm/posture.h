@@ -124,12 +124,12 @@ bool mm_posture_a_pose_shape(const mm_vec3 *world, const mm_posture_arms *arms,
                              const mm_posture_reference *ref);
 
 /* The A poses of a sequence: world[f * stride + j] the world positions of frame f (n frames at
- * fps). out[f] is 1 where the pose is in the shape of an A pose with both hands still
+ * fps), ground_y[f] its ground. out[f] is 1 where the pose is in the shape of an A pose with both hands still
  * (MM_POSTURE_A_POSE_STILL_SPEED) for at least MM_POSTURE_A_POSE_HOLD_SECONDS, else 0. Returns the
  * frames found. */
 int mm_posture_find_a_poses(const mm_vec3 *world, int n, int stride, float fps, const mm_posture_arms *arms,
-                            const mm_posture_joints *joints, float ground_y, const mm_posture_reference *ref,
-                            uint8_t *out);
+                            const mm_posture_joints *joints, const float *ground_y,
+                            const mm_posture_reference *ref, uint8_t *out);
 
 /* Runs of one posture shorter than min_frames take the posture of the run before them (the run
  * after, at the start): a pose that dips under a threshold for a few frames is not a crouch. */

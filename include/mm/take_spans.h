@@ -3,12 +3,12 @@
  * (locomotion). mm config init (mm/config_init.h) and mm bvh spans both split takes with it
  * (docs/database.md, "Spans of a take").
  *
- * Each frame gets a kind: its posture (mm/posture.h) against the take's own upright head height,
- * short runs merged (mm_posture_remove_flicker); an A pose held still (mm_posture_find_a_poses) is
- * MM_SPAN_A_POSE; in a stretch of low frames (crouched, bent, lying) the crouched and bent frames
- * within MM_SPAN_TRANSITION_SECONDS of a lying frame are MM_SPAN_GETTING_UP (lying down, getting
- * up), and those within it of a frame with the hips below MM_SPAN_DOWN_HIPS x their upright height
- * MM_SPAN_DOWN (kneeling, sitting, picking something up). Calibration poses (T and A), lying,
+ * Each frame gets a kind: its posture (mm/posture.h) against the take's own upright head height
+ * over the ground under it (MM_SPAN_GROUND_SECONDS), short runs merged (mm_posture_remove_flicker); an A pose
+ * held still (mm_posture_find_a_poses) is MM_SPAN_A_POSE; in a stretch of low frames (crouched, bent, lying)
+ * the crouched and bent frames within MM_SPAN_TRANSITION_SECONDS of a lying frame are MM_SPAN_GETTING_UP
+ * (lying down, getting up), and those within it of a frame with the hips below MM_SPAN_DOWN_HIPS x their
+ * upright height MM_SPAN_DOWN (kneeling, sitting, picking something up). Calibration poses (T and A), lying,
  * getting up and going down are left out, widened by pad seconds on each side; in the rest, the
  * root bone's ground projection slower than idle_speed for idle_min seconds is idle, the others
  * locomotion (crouched, bent and arms-spread frames stay: the database build tags or cuts them).
@@ -43,6 +43,10 @@ extern "C" {
 /* Lying down, getting up and going down to the ground and back take at most this long (s): the
  * crouched or bent frames farther from a lying frame or from the hips' lowest are another motion. */
 #define MM_SPAN_TRANSITION_SECONDS 2.0f
+
+/* s: the ground under a frame is the lowest joint within this of it when above the take's floor
+ * (a ground that follows obstacles and steps up, not jumps: LAFAN1's leave the floor for 0.5-0.6 s) */
+#define MM_SPAN_GROUND_SECONDS 0.4f
 
 /* The joints the spans are judged on (indices; -1: none). hips, root_bone and head are needed;
  * without both hands no calibration pose is looked for. */

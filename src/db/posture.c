@@ -149,15 +149,15 @@ bool mm_posture_a_pose_shape(const mm_vec3 *world, const mm_posture_arms *arms,
 }
 
 int mm_posture_find_a_poses(const mm_vec3 *world, int n, int stride, float fps, const mm_posture_arms *arms,
-                            const mm_posture_joints *joints, float ground_y, const mm_posture_reference *ref,
-                            uint8_t *out)
+                            const mm_posture_joints *joints, const float *ground_y,
+                            const mm_posture_reference *ref, uint8_t *out)
 {
     int h = (int)lroundf(0.1f * fps), hold = (int)ceilf(MM_POSTURE_A_POSE_HOLD_SECONDS * fps), found = 0;
     if (h < 1) h = 1;
     if (hold < 1) hold = 1;
     for (int f = 0; f < n; ++f) {
         const mm_vec3 *w = world + (size_t)f * (size_t)stride;
-        out[f] = mm_posture_a_pose_shape(w, arms, joints, ground_y, ref);
+        out[f] = mm_posture_a_pose_shape(w, arms, joints, ground_y[f], ref);
         int a = f - h < 0 ? 0 : f - h, b = f + h >= n ? n - 1 : f + h;
         for (int side = 0; side < 2 && out[f] && b > a; ++side) {
             int j = arms->hand[side];

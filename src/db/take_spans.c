@@ -45,37 +45,54 @@ bool mm_span_left_out(int kind)
 static int low(int k) { return k == MM_POSTURE_CROUCHED || k == MM_POSTURE_BENT || k == MM_POSTURE_LYING; }
 
 /* Each frame's kind from the world positions w [n x jc] (n >= 1), against the take's upright head
- * height (mm_posture_reference_height of the head's heights above the ground: the median over
- * frames of the lowest joint's height, as the database build takes them). 0: out of memory. */
+ * height (mm_posture_reference_height of the head's heights above the ground). The ground under a
+ * frame is the take's floor (the median over frames of the lowest joint, as the database build
+ * takes it), raised to the lowest joint of the frames within MM_SPAN_GROUND_SECONDS when that is
+ * higher: a body standing on a box or an obstacle is not taller, and a jump, shorter than that,
+ * keeps the floor it leaves (a body tucked in the air is not crouched). 0: out of memory. */
 static int judge(const mm_clip *clip, const mm_vec3 *w, const mm_take_joints *jt, mm_take_spans *out)
 {
     int n = clip->frame_count, jc = clip->skeleton.joint_count;
     float fps = clip->fps;
     uint8_t *kind = out->kinds;
-    float *v = (float *)malloc(sizeof(float) * (size_t)n);
+    float *v = (float *)malloc(sizeof(float) * (size_t)n),
+          *ground = (float *)malloc(sizeof(float) * (size_t)n),
+          *lowest = (float *)malloc(sizeof(float) * (size_t)n);
     int *to_lying = (int *)malloc(sizeof(int) * (size_t)n), *to_down = (int *)malloc(sizeof(int) * (size_t)n);
     uint8_t *a_pose = (uint8_t *)calloc((size_t)n, 1);
-    if (!v || !to_lying || !to_down || !a_pose) {
+    if (!v || !ground || !lowest || !to_lying || !to_down || !a_pose) {
         free(v);
+        free(ground);
+        free(lowest);
         free(to_lying);
         free(to_down);
         free(a_pose);
         return 0;
     }
     for (int f = 0; f < n; ++f) {
-        v[f] = INFINITY;
-        for (int j = 0; j < jc; ++j) v[f] = fminf(v[f], w[(size_t)f * (size_t)jc + (size_t)j].y);
+        lowest[f] = INFINITY;
+        for (int j = 0; j < jc; ++j) lowest[f] = fminf(lowest[f], w[(size_t)f * (size_t)jc + (size_t)j].y);
     }
-    float ground = mm__quantile(v, n, 0.5f);
+    memcpy(v, lowest, sizeof(float) * (size_t)n);
+    float floor = mm__quantile(v, n, 0.5f); /* the take's floor: the median of the lowest joint */
+    int reach = (int)lroundf(MM_SPAN_GROUND_SECONDS * fps);
+    for (int f = 0; f < n; ++f) {
+        int a = f - reach < 0 ? 0 : f - reach, b = f + reach >= n ? n - 1 : f + reach;
+        ground[f] = lowest[a];
+        for (int k = a + 1; k <= b; ++k) ground[f] = fminf(ground[f], lowest[k]);
+        ground[f] = fmaxf(ground[f], floor);
+    }
+    /* the upright heights over the frame's own lowest joint (when above the floor): the frames just
+     * up a step, or in the air, do not make the body taller */
     const mm_vec3 *head = w + jt->head, *hips = w + jt->hips;
-    for (int f = 0; f < n; ++f) v[f] = hips[(size_t)f * (size_t)jc].y - ground;
+    for (int f = 0; f < n; ++f) v[f] = hips[(size_t)f * (size_t)jc].y - fmaxf(lowest[f], floor);
     float upright_hips = mm_posture_reference_height(v, n);
-    for (int f = 0; f < n; ++f) v[f] = head[(size_t)f * (size_t)jc].y - ground;
+    for (int f = 0; f < n; ++f) v[f] = head[(size_t)f * (size_t)jc].y - fmaxf(lowest[f], floor);
     mm_posture_reference ref = {mm_posture_reference_height(v, n)};
     out->upright_head_height = ref.head_height;
     mm_posture_joints joints = {jt->hips, jt->head, jt->left_hand, jt->right_hand};
     for (int f = 0; f < n; ++f)
-        kind[f] = (uint8_t)mm_posture_classify(w + (size_t)f * (size_t)jc, &joints, ground, &ref);
+        kind[f] = (uint8_t)mm_posture_classify(w + (size_t)f * (size_t)jc, &joints, ground[f], &ref);
     mm_posture_remove_flicker(kind, n, (int)lroundf(MM_POSTURE_MIN_SECONDS * fps));
     /* A poses held still: calibration, whatever the frame-by-frame posture said */
     mm_posture_arms arms;
@@ -94,17 +111,19 @@ static int judge(const mm_clip *clip, const mm_vec3 *w, const mm_take_joints *jt
                 continue;
             }
             if (kind[f] == MM_POSTURE_LYING) last_lying = f;
-            if (hips[(size_t)f * (size_t)jc].y - ground < MM_SPAN_DOWN_HIPS * upright_hips) last_down = f;
+            if (hips[(size_t)f * (size_t)jc].y - ground[f] < MM_SPAN_DOWN_HIPS * upright_hips) last_down = f;
             int dl = last_lying >= 0 ? abs(f - last_lying) : INT_MAX,
                 dd = last_down >= 0 ? abs(f - last_down) : INT_MAX;
             to_lying[f] = pass && to_lying[f] < dl ? to_lying[f] : dl;
             to_down[f] = pass && to_down[f] < dd ? to_down[f] : dd;
         }
-    int reach = (int)lroundf(MM_SPAN_TRANSITION_SECONDS * fps);
+    reach = (int)lroundf(MM_SPAN_TRANSITION_SECONDS * fps);
     for (int f = 0; f < n; ++f)
         if (low(kind[f]) && kind[f] != MM_POSTURE_LYING && (to_lying[f] <= reach || to_down[f] <= reach))
             kind[f] = to_lying[f] <= reach ? MM_SPAN_GETTING_UP : MM_SPAN_DOWN;
     free(v);
+    free(ground);
+    free(lowest);
     free(to_lying);
     free(to_down);
     free(a_pose);
