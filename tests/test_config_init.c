@@ -544,6 +544,31 @@ static void test_axes(void **state)
         mm_database_free(&d);
     }
     if (mm_bin) mm_database_free(&reference);
+    /* takes standing along different axes: an error naming both; --up decides */
+    mm_clip turned;
+    assert_int_equal(mm_clip_copy(&turned, synth_clip("walk_1.40"), NULL), MM_OK);
+    mm_clip_turn(&turned, mm_quat_conj(mm_axes_turn(MM_AXIS_POS_Z, -1)));
+    mm_config_init_take two[2] = {{"a.bvh", NULL, NULL, "a", synth_clip("idle")},
+                                  {"b.bvh", NULL, NULL, "b", &turned}};
+    mm_config cfg;
+    mm_config_init_report rep;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_config_init(two, 2, NULL, &cfg, &rep, &err), MM_ERR_INVALID_ARGUMENT);
+    print_message("  %s: %s\n", err.file, err.message);
+    assert_non_null(strstr(err.message, "stands along +Z"));
+    assert_non_null(strstr(err.message, "but along +Y in a.bvh"));
+    assert_string_equal(err.file, "b.bvh");
+    mm_config_init_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.up_given = true;
+    desc.up_axis = MM_AXIS_POS_Y;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_config_init(two, 2, &desc, &cfg, &rep, &err), MM_OK);
+    assert_true(rep.up_given);
+    assert_int_equal(cfg.axes_up, MM_AXIS_POS_Y);
+    mm_config_free(&cfg);
+    mm_clip_free(&turned);
 }
 
 /* A config's axes: read, validated, written back. */

@@ -62,7 +62,8 @@ typedef struct mm_gait_speed_estimate {
 
 typedef struct mm_config_init_report {
     int up_axis;         /* the takes' up (0..5 as mm_axis_name): given, detected, or +Y when unclear */
-    float up_confidence; /* mm_clip_up_axis's confidence on the first take with frames */
+    float up_confidence; /* mm_clip_up_axis's confidence on the first take whose up is clear (else the
+                            highest of the takes') */
     bool up_detected;    /* the confidence reached MM_UP_MIN_CONFIDENCE */
     bool up_given;       /* desc gave it */
     int forward_axis;    /* the takes' forward: given, else mm_axes_forward's for up */

@@ -273,18 +273,23 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         rep->fps_max = fmaxf(rep->fps_max, c->fps);
         rep->seconds += c->frame_count / c->fps;
     }
-    /* up and forward: detected from the first take with frames (given in desc), and every take
-     * whose up is clear must agree */
-    int first = 0;
-    while (first < count - 1 && takes[first].clip->frame_count < 2) ++first;
+    /* up and forward: detected from the first take whose up is clear (given in desc), and every
+     * take whose up is clear must agree */
     int given_up = desc && desc->up_given && desc->up_axis >= 0 && desc->up_axis < 6 ? desc->up_axis : -1;
-    rep->up_axis = mm_clip_up_axis(takes[first].clip, &rep->up_confidence);
-    rep->up_detected = rep->up_confidence >= MM_UP_MIN_CONFIDENCE;
-    if (!rep->up_detected) rep->up_axis = MM_AXIS_POS_Y; /* no telling: the BVH convention */
-    for (int t = 0; t < count && given_up < 0; ++t) {
+    int first = -1;
+    rep->up_axis = MM_AXIS_POS_Y; /* no telling: the BVH convention */
+    for (int t = 0; t < count; ++t) {
+        if (takes[t].clip->frame_count < 2 && !(t == count - 1 && first < 0)) continue;
         float confidence = 0.0f;
-        int up = takes[t].clip->frame_count >= 2 ? mm_clip_up_axis(takes[t].clip, &confidence) : rep->up_axis;
-        if (confidence >= MM_UP_MIN_CONFIDENCE && up != rep->up_axis) {
+        int up = mm_clip_up_axis(takes[t].clip, &confidence);
+        if (first < 0 && confidence > rep->up_confidence) rep->up_confidence = confidence;
+        if (confidence < MM_UP_MIN_CONFIDENCE) continue;
+        if (first < 0) {
+            first = t;
+            rep->up_axis = up;
+            rep->up_confidence = confidence;
+            rep->up_detected = true;
+        } else if (up != rep->up_axis && given_up < 0) {
             if (err)
                 snprintf(err->file, sizeof err->file, "%s", takes[t].path ? takes[t].path : takes[t].file);
             return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
