@@ -310,6 +310,7 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
     out->axes_forward =
         rep->up_axis == MM_AXIS_POS_Y && rep->forward_axis == MM_AXIS_POS_Z ? -1 : rep->forward_axis;
     const mm_quat turn = mm_axes_turn(rep->up_axis, rep->forward_axis);
+    const bool turned = rep->up_axis != MM_AXIS_POS_Y || rep->forward_axis != MM_AXIS_POS_Z;
 
     /* the takes turned to +Y up, +Z forward, then in metres */
     mm_clip *metric = (mm_clip *)calloc((size_t)count, sizeof(mm_clip));
@@ -322,7 +323,7 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         r = mm_clip_copy(&metric[t], takes[t].clip, NULL);
         if (r == MM_OK) {
             ++made;
-            mm_clip_turn(&metric[t], turn);
+            if (turned) mm_clip_turn(&metric[t], turn);
         }
     }
     /* unit */
