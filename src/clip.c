@@ -68,6 +68,21 @@ void mm_clip_scale(mm_clip *clip, float factor)
     for (size_t i = 0; i < n; ++i) clip->positions[i] = mm_vec3_scale(clip->positions[i], factor);
 }
 
+void mm_clip_turn(mm_clip *clip, mm_quat turn)
+{
+    mm_skeleton *s = &clip->skeleton;
+    for (int j = 0; j < s->joint_count; ++j) {
+        if (s->joints[j].parent >= 0) continue;
+        s->joints[j].offset = mm_quat_rotate(turn, s->joints[j].offset);
+        for (int f = 0; f < clip->frame_count; ++f) {
+            mm_quat *q = &mm_clip_rotations(clip, f)[j];
+            mm_vec3 *p = &mm_clip_positions(clip, f)[j];
+            *q = mm_quat_normalize(mm_quat_mul(turn, *q));
+            *p = mm_quat_rotate(turn, *p);
+        }
+    }
+}
+
 /* The pose between frames f1 and f1 + 1 (a in (0, 1)) on the Catmull-Rom splines through the
  * frames; a missing neighbour (before the first frame, after the last) is the reflection of the
  * frame beyond, which makes that end's tangent the one-sided difference. */

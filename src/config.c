@@ -12,6 +12,8 @@ void mm_config_defaults(mm_config *c)
     memset(c, 0, sizeof *c);
     c->interval = 1.0f / 60.0f;
     c->scale = 0.0f;
+    c->axes_up = MM_AXIS_POS_Y;
+    c->axes_forward = -1;
     /* the roles' joints by their default names (mm_role_default_name, the one table of them); the
      * root bone is no role of the runtime's: its default joint is written here */
     set_name(c->hips, mm_role_default_name(MM_ROLE_HIPS));
@@ -56,6 +58,57 @@ void mm_config_defaults(mm_config *c)
     set_name(c->mirror_pairs[0].right, "Right");
     set_name(c->mirror_pairs[1].left, "left");
     set_name(c->mirror_pairs[1].right, "right");
+}
+
+const char *mm_axis_name(int axis)
+{
+    static const char *const names[6] = {"+X", "+Y", "+Z", "-X", "-Y", "-Z"};
+    return axis >= 0 && axis < 6 ? names[axis] : NULL;
+}
+
+int mm_axis_parse(const char *name)
+{
+    if (!name) return -1;
+    int sign = 0;
+    if (name[0] == '+' || name[0] == '-') sign = *name++ == '-';
+    if (!name[0] || name[1]) return -1;
+    int axis = name[0] == 'x' || name[0] == 'X'   ? 0
+               : name[0] == 'y' || name[0] == 'Y' ? 1
+               : name[0] == 'z' || name[0] == 'Z' ? 2
+                                                  : -1;
+    return axis < 0 ? -1 : axis + 3 * sign;
+}
+
+int mm_axes_forward(int up, int forward)
+{
+    if (forward >= 0 && forward < 6) return forward;
+    if (up == MM_AXIS_POS_Z) return MM_AXIS_NEG_Y;
+    if (up == MM_AXIS_NEG_Z) return MM_AXIS_POS_Y;
+    return MM_AXIS_POS_Z;
+}
+
+static mm_vec3 axis_vector(int axis)
+{
+    float v[3] = {0.0f, 0.0f, 0.0f};
+    v[axis % 3] = axis < 3 ? 1.0f : -1.0f;
+    return mm_vec3_make(v[0], v[1], v[2]);
+}
+
+mm_quat mm_axes_turn(int up, int forward)
+{
+    forward = mm_axes_forward(up, forward);
+    if (up < 0 || up > 5 || up % 3 == forward % 3) return mm_quat_identity();
+    /* the rows of the turn are the file's vectors that become +X, +Y and +Z: left (up x forward),
+     * up and forward */
+    mm_vec3 u = axis_vector(up), f = axis_vector(forward), l = mm_vec3_cross(u, f);
+    mm_mat3 m;
+    const mm_vec3 rows[3] = {l, u, f};
+    for (int r = 0; r < 3; ++r) {
+        m.m[r][0] = rows[r].x;
+        m.m[r][1] = rows[r].y;
+        m.m[r][2] = rows[r].z;
+    }
+    return mm_quat_normalize(mm_quat_from_mat3(m));
 }
 
 void mm_config_free(mm_config *c)
@@ -138,6 +191,13 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
         FAIL("interval: %g s is out of range (0 to 1 s)", c->interval);
     if (!(finite_nonneg(c->scale) && c->scale < 1e6f))
         FAIL("scale: %g must be 0 (detect) or positive", c->scale);
+    if (c->axes_up < 0 || c->axes_up > 5)
+        FAIL("axes.up: %d is not an axis (+X, +Y, +Z, -X, -Y, -Z)", c->axes_up);
+    if (c->axes_forward < -1 || c->axes_forward > 5)
+        FAIL("axes.forward: %d is not an axis (+X, +Y, +Z, -X, -Y, -Z)", c->axes_forward);
+    if (c->axes_forward >= 0 && c->axes_forward % 3 == c->axes_up % 3)
+        FAIL("axes: forward %s lies along up %s; forward must be at right angles to up",
+             mm_axis_name(c->axes_forward), mm_axis_name(c->axes_up));
     if (!finite_nonneg(c->root_smoothing) || c->root_smoothing > 10.0f)
         FAIL("root_smoothing: %g s is out of range (0 to 10 s)", c->root_smoothing);
     if (!finite_positive(c->contact_height)) FAIL("contacts.height: %g must be positive", c->contact_height);

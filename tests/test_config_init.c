@@ -1,6 +1,6 @@
 /* mm config init (mm/config_init.h, mm/skeleton_roles.h) on every kind of skeleton: the built-in
  * set (mm synth); takes of it with the joints renamed to each naming convention, and to no
- * convention at all (geometry alone); one turned to +Z up (refused); and, with MM_DATA_DIR, short
+ * convention at all (geometry alone); turned to other axes (the same database); and, with MM_DATA_DIR, short
  * cuts of two LAFAN1 takes, the games105 takes (20 joints, metres, lXxx names, joints listed in
  * different orders) and the PFNN take (CMU names and units). For each: mm config init, then
  * mm db build on its output as it is, and the roles must be the expected joints. Every take is
@@ -385,47 +385,266 @@ static void test_confidences(void **state)
     }
 }
 
-/* A take standing along +Z is refused with a message naming the axis. */
-static void test_z_up(void **state)
+/* ---- axes ------------------------------------------------------------------------------ */
+
+/* mm config init TAKES OPTIONS -o DIR/config.json, then mm db build; the config into cfg, the
+ * database into d, the report into DIR/init.txt. */
+static void init_build_load(const char *dir, const char *files, const char *options, mm_config *cfg,
+                            mm_database *d)
+{
+    char args[8192], log[1200], config[1100], db[1100];
+    snprintf(config, sizeof config, "%s/config.json", dir);
+    snprintf(db, sizeof db, "%s/db.mmdb", dir);
+    snprintf(log, sizeof log, "%s/init.txt", dir);
+    snprintf(args, sizeof args, "config init %s %s -o \"%s\" --force", files, options, config);
+    int status = run_mm(args, log);
+    print_message("  %s:\n", dir);
+    print_file(log);
+    assert_int_equal(status, 0);
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    memset(cfg, 0, sizeof *cfg);
+    assert_int_equal(mm_config_load_json(config, cfg, NULL, &err), MM_OK);
+    snprintf(log, sizeof log, "%s/build.txt", dir);
+    snprintf(args, sizeof args, "db build \"%s\" -o \"%s\"", config, db);
+    status = run_mm(args, log);
+    if (status != 0) print_file(log);
+    assert_int_equal(status, 0);
+    assert_int_equal(mm_database_load(db, NULL, d, &err), MM_OK);
+}
+
+/* The largest distance between the world joint positions of two databases' frames (FK from the
+ * simulation bone); they must have the same frames and joints. */
+static double world_difference(const mm_database *a, const mm_database *b)
+{
+    assert_int_equal(a->frame_count, b->frame_count);
+    assert_int_equal(a->joint_count, b->joint_count);
+    int jc = a->joint_count;
+    mm_skeleton sa = {jc, (mm_joint *)a->joints, {0}}, sb = {jc, (mm_joint *)b->joints, {0}};
+    mm_xform *ga = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc),
+             *gb = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
+    assert_non_null(ga);
+    assert_non_null(gb);
+    double worst = 0.0;
+    for (int f = 0; f < a->frame_count; ++f) {
+        size_t at = (size_t)f * (size_t)jc;
+        mm_fk(&sa, a->rotations + at, a->positions + at, ga);
+        mm_fk(&sb, b->rotations + at, b->positions + at, gb);
+        for (int j = 0; j < jc; ++j)
+            worst = fmax(worst, mm_vec3_length(mm_vec3_sub(ga[j].translation, gb[j].translation)));
+    }
+    free(ga);
+    free(gb);
+    return worst;
+}
+
+/* Takes of the built-in set turned to other axes (their root joint's channels turned at run time;
+ * every joint's world position checked by FK to be the original's turned) give, through mm config
+ * init and mm db build, the original's database: every world joint within 0.1 mm. A take standing
+ * along +Z is found so; one facing +X needs --forward. */
+static void test_axes(void **state)
 {
     (void)state;
-    char dir[1024], files[4096] = "";
-    case_dir("z_up", dir, sizeof dir);
-    const mm_quat turn = mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), (float)(MM_PI / 2)); /* +Y to +Z */
-    static const char *const takes[] = {"walk_1.40", "idle"};
-    for (int t = 0; t < 2; ++t) {
-        mm_clip clip;
-        assert_int_equal(mm_clip_copy(&clip, synth_clip(takes[t]), NULL), MM_OK);
-        for (int f = 0; f < clip.frame_count; ++f) {
-            mm_clip_rotations(&clip, f)[0] = mm_quat_mul(turn, mm_clip_rotations(&clip, f)[0]);
-            mm_clip_positions(&clip, f)[0] = mm_quat_rotate(turn, mm_clip_positions(&clip, f)[0]);
+    static const char *const takes[] = {"walk_1.40", "idle", "walk_start"};
+    static const struct {
+        const char *name;
+        int up, forward; /* the files' axes */
+        const char *options;
+    } cases[] = {
+        {"axes_y_up", MM_AXIS_POS_Y, MM_AXIS_POS_Z, ""},
+        {"axes_z_up", MM_AXIS_POS_Z, MM_AXIS_NEG_Y, ""},
+        {"axes_neg_z_up", MM_AXIS_NEG_Z, MM_AXIS_POS_Y, ""},
+        {"axes_x_up_facing_neg_z", MM_AXIS_POS_X, MM_AXIS_NEG_Z, "--forward -Z"},
+        {"axes_y_up_facing_x", MM_AXIS_POS_Y, MM_AXIS_POS_X, "--forward +X"},
+    };
+    mm_database reference;
+    memset(&reference, 0, sizeof reference);
+    static char reference_spans[1300];
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        char dir[1024], files[4096] = "";
+        case_dir(cases[c].name, dir, sizeof dir);
+        /* the turn from mm's world to the files' (the inverse of what the build applies) */
+        const mm_quat to_file = mm_quat_conj(mm_axes_turn(cases[c].up, cases[c].forward));
+        const mm_vec3 up_in_file = mm_quat_rotate(to_file, mm_vec3_make(0, 1, 0));
+        assert_float_equal(up_in_file.x, (cases[c].up % 3 == 0 ? (cases[c].up < 3 ? 1 : -1) : 0), 1e-6);
+        assert_float_equal(up_in_file.y, (cases[c].up % 3 == 1 ? (cases[c].up < 3 ? 1 : -1) : 0), 1e-6);
+        assert_float_equal(up_in_file.z, (cases[c].up % 3 == 2 ? (cases[c].up < 3 ? 1 : -1) : 0), 1e-6);
+        for (size_t t = 0; t < sizeof takes / sizeof takes[0]; ++t) {
+            const mm_clip *original = synth_clip(takes[t]);
+            mm_clip clip;
+            assert_int_equal(mm_clip_copy(&clip, original, NULL), MM_OK);
+            int jc = clip.skeleton.joint_count;
+            for (int f = 0; f < clip.frame_count; ++f) { /* the root's channels turned */
+                mm_clip_rotations(&clip, f)[0] = mm_quat_mul(to_file, mm_clip_rotations(&clip, f)[0]);
+                mm_clip_positions(&clip, f)[0] = mm_quat_rotate(to_file, mm_clip_positions(&clip, f)[0]);
+            }
+            mm_xform *g0 = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc),
+                     *g1 = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
+            assert_non_null(g0);
+            assert_non_null(g1);
+            for (int f = 0; f < clip.frame_count; f += 7) {
+                mm_clip_fk(original, f, g0);
+                mm_clip_fk(&clip, f, g1);
+                for (int j = 0; j < jc; ++j) {
+                    mm_vec3 want = mm_quat_rotate(to_file, g0[j].translation), got = g1[j].translation;
+                    if (mm_vec3_length(mm_vec3_sub(want, got)) > 1e-5f)
+                        fail_msg("%s frame %d joint %d: FK off the turned world", takes[t], f, j);
+                }
+            }
+            free(g0);
+            free(g1);
+            float confidence = 0.0f;
+            assert_int_equal(mm_clip_up_axis(&clip, &confidence), cases[c].up);
+            char path[1200];
+            snprintf(path, sizeof path, "%s/%s.bvh", dir, takes[t]);
+            save_bvh(path, &clip);
+            mm_clip_free(&clip);
+            size_t len = strlen(files);
+            snprintf(files + len, sizeof files - len, " \"%s\"", path);
         }
-        float confidence = 0.0f;
-        assert_int_equal(mm_clip_up_axis(&clip, &confidence), 2);
-        assert_true(confidence > 0.3f);
-        assert_int_equal(mm_clip_up_axis(synth_clip(takes[t]), &confidence), 1);
-        char path[1200];
-        snprintf(path, sizeof path, "%s/%s.bvh", dir, takes[t]);
-        save_bvh(path, &clip);
-        mm_clip_free(&clip);
-        size_t len = strlen(files);
-        snprintf(files + len, sizeof files - len, " \"%s\"", path);
+        if (!mm_bin) continue;
+        mm_config cfg;
+        mm_database d;
+        init_build_load(dir, files, cases[c].options, &cfg, &d);
+        assert_int_equal(cfg.axes_up, cases[c].up);
+        assert_int_equal(mm_axes_forward(cfg.axes_up, cfg.axes_forward), cases[c].forward);
+        mm_config_free(&cfg);
+        /* mm bvh spans turns the take too, by the up it finds and by the config's axes: the spans
+         * of the original */
+        for (int with_config = 0; with_config < 2; ++with_config) {
+            char args[4096], log[1200], spans[1300];
+            snprintf(log, sizeof log, "%s/spans%d.json", dir, with_config);
+            snprintf(args, sizeof args, "bvh spans \"%s/walk_start.bvh\" %s%s%s", dir,
+                     with_config ? "--config \"" : "", with_config ? dir : "",
+                     with_config ? "/config.json\"" : "");
+            assert_int_equal(run_mm(args, log), 0);
+            FILE *f = fopen(log, "rb");
+            assert_non_null(f);
+            size_t n = fread(args, 1, sizeof args - 1, f);
+            fclose(f);
+            args[n] = 0;
+            const char *from = strstr(args, "\"upright_head_height\"");
+            assert_non_null(from);
+            if (c == 0 && !with_config) snprintf(reference_spans, sizeof reference_spans, "%s", from);
+            snprintf(spans, sizeof spans, "%s", from);
+            if (strcmp(spans, reference_spans) != 0)
+                fail_msg("%s: bvh spans%s gave\n%s\nnot\n%s", cases[c].name, with_config ? " --config" : "",
+                         spans, reference_spans);
+            if (!strstr(args, mm_axis_name(cases[c].up)))
+                fail_msg("%s: bvh spans: no up %s", cases[c].name, mm_axis_name(cases[c].up));
+        }
+        if (c == 0) {
+            reference = d;
+            continue;
+        }
+        double worst = world_difference(&reference, &d);
+        print_message("  %s: world joints within %.3g mm of the +Y up build\n", cases[c].name,
+                      worst * 1000.0);
+        assert_true(worst < 1e-4);
+        mm_database_free(&d);
     }
-    if (!mm_bin) return;
-    char args[8192], log[1100], text[4096] = "";
-    snprintf(args, sizeof args, "config init %s -o \"%s/config.json\"", files, dir);
-    snprintf(log, sizeof log, "%s/init.txt", dir);
-    assert_int_equal(run_mm(args, log), 1);
-    FILE *f = fopen(log, "rb");
-    assert_non_null(f);
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = 0;
-    print_message("  %s", text);
-    assert_non_null(strstr(text, "stands along +Z, not +Y"));
-    snprintf(args, sizeof args, "%s/config.json", dir);
-    struct stat st;
-    assert_int_not_equal(stat(args, &st), 0);
+    if (mm_bin) mm_database_free(&reference);
+    /* takes standing along different axes: an error naming both; --up decides */
+    mm_clip turned;
+    assert_int_equal(mm_clip_copy(&turned, synth_clip("walk_1.40"), NULL), MM_OK);
+    mm_clip_turn(&turned, mm_quat_conj(mm_axes_turn(MM_AXIS_POS_Z, -1)));
+    mm_config_init_take two[2] = {{"a.bvh", NULL, NULL, "a", synth_clip("idle")},
+                                  {"b.bvh", NULL, NULL, "b", &turned}};
+    mm_config cfg;
+    mm_config_init_report rep;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_config_init(two, 2, NULL, &cfg, &rep, &err), MM_ERR_INVALID_ARGUMENT);
+    print_message("  %s: %s\n", err.file, err.message);
+    assert_non_null(strstr(err.message, "stands along +Z"));
+    assert_non_null(strstr(err.message, "but along +Y in a.bvh"));
+    assert_string_equal(err.file, "b.bvh");
+    mm_config_init_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.up_given = true;
+    desc.up_axis = MM_AXIS_POS_Y;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_config_init(two, 2, &desc, &cfg, &rep, &err), MM_OK);
+    assert_true(rep.up_given);
+    assert_int_equal(cfg.axes_up, MM_AXIS_POS_Y);
+    mm_config_free(&cfg);
+    mm_clip_free(&turned);
+}
+
+/* A config's axes: read, validated, written back. */
+static void test_axes_json(void **state)
+{
+    (void)state;
+    char dir[1024], path[1200];
+    case_dir("axes_json", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/config.json", dir);
+    static const struct {
+        const char *text;
+        mm_result result;
+        const char *message; /* in the error */
+        int up, forward;
+    } cases[] = {
+        {"{\"axes\": {\"up\": \"+Z\"}}", MM_OK, NULL, MM_AXIS_POS_Z, -1},
+        {"{\"axes\": {\"up\": \"-z\", \"forward\": \"X\"}}", MM_OK, NULL, MM_AXIS_NEG_Z, MM_AXIS_POS_X},
+        {"{}", MM_OK, NULL, MM_AXIS_POS_Y, -1},
+        {"{\"axes\": {\"up\": \"up\"}}", MM_ERR_SYNTAX, "axes.up: 'up' is not an axis", 0, 0},
+        {"{\"axes\": {\"up\": 2}}", MM_ERR_SYNTAX, "axes.up must be a string", 0, 0},
+        {"{\"axes\": {\"up\": \"+Z\", \"forward\": \"-Z\"}}", MM_ERR_OUT_OF_RANGE,
+         "forward -Z lies along up +Z", 0, 0},
+        {"{\"axes\": {\"side\": \"+X\"}}", MM_ERR_UNKNOWN_KEYWORD, "axes.side", 0, 0},
+        {"{\"axes\": \"+Z\"}", MM_ERR_SYNTAX, "axes must be an object", 0, 0},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        FILE *f = fopen(path, "wb");
+        assert_non_null(f);
+        fputs(cases[i].text, f);
+        fclose(f);
+        mm_config cfg;
+        memset(&cfg, 0, sizeof cfg);
+        mm_error err;
+        memset(&err, 0, sizeof err);
+        mm_result r = mm_config_load_json(path, &cfg, NULL, &err);
+        if (r != cases[i].result) fail_msg("%s: %s (%s)", cases[i].text, mm_result_str(r), err.message);
+        if (r != MM_OK) {
+            if (!strstr(err.message, cases[i].message)) fail_msg("%s: '%s'", cases[i].text, err.message);
+            continue;
+        }
+        assert_int_equal(cfg.axes_up, cases[i].up);
+        assert_int_equal(cfg.axes_forward, cases[i].forward);
+        /* written and read back */
+        char again[1300];
+        snprintf(again, sizeof again, "%s/again.json", dir);
+        assert_int_equal(mm_config_save_json(again, &cfg, &err), MM_OK);
+        mm_config back;
+        memset(&back, 0, sizeof back);
+        assert_int_equal(mm_config_load_json(again, &back, NULL, &err), MM_OK);
+        assert_int_equal(back.axes_up, cases[i].up);
+        assert_int_equal(back.axes_forward, cases[i].forward);
+        mm_config_free(&back);
+        mm_config_free(&cfg);
+    }
+    /* the turns: +Z up, -Y forward is the rotation of -90 degrees about X */
+    mm_quat q = mm_axes_turn(MM_AXIS_POS_Z, -1);
+    mm_vec3 v = mm_quat_rotate(q, mm_vec3_make(0, 0, 1)), w = mm_quat_rotate(q, mm_vec3_make(0, -1, 0));
+    assert_float_equal(v.y, 1.0f, 1e-6);
+    assert_float_equal(w.z, 1.0f, 1e-6);
+    for (int up = 0; up < 6; ++up)
+        for (int fw = 0; fw < 6; ++fw) {
+            if (up % 3 == fw % 3) continue;
+            q = mm_axes_turn(up, fw);
+            int axes[2] = {up, fw};
+            for (int k = 0; k < 2; ++k) {
+                float e[3] = {0, 0, 0};
+                e[axes[k] % 3] = axes[k] < 3 ? 1.0f : -1.0f;
+                mm_vec3 to = mm_quat_rotate(q, mm_vec3_make(e[0], e[1], e[2]));
+                assert_float_equal(k == 0 ? to.y : to.z, 1.0f, 1e-6);
+            }
+            assert_float_equal(mm_quat_length(q), 1.0f, 1e-6);
+        }
+    for (int a = 0; a < 6; ++a) assert_int_equal(mm_axis_parse(mm_axis_name(a)), a);
+    assert_int_equal(mm_axis_parse("+W"), -1);
+    assert_int_equal(mm_axis_parse("+"), -1);
+    assert_int_equal(mm_axis_parse("+ZZ"), -1);
 }
 
 /* ---- motion capture --------------------------------------------------------------------- */
@@ -510,8 +729,12 @@ static void test_spans(void **state)
     (void)state;
     const mm_clip *c = synth_clip("walk_start");
     mm_take_spans s;
-    int hips = mm_skeleton_find(&c->skeleton, "Hips"), root = mm_skeleton_find(&c->skeleton, "Spine2");
-    assert_int_equal(mm_take_spans_find(c, hips, root, NULL, &s), MM_OK);
+    const mm_take_joints joints = {
+        mm_skeleton_find(&c->skeleton, "Hips"), mm_skeleton_find(&c->skeleton, "Spine2"),
+        mm_skeleton_find(&c->skeleton, "Head"), mm_skeleton_find(&c->skeleton, "LeftHand"),
+        mm_skeleton_find(&c->skeleton, "RightHand")};
+    assert_int_equal(mm_take_spans_find(c, &joints, NULL, &s), MM_OK);
+    assert_true(s.arms_found);
     assert_int_equal(s.excluded_count, 0);
     assert_int_equal(s.idle_count, 1);
     assert_int_equal(s.idle[0].begin, 0);
@@ -520,14 +743,18 @@ static void test_spans(void **state)
     assert_int_equal(s.locomotion[0].begin, s.idle[0].end);
     assert_int_equal(s.locomotion[0].end, c->frame_count);
     mm_take_spans_free(&s);
-    /* hips "lower" than 2 m: the whole take is left out */
+    /* hips "lower" than 2 m (the deprecated rule): the whole take is left out */
     mm_take_spans_desc d;
     mm_take_spans_desc_defaults(&d);
     d.low_hips = 2.0f;
-    assert_int_equal(mm_take_spans_find(c, hips, root, &d, &s), MM_OK);
+    assert_int_equal(mm_take_spans_find(c, &joints, &d, &s), MM_OK);
     assert_int_equal(s.excluded_count, 1);
     assert_int_equal(s.idle_count + s.locomotion_count, 0);
     mm_take_spans_free(&s);
+    /* a needed joint out of range */
+    mm_take_joints bad = joints;
+    bad.head = 999;
+    assert_int_equal(mm_take_spans_find(c, &bad, NULL, &s), MM_ERR_INVALID_ARGUMENT);
 }
 
 /* A config with every kind of field, written and read back. */
@@ -664,11 +891,12 @@ static void test_no_overwrite(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_spans),        cmocka_unit_test(test_save_json),
-        cmocka_unit_test(test_confidences),  cmocka_unit_test(test_z_up),
-        cmocka_unit_test(test_no_overwrite), cmocka_unit_test(test_builtin_set),
-        cmocka_unit_test(test_conventions),  cmocka_unit_test(test_lafan1),
-        cmocka_unit_test(test_games105),     cmocka_unit_test(test_pfnn),
+        cmocka_unit_test(test_spans),       cmocka_unit_test(test_save_json),
+        cmocka_unit_test(test_confidences), cmocka_unit_test(test_axes),
+        cmocka_unit_test(test_axes_json),   cmocka_unit_test(test_no_overwrite),
+        cmocka_unit_test(test_builtin_set), cmocka_unit_test(test_conventions),
+        cmocka_unit_test(test_lafan1),      cmocka_unit_test(test_games105),
+        cmocka_unit_test(test_pfnn),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -77,6 +77,10 @@ static int cmd_check(int argc, char **argv)
     printf("%s: %d clips, %d blend clips, %d tags, %d matched bones, %d trajectory samples%s\n", argv[1],
            cfg.clip_count, cfg.blend_count, cfg.tag_count, cfg.bone_count, cfg.traj_count,
            missing ? "; some files are missing" : "");
+    int forward = mm_axes_forward(cfg.axes_up, cfg.axes_forward);
+    if (cfg.axes_up != MM_AXIS_POS_Y || forward != MM_AXIS_POS_Z)
+        printf("%s: the takes are %s up, %s forward: the build turns them to +Y up, +Z forward\n", argv[1],
+               mm_axis_name(cfg.axes_up), mm_axis_name(forward));
     mm_config_free(&cfg);
     return missing ? 1 : 0;
 }
@@ -161,7 +165,24 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
     else
         printf("takes:        %d, %.1f s at %.4g fps, %d joints\n", takes, (double)rep->seconds,
                (double)rep->fps_min, s->joint_count);
-    printf("up axis:      %s (confidence %.2f)\n", mm_axis_name(rep->up_axis), (double)rep->up_confidence);
+    if (rep->up_given)
+        printf("up axis:      %s (given; the poses say %s, confidence %.2f)\n", mm_axis_name(rep->up_axis),
+               rep->up_detected ? "so" : "nothing clear", (double)rep->up_confidence);
+    else if (rep->up_detected)
+        printf("up axis:      %s (confidence %.2f: the body's longest extent)\n", mm_axis_name(rep->up_axis),
+               (double)rep->up_confidence);
+    else
+        printf("up axis:      %s (assumed: the poses do not tell, confidence %.2f; give --up)\n",
+               mm_axis_name(rep->up_axis), (double)rep->up_confidence);
+    printf("forward axis: %s (%s)\n", mm_axis_name(rep->forward_axis),
+           rep->forward_given ? "given"
+           : rep->up_axis % 3 == 2
+               ? "the convention for a body standing along Z, not detected: only the "
+                 "world's turn about up depends on it; --forward sets it"
+               : "the convention, not detected: only the world's turn about up depends on "
+                 "it; --forward sets it");
+    if (rep->up_axis != MM_AXIS_POS_Y || rep->forward_axis != MM_AXIS_POS_Z)
+        printf("              the build turns the takes to +Y up, +Z forward (the config's axes)\n");
     printf("unit:         %s (scale %.6g; the body is %.2f m tall)\n", unit_of(rep->scale), rep->scale,
            (double)rep->height);
     printf("roles:        (confidence: 1 name and geometry agree, 0.9 a name on the limb geometry found,\n"
@@ -209,8 +230,20 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
     } else {
         printf("mirror:       no (the names show no left and right convention)\n");
     }
-    printf("spans:        locomotion %.1f s, idle %.1f s, left out (lying down) %.1f s\n",
+    printf("spans:        locomotion %.1f s, idle %.1f s, left out %.1f s (the poses that are not motion,\n"
+           "              1 s around each)\n",
            (double)rep->locomotion_seconds, (double)rep->idle_seconds, (double)rep->excluded_seconds);
+    static const int left_out[] = {MM_POSTURE_CALIBRATION, MM_SPAN_A_POSE, MM_POSTURE_LYING,
+                                   MM_SPAN_GETTING_UP, MM_SPAN_DOWN};
+    static const char *const left_out_names[] = {"T pose", "A pose", "lying", "lying down or getting up",
+                                                 "kneeling or sitting"};
+    printf("  left out:   ");
+    for (int k = 0; k < 5; ++k)
+        printf("%s %s %.1f s", k ? "," : "", left_out_names[k], (double)rep->kind_seconds[left_out[k]]);
+    printf("\n              from each frame's pose (mm/take_spans.h); %d of %d takes open with a calibration "
+           "pose%s\n",
+           rep->calibration_starts, takes,
+           rep->arms_missing ? "; A poses not looked for on some takes (no elbows and shoulders found)" : "");
     if (rep->moving_seconds > 0.0f) {
         static const char *const gait[2] = {"walk", "run"}, *const dir[3] = {"forward", "side", "backward"};
         printf(
@@ -237,17 +270,20 @@ static int cmd_init(int argc, char **argv)
 {
     static const char *const usage =
         "usage: mm config init TAKE... [-o CONFIG.json] [--force] [--name-prefix P] [--scale S|auto] "
-        "[--no-tuning]";
+        "[--no-tuning] [--up AXIS] [--forward AXIS]";
     static const char default_prefix[] = "";
     const char *out = NULL, *prefix = default_prefix;
     int force = 0, no_tuning = 0;
     double scale = 0.0;
+    const char *up = NULL, *forward = NULL;
     const cli_option options[] = {
         {"-o", "--output", CLI_STRING, &out, 0, 0, 0, "a config path", NULL},
         {"--name-prefix", NULL, CLI_STRING, &prefix, 0, 0, 0, "a prefix for the clip names", NULL},
         {"--force", NULL, CLI_FLAG, &force, 0, 0, 0, NULL, NULL},
         {"--no-tuning", NULL, CLI_FLAG, &no_tuning, 0, 0, 0, NULL, NULL},
         {"--scale", NULL, CLI_CUSTOM, &scale, 0, 0, 0, NULL, cli_parse_scale},
+        {"--up", NULL, CLI_STRING, &up, 0, 0, 0, "an axis (+X, +Y, +Z, -X, -Y, -Z)", NULL},
+        {"--forward", NULL, CLI_STRING, &forward, 0, 0, 0, "an axis (+X, +Y, +Z, -X, -Y, -Z)", NULL},
     };
     const char **files = (const char **)calloc((size_t)argc + 1, sizeof(char *));
     if (!files) {
@@ -264,6 +300,18 @@ static int cmd_init(int argc, char **argv)
     if (file_count == 0) {
         free(files);
         return cli_usage_error("config init", "%s", usage);
+    }
+    const char *const axis_names[2] = {up, forward}, *const axis_options[2] = {"--up", "--forward"};
+    for (int k = 0; k < 2; ++k)
+        if (axis_names[k] && mm_axis_parse(axis_names[k]) < 0) {
+            free(files);
+            return cli_usage_error("config init", "%s '%s': not an axis (+X, +Y, +Z, -X, -Y, -Z)",
+                                   axis_options[k], axis_names[k]);
+        }
+    if (up && forward && mm_axis_parse(up) % 3 == mm_axis_parse(forward) % 3) {
+        free(files);
+        return cli_usage_error("config init", "--forward %s lies along --up %s: it must be at right angles",
+                               forward, up);
     }
     if (strlen(prefix) > 24) {
         free(files);
@@ -323,7 +371,14 @@ static int cmd_init(int argc, char **argv)
     memset(&cfg, 0, sizeof cfg);
     mm_config_init_report rep;
     if (status == 0) {
-        mm_config_init_desc desc = {scale, no_tuning != 0};
+        mm_config_init_desc desc;
+        memset(&desc, 0, sizeof desc);
+        desc.scale = scale;
+        desc.no_tuning = no_tuning != 0;
+        desc.up_given = up != NULL;
+        desc.up_axis = up ? mm_axis_parse(up) : 0;
+        desc.forward_given = forward != NULL;
+        desc.forward_axis = forward ? mm_axis_parse(forward) : 0;
         memset(&err, 0, sizeof err);
         mm_result r = mm_config_init(takes, take_count, &desc, &cfg, &rep, &err);
         if (r != MM_OK) {

@@ -57,12 +57,8 @@ static int cmd_detect(int argc, char **argv)
     } else {
         mm_config_defaults(&cfg);
     }
-    mm_import_desc imp;
-    memset(&imp, 0, sizeof imp);
-    imp.scale = cfg.scale;
-    imp.auto_scale = cfg.scale == 0.0f;
-    mm_clip_list takes;
-    if (mm_import_clips(in, &imp, &takes, &err) != MM_OK) {
+    mm_clip_list takes; /* as the build reads it: the config's axes and scale */
+    if (mm_config_import_takes(&cfg, in, &takes, &err) != MM_OK) {
         mm_config_free(&cfg);
         return cli_report(&err);
     }

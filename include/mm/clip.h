@@ -61,6 +61,10 @@ float mm_clip_duration(const mm_clip *clip);
 /* Multiplies all lengths (offsets, End Sites, translations) by factor. */
 void mm_clip_scale(mm_clip *clip, float factor);
 
+/* Turns the clip's world by the rotation turn: every root joint's (parent -1) rotation, translation
+ * and rest offset, so that each joint's world position p becomes turn p in every frame. */
+void mm_clip_turn(mm_clip *clip, mm_quat turn);
+
 /* How a clip is read between its frames. */
 typedef enum mm_interp {
     /* rotations by slerp, translations linearly, between the two nearest frames: the velocity

@@ -11,6 +11,7 @@
  * ranges are [begin, end] in seconds from the start of the source file.
  *
  * Functions: mm_config_defaults mm_config_free mm_config_validate mm_config_tag_index
+ *            mm_axis_name mm_axis_parse mm_axes_forward mm_axes_turn
  */
 #ifndef MM_CONFIG_H
 #define MM_CONFIG_H
@@ -100,6 +101,12 @@ typedef struct mm_config {
     float interval; /* seconds between database frames (the seed's Interval); default 1/60 */
     float scale;    /* multiplies source lengths to get metres; 0: detect (docs/bvh.md) */
 
+    /* The takes' axes, as mm_axis_name numbers them (0..5: +X +Y +Z -X -Y -Z): the way up and the way
+     * the character faces in the files. mm_config_load_sources turns every clip to +Y up and +Z
+     * forward (mm_axes_turn, mm_clip_turn). Default +Y up; forward -1: the one that goes with up
+     * (mm_axes_forward). */
+    int axes_up, axes_forward;
+
     /* Bone roles (names in the source skeleton) */
     char hips[MM_NAME_MAX];
     char root_bone[MM_NAME_MAX];   /* spine bone projected to the ground for the root position */
@@ -163,6 +170,30 @@ typedef struct mm_config {
 
 /* Fills c with the documented defaults and no clips. */
 void mm_config_defaults(mm_config *c);
+
+/* Axes by number: 0..5 are +X, +Y, +Z, -X, -Y, -Z. */
+#define MM_AXIS_POS_X 0
+#define MM_AXIS_POS_Y 1
+#define MM_AXIS_POS_Z 2
+#define MM_AXIS_NEG_X 3
+#define MM_AXIS_NEG_Y 4
+#define MM_AXIS_NEG_Z 5
+
+/* "+X", "+Y", "+Z", "-X", "-Y", "-Z"; NULL if out of range. */
+const char *mm_axis_name(int axis);
+
+/* The number of an axis name ("+Z", "-y"; a bare "Z" is +Z); -1 for anything else. */
+int mm_axis_parse(const char *name);
+
+/* The forward that goes with an up axis when none is given: +Z, except for a body standing along
+ * Z, where it is -Y for +Z up (Blender's and 3ds Max's front view: the character faces -Y) and +Y
+ * for -Z up; forward itself when it is an axis (0..5). */
+int mm_axes_forward(int up, int forward);
+
+/* The rotation that turns a world with these axes (forward -1: mm_axes_forward's) to +Y up and +Z
+ * forward: the identity for +Y, +Z. Both must be axes and at right angles (mm_config_validate);
+ * else the identity. */
+mm_quat mm_axes_turn(int up, int forward);
 /* Frees the clip, range and blend arrays (allocated by the JSON loader or by the caller with
  * c->allocator). */
 void mm_config_free(mm_config *c);

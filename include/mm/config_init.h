@@ -2,18 +2,20 @@
  * `mm config init` writes, docs/config.md "A config from your takes").
  *
  * From the takes of one skeleton, mm_config_init finds:
- *   - the up axis (mm_clip_up_axis: the takes must stand along +Y; the BVH reader does not turn
- *     axes, assimp turns FBX, glTF and Collada files to +Y up on import);
+ *   - the axes: up (mm_clip_up_axis; every take whose up is clear must agree) and the forward that
+ *     goes with it (mm_axes_forward), written as the config's axes so that the build turns the takes
+ *     to +Y up (the BVH reader does not turn axes; assimp turns FBX, glTF and Collada files to +Y up
+ *     on import); everything below is found on the takes turned;
  *   - the unit (mm_unit_scale_for_height of the body's upright height) and so the config's scale;
  *   - the bone roles, the facing bone's forward axis and the mirror pairs (mm/skeleton_roles.h);
- *   - for each take, frame spans (mm_take_spans_find): lying down (left out), standing still
- *     (an idle clip) and the rest (a locomotion clip), mirrored when the mirror pairs pair the
- *     skeleton;
+ *   - for each take, frame spans (mm/take_spans.h, as mm bvh spans finds them): calibration poses
+ *     (T and A), lying, getting up and going down to the ground left out, standing still (an idle
+ *     clip) and the rest (a locomotion clip), mirrored when the mirror pairs pair the skeleton;
  *   - the runtime's walk and run speeds from the root speeds of the locomotion spans, so that the
  *     simulation asks only for speeds the takes have (mm_gait_speed_estimate);
  * and writes the tuning measured on motion capture (mm_config_init_desc).
  *
- * Functions: mm_take_spans_desc_defaults mm_take_spans_find mm_take_spans_free mm_config_init
+ * Functions: mm_config_init
  */
 #ifndef MM_CONFIG_INIT_H
 #define MM_CONFIG_INIT_H
@@ -24,34 +26,11 @@
 #include "config.h"
 #include "result.h"
 #include "skeleton_roles.h"
+#include "take_spans.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ---- frame spans of a take -------------------------------------------------------------- */
-
-typedef struct mm_take_spans_desc {
-    float low_hips;   /* m: hips lower than this are lying down or crawling; default 0.6 */
-    float pad;        /* s left out before and after such frames; default 1 */
-    float idle_speed; /* m/s: the root slower than this (over +-0.1 s) stands still; default 0.15 */
-    float idle_min;   /* s: ... for at least this long; default 1 */
-} mm_take_spans_desc;
-
-void mm_take_spans_desc_defaults(mm_take_spans_desc *desc);
-
-/* Half-open frame ranges, each of 2 frames or more. */
-typedef struct mm_take_spans {
-    int excluded_count, idle_count, locomotion_count;
-    mm_config_range *excluded, *idle, *locomotion; /* malloc'd */
-} mm_take_spans;
-
-/* The spans of a clip in metres, +Y up: excluded (hips low, widened by pad), idle (the rest where
- * the root bone's ground projection stands still long enough) and locomotion (the rest). hips
- * and root_bone are joint indices. desc NULL: the defaults. */
-mm_result mm_take_spans_find(const mm_clip *clip, int hips, int root_bone, const mm_take_spans_desc *desc,
-                             mm_take_spans *out);
-void mm_take_spans_free(mm_take_spans *spans);
 
 /* ---- the config ------------------------------------------------------------------------- */
 
@@ -77,14 +56,28 @@ typedef struct mm_gait_speed_estimate {
     1.0f /* s: root speeds are averaged over windows this long (shorter in                                   \
             spans under 4 windows: a quarter of the span) */
 
+/* Under this confidence (mm_clip_up_axis) a take's up is not clear: +Y is assumed (a body that
+ * stands along one axis gives 0.3 or more walking; 0 is a pose as wide as it is tall). */
+#define MM_UP_MIN_CONFIDENCE 0.15f
+
 typedef struct mm_config_init_report {
-    int up_axis;         /* mm_clip_up_axis of the first take: 1 (+Y) when the takes can be used */
-    float up_confidence; /* its confidence */
-    double scale;        /* file units to metres, as given or detected */
-    float height;        /* m: the body's upright height (joints and End Sites) */
+    int up_axis;         /* the takes' up (0..5 as mm_axis_name): given, detected, or +Y when unclear */
+    float up_confidence; /* mm_clip_up_axis's confidence on the first take whose up is clear (else the
+                            highest of the takes') */
+    bool up_detected;    /* the confidence reached MM_UP_MIN_CONFIDENCE */
+    bool up_given;       /* desc gave it */
+    int forward_axis;    /* the takes' forward: given, else mm_axes_forward's for up */
+    bool forward_given;
+    double scale; /* file units to metres, as given or detected */
+    float height; /* m: the body's upright height (joints and End Sites) */
     float fps_min, fps_max;
     float seconds; /* of all the takes */
     float locomotion_seconds, idle_seconds, excluded_seconds;
+    /* seconds of the frames left out by kind (MM_SPAN_KIND_COUNT kinds: calibration, a_pose, lying,
+     * getting_up, down; before the pad) and the takes that open with a calibration pose */
+    float kind_seconds[MM_SPAN_KIND_COUNT];
+    int calibration_starts;
+    int arms_missing; /* takes on which no A pose was looked for (no elbows and shoulders found) */
     mm_skeleton_roles roles;
     /* [0] walk, [1] run; forward, side, backward. Walk: the 0.85 quantile forward, the median
      * sideways, the 0.6 quantile backward, of windows slower than MM_GAIT_SPEED_RUN; run: the 0.95 quantile
@@ -98,7 +91,11 @@ typedef struct mm_config_init_report {
 } mm_config_init_report;
 
 typedef struct mm_config_init_desc {
-    double scale;   /* file units to metres; 0: detect from the body's height */
+    double scale;  /* file units to metres; 0: detect from the body's height */
+    bool up_given; /* up_axis is the takes' up (0..5 as mm_axis_name); else detected */
+    int up_axis;
+    bool forward_given; /* forward_axis is the way the character faces (0..5); else mm_axes_forward's */
+    int forward_axis;
     bool no_tuning; /* leave contacts and the runtime at their defaults (but the speeds). Else the
                        tuning measured on motion capture (configs/mocap.json, docs/config.md):
                        contacts.speed 0.3, runtime sync_halflife 0.1, distance matching and
@@ -112,9 +109,9 @@ typedef struct mm_config_init_desc {
  * run speeds, the tuning (mm_config_init_desc), one locomotion and one idle clip per take where
  * it has such spans; free with mm_config_free). desc may be NULL (detect the unit, with the
  * tuning). report (may be NULL) receives what
- * was found and how sure it is. Errors: MM_ERR_UNSUPPORTED (the takes are not +Y up),
- * MM_ERR_OUT_OF_RANGE (no unit gives a human height), the role finder's, MM_ERR_NOT_FOUND (no
- * take has frames to use). */
+ * was found and how sure it is. Errors: MM_ERR_INVALID_ARGUMENT (takes standing along different
+ * axes, forward along up, another skeleton), MM_ERR_OUT_OF_RANGE (no unit gives a human height), the role
+ * finder's, MM_ERR_NOT_FOUND (no take has frames to use). */
 mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_config_init_desc *desc,
                          mm_config *out, mm_config_init_report *report, mm_error *err);
 

@@ -9,7 +9,7 @@
  * relative ones against the config file's folder, then cfg->data_dir (if set), then $MM_DATA_DIR.
  *
  * Functions: mm_config_parse_json mm_config_load_json mm_config_field_docs
- *            mm_config_resolve_path mm_config_load_sources mm_config_free_sources
+ *            mm_config_resolve_path mm_config_import_takes mm_config_load_sources mm_config_free_sources
  *            mm_config_save_clip_tags mm_config_save_clip mm_config_save_json
  */
 #ifndef MM_CONFIG_JSON_H
@@ -19,6 +19,7 @@
 
 #include "clip.h"
 #include "config.h"
+#include "import.h"
 #include "database.h"
 #include "result.h"
 
@@ -50,10 +51,14 @@ const mm_config_field_doc *mm_config_field_docs(int *count);
 mm_result mm_config_resolve_path(const mm_config *cfg, const char *file, char *out, size_t size,
                                  mm_error *err);
 
-/* Loads the source of every config clip through mm_import_clips (BVH with mm's reader, FBX, glTF
- * and Collada through assimp when built with it; the clip's take, or the file's first),
- * converted to metres by cfg->scale (or detected when 0). A file and take used by several clips
- * is read once. *out_clips is an array of cfg->clip_count clips. */
+/* Imports every take of the file at path as the build reads it (mm_import_clips): turned from the
+ * config's axes to +Y up, +Z forward (mm_axes_turn, mm_clip_turn), then in metres by cfg->scale
+ * (0: detected from the body's height along +Y after the turn). err names the file. */
+mm_result mm_config_import_takes(const mm_config *cfg, const char *path, mm_clip_list *out, mm_error *err);
+
+/* Loads the source of every config clip through mm_config_import_takes (BVH with mm's reader, FBX,
+ * glTF and Collada through assimp when built with it; the clip's take, or the file's first). A file
+ * and take used by several clips is read once. *out_clips is an array of cfg->clip_count clips. */
 mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err);
 void mm_config_free_sources(const mm_config *cfg, mm_clip *clips);
 

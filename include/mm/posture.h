@@ -11,8 +11,14 @@
  *   mm_posture_reference ref = {mm_posture_reference_height(head_heights, n)};
  *   mm_posture p = mm_posture_classify(world, &joints, ground_y, &ref);
  *
+ * A calibration pose is also the A pose: upright, both arms straight and 15-60 degrees down from the
+ * shoulders, out to the sides, held still (a pose, not a swing of the arms). Being still needs
+ * frames, so A poses are found over a sequence (mm_posture_find_a_poses) on the arms' joints
+ * (mm_posture_find_arms), not by mm_posture_classify.
+ *
  * Functions: mm_posture_name mm_posture_reference_height mm_posture_stature mm_posture_classify
- *            mm_posture_arms_out mm_posture_remove_flicker
+ *            mm_posture_arms_out mm_posture_remove_flicker mm_posture_find_arms mm_posture_a_pose_shape
+ *            mm_posture_find_a_poses
  */
 #ifndef MM_POSTURE_H
 #define MM_POSTURE_H
@@ -21,6 +27,7 @@
 #include <stdint.h>
 
 #include "math.h"
+#include "skeleton.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -50,6 +57,21 @@ typedef enum mm_posture {
 #define MM_POSTURE_CALIBRATION_HANDS  0.75f /* and both above this x reference */
 #define MM_POSTURE_REFERENCE_QUANTILE 0.9f  /* the reference: this quantile of the head's heights */
 #define MM_POSTURE_MIN_SECONDS        0.25f /* shorter runs of a posture are flicker */
+/* The A pose. A calibration A pose holds the arms 30-50 degrees below the shoulders; walking swings
+ * them 70-90 degrees down, standing hangs them at 80-90, a T pose holds them within 15 of level. */
+#define MM_POSTURE_A_POSE_MIN_DEGREES 15.0f /* each arm at least this far below level */
+#define MM_POSTURE_A_POSE_MAX_DEGREES 60.0f /* and at most this far */
+#define MM_POSTURE_A_POSE_STRAIGHT                                                                           \
+    0.95f /* shoulder to hand over upper arm + forearm: a straight arm                                       \
+               (the elbow bent 35 degrees at most) */
+#define MM_POSTURE_A_POSE_SIDEWAYS                                                                           \
+    0.7f /* cosine from the arm's level part to the shoulders' line, outward                                 \
+          */
+#define MM_POSTURE_A_POSE_STILL_SPEED  0.15f /* m/s: both hands slower than this (over +-0.1 s) are still */
+#define MM_POSTURE_A_POSE_HOLD_SECONDS 0.5f  /* held at least this long */
+#define MM_POSTURE_ARM_BONE_MIN                                                                              \
+    0.15f /* m: a bone of the arm (forearm, upper arm) spans at least this                                   \
+             at rest; shorter links (twist joints) are part of one */
 
 /* The joints the judgement reads (indices into the world positions; -1: the skeleton has none).
  * hips and head are needed; without the hands a pose is never a calibration pose. */
@@ -81,6 +103,33 @@ mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *jo
 /* Both hands farther apart than MM_POSTURE_ARMS_OUT x the stature (false without hands). */
 bool mm_posture_arms_out(const mm_vec3 *world, const mm_posture_joints *joints,
                          const mm_posture_reference *ref);
+
+/* The joints of the arms, [0] left and [1] right: the hand, the elbow and the shoulder (where the
+ * upper arm starts); -1 when not found. */
+typedef struct mm_posture_arms {
+    int hand[2], elbow[2], shoulder[2];
+} mm_posture_arms;
+
+/* Walks up from each hand (skeleton in metres): the elbow is the first ancestor at least
+ * MM_POSTURE_ARM_BONE_MIN from the hand at rest, the shoulder the first at least that far from the
+ * elbow. False (and -1s) when a hand is missing or its chain is too short. */
+bool mm_posture_find_arms(const mm_skeleton *s, int left_hand, int right_hand, mm_posture_arms *out);
+
+/* One pose in the shape of an A pose (stillness aside): upright (the head at least
+ * MM_POSTURE_CROUCHED_HEIGHT x the reference, the trunk within MM_POSTURE_BENT_DEGREES of vertical),
+ * each arm straight, MM_POSTURE_A_POSE_MIN_DEGREES to MM_POSTURE_A_POSE_MAX_DEGREES below level and
+ * out to its side. False when a joint is missing or not finite. */
+bool mm_posture_a_pose_shape(const mm_vec3 *world, const mm_posture_arms *arms,
+                             const mm_posture_joints *joints, float ground_y,
+                             const mm_posture_reference *ref);
+
+/* The A poses of a sequence: world[f * stride + j] the world positions of frame f (n frames at
+ * fps), ground_y[f] its ground. out[f] is 1 where the pose is in the shape of an A pose with both hands still
+ * (MM_POSTURE_A_POSE_STILL_SPEED) for at least MM_POSTURE_A_POSE_HOLD_SECONDS, else 0. Returns the
+ * frames found. */
+int mm_posture_find_a_poses(const mm_vec3 *world, int n, int stride, float fps, const mm_posture_arms *arms,
+                            const mm_posture_joints *joints, const float *ground_y,
+                            const mm_posture_reference *ref, uint8_t *out);
 
 /* Runs of one posture shorter than min_frames take the posture of the run before them (the run
  * after, at the start): a pose that dips under a threshold for a few frames is not a crouch. */

@@ -25,7 +25,7 @@
  *       mm_skeleton_roles_apply(&roles, &takes[0].skeleton, &cfg);
  *
  * Functions: mm_skeleton_roles_find mm_skeleton_roles_apply mm_body_role_name mm_clip_up_axis
- *            mm_axis_name
+ *            (mm_axis_name: mm/config.h)
  */
 #ifndef MM_SKELETON_ROLES_H
 #define MM_SKELETON_ROLES_H
@@ -114,9 +114,6 @@ const char *mm_body_role_name(mm_body_role role);
  * 0..5 for +X, +Y, +Z, -X, -Y, -Z; *out_confidence (may be NULL) is 1 - second / largest extent
  * (0: no telling, about 0.5 for a walk). A clip without frames is judged in its rest pose. */
 int mm_clip_up_axis(const mm_clip *clip, float *out_confidence);
-
-/* "+X", "+Y", "+Z", "-X", "-Y", "-Z"; NULL if out of range. */
-const char *mm_axis_name(int axis);
 
 #ifdef __cplusplus
 }

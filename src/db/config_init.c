@@ -8,112 +8,6 @@
 
 #include "db/process.h"
 
-/* ---- frame spans ------------------------------------------------------------------------ */
-
-void mm_take_spans_desc_defaults(mm_take_spans_desc *d)
-{
-    d->low_hips = 0.6f;
-    d->pad = 1.0f;
-    d->idle_speed = 0.15f;
-    d->idle_min = 1.0f;
-}
-
-void mm_take_spans_free(mm_take_spans *s)
-{
-    if (!s) return;
-    free(s->excluded);
-    free(s->idle);
-    free(s->locomotion);
-    memset(s, 0, sizeof *s);
-}
-
-mm_result mm_take_spans_find(const mm_clip *clip, int hips, int root_bone, const mm_take_spans_desc *desc,
-                             mm_take_spans *out)
-{
-    memset(out, 0, sizeof *out);
-    mm_take_spans_desc d;
-    mm_take_spans_desc_defaults(&d);
-    if (desc) d = *desc;
-    int n = clip->frame_count, jc = clip->skeleton.joint_count;
-    if (hips < 0 || hips >= jc || root_bone < 0 || root_bone >= jc || !(clip->fps > 0.0f))
-        return MM_ERR_INVALID_ARGUMENT;
-    double fps = clip->fps;
-    mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
-    double *x = (double *)malloc(sizeof(double) * 3 * (size_t)(n + 1));
-    unsigned char *excluded = (unsigned char *)calloc((size_t)n + 1, 1);
-    unsigned char *idle = (unsigned char *)calloc((size_t)n + 1, 1);
-    size_t room = (size_t)n / 2 + 1;
-    out->excluded = (mm_config_range *)malloc(sizeof(mm_config_range) * room);
-    out->idle = (mm_config_range *)malloc(sizeof(mm_config_range) * room);
-    out->locomotion = (mm_config_range *)malloc(sizeof(mm_config_range) * room);
-    if (!g || !x || !excluded || !idle || !out->excluded || !out->idle || !out->locomotion) {
-        free(g);
-        free(x);
-        free(excluded);
-        free(idle);
-        mm_take_spans_free(out);
-        return MM_ERR_OUT_OF_MEMORY;
-    }
-    for (int f = 0; f < n; ++f) {
-        mm_clip_fk(clip, f, g);
-        x[3 * f] = g[root_bone].translation.x;
-        x[3 * f + 1] = g[root_bone].translation.z;
-        x[3 * f + 2] = g[hips].translation.y;
-    }
-    /* excluded: hips low, widened by pad seconds on each side (pad and idle_min may be huge:
-     * clamped to the clip) */
-    int widen = (int)lround(fmin((double)d.pad * fps, (double)n));
-    for (int f = 0, last = -1; f < n; ++f) {
-        if (x[3 * f + 2] < d.low_hips) last = f;
-        if (last >= 0 && f - last <= widen) excluded[f] = 1;
-    }
-    for (int f = n - 1, next = -1; f >= 0; --f) {
-        if (x[3 * f + 2] < d.low_hips) next = f;
-        if (next >= 0 && next - f <= widen) excluded[f] = 1;
-    }
-    /* idle: root speed (central differences over +-0.1 s) below idle_speed for idle_min seconds */
-    int h = (int)lround(0.1 * fps) > 0 ? (int)lround(0.1 * fps) : 1;
-    int min_len = (int)lround(fmin((double)d.idle_min * fps, (double)n + 1.0));
-    for (int f = 0; f < n;) {
-        int e = f;
-        while (e < n && !excluded[e]) {
-            int a = e - h < 0 ? 0 : e - h, b = e + h >= n ? n - 1 : e + h;
-            double speed =
-                b > a ? hypot(x[3 * b] - x[3 * a], x[3 * b + 1] - x[3 * a + 1]) * fps / (b - a) : 0;
-            if (speed >= d.idle_speed) break;
-            ++e;
-        }
-        if (e - f >= min_len)
-            for (int k = f; k < e; ++k) idle[k] = 1;
-        f = e > f ? e : f + 1;
-    }
-    for (int kind = 0; kind < 3; ++kind) {
-        mm_config_range *list = kind == 0 ? out->excluded : kind == 1 ? out->idle : out->locomotion;
-        int *count = kind == 0 ? &out->excluded_count : kind == 1 ? &out->idle_count : &out->locomotion_count;
-        for (int f = 0; f < n;) {
-            int in = kind == 0   ? excluded[f]
-                     : kind == 1 ? (!excluded[f] && idle[f])
-                                 : (!excluded[f] && !idle[f]);
-            int e = f;
-            while (e < n && (kind == 0   ? excluded[e]
-                             : kind == 1 ? (!excluded[e] && idle[e])
-                                         : (!excluded[e] && !idle[e])) == in)
-                ++e;
-            if (in && e - f >= 2 && (size_t)*count < room) {
-                list[*count].begin = f;
-                list[*count].end = e;
-                ++*count;
-            }
-            f = e;
-        }
-    }
-    free(g);
-    free(x);
-    free(excluded);
-    free(idle);
-    return MM_OK;
-}
-
 /* ---- gait speeds ------------------------------------------------------------------------ */
 
 typedef struct speed_list {
@@ -297,12 +191,12 @@ static int cmp_float(const void *a, const void *b)
 
 /* The body's upright height in file units: the 0.9 quantile of the height over up to 16 frames of
  * every take. */
-static float upright_height(const mm_config_init_take *takes, int count)
+static float upright_height(const mm_clip *clips, int count)
 {
     float h[16 * 64];
     int n = 0, per = count > 64 ? 1 : 16;
     for (int t = 0; t < count && t < 1024 && n < (int)(sizeof h / sizeof h[0]); ++t) {
-        const mm_clip *c = takes[t].clip;
+        const mm_clip *c = &clips[t];
         int frames = c->frame_count < per ? c->frame_count : per;
         for (int k = 0; k < frames && n < (int)(sizeof h / sizeof h[0]); ++k) {
             int f = (int)((k + 0.5) * c->frame_count / frames);
@@ -379,35 +273,46 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         rep->fps_max = fmaxf(rep->fps_max, c->fps);
         rep->seconds += c->frame_count / c->fps;
     }
-    /* up */
-    int first = 0;
-    while (first < count - 1 && takes[first].clip->frame_count < 2) ++first;
-    rep->up_axis = mm_clip_up_axis(takes[first].clip, &rep->up_confidence);
-    if (rep->up_confidence < 0.15f) {
-        rep->up_axis = 1; /* no telling: the BVH convention */
-    } else if (rep->up_axis != 1) {
-        if (err)
-            snprintf(err->file, sizeof err->file, "%s",
-                     takes[first].path ? takes[first].path : takes[first].file);
-        return mm_error_set(
-            err, MM_ERR_UNSUPPORTED, 0, 0,
-            "the body stands along %s, not +Y (the height lies along that axis, confidence "
-            "%.2f): mm reads motion as +Y up and does not turn it; export the takes with +Y up",
-            mm_axis_name(rep->up_axis), (double)rep->up_confidence);
+    /* up and forward: detected from the first take whose up is clear (given in desc), and every
+     * take whose up is clear must agree */
+    int given_up = desc && desc->up_given && desc->up_axis >= 0 && desc->up_axis < 6 ? desc->up_axis : -1;
+    int first = -1;
+    rep->up_axis = MM_AXIS_POS_Y; /* no telling: the BVH convention */
+    for (int t = 0; t < count; ++t) {
+        if (takes[t].clip->frame_count < 2 && !(t == count - 1 && first < 0)) continue;
+        float confidence = 0.0f;
+        int up = mm_clip_up_axis(takes[t].clip, &confidence);
+        if (first < 0 && confidence > rep->up_confidence) rep->up_confidence = confidence;
+        if (confidence < MM_UP_MIN_CONFIDENCE) continue;
+        if (first < 0) {
+            first = t;
+            rep->up_axis = up;
+            rep->up_confidence = confidence;
+            rep->up_detected = true;
+        } else if (up != rep->up_axis && given_up < 0) {
+            if (err)
+                snprintf(err->file, sizeof err->file, "%s", takes[t].path ? takes[t].path : takes[t].file);
+            return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                                "the body stands along %s (confidence %.2f) but along %s in %s: the takes of "
+                                "one config share their axes; give the up axis (--up)",
+                                mm_axis_name(up), (double)confidence, mm_axis_name(rep->up_axis),
+                                takes[first].path ? takes[first].path : takes[first].file);
+        }
     }
-    /* unit */
-    float raw_height = upright_height(takes, count);
-    rep->scale = scale > 0.0 ? scale : mm_unit_scale_for_height(raw_height);
-    if (!(rep->scale > 0.0))
-        return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
-                            "the body is %g file units tall: no unit (metres, centimetres, millimetres, "
-                            "inches, feet, CMU units) gives a human height; give the scale",
-                            (double)raw_height);
-    rep->height = (float)(raw_height * rep->scale);
-    out->scale = (float)rep->scale;
-    out->interval = 1.0f / 60.0f;
+    rep->up_given = given_up >= 0;
+    if (given_up >= 0) rep->up_axis = given_up;
+    rep->forward_given = desc && desc->forward_given && desc->forward_axis >= 0 && desc->forward_axis < 6;
+    rep->forward_axis = mm_axes_forward(rep->up_axis, rep->forward_given ? desc->forward_axis : -1);
+    if (rep->forward_axis % 3 == rep->up_axis % 3)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "forward %s lies along up %s",
+                            mm_axis_name(rep->forward_axis), mm_axis_name(rep->up_axis));
+    out->axes_up = rep->up_axis;
+    out->axes_forward =
+        rep->up_axis == MM_AXIS_POS_Y && rep->forward_axis == MM_AXIS_POS_Z ? -1 : rep->forward_axis;
+    const mm_quat turn = mm_axes_turn(rep->up_axis, rep->forward_axis);
+    const bool turned = rep->up_axis != MM_AXIS_POS_Y || rep->forward_axis != MM_AXIS_POS_Z;
 
-    /* the takes in metres */
+    /* the takes turned to +Y up, +Z forward, then in metres */
     mm_clip *metric = (mm_clip *)calloc((size_t)count, sizeof(mm_clip));
     mm_take_spans *spans = (mm_take_spans *)calloc((size_t)count, sizeof(mm_take_spans));
     speed_list lists[3];
@@ -418,20 +323,34 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         r = mm_clip_copy(&metric[t], takes[t].clip, NULL);
         if (r == MM_OK) {
             ++made;
-            mm_clip_scale(&metric[t], (float)rep->scale);
-            if (t > 0 && !reorder_like(&metric[0].skeleton, &metric[t])) {
-                if (err)
-                    snprintf(err->file, sizeof err->file, "%s",
-                             takes[t].path ? takes[t].path : takes[t].file);
-                r = mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                                 "another skeleton than %s's (joint names or parents differ)",
-                                 takes[0].path ? takes[0].path : takes[0].file);
-            }
+            if (turned) mm_clip_turn(&metric[t], turn);
+        }
+    }
+    /* unit */
+    float raw_height = r == MM_OK ? upright_height(metric, count) : 0.0f;
+    rep->scale = scale > 0.0 ? scale : mm_unit_scale_for_height(raw_height);
+    if (r == MM_OK && !(rep->scale > 0.0))
+        r = mm_error_set(
+            err, MM_ERR_OUT_OF_RANGE, 0, 0,
+            "the body is %g file units tall along %s: no unit (metres, centimetres, millimetres, "
+            "inches, feet, CMU units) gives a human height; give the scale (or the up axis)",
+            (double)raw_height, mm_axis_name(rep->up_axis));
+    rep->height = (float)(raw_height * rep->scale);
+    out->scale = (float)rep->scale;
+    out->interval = 1.0f / 60.0f;
+    for (int t = 0; t < count && r == MM_OK; ++t) {
+        mm_clip_scale(&metric[t], (float)rep->scale);
+        if (t > 0 && !reorder_like(&metric[0].skeleton, &metric[t])) {
+            if (err)
+                snprintf(err->file, sizeof err->file, "%s", takes[t].path ? takes[t].path : takes[t].file);
+            r = mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                             "another skeleton than %s's (joint names or parents differ)",
+                             takes[0].path ? takes[0].path : takes[0].file);
         }
     }
     if (r == MM_OK) {
         r = mm_skeleton_roles_find(metric, count, &rep->roles, err);
-    } else if (r == MM_ERR_OUT_OF_MEMORY) {
+    } else if (r == MM_ERR_OUT_OF_MEMORY && !(err && err->message[0])) {
         mm_error_set(err, r, 0, 0, "out of memory");
     }
     if (r == MM_OK) {
@@ -440,14 +359,22 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         out->clips =
             (mm_config_clip *)mm_alloc_array(&out->allocator, (size_t)count * 2, sizeof(mm_config_clip));
         if (!out->clips) r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-        mm_take_spans_desc sd;
-        mm_take_spans_desc_defaults(&sd);
-        sd.low_hips = 0.375f * rep->height; /* 0.6 m for a body 1.6 m tall */
-        int hips = roles->roles[MM_BODY_HIPS].joint, root = roles->roles[MM_BODY_ROOT_BONE].joint;
+        int root = roles->roles[MM_BODY_ROOT_BONE].joint;
         int facing = roles->roles[MM_BODY_FACING_BONE].joint;
+        const mm_take_joints joints = {
+            roles->roles[MM_BODY_HIPS].joint, root, roles->roles[MM_BODY_HEAD].joint,
+            roles->roles[MM_BODY_LEFT_HAND].joint, roles->roles[MM_BODY_RIGHT_HAND].joint};
         for (int t = 0; t < count && r == MM_OK; ++t) {
             if (metric[t].frame_count < 2) continue;
-            r = mm_take_spans_find(&metric[t], hips, root, &sd, &spans[t]);
+            r = mm_take_spans_find(&metric[t], &joints, NULL, &spans[t]);
+            if (r == MM_OK) {
+                const mm_take_spans *s = &spans[t];
+                for (int f = 0; f < s->frame_count; ++f)
+                    rep->kind_seconds[s->kinds[f]] += 1.0f / metric[t].fps;
+                rep->calibration_starts += s->frame_count > 0 && (s->kinds[0] == MM_POSTURE_CALIBRATION ||
+                                                                  s->kinds[0] == MM_SPAN_A_POSE);
+                rep->arms_missing += !s->arms_found;
+            }
             if (r == MM_OK)
                 r = collect_speeds(&metric[t], &spans[t], root, facing, roles->forward_axis, lists);
             if (r != MM_OK) {

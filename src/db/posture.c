@@ -81,3 +81,99 @@ void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames)
         f = e;
     }
 }
+
+bool mm_posture_find_arms(const mm_skeleton *s, int left_hand, int right_hand, mm_posture_arms *out)
+{
+    const int hands[2] = {left_hand, right_hand};
+    bool found = true;
+    for (int side = 0; side < 2; ++side) {
+        out->hand[side] = out->elbow[side] = out->shoulder[side] = -1;
+        int j = hands[side];
+        if (j < 0 || j >= s->joint_count) {
+            found = false;
+            continue;
+        }
+        out->hand[side] = j;
+        /* up the chain, the rest position of each ancestor relative to the hand's start */
+        int found_at[2] = {-1, -1}, step = 0;
+        mm_vec3 from = mm_vec3_make(0, 0, 0), at = from;
+        for (int k = j; s->joints[k].parent >= 0 && step < 2; k = s->joints[k].parent) {
+            at = mm_vec3_sub(at, s->joints[k].offset); /* the parent's place, in rest axes summed */
+            if (mm_vec3_length(mm_vec3_sub(at, from)) >= MM_POSTURE_ARM_BONE_MIN) {
+                found_at[step++] = s->joints[k].parent;
+                from = at;
+            }
+        }
+        out->elbow[side] = found_at[0];
+        out->shoulder[side] = found_at[1];
+        if (found_at[1] < 0) found = false;
+    }
+    if (!found) out->elbow[0] = out->elbow[1] = out->shoulder[0] = out->shoulder[1] = -1;
+    return found;
+}
+
+bool mm_posture_a_pose_shape(const mm_vec3 *world, const mm_posture_arms *arms,
+                             const mm_posture_joints *joints, float ground_y, const mm_posture_reference *ref)
+{
+    float h = ref->head_height;
+    if (!joint_ok(world, joints->hips) || !joint_ok(world, joints->head) || !(h > 0) || !isfinite(ground_y))
+        return false;
+    for (int side = 0; side < 2; ++side)
+        if (!joint_ok(world, arms->hand[side]) || !joint_ok(world, arms->elbow[side]) ||
+            !joint_ok(world, arms->shoulder[side]))
+            return false;
+    mm_vec3 head = world[joints->head], trunk = mm_vec3_sub(head, world[joints->hips]);
+    float length = mm_vec3_length(trunk);
+    if (head.y - ground_y < MM_POSTURE_CROUCHED_HEIGHT * h || length < 1e-6f ||
+        trunk.y / length < cosf(MM_POSTURE_BENT_DEGREES * (float)MM_DEG_TO_RAD))
+        return false;
+    /* the shoulders' line, level, from the right shoulder to the left */
+    mm_vec3 across = mm_vec3_sub(world[arms->shoulder[0]], world[arms->shoulder[1]]);
+    across.y = 0.0f;
+    float width = mm_vec3_length(across);
+    if (width < 1e-6f) return false;
+    for (int side = 0; side < 2; ++side) {
+        mm_vec3 shoulder = world[arms->shoulder[side]], elbow = world[arms->elbow[side]],
+                hand = world[arms->hand[side]];
+        mm_vec3 arm = mm_vec3_sub(hand, shoulder);
+        float reach = mm_vec3_length(arm),
+              bones = mm_vec3_length(mm_vec3_sub(elbow, shoulder)) + mm_vec3_length(mm_vec3_sub(hand, elbow));
+        if (!(bones > 1e-6f) || reach < MM_POSTURE_A_POSE_STRAIGHT * bones) return false;
+        float level = sqrtf(arm.x * arm.x + arm.z * arm.z);
+        float down = atan2f(-arm.y, level) * (float)MM_RAD_TO_DEG;
+        if (down < MM_POSTURE_A_POSE_MIN_DEGREES || down > MM_POSTURE_A_POSE_MAX_DEGREES) return false;
+        float outward = (arm.x * across.x + arm.z * across.z) / (level * width) * (side == 0 ? 1.0f : -1.0f);
+        if (!(level > 1e-6f) || outward < MM_POSTURE_A_POSE_SIDEWAYS) return false;
+    }
+    return true;
+}
+
+int mm_posture_find_a_poses(const mm_vec3 *world, int n, int stride, float fps, const mm_posture_arms *arms,
+                            const mm_posture_joints *joints, const float *ground_y,
+                            const mm_posture_reference *ref, uint8_t *out)
+{
+    int h = (int)lroundf(0.1f * fps), hold = (int)ceilf(MM_POSTURE_A_POSE_HOLD_SECONDS * fps), found = 0;
+    if (h < 1) h = 1;
+    if (hold < 1) hold = 1;
+    for (int f = 0; f < n; ++f) {
+        const mm_vec3 *w = world + (size_t)f * (size_t)stride;
+        out[f] = mm_posture_a_pose_shape(w, arms, joints, ground_y[f], ref);
+        int a = f - h < 0 ? 0 : f - h, b = f + h >= n ? n - 1 : f + h;
+        for (int side = 0; side < 2 && out[f] && b > a; ++side) {
+            int j = arms->hand[side];
+            mm_vec3 d = mm_vec3_sub(world[(size_t)b * (size_t)stride + (size_t)j],
+                                    world[(size_t)a * (size_t)stride + (size_t)j]);
+            if (mm_vec3_length(d) * fps / (float)(b - a) >= MM_POSTURE_A_POSE_STILL_SPEED) out[f] = 0;
+        }
+    }
+    for (int f = 0; f < n;) { /* held long enough */
+        int e = f;
+        while (e < n && out[e] == out[f]) ++e;
+        if (out[f] && e - f < hold)
+            for (int k = f; k < e; ++k) out[k] = 0;
+        else if (out[f])
+            found += e - f;
+        f = e;
+    }
+    return found;
+}

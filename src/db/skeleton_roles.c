@@ -855,12 +855,6 @@ const char *mm_body_role_name(mm_body_role role)
     return (int)role >= 0 && role < MM_BODY_ROLE_COUNT ? names[role] : NULL;
 }
 
-const char *mm_axis_name(int axis)
-{
-    static const char *const names[6] = {"+X", "+Y", "+Z", "-X", "-Y", "-Z"};
-    return axis >= 0 && axis < 6 ? names[axis] : NULL;
-}
-
 /* Joints with two children or more between the root and j (the root left out): the spine carries
  * the arms and the neck, a leg carries nothing. */
 static int branches_above(const mm_skeleton *s, const int *children, int j)

@@ -31,6 +31,15 @@ static const mm_config_field_doc docs[] = {
     {"scale", "number", "", "0 (detect)",
      "Multiplies source lengths to get metres: 0.01 for centimetre files, 1 for metres. 0 detects the unit "
      "from the character's height (docs/bvh.md)."},
+    {"axes.up", "string", "", "+Y",
+     "The way up in the takes: +X, +Y, +Z, -X, -Y or -Z. Clips are turned to mm's +Y up as they are loaded "
+     "for the build (the root joints' rotations, translations and rest offsets), so that every joint's "
+     "world position is turned exactly. Files from Blender, 3ds Max and converted CMU takes are often +Z "
+     "up. mm config init detects it from the poses (docs/config.md, \"Axes\")."},
+    {"axes.forward", "string", "", "+Z (-Y for +Z up, +Y for -Z up)",
+     "The way the character faces in the takes' world, at right angles to up: turned to mm's +Z with up. "
+     "Only the world's turn about up depends on it (the database's features are in the character's own "
+     "frame); give it to keep a character facing +X or -Z in its files facing +Z in mm's world."},
     {"roles.hips", "string", "", "Hips",
      "The pelvis joint, where the body starts: joints above it (a Root or Reference joint, whatever "
      "part of the travel they carry) are folded into the simulation bone, and the hips hang from it at "
@@ -296,6 +305,24 @@ static mm_result parse_roles(ctx *c, const cJSON *roles)
     return r;
 }
 
+/* axes: {"up": "+Z", "forward": "-Y"}, each one of the six axis names */
+static mm_result parse_axes(ctx *c, const cJSON *axes)
+{
+    static const char *const keys[] = {"up", "forward", NULL};
+    mm_result r = check_keys(c, axes, "axes", keys);
+    for (int k = 0; k < 2 && r == MM_OK; ++k) {
+        char name[16] = "";
+        if (!cJSON_GetObjectItemCaseSensitive(axes, keys[k])) continue;
+        r = get_string(c, axes, keys[k], "axes", name, sizeof name);
+        int axis = mm_axis_parse(name);
+        if (r == MM_OK && axis < 0)
+            return FAIL(MM_ERR_SYNTAX, "axes.%s: '%s' is not an axis: one of +X, +Y, +Z, -X, -Y, -Z", keys[k],
+                        name);
+        if (r == MM_OK) *(k == 0 ? &c->cfg->axes_up : &c->cfg->axes_forward) = axis;
+    }
+    return r;
+}
+
 static mm_result parse_features(ctx *c, const cJSON *f)
 {
     static const char *const keys[] = {"bones",
@@ -549,10 +576,9 @@ static float whole_rate_interval(float interval)
 
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
-    static const char *const keys[] = {"interval", "scale",    "roles",       "root_smoothing",
-                                       "contacts", "postures", "features",    "mirror_pairs",
-                                       "tags",     "clips",    "blend_clips", "runtime",
-                                       "extends",  "standing", NULL};
+    static const char *const keys[] = {
+        "interval",     "scale", "axes",  "roles",       "root_smoothing", "contacts", "postures", "features",
+        "mirror_pairs", "tags",  "clips", "blend_clips", "runtime",        "extends",  "standing", NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
@@ -560,6 +586,8 @@ static mm_result parse_root(ctx *c, const cJSON *root)
     if (r == MM_OK) r = get_number(c, root, "scale", "", &cfg->scale);
     if (r == MM_OK) r = get_number(c, root, "root_smoothing", "", &cfg->root_smoothing);
     if (r != MM_OK) return r;
+    const cJSON *axes = cJSON_GetObjectItemCaseSensitive(root, "axes");
+    if (axes && (r = parse_axes(c, axes)) != MM_OK) return r;
     const cJSON *roles = cJSON_GetObjectItemCaseSensitive(root, "roles");
     if (roles && (r = parse_roles(c, roles)) != MM_OK) return r;
     const cJSON *contacts = cJSON_GetObjectItemCaseSensitive(root, "contacts");
@@ -920,6 +948,38 @@ void mm_config_free_sources(const mm_config *cfg, mm_clip *clips)
     free(clips);
 }
 
+mm_result mm_config_import_takes(const mm_config *cfg, const char *path, mm_clip_list *out, mm_error *err)
+{
+    /* takes of other axes are turned before the unit is detected: the height is measured along +Y */
+    int turned =
+        cfg->axes_up != MM_AXIS_POS_Y || mm_axes_forward(cfg->axes_up, cfg->axes_forward) != MM_AXIS_POS_Z;
+    mm_import_desc imp;
+    memset(&imp, 0, sizeof imp);
+    imp.scale = cfg->scale;
+    imp.auto_scale = cfg->scale == 0.0f && !turned;
+    mm_result r = mm_import_clips(path, &imp, out, err);
+    if (r != MM_OK || !turned) return r;
+    for (int t = 0; t < out->count; ++t) {
+        mm_clip *k = &out->clips[t];
+        mm_clip_turn(k, mm_axes_turn(cfg->axes_up, cfg->axes_forward));
+        if (cfg->scale != 0.0f) continue;
+        const mm_quat *rot = k->frame_count > 0 ? mm_clip_rotations(k, 0) : NULL;
+        const mm_vec3 *pos = k->frame_count > 0 ? mm_clip_positions(k, 0) : NULL;
+        double height = mm_skeleton_estimate_height(&k->skeleton, rot, pos);
+        double unit = mm_unit_scale_for_height(height);
+        if (unit == 0.0) {
+            mm_clip_list_free(out);
+            mm__error_set_file(err, path);
+            return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0,
+                                "cannot detect the unit: the character is %g units tall along axes.up %s, "
+                                "which is no human height; give the scale",
+                                height, mm_axis_name(cfg->axes_up));
+        }
+        mm_clip_scale(k, (float)unit);
+    }
+    return MM_OK;
+}
+
 mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_error *err)
 {
     *out_clips = NULL;
@@ -944,12 +1004,8 @@ mm_result mm_config_load_sources(const mm_config *cfg, mm_clip **out_clips, mm_e
             r = mm_clip_copy(&clips[i], &clips[same], NULL);
             continue;
         }
-        mm_import_desc imp;
-        memset(&imp, 0, sizeof imp);
-        imp.scale = cfg->scale;
-        imp.auto_scale = cfg->scale == 0.0f;
         mm_clip_list takes;
-        r = mm_import_clips(paths[i], &imp, &takes, err);
+        r = mm_config_import_takes(cfg, paths[i], &takes, err);
         if (r != MM_OK) break;
         int pick = 0;
         if (cfg->clips[i].take[0]) {

@@ -664,8 +664,19 @@ mm_result mm_config_save_json(const char *path, const mm_config *c, mm_error *er
     char text[32];
     snprintf(text, sizeof text, "%.6g", 1.0 / whole);
     double interval = fabs(rate - whole) <= 1e-5 * whole ? strtod(text, NULL) : short_double(c->interval);
-    ok = ok && add(root, "interval", cJSON_CreateNumber(interval)) && add(root, "scale", number(c->scale)) &&
-         add(root, "roles", roles_object(c));
+    ok = ok && add(root, "interval", cJSON_CreateNumber(interval)) && add(root, "scale", number(c->scale));
+    if (ok && (c->axes_up != d.axes_up || c->axes_forward != d.axes_forward)) {
+        cJSON *o = cJSON_CreateObject();
+        ok = o != NULL && mm_axis_name(c->axes_up) &&
+             add(o, "up", cJSON_CreateString(mm_axis_name(c->axes_up)));
+        if (ok && mm_axis_name(c->axes_forward))
+            ok = add(o, "forward", cJSON_CreateString(mm_axis_name(c->axes_forward)));
+        if (ok)
+            ok = add(root, "axes", o);
+        else
+            cJSON_Delete(o);
+    }
+    ok = ok && add(root, "roles", roles_object(c));
     if (ok && c->root_smoothing != d.root_smoothing)
         ok = add(root, "root_smoothing", number(c->root_smoothing));
     if (ok && (c->contact_height != d.contact_height || c->contact_speed != d.contact_speed ||
