@@ -93,11 +93,13 @@ static const known_miss known_misses[] = {
     {"games105", "turn_90", T_SLIDE | T_POP},
     {"games105", "random_1", T_SLIDE | T_POP},
     {"games105", "random_2", T_SLIDE | T_POP},
-    {"pfnn", "straight_walk", T_SLIDE},
-    {"pfnn", "turn_90", T_SLIDE},
-    {"pfnn", "stop_and_go", T_SLIDE},
-    {"pfnn", "random_1", T_SLIDE | T_POP},
-    {"pfnn", "random_2", T_SLIDE},
+    /* the PFNN take without its opening T pose (left out by the span finder): trajectory error
+     * 6-10 cm, slide 21-44 cm/s (docs/skeletons.md) */
+    {"pfnn", "straight_walk", T_SLIDE | T_TRAJ},
+    {"pfnn", "turn_90", T_SLIDE | T_TRAJ},
+    {"pfnn", "stop_and_go", T_SLIDE | T_TRAJ},
+    {"pfnn", "random_1", T_SLIDE | T_POP | T_TRAJ},
+    {"pfnn", "random_2", T_SLIDE | T_TRAJ},
 };
 
 static unsigned known_missed(const char *dataset_name, const char *input)
@@ -584,11 +586,10 @@ typedef struct known_difference {
     const char *script;
 } known_difference;
 
+/* None today; an entry names a variant whose database (level 'd') or characters on a script ('c')
+ * are known to differ, printed, not failed. */
 static const known_difference known_differences[] = {
-    /* mm_clip_up_axis (src/db/skeleton_roles.c) counts a Root joint left at the origin while the
-     * body walks away: the travel outweighs the body's height (LAFAN1's walk4_subject1 too, whose
-     * path goes farther than the takes the matrix cuts) */
-    {"games105", "static root", 'd', NULL},
+    {"", "", 0, NULL},
 };
 
 static int is_known(const char *variant, char level, const char *script)

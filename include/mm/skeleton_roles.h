@@ -110,9 +110,10 @@ void mm_skeleton_roles_apply(const mm_skeleton_roles *roles, const mm_skeleton *
 const char *mm_body_role_name(mm_body_role role);
 
 /* The axis along which a clip's body stands, judged from its poses (any unit): the axis of the
- * largest median extent of the joints, signed so that most joints lie above the root. Returns
- * 0..5 for +X, +Y, +Z, -X, -Y, -Z; *out_confidence (may be NULL) is 1 - second / largest extent
- * (0: no telling, about 0.5 for a walk). A clip without frames is judged in its rest pose. */
+ * largest median extent of the body's joints (from the first joint that branches: a root above
+ * the hips that stays behind or on the ground is left out), signed by the end that hangs from more
+ * branches. Returns 0..5 for +X, +Y, +Z, -X, -Y, -Z; *out_confidence (may be NULL) is 1 - second / largest
+ * extent (0: no telling, about 0.5 for a walk). A clip without frames is judged in its rest pose. */
 int mm_clip_up_axis(const mm_clip *clip, float *out_confidence);
 
 #ifdef __cplusplus

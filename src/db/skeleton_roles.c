@@ -881,6 +881,24 @@ int mm_clip_up_axis(const mm_clip *clip, float *out_confidence)
         return 1;
     }
     for (int j = 1; j < jc; ++j) children[s->joints[j].parent]++;
+    /* The body starts at the first joint that branches (the hips): joints above it (a root left at
+     * the origin, or on the ground under a body that travels) would make the travel the extent. */
+    int body = 0;
+    while (body < jc - 1 && children[body] == 1) {
+        int child = body + 1;
+        while (child < jc && s->joints[child].parent != body) ++child;
+        if (child >= jc) break;
+        body = child;
+    }
+    unsigned char *in_body = (unsigned char *)calloc((size_t)jc, 1);
+    if (!in_body) {
+        free(g);
+        free(ext);
+        free(children);
+        return 1;
+    }
+    in_body[body] = 1;
+    for (int j = body + 1; j < jc; ++j) in_body[j] = in_body[s->joints[j].parent];
     /* per axis: +1 when the end at the + side hangs from more branches than the end at the - side
      * (it is the head's, or a hand's), -1 the other way; near: the root nearer the + end (the
      * legs are longer than the trunk and head) */
@@ -892,8 +910,9 @@ int mm_clip_up_axis(const mm_clip *clip, float *out_confidence)
             mm_fk(s, NULL, NULL, g);
         float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         int jlo[3] = {0, 0, 0}, jhi[3] = {0, 0, 0};
-        float root[3] = {g[0].translation.x, g[0].translation.y, g[0].translation.z};
-        for (int j = 0; j < jc; ++j) {
+        float root[3] = {g[body].translation.x, g[body].translation.y, g[body].translation.z};
+        for (int j = body; j < jc; ++j) {
+            if (!in_body[j]) continue;
             mm_vec3 p[2] = {g[j].translation, s->joints[j].has_end_site
                                                   ? mm_xform_apply_point(g[j], s->joints[j].end_site)
                                                   : g[j].translation};
@@ -934,5 +953,6 @@ int mm_clip_up_axis(const mm_clip *clip, float *out_confidence)
     free(g);
     free(ext);
     free(children);
+    free(in_body);
     return best + (negative ? 3 : 0);
 }

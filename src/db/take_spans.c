@@ -41,6 +41,14 @@ bool mm_span_left_out(int kind)
            kind == MM_SPAN_GETTING_UP || kind == MM_SPAN_DOWN;
 }
 
+/* Whether joint j is the joint body or hangs from it. */
+static int in_body(const mm_skeleton *s, int body, int j)
+{
+    for (; j >= 0; j = s->joints[j].parent)
+        if (j == body) return 1;
+    return body < 0;
+}
+
 /* A frame of this kind is part of a stretch of being low: crouched, bent or lying. */
 static int low(int k) { return k == MM_POSTURE_CROUCHED || k == MM_POSTURE_BENT || k == MM_POSTURE_LYING; }
 
@@ -69,9 +77,13 @@ static int judge(const mm_clip *clip, const mm_vec3 *w, const mm_take_joints *jt
         free(a_pose);
         return 0;
     }
+    /* the body is the hips and what hangs from them: a root joint above the hips, left at the
+     * origin or on the ground, is no part of it (parents come first) */
     for (int f = 0; f < n; ++f) {
         lowest[f] = INFINITY;
-        for (int j = 0; j < jc; ++j) lowest[f] = fminf(lowest[f], w[(size_t)f * (size_t)jc + (size_t)j].y);
+        for (int j = 0; j < jc; ++j)
+            if (in_body(&clip->skeleton, jt->hips, j))
+                lowest[f] = fminf(lowest[f], w[(size_t)f * (size_t)jc + (size_t)j].y);
     }
     memcpy(v, lowest, sizeof(float) * (size_t)n);
     float floor = mm__quantile(v, n, 0.5f); /* the take's floor: the median of the lowest joint */
