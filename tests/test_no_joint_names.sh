@@ -10,11 +10,9 @@
 #   src/io/config_json.c      the documented defaults of the config's fields (docs/config.md)
 #   src/synth/synth_skeleton.c the built-in skeleton: its joints' own names, not a lookup
 #   tools/help.c              the commands' help text, which documents defaults
-#   tools/cmd_bvh_spans.c     mm bvh spans's own name search for a take without a config
-#                             (its --config roles come first)
 # usage: test_no_joint_names.sh SOURCE_DIR
 cd "$1" || exit 1
-allowed="src/db/roles.c src/config.c src/io/config_json.c src/synth/synth_skeleton.c tools/help.c tools/cmd_bvh_spans.c"
+allowed="src/db/roles.c src/config.c src/io/config_json.c src/synth/synth_skeleton.c tools/help.c"
 
 # literals FILE...: "file:line: literal" for every string literal outside comments
 literals() {
