@@ -26,6 +26,7 @@
 
 /* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
 #define SIM_MAX_FRAMES 2160000
+#define SIM_MIN_FRAMES 2 /* one step between two frames: speeds, slide and the metrics need it */
 
 int mm_cmd_simulate(int argc, char **argv)
 {
@@ -100,6 +101,10 @@ int mm_cmd_simulate(int argc, char **argv)
     }
     if (!db_path || (!input) == (seed < 0) || seconds <= 0 || !out)
         return cli_usage_error("simulate", "%s", usage);
+    if (floor(seconds * fps + 1e-6) < SIM_MIN_FRAMES)
+        return cli_usage_error("simulate",
+                               "--seconds %g at --fps %g is less than %d frames: a run needs at least %g s",
+                               seconds, fps, SIM_MIN_FRAMES, SIM_MIN_FRAMES / fps);
     if (seconds * fps > SIM_MAX_FRAMES)
         return cli_usage_error("simulate",
                                "--seconds %g at --fps %g is %.0f frames, more than the %d allowed", seconds,
