@@ -1,5 +1,6 @@
 #!/bin/sh
-# No success on nonsense (issue 25): a run shorter than the two frames a run needs, a start past the
+# No success on nonsense (issue 25): a run shorter than the two frames a run needs or longer than a
+# BVH file mm can read back, a start past the
 # end of the clip, a --write to a config that cannot be written (found before anything is
 # detected, even when nothing is found), and JSON that is not strict (a key given twice, text
 # after the value) are refused: exit 2 (usage) or 1 (bad input), exactly one line on stderr, a
@@ -44,6 +45,8 @@ refused 2 "--seconds 0.03 at --fps 60 is less than 2 frames" \
 refused 2 "--seconds 0.4 at --fps 2 is less than 2 frames" \
     "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 0.4 --fps 2 -o "$out/a.bvh"
 [ -z "$(ls -A "$out")" ] && ok || bad "a refused run left $(ls "$out")"
+# a run whose BVH mm could not read back (over 2 GiB) is refused before it starts
+refused 1 "more than the 2 GiB mm reads" "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 36000 -o "$out/a.bvh"
 # two frames is the shortest run, and its foot slide is a number
 expect_exit 0 "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 0.034 -o "$out/two.bvh"
 expect_grep "2 frames at 60 fps" "$tmp/out"
