@@ -18,6 +18,7 @@
 #ifdef MM_HAVE_ASSIMP
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/wait.h>
@@ -288,8 +289,8 @@ static mm_result rebuild(child_bytes *b, const mm_import_desc *desc, mm_clip_lis
     return MM_OK;
 }
 
-static mm_result import_isolated(const char *path, const mm_import_desc *desc, mm_clip_list *out,
-                                 mm_error *err)
+static mm_result import_child_process(const char *path, const mm_import_desc *desc, mm_clip_list *out,
+                                      mm_error *err)
 {
     int fds[2];
     if (pipe(fds) != 0)
@@ -334,6 +335,19 @@ static mm_result import_isolated(const char *path, const mm_import_desc *desc, m
         r = rebuild(&b, desc, out, err);
     }
     free(b.data);
+    return r;
+}
+/* One child at a time: assimp imports were serialised anyway (its C API's error is a global), and
+ * no thread of this process is then inside assimp when another forks (the child's copy of the
+ * importer's lock is free). */
+static pthread_mutex_t isolate_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static mm_result import_isolated(const char *path, const mm_import_desc *desc, mm_clip_list *out,
+                                 mm_error *err)
+{
+    pthread_mutex_lock(&isolate_lock);
+    mm_result r = import_child_process(path, desc, out, err);
+    pthread_mutex_unlock(&isolate_lock);
     return r;
 }
 #endif
