@@ -85,6 +85,19 @@ refused 2 "--seconds 0.4 at --fps 2 is less than 2 frames" \
 [ -z "$(ls -A "$out")" ] && ok || bad "a refused run left $(ls "$out")"
 # a run whose BVH mm could not read back (over 2 GiB) is refused before it starts
 refused 1 "more than the 2 GiB mm reads" "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 36000 -o "$out/a.bvh"
+# a run ended by a signal leaves no temporary file (nor an output) behind
+"$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 20000 -o "$out/signal.bvh" --metrics "$out/signal.json" \
+    >/dev/null 2>&1 &
+pid=$!
+waited=0 # until its temporary output exists (the run is under way), at most 120 s
+while [ -z "$(ls -A "$out")" ] && [ "$waited" -lt 1200 ]; do
+    sleep 0.1
+    waited=$((waited + 1))
+done
+[ -n "$(ls -A "$out")" ] && ok || bad "mm simulate made no temporary file"
+kill -TERM "$pid"
+wait "$pid"
+[ -z "$(ls -A "$out")" ] && ok || bad "a run ended by SIGTERM left $(ls "$out")"
 # two frames is the shortest run, and its foot slide is a number
 expect_exit 0 "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 0.034 -o "$out/two.bvh"
 expect_grep "2 frames at 60 fps" "$tmp/out"

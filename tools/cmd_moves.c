@@ -73,8 +73,7 @@ static int cmd_detect(int argc, char **argv)
             mm_config_free(&cfg);
             return 1;
         }
-        fclose(probe);
-        remove(tmp);
+        cli_commit(probe, tmp, write, 1); /* closed and removed */
     }
     mm_import_desc imp;
     memset(&imp, 0, sizeof imp);
