@@ -110,6 +110,14 @@ refused 1 "--from 1e+09 s is past the end of the clip" "$mm" render "$clip" --fr
 refused 1 "$clip" "$mm" render "$clip" --from 1e9 --contact-sheet "$out/s.png"
 [ -z "$(ls -A "$out" | grep -v two.bvh)" ] && ok || bad "a refused render left $(ls "$out")"
 
+# a video that cannot be written: one line naming it (the encoder named its temporary file)
+if command -v ffmpeg >/dev/null 2>&1; then
+    refused 1 "/nonexistent/v.gif: cannot create" "$mm" render "$clip" --seconds 0.2 -o /nonexistent/v.gif
+    refused 1 "/nonexistent/v.mp4: cannot create" \
+        "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 1 -o "$out/v.bvh" --video /nonexistent/v.mp4
+    [ ! -e "$out/v.bvh" ] && ok || bad "a failed video left v.bvh"
+fi
+
 # mm moves detect --write: the config must exist and be writable, whatever is found (it exited 0
 # when nothing was found)
 refused 1 "/nonexistent/c.json" "$mm" moves detect "$out/two.bvh" --write /nonexistent/c.json
