@@ -19,10 +19,14 @@ refused() {
     shift 2
     "$@" >"$tmp/out" 2>"$tmp/err" </dev/null
     got=$?
-    lines=$(wc -l <"$tmp/err" | tr -d ' ')
+    # the sanitizer build may add its suppression statistics: mm's own lines are what is counted
+    lines=$(grep -v -e '^-*$' -e '^Suppressions used:' -e '^ *count *bytes template' -e '^ *[0-9]* *[0-9]* [a-zA-Z].*\.so' "$tmp/err" | wc -l | tr -d ' ')
     if [ "$got" -ne "$want" ]; then
         bad "exit $got (wanted $want): $*"
         head -n 5 "$tmp/err"
+    elif grep -q -e 'ERROR: [A-Za-z]*Sanitizer' -e 'runtime error' "$tmp/err"; then
+        bad "sanitizer report: $*"
+        head -n 20 "$tmp/err"
     elif [ "$lines" -ne 1 ] || ! grep -q '^mm[a-z ]*: ' "$tmp/err" || ! grep -q -F -e "$text" "$tmp/err"; then
         bad "wanted one line 'mm...: ...$text...' on stderr: $*"
         cat "$tmp/err"
