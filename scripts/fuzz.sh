@@ -10,6 +10,11 @@
 # build-fuzz/corpus/<name>/ that grows from run to run. Crashes, leaks and timeouts are written
 # to build-fuzz/artifacts/<name>/; add each one to the seed corpus or a test once it is fixed.
 # Prints executions per second and coverage per target; exits non-zero when anything was found.
+#
+# CI budget (.ci/run runs `scripts/fuzz.sh 60`): 60 s per target, the six targets one after the
+# other, so 6 minutes of fuzzing per CI run in all (plus the build of build-fuzz). fuzz_mmdb and
+# fuzz_sim use a custom mutator that recomputes the checksum (fuzz/fuzz_reseal.h). The executions
+# each target reaches in its minute are in docs/reliability.md.
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)

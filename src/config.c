@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "io/name_set.h"
+
 static void set_name(char *dst, const char *src) { snprintf(dst, MM_NAME_MAX, "%s", src); }
 
 void mm_config_defaults(mm_config *c)
@@ -232,13 +234,16 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
     if (c->tag_count < 0 || c->tag_count > MM_MAX_TAGS)
         FAIL("tags: %d tags (at most %d)", c->tag_count, MM_MAX_TAGS);
     if (c->clip_count < 0 || (c->clip_count > 0 && !c->clips)) FAIL("clips: invalid clip list");
+    /* names through a hash table: a config may list 100,000 clips */
+    int twice =
+        c->clip_count > 0 ? mm__name_set_first_repeat(c->clips[0].name, sizeof *c->clips, c->clip_count) : -1;
+    if (twice == -2) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     for (int i = 0; i < c->clip_count; ++i) {
         const mm_config_clip *k = &c->clips[i];
         if (!k->name[0]) FAIL("clips[%d].name is empty", i);
-        for (int j = 0; j < i; ++j)
-            if (strcmp(c->clips[j].name, k->name) == 0)
-                return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "clips[%d].name '%s' is used twice", i,
-                                    k->name);
+        if (i == twice)
+            return mm_error_set(err, MM_ERR_DUPLICATE_NAME, 0, 0, "clips[%d].name '%s' is used twice", i,
+                                k->name);
         if (!k->file[0]) FAIL("clips[%d] (%s): file is empty", i, k->name);
         if (k->type != MM_CLIP_LOCOMOTION && k->type != MM_CLIP_IDLE)
             FAIL("clips[%d] (%s): unknown type", i, k->name);

@@ -339,6 +339,35 @@ static void test_hex_numbers(void **state)
     }
 }
 
+/* The valid reference as UTF-16 (little and big endian, with and without a byte order mark):
+ * refused as UTF-16, not as a garbled keyword. */
+static void test_utf16(void **state)
+{
+    (void)state;
+    size_t n = strlen(valid_bvh);
+    unsigned char *buf = malloc(2 * n + 2);
+    assert_non_null(buf);
+    for (int variant = 0; variant < 4; ++variant) {
+        int big = variant & 1, bom = variant >> 1;
+        size_t size = 0;
+        if (bom) {
+            buf[size++] = big ? 0xFE : 0xFF;
+            buf[size++] = big ? 0xFF : 0xFE;
+        }
+        for (size_t i = 0; i < n; ++i) {
+            buf[size++] = big ? 0 : (unsigned char)valid_bvh[i];
+            buf[size++] = big ? (unsigned char)valid_bvh[i] : 0;
+        }
+        mm_bvh bvh;
+        mm_error err;
+        mm_result r = parse_exact((const char *)buf, size, NULL, &bvh, &err);
+        assert_clean_failure(r, &err, &bvh);
+        assert_int_equal(r, MM_ERR_SYNTAX);
+        assert_non_null(strstr(err.message, "the file is UTF-16 text"));
+    }
+    free(buf);
+}
+
 static void test_deep_nesting(void **state)
 {
     (void)state;
@@ -684,11 +713,17 @@ static void test_allocation_failures(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_corpus),           cmocka_unit_test(test_valid_reference_parses),
-        cmocka_unit_test(test_argument_errors),  cmocka_unit_test(test_hex_numbers),
-        cmocka_unit_test(test_deep_nesting),     cmocka_unit_test(test_too_many_joints),
-        cmocka_unit_test(test_huge_line),        cmocka_unit_test(test_every_truncation),
-        cmocka_unit_test(test_random_mutations), cmocka_unit_test(test_allocation_failures),
+        cmocka_unit_test(test_corpus),
+        cmocka_unit_test(test_valid_reference_parses),
+        cmocka_unit_test(test_argument_errors),
+        cmocka_unit_test(test_hex_numbers),
+        cmocka_unit_test(test_utf16),
+        cmocka_unit_test(test_deep_nesting),
+        cmocka_unit_test(test_too_many_joints),
+        cmocka_unit_test(test_huge_line),
+        cmocka_unit_test(test_every_truncation),
+        cmocka_unit_test(test_random_mutations),
+        cmocka_unit_test(test_allocation_failures),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -142,6 +142,78 @@ static void test_save_atomic(void **state)
     mm_bvh_free(&src);
 }
 
+/* The stream writes the bytes mm_bvh_write gives, whatever the length (many flushes), and a wrong
+ * frame count is an error. */
+static void test_stream(void **state)
+{
+    (void)state;
+    mm_bvh src;
+    assert_int_equal(mm_bvh_load(test_data_path("bvh/chain2.bvh"), NULL, &src, NULL), MM_OK);
+    mm_clip one, clip;
+    assert_int_equal(mm_bvh_to_clip(&src, NULL, &one, NULL), MM_OK);
+    /* a long clip: the source's frames over and over, so the stream flushes many times */
+    const int frames = 3000;
+    assert_int_equal(mm_clip_init(&clip, &one.skeleton, frames, one.fps, NULL), MM_OK);
+    int n = one.skeleton.joint_count;
+    for (int f = 0; f < frames; ++f) {
+        memcpy(mm_clip_rotations(&clip, f), mm_clip_rotations(&one, f % one.frame_count),
+               sizeof(mm_quat) * (size_t)n);
+        memcpy(mm_clip_positions(&clip, f), mm_clip_positions(&one, f % one.frame_count),
+               sizeof(mm_vec3) * (size_t)n);
+        mm_clip_positions(&clip, f)[0].x += 0.001f * (float)f; /* every line differs */
+    }
+    mm_bvh_write_desc wd;
+    memset(&wd, 0, sizeof wd);
+    wd.precision = 12;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    char *text = NULL;
+    size_t size = 0;
+    assert_int_equal(mm_bvh_write(&clip, &wd, &text, &size, &err), MM_OK);
+    char *streamed = NULL;
+    size_t streamed_size = 0;
+    FILE *f = open_memstream(&streamed, &streamed_size);
+    assert_non_null(f);
+    mm_bvh_stream *st = NULL;
+    assert_int_equal(mm_bvh_stream_open(&st, f, &clip.skeleton, clip.fps, frames, &wd, &err), MM_OK);
+    size_t longest = 0, line_start = 0;
+    for (int k = 0; k < frames; ++k)
+        assert_int_equal(
+            mm_bvh_stream_frame(st, mm_clip_rotations(&clip, k), mm_clip_positions(&clip, k), &err), MM_OK);
+    /* one more than declared is refused */
+    assert_int_equal(mm_bvh_stream_frame(st, mm_clip_rotations(&clip, 0), mm_clip_positions(&clip, 0), &err),
+                     MM_ERR_LIMIT);
+    assert_int_equal(mm_bvh_stream_close(st, &err), MM_OK);
+    fclose(f);
+    assert_int_equal(streamed_size, size);
+    assert_memory_equal(streamed, text, size);
+    /* no frame line is longer than mm_bvh_frame_bytes_max says */
+    const char *motion = strstr(text, "Frame Time:");
+    assert_non_null(motion);
+    line_start = (size_t)(strchr(motion, '\n') + 1 - text);
+    for (size_t i = line_start; i < size; ++i)
+        if (text[i] == '\n') {
+            longest = i + 1 - line_start > longest ? i + 1 - line_start : longest;
+            line_start = i + 1;
+        }
+    assert_true(longest > 0 && longest <= mm_bvh_frame_bytes_max(&clip.skeleton, &wd));
+    free(streamed);
+    /* fewer frames than declared: close says so */
+    streamed = NULL;
+    f = open_memstream(&streamed, &streamed_size);
+    assert_int_equal(mm_bvh_stream_open(&st, f, &clip.skeleton, clip.fps, 5, &wd, &err), MM_OK);
+    assert_int_equal(mm_bvh_stream_frame(st, mm_clip_rotations(&clip, 0), mm_clip_positions(&clip, 0), &err),
+                     MM_OK);
+    assert_int_equal(mm_bvh_stream_close(st, &err), MM_ERR_UNEXPECTED_EOF);
+    assert_non_null(strstr(err.message, "1 of the 5 frames"));
+    fclose(f);
+    free(streamed);
+    mm_free(NULL, text);
+    mm_clip_free(&clip);
+    mm_clip_free(&one);
+    mm_bvh_free(&src);
+}
+
 /* Output does not depend on the process locale (a locale with a decimal comma, if installed). */
 static void test_locale_independent(void **state)
 {
@@ -178,9 +250,8 @@ static void test_locale_independent(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_round_trip_all_orders),
-        cmocka_unit_test(test_breadth_first_skeleton),
-        cmocka_unit_test(test_save_atomic),
+        cmocka_unit_test(test_round_trip_all_orders), cmocka_unit_test(test_breadth_first_skeleton),
+        cmocka_unit_test(test_save_atomic),           cmocka_unit_test(test_stream),
         cmocka_unit_test(test_locale_independent),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -105,7 +105,7 @@ expect_exit 1 "$mm" config check "$tmp/missing.json"
 expect_grep "missing.bvh" "$tmp/err"
 printf '{"interval": 0.02,\n "clipz": []}' >"$tmp/typo.json"
 expect_exit 1 "$mm" config check "$tmp/typo.json"
-expect_grep "typo.json: clipz: unknown field" "$tmp/err"
+expect_grep "typo.json:2:11: clipz: unknown field" "$tmp/err"
 
 # db build / info / dump: deterministic bytes, the JSON fields users rely on
 if [ -n "${MM_DATA_DIR:-}" ]; then # the config reads a take of the shared data

@@ -400,33 +400,42 @@ static void expect_error(const char *text, mm_result code, const char *message)
 static void test_json_errors(void **state)
 {
     (void)state;
-    expect_error("{\"grund\": 0}", MM_ERR_UNKNOWN_KEYWORD, "bad.json: grund: unknown field");
-    expect_error("{\"ground\": 1e999}", MM_ERR_BAD_NUMBER, "bad.json: ground must be a finite number");
-    expect_error("{\"ground\": \"0\"}", MM_ERR_BAD_NUMBER, "bad.json: ground must be a finite number");
-    expect_error("[]", MM_ERR_SYNTAX, "bad.json: a scene is an object {\"ground\": 0, \"boxes\": [...]}");
-    expect_error("{\"boxes\": {}}", MM_ERR_SYNTAX, "bad.json: boxes must be an array of objects");
-    expect_error("{\"boxes\": [1]}", MM_ERR_SYNTAX, "bad.json: boxes[0] must be an object");
+    expect_error("{\"grund\": 0}", MM_ERR_UNKNOWN_KEYWORD, "bad.json:1:11: grund: unknown field");
+    expect_error("{\"ground\": 1e999}", MM_ERR_BAD_NUMBER, "bad.json:1:12: ground must be a finite number");
+    expect_error("{\"ground\": \"0\"}", MM_ERR_BAD_NUMBER, "bad.json:1:12: ground must be a finite number");
+    expect_error("[]", MM_ERR_SYNTAX, "bad.json:1:1: a scene is an object {\"ground\": 0, \"boxes\": [...]}");
+    expect_error("{\"boxes\": {}}", MM_ERR_SYNTAX, "bad.json:1:11: boxes must be an array of objects");
+    expect_error("{\"boxes\": [1]}", MM_ERR_SYNTAX, "bad.json:1:12: boxes[0] must be an object");
     expect_error("{\"boxes\": [{\"position\": [0, 0, 0], \"size\": [1, 1, 1]},\n"
                  " {\"position\": [0, 0, 0], \"size\": [1, -1, 1]}]}",
-                 MM_ERR_OUT_OF_RANGE, "bad.json: boxes[1].size[1] must not be negative");
+                 MM_ERR_OUT_OF_RANGE, "bad.json:2:38: boxes[1].size[1] must not be negative");
     expect_error("{\"boxes\": [{\"position\": [0, 0, 0], \"size\": [1, 1, 1], \"colour\": 1}]}",
-                 MM_ERR_UNKNOWN_KEYWORD, "bad.json: boxes[0].colour: unknown field");
+                 MM_ERR_UNKNOWN_KEYWORD, "bad.json:1:65: boxes[0].colour: unknown field");
     expect_error("{\"boxes\": [{\"position\": [0, 0], \"size\": [1, 1, 1]}]}", MM_ERR_SYNTAX,
-                 "bad.json: boxes[0].position must be an array of 3 numbers");
+                 "bad.json:1:25: boxes[0].position must be an array of 3 numbers");
     expect_error("{\"boxes\": [{\"position\": [0, 0, \"a\"], \"size\": [1, 1, 1]}]}", MM_ERR_BAD_NUMBER,
-                 "bad.json: boxes[0].position[2] must be a finite number");
+                 "bad.json:1:32: boxes[0].position[2] must be a finite number");
     expect_error("{\"boxes\": [{\"position\": [0, 0, 0], \"size\": [1, 1, -1e999]}]}", MM_ERR_BAD_NUMBER,
-                 "bad.json: boxes[0].size[2] must be a finite number");
+                 "bad.json:1:51: boxes[0].size[2] must be a finite number");
     expect_error("{\"boxes\": [{\"position\": [1e7, 0, 0], \"size\": [1, 1, 1]}]}", MM_ERR_OUT_OF_RANGE,
-                 "bad.json: boxes[0].position[0] is 1e+07 (at most 1e+06 in magnitude)");
+                 "bad.json:1:26: boxes[0].position[0] is 1e+07 (at most 1e+06 in magnitude)");
     expect_error("{\"boxes\": [{\"position\": [0, 0, 0], \"size\": [1, 1, 1], \"yaw\": \"90\"}]}",
-                 MM_ERR_BAD_NUMBER, "bad.json: boxes[0].yaw must be a finite number");
+                 MM_ERR_BAD_NUMBER, "bad.json:1:62: boxes[0].yaw must be a finite number");
     expect_error("{\"boxes\": [{\"size\": [1, 1, 1]}]}", MM_ERR_SYNTAX,
-                 "bad.json: boxes[0].position is missing");
+                 "bad.json:1:12: boxes[0].position is missing");
     expect_error("{\"boxes\": [{\"position\": [0, 0, 0]}]}", MM_ERR_SYNTAX,
-                 "bad.json: boxes[0].size is missing");
+                 "bad.json:1:12: boxes[0].size is missing");
     expect_error("{\"ground\": 0,\n \"boxes\": [}", MM_ERR_SYNTAX, "bad.json:2:12: not valid JSON here");
     expect_error("", MM_ERR_UNEXPECTED_EOF, "bad.json: the scene is empty");
+    /* strict JSON: a key given twice, text after the value, numbers as RFC 8259 writes them */
+    expect_error("{\"ground\": 0,\n \"ground\": 1}", MM_ERR_DUPLICATE_NAME,
+                 "bad.json:2:2: key 'ground' given twice (first at line 1, column 2)");
+    expect_error("{\"ground\": 0} junk", MM_ERR_SYNTAX, "bad.json:1:15: text after the JSON value");
+    expect_error("{\"ground\": 0}\n{}", MM_ERR_SYNTAX, "bad.json:2:1: text after the JSON value");
+    expect_error("{\"ground\": +1}", MM_ERR_SYNTAX, "bad.json:1:12: not valid JSON here");
+    expect_error("{\"ground\": 01}", MM_ERR_SYNTAX, "bad.json:1:12: not valid JSON here: not a JSON number");
+    expect_error("{\"ground\": 1.}", MM_ERR_SYNTAX, "bad.json:1:12: not valid JSON here: not a JSON number");
+    expect_error("{\"ground\":\f0}", MM_ERR_SYNTAX, "bad.json:1:11: not valid JSON here");
 
     /* too many boxes */
     char *text = malloc(64 * (MM_SCENE_MAX_BOXES + 2));
@@ -435,7 +444,7 @@ static void test_json_errors(void **state)
     for (int i = 0; i <= MM_SCENE_MAX_BOXES; ++i)
         n += (size_t)sprintf(text + n, "%s{\"position\": [0, 0, 0], \"size\": [1, 1, 1]}", i ? "," : "");
     sprintf(text + n, "]}");
-    expect_error(text, MM_ERR_LIMIT, "bad.json: boxes: 257 boxes (at most 256)");
+    expect_error(text, MM_ERR_LIMIT, "bad.json:1:11: boxes: 257 boxes (at most 256)");
     free(text);
 
     /* a missing file names the file */

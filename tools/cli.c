@@ -4,6 +4,7 @@
 #include <mm/bvh.h>
 
 #include <errno.h>
+#include <signal.h>
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
@@ -156,6 +157,50 @@ int cli_parse_scale(const char *command, const cli_option *option, const char *v
     return 0;
 }
 
+/* The temporary files being written, removed if a signal ends the process before they are renamed
+ * or removed (an interrupted run leaves nothing behind). */
+#define CLI_MAX_TEMPS 8
+#define CLI_TEMP_MAX  (4096 + 64)
+static char cli_temps[CLI_MAX_TEMPS][CLI_TEMP_MAX];
+static volatile sig_atomic_t cli_temp_used[CLI_MAX_TEMPS];
+
+static void cli_on_signal(int sig)
+{
+    for (int i = 0; i < CLI_MAX_TEMPS; ++i)
+        if (cli_temp_used[i]) unlink(cli_temps[i]); /* async-signal-safe */
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+static void cli_remember_temp(const char *tmp)
+{
+    static int installed = 0;
+    if (!installed) {
+        const int signals[3] = {SIGINT, SIGTERM, SIGHUP};
+        for (int k = 0; k < 3; ++k) {
+            struct sigaction sa;
+            memset(&sa, 0, sizeof sa);
+            sa.sa_handler = cli_on_signal;
+            sigemptyset(&sa.sa_mask);
+            sigaction(signals[k], &sa, NULL);
+        }
+        installed = 1;
+    }
+    if (strlen(tmp) >= CLI_TEMP_MAX) return;
+    for (int i = 0; i < CLI_MAX_TEMPS; ++i)
+        if (!cli_temp_used[i]) {
+            memcpy(cli_temps[i], tmp, strlen(tmp) + 1);
+            cli_temp_used[i] = 1;
+            return;
+        }
+}
+
+static void cli_forget_temp(const char *tmp)
+{
+    for (int i = 0; i < CLI_MAX_TEMPS; ++i)
+        if (cli_temp_used[i] && strcmp(cli_temps[i], tmp) == 0) cli_temp_used[i] = 0;
+}
+
 FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
 {
     struct stat st;
@@ -173,7 +218,10 @@ FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
         return NULL;
     }
     FILE *f = fopen(tmp, "wb");
-    if (!f) fprintf(stderr, "mm: %s: cannot create: %s\n", path, strerror(errno));
+    if (!f)
+        fprintf(stderr, "mm: %s: cannot create: %s\n", path, strerror(errno));
+    else
+        cli_remember_temp(tmp);
     return f;
 }
 
@@ -204,6 +252,7 @@ int cli_finish(FILE *f, const char *tmp, const char *path)
     if (bad) {
         fprintf(stderr, "mm: %s: cannot write: %s\n", path, errno ? strerror(errno) : "write error");
         remove(tmp);
+        cli_forget_temp(tmp);
         return 1;
     }
     return 0;
@@ -211,12 +260,13 @@ int cli_finish(FILE *f, const char *tmp, const char *path)
 
 int cli_publish(const char *tmp, const char *path)
 {
-    if (rename(tmp, path) != 0) {
+    int renamed = rename(tmp, path) == 0;
+    if (!renamed) {
         fprintf(stderr, "mm: %s: cannot write: %s\n", path, strerror(errno));
         remove(tmp);
-        return 1;
     }
-    return 0;
+    cli_forget_temp(tmp);
+    return renamed ? 0 : 1;
 }
 
 int cli_commit(FILE *f, const char *tmp, const char *path, int failed)
@@ -224,6 +274,7 @@ int cli_commit(FILE *f, const char *tmp, const char *path, int failed)
     if (failed) {
         fclose(f);
         remove(tmp);
+        cli_forget_temp(tmp);
         return 1;
     }
     return cli_finish(f, tmp, path) || cli_publish(tmp, path);

@@ -57,6 +57,24 @@ static int cmd_detect(int argc, char **argv)
     } else {
         mm_config_defaults(&cfg);
     }
+    if (write) {
+        /* --write adds to a config that must exist and be writable: found out now, not after the
+         * detection (and not only when it finds something) */
+        mm_config target;
+        memset(&target, 0, sizeof target);
+        char tmp[MM_PATH_MAX + 32];
+        FILE *probe = NULL;
+        if (mm_config_load_json(write, &target, NULL, &err) != MM_OK) {
+            mm_config_free(&cfg);
+            return cli_report(&err);
+        }
+        mm_config_free(&target);
+        if (!(probe = cli_create(write, tmp, sizeof tmp))) {
+            mm_config_free(&cfg);
+            return 1;
+        }
+        cli_commit(probe, tmp, write, 1); /* closed and removed */
+    }
     mm_clip_list takes; /* as the build reads it: the config's axes and scale */
     if (mm_config_import_takes(&cfg, in, &takes, &err) != MM_OK) {
         mm_config_free(&cfg);
@@ -147,7 +165,8 @@ static int cmd_detect(int argc, char **argv)
         c.tag_count = nt;
         if (mm_config_save_clip(write, &c, &err) != MM_OK) status = cli_report(&err);
     }
-    if (status == 0 && write && !json) printf("%s: %d clips written\n", write, count);
+    if (status == 0 && write && !json)
+        printf(count ? "%s: %d clips written\n" : "%s: unchanged (%d moves found)\n", write, count);
     free(moves);
     mm_clip_list_free(&takes);
     mm_config_free(&cfg);

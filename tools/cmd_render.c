@@ -157,7 +157,11 @@ int mm_cmd_render(int argc, char **argv)
     mm_clip clip;
     if (cli_load_clip(in, scale, &clip)) return 1;
     double duration = mm_clip_duration(&clip);
-    if (from > duration) from = duration;
+    if (from > duration) {
+        fprintf(stderr, "mm: %s: --from %g s is past the end of the clip (%g s)\n", in, from, duration);
+        mm_clip_free(&clip);
+        return 1;
+    }
     double until = seconds > 0 ? fmin(duration, from + seconds) : duration;
     if (sheet) {
         status = contact_sheet(in, sheet, &clip, from, until, grid, size, boxes, box_count,

@@ -26,6 +26,10 @@
 
 /* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
 #define SIM_MAX_FRAMES 2160000
+/* The BVH readers' file-size limit (src/io/file.h) and a bound on a joint's share of the header. */
+#define SIM_MAX_BVH_BYTES    2147483648.0
+#define SIM_BVH_HEADER_BYTES 512.0
+#define SIM_MIN_FRAMES       2 /* one step between two frames: speeds, slide and the metrics need it */
 
 int mm_cmd_simulate(int argc, char **argv)
 {
@@ -100,6 +104,10 @@ int mm_cmd_simulate(int argc, char **argv)
     }
     if (!db_path || (!input) == (seed < 0) || seconds <= 0 || !out)
         return cli_usage_error("simulate", "%s", usage);
+    if (floor(seconds * fps + 1e-6) < SIM_MIN_FRAMES)
+        return cli_usage_error("simulate",
+                               "--seconds %g at --fps %g is less than %d frames: a run needs at least %g s",
+                               seconds, fps, SIM_MIN_FRAMES, SIM_MIN_FRAMES / fps);
     if (seconds * fps > SIM_MAX_FRAMES)
         return cli_usage_error("simulate",
                                "--seconds %g at --fps %g is %.0f frames, more than the %d allowed", seconds,
@@ -147,12 +155,26 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_moves_desc_from_database(&moves_desc, &db);
     mm_moves_init(&moves, &db, scene_path ? &scene : NULL, &moves_desc, NULL);
     int frames = (int)floor(seconds * fps + 1e-6), n = db.joint_count;
+    /* the BVH is written as the run goes (mm_bvh_stream): memory does not grow with its length */
     mm_skeleton skel;
-    mm_skeleton_init(&skel, n, NULL);
-    memcpy(skel.joints, db.joints, sizeof(mm_joint) * (size_t)n);
-    mm_clip clip;
-    r = mm_clip_init(&clip, &skel, frames, (float)fps, NULL);
-    mm_skeleton_free(&skel);
+    r = mm_skeleton_init(&skel, n, NULL);
+    if (r == MM_OK) memcpy(skel.joints, db.joints, sizeof(mm_joint) * (size_t)n);
+    mm_bvh_stream *stream = NULL;
+    int too_long = 0;
+    if (r == MM_OK) {
+        /* refused up front: a BVH mm could not read back (the readers stop at 2 GiB) */
+        mm_bvh_write_desc probe = {0};
+        double bytes =
+            (double)frames * (double)mm_bvh_frame_bytes_max(&skel, &probe) + SIM_BVH_HEADER_BYTES * n;
+        if (bytes >= SIM_MAX_BVH_BYTES) {
+            double most = floor(SIM_MAX_BVH_BYTES / (double)mm_bvh_frame_bytes_max(&skel, &probe) / fps);
+            fprintf(stderr,
+                    "mm: %s: %d frames of %d joints could make a BVH file of %.1f GB, more than the 2 GiB mm "
+                    "reads: a run of at most %g s at --fps %g\n",
+                    out, frames, n, bytes / 1e9, most, fps);
+            too_long = 1;
+        }
+    }
     int contact[4];
     mm_posture_joints posture_joints;
     motion_metrics_roles_of_database(&db, contact, &posture_joints);
@@ -173,6 +195,10 @@ int mm_cmd_simulate(int argc, char **argv)
      * failure leaves none of the outputs */
     char metrics_tmp[4096 + 32], bvh_tmp[4096 + 32];
     FILE *m = NULL, *bf = NULL;
+    if (too_long) {
+        status = 1;
+        goto done;
+    }
     if (r != MM_OK || !metrics_ok) {
         fprintf(stderr, "mm: out of memory for %d frames of %d joints\n", frames, n);
         status = 1;
@@ -181,6 +207,13 @@ int mm_cmd_simulate(int argc, char **argv)
     if (!(bf = cli_create(out, bvh_tmp, sizeof bvh_tmp)) ||
         (metrics && !(m = cli_create(metrics, metrics_tmp, sizeof metrics_tmp)))) {
         status = 1;
+        goto done;
+    }
+    mm_bvh_write_desc wd;
+    memset(&wd, 0, sizeof wd);
+    snprintf(err.file, sizeof err.file, "%s", out);
+    if (mm_bvh_stream_open(&stream, bf, &skel, (float)fps, frames, &wd, &err) != MM_OK) {
+        status = cli_report(&err);
         goto done;
     }
     sim_video video;
@@ -213,21 +246,16 @@ int mm_cmd_simulate(int argc, char **argv)
             last_searches = c.searches;
         }
         /* the pose as BVH: joint 0 carries the root */
-        memcpy(mm_clip_rotations(&clip, f), c.local_rotations, sizeof(mm_quat) * (size_t)n);
-        memcpy(mm_clip_positions(&clip, f), c.local_positions, sizeof(mm_vec3) * (size_t)n);
+        if (status == 0 && mm_bvh_stream_frame(stream, c.local_rotations, c.local_positions, &err) != MM_OK)
+            status = cli_report(&err);
         for (int j = 0; j < n; ++j) world[j] = c.global[j].translation;
         motion_metrics_frame(&mx, t, world, db.contacts[c.frame], c.raw_contact_positions,
                              c.trajectory->position, motion_metrics_yaw(c.trajectory->facing),
                              c.root.translation, motion_metrics_yaw(c.root.rotation), frame_us);
     }
-    mm_bvh_write_desc wd;
-    memset(&wd, 0, sizeof wd);
-    snprintf(err.file, sizeof err.file, "%s", out);
-    char *text = NULL;
-    size_t size = 0;
-    if (status == 0 && mm_bvh_write(&clip, &wd, &text, &size, &err) != MM_OK) status = cli_report(&err);
-    if (status == 0) fwrite(text, 1, size, bf);
-    free(text);
+    mm_result closed = mm_bvh_stream_close(stream, &err);
+    stream = NULL;
+    if (status == 0 && closed != MM_OK) status = cli_report(&err);
     if (status == 0 && m) {
         motion_metrics_extra x = {.db_max_pop_cm = dbm.max_pop_cm,
                                   .searches = c.searches,
@@ -284,11 +312,12 @@ int mm_cmd_simulate(int argc, char **argv)
                out, frames, fps, c.searches, c.transitions, motion_metrics_foot_slide(&mx),
                motion_metrics_traj_err(&mx));
 done:
+    mm_bvh_stream_close(stream, NULL);             /* before its file is closed */
     if (m) cli_commit(m, metrics_tmp, metrics, 1); /* a failure before the outputs were written */
     if (bf) cli_commit(bf, bvh_tmp, out, 1);
     free(world);
     motion_metrics_free(&mx);
-    mm_clip_free(&clip);
+    mm_skeleton_free(&skel);
     if (status == 0 && desc.transition_mode == MM_TRANSITION_CROSSFADE)
         printf("%s: crossfade, %d transitions cancelled\n", out, c.cancelled_transitions);
     mm_character_free(&c);

@@ -19,12 +19,14 @@
  *
  * Functions: mm_bvh_parse mm_bvh_load mm_bvh_free mm_bvh_fk mm_bvh_to_clip
  *            mm_bvh_detect_scale mm_bvh_write mm_bvh_save mm_bvh_channel_name
+ *            mm_bvh_stream_open mm_bvh_stream_frame mm_bvh_stream_close mm_bvh_frame_bytes_max
  */
 #ifndef MM_BVH_H
 #define MM_BVH_H
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #include "alloc.h"
 #include "clip.h"
@@ -114,6 +116,22 @@ mm_result mm_bvh_write(const mm_clip *clip, const mm_bvh_write_desc *desc, char 
 /* Writes to path atomically: a temporary file beside it, then a rename; nothing is left behind
  * on failure. */
 mm_result mm_bvh_save(const char *path, const mm_clip *clip, const mm_bvh_write_desc *desc, mm_error *err);
+
+/* Writes a BVH file frame by frame, in bounded memory whatever the length: the same bytes
+ * mm_bvh_write gives for the same skeleton, fps and frames. open writes the hierarchy and the
+ * MOTION header declaring frame_count frames; each frame call writes one (local rotations and
+ * positions, skeleton->joint_count each); close flushes and frees the stream (also after an
+ * error) and fails when fewer frames than declared were written. The skeleton must outlive the
+ * stream; the caller owns and closes file. */
+typedef struct mm_bvh_stream mm_bvh_stream;
+mm_result mm_bvh_stream_open(mm_bvh_stream **out, FILE *file, const mm_skeleton *skeleton, float fps,
+                             int frame_count, const mm_bvh_write_desc *desc, mm_error *err);
+mm_result mm_bvh_stream_frame(mm_bvh_stream *stream, const mm_quat *rotations, const mm_vec3 *positions,
+                              mm_error *err);
+mm_result mm_bvh_stream_close(mm_bvh_stream *stream, mm_error *err);
+/* The most bytes one frame's line can take (every number at its longest): what a caller sizes a
+ * run against the readers' file-size limit with. */
+size_t mm_bvh_frame_bytes_max(const mm_skeleton *skeleton, const mm_bvh_write_desc *desc);
 
 #ifdef __cplusplus
 }

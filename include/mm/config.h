@@ -32,6 +32,7 @@ extern "C" {
  * mm/database.h, shared with the databases. */
 #define MM_MAX_MIRROR_PAIRS 8 /* left/right name patterns */
 #define MM_PATH_MAX         512
+#define MM_CONFIG_MAX_CLIPS 1000000 /* clips, and blend clips, a config may list */
 
 /* Feature kinds of a matched bone (bit mask). */
 enum mm_match_features { MM_MATCH_POSITION = 1u << 0, MM_MATCH_VELOCITY = 1u << 1 };

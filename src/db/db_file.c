@@ -25,6 +25,16 @@
 
 static const char mm__db_magic[8] = {'M', 'M', 'D', 'B', 0, '\r', '\n', 0x1a};
 #define MM__DB_BYTE_ORDER 0x01020304u
+/* How far from 1 a stored rotation's squared length may be: the build writes unit quaternions in
+ * float, a crafted file may not scale the skeleton through them. */
+#define MM__DB_UNIT_TOLERANCE 1e-3f
+/* The largest magnitude of a stored length, speed or normalisation value (m, m/s, rad/s): far
+ * beyond any capture, and small enough that every product the runtime forms of them stays finite. */
+#define MM__DB_VALUE_MAX 1e6f
+/* The smallest normalisation scale the build writes (a group that varies less gets 1), and the
+ * largest normalised feature that implies for values within MM__DB_VALUE_MAX. */
+#define MM__DB_SCALE_MIN   1e-5f
+#define MM__DB_FEATURE_MAX 1e12f
 
 typedef struct mm__db_header {
     char magic[8];
@@ -215,12 +225,11 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
     p.size[MM__SEC_DISTANCE_SEGMENTS] = (size_t)h->sections[MM__SEC_DISTANCE_SEGMENTS].size;
     size_t want[MM__SEC_COUNT];
     mm__db_section_sizes(&p, want);
-    for (int s = 0; s < MM__SEC_COUNT; ++s) {
-        uint64_t off = h->sections[s].offset, sz = h->sections[s].size;
-        if (off % MM_DB_ALIGN || off < sizeof *h || off > size || sz > size - off || sz != want[s])
-            return BAD("section %d: offset %llu size %llu does not fit the file or the counts", s,
-                       (unsigned long long)off, (unsigned long long)sz);
-    }
+    int s = mm__sections_check(h->sections, MM__SEC_COUNT, sizeof *h, MM_DB_ALIGN, size, want);
+    if (s >= 0)
+        return BAD("section %d: offset %llu size %llu does not fit the file or the counts, or overlaps "
+                   "the one before",
+                   s, (unsigned long long)h->sections[s].offset, (unsigned long long)h->sections[s].size);
     const unsigned char *json = base + h->sections[MM__SEC_CONFIG_JSON].offset;
     size_t json_size = (size_t)h->sections[MM__SEC_CONFIG_JSON].size;
     if (json_size < 1 || json[json_size - 1] != 0) return BAD("embedded config is not terminated");
@@ -257,6 +266,14 @@ static mm_result validate_references(const mm_database *db, mm_error *err)
             (k->type != MM_CLIP_IDLE && k->type != MM_CLIP_LOCOMOTION) || k->blend_left < -1 ||
             k->blend_left >= db->clip_count || k->blend_right < -1 || k->blend_right >= db->clip_count)
             return BAD("clip %d: bad name, frame range, type or blend sources", c);
+        /* a blend has both sources and a weight in [0, 1]; any other clip has neither */
+        bool blend = k->blend_left >= 0;
+        if ((k->loop != 0 && k->loop != 1) || (k->mirrored != 0 && k->mirrored != 1) || k->source < 0 ||
+            (k->blend_right >= 0) != blend ||
+            !(k->source_start >= 0.0f && k->source_start <= MM__DB_VALUE_MAX) ||
+            (blend ? !(k->blend_weight >= 0.0f && k->blend_weight <= 1.0f) : k->blend_weight != 0.0f))
+            return BAD("clip %d (%s): bad loop or mirrored flag, source, start time or blend weight", c,
+                       k->name);
         expect_first += k->frame_count;
     }
     if (expect_first != db->frame_count)
@@ -270,13 +287,22 @@ static mm_result validate_references(const mm_database *db, mm_error *err)
         if (n < -1 || n >= db->frame_count || (n >= 0 && db->frame_clip[n] != c))
             return BAD("frame %d: bad next frame %d", f, n);
     }
+    int dims_end = 0;
     for (int g = 0; g < db->group_count; ++g) {
         const mm_feature_group *grp = &db->groups[g];
-        if (grp->offset < 0 || grp->dims < 1 || grp->dims > 3 || grp->offset + grp->dims > db->dims ||
-            grp->kind < MM_FEATURE_BONE_POSITION || grp->kind > MM_FEATURE_TRAJ_DIRECTION || grp->bone < -1 ||
-            grp->bone >= db->joint_count || memchr(grp->name, 0, MM_NAME_MAX) == NULL)
+        /* the groups tile [0, dims) in order: each starts where the one before ends (so the sum
+         * cannot overflow: offset is at most dims here) */
+        int want_dims = grp->kind >= MM_FEATURE_TRAJ_POSITION ? 2 : 3;
+        if (grp->offset != dims_end || grp->dims != want_dims || grp->dims > db->dims - grp->offset ||
+            grp->kind < MM_FEATURE_BONE_POSITION || grp->kind > MM_FEATURE_TRAJ_DIRECTION ||
+            (grp->kind >= MM_FEATURE_TRAJ_POSITION ? grp->bone != -1 : grp->bone < 0) ||
+            grp->bone >= db->joint_count || memchr(grp->name, 0, MM_NAME_MAX) == NULL ||
+            !isfinite(grp->time) || !isfinite(grp->weight) || grp->weight < 0.0f || !isfinite(grp->scale) ||
+            !(grp->scale > 0.0f))
             return BAD("feature group %d is inconsistent", g);
+        dims_end = grp->offset + grp->dims;
     }
+    if (dims_end != db->dims) return BAD("the feature groups cover %d of %d dimensions", dims_end, db->dims);
     for (int t = 0; t < db->tag_count; ++t)
         if (memchr(db->tag_names[t], 0, MM_TAG_NAME_MAX) == NULL)
             return BAD("tag %d: name not terminated", t);
@@ -284,6 +310,102 @@ static mm_result validate_references(const mm_database *db, mm_error *err)
         if (!isfinite(db->feature_mean[d]) || !(db->feature_scale[d] > 0.0f) ||
             !isfinite(db->feature_scale[d]))
             return BAD("feature dimension %d: bad normalisation", d);
+    return MM_OK;
+}
+
+/* Whether n floats are finite and at most limit in magnitude. */
+static bool bounded_floats(const float *v, size_t n, float limit)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (!(fabsf(v[i]) <= limit)) return false;
+    return true;
+}
+#define finite_floats(v, n) bounded_floats(v, n, MM__DB_VALUE_MAX)
+
+/* Whether mn / mx hold the exact per-dimension bounds of the features over blocks of block frames
+ * (the last block may be short), as the build computes them. */
+static bool bounds_exact(const mm_database *db, int block, const float *mn, const float *mx)
+{
+    size_t dp = (size_t)db->dims_padded;
+    for (int f0 = 0, b = 0; f0 < db->frame_count; f0 += block, ++b) {
+        int end = db->frame_count - f0 < block ? db->frame_count : f0 + block;
+        for (size_t d = 0; d < dp; ++d) {
+            float lo = INFINITY, hi = -INFINITY;
+            for (int f = f0; f < end; ++f) {
+                float v = db->features[(size_t)f * dp + d];
+                lo = v < lo ? v : lo;
+                hi = v > hi ? v : hi;
+            }
+            if (mn[(size_t)b * dp + d] != lo || mx[(size_t)b * dp + d] != hi) return false;
+        }
+    }
+    return true;
+}
+
+/* Every value a search or a pose reads: finite, tags and contacts only of known bits, rotations of
+ * unit length, feature padding zero and the block bounds exactly those of the features (a crafted
+ * file cannot make the search read NaN or prune with wrong boxes). */
+static mm_result validate_values(const mm_database *db, mm_error *err)
+{
+    for (int j = 0; j < db->joint_count; ++j) {
+        const mm_joint *jt = &db->joints[j];
+        static const unsigned char zeros[sizeof(mm_joint)];
+        const unsigned char *bytes = (const unsigned char *)jt;
+        /* no End Site: its offset is zero, as are the bytes after the flag */
+        size_t pad = offsetof(mm_joint, has_end_site) + 1, pad_end = offsetof(mm_joint, end_site);
+        if (!finite_floats(&jt->offset.x, 3) || !finite_floats(&jt->end_site.x, 3) ||
+            (!jt->has_end_site && memcmp(&jt->end_site, zeros, sizeof jt->end_site) != 0) ||
+            memcmp(bytes + pad, zeros, pad_end - pad) != 0)
+            return BAD("joint %d (%s): offset or End Site out of range, or padding not zero", j, jt->name);
+    }
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        if (!(grp->scale >= MM__DB_SCALE_MIN && grp->scale <= MM__DB_VALUE_MAX) ||
+            !(fabsf(grp->time) <= MM__DB_VALUE_MAX))
+            return BAD("feature group %d (%s): scale %g or time %g out of range", g, grp->name,
+                       (double)grp->scale, (double)grp->time);
+        for (int d = grp->offset; d < grp->offset + grp->dims; ++d)
+            if (db->feature_scale[d] != grp->scale)
+                return BAD("feature dimension %d: scale %g is not its group's (%g)", d,
+                           (double)db->feature_scale[d], (double)grp->scale);
+    }
+    for (int d = 0; d < db->dims_padded; ++d)
+        if (!(fabsf(db->feature_mean[d]) <= MM__DB_VALUE_MAX) ||
+            (d >= db->dims && (db->feature_mean[d] != 0.0f || db->feature_scale[d] != 1.0f)))
+            return BAD("feature dimension %d: mean %g out of range, or padding not of mean 0 and scale 1", d,
+                       (double)db->feature_mean[d]);
+    uint64_t known_tags = db->tag_count == 64 ? ~(uint64_t)0 : (((uint64_t)1 << db->tag_count) - 1);
+    const uint8_t known_contacts =
+        MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE | MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE;
+    size_t f_count = (size_t)db->frame_count, j_count = (size_t)db->joint_count, dp = (size_t)db->dims_padded;
+    for (size_t f = 0; f < f_count; ++f) {
+        if (db->frame_tags[f] & ~known_tags)
+            return BAD("frame %zu: tag bits 0x%llx name none of the %d tags", f,
+                       (unsigned long long)(db->frame_tags[f] & ~known_tags), db->tag_count);
+        if (db->contacts[f] & ~known_contacts)
+            return BAD("frame %zu: contact bits 0x%x are unknown", f,
+                       (unsigned)(db->contacts[f] & ~known_contacts));
+        if (!finite_floats(&db->root_velocity[f].x, 3) || !finite_floats(&db->root_angular_velocity[f], 1))
+            return BAD("frame %zu: root velocity is not finite or out of range", f);
+        const mm_quat *q = db->rotations + f * j_count;
+        const mm_vec3 *p = db->positions + f * j_count;
+        for (size_t j = 0; j < j_count; ++j) {
+            float n = q[j].x * q[j].x + q[j].y * q[j].y + q[j].z * q[j].z + q[j].w * q[j].w;
+            if (!finite_floats(&q[j].x, 4) || !finite_floats(&p[j].x, 3) ||
+                !(fabsf(n - 1.0f) <= MM__DB_UNIT_TOLERANCE))
+                return BAD("frame %zu, joint %zu: rotation not of unit length or position out of range", f,
+                           j);
+        }
+        const float *x = db->features + f * dp;
+        if (!bounded_floats(x, (size_t)db->dims, MM__DB_FEATURE_MAX))
+            return BAD("frame %zu: a feature is not finite or out of range", f);
+        for (size_t d = (size_t)db->dims; d < dp; ++d)
+            if (x[d] != 0.0f)
+                return BAD("frame %zu: padding dimension %zu holds %g (must be 0)", f, d, (double)x[d]);
+    }
+    if (!bounds_exact(db, MM_DB_SMALL_BLOCK, db->small_min, db->small_max) ||
+        !bounds_exact(db, MM_DB_LARGE_BLOCK, db->large_min, db->large_max))
+        return BAD("the feature bounds are not those of the features");
     return MM_OK;
 }
 
@@ -317,7 +439,7 @@ static mm_result validate_distance(const mm_database *db, mm_error *err)
             (n < 2 && d->segment_count != 0) ||
             d->segment_count > db->distance_segment_count - d->first_segment)
             return BAD("distance curves: clip %d (%s): bad segment range", c, k->name);
-        if (!(d->stop_speed > 0.0f) || !isfinite(d->stop_speed))
+        if (!(d->stop_speed > 0.0f && d->stop_speed <= MM__DB_VALUE_MAX))
             return BAD("distance curves: clip %d (%s): bad stop speed", c, k->name);
         next += d->segment_count;
         if (n < 2) {
@@ -523,6 +645,7 @@ mm_result mm_database_load_memory(const void *data, size_t size, bool verify_che
     memset(&db, 0, sizeof db);
     point_into(&db, (const unsigned char *)data, &h);
     r = validate_references(&db, err);
+    if (r == MM_OK) r = validate_values(&db, err);
     if (r == MM_OK) r = validate_distance(&db, err);
     if (r == MM_OK) r = mm__db_settings_validate(&db, db.settings, MM_ERR_SYNTAX, err);
     if (r != MM_OK) return r;

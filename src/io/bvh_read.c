@@ -581,6 +581,14 @@ mm_result mm_bvh_parse(const char *text, size_t size, const mm_bvh_read_desc *de
         ps.p += 3;
         ps.line_start = ps.p;
     }
+    /* UTF-16 (a byte order mark, or a zero byte beside a letter of HIERARCHY): said so, not
+     * "found 'H?I?E?...'" */
+    const unsigned char *u = (const unsigned char *)ps.p;
+    size_t left = (size_t)(ps.end - ps.p);
+    if (left >= 2 && ((u[0] == 0xFF && u[1] == 0xFE) || (u[0] == 0xFE && u[1] == 0xFF) ||
+                      (u[0] == 0 && u[1] != 0) || (u[0] != 0 && u[1] == 0)))
+        return mm_error_set(err, MM_ERR_SYNTAX, 1, 1,
+                            "the file is UTF-16 text: BVH is read as ASCII or UTF-8 (save it as UTF-8)");
     mm_result r = read_hierarchy(&ps);
     if (r == MM_OK && ps.channel_count == 0)
         r = mm_error_set(err, MM_ERR_CHANNELS, ps.root_line, ps.root_column,

@@ -4,6 +4,7 @@
 #include <mm/config_json.h>
 
 #include <cjson/cJSON.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,8 +13,9 @@
 
 #include <mm/import.h>
 
-#include "io/json_parse.h"
 #include "io/file.h"
+#include "io/json_parse.h"
+#include "io/name_set.h"
 
 /* ---- documentation ---------------------------------------------------------------------- */
 
@@ -207,6 +209,7 @@ const mm_config_field_doc *mm_config_field_docs(int *count)
 typedef struct ctx {
     mm_config *cfg;
     mm_error *err;
+    const mm__json_where *where; /* where each value is in the text (numbers as written) */
 } ctx;
 
 #define FAIL(code, ...) mm_error_set(c->err, code, 0, 0, __VA_ARGS__)
@@ -220,7 +223,8 @@ static int is_one_of(const char *key, const char *const *keys)
 
 static mm_result check_keys(ctx *c, const cJSON *obj, const char *where, const char *const *keys)
 {
-    if (!cJSON_IsObject(obj)) return FAIL(MM_ERR_SYNTAX, "%s must be an object", where);
+    if (!cJSON_IsObject(obj))
+        return FAIL(MM_ERR_SYNTAX, "%s must be an object", where[0] ? where : "the config");
     for (const cJSON *it = obj->child; it; it = it->next)
         if (!is_one_of(it->string, keys))
             return FAIL(MM_ERR_UNKNOWN_KEYWORD, "%s%s%s: unknown field (see mm config explain)", where,
@@ -228,14 +232,28 @@ static mm_result check_keys(ctx *c, const cJSON *obj, const char *where, const c
     return MM_OK;
 }
 
+/* A number a float holds: one that does not is reported as written, not as the inf it would become. */
+static mm_result float_of(ctx *c, const cJSON *v, const char *what, float *out)
+{
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+        return FAIL(MM_ERR_BAD_NUMBER, "%s must be a finite number", what);
+    if (fabs(v->valuedouble) > FLT_MAX) {
+        size_t n = 0;
+        const char *text = mm__json_number_text(c->where, v, &n);
+        return FAIL(MM_ERR_BAD_NUMBER, "%s: %.*s does not fit a float (at most %g)", what,
+                    text ? (int)(n < 40 ? n : 40) : 5, text ? text : "large", (double)FLT_MAX);
+    }
+    *out = (float)v->valuedouble;
+    return MM_OK;
+}
+
 static mm_result get_number(ctx *c, const cJSON *obj, const char *key, const char *where, float *out)
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!v) return MM_OK;
-    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
-        return FAIL(MM_ERR_BAD_NUMBER, "%s%s%s must be a finite number", where, where[0] ? "." : "", key);
-    *out = (float)v->valuedouble;
-    return MM_OK;
+    char what[160];
+    snprintf(what, sizeof what, "%s%s%s", where, where[0] ? "." : "", key);
+    return float_of(c, v, what, out);
 }
 
 static mm_result get_bool(ctx *c, const cJSON *obj, const char *key, const char *where, bool *out)
@@ -294,11 +312,11 @@ static mm_result parse_roles(ctx *c, const cJSON *roles)
         if (!cJSON_IsArray(axis) || cJSON_GetArraySize(axis) != 3)
             return FAIL(MM_ERR_SYNTAX, "roles.forward_axis must be an array of 3 numbers");
         float v[3];
-        for (int i = 0; i < 3; ++i) {
-            const cJSON *e = cJSON_GetArrayItem(axis, i);
-            if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
-                return FAIL(MM_ERR_BAD_NUMBER, "roles.forward_axis[%d] must be a finite number", i);
-            v[i] = (float)e->valuedouble;
+        const cJSON *e = axis->child;
+        for (int i = 0; i < 3; ++i, e = e->next) {
+            char what[40];
+            snprintf(what, sizeof what, "roles.forward_axis[%d]", i);
+            if ((r = float_of(c, e, what, &v[i])) != MM_OK) return r;
         }
         cfg->forward_axis = mm_vec3_make(v[0], v[1], v[2]);
     }
@@ -348,8 +366,8 @@ static mm_result parse_features(ctx *c, const cJSON *f)
         cfg->bone_count = n;
         static const char *const bkeys[] = {
             "name", "position", "velocity", "position_weight", "velocity_weight", NULL};
-        for (int i = 0; i < n; ++i) {
-            const cJSON *b = cJSON_GetArrayItem(bones, i);
+        const cJSON *b = bones->child;
+        for (int i = 0; i < n; ++i, b = b->next) {
             char where[64];
             snprintf(where, sizeof where, "features.bones[%d]", i);
             mm_config_bone *cb = &cfg->bones[i];
@@ -375,11 +393,11 @@ static mm_result parse_features(ctx *c, const cJSON *f)
             return FAIL(MM_ERR_LIMIT, "features.trajectory_times: %d times (at most %d)", n,
                         MM_MAX_TRAJ_SAMPLES);
         cfg->traj_count = n;
-        for (int i = 0; i < n; ++i) {
-            const cJSON *e = cJSON_GetArrayItem(times, i);
-            if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
-                return FAIL(MM_ERR_BAD_NUMBER, "features.trajectory_times[%d] must be a finite number", i);
-            cfg->traj_times[i] = (float)e->valuedouble;
+        const cJSON *e = times->child;
+        for (int i = 0; i < n; ++i, e = e->next) {
+            char what[48];
+            snprintf(what, sizeof what, "features.trajectory_times[%d]", i);
+            if ((r = float_of(c, e, what, &cfg->traj_times[i])) != MM_OK) return r;
         }
     }
     return MM_OK;
@@ -391,22 +409,23 @@ static mm_result parse_pair_list(ctx *c, const cJSON *arr, const char *where, in
     if (!cJSON_IsArray(arr)) return FAIL(MM_ERR_SYNTAX, "%s must be an array of [begin, end] pairs", where);
     int n = cJSON_GetArraySize(arr);
     if (n > max) return FAIL(MM_ERR_LIMIT, "%s: %d entries (at most %d)", where, n, max);
-    for (int i = 0; i < n; ++i) {
-        const cJSON *p = cJSON_GetArrayItem(arr, i);
+    const cJSON *p = arr->child;
+    for (int i = 0; i < n; ++i, p = p->next) {
         char what[200];
         snprintf(what, sizeof what, "%s[%d]", where, i);
         if (!cJSON_IsArray(p) || cJSON_GetArraySize(p) != 2)
             return FAIL(MM_ERR_SYNTAX, "%s must be a [begin, end] pair", what);
         if (ranges) {
-            mm_result r = get_int(c, cJSON_GetArrayItem(p, 0), what, &ranges[i].begin);
-            if (r == MM_OK) r = get_int(c, cJSON_GetArrayItem(p, 1), what, &ranges[i].end);
+            mm_result r = get_int(c, p->child, what, &ranges[i].begin);
+            if (r == MM_OK) r = get_int(c, p->child->next, what, &ranges[i].end);
             if (r != MM_OK) return r;
         } else {
-            for (int k = 0; k < 2; ++k) {
-                const cJSON *e = cJSON_GetArrayItem(p, k);
+            const cJSON *e = p->child;
+            for (int k = 0; k < 2; ++k, e = e->next) {
                 if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
                     return FAIL(MM_ERR_BAD_NUMBER, "%s must hold two finite numbers", what);
-                times[i][k] = (float)e->valuedouble;
+                mm_result r = float_of(c, e, what, &times[i][k]);
+                if (r != MM_OK) return r;
             }
         }
     }
@@ -556,13 +575,6 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
     return r;
 }
 
-static int clip_index(const mm_config *cfg, const char *name)
-{
-    for (int i = 0; i < cfg->clip_count; ++i)
-        if (strcmp(cfg->clips[i].name, name) == 0) return i;
-    return -1;
-}
-
 /* An interval written to a few digits stands for a whole frame rate: 0.0166667 is 1/60, not
  * 59.9999 frames per second, whose frames a 60 Hz tick would miss by 2e-6 of a frame every tick
  * (the playhead would sit just short of the frame it shows). Within 1e-5 of 1/N relatively (six
@@ -620,17 +632,14 @@ static mm_result parse_root(ctx *c, const cJSON *root)
             return FAIL(MM_ERR_SYNTAX, "mirror_pairs must be an array of at most %d [left, right] pairs",
                         MM_MAX_MIRROR_PAIRS);
         cfg->mirror_pair_count = n;
-        for (int i = 0; i < n; ++i) {
-            const cJSON *p = cJSON_GetArrayItem(pairs, i);
+        const cJSON *p = pairs->child;
+        for (int i = 0; i < n; ++i, p = p->next) {
             char w[40];
             snprintf(w, sizeof w, "mirror_pairs[%d]", i);
             if (!cJSON_IsArray(p) || cJSON_GetArraySize(p) != 2)
                 return FAIL(MM_ERR_SYNTAX, "%s must be [left, right]", w);
-            if ((r = copy_string(c, cJSON_GetArrayItem(p, 0), w, cfg->mirror_pairs[i].left, MM_NAME_MAX)) !=
-                MM_OK)
-                return r;
-            if ((r = copy_string(c, cJSON_GetArrayItem(p, 1), w, cfg->mirror_pairs[i].right, MM_NAME_MAX)) !=
-                MM_OK)
+            if ((r = copy_string(c, p->child, w, cfg->mirror_pairs[i].left, MM_NAME_MAX)) != MM_OK) return r;
+            if ((r = copy_string(c, p->child->next, w, cfg->mirror_pairs[i].right, MM_NAME_MAX)) != MM_OK)
                 return r;
         }
     }
@@ -639,12 +648,11 @@ static mm_result parse_root(ctx *c, const cJSON *root)
         int n = cJSON_IsArray(tags) ? cJSON_GetArraySize(tags) : -1;
         if (n < 0) return FAIL(MM_ERR_SYNTAX, "tags must be an array of names");
         if (n > MM_MAX_TAGS) return FAIL(MM_ERR_LIMIT, "tags: %d tags (at most %d)", n, MM_MAX_TAGS);
-        for (int i = 0; i < n; ++i) {
+        const cJSON *t = tags->child;
+        for (int i = 0; i < n; ++i, t = t->next) {
             char w[40];
             snprintf(w, sizeof w, "tags[%d]", i);
-            if ((r = copy_string(c, cJSON_GetArrayItem(tags, i), w, cfg->tag_names[i], MM_TAG_NAME_MAX)) !=
-                MM_OK)
-                return r;
+            if ((r = copy_string(c, t, w, cfg->tag_names[i], MM_TAG_NAME_MAX)) != MM_OK) return r;
             if (!cfg->tag_names[i][0]) return FAIL(MM_ERR_SYNTAX, "%s is empty", w);
             cfg->tag_count = i + 1;
             if (mm_config_tag_index(cfg, cfg->tag_names[i]) != i)
@@ -655,18 +663,23 @@ static mm_result parse_root(ctx *c, const cJSON *root)
     if (clips) {
         int n = cJSON_IsArray(clips) ? cJSON_GetArraySize(clips) : -1;
         if (n < 0) return FAIL(MM_ERR_SYNTAX, "clips must be an array");
+        if (n > MM_CONFIG_MAX_CLIPS)
+            return FAIL(MM_ERR_LIMIT, "clips: %d clips (at most %d)", n, MM_CONFIG_MAX_CLIPS);
         if (n > 0) {
             cfg->clips = (mm_config_clip *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_clip));
             if (!cfg->clips) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
         }
-        for (int i = 0; i < n; ++i) {
+        const cJSON *j = clips->child;
+        for (int i = 0; i < n; ++i, j = j->next) {
             cfg->clip_count = i + 1;
-            if ((r = parse_clip(c, cJSON_GetArrayItem(clips, i), i, &cfg->clips[i])) != MM_OK) return r;
-            for (int k = 0; k < i; ++k)
-                if (strcmp(cfg->clips[k].name, cfg->clips[i].name) == 0)
-                    return FAIL(MM_ERR_DUPLICATE_NAME, "clips[%d].name '%s' is used twice", i,
-                                cfg->clips[i].name);
+            if ((r = parse_clip(c, j, i, &cfg->clips[i])) != MM_OK) return r;
         }
+        /* names compared through a hash table (mm_config_validate says which is used twice) */
+        int twice = n > 0 ? mm__name_set_first_repeat(cfg->clips[0].name, sizeof(mm_config_clip), n) : -1;
+        if (twice == -2) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
+        if (twice >= 0)
+            return FAIL(MM_ERR_DUPLICATE_NAME, "clips[%d].name '%s' is used twice", twice,
+                        cfg->clips[twice].name);
     }
     const cJSON *runtime = cJSON_GetObjectItemCaseSensitive(root, "runtime");
     if (runtime && (r = parse_runtime(c, runtime)) != MM_OK) return r;
@@ -674,30 +687,42 @@ static mm_result parse_root(ctx *c, const cJSON *root)
     if (blends) {
         int n = cJSON_IsArray(blends) ? cJSON_GetArraySize(blends) : -1;
         if (n < 0) return FAIL(MM_ERR_SYNTAX, "blend_clips must be an array");
+        if (n > MM_CONFIG_MAX_CLIPS)
+            return FAIL(MM_ERR_LIMIT, "blend_clips: %d blend clips (at most %d)", n, MM_CONFIG_MAX_CLIPS);
         if (n > 0) {
             cfg->blends =
                 (mm_config_blend *)mm_alloc_array(&cfg->allocator, (size_t)n, sizeof(mm_config_blend));
             if (!cfg->blends) return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
         }
         static const char *const bkeys[] = {"name", "left", "right", "weight", NULL};
-        for (int i = 0; i < n; ++i) {
-            const cJSON *b = cJSON_GetArrayItem(blends, i);
+        mm__name_index names;
+        memset(&names, 0, sizeof names);
+        if (n > 0 && cfg->clip_count > 0 &&
+            mm__name_index_init(&names, cfg->clips[0].name, sizeof(mm_config_clip), cfg->clip_count) != 0)
+            return FAIL(MM_ERR_OUT_OF_MEMORY, "out of memory");
+        const cJSON *b = blends->child;
+        for (int i = 0; i < n; ++i, b = b->next) {
             mm_config_blend *cb = &cfg->blends[i];
             char where[40], left[MM_NAME_MAX] = "", right[MM_NAME_MAX] = "";
             snprintf(where, sizeof where, "blend_clips[%d]", i);
             cfg->blend_count = i + 1;
             cb->weight = 0.5f;
-            if ((r = check_keys(c, b, where, bkeys)) != MM_OK) return r;
-            if ((r = get_string(c, b, "name", where, cb->name, MM_NAME_MAX)) != MM_OK) return r;
-            if ((r = get_string(c, b, "left", where, left, MM_NAME_MAX)) != MM_OK) return r;
-            if ((r = get_string(c, b, "right", where, right, MM_NAME_MAX)) != MM_OK) return r;
-            if ((r = get_number(c, b, "weight", where, &cb->weight)) != MM_OK) return r;
-            if (!cb->name[0]) return FAIL(MM_ERR_SYNTAX, "%s.name is missing", where);
-            cb->left = clip_index(cfg, left);
-            cb->right = clip_index(cfg, right);
-            if (cb->left < 0) return FAIL(MM_ERR_NOT_FOUND, "%s.left: no clip named '%s'", where, left);
-            if (cb->right < 0) return FAIL(MM_ERR_NOT_FOUND, "%s.right: no clip named '%s'", where, right);
+            if ((r = check_keys(c, b, where, bkeys)) == MM_OK &&
+                (r = get_string(c, b, "name", where, cb->name, MM_NAME_MAX)) == MM_OK &&
+                (r = get_string(c, b, "left", where, left, MM_NAME_MAX)) == MM_OK &&
+                (r = get_string(c, b, "right", where, right, MM_NAME_MAX)) == MM_OK)
+                r = get_number(c, b, "weight", where, &cb->weight);
+            if (r == MM_OK && !cb->name[0]) r = FAIL(MM_ERR_SYNTAX, "%s.name is missing", where);
+            cb->left = mm__name_index_find(&names, left);
+            cb->right = mm__name_index_find(&names, right);
+            if (r == MM_OK && cb->left < 0)
+                r = FAIL(MM_ERR_NOT_FOUND, "%s.left: no clip named '%s'", where, left);
+            if (r == MM_OK && cb->right < 0)
+                r = FAIL(MM_ERR_NOT_FOUND, "%s.right: no clip named '%s'", where, right);
+            if (r != MM_OK) break;
         }
+        mm__name_index_free(&names);
+        if (r != MM_OK) return r;
     }
     return MM_OK;
 }
@@ -775,13 +800,15 @@ static int merge_into(cJSON *base, cJSON *over, int top)
  * being read (for cycles), depth of them. The error's file is the file at fault. */
 static mm_result resolve_tree(const char *text, size_t size, const char *name, const char *base_dir,
                               char (*chain)[MM_PATH_MAX], int depth, cJSON **out, int *extended,
-                              mm_error *err)
+                              mm__json_where **where, mm_error *err)
 {
     *out = NULL;
     mm__error_set_file(err, name);
     cJSON *root = NULL;
-    mm_result r = mm__json_parse(text, size, &root, err);
+    mm__json_where *mine = NULL;
+    mm_result r = mm__json_parse_where(text, size, name, &root, &mine, err);
     if (r != MM_OK) return r;
+    *where = mm__json_where_join(*where, mine);
     const cJSON *ext = cJSON_GetObjectItemCaseSensitive(root, "extends");
     if (!ext || !cJSON_IsObject(root)) {
         *out = root;
@@ -822,7 +849,7 @@ static mm_result resolve_tree(const char *text, size_t size, const char *name, c
     }
     folder_of(path, dir, sizeof dir);
     cJSON *base = NULL;
-    r = resolve_tree(base_text, base_size, path, dir, chain, depth + 1, &base, extended, err);
+    r = resolve_tree(base_text, base_size, path, dir, chain, depth + 1, &base, extended, where, err);
     free(base_text);
     if (r == MM_OK && !cJSON_IsObject(base))
         r = mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "the config must be an object");
@@ -861,16 +888,23 @@ static mm_result parse_config(const char *text, size_t size, const char *name, c
     int depth = 0, extended = 0;
     if (real_path(name, chain[0])) depth = 1;
     cJSON *root = NULL;
-    mm_result r = resolve_tree(text, size, name, base_dir, chain, depth, &root, &extended, err);
-    if (r != MM_OK) return r;
-    ctx c = {cfg, err};
+    mm__json_where *where = NULL;
+    mm_result r = resolve_tree(text, size, name, base_dir, chain, depth, &root, &extended, &where, err);
+    if (r != MM_OK) {
+        mm__json_where_free(where);
+        return r;
+    }
+    ctx c = {cfg, err, where};
     r = parse_root(&c, root);
     if (r == MM_OK && extended && out_flat) {
         *out_flat = cJSON_Print(root);
         if (!*out_flat) r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     }
-    cJSON_Delete(root);
     if (r == MM_OK) r = mm_config_validate(cfg, err);
+    /* a meaning error names a field path: its value's line and column (and file) are added */
+    if (r != MM_OK) mm__json_locate_error(root, where, err);
+    cJSON_Delete(root);
+    mm__json_where_free(where);
     if (r != MM_OK) {
         mm_config_free(cfg);
         if (out_flat) {

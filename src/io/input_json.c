@@ -2,6 +2,7 @@
 #include <mm/input_json.h>
 
 #include <cjson/cJSON.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,21 +11,37 @@
 #include "io/file.h"
 #include "io/text.h"
 
-static mm_result pair(const cJSON *v, const char *what, int i, float out[2], mm_error *err)
+/* A number a float holds into *out; one that does not is reported as written (w), not as inf. */
+static mm_result number(const mm__json_where *w, const cJSON *v, const char *what, float *out, mm_error *err)
+{
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+        return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "%s must be a finite number", what);
+    if (fabs(v->valuedouble) > FLT_MAX) {
+        size_t n = 0;
+        const char *text = mm__json_number_text(w, v, &n);
+        return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "%s: %.*s does not fit a float (at most %g)", what,
+                            text ? (int)(n < 40 ? n : 40) : 5, text ? text : "large", (double)FLT_MAX);
+    }
+    *out = (float)v->valuedouble;
+    return MM_OK;
+}
+
+static mm_result pair(const mm__json_where *w, const cJSON *v, const char *what, int i, float out[2],
+                      mm_error *err)
 {
     if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2)
         return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "keys[%d].%s must be [x, z]", i, what);
-    for (int k = 0; k < 2; ++k) {
-        const cJSON *e = cJSON_GetArrayItem(v, k);
-        if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
-            return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "keys[%d].%s must hold two finite numbers", i,
-                                what);
-        out[k] = (float)e->valuedouble;
+    const cJSON *e = v->child;
+    for (int k = 0; k < 2; ++k, e = e->next) {
+        char item[64];
+        snprintf(item, sizeof item, "keys[%d].%s[%d]", i, what, k);
+        mm_result r = number(w, e, item, &out[k], err);
+        if (r != MM_OK) return r;
     }
     return MM_OK;
 }
 
-static mm_result parse_key(const cJSON *j, int i, mm_input_key *k, mm_error *err)
+static mm_result parse_key(const mm__json_where *w, const cJSON *j, int i, mm_input_key *k, mm_error *err)
 {
     static const char *const known[] = {"t", "stick", "gait", "strafe", "facing", "jump"};
     if (!cJSON_IsObject(j)) return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "keys[%d] must be an object", i);
@@ -37,12 +54,13 @@ static mm_result parse_key(const cJSON *j, int i, mm_input_key *k, mm_error *err
     }
     const cJSON *t = cJSON_GetObjectItemCaseSensitive(j, "t");
     if (!t) return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "keys[%d].t is missing", i);
-    if (!cJSON_IsNumber(t) || !isfinite(t->valuedouble))
-        return mm_error_set(err, MM_ERR_BAD_NUMBER, 0, 0, "keys[%d].t must be a finite number", i);
-    k->t = (float)t->valuedouble;
+    char what[32];
+    snprintf(what, sizeof what, "keys[%d].t", i);
+    mm_result r = number(w, t, what, &k->t, err);
+    if (r != MM_OK) return r;
     const cJSON *stick = cJSON_GetObjectItemCaseSensitive(j, "stick");
     if (!stick) return mm_error_set(err, MM_ERR_SYNTAX, 0, 0, "keys[%d].stick is missing", i);
-    mm_result r = pair(stick, "stick", i, k->input.stick, err);
+    r = pair(w, stick, "stick", i, k->input.stick, err);
     if (r != MM_OK) return r;
     const cJSON *gait = cJSON_GetObjectItemCaseSensitive(j, "gait");
     k->input.gait = MM_GAIT_WALK;
@@ -65,7 +83,7 @@ static mm_result parse_key(const cJSON *j, int i, mm_input_key *k, mm_error *err
     }
     const cJSON *facing = cJSON_GetObjectItemCaseSensitive(j, "facing");
     if (facing) {
-        if ((r = pair(facing, "facing", i, k->input.facing, err)) != MM_OK) return r;
+        if ((r = pair(w, facing, "facing", i, k->input.facing, err)) != MM_OK) return r;
         float len = sqrtf(k->input.facing[0] * k->input.facing[0] + k->input.facing[1] * k->input.facing[1]);
         if (!(len > 1e-6f))
             return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "keys[%d].facing must not be zero", i);
@@ -85,7 +103,8 @@ mm_result mm_input_script_parse_json(const char *text, size_t size, const char *
     if (!text || size == 0)
         return mm_error_set(err, MM_ERR_UNEXPECTED_EOF, 0, 0, "the input script is empty");
     cJSON *root;
-    mm_result parsed = mm__json_parse(text, size, &root, err);
+    mm__json_where *where = NULL;
+    mm_result parsed = mm__json_parse_where(text, size, NULL, &root, &where, err);
     if (parsed != MM_OK) return parsed;
     mm_result r = MM_OK;
     const cJSON *keys = cJSON_IsObject(root) ? cJSON_GetObjectItemCaseSensitive(root, "keys") : NULL;
@@ -102,10 +121,13 @@ mm_result mm_input_script_parse_json(const char *text, size_t size, const char *
         if (r != MM_OK) r = mm_error_set(err, r, 0, 0, "cannot hold %d keys", n);
         int i = 0;
         for (const cJSON *k = keys->child; r == MM_OK && k; k = k->next, ++i)
-            r = parse_key(k, i, &out->keys[i], err);
+            r = parse_key(where, k, i, &out->keys[i], err);
     }
-    cJSON_Delete(root);
     if (r == MM_OK) r = mm_input_script_validate(out, err);
+    /* a meaning error names a field path: its value's line and column are added */
+    if (r != MM_OK) mm__json_locate_error(root, where, err);
+    cJSON_Delete(root);
+    mm__json_where_free(where);
     if (r != MM_OK) mm_input_script_free(out);
     return r;
 }

@@ -42,9 +42,10 @@ static mm_result vec3(const cJSON *v, const char *what, mm_vec3 *out, mm_error *
         return FAIL(MM_ERR_SYNTAX, "%s must be an array of 3 numbers", what);
     double x[3];
     char item[96];
-    for (int i = 0; i < 3; ++i) {
+    const cJSON *e = v->child;
+    for (int i = 0; i < 3; ++i, e = e->next) {
         snprintf(item, sizeof item, "%s[%d]", what, i);
-        mm_result r = number(cJSON_GetArrayItem(v, i), item, MM_SCENE_MAX_EXTENT, &x[i], err);
+        mm_result r = number(e, item, MM_SCENE_MAX_EXTENT, &x[i], err);
         if (r != MM_OK) return r;
     }
     /* + 0: -0 reads as 0, as it is written */
@@ -88,7 +89,8 @@ mm_result mm_scene_parse_json(const char *text, size_t size, const char *name, m
     mm__error_set_file(err, name ? name : "<scene>");
     if (!text || size == 0) return FAIL(MM_ERR_UNEXPECTED_EOF, "the scene is empty");
     cJSON *root;
-    mm_result parsed = mm__json_parse(text, size, &root, err);
+    mm__json_where *where = NULL;
+    mm_result parsed = mm__json_parse_where(text, size, NULL, &root, &where, err);
     if (parsed != MM_OK) return parsed;
     static const char *const keys[] = {"ground", "boxes"};
     mm_result r = MM_OK;
@@ -112,7 +114,10 @@ mm_result mm_scene_parse_json(const char *text, size_t size, const char *name, m
         int i = 0;
         for (const cJSON *b = boxes->child; r == MM_OK && b; b = b->next, ++i) r = parse_box(b, i, out, err);
     }
+    /* a meaning error names a field path: its value's line and column are added */
+    if (r != MM_OK) mm__json_locate_error(root, where, err);
     cJSON_Delete(root);
+    mm__json_where_free(where);
     if (r != MM_OK) mm_scene_init(out, 0.0f);
     return r;
 }

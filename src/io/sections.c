@@ -18,6 +18,20 @@ size_t mm__sections_layout(size_t header_size, size_t align, const size_t *sizes
     return at;
 }
 
+int mm__sections_check(const mm__section *sections, int count, size_t header_size, size_t align,
+                       uint64_t file_size, const size_t *want)
+{
+    uint64_t end = header_size; /* where the previous section ends */
+    for (int s = 0; s < count; ++s) {
+        uint64_t off = sections[s].offset, sz = sections[s].size;
+        if (off % align != 0 || off < end || off > file_size || sz > file_size - off ||
+            sz != (uint64_t)want[s])
+            return s;
+        end = off + sz; /* cannot wrap: off + sz <= file_size */
+    }
+    return -1;
+}
+
 unsigned char *mm__alloc_aligned(const mm_allocator *allocator, size_t size, size_t align,
                                  unsigned char **raw)
 {

@@ -29,6 +29,13 @@ unsigned char *mm__sections_pack(const mm_allocator *allocator, size_t file_size
  * [16, 24)); returns that checksum. */
 uint64_t mm__sections_seal(unsigned char *file, size_t file_size, const void *header, size_t header_size);
 
+/* Checks a loaded file's section table against the sizes its counts imply (want): each section
+ * at a multiple of align, after the header and after the end of the section before it (so none
+ * overlap), inside the file, and of exactly its expected size. Overflow-safe for any 64-bit
+ * values. Returns the index of the first bad section, or -1 when all are good. */
+int mm__sections_check(const mm__section *sections, int count, size_t header_size, size_t align,
+                       uint64_t file_size, const size_t *want);
+
 /* An align-aligned block of size bytes (not cleared); *raw receives the block to free. */
 unsigned char *mm__alloc_aligned(const mm_allocator *allocator, size_t size, size_t align,
                                  unsigned char **raw);

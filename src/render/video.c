@@ -133,7 +133,17 @@ mm_result mm_video_open(const char *path, int width, int height, float fps, mm_v
     v->pipe_fd = -1;
     mm_result r = MM_OK;
     if (v->encoded) {
-        r = start_encoder(v, program, fps, gif, err);
+        /* the temporary file is made here first: a path that cannot be written is said so, naming
+         * the output, not by the encoder naming its temporary file */
+        FILE *probe = fopen(v->tmp, "wb");
+        if (!probe) {
+            mm__error_set_file(err, path);
+            r = mm_error_set(err, MM_ERR_IO, 0, 0, "cannot create: %s", strerror(errno));
+        } else {
+            fclose(probe);
+            r = start_encoder(v, program, fps, gif, err);
+            if (r != MM_OK) remove(v->tmp);
+        }
     } else if (mkdir(path, 0777) != 0 && errno != EEXIST) {
         r = mm_error_set(err, MM_ERR_IO, 0, 0, "cannot make the frame folder: %s", strerror(errno));
     } else {

@@ -146,8 +146,8 @@ static mm_result validate_header(const unsigned char *base, size_t size, sim_hea
         h->channels > 7 || h->window < 1 || h->window > MM_SIM_MAX_WINDOW || h->joint_count < 1 ||
         h->joint_count > MM_MAX_JOINTS || h->frame_count < 1 || h->frame_count > MM_MAX_FRAMES ||
         h->clip_count < 1 || h->clip_count > h->frame_count || h->loop_count < 0 || h->shot_count < 0 ||
-        h->loop_count + h->shot_count != h->clip_count || h->fusion_rows < 0 || h->link_rows < 0 ||
-        h->fusion_rows + h->link_rows != h->frame_count)
+        (int64_t)h->loop_count + h->shot_count != h->clip_count || h->fusion_rows < 0 || h->link_rows < 0 ||
+        (int64_t)h->fusion_rows + h->link_rows != h->frame_count)
         return BAD("header counts are out of range");
     for (int i = 0; i < MM_SIM_DIMS; ++i)
         if (!(h->dim_weights[i] >= 0.0f) || !isfinite(h->dim_weights[i]))
@@ -163,12 +163,11 @@ static mm_result validate_header(const unsigned char *base, size_t size, sim_hea
     p.link_rows = h->link_rows;
     size_t want[MM__SIM_SEC_COUNT];
     mm__sim_section_sizes(&p, want);
-    for (int s = 0; s < MM__SIM_SEC_COUNT; ++s) {
-        uint64_t off = h->sections[s].offset, sz = h->sections[s].size;
-        if (off % SIM_ALIGN || off < sizeof *h || off > size || sz > size - off || sz != want[s])
-            return BAD("section %d: offset %llu size %llu does not fit the file or the counts", s,
-                       (unsigned long long)off, (unsigned long long)sz);
-    }
+    int s = mm__sections_check(h->sections, MM__SIM_SEC_COUNT, sizeof *h, SIM_ALIGN, size, want);
+    if (s >= 0)
+        return BAD("section %d: offset %llu size %llu does not fit the file or the counts, or overlaps "
+                   "the one before",
+                   s, (unsigned long long)h->sections[s].offset, (unsigned long long)h->sections[s].size);
     return MM_OK;
 }
 
