@@ -13,6 +13,7 @@
 #include "alloc.h"
 #include "character.h"
 #include "clip.h"
+#include "crowd.h"
 #include "database.h"
 #include "distance_curve.h"
 #include "distance_matching.h"
