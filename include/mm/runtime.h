@@ -31,6 +31,7 @@
 #include "scene.h"
 #include "search.h"
 #include "skeleton.h"
+#include "skeleton_map.h"
 #include "spring.h"
 #include "target_match.h"
 #include "trajectory.h"
