@@ -346,6 +346,83 @@ static void test_map_twist_known(void **state)
     mm_skeleton_free(&game);
 }
 
+/* mm simulate --skeleton: the game's skeleton written as a BVH (in metres, at rest), a map file
+ * naming the pelvis and the twist bones; the motion written in the game's names and order, its
+ * shared joints' world positions (mm_bvh_fk, from the files) those of the motion written without. */
+static void test_simulate_skeleton(void **state)
+{
+    (void)state;
+    const char *mm = getenv("MM_BIN");
+    if (!mm) skip();
+    char db_path[512], game_path[512], map_path[512], plain[512], mapped[512], cmd[4096];
+    snprintf(db_path, sizeof db_path, "%s/skeleton_map.mmdb", MM_TEST_OUT);
+    snprintf(game_path, sizeof game_path, "%s/skeleton_map_game.bvh", MM_TEST_OUT);
+    snprintf(map_path, sizeof map_path, "%s/skeleton_map.json", MM_TEST_OUT);
+    snprintf(plain, sizeof plain, "%s/skeleton_map_plain.bvh", MM_TEST_OUT);
+    snprintf(mapped, sizeof mapped, "%s/skeleton_map_mapped.bvh", MM_TEST_OUT);
+    assert_int_equal(mm_database_save(&db, db_path, NULL), MM_OK);
+    mm_skeleton game;
+    game_skeleton(&game, 1.0f);
+    mm_clip rest;
+    assert_int_equal(mm_clip_init(&rest, &game, 1, 60.0f, NULL), MM_OK);
+    assert_int_equal(mm_bvh_save(game_path, &rest, NULL, NULL), MM_OK);
+    mm_clip_free(&rest);
+    FILE *f = fopen(map_path, "w");
+    assert_non_null(f);
+    fprintf(
+        f,
+        "{\"pairs\": {\"pelvis\": \"Hips\"},\n \"follow\": [{\"joint\": \"LeftForeArmTwist\", \"follows\": "
+        "\"LeftHand\", \"weight\": 0.5, \"twist\": true}]}\n");
+    fclose(f);
+    snprintf(cmd, sizeof cmd, "%s simulate %s --random 3 --seconds 2 -o %s > /dev/null", mm, db_path, plain);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd,
+             "%s simulate %s --random 3 --seconds 2 -o %s --skeleton %s --skeleton-map %s > /dev/null", mm,
+             db_path, mapped, game_path, map_path);
+    assert_int_equal(system(cmd), 0);
+    mm_bvh a, b;
+    assert_int_equal(mm_bvh_load(plain, NULL, &a, NULL), MM_OK);
+    assert_int_equal(mm_bvh_load(mapped, NULL, &b, NULL), MM_OK);
+    assert_int_equal(b.skeleton.joint_count, game.joint_count);
+    for (int g = 0; g < game.joint_count; ++g)
+        assert_string_equal(b.skeleton.joints[g].name, game.joints[g].name);
+    assert_int_equal(a.frame_count, 120);
+    assert_int_equal(b.frame_count, 120);
+    double *pa = malloc(sizeof(double) * 3 * (size_t)a.skeleton.joint_count);
+    double *pb = malloc(sizeof(double) * 3 * (size_t)b.skeleton.joint_count);
+    assert_non_null(pa && pb);
+    int compared = 0;
+    for (int fr = 0; fr < a.frame_count; ++fr) {
+        assert_int_equal(mm_bvh_fk(&a, fr, pa), MM_OK);
+        assert_int_equal(mm_bvh_fk(&b, fr, pb), MM_OK);
+        for (int g = 0; g < b.skeleton.joint_count; ++g) {
+            const char *name = b.skeleton.joints[g].name;
+            int d = mm_skeleton_find(&a.skeleton, strcmp(name, "pelvis") == 0 ? "Hips" : name);
+            if (d < 0) continue;
+            double e = 0.0;
+            for (int k = 0; k < 3; ++k)
+                e += (pa[3 * d + k] - pb[3 * g + k]) * (pa[3 * d + k] - pb[3 * g + k]);
+            if (sqrt(e) > 1e-4) fail_msg("frame %d, %s: %g m apart", fr, name, sqrt(e));
+            ++compared;
+        }
+    }
+    assert_int_equal(compared, a.frame_count * (db.joint_count - 1));
+    free(pa), free(pb);
+    mm_bvh_free(&a), mm_bvh_free(&b);
+    /* a map naming a joint the game does not have: an error naming the map file and the joint */
+    f = fopen(map_path, "w");
+    assert_non_null(f);
+    fprintf(f, "{\"pairs\": {\"Pelvis\": \"Hips\"}}\n");
+    fclose(f);
+    snprintf(cmd, sizeof cmd,
+             "%s simulate %s --random 3 --seconds 1 -o %s --skeleton %s --skeleton-map %s 2> %s.err", mm,
+             db_path, mapped, game_path, map_path, map_path);
+    assert_int_not_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "grep -q \"skeleton_map.json.*'Pelvis'\" %s.err", map_path);
+    assert_int_equal(system(cmd), 0);
+    mm_skeleton_free(&game);
+}
+
 static void test_map_errors(void **state)
 {
     (void)state;
@@ -408,6 +485,7 @@ int main(void)
         cmocka_unit_test(test_map_game_lengths_and_rest_frames),
         cmocka_unit_test(test_map_twist_known),
         cmocka_unit_test(test_map_errors),
+        cmocka_unit_test(test_simulate_skeleton),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

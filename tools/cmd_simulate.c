@@ -2,9 +2,11 @@
  *             [--scene SCENE.json] [--distance-matching on|off] [--warping on|off]
  *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
  *             [--transition inertialize|crossfade] [--crossfade-time S]
+ *             [--skeleton GAME.bvh [--skeleton-map MAP.json]]
  * Runs one character over scripted or random input; writes its motion, the metrics of
  * docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move layer
- * (mm/moves.h: jump, vault, climb, drop-down) runs around the character. */
+ * (mm/moves.h: jump, vault, climb, drop-down) runs around the character. With a skeleton, the
+ * motion is written in the game's joint names and order (mm/skeleton_map.h, sim_skeleton.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -22,6 +24,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "motion_metrics.h"
+#include "sim_skeleton.h"
 #include "sim_video.h"
 
 /* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
@@ -30,7 +33,7 @@
 int mm_cmd_simulate(int argc, char **argv)
 {
     const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL,
-               *scene_path = NULL;
+               *scene_path = NULL, *skeleton_path = NULL, *skeleton_map_path = NULL;
     long seed = -1;
     double seconds = 0.0, fps = 60.0, video_fps = 30.0, crossfade_time = -1.0;
     int width = 640, height = 360;
@@ -39,7 +42,8 @@ int mm_cmd_simulate(int argc, char **argv)
         "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED) --seconds T [--fps F] -o OUT.bvh "
         "--metrics OUT.json [--scene SCENE.json] [--distance-matching on|off] [--warping on|off] "
         "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]] "
-        "[--transition inertialize|crossfade] [--crossfade-time S]";
+        "[--transition inertialize|crossfade] [--crossfade-time S] [--skeleton GAME.bvh [--skeleton-map "
+        "MAP.json]]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--input") == 0 && v)
@@ -62,6 +66,10 @@ int mm_cmd_simulate(int argc, char **argv)
             metrics = argv[++i];
         else if (strcmp(a, "--scene") == 0 && v)
             scene_path = argv[++i];
+        else if (strcmp(a, "--skeleton") == 0 && v)
+            skeleton_path = argv[++i];
+        else if (strcmp(a, "--skeleton-map") == 0 && v)
+            skeleton_map_path = argv[++i];
         else if (strcmp(a, "--video") == 0 && v)
             video_path = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
@@ -100,6 +108,8 @@ int mm_cmd_simulate(int argc, char **argv)
     }
     if (!db_path || (!input) == (seed < 0) || seconds <= 0 || !out)
         return cli_usage_error("simulate", "%s", usage);
+    if (skeleton_map_path && !skeleton_path)
+        return cli_usage_error("simulate", "--skeleton-map needs --skeleton");
     if (seconds * fps > SIM_MAX_FRAMES)
         return cli_usage_error("simulate",
                                "--seconds %g at --fps %g is %.0f frames, more than the %d allowed", seconds,
@@ -147,9 +157,23 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_moves_desc_from_database(&moves_desc, &db);
     mm_moves_init(&moves, &db, scene_path ? &scene : NULL, &moves_desc, NULL);
     int frames = (int)floor(seconds * fps + 1e-6), n = db.joint_count;
+    /* the motion's skeleton: the database's, or the game's (--skeleton) */
+    sim_skeleton game;
+    memset(&game, 0, sizeof game);
     mm_skeleton skel;
-    mm_skeleton_init(&skel, n, NULL);
-    memcpy(skel.joints, db.joints, sizeof(mm_joint) * (size_t)n);
+    if (skeleton_path && sim_skeleton_open(&game, skeleton_path, skeleton_map_path, &db) != 0) {
+        mm_character_free(&c);
+        mm_searcher_free(&searcher);
+        mm_input_script_free(&script);
+        mm_database_free(&db);
+        return 1;
+    }
+    if (skeleton_path) {
+        sim_skeleton_copy(&game, &skel);
+    } else {
+        mm_skeleton_init(&skel, n, NULL);
+        memcpy(skel.joints, db.joints, sizeof(mm_joint) * (size_t)n);
+    }
     mm_clip clip;
     r = mm_clip_init(&clip, &skel, frames, (float)fps, NULL);
     mm_skeleton_free(&skel);
@@ -212,9 +236,13 @@ int mm_cmd_simulate(int argc, char **argv)
             motion_metrics_search(&mx, c.last_search_us);
             last_searches = c.searches;
         }
-        /* the pose as BVH: joint 0 carries the root */
-        memcpy(mm_clip_rotations(&clip, f), c.local_rotations, sizeof(mm_quat) * (size_t)n);
-        memcpy(mm_clip_positions(&clip, f), c.local_positions, sizeof(mm_vec3) * (size_t)n);
+        /* the pose as BVH: joint 0 carries the root (or in the game's skeleton) */
+        if (skeleton_path) {
+            sim_skeleton_pose(&game, &c, mm_clip_rotations(&clip, f), mm_clip_positions(&clip, f));
+        } else {
+            memcpy(mm_clip_rotations(&clip, f), c.local_rotations, sizeof(mm_quat) * (size_t)n);
+            memcpy(mm_clip_positions(&clip, f), c.local_positions, sizeof(mm_vec3) * (size_t)n);
+        }
         for (int j = 0; j < n; ++j) world[j] = c.global[j].translation;
         motion_metrics_frame(&mx, t, world, db.contacts[c.frame], c.raw_contact_positions,
                              c.trajectory->position, motion_metrics_yaw(c.trajectory->facing),
@@ -289,6 +317,7 @@ done:
     free(world);
     motion_metrics_free(&mx);
     mm_clip_free(&clip);
+    sim_skeleton_close(&game);
     if (status == 0 && desc.transition_mode == MM_TRANSITION_CROSSFADE)
         printf("%s: crossfade, %d transitions cancelled\n", out, c.cancelled_transitions);
     mm_character_free(&c);

@@ -239,9 +239,11 @@ static const help_entry entries[] = {
      "                   [--metrics OUT.json] [--scene SCENE.json] [--distance-matching on|off]\n"
      "                   [--warping on|off] [--transition inertialize|crossfade] [--crossfade-time 0.2]\n"
      "                   [--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]]\n"
+     "                   [--skeleton GAME.bvh [--skeleton-map MAP.json]]\n"
      "Runs one character over an input script or random input: its motion as BVH, the metrics of\n"
      "docs/metrics.md and a video of it with its debug drawing. With a scene, the moves (jump, vault,\n"
-     "climb, drop-down) run around it (docs/moves.md).\n"
+     "climb, drop-down) run around it (docs/moves.md). With a skeleton, the motion is written in the\n"
+     "game's joint names and order (docs/embedding.md, \"The game's skeleton\").\n"
      "  DB.mmdb            a database\n"
      "  --input SCRIPT     an input script (scripts/input/); this or --random\n"
      "  --random SEED      seeded random input; this or --input\n"
@@ -256,7 +258,12 @@ static const help_entry entries[] = {
      "  --crossfade-time S seconds a crossfade takes, 0 to 10 (default 0.2)\n"
      "  --video OUT        an MP4 or GIF (through ffmpeg), or a folder of PNG frames (default: none)\n"
      "  --size WxH         the video's pixels (default 640x360)\n"
-     "  --video-fps F      the video's frames per second, 1 to 240 (default 30)\n"},
+     "  --video-fps F      the video's frames per second, 1 to 240 (default 30)\n"
+     "  --skeleton GAME    write the motion in this BVH's skeleton: joints matched to the database's\n"
+     "                     by name, the others at the game's rest, no simulation root, the game's\n"
+     "                     bone lengths (default: the database's skeleton)\n"
+     "  --skeleton-map MAP a JSON map for --skeleton: {\"pairs\": {GAME: DATABASE}, \"follow\":\n"
+     "                     [{\"joint\", \"follows\", \"weight\", \"twist\"}], \"root\", \"game_lengths\"}\n"},
     {"synth", "write the built-in procedural motion set (BVH files and clips.json)",
      "usage: mm synth OUTDIR [--seed 0] [--fps 60]\n"
      "Writes the built-in procedural motion set: 40 BVH clips and clips.json with their ground truth\n"
