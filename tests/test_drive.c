@@ -3,6 +3,7 @@
  * deltas as hand-computed and summing to the root's whole move; a character on the built-in set
  * follows a path (a straight, a turn, a diagonal, a stop) with its root close to the path's
  * position at every time; path files parse, and bad ones are errors naming the point. */
+#define _POSIX_C_SOURCE 200809L /* popen */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -247,6 +248,50 @@ static void test_path_json(void **state)
     assert_non_null(strstr(err.file, "/nonexistent/path.json"));
 }
 
+/* mm simulate --path: the path of test_character_follows_a_path as a file; the program prints the
+ * root's distance from it (over every tick, the start included); a bad path file is an error
+ * naming the file and the point. */
+static void test_simulate_path(void **state)
+{
+    (void)state;
+    const char *mm = getenv("MM_BIN");
+    if (!mm) skip();
+    char db_path[512], path_file[512], out[512], cmd[4096];
+    snprintf(db_path, sizeof db_path, "%s/drive.mmdb", MM_TEST_OUT);
+    snprintf(path_file, sizeof path_file, "%s/drive_path.json", MM_TEST_OUT);
+    snprintf(out, sizeof out, "%s/drive_path.bvh", MM_TEST_OUT);
+    assert_int_equal(mm_database_save(&db, db_path, NULL), MM_OK);
+    FILE *f = fopen(path_file, "w");
+    assert_non_null(f);
+    fprintf(f, "{\"points\": [{\"t\": 0, \"position\": [0, 0]}, {\"t\": 5, \"position\": [0, 6]},\n"
+               "  {\"t\": 7.5, \"position\": [2.5, 8.5]}, {\"t\": 10, \"position\": [5.5, 8.5]},\n"
+               "  {\"t\": 14, \"position\": [8.5, 11.5], \"facing\": [1, 1]}]}\n");
+    fclose(f);
+    snprintf(cmd, sizeof cmd, "%s simulate %s --path %s --seconds 16 -o %s", mm, db_path, path_file, out);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    char line[1024];
+    double mean = -1.0, worst = -1.0;
+    while (fgets(line, sizeof line, p)) {
+        const char *at = strstr(line, "the root from the path: mean ");
+        if (at)
+            assert_int_equal(sscanf(at, "the root from the path: mean %lf cm, max %lf cm", &mean, &worst), 2);
+    }
+    assert_int_equal(pclose(p), 0);
+    print_message("mm simulate --path: mean %.2f cm, max %.2f cm\n", mean, worst);
+    assert_true(mean >= 0.0 && mean < 10.0); /* cm: the start (at full speed from standing) included */
+    assert_true(worst < 40.0);
+    f = fopen(path_file, "w");
+    assert_non_null(f);
+    fprintf(f, "{\"points\": [{\"t\": 0, \"position\": [0, 0]}, {\"t\": 0, \"position\": [0, 1]}]}\n");
+    fclose(f);
+    snprintf(cmd, sizeof cmd, "%s simulate %s --path %s --seconds 1 -o %s 2> %s.err", mm, db_path, path_file,
+             out, path_file);
+    assert_int_not_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "grep -q \"drive_path.json.*points\\[1\\].t\" %s.err", path_file);
+    assert_int_equal(system(cmd), 0);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -268,6 +313,7 @@ int main(void)
         cmocka_unit_test(test_root_delta),
         cmocka_unit_test(test_character_follows_a_path),
         cmocka_unit_test(test_path_json),
+        cmocka_unit_test(test_simulate_path),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -1,12 +1,13 @@
-/* mm simulate DB (--input SCRIPT | --random SEED) --seconds T [--fps F] -o OUT.bvh --metrics OUT.json
+/* mm simulate DB (--input SCRIPT | --random SEED | --path PATH) --seconds T [--fps F] -o OUT.bvh --metrics
+ * OUT.json
  *             [--scene SCENE.json] [--distance-matching on|off] [--warping on|off]
  *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
  *             [--transition inertialize|crossfade] [--crossfade-time S]
  *             [--skeleton GAME.bvh [--skeleton-map MAP.json]]
- * Runs one character over scripted or random input; writes its motion, the metrics of
- * docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move layer
- * (mm/moves.h: jump, vault, climb, drop-down) runs around the character. With a skeleton, the
- * motion is written in the game's joint names and order (mm/skeleton_map.h, sim_skeleton.h). */
+ * Runs one character over scripted or random input, or along a desired path (mm/drive.h); writes its motion,
+ * the metrics of docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move
+ * layer (mm/moves.h: jump, vault, climb, drop-down) runs around the character. With a skeleton, the motion is
+ * written in the game's joint names and order (mm/skeleton_map.h, sim_skeleton.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -17,6 +18,7 @@
 #include <mm/input_json.h>
 #include <mm/mm.h>
 #include <mm/moves.h>
+#include <mm/path_json.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
 #include <mm/view.h>
@@ -33,13 +35,14 @@
 int mm_cmd_simulate(int argc, char **argv)
 {
     const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL,
-               *scene_path = NULL, *skeleton_path = NULL, *skeleton_map_path = NULL;
+               *scene_path = NULL, *skeleton_path = NULL, *skeleton_map_path = NULL, *path_file = NULL;
     long seed = -1;
     double seconds = 0.0, fps = 60.0, video_fps = 30.0, crossfade_time = -1.0;
     int width = 640, height = 360;
     int distance_matching = -1, warping = -1, transition = -1; /* -1: the controller's default */
     const char *usage =
-        "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED) --seconds T [--fps F] -o OUT.bvh "
+        "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED | --path PATH.json) --seconds T "
+        "[--fps F] -o OUT.bvh "
         "--metrics OUT.json [--scene SCENE.json] [--distance-matching on|off] [--warping on|off] "
         "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]] "
         "[--transition inertialize|crossfade] [--crossfade-time S] [--skeleton GAME.bvh [--skeleton-map "
@@ -48,6 +51,8 @@ int mm_cmd_simulate(int argc, char **argv)
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--input") == 0 && v)
             input = argv[++i];
+        else if (strcmp(a, "--path") == 0 && v)
+            path_file = argv[++i];
         else if (strcmp(a, "--random") == 0 && v) {
             if (!cli_parse_int(v, 0, 0x7fffffff, &seed))
                 return cli_usage_error("simulate", "--random needs a seed >= 0");
@@ -106,7 +111,7 @@ int mm_cmd_simulate(int argc, char **argv)
         else
             return cli_usage_error("simulate", "unexpected argument '%s'", a);
     }
-    if (!db_path || (!input) == (seed < 0) || seconds <= 0 || !out)
+    if (!db_path || (input != NULL) + (seed >= 0) + (path_file != NULL) != 1 || seconds <= 0 || !out)
         return cli_usage_error("simulate", "%s", usage);
     if (skeleton_map_path && !skeleton_path)
         return cli_usage_error("simulate", "--skeleton-map needs --skeleton");
@@ -121,8 +126,13 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_database db;
     if (mm_database_load(db_path, NULL, &db, &err) != MM_OK) return cli_report(&err);
     mm_input_script script;
+    memset(&script, 0, sizeof script);
+    mm_path path; /* --path: where the character is asked to go */
+    memset(&path, 0, sizeof path);
     mm_result r = input ? mm_input_script_load_json(input, &script, &err) : MM_OK;
-    if (!input) {
+    if (path_file) {
+        r = mm_path_load_json(path_file, &path, &err);
+    } else if (!input) {
         mm_input_random_desc rd;
         memset(&rd, 0, sizeof rd);
         rd.seconds = (float)seconds;
@@ -133,6 +143,7 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_database_free(&db);
         return cli_report(&err);
     }
+    double path_error_sum = 0.0, path_error_max = 0.0; /* m: the root from the path's position */
     mm_searcher searcher;
     mm_character c;
     mm_character_desc desc;
@@ -149,6 +160,7 @@ int mm_cmd_simulate(int argc, char **argv)
     if (mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK ||
         mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK) {
         mm_input_script_free(&script);
+        mm_path_free(&path);
         mm_database_free(&db);
         return cli_report(&err);
     }
@@ -165,6 +177,7 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_character_free(&c);
         mm_searcher_free(&searcher);
         mm_input_script_free(&script);
+        mm_path_free(&path);
         mm_database_free(&db);
         return 1;
     }
@@ -220,13 +233,23 @@ int mm_cmd_simulate(int argc, char **argv)
     for (int f = 0; f < frames; ++f) {
         double t = f / fps;
         mm_input in;
-        mm_input_script_sample_tick(&script, (float)t, (float)(1.0 / fps), &in);
+        if (path_file)
+            mm_drive_input_path(c.trajectory, &path, (float)t, 0.0f, &in);
+        else
+            mm_input_script_sample_tick(&script, (float)t, (float)(1.0 / fps), &in);
         mm_vec3 desired;
         mm_trajectory_desired(c.trajectory, &in, &desired, NULL);
         motion_metrics_input(&mx, t, &in, desired);
         double start = cli_now();
         mm_moves_update(&moves, &c, &in, dt);
         float frame_us = (float)(1e6 * (cli_now() - start));
+        if (path_file) {
+            mm_vec3 want, root = c.root.translation;
+            mm_path_sample(&path, (float)(t + dt), &want, NULL, NULL);
+            double e = hypot(root.x - want.x, root.z - want.z);
+            path_error_sum += e;
+            if (e > path_error_max) path_error_max = e;
+        }
         if (moves.finished)
             motion_metrics_move(&mx, mm_move_kind_name(moves.last.kind), moves.last.t_start, moves.last.t_end,
                                 moves.last.target_error_cm);
@@ -311,6 +334,9 @@ int mm_cmd_simulate(int argc, char **argv)
                "%.2f cm\n",
                out, frames, fps, c.searches, c.transitions, motion_metrics_foot_slide(&mx),
                motion_metrics_traj_err(&mx));
+    if (status == 0 && path_file && frames > 0)
+        printf("%s: the root from the path: mean %.2f cm, max %.2f cm\n", out,
+               100.0 * path_error_sum / frames, 100.0 * path_error_max);
 done:
     if (m) cli_commit(m, metrics_tmp, metrics, 1); /* a failure before the outputs were written */
     if (bf) cli_commit(bf, bvh_tmp, out, 1);
@@ -323,6 +349,7 @@ done:
     mm_character_free(&c);
     mm_searcher_free(&searcher);
     mm_input_script_free(&script);
+    mm_path_free(&path);
     mm_database_free(&db);
     return status;
 }
