@@ -16,6 +16,7 @@
 #include <mm/character.h>
 #include <mm/drive.h>
 #include <mm/path_json.h>
+#include <mm/run.h>
 
 #include "test_databases.h"
 #include "test_util.h"
@@ -158,16 +159,25 @@ static void test_character_follows_a_path(void **state)
     assert_int_equal(mm_character_init(&c, &db, &searcher, &desc, NULL), MM_OK);
     const float dt = 1.0f / 60.0f;
     const int ticks = 17 * 60; /* 3 s standing at the end */
+    /* mm_run_path (what mm simulate --path and Python run) records this very loop */
+    float *recorded = malloc(sizeof(float) * 3 * (size_t)ticks * (size_t)db.joint_count);
+    assert_non_null(recorded);
+    mm_run_output out = {.world_positions = recorded};
+    mm_run_desc run_desc = {.character = &desc};
+    assert_int_equal(mm_run_path(&db, &p, ticks, &run_desc, &out, NULL), MM_OK);
     double sum = 0.0, worst = 0.0, sim_sum = 0.0;
     int counted = 0;
     mm_xform last = c.root;
     mm_vec3 travelled = mm_vec3_make(0, 0, 0);
     float turned = 0.0f;
     for (int f = 0; f < ticks; ++f) {
-        float t = (float)f * dt;
+        float t = (float)(f / 60.0); /* as mm_run_path and mm simulate time a tick */
         mm_input in;
         mm_drive_input_path(c.trajectory, &p, t, 0.0f, &in);
         mm_character_update(&c, &in, dt);
+        for (int j = 0; j < db.joint_count; ++j)
+            assert_memory_equal(&recorded[((size_t)f * (size_t)db.joint_count + (size_t)j) * 3],
+                                &c.global[j].translation, sizeof(float) * 3);
         mm_root_delta d;
         mm_root_delta_between(last, c.root, &d);
         travelled = mm_vec3_add(travelled, mm_quat_rotate(last.rotation, d.local));
@@ -204,6 +214,12 @@ static void test_character_follows_a_path(void **state)
     assert_float_equal(sinf(turned), sinf(heading), 1e-3f);
     mm_character_free(&c);
     mm_searcher_free(&searcher);
+    /* a bad path: an error naming the point */
+    mm_error err;
+    p.points[1].t = -1.0f;
+    assert_int_equal(mm_run_path(&db, &p, 10, NULL, &out, &err), MM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "points[1].t"));
+    free(recorded);
     mm_path_free(&p);
 }
 
