@@ -1,8 +1,9 @@
 /* mm/crowd.h - many characters sharing one database, ticked together on the game's threads.
  *
- * A crowd owns `count` characters (mm/character.h), each with its move layer (mm/moves.h: on flat
- * ground without a scene, as mm simulate and mm/run.h run one), all searching one read-only
- * searcher. mm_crowd_update ticks every character once; the work, each character's tick with its
+ * A crowd owns `count` characters (mm/character.h), each, in a scene, with its move layer
+ * (mm/moves.h; on flat ground without one it would only call mm_character_update, and none is
+ * made), all searching one read-only searcher: each character moves as mm simulate and mm/run.h
+ * move one. mm_crowd_update ticks every character once; the work, each character's tick with its
  * search, goes through a parallel-for:
  *  - the game's (desc.parallel_for): the engine's job system is handed [0, count) and a function
  *    to run over ranges of it; it may split the range as it likes, run the pieces on any threads
