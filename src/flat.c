@@ -9,6 +9,7 @@
 #include "mm/config_json.h"
 #include "mm/database_build.h"
 #include "mm/input_json.h"
+#include "mm/path_json.h"
 #include "mm/run.h"
 #include "mm/search.h"
 
@@ -194,6 +195,30 @@ int mm_flat_simulate(const mm_database *db, const char *script_path, uint64_t se
                          .db_frames = db_frames};
     r = mm_run_script(db, &script, mm_run_frames(seconds, fps), &desc, &out, &err);
     mm_input_script_free(&script);
+    return r == MM_OK ? 0 : report(&err, r, message, message_size);
+}
+
+int mm_flat_simulate_path(const mm_database *db, const char *path_file, double seconds, double fps,
+                          float *world_positions, float *world_rotations, float *local_positions,
+                          float *local_rotations, int32_t *db_frames, char *message, size_t message_size)
+{
+    mm_error err;
+    clear(&err, message, message_size);
+    if (!db || !path_file || !(seconds > 0) || !(fps > 0))
+        return report(NULL, MM_ERR_INVALID_ARGUMENT, message, message_size);
+    mm_path path;
+    mm_result r = mm_path_load_json(path_file, &path, &err);
+    if (r != MM_OK) return report(&err, r, message, message_size);
+    mm_run_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.fps = (float)fps;
+    mm_run_output out = {.world_positions = world_positions,
+                         .world_rotations = world_rotations,
+                         .local_positions = local_positions,
+                         .local_rotations = local_rotations,
+                         .db_frames = db_frames};
+    r = mm_run_path(db, &path, mm_run_frames(seconds, fps), &desc, &out, &err);
+    mm_path_free(&path);
     return r == MM_OK ? 0 : report(&err, r, message, message_size);
 }
 

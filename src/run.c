@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "mm/drive.h"
 #include "mm/moves.h"
 #include "mm/search.h"
 
@@ -42,13 +43,16 @@ static void record(const mm_character *c, int f, mm_run_output *out)
     if (out->db_frames) out->db_frames[f] = c->frame;
 }
 
-mm_result mm_run_script(const mm_database *db, const mm_input_script *script, int frames,
-                        const mm_run_desc *desc, mm_run_output *out, mm_error *err)
+/* The run over a script or along a path (one of them). */
+static mm_result run(const mm_database *db, const mm_input_script *script, const mm_path *path, int frames,
+                     const mm_run_desc *desc, mm_run_output *out, mm_error *err)
 {
     float fps = desc && desc->fps != 0.0f ? desc->fps : MM_RUN_DEFAULT_FPS;
-    if (!db || !script || !out || frames < 0 || !(fps > 0.0f) || !isfinite(fps))
+    if (!db || (!script && !path) || !out || frames < 0 || !(fps > 0.0f) || !isfinite(fps))
         return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
-                            "mm_run_script: needs a database, a script, an output, frames >= 0 and fps > 0");
+                            "%s: needs a database, a %s, an output, frames >= 0 and fps > 0",
+                            path ? "mm_run_path" : "mm_run_script", path ? "path" : "script");
+    if (path && mm_path_validate(path, err) != MM_OK) return MM_ERR_INVALID_ARGUMENT;
     out->searches = out->transitions = 0;
     const mm_allocator *allocator = desc ? desc->allocator : NULL;
     mm_character_desc cd;
@@ -79,7 +83,10 @@ mm_result mm_run_script(const mm_database *db, const mm_input_script *script, in
         float dt = (float)(1.0 / fps);
         for (int f = 0; f < frames; ++f) {
             mm_input in;
-            mm_input_script_sample_tick(script, (float)(f / (double)fps), dt, &in);
+            if (path)
+                mm_drive_input_path(c.trajectory, path, (float)(f / (double)fps), 0.0f, &in);
+            else
+                mm_input_script_sample_tick(script, (float)(f / (double)fps), dt, &in);
             mm_moves_update(&moves, &c, &in, dt);
             record(&c, f, out);
         }
@@ -89,4 +96,16 @@ mm_result mm_run_script(const mm_database *db, const mm_input_script *script, in
     mm_character_free(&c);
     mm_searcher_free(&searcher);
     return r;
+}
+
+mm_result mm_run_script(const mm_database *db, const mm_input_script *script, int frames,
+                        const mm_run_desc *desc, mm_run_output *out, mm_error *err)
+{
+    return run(db, script, NULL, frames, desc, out, err);
+}
+
+mm_result mm_run_path(const mm_database *db, const mm_path *path, int frames, const mm_run_desc *desc,
+                      mm_run_output *out, mm_error *err)
+{
+    return run(db, NULL, path, frames, desc, out, err);
 }

@@ -130,6 +130,10 @@ readers() { # FILE: every command that reads FILE fails naming it
     fails "$f" "$mm" db search "$f" --frame 0
     fails "$f" "$mm" simulate "$f" --random 1 --seconds 1 -o "$o/sim.bvh" --metrics "$o/sim.json"
     fails "$f" "$mm" simulate "$db" --input "$f" --seconds 1 -o "$o/sim.bvh" --metrics "$o/sim.json"
+    fails "$f" "$mm" simulate "$db" --path "$f" --seconds 1 -o "$o/sim.bvh"
+    fails "$f" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/sim.bvh" --skeleton "$f"
+    fails "$f" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/sim.bvh" --skeleton "$tmp/set/idle.bvh" \
+        --skeleton-map "$f"
     fails "$f" "$mm" similarity "$f" --from idle --to walk -o "$o/audit"
     fails "$f" "$mm" similarity build "$f" -o "$o/build.sim"
     fails "$f" "$mm" similarity info "$f"
@@ -294,6 +298,21 @@ values --random "$not_ints" "$mm" simulate "$db" --seconds 1 -o "$o/s.bvh"
 names --input "$mm" simulate "$db" --seconds 1 -o "$o/s.bvh"
 names -o "$mm" simulate "$db" --random 1 --seconds 1
 names --metrics "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh"
+names --path "$mm" simulate "$db" --seconds 1 -o "$o/s.bvh"
+names --skeleton "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh"
+names --skeleton-map "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --skeleton "$tmp/set/idle.bvh"
+fails "--skeleton-map" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --skeleton-map "$script"
+fails "--path" "$mm" simulate "$db" --random 1 --path "$script" --seconds 1 -o "$o/s.bvh"
+# a map naming joints neither skeleton has, or of the wrong shape: the map file and the field
+printf '{"pairs": {"NoSuchJoint": "Hips"}}' >"$tmp/map_joint.json"
+fails "NoSuchJoint" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --skeleton "$tmp/set/idle.bvh" \
+    --skeleton-map "$tmp/map_joint.json"
+printf '{"follow": [{"joint": "Twist"}]}' >"$tmp/map_follow.json"
+fails "follow" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --skeleton "$tmp/set/idle.bvh" \
+    --skeleton-map "$tmp/map_follow.json"
+printf '{"root": 1}' >"$tmp/map_root.json"
+fails "map_root.json" "$mm" simulate "$db" --random 1 --seconds 1 -o "$o/s.bvh" --skeleton "$tmp/set/idle.bvh" \
+    --skeleton-map "$tmp/map_root.json"
 values --seed "$not_ints -0" "$mm" synth "$o/synth"
 values --fps "$not_numbers 0 -1 9 241 1e300" "$mm" synth "$o/synth"
 values --window "$not_ints 0 257 1e9" "$mm" similarity "$db" --from idle --to walk -o "$o/audit"

@@ -8,6 +8,7 @@
 #include <mm/database_build.h>
 #include <mm/diagnose.h>
 #include <mm/input_json.h>
+#include <mm/path_json.h>
 #include <mm/leg_ik.h>
 #include <mm/mm.h>
 #include <mm/mixer.h>

@@ -1,10 +1,13 @@
-/* mm simulate DB (--input SCRIPT | --random SEED) --seconds T [--fps F] -o OUT.bvh --metrics OUT.json
+/* mm simulate DB (--input SCRIPT | --random SEED | --path PATH) --seconds T [--fps F] -o OUT.bvh --metrics
+ * OUT.json
  *             [--scene SCENE.json] [--distance-matching on|off] [--warping on|off]
  *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
  *             [--transition inertialize|crossfade] [--crossfade-time S]
- * Runs one character over scripted or random input; writes its motion, the metrics of
- * docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move layer
- * (mm/moves.h: jump, vault, climb, drop-down) runs around the character. */
+ *             [--skeleton GAME.bvh [--skeleton-map MAP.json]]
+ * Runs one character over scripted or random input, or along a desired path (mm/drive.h); writes its motion,
+ * the metrics of docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move
+ * layer (mm/moves.h: jump, vault, climb, drop-down) runs around the character. With a skeleton, the motion is
+ * written in the game's joint names and order (mm/skeleton_map.h, sim_skeleton.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -15,6 +18,7 @@
 #include <mm/input_json.h>
 #include <mm/mm.h>
 #include <mm/moves.h>
+#include <mm/path_json.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
 #include <mm/view.h>
@@ -22,6 +26,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "motion_metrics.h"
+#include "sim_skeleton.h"
 #include "sim_video.h"
 
 /* The motion is kept in memory until it is written: at most 10 hours at 60 fps. */
@@ -34,20 +39,24 @@
 int mm_cmd_simulate(int argc, char **argv)
 {
     const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL,
-               *scene_path = NULL;
+               *scene_path = NULL, *skeleton_path = NULL, *skeleton_map_path = NULL, *path_file = NULL;
     long seed = -1;
     double seconds = 0.0, fps = 60.0, video_fps = 30.0, crossfade_time = -1.0;
     int width = 640, height = 360;
     int distance_matching = -1, warping = -1, transition = -1; /* -1: the controller's default */
     const char *usage =
-        "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED) --seconds T [--fps F] -o OUT.bvh "
+        "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED | --path PATH.json) --seconds T "
+        "[--fps F] -o OUT.bvh "
         "--metrics OUT.json [--scene SCENE.json] [--distance-matching on|off] [--warping on|off] "
         "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]] "
-        "[--transition inertialize|crossfade] [--crossfade-time S]";
+        "[--transition inertialize|crossfade] [--crossfade-time S] [--skeleton GAME.bvh [--skeleton-map "
+        "MAP.json]]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--input") == 0 && v)
             input = argv[++i];
+        else if (strcmp(a, "--path") == 0 && v)
+            path_file = argv[++i];
         else if (strcmp(a, "--random") == 0 && v) {
             if (!cli_parse_int(v, 0, 0x7fffffff, &seed))
                 return cli_usage_error("simulate", "--random needs a seed >= 0");
@@ -66,6 +75,10 @@ int mm_cmd_simulate(int argc, char **argv)
             metrics = argv[++i];
         else if (strcmp(a, "--scene") == 0 && v)
             scene_path = argv[++i];
+        else if (strcmp(a, "--skeleton") == 0 && v)
+            skeleton_path = argv[++i];
+        else if (strcmp(a, "--skeleton-map") == 0 && v)
+            skeleton_map_path = argv[++i];
         else if (strcmp(a, "--video") == 0 && v)
             video_path = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
@@ -102,12 +115,14 @@ int mm_cmd_simulate(int argc, char **argv)
         else
             return cli_usage_error("simulate", "unexpected argument '%s'", a);
     }
-    if (!db_path || (!input) == (seed < 0) || seconds <= 0 || !out)
+    if (!db_path || (input != NULL) + (seed >= 0) + (path_file != NULL) != 1 || seconds <= 0 || !out)
         return cli_usage_error("simulate", "%s", usage);
     if (floor(seconds * fps + 1e-6) < SIM_MIN_FRAMES)
         return cli_usage_error("simulate",
                                "--seconds %g at --fps %g is less than %d frames: a run needs at least %g s",
                                seconds, fps, SIM_MIN_FRAMES, SIM_MIN_FRAMES / fps);
+    if (skeleton_map_path && !skeleton_path)
+        return cli_usage_error("simulate", "--skeleton-map needs --skeleton");
     if (seconds * fps > SIM_MAX_FRAMES)
         return cli_usage_error("simulate",
                                "--seconds %g at --fps %g is %.0f frames, more than the %d allowed", seconds,
@@ -119,8 +134,13 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_database db;
     if (mm_database_load(db_path, NULL, &db, &err) != MM_OK) return cli_report(&err);
     mm_input_script script;
+    memset(&script, 0, sizeof script);
+    mm_path path; /* --path: where the character is asked to go */
+    memset(&path, 0, sizeof path);
     mm_result r = input ? mm_input_script_load_json(input, &script, &err) : MM_OK;
-    if (!input) {
+    if (path_file) {
+        r = mm_path_load_json(path_file, &path, &err);
+    } else if (!input) {
         mm_input_random_desc rd;
         memset(&rd, 0, sizeof rd);
         rd.seconds = (float)seconds;
@@ -131,6 +151,7 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_database_free(&db);
         return cli_report(&err);
     }
+    double path_error_sum = 0.0, path_error_max = 0.0; /* m: the root from the path's position */
     mm_searcher searcher;
     mm_character c;
     mm_character_desc desc;
@@ -147,6 +168,7 @@ int mm_cmd_simulate(int argc, char **argv)
     if (mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK ||
         mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK) {
         mm_input_script_free(&script);
+        mm_path_free(&path);
         mm_database_free(&db);
         return cli_report(&err);
     }
@@ -155,23 +177,44 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_moves_desc_from_database(&moves_desc, &db);
     mm_moves_init(&moves, &db, scene_path ? &scene : NULL, &moves_desc, NULL);
     int frames = (int)floor(seconds * fps + 1e-6), n = db.joint_count;
+    /* the motion's skeleton: the database's, or the game's (--skeleton) */
+    sim_skeleton game;
+    memset(&game, 0, sizeof game);
+    if (skeleton_path && sim_skeleton_open(&game, skeleton_path, skeleton_map_path, &db) != 0) {
+        mm_character_free(&c);
+        mm_searcher_free(&searcher);
+        mm_input_script_free(&script);
+        mm_path_free(&path);
+        mm_database_free(&db);
+        return 1;
+    }
     /* the BVH is written as the run goes (mm_bvh_stream): memory does not grow with its length */
     mm_skeleton skel;
-    r = mm_skeleton_init(&skel, n, NULL);
-    if (r == MM_OK) memcpy(skel.joints, db.joints, sizeof(mm_joint) * (size_t)n);
+    memset(&skel, 0, sizeof skel);
+    if (skeleton_path) {
+        r = sim_skeleton_copy(&game, &skel) == 0 ? MM_OK : MM_ERR_OUT_OF_MEMORY;
+    } else {
+        r = mm_skeleton_init(&skel, n, NULL);
+        if (r == MM_OK) memcpy(skel.joints, db.joints, sizeof(mm_joint) * (size_t)n);
+    }
+    /* one frame of the output skeleton's pose (the game's, mapped each tick) */
+    int out_joints = skeleton_path ? skel.joint_count : n;
+    mm_quat *out_rotations = skeleton_path ? malloc(sizeof(mm_quat) * (size_t)out_joints) : NULL;
+    mm_vec3 *out_positions = skeleton_path ? malloc(sizeof(mm_vec3) * (size_t)out_joints) : NULL;
+    if (r == MM_OK && skeleton_path && (!out_rotations || !out_positions)) r = MM_ERR_OUT_OF_MEMORY;
     mm_bvh_stream *stream = NULL;
     int too_long = 0;
     if (r == MM_OK) {
         /* refused up front: a BVH mm could not read back (the readers stop at 2 GiB) */
         mm_bvh_write_desc probe = {0};
-        double bytes =
-            (double)frames * (double)mm_bvh_frame_bytes_max(&skel, &probe) + SIM_BVH_HEADER_BYTES * n;
+        double bytes = (double)frames * (double)mm_bvh_frame_bytes_max(&skel, &probe) +
+                       SIM_BVH_HEADER_BYTES * out_joints;
         if (bytes >= SIM_MAX_BVH_BYTES) {
             double most = floor(SIM_MAX_BVH_BYTES / (double)mm_bvh_frame_bytes_max(&skel, &probe) / fps);
             fprintf(stderr,
                     "mm: %s: %d frames of %d joints could make a BVH file of %.1f GB, more than the 2 GiB mm "
                     "reads: a run of at most %g s at --fps %g\n",
-                    out, frames, n, bytes / 1e9, most, fps);
+                    out, frames, out_joints, bytes / 1e9, most, fps);
             too_long = 1;
         }
     }
@@ -229,13 +272,23 @@ int mm_cmd_simulate(int argc, char **argv)
     for (int f = 0; f < frames; ++f) {
         double t = f / fps;
         mm_input in;
-        mm_input_script_sample_tick(&script, (float)t, (float)(1.0 / fps), &in);
+        if (path_file)
+            mm_drive_input_path(c.trajectory, &path, (float)t, 0.0f, &in);
+        else
+            mm_input_script_sample_tick(&script, (float)t, (float)(1.0 / fps), &in);
         mm_vec3 desired;
         mm_trajectory_desired(c.trajectory, &in, &desired, NULL);
         motion_metrics_input(&mx, t, &in, desired);
         double start = cli_now();
         mm_moves_update(&moves, &c, &in, dt);
         float frame_us = (float)(1e6 * (cli_now() - start));
+        if (path_file) {
+            mm_vec3 want, root = c.root.translation;
+            mm_path_sample(&path, (float)(t + dt), &want, NULL, NULL);
+            double e = hypot(root.x - want.x, root.z - want.z);
+            path_error_sum += e;
+            if (e > path_error_max) path_error_max = e;
+        }
         if (moves.finished)
             motion_metrics_move(&mx, mm_move_kind_name(moves.last.kind), moves.last.t_start, moves.last.t_end,
                                 moves.last.target_error_cm);
@@ -245,8 +298,15 @@ int mm_cmd_simulate(int argc, char **argv)
             motion_metrics_search(&mx, c.last_search_us);
             last_searches = c.searches;
         }
-        /* the pose as BVH: joint 0 carries the root */
-        if (status == 0 && mm_bvh_stream_frame(stream, c.local_rotations, c.local_positions, &err) != MM_OK)
+        /* the pose as BVH: joint 0 carries the root (or in the game's skeleton) */
+        const mm_quat *rotations = c.local_rotations;
+        const mm_vec3 *positions = c.local_positions;
+        if (skeleton_path) {
+            sim_skeleton_pose(&game, &c, out_rotations, out_positions);
+            rotations = out_rotations;
+            positions = out_positions;
+        }
+        if (status == 0 && mm_bvh_stream_frame(stream, rotations, positions, &err) != MM_OK)
             status = cli_report(&err);
         for (int j = 0; j < n; ++j) world[j] = c.global[j].translation;
         motion_metrics_frame(&mx, t, world, db.contacts[c.frame], c.raw_contact_positions,
@@ -311,6 +371,9 @@ int mm_cmd_simulate(int argc, char **argv)
                "%.2f cm\n",
                out, frames, fps, c.searches, c.transitions, motion_metrics_foot_slide(&mx),
                motion_metrics_traj_err(&mx));
+    if (status == 0 && path_file && frames > 0)
+        printf("%s: the root from the path: mean %.2f cm, max %.2f cm\n", out,
+               100.0 * path_error_sum / frames, 100.0 * path_error_max);
 done:
     mm_bvh_stream_close(stream, NULL);             /* before its file is closed */
     if (m) cli_commit(m, metrics_tmp, metrics, 1); /* a failure before the outputs were written */
@@ -318,11 +381,15 @@ done:
     free(world);
     motion_metrics_free(&mx);
     mm_skeleton_free(&skel);
+    free(out_rotations);
+    free(out_positions);
+    sim_skeleton_close(&game);
     if (status == 0 && desc.transition_mode == MM_TRANSITION_CROSSFADE)
         printf("%s: crossfade, %d transitions cancelled\n", out, c.cancelled_transitions);
     mm_character_free(&c);
     mm_searcher_free(&searcher);
     mm_input_script_free(&script);
+    mm_path_free(&path);
     mm_database_free(&db);
     return status;
 }

@@ -13,7 +13,8 @@
  *
  * Functions: mm_flat_database_load mm_flat_database_free mm_flat_database_count
  *            mm_flat_database_interval mm_flat_joint mm_flat_clip mm_flat_tag_name mm_flat_group
- *            mm_flat_features mm_flat_frame_clips mm_flat_search mm_flat_simulate mm_flat_build
+ *            mm_flat_features mm_flat_frame_clips mm_flat_search mm_flat_simulate mm_flat_simulate_path
+ * mm_flat_build
  */
 #ifndef MM_FLAT_H
 #define MM_FLAT_H
@@ -81,6 +82,12 @@ int mm_flat_search(const mm_database *db, const float *query, int current_frame,
 int mm_flat_simulate(const mm_database *db, const char *script_path, uint64_t seed, double seconds,
                      double fps, float *world_positions, float *world_rotations, float *local_positions,
                      float *local_rotations, int32_t *db_frames, char *message, size_t message_size);
+
+/* mm_run_path (mm/run.h) along the desired path in path_file (JSON, mm/path_json.h), as
+ * `mm simulate --path FILE --seconds T`, for mm_run_frames(seconds, fps) ticks. */
+int mm_flat_simulate_path(const mm_database *db, const char *path_file, double seconds, double fps,
+                          float *world_positions, float *world_rotations, float *local_positions,
+                          float *local_rotations, int32_t *db_frames, char *message, size_t message_size);
 
 /* `mm db build CONFIG --data DATA_DIR -o OUT` (mm_config_load_json, mm_config_load_sources,
  * mm_database_build, mm_database_save): data_dir may be NULL (the config's own), threads 0 or 1

@@ -10,7 +10,10 @@
  *   mm_run_output out = {.world_positions = world};   // frames x joint_count x 3 floats
  *   mm_run_script(&db, &script, frames, NULL, &out, &err);
  *
- * Functions: mm_run_frames mm_run_script
+ * mm_run_path runs the character along a desired path instead (mm/drive.h: mm_drive_input_path
+ * at t = f / fps), as `mm simulate --path` does.
+ *
+ * Functions: mm_run_frames mm_run_script mm_run_path
  */
 #ifndef MM_RUN_H
 #define MM_RUN_H
@@ -20,6 +23,7 @@
 #include "alloc.h"
 #include "character.h"
 #include "database.h"
+#include "drive.h"
 #include "input.h"
 #include "result.h"
 #include "scene.h"
@@ -57,6 +61,10 @@ int mm_run_frames(double seconds, double fps);
  * MM_ERR_INVALID_ARGUMENT without db, script or out, or with frames < 0 or a non-positive fps. */
 mm_result mm_run_script(const mm_database *db, const mm_input_script *script, int frames,
                         const mm_run_desc *desc, mm_run_output *out, mm_error *err);
+
+/* The same along path (mm_path_validate'd: MM_ERR_INVALID_ARGUMENT naming the point otherwise). */
+mm_result mm_run_path(const mm_database *db, const mm_path *path, int frames, const mm_run_desc *desc,
+                      mm_run_output *out, mm_error *err);
 
 #ifdef __cplusplus
 }

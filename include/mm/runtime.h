@@ -4,8 +4,8 @@
  * embedding in an engine.
  *
  * The other libraries: mm_build (mm/database_build.h, mm/config.h, mm/config_json.h, mm/bvh.h,
- * mm/import.h, mm/synth.h, mm/similarity.h, mm/move_detect.h, mm/input_json.h, mm/scene_json.h,
- * mm/pfnn_character.h), mm_pfnn (mm/pfnn.h), mm_render (mm/render.h, mm/view.h).
+ * mm/import.h, mm/synth.h, mm/similarity.h, mm/move_detect.h, mm/input_json.h, mm/path_json.h,
+ * mm/scene_json.h, mm/pfnn_character.h), mm_pfnn (mm/pfnn.h), mm_render (mm/render.h, mm/view.h).
  */
 #ifndef MM_RUNTIME_H
 #define MM_RUNTIME_H
@@ -13,9 +13,11 @@
 #include "alloc.h"
 #include "character.h"
 #include "clip.h"
+#include "crowd.h"
 #include "database.h"
 #include "distance_curve.h"
 #include "distance_matching.h"
+#include "drive.h"
 #include "gait.h"
 #include "input.h"
 #include "leg_ik.h"
@@ -30,6 +32,7 @@
 #include "scene.h"
 #include "search.h"
 #include "skeleton.h"
+#include "skeleton_map.h"
 #include "spring.h"
 #include "target_match.h"
 #include "trajectory.h"

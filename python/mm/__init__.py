@@ -230,14 +230,11 @@ class Simulation:
 
 def simulate(db, *, seconds, random=None, input=None, path=None, fps=60.0):
     """Runs one character of db (a Database or a .mmdb path) for `seconds` at `fps` ticks per
-    second on a random input from seed `random` or on the input script `input` (JSON, as
-    `mm simulate --input`), exactly as `mm simulate` does, and returns a Simulation.
-    `path` (a desired path to follow) is not available yet."""
-    if path is not None:
-        raise NotImplementedError("mm.simulate(path=...): path following is not in the library yet; "
-                                  "use random= or input=")
-    if (random is None) == (input is None):
-        raise ValueError("mm.simulate: give one of random=SEED or input=SCRIPT.json")
+    second on a random input from seed `random`, on the input script `input` (JSON, as
+    `mm simulate --input`) or along the desired path `path` (JSON, as `mm simulate --path`),
+    exactly as `mm simulate` does, and returns a Simulation."""
+    if (random is not None) + (input is not None) + (path is not None) != 1:
+        raise ValueError("mm.simulate: give one of random=SEED, input=SCRIPT.json or path=PATH.json")
     if random is not None and (int(random) != random or random < 0):
         raise ValueError("mm.simulate: random must be a seed >= 0")
     if not seconds > 0 or not fps > 0:
@@ -247,11 +244,14 @@ def simulate(db, *, seconds, random=None, input=None, path=None, fps=60.0):
     frames = _n.mm_run_frames(float(seconds), float(fps))
     run = Simulation(db, frames, float(fps))
     message = ctypes.create_string_buffer(_MESSAGE_SIZE)
-    code = _n.simulate(db._live(), None if input is None else _path(input), 0 if random is None else int(random),
-                       float(seconds), float(fps), _ptr(run.world, ctypes.c_float),
-                       _ptr(run.world_rotations, ctypes.c_float), _ptr(run.local_positions, ctypes.c_float),
-                       _ptr(run.local_rotations, ctypes.c_float), _ptr(run.db_frames, ctypes.c_int32), message,
-                       _MESSAGE_SIZE)
+    outputs = (_ptr(run.world, ctypes.c_float), _ptr(run.world_rotations, ctypes.c_float),
+               _ptr(run.local_positions, ctypes.c_float), _ptr(run.local_rotations, ctypes.c_float),
+               _ptr(run.db_frames, ctypes.c_int32), message, _MESSAGE_SIZE)
+    if path is not None:
+        code = _n.simulate_path(db._live(), _path(path), float(seconds), float(fps), *outputs)
+    else:
+        code = _n.simulate(db._live(), None if input is None else _path(input), 0 if random is None else int(random),
+                           float(seconds), float(fps), *outputs)
     _check(code, message)
     return run
 

@@ -50,6 +50,8 @@ search = _proto(build, "mm_flat_search", c_int, c_void_p, P_float, c_int, c_int,
                 c_char_p, c_size_t)
 simulate = _proto(build, "mm_flat_simulate", c_int, c_void_p, c_char_p, ctypes.c_uint64, c_double, c_double,
                   P_float, P_float, P_float, P_float, P_int32, c_char_p, c_size_t)
+simulate_path = _proto(build, "mm_flat_simulate_path", c_int, c_void_p, c_char_p, c_double, c_double, P_float,
+                       P_float, P_float, P_float, P_int32, c_char_p, c_size_t)
 build_database = _proto(build, "mm_flat_build", c_int, c_char_p, c_char_p, c_char_p, c_int, c_char_p, c_size_t)
 
 # the order of mm_flat_count

@@ -148,9 +148,29 @@ def test_simulate_input_script_moves_as_the_stick_says(db, source_dir):
     assert travel[2] > 2.0 and abs(travel[0]) < 0.5 * travel[2]
 
 
+def test_simulate_follows_a_path(db, tmp_path):
+    # 6 m north in 5 s, then 3 m east in 2.5 s, then standing: the root (joint 0) stays near the
+    # path's position at each time, and ends on its last point
+    path = tmp_path / "path.json"
+    path.write_text('{"points": [{"t": 0, "position": [0, 0]}, {"t": 5, "position": [0, 6]},'
+                    ' {"t": 7.5, "position": [3, 6]}]}')
+    run = mm.simulate(db, path=path, seconds=10)
+    t = run.times + 1 / 60
+    want_x = np.interp(t, [0, 5, 7.5], [0, 0, 3])
+    want_z = np.interp(t, [0, 5, 7.5], [0, 6, 6])
+    error = np.hypot(run.world[:, 0, 0] - want_x, run.world[:, 0, 2] - want_z)
+    assert error[t > 1].mean() < 0.1 and error.max() < 0.5
+    assert error[-1] < 0.15
+    with pytest.raises(mm.Error) as e:
+        bad = tmp_path / "bad_path.json"
+        bad.write_text('{"points": [{"t": 1, "position": [0, 0]}, {"t": 0, "position": [0, 1]}]}')
+        mm.simulate(db, path=bad, seconds=1)
+    assert "bad_path.json" in str(e.value) and "points[1].t" in str(e.value)
+
+
 def test_simulate_argument_errors(db, tmp_path):
-    with pytest.raises(NotImplementedError):
-        mm.simulate(db, path="path.json", seconds=1)
+    with pytest.raises(ValueError):
+        mm.simulate(db, random=1, path="path.json", seconds=1)
     with pytest.raises(ValueError):
         mm.simulate(db, seconds=1)
     with pytest.raises(ValueError):
