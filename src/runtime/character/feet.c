@@ -23,6 +23,9 @@
 #define TOE_LIFT_MARGIN 0.002f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
+/* a lock farther from its hip, the hips lowered by max_hip_drop, than the leg's length and this share
+ * of it is let go as one farther than unlock_radius from the animation is (the leg cannot hold it) */
+#define UNREACHABLE_SHARE 0.1f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -93,6 +96,13 @@ static float toe_floor(float y, float floor)
     return below <= 0.0f ? floor - s : floor - s + below * below / (4.0f * s);
 }
 
+/* The leg's length: hip to knee to ankle. */
+static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
+{
+    mm_vec3 h = pose->global[rig->hip[k]].translation, knee = pose->global[rig->knee[k]].translation;
+    return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -108,6 +118,11 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
     bool far = was_locked && mm_vec3_distance(before, a) > d->unlock_radius;
+    if (was_locked && !far) { /* or out of the leg's reach, the hips lowered as far as they go */
+        mm_vec3 h = pose->global[rig->hip[k]].translation;
+        h.y -= d->max_hip_drop;
+        far = mm_vec3_distance(h, before) > (1.0f + UNREACHABLE_SHARE) * leg_length(rig, k, pose);
+    }
     if (far) f->heel_locked[k] = f->toe_locked[k] = false;
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
@@ -198,15 +213,8 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
 }
 
-/* The leg's length: hip to knee to ankle. */
-static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
-{
-    mm_vec3 h = pose->global[rig->hip[k]].translation, knee = pose->global[rig->knee[k]].translation;
-    return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
-}
-
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
- * rising back through a spring), at most max_hip_drop. */
+ * rising back through a spring), at most max_hip_drop; a target no drop brings in reach asks for none. */
 static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig, const mm_vec3 *target,
                        float dt, mm_rig_pose *pose)
 {
@@ -216,9 +224,10 @@ static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig
         mm_vec3 h = pose->global[rig->hip[k]].translation;
         float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
         float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
-        float down =
-            across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : d->max_hip_drop;
-        need = fmaxf(need, down);
+        /* a target farther across than the leg reaches asks for nothing: no drop brings it in reach
+         * (the hips stayed down, crouched, for as long as such a lock held) */
+        if (across >= reach * reach) continue;
+        need = fmaxf(need, h.y - target[k].y - sqrtf(reach * reach - across));
     }
     need = fminf(need, d->max_hip_drop);
     /* through a spring both ways (a drop followed at once would move the body as fast as the need
