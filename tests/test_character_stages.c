@@ -648,6 +648,52 @@ static void test_feet_land_without_warning(void **state)
     assert_vec3_near(f.heel_lock[0], p[5], 1e-6f);
 }
 
+/* A lock within unlock_radius of the animated ankle but out of its leg's reach is let go: the left
+ * heel planted at (0.1, 0.06, 0), the body then 0.5 m ahead (the hip, lowered by max_hip_drop 0.1 m,
+ * at (0.1, 0.8, 0.5): sqrt(0.74^2 + 0.5^2) = 0.893 m from the lock, within 1.1 x 0.84 = 0.924 m)
+ * holds it; 0.6 m ahead (0.953 m) lets it go, re-planted one spring step from rest toward the
+ * animation as past the radius. The hips are not lowered for a target farther across than the
+ * leg reaches (0.95 x 0.84 m): no drop would bring it in reach. */
+static void test_feet_unreachable_lock_and_hip_drop(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    float dt = 1.0f / 60.0f, y = (float)mm_spring_damping(d.foot_halflife);
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    float ahead[2] = {0.5f, 0.6f};
+    assert_true(ahead[1] < d.unlock_radius); /* both within the radius: only the reach differs */
+    for (int i = 0; i < 2; ++i) {
+        mm_feet f;
+        memset(&f, 0, sizeof f);
+        body b;
+        make_body(&b);
+        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+        make_body(&b);
+        b.global[ROOT].translation.z = ahead[i];
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        float z = i == 0 ? 0.0f : ahead[i] * (1.0f - (1.0f + y * dt) * expf(-y * dt));
+        assert_float_equal(f.heel_lock[0].z, z, 1e-4f);
+    }
+    /* a free left foot whose offset puts its target 1.5 m ahead every tick: the hips come down
+     * only as far as the straight right leg asks, D = 0.84 - 0.95 x 0.84 m, through their spring
+     * (as in test_feet_hips_come_down_smoothly), not toward max_hip_drop */
+    mm_feet_contacts right = {MM_CONTACT_RIGHT_HEEL, {-1.0f, -1.0f}};
+    float D = 0.84f - 0.95f * 0.84f, yh = (float)mm_spring_damping(0.05f);
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    for (int n = 1; n <= 10; ++n) {
+        f.offset[0] = mm_vec3_make(0, 0, 1.5f), f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
+        body b;
+        make_body(&b);
+        mm_feet_update(&f, &d, &b.rig, &right, 0.0f, true, dt, &b.pose);
+        float t = (float)n * dt;
+        assert_float_equal(f.hip_drop, D * (1.0f - (1.0f + yh * t) * expf(-yh * t)), 1e-4f);
+    }
+}
+
 /* The hips come down through a spring (half-life feet.c's HIP_DROP_HALFLIFE, 0.05 s), not at once:
  * standing with straight legs, the ankles planted where they are asks for a drop of D = 0.84 m -
  * 0.95 x 0.84 m (the reach the IK keeps, SOFT_REACH short of the leg), which the pelvis takes as a
@@ -742,6 +788,7 @@ int main(void)
         cmocka_unit_test(test_feet_release_keeps_velocity),
         cmocka_unit_test(test_feet_land_without_warning),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
+        cmocka_unit_test(test_feet_unreachable_lock_and_hip_drop),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
