@@ -1,4 +1,5 @@
 #include <mm/config.h>
+#include <mm/database.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -11,27 +12,30 @@ void mm_config_defaults(mm_config *c)
     memset(c, 0, sizeof *c);
     c->interval = 1.0f / 60.0f;
     c->scale = 0.0f;
-    set_name(c->hips, "Hips");
+    /* the roles' joints by their default names (mm_role_default_name, the one table of them); the
+     * root bone is no role of the runtime's: its default joint is written here */
+    set_name(c->hips, mm_role_default_name(MM_ROLE_HIPS));
     set_name(c->root_bone, "Spine2");
-    set_name(c->facing_bone, "Hips");
+    set_name(c->facing_bone, mm_role_default_name(MM_ROLE_HIPS));
     c->forward_axis = mm_vec3_make(0, 0, 1);
-    set_name(c->left_foot, "LeftFoot");
-    set_name(c->right_foot, "RightFoot");
-    set_name(c->left_toe, "LeftToe");
-    set_name(c->right_toe, "RightToe");
-    set_name(c->left_hand, "LeftHand");
-    set_name(c->right_hand, "RightHand");
-    set_name(c->head, "Head");
+    set_name(c->left_foot, mm_role_default_name(MM_ROLE_LEFT_FOOT));
+    set_name(c->right_foot, mm_role_default_name(MM_ROLE_RIGHT_FOOT));
+    set_name(c->left_toe, mm_role_default_name(MM_ROLE_LEFT_TOE));
+    set_name(c->right_toe, mm_role_default_name(MM_ROLE_RIGHT_TOE));
+    set_name(c->left_hand, mm_role_default_name(MM_ROLE_LEFT_HAND));
+    set_name(c->right_hand, mm_role_default_name(MM_ROLE_RIGHT_HAND));
+    set_name(c->head, mm_role_default_name(MM_ROLE_HEAD));
     c->root_smoothing = 0.1f;
     c->contact_height = 0.05f;
     c->contact_speed = 0.6f;
     c->contact_min_time = 0.1f;
     c->postures_detect = true;
+    c->standing_make = true;
     c->postures_pad = 0.25f;
     c->bone_count = 3;
-    set_name(c->bones[0].name, "LeftFoot");
-    set_name(c->bones[1].name, "RightFoot");
-    set_name(c->bones[2].name, "Hips");
+    set_name(c->bones[0].name, c->left_foot);
+    set_name(c->bones[1].name, c->right_foot);
+    set_name(c->bones[2].name, c->hips);
     for (int i = 0; i < 2; ++i) {
         c->bones[i].features = MM_MATCH_POSITION | MM_MATCH_VELOCITY;
         c->bones[i].position_weight = 0.75f;

@@ -63,7 +63,7 @@ static void make_body(body *b)
     b->pose.local_positions = b->positions;
     b->pose.global = b->global;
     b->global[ROOT] = mm_xform_identity();
-    mm_rig_init(&b->rig, b->joints, JOINTS, NULL, NULL);
+    mm_rig_init(&b->rig, b->joints, JOINTS, L_FOOT, R_FOOT);
     mm_rig_forward(&b->rig, 1, &b->pose);
 }
 
@@ -103,14 +103,16 @@ static void test_rig_finds_legs_pelvis_and_spine(void **state)
     /* world positions by hand: the left ankle 0.84 m below the hips, 0.1 m to the left */
     assert_vec3_near(b.global[L_FOOT].translation, mm_vec3_make(0.1f, 0.06f, 0.0f), 1e-6f);
     assert_vec3_near(b.global[R_TOE].translation, mm_vec3_make(-0.1f, 0.02f, 0.12f), 1e-6f);
-    /* other names: found by the names given; a missing one leaves its leg out, and the pelvis */
+    /* a missing ankle (-1, or out of range) leaves its leg out, and the pelvis */
     mm_rig other;
-    mm_rig_init(&other, b.joints, JOINTS, "LeftFoot", "NoSuchFoot");
+    mm_rig_init(&other, b.joints, JOINTS, L_FOOT, -1);
     assert_int_equal(other.ankle[0], L_FOOT);
     assert_int_equal(other.ankle[1], -1);
     assert_int_equal(other.pelvis, -1);
     /* an ankle that does not hang two joints below the root is no leg */
-    mm_rig_init(&other, b.joints, JOINTS, "Hips", "RightFoot");
+    mm_rig_init(&other, b.joints, JOINTS, L_FOOT, JOINTS);
+    assert_int_equal(other.ankle[1], -1);
+    mm_rig_init(&other, b.joints, JOINTS, HIPS, R_FOOT);
     assert_int_equal(other.ankle[0], -1);
 }
 

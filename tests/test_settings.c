@@ -170,9 +170,8 @@ static void test_synth_same_desc(void **state)
     assert_true(d.trajectory.gaits[MM_GAIT_RUN].forward_speed == 3.8f);
     assert_true(d.trajectory.gaits[MM_GAIT_RUN].velocity_halflife == 0.4f);
     assert_true(d.params.angle_multiplier == 1.5f && d.params.joint_position_weights[0] == 0.75f);
-    assert_string_equal(d.left_foot, "LeftFoot");
-    /* the names point into the database */
-    assert_true(d.left_foot >= (const char *)db.data && d.left_foot < (const char *)db.data + db.size);
+    assert_null(d.left_foot); /* the character takes the foot roles itself */
+    assert_null(d.right_foot);
 
     const char *path = out_path("settings_synth.mmdb");
     mm_error err;
@@ -304,9 +303,8 @@ static void test_roles_any_naming(void **state)
     mm_character_defaults(&names);
     mm_character_desc_apply_config(&names, &db, &cfg);
     assert_same_desc(&got, &names, 0);
-    assert_string_equal(got.left_foot, "leftAnkle");
-    assert_string_equal(got.right_foot, "rightAnkle");
-    assert_string_equal(names.left_foot, "LeftFoot"); /* the literal default */
+    assert_null(got.left_foot); /* no names: the character takes the roles by index */
+    assert_null(names.left_foot);
 
     mm_searcher searcher;
     assert_int_equal(mm_searcher_init(&searcher, &db, NULL, &err), MM_OK);
@@ -318,13 +316,16 @@ static void test_roles_any_naming(void **state)
     assert_int_equal(c.state->rig.pelvis, s->roles[MM_ROLE_HIPS]);
     mm_character_free(&c);
     assert_int_equal(mm_character_init(&c, &db, &searcher, &names, &err), MM_OK);
-    assert_int_equal(c.foot_joint[0], -1); /* by the literal name: no feet, no foot IK */
+    assert_int_equal(c.foot_joint[0], s->roles[MM_ROLE_LEFT_FOOT]); /* the same feet */
+    assert_int_equal(c.foot_joint[1], s->roles[MM_ROLE_RIGHT_FOOT]);
     mm_character_free(&c);
 
     mm_moves_desc md;
     mm_moves_desc_from_database(&md, &db);
-    assert_string_equal(md.left_hand, "leftWrist");
-    assert_string_equal(md.right_foot, "rightAnkle");
+    mm_moves m;
+    assert_int_equal(mm_moves_init(&m, &db, NULL, &md, &err), MM_OK);
+    assert_string_equal(db.joints[m.hand[0]].name, "leftWrist");
+    assert_string_equal(db.joints[m.foot[1]].name, "rightAnkle");
 
     mm_searcher_free(&searcher);
     mm_database_free(&db);

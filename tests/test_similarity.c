@@ -83,6 +83,7 @@ static void build_db(mm_database *db, const motion *motions, const bool *loop, i
     cfg.scale = 1.0f;
     cfg.root_smoothing = 0.0f;
     cfg.left_hand[0] = cfg.right_hand[0] = cfg.head[0] = 0;
+    cfg.standing_make = false; /* the clips given, no standing pose made from them */
     cfg.clip_count = count;
     cfg.clips = calloc((size_t)count, sizeof(mm_config_clip));
     for (int i = 0; i < count; ++i) {

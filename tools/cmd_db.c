@@ -29,6 +29,23 @@ static void print_postures(const mm_db_build_report *report)
            n[MM_POSTURE_LYING], n[MM_POSTURE_ARMS_SPREAD], n[MM_POSTURE_CROUCHED], n[MM_POSTURE_BENT]);
 }
 
+/* The standing clip the build made when no clip is an idle clip (docs/database.md, "A standing pose
+ * when the takes have no idle"). */
+static void print_standing(const mm_db_standing_report *s)
+{
+    if (s->status == MM_STANDING_MADE)
+        printf(
+            "standing:   no idle clip: made %d standing pose%s%s held for 2 s with the feet planted, the "
+            "stillest %s: clip %s's frame %d (%.2f s; root %.3f m/s, joints %.3f m/s around it, feet %.2f m "
+            "apart along the facing, %.2f m from the root)\n",
+            s->poses, s->poses == 1 ? "" : "s", s->mirrored ? " (and mirrors)" : "", s->clip, s->from_clip,
+            s->from_frame, s->from_time, s->root_speed, s->joint_speed, s->stride, s->offset);
+    else if (s->status == MM_STANDING_OFF)
+        printf("standing:   no idle clip, none made (standing.make is false)\n");
+    else if (s->status == MM_STANDING_NOT_FOUND)
+        printf("standing:   no idle clip, none made: no locomotion frame is upright with both feet down\n");
+}
+
 /* What the database lacks (mm/diagnose.h): its height, the gait speeds against the data, the
  * warnings; as text, or as JSON members (json). Returns 0, or 1 after printing an error. */
 static int print_diagnosis(const mm_database *db, const mm_db_build_report *report, int json)
@@ -144,6 +161,7 @@ static int cmd_build(int argc, char **argv)
     printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out,
            db.frame_count, db.dims, db.clip_count, db.size, cli_now() - t0, t1 - t0, t2 - t1);
     print_postures(&report);
+    print_standing(&report.standing);
     status = print_diagnosis(&db, &report, 0);
     mm_database_free(&db);
     return status;

@@ -421,7 +421,9 @@ static int view_clip(const options *o)
         scene.joint_count = n;
         scene.parents = parents;
         scene.global = global;
-        scene.head_joint = mm_render_find_head(clip.skeleton.joints, n);
+        /* the head: the config's head role, else the default name */
+        int head = tags.has_cfg ? mm_skeleton_find(&clip.skeleton, tags.cfg.head) : -1;
+        scene.head_joint = head > 0 ? head : mm_render_find_head(clip.skeleton.joints, n);
         static mm_render_box boxes[MM_SCENE_MAX_BOXES];
         scene.boxes = boxes;
         scene.box_count = mm_view_scene_boxes(o->scene, boxes, MM_SCENE_MAX_BOXES);

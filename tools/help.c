@@ -106,8 +106,8 @@ static const help_entry entries[] = {
     {"db build", "build a motion database from a config; warnings about what it lacks",
      "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N]\n"
      "Builds a motion database (docs/database.md) and prints what it found: the postures, the\n"
-     "runtime's gait speeds against the data, and warnings about what the database lacks\n"
-     "(docs/database.md, \"Diagnostics\").\n"
+     "standing poses it made when no clip is an idle clip (standing.make), the runtime's gait speeds\n"
+     "against the data, and warnings about what the database lacks (docs/database.md, \"Diagnostics\").\n"
      "  CONFIG             the database config (JSON); clip files are looked for beside it, in DIR,\n"
      "                     then in $MM_DATA_DIR\n"
      "  -o, --output FILE  the database to write (required)\n"
@@ -144,12 +144,15 @@ static const help_entry entries[] = {
      "                     search's defaults)\n"
      "  --json             print JSON (default: text)\n"},
     {"metrics", "the metrics a motion gives alone, on any BVH file",
-     "usage: mm metrics FILE.bvh [--db DB.mmdb] [--scale S|auto] [--scene SCENE.json] [-o OUT.json]\n"
+     "usage: mm metrics FILE.bvh [--db DB.mmdb | --config CONFIG.json] [--scale S|auto] [--scene "
+     "SCENE.json]\n"
+     "                  [-o OUT.json]\n"
      "The metrics of docs/metrics.md that a motion gives alone: pops, joints below the ground, the\n"
      "head's height, posture, arms, a foot slide measure without contact labels.\n"
      "  FILE.bvh           the motion\n"
-     "  --db DB.mmdb       take the bone roles and references from this database (default: common\n"
-     "                     joint names and the file itself)\n"
+     "  --db DB.mmdb       take the bone roles and references from this database (default: the\n"
+     "                     roles' default joint names and the file itself)\n"
+     "  --config CONFIG    instead: take the bone roles from this database config (by name)\n"
      "  --scale S|auto     multiply lengths by S to get metres (default auto)\n"
      "  --scene SCENE.json the ground and boxes the motion is on (default: flat ground)\n"
      "  -o OUT.json        write the metrics there (default: standard output)\n"},
@@ -280,7 +283,10 @@ static const help_entry entries[] = {
      "  --size WxH         the window's pixels (default 1280x720)\n"
      "  --frames N         run N frames and quit (default: until the window closes)\n"
      "  --screenshot PNG   save the last of the N frames\n"},
-    {"version", "print the version", "usage: mm version\nPrints the version.\n"},
+    {"version", "print the version",
+     "usage: mm version   (or mm --version)\n"
+     "Prints the program's version, the version of the mm library it runs with (mm_version(),\n"
+     "mm/version.h) and the .mmdb format version it reads (docs/embedding.md, \"Versions\").\n"},
     {"help", "this list, or a command's usage and options",
      "usage: mm help [COMMAND [SUBCOMMAND]]\n"
      "       mm COMMAND [SUBCOMMAND] --help   (or -h)\n"

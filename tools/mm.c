@@ -55,7 +55,9 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
         if (strcmp(cmd, commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
     if (strcmp(cmd, "version") == 0 || strcmp(cmd, "--version") == 0) {
-        printf("mm %s\n", MM_VERSION_STRING);
+        /* the program's version, the library's it runs with, and the database format it reads */
+        printf("mm %s (library %s, database format %d)\n", MM_VERSION_STRING, mm_version_string(),
+               MM_DB_VERSION);
         return 0;
     }
     fprintf(stderr, "mm: unknown command '%s'\n", cmd);

@@ -1,6 +1,7 @@
 /* The quality metrics of docs/metrics.md, shared by mm simulate and mm pfnn run. */
 #include <ctype.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -426,33 +427,40 @@ float motion_metrics_yaw(mm_quat q)
     return atan2f(f.x, f.z);
 }
 
+/* The contacts' roles, in the order of motion_metrics' contacts. */
+static const mm_role contact_roles[4] = {MM_ROLE_LEFT_FOOT, MM_ROLE_LEFT_TOE, MM_ROLE_RIGHT_FOOT,
+                                         MM_ROLE_RIGHT_TOE};
+
 void motion_metrics_roles_of_database(const mm_database *db, int contact[4], mm_posture_joints *joints)
 {
-    const mm_role roles[4] = {MM_ROLE_LEFT_FOOT, MM_ROLE_LEFT_TOE, MM_ROLE_RIGHT_FOOT, MM_ROLE_RIGHT_TOE};
-    const int32_t *r = db->settings ? db->settings->roles : NULL;
-    for (int k = 0; k < 4; ++k) contact[k] = r ? r[roles[k]] : -1;
-    joints->hips = r ? r[MM_ROLE_HIPS] : -1;
-    joints->head = r ? r[MM_ROLE_HEAD] : -1;
-    joints->left_hand = r ? r[MM_ROLE_LEFT_HAND] : -1;
-    joints->right_hand = r ? r[MM_ROLE_RIGHT_HAND] : -1;
+    for (int k = 0; k < 4; ++k) contact[k] = mm_database_role_joint(db, contact_roles[k]);
+    joints->hips = mm_database_role_joint(db, MM_ROLE_HIPS);
+    joints->head = mm_database_role_joint(db, MM_ROLE_HEAD);
+    joints->left_hand = mm_database_role_joint(db, MM_ROLE_LEFT_HAND);
+    joints->right_hand = mm_database_role_joint(db, MM_ROLE_RIGHT_HAND);
 }
 
-static int find_either(const mm_skeleton *s, const char *a, const char *b)
+/* The joint of a role by its default name; a toe also as the default name with "Base" after it
+ * (LeftToeBase: the CMU and Mixamo toes, the PFNN skeleton's), which wins. */
+static int find_by_default_name(const mm_skeleton *s, mm_role role)
 {
-    int j = mm_skeleton_find(s, a);
-    return j >= 0 ? j : mm_skeleton_find(s, b);
+    const char *name = mm_role_default_name(role);
+    if (role == MM_ROLE_LEFT_TOE || role == MM_ROLE_RIGHT_TOE) {
+        char base[MM_NAME_MAX];
+        snprintf(base, sizeof base, "%sBase", name);
+        int j = mm_skeleton_find(s, base);
+        if (j >= 0) return j;
+    }
+    return mm_skeleton_find(s, name);
 }
 
 void motion_metrics_roles_by_name(const mm_skeleton *s, int contact[4], mm_posture_joints *joints)
 {
-    contact[0] = mm_skeleton_find(s, "LeftFoot");
-    contact[1] = find_either(s, "LeftToeBase", "LeftToe");
-    contact[2] = mm_skeleton_find(s, "RightFoot");
-    contact[3] = find_either(s, "RightToeBase", "RightToe");
-    joints->hips = mm_skeleton_find(s, "Hips");
-    joints->head = mm_skeleton_find(s, "Head");
-    joints->left_hand = mm_skeleton_find(s, "LeftHand");
-    joints->right_hand = mm_skeleton_find(s, "RightHand");
+    for (int k = 0; k < 4; ++k) contact[k] = find_by_default_name(s, contact_roles[k]);
+    joints->hips = find_by_default_name(s, MM_ROLE_HIPS);
+    joints->head = find_by_default_name(s, MM_ROLE_HEAD);
+    joints->left_hand = find_by_default_name(s, MM_ROLE_LEFT_HAND);
+    joints->right_hand = find_by_default_name(s, MM_ROLE_RIGHT_HAND);
 }
 
 /* A tag that names a gait other than walk and run (crouch, jump), in any case. */

@@ -115,8 +115,9 @@ double motion_metrics_frame_pop(const mm_vec3 *now, const mm_vec3 *before, const
 double motion_metrics_percentile(const float *v, long n, double q);
 
 /* The contact joints (left heel, left toe, right heel, right toe) and the posture's joints: from a
- * database's bone roles, or (by name) from a skeleton's common names: Hips, Head, LeftHand,
- * RightHand, LeftFoot, RightFoot, LeftToeBase or LeftToe, RightToeBase or RightToe. -1: none. */
+ * database's bone roles (mm_database_role_joint: its settings, else the default names), or (by
+ * name) from a skeleton's joints named as the roles' defaults (mm_role_default_name; a toe's
+ * default name with "Base" after it first: LeftToeBase). -1: none. */
 void motion_metrics_roles_of_database(const mm_database *db, int contact[4], mm_posture_joints *joints);
 void motion_metrics_roles_by_name(const mm_skeleton *s, int contact[4], mm_posture_joints *joints);
 

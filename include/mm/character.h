@@ -174,7 +174,9 @@ typedef struct mm_character_desc {
     float max_hip_drop;                 /* m: how far the hips may be lowered so that the legs
                                            reach their targets (MM_OFF: never) */
     const char *left_foot, *right_foot; /* ankle joints (the knee and hip are their parents);
-                                           NULL: "LeftFoot", "RightFoot" */
+                                           NULL (the default): the database's foot roles
+                                           (mm_database_role_joint); a name wins over the role,
+                                           and one that names no joint leaves that foot out */
     /* Distance matching and stride warping (mm/distance_matching.h, mm/warp.h, docs/distance.md
      * "In the controller"), on the database's distance curves. Off: the clock drives playback at
      * rate 1, as before. Frames tagged "NoDistanceMatching" always play at rate 1, unwarped. */
@@ -209,11 +211,11 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p);
 /* The character settings a database was tuned with, from its settings section (no JSON, no
  * allocation): mm_character_defaults; then d->params = mm_character_default_params and
  * d->trajectory = mm_trajectory_defaults; then the stored feature weights and every runtime field
- * the settings set (a value of 0 as MM_OFF, so that it keeps its meaning); and d->left_foot / d->right_foot
- * the names of the joints of the left and right foot roles where the database has them (they point into db:
- * they live as long as it does). The same desc, field for field, as mm_character_desc_apply_config
- * (mm/character_config.h) with the config the database was built from. A database without settings
- * (db->settings NULL: not loaded nor built) gives the defaults. MM_ERR_INVALID_ARGUMENT without d or db. */
+ * the settings set (a value of 0 as MM_OFF, so that it keeps its meaning). d->left_foot and
+ * d->right_foot stay NULL: the character takes the database's foot roles (by joint index) itself. The same
+ * desc, field for field, as mm_character_desc_apply_config (mm/character_config.h) with the config the
+ * database was built from. A database without settings (db->settings NULL: not loaded nor built) gives the
+ * defaults. MM_ERR_INVALID_ARGUMENT without d or db. */
 mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err);
 
 /* Writes the tuning of settings s (a database's, or one made from a config) into d: the stored

@@ -124,6 +124,10 @@ typedef struct mm_config {
     bool postures_detect; /* default true */
     float postures_pad;   /* seconds kept out around a removed posture; default 0.25 */
 
+    /* Standing: when no clip is an idle clip, the build makes one from the takes' stillest
+     * standing frame, held (docs/database.md, "A standing pose when the takes have no idle") */
+    bool standing_make; /* default true */
+
     /* Features */
     int bone_count;
     mm_config_bone bones[MM_MAX_MATCH_BONES]; /* the seed's Bones */

@@ -28,7 +28,8 @@
  *
  * Functions: mm_database_save mm_database_load mm_database_load_memory mm_database_free
  *            mm_database_pose mm_database_matched_bone mm_database_find_clip mm_feature_kind_name
- *            mm_database_distance_curve
+ *            mm_database_distance_curve mm_database_find_joint mm_database_role_joint
+ *            mm_database_toe_joint mm_role_default_name
  *
  * Distance curves (mm/distance_curve.h): each clip's root (joint 0) path measured at build time by
  * mm_distance_curve_build (stop speed MM_DISTANCE_STOP_SPEED_DEFAULT), stored as flat arrays and
@@ -312,6 +313,19 @@ void mm_database_pose(const mm_database *db, int frame, mm_pose_data *out);
 int mm_database_matched_bone(const mm_database *db, int group);
 /* Clip index by name, or -1. */
 int mm_database_find_clip(const mm_database *db, const char *name);
+/* Joint index by name (the last joint so named), or -1 (also for a NULL name). */
+int mm_database_find_joint(const mm_database *db, const char *name);
+/* The joint of a bone role: the index the database's settings give it (-1 where its config named
+ * no joint); for a database without settings (db->settings NULL: one made in code, not built nor
+ * loaded) the joint named mm_role_default_name(role), or -1. Everything the runtime does with feet,
+ * toes, hands and the head starts here (docs/runtime.md, "Bone roles"). */
+int mm_database_role_joint(const mm_database *db, mm_role role);
+/* The toe of an ankle joint: the joint of toe_role (MM_ROLE_LEFT_TOE or MM_ROLE_RIGHT_TOE) when it
+ * is a child of ankle, else ankle's first child; -1 when ankle has no child or is no joint. */
+int mm_database_toe_joint(const mm_database *db, int ankle, mm_role toe_role);
+/* The joint name a config gives a role by default ("Hips", "LeftFoot", ...: mm_config_defaults,
+ * docs/config.md), the only place the default names are written; NULL out of range. */
+const char *mm_role_default_name(mm_role role);
 /* A view of clip's distance curve into the database (block NULL: do not free it; it lives as long
  * as db). Loading validated it. MM_ERR_INVALID_ARGUMENT for a bad clip index, MM_ERR_OUT_OF_RANGE
  * for a clip of a single frame (no curve); *out is zeroed then. */

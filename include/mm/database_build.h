@@ -25,12 +25,39 @@
 extern "C" {
 #endif
 
+/* Whether the build made a standing clip (config standing.make; docs/database.md, "A standing pose
+ * when the takes have no idle"). */
+typedef enum mm_standing_status {
+    MM_STANDING_NOT_NEEDED = 0, /* the config has an idle clip */
+    MM_STANDING_OFF,            /* none, and standing.make is false */
+    MM_STANDING_MADE,           /* none: the build made one */
+    MM_STANDING_NOT_FOUND       /* none, and no locomotion frame is upright with both feet down */
+} mm_standing_status;
+
+/* The standing clips a build made: how many, and which frame of which clip the first (the stillest)
+ * holds, and how still that was. */
+typedef struct mm_db_standing_report {
+    int status;                    /* mm_standing_status */
+    int poses;                     /* standing clips made (mirrors aside): the stillest pose and those
+                                      nearly as still, each from its own clip */
+    char clip[MM_NAME_MAX];        /* the first clip made: "standing_from_<from_clip>_<from_frame>" */
+    char from_clip[MM_NAME_MAX];   /* the database clip whose pose it holds */
+    int from_frame;                /* that pose's frame in the source file (its own frame rate) */
+    float from_time;               /* s: the same, in seconds from the start of the file */
+    bool mirrored;                 /* the mirrored pose was added too ("<clip>_mirror") */
+    float root_speed, joint_speed; /* m/s: the root's and the joints' mean speed around the frame */
+    float stride;                  /* m: the ankles apart along the facing */
+    float offset;                  /* m: the ankles' midpoint from the root, on the ground */
+    int standing_frames;           /* locomotion frames judged upright with both feet down */
+} mm_db_standing_report;
+
 /* What a build found in its sources (mm_db_build_desc.report). */
 typedef struct mm_db_build_report {
     float reference_head_height;         /* m: the upright head height postures are judged by (0: none) */
     int source_frames[MM_POSTURE_COUNT]; /* source frames of the locomotion and idle clips judged to
                                             hold each posture (mm/posture.h): calibration and lying
                                             ones are left out, crouched and bent ones tagged Crouch */
+    mm_db_standing_report standing;      /* the standing clip made when no clip is an idle clip */
 } mm_db_build_report;
 
 typedef struct mm_db_build_desc {

@@ -78,6 +78,8 @@ typedef struct mm_diagnosis {
     mm_diagnostic items[MM_DIAGNOSE_MAX];
     mm_speed_coverage speeds[MM_DIAGNOSE_SPEEDS]; /* walk forward, side, backward, then run's */
     int idle_clips;                               /* clips of type idle */
+    int standing_clips;     /* of them, standing poses the build made (standing.make: their names start
+                               "standing_from_"; docs/database.md) */
     int stops, starts;      /* stop segments of the distance curves; one-shot clips starting from rest */
     float height;           /* m: the standing height (the head's, or the top joint's, height above the
                                lowest joint, 90th percentile over frames, / MM_POSTURE_HEAD_TO_STATURE);

@@ -19,6 +19,7 @@
 #include "distance_curve.h"
 #include "distance_curve_build.h"
 #include "distance_matching.h"
+#include "flat.h"
 #include "gait.h"
 #include "database_build.h"
 #include "diagnose.h"
@@ -31,6 +32,7 @@
 #include "prediction.h"
 #include "pfnn_character.h"
 #include "result.h"
+#include "run.h"
 #include "search.h"
 #include "similarity.h"
 #include "skeleton.h"
@@ -38,11 +40,7 @@
 #include "spring.h"
 #include "synth.h"
 #include "trajectory.h"
+#include "version.h"
 #include "warp.h"
-
-#define MM_VERSION_MAJOR  0
-#define MM_VERSION_MINOR  1
-#define MM_VERSION_PATCH  0
-#define MM_VERSION_STRING "0.1.0"
 
 #endif /* MM_MM_H */

@@ -97,14 +97,15 @@ typedef struct mm_moves_desc {
     float max_lift;                     /* m: the most the reactive lift raises the root during a
                                            move (a joint of the pose about to play, or as played,
                                            inside a box's top; the planned lift is not capped); 0.6 */
-    const char *left_hand, *right_hand; /* joints; "LeftHand", "RightHand" */
-    const char *left_foot, *right_foot; /* joints; "LeftFoot", "RightFoot" */
+    const char *left_hand, *right_hand; /* joints; NULL (the default): the database's hand
+                                           and foot roles (mm_database_role_joint); a name
+                                           wins over the role */
+    const char *left_foot, *right_foot;
 } mm_moves_desc;
 
 void mm_moves_defaults(mm_moves_desc *d);
-/* mm_moves_defaults with the hands and feet of the database's bone roles (its settings section,
- * mm_database_settings.roles) where it has them: the names point into db (they live as long as it
- * does). */
+/* mm_moves_defaults: the joint names stay NULL, so that mm_moves_init takes the hands and feet
+ * of db's bone roles (mm_database_role_joint; kept for the callers that name db here). */
 void mm_moves_desc_from_database(mm_moves_desc *d, const mm_database *db);
 
 /* At most this many move clips (spans tagged as a move) are kept; further ones are ignored. */
@@ -158,9 +159,9 @@ typedef struct mm_moves {
     mm_move_clip options[MM_MOVES_MAX_CLIPS]; /* every usable span of every kind, measured once at
                                                  init; a move plays the one that best fits */
     int option_count;
-    int hand[2], foot[2], toe[2]; /* toe: the feet's first children, -1 */
+    int hand[2], foot[2], toe[2]; /* toe: mm_database_toe_joint of the feet, -1 */
     float ankle_height;           /* m: the ankles' height above the ground when standing */
-    float toe_height;             /* m: the toes' (the ankles' first children) then */
+    float toe_height;             /* m: the toes' then */
     bool enabled;                 /* a scene and at least one move clip */
 
     /* state */

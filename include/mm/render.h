@@ -122,7 +122,9 @@ typedef struct mm_render_scene {
     float ground_height; /* m: the height of the ground grid (0 by default) */
 } mm_render_scene;
 
-/* The joint named like a head ("Head", "head", "HEAD"; the first such), or 0 when none. */
+/* The joint named like a head: the head role's default name (mm_role_default_name) in any case,
+ * the first such; 0 when none. For a skeleton without a database; with one, the head is its head
+ * role (mm_database_role_joint), as the view of a character takes it. */
 int mm_render_find_head(const mm_joint *joints, int count);
 
 /* Size in pixels of text drawn by the renderer (the built-in 5x7 font at 2x: glyph cells of

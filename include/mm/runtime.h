@@ -26,12 +26,14 @@
 #include "pose.h"
 #include "prediction.h"
 #include "result.h"
+#include "run.h"
 #include "scene.h"
 #include "search.h"
 #include "skeleton.h"
 #include "spring.h"
 #include "target_match.h"
 #include "trajectory.h"
+#include "version.h"
 #include "warp.h"
 
 #endif /* MM_RUNTIME_H */

@@ -10,6 +10,7 @@
  * counter, write their results to fixed places, and every sum runs in one thread in frame order,
  * so the work split never changes a bit; lists (clips, distance segments) are joined afterwards
  * in index order, and an error is reported for the first failing unit in that order. */
+#include <ctype.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -23,6 +24,7 @@
 #include "db/features.h"
 #include "db/process.h"
 #include "db/settings_build.h"
+#include "db/standing.h"
 #include "search/pool.h"
 
 typedef struct built {
@@ -286,6 +288,121 @@ static mm_result check_skeletons(builder *b)
         if (roles[r][0] && mm_skeleton_find(s0, roles[r]) < 0)
             return mm_error_set(b->err, MM_ERR_NOT_FOUND, 0, 0, "roles.%s: no joint named '%s'", fields[r],
                                 roles[r]);
+    return MM_OK;
+}
+
+static int same_name_any_case(const char *a, const char *b)
+{
+    for (; *a && *b; ++a, ++b)
+        if (tolower((unsigned char)*a) != tolower((unsigned char)*b)) return 0;
+    return *a == *b;
+}
+
+/* With no idle clip (and standing.make), the stillest standing frames of the locomotion clips, held,
+ * as idle loops (db/standing.h), each mirrored when its clip is; says so in report. */
+static mm_result add_standing(builder *b, float head_height, mm_db_standing_report *report)
+{
+    const mm_config *cfg = b->cfg;
+    mm_db_standing_report said;
+    memset(&said, 0, sizeof said);
+    said.from_frame = -1;
+    said.status = MM_STANDING_NOT_NEEDED;
+    for (int i = 0; i < b->count; ++i)
+        if (b->clips[i].meta.type == MM_CLIP_IDLE) {
+            if (report) *report = said;
+            return MM_OK;
+        }
+    said.status = cfg->standing_make ? MM_STANDING_NOT_FOUND : MM_STANDING_OFF;
+    if (!cfg->standing_make) {
+        if (report) *report = said;
+        return MM_OK;
+    }
+    /* the clips as recorded: not the mirrors (the pose's mirror is made from it) nor blends; their
+     * frames that locomotion plays */
+    static const char *const skip_names[] = MM__STANDING_SKIP_TAGS;
+    uint64_t skip = 0;
+    for (int t = 0; t < cfg->tag_count; ++t)
+        for (size_t k = 0; k < sizeof skip_names / sizeof skip_names[0]; ++k)
+            if (same_name_any_case(cfg->tag_names[t], skip_names[k])) skip |= (uint64_t)1 << t;
+    if (b->postures->crouch_tag >= 0) skip |= (uint64_t)1 << b->postures->crouch_tag;
+    const mm_clip **candidates = (const mm_clip **)calloc((size_t)b->count, sizeof(mm_clip *));
+    uint8_t **usable = (uint8_t **)calloc((size_t)b->count, sizeof(uint8_t *));
+    int *index = (int *)malloc(sizeof(int) * (size_t)b->count), count = 0;
+    mm_result r = candidates && usable && index ? MM_OK : MM_ERR_OUT_OF_MEMORY;
+    for (int i = 0; i < b->count && r == MM_OK; ++i) {
+        const built *c = &b->clips[i];
+        if (c->blend >= 0 || c->meta.mirrored || c->meta.type != MM_CLIP_LOCOMOTION) continue;
+        int n = c->clip.frame_count;
+        if (!(usable[count] = (uint8_t *)malloc((size_t)(n > 0 ? n : 1)))) {
+            r = MM_ERR_OUT_OF_MEMORY;
+            break;
+        }
+        for (int f = 0; f < n; ++f)
+            usable[count][f] =
+                !(tags_at(b, c->config_clip, c->meta.source_start + (float)f * cfg->interval) & skip);
+        candidates[count] = &c->clip;
+        index[count++] = i;
+    }
+    mm__standing_pick picks[MM__STANDING_POSES];
+    int found = 0;
+    if (r == MM_OK)
+        r = mm__standing_find(cfg, candidates, (const uint8_t *const *)usable, count, head_height,
+                              MM__STANDING_POSES, picks, &found, &said.standing_frames);
+    for (int k = 0; k < found; ++k) picks[k].clip = index[picks[k].clip]; /* now a builder clip */
+    for (int i = 0; usable && i < count; ++i) free(usable[i]);
+    free(usable);
+    free(candidates);
+    free(index);
+    if (r != MM_OK) return mm_error_set(b->err, r, 0, 0, "standing: out of memory");
+    for (int k = 0; k < found; ++k) {
+        const built *src = &b->clips[picks[k].clip];
+        const mm_clip *file = &b->sources[src->meta.source];
+        float t = src->meta.source_start + (float)picks[k].frame * cfg->interval;
+        int source_frame = (int)lroundf(t * file->fps);
+        built x;
+        memset(&x, 0, sizeof x);
+        snprintf(x.meta.name, MM_NAME_MAX, MM__STANDING_PREFIX "%.32s_%d", src->meta.name, source_frame);
+        x.meta.type = MM_CLIP_IDLE;
+        x.meta.loop = 1;
+        x.meta.source = src->meta.source;
+        x.meta.blend_left = x.meta.blend_right = -1;
+        x.meta.source_start = t;
+        x.config_clip = -1; /* no tags: the pose stands in no gait */
+        x.blend = -1;
+        int mirror = cfg->clips[src->meta.source].mirror;
+        if (k == 0) {
+            said.status = MM_STANDING_MADE;
+            said.from_time = t;
+            said.from_frame = source_frame;
+            said.root_speed = picks[k].root_speed;
+            said.joint_speed = picks[k].joint_speed;
+            said.stride = picks[k].stride;
+            said.offset = picks[k].offset;
+            said.mirrored = mirror;
+            snprintf(said.from_clip, MM_NAME_MAX, "%s", src->meta.name);
+            snprintf(said.clip, MM_NAME_MAX, "%s", x.meta.name);
+        }
+        ++said.poses;
+        if ((r = mm__standing_hold(&src->clip, picks[k].frame, &x.clip, b->a)) != MM_OK)
+            return mm_error_set(b->err, r, 0, 0, "standing: out of memory");
+        if ((r = push(b, &x)) != MM_OK) {
+            mm_clip_free(&x.clip);
+            return r;
+        }
+        if (mirror) {
+            built m = b->clips[b->count - 1];
+            if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a)) != MM_OK)
+                return mm_error_set(b->err, r, 0, 0, "standing (%s): cannot mirror", x.meta.name);
+            size_t len = strlen(m.meta.name);
+            snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
+            m.meta.mirrored = 1;
+            if ((r = push(b, &m)) != MM_OK) {
+                mm_clip_free(&m.clip);
+                return r;
+            }
+        }
+    }
+    if (report) *report = said;
     return MM_OK;
 }
 
@@ -712,6 +829,9 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
             err, MM_ERR_INVALID_ARGUMENT, 0, 0,
             "no frames left: every clip's frames are calibration or lying poses (postures.detect)");
     if (r == MM_OK) r = check_skeletons(&b);
+    if (r == MM_OK)
+        r = add_standing(&b, postures.reference_head_height,
+                         desc && desc->report ? &desc->report->standing : NULL);
     if (r != MM_OK) {
         mm__pool_destroy(pool);
         free_builder(&b);

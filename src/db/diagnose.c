@@ -12,6 +12,7 @@
 #include <mm/trajectory.h>
 
 #include "db/process.h"
+#include "db/standing.h"
 
 static const char *const code_names[MM_DIAG_CODE_COUNT] = {
     "no_idle", "speed_not_covered", "no_stops",       "no_starts", "role_missing",
@@ -159,15 +160,14 @@ static const char *role_use(int k)
                "character's posture";
     case MM_ROLE_LEFT_FOOT:
     case MM_ROLE_RIGHT_FOOT:
-        return "that foot has no heel contacts, and foot locking and IK find it only by the name LeftFoot or "
-               "RightFoot: it may slide";
+        return "that foot has no heel contacts, and foot locking and IK leave it free: it may slide";
     case MM_ROLE_LEFT_TOE:
     case MM_ROLE_RIGHT_TOE:
         return "that foot has no toe contacts: foot locking holds the heel only";
     case MM_ROLE_LEFT_HAND:
     case MM_ROLE_RIGHT_HAND:
-        return "moves that plant a hand (vaults, climbs) find it only by the name LeftHand or RightHand, and "
-               "the build found no calibration pose";
+        return "moves that plant a hand (vaults, climbs) have no hand to place, and the build found no "
+               "calibration pose";
     default:
         return "the build did not judge postures (T poses and lying stay in) and the metrics cannot measure "
                "the "
@@ -194,13 +194,38 @@ mm_result mm_database_diagnose(const mm_database *db, const mm_db_build_report *
     if (db->frame_count > 0 && db->joint_count > 1) out->height = standing_height(db, v, g);
     mm_free(a, v);
     mm_free(a, g);
-    for (int c = 0; c < db->clip_count; ++c) out->idle_clips += db->clips[c].type == MM_CLIP_IDLE;
+    int made = -1, poses = 0; /* the first standing clip the build made; those not mirrored */
+    for (int c = 0; c < db->clip_count; ++c) {
+        if (db->clips[c].type != MM_CLIP_IDLE) continue;
+        ++out->idle_clips;
+        if (strncmp(db->clips[c].name, MM__STANDING_PREFIX, strlen(MM__STANDING_PREFIX)) == 0) {
+            ++out->standing_clips;
+            poses += !db->clips[c].mirrored;
+            if (made < 0) made = c;
+        }
+    }
     distance_counts(db, out);
 
-    if (!out->idle_clips)
+    const mm_db_standing_report *st = report ? &report->standing : NULL;
+    if (out->idle_clips && out->idle_clips == out->standing_clips) {
+        char from[160] = "";
+        if (st && st->status == MM_STANDING_MADE)
+            snprintf(from, sizeof from, " (clip %s's frame %d, %.2f s)", st->from_clip, st->from_frame,
+                     st->from_time);
         add(out, MM_DIAG_NO_IDLE,
-            "no idle clip: stops will slide (the character has nothing to stand still on): add an idle clip "
-            "(a take of standing, \"type\": \"idle\"; mm bvh spans finds the standing spans of a take)");
+            "no idle clip in the config: the build made %d standing pose%s from the takes, "
+            "held with the feet planted (standing.make), the stillest %s%s, so stops stand "
+            "still but do not breathe or shift: add an idle clip (a take of standing, "
+            "\"type\": \"idle\"; mm bvh spans finds the standing spans of a take)",
+            poses, poses == 1 ? "" : "s", db->clips[made].name, from);
+    } else if (!out->idle_clips)
+        add(out, MM_DIAG_NO_IDLE,
+            "no idle clip: stops will slide (the character has nothing to stand still on)%s: add an idle "
+            "clip (a take of standing, \"type\": \"idle\"; mm bvh spans finds the standing spans of a take)",
+            st && st->status == MM_STANDING_OFF ? " and standing.make is false"
+            : st && st->status == MM_STANDING_NOT_FOUND
+                ? " and no locomotion frame is upright with both feet down to make a standing pose from"
+                : "");
     for (int k = 0; k < MM_DIAGNOSE_SPEEDS; ++k) {
         const mm_speed_coverage *c = &out->speeds[k];
         if (c->covered) continue;

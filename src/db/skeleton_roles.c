@@ -548,7 +548,7 @@ static mm_result find_roles(finder *f, const mm_clip *takes, int count, mm_xform
     int hips = out->roles[MM_BODY_HIPS].joint;
     if (hips < 0)
         return mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0,
-                            "no hips: no joint is named Hips or Pelvis and no two legs meet a spine");
+                            "no hips: no joint is named as hips or pelvis and no two legs meet a spine");
 
     /* legs and arms from geometry: chains below the hips / the chest */
     limb leg[2], arm[2];

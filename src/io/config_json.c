@@ -69,6 +69,13 @@ static const mm_config_field_doc docs[] = {
      "named so), the crouch gait, which an ordinary walk or run does not play. Frames the config tags with a "
      "gait (walk, run, crouch, jump) keep what the config says."},
     {"postures.pad", "number", "s", "0.25", "Seconds left out before and after a calibration or lying pose."},
+    {"standing.make", "bool", "", "true",
+     "When no clip is an idle clip, make some: the stillest standing frame of the locomotion clips (upright, "
+     "both feet down, the root and joints slowest around it, the feet side by side under the body), and up "
+     "to 3 others nearly as still from other clips, each held for 2 s as an idle loop named "
+     "standing_from_<clip>_<frame> (mirrored too when its clip is), so that a character told to stop stands "
+     "still instead of sliding on walking frames (docs/database.md, \"A standing pose when the takes have no "
+     "idle\"). mm db build says which frames it took; false: none."},
     {"features.bones", "[object]", "", "LeftFoot, RightFoot (position and velocity), Hips (velocity)",
      "The bones whose position and velocity, relative to the character, are matched (the seed's Bones)."},
     {"features.bones[].name", "string", "", "", "Joint name."},
@@ -542,9 +549,10 @@ static float whole_rate_interval(float interval)
 
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
-    static const char *const keys[] = {
-        "interval",     "scale", "roles", "root_smoothing", "contacts", "postures", "features",
-        "mirror_pairs", "tags",  "clips", "blend_clips",    "runtime",  "extends",  NULL};
+    static const char *const keys[] = {"interval", "scale",    "roles",       "root_smoothing",
+                                       "contacts", "postures", "features",    "mirror_pairs",
+                                       "tags",     "clips",    "blend_clips", "runtime",
+                                       "extends",  "standing", NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
@@ -568,6 +576,12 @@ static mm_result parse_root(ctx *c, const cJSON *root)
         if ((r = check_keys(c, postures, "postures", pkeys)) != MM_OK) return r;
         if ((r = get_bool(c, postures, "detect", "postures", &cfg->postures_detect)) != MM_OK) return r;
         if ((r = get_number(c, postures, "pad", "postures", &cfg->postures_pad)) != MM_OK) return r;
+    }
+    const cJSON *standing = cJSON_GetObjectItemCaseSensitive(root, "standing");
+    if (standing) {
+        static const char *const skeys[] = {"make", NULL};
+        if ((r = check_keys(c, standing, "standing", skeys)) != MM_OK) return r;
+        if ((r = get_bool(c, standing, "make", "standing", &cfg->standing_make)) != MM_OK) return r;
     }
     const cJSON *features = cJSON_GetObjectItemCaseSensitive(root, "features");
     if (features && (r = parse_features(c, features)) != MM_OK) return r;

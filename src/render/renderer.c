@@ -1,11 +1,13 @@
 /* The OpenGL 3.3 core renderer: a lit capsule character with contact shadows on a grid ground,
  * debug lines and markers, and overlay text in the built-in font. */
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <mm/alloc.h>
+#include <mm/database.h>
 
 #include "gl_api.h"
 #include "render_internal.h"
@@ -398,12 +400,19 @@ static void model_matrices(mm_quat q, mm_vec3 s, mm_vec3 t, float model[16], flo
     normal[12] = normal[13] = normal[14] = 0.0f, normal[15] = 1.0f;
 }
 
+/* Whether two names are the same in any case (ASCII). */
+static bool same_name_any_case(const char *a, const char *b)
+{
+    for (; *a && *b; ++a, ++b)
+        if (tolower((unsigned char)*a) != tolower((unsigned char)*b)) return false;
+    return *a == *b;
+}
+
 int mm_render_find_head(const mm_joint *joints, int count)
 {
+    const char *head = mm_role_default_name(MM_ROLE_HEAD);
     for (int j = 1; j < count; ++j)
-        if (strcmp(joints[j].name, "Head") == 0 || strcmp(joints[j].name, "head") == 0 ||
-            strcmp(joints[j].name, "HEAD") == 0)
-            return j;
+        if (same_name_any_case(joints[j].name, head)) return j;
     return 0;
 }
 

@@ -101,7 +101,8 @@ void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const
     s->global = c->global;
     s->first_joint = db->joint_count > 1 ? 1 : 0; /* joint 0 is the simulation bone on the ground */
     s->bone_radius = 0.03f;
-    s->head_joint = mm_render_find_head(db->joints, db->joint_count);
+    int head = mm_database_role_joint(db, MM_ROLE_HEAD); /* the head role; 0: no sphere */
+    s->head_joint = head > 0 ? head : 0;
     s->body_color = body_color;
     s->lines = v->lines;
     s->markers = v->markers;

@@ -10,13 +10,6 @@
 /* A stored value for a desc field where zero means default: 0 stays 0 (MM_OFF). */
 static float kept(float v) { return v == 0.0f ? MM_OFF : v; }
 
-/* The name of the joint of role k, or NULL when the database has none. */
-static const char *role_name(const mm_database *db, mm_role k)
-{
-    int j = db->settings ? db->settings->roles[k] : -1;
-    return j >= 0 && j < db->joint_count ? db->joints[j].name : NULL;
-}
-
 void mm_character_desc_apply_settings(mm_character_desc *d, const mm_database_settings *s)
 {
     if (!d || !s) return;
@@ -63,22 +56,12 @@ mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_databas
     if (!db) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no database");
     if (!db->settings) return MM_OK;
     mm_character_desc_apply_settings(d, db->settings);
-    /* the feet by role, whatever the skeleton calls them */
-    const char *left = role_name(db, MM_ROLE_LEFT_FOOT), *right = role_name(db, MM_ROLE_RIGHT_FOOT);
-    if (left) d->left_foot = left;
-    if (right) d->right_foot = right;
+    /* the feet stay NULL: the character takes the database's foot roles itself */
     return MM_OK;
 }
 
 void mm_moves_desc_from_database(mm_moves_desc *d, const mm_database *db)
 {
-    if (!d) return;
-    mm_moves_defaults(d);
-    if (!db) return;
-    const char **names[4] = {&d->left_hand, &d->right_hand, &d->left_foot, &d->right_foot};
-    const mm_role roles[4] = {MM_ROLE_LEFT_HAND, MM_ROLE_RIGHT_HAND, MM_ROLE_LEFT_FOOT, MM_ROLE_RIGHT_FOOT};
-    for (int k = 0; k < 4; ++k) {
-        const char *name = role_name(db, roles[k]);
-        if (name) *names[k] = name;
-    }
+    (void)db; /* the moves take the database's hand and foot roles themselves (mm_moves_init) */
+    if (d) mm_moves_defaults(d);
 }

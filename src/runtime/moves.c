@@ -178,17 +178,13 @@ void mm_moves_defaults(mm_moves_desc *d)
     d->knee_height = 0.4f;
     d->chest_height = 1.2f;
     d->max_lift = 0.6f;
-    d->left_hand = "LeftHand";
-    d->right_hand = "RightHand";
-    d->left_foot = "LeftFoot";
-    d->right_foot = "RightFoot";
+    d->left_hand = d->right_hand = d->left_foot = d->right_foot = NULL; /* the database's roles */
 }
 
-static int find_joint(const mm_database *db, const char *name)
+/* The joint a desc names, else the role's joint. */
+static int desc_joint(const mm_database *db, const char *name, mm_role role)
 {
-    for (int j = 0; name && j < db->joint_count; ++j)
-        if (strcmp(db->joints[j].name, name) == 0) return j;
-    return -1;
+    return name ? mm_database_find_joint(db, name) : mm_database_role_joint(db, role);
 }
 
 /* A joint's transform relative to the root (joint 0) at a database frame. */
@@ -504,13 +500,8 @@ static void measure_standing(mm_moves *m)
     m->toe_height = m->ankle_height;
     float toe = INFINITY;
     for (int k = 0; k < 2; ++k) {
-        m->toe[k] = -1;
-        for (int j = 1; m->foot[k] >= 0 && j < db->joint_count; ++j)
-            if (db->joints[j].parent == m->foot[k]) {
-                toe = fminf(toe, bone_in_root(db, stand, j).translation.y);
-                m->toe[k] = j;
-                break;
-            }
+        m->toe[k] = mm_database_toe_joint(db, m->foot[k], k ? MM_ROLE_RIGHT_TOE : MM_ROLE_LEFT_TOE);
+        if (m->toe[k] >= 0) toe = fminf(toe, bone_in_root(db, stand, m->toe[k]).translation.y);
     }
     if (isfinite(toe)) m->toe_height = toe;
 }
@@ -553,10 +544,10 @@ mm_result mm_moves_init(mm_moves *m, const mm_database *db, const mm_scene *scen
     m->scene = scene;
     m->kind = MM_MOVE_NONE;
     m->since_move = INFINITY;
-    m->hand[0] = find_joint(db, d->left_hand ? d->left_hand : "LeftHand");
-    m->hand[1] = find_joint(db, d->right_hand ? d->right_hand : "RightHand");
-    m->foot[0] = find_joint(db, d->left_foot ? d->left_foot : "LeftFoot");
-    m->foot[1] = find_joint(db, d->right_foot ? d->right_foot : "RightFoot");
+    m->hand[0] = desc_joint(db, d->left_hand, MM_ROLE_LEFT_HAND);
+    m->hand[1] = desc_joint(db, d->right_hand, MM_ROLE_RIGHT_HAND);
+    m->foot[0] = desc_joint(db, d->left_foot, MM_ROLE_LEFT_FOOT);
+    m->foot[1] = desc_joint(db, d->right_foot, MM_ROLE_RIGHT_FOOT);
     d->left_hand = d->right_hand = d->left_foot = d->right_foot = NULL; /* the caller's strings */
     measure_standing(m);
     setup_clips(m);

@@ -32,8 +32,7 @@ void mm_character_defaults(mm_character_desc *d)
     d->foot_halflife = MM_CHARACTER_FOOT_HALFLIFE;
     d->plant_time = MM_CHARACTER_PLANT_TIME;
     d->max_hip_drop = MM_CHARACTER_MAX_HIP_DROP;
-    d->left_foot = "LeftFoot";
-    d->right_foot = "RightFoot";
+    d->left_foot = d->right_foot = NULL; /* the database's foot roles */
     d->method = MM_SEARCH_FAST;
     d->rate_min = MM_CHARACTER_RATE_MIN;
     d->rate_max = MM_CHARACTER_RATE_MAX;
@@ -299,7 +298,16 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
         mm_character_free(c);
         return mm_error_set(err, r, 0, 0, "trajectory: bad parameters");
     }
-    mm_rig_init(&s->rig, db->joints, db->joint_count, given->left_foot, given->right_foot);
+    /* the feet the desc names, else the database's foot roles */
+    int left = given->left_foot ? mm_database_find_joint(db, given->left_foot)
+                                : mm_database_role_joint(db, MM_ROLE_LEFT_FOOT);
+    int right = given->right_foot ? mm_database_find_joint(db, given->right_foot)
+                                  : mm_database_role_joint(db, MM_ROLE_RIGHT_FOOT);
+    mm_rig_init(&s->rig, db->joints, db->joint_count, left, right);
+    for (int k = 0; k < 2; ++k) /* the toe roles where they hang from the ankles */
+        if (s->rig.ankle[k] >= 0)
+            s->rig.toe[k] =
+                mm_database_toe_joint(db, s->rig.ankle[k], k ? MM_ROLE_RIGHT_TOE : MM_ROLE_LEFT_TOE);
     mm_rig_learn_hinges(&s->rig, db);
     mm_rig_learn_planted_heights(&s->rig, db);
     apply_tuning(c, &c->desc);

@@ -1,27 +1,18 @@
-/* The character's rig: legs, pelvis and spine found by name and parentage. */
+/* The character's rig: legs, pelvis and spine found from the ankles by parentage. */
 #include "rig.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-static int find_joint(const mm_joint *joints, int joint_count, const char *name)
-{
-    int found = -1;
-    for (int j = 0; j < joint_count; ++j)
-        if (strcmp(joints[j].name, name) == 0) found = j;
-    return found;
-}
-
-void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, const char *left_foot,
-                 const char *right_foot)
+void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, int left_ankle, int right_ankle)
 {
     memset(rig, 0, sizeof *rig);
     rig->joints = joints;
     rig->joint_count = joint_count;
-    const char *names[2] = {left_foot ? left_foot : "LeftFoot", right_foot ? right_foot : "RightFoot"};
+    const int ankles[2] = {left_ankle, right_ankle};
     rig->pelvis = -1;
     for (int k = 0; k < 2; ++k) {
-        int ankle = find_joint(joints, joint_count, names[k]);
+        int ankle = ankles[k] >= 0 && ankles[k] < joint_count ? ankles[k] : -1;
         /* the chain ankle <- knee <- hip must exist below the root */
         if (ankle >= 0 && (joints[ankle].parent < 1 || joints[joints[ankle].parent].parent < 1)) ankle = -1;
         rig->ankle[k] = ankle;

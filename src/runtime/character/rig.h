@@ -10,8 +10,9 @@
 typedef struct mm_rig {
     const mm_joint *joints; /* the database's skeleton: parents before children */
     int joint_count;
-    /* per leg (0 left, 1 right): ankle, knee, hip; the toe is the ankle's first child; -1 when the
-     * leg is missing or does not hang two joints below the root */
+    /* per leg (0 left, 1 right): ankle, knee, hip; the toe is the ankle's first child (the
+     * character sets the toe role instead where it hangs from the ankle); -1 when the leg is
+     * missing or does not hang two joints below the root */
     int ankle[2], knee[2], hip[2], toe[2];
     int pelvis;                  /* the joint both legs hang from, -1 */
     int spine[MM_RIG_MAX_SPINE]; /* from the pelvis up: its child that no leg hangs from, then
@@ -40,9 +41,9 @@ typedef struct mm_rig_pose {
     mm_xform *global;
 } mm_rig_pose;
 
-/* Finds the legs of the ankles named left_foot and right_foot (NULL: "LeftFoot", "RightFoot"). */
-void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, const char *left_foot,
-                 const char *right_foot);
+/* Finds the legs of the ankle joints left_ankle and right_ankle (-1: that leg is missing; the
+ * character gives its desc's feet or the database's foot roles). */
+void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, int left_ankle, int right_ankle);
 
 /* The side leg k's knee bends to (a pole for mm_leg_ik_solve): square to its hip-foot line, from
  * its hinge turned as the knee is in pose, so defined even where the leg is straight or the
