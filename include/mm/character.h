@@ -155,7 +155,10 @@ typedef struct mm_character_desc {
      * animation pulls more than unlock_radius away, or that its leg cannot reach even with the
      * hips lowered by max_hip_drop (farther than 1.1 leg lengths), is planted again where the foot
      * is (it creeps after the animation); released, the difference in place and velocity fades
-     * with foot_halflife. The hips come down (at most max_hip_drop, through a spring) where the
+     * with foot_halflife. A lock held more than 0.15 m across from where the animation, standing,
+     * plants that foot (for 0.3 s; 1 s moving), or let go as above while standing, is stepped
+     * there along a lifted arc over 0.3 s and locked again, one foot at a time (a settle step
+     * after a stop). The hips come down (at most max_hip_drop, through a spring) where the
      * legs cannot reach their targets (not for a target farther across than the leg reaches,
      * which no drop brings in reach), and an ankle is raised where its toe would go below the
      * ground. The legs reach them by the leg IK (mm/leg_ik.h), the knee bending about its hinge,
