@@ -389,8 +389,6 @@ static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *
 {
     mm_feet_contacts fc;
     fc.label = db->contacts[p->frame];
-    mm_vec3 v = db->root_velocity[p->frame];
-    fc.root_speed = sqrtf(v.x * v.x + v.z * v.z);
     for (int k = 0; k < 2; ++k)
         fc.until_label[k] = plant_time > 0.0f ? mm_playback_time_to_contact(p, db->frame_next, db->contacts,
                                                                             db->interval, k, plant_time)
@@ -520,7 +518,6 @@ void mm_character_move_foot_locks(mm_character *c, mm_vec3 delta)
     for (int k = 0; k < 2; ++k) {
         f->heel_lock[k] = mm_vec3_add(f->heel_lock[k], delta);
         f->toe_lock[k] = mm_vec3_add(f->toe_lock[k], delta);
-        f->step_from[k] = mm_vec3_add(f->step_from[k], delta);
     }
 }
 

@@ -23,25 +23,6 @@
 #define TOE_LIFT_MARGIN 0.002f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
-/* a lock farther from its hip, the hips lowered by max_hip_drop, than the leg's length and this share
- * of it is let go as one farther than unlock_radius from the animation is (the leg cannot hold it) */
-#define UNREACHABLE_SHARE 0.1f
-/* The settle step (a person stopping mid-stride steps the trailing foot in under the body; a lock
- * would hold it stretched there for as long as the idle plays): */
-/* s: how long a step takes, lift-off to plant */
-#define STEP_TIME 0.3f
-/* m: how high the ankle rises above the straight line from its lock to its new place, mid-step */
-#define STEP_LIFT 0.06f
-/* m: a lock farther than this across from where the animation plants its ankle is stepped */
-#define STEP_DISTANCE 0.15f
-/* s: once the animation, standing, has planted that foot away from its lock this long, unbroken */
-#define STEP_WAIT 0.3f
-/* m/s: the animation stands where its root goes slower than this (its clip's root speed) */
-#define STEP_STANDING_SPEED 0.2f
-/* s: moving, a foot is stepped once planted away from its lock this long (longer than a stance) */
-#define STEP_WAIT_MOVING 1.0f
-/* the step's lift follows half a sine */
-#define STEP_PI 3.14159265358979f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -112,82 +93,6 @@ static float toe_floor(float y, float floor)
     return below <= 0.0f ? floor - s : floor - s + below * below / (4.0f * s);
 }
 
-/* The leg's length: hip to knee to ankle. */
-static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
-{
-    mm_vec3 h = pose->global[rig->hip[k]].translation, knee = pose->global[rig->knee[k]].translation;
-    return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
-}
-
-/* The end of lock_foot: the foot's turn, last tick's animated ankle and toe (a, t); returns the
- * ankle's target. */
-static mm_vec3 finish_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig, int k, mm_vec3 a,
-                           mm_vec3 t, const mm_rig_pose *pose, float dt, mm_quat *orientation)
-{
-    int ankle = rig->ankle[k];
-    if (f->heel_locked[k] && f->toe_locked[k]) {
-        /* both planted: the foot turns so that its toe stays on the toe lock (the animated foot may
-         * pitch or yaw under a transition's offsets while both labels are on) */
-        mm_vec3 turn =
-            mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(f->toe_lock[k], f->heel_lock[k])));
-        float angle = mm_vec3_length(turn);
-        if (angle > MAX_FOOT_TURN) {
-            /* the animation turns the foot further than a planted foot should follow: the toe lock
-             * goes round the heel's as far as it must */
-            turn = mm_vec3_scale(turn, MAX_FOOT_TURN / angle);
-            f->toe_lock[k] =
-                mm_vec3_add(f->heel_lock[k], mm_quat_rotate(mm_quat_exp(turn), mm_vec3_sub(t, a)));
-        }
-        f->turn_velocity[k] = mm_vec3_scale(mm_vec3_sub(turn, f->turn[k]), 1.0f / dt);
-        f->turn[k] = turn;
-    } else {
-        mm_spring_decay_vec3(&f->turn[k], &f->turn_velocity[k], d->foot_halflife, dt);
-    }
-    f->last_ankle[k] = a, f->last_toe[k] = t;
-    *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), pose->global[ankle].rotation);
-    f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
-    return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
-}
-
-/* Foot k's settle step, one tick: the ankle goes from step_from to where the animation plants it (a,
- * held no lower than its planted height) across the ground along a smoothstep over STEP_TIME,
- * raised by STEP_LIFT sin(pi s) above the straight line (s: the step's share gone), and is locked
- * there at its end on the labels on then (the ankle and toe where the animation has them). Its
- * place is carried by the offset (what a free foot follows is its animated ankle). A label turning
- * off ends the step: the foot goes on free from where it is. Returns whether the foot is still on
- * its step or has just planted (false: it ended free). */
-static bool step_foot(mm_feet *f, const mm_rig *rig, int k, int heel_on, int toe_on,
-                      const mm_feet_ground *ground, float dt, mm_vec3 a, mm_vec3 t)
-{
-    if (!heel_on && !toe_on) {
-        f->stepping[k] = false;
-        return false;
-    }
-    f->step_elapsed[k] += dt;
-    float s = fminf(f->step_elapsed[k] / STEP_TIME, 1.0f), e = s * s * (3.0f - 2.0f * s);
-    mm_vec3 from = f->step_from[k], to = a;
-    to.y = above_ground(ground, rig->planted_ankle[k], to.y);
-    mm_vec3 out = mm_vec3_add(from, mm_vec3_scale(mm_vec3_sub(to, from), e));
-    out.y += STEP_LIFT * sinf(STEP_PI * s);
-    f->offset[k] = mm_vec3_sub(out, a);
-    f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
-    f->landed[k] = 0.0f;
-    if (s < 1.0f) return true;
-    f->stepping[k] = false; /* planted where the animation has the foot */
-    if (heel_on) {
-        f->heel_lock[k] = to;
-        f->heel_locked[k] = true;
-    }
-    if (toe_on) {
-        f->toe_lock[k] =
-            mm_vec3_add(heel_on ? to : a, mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
-        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k].y);
-        f->toe_locked[k] = true;
-    }
-    f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
-    return true;
-}
-
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -199,38 +104,10 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
     int heel_on = (contacts->label >> (2 * k)) & 1u, toe_on = (contacts->label >> (2 * k + 1)) & 1u;
     if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
-    if (f->stepping[k]) {
-        if (step_foot(f, rig, k, heel_on, toe_on, ground, dt, a, t))
-            return finish_foot(f, d, rig, k, a, t, pose, dt, orientation);
-    }
     mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
     bool far = was_locked && mm_vec3_distance(before, a) > d->unlock_radius;
-    if (was_locked && !far) { /* or out of the leg's reach, the hips lowered as far as they go */
-        mm_vec3 h = pose->global[rig->hip[k]].translation;
-        h.y -= fmaxf(d->max_hip_drop, 0.0f); /* MM_OFF: not lowered */
-        far = mm_vec3_distance(h, before) > (1.0f + UNREACHABLE_SHARE) * leg_length(rig, k, pose);
-    }
-    /* held away from where the animation plants the foot: stepped there, one foot at a time, the
-     * other planted (a lock let go as far is stepped too, rather than crept after the animation) */
-    float ax = before.x + f->offset[k].x - a.x, az = before.z + f->offset[k].z - a.z;
-    bool apart = was_locked && (heel_on || toe_on) && ax * ax + az * az > STEP_DISTANCE * STEP_DISTANCE;
-    f->apart_for[k] = apart ? f->apart_for[k] + dt : 0.0f;
-    bool standing = contacts->root_speed < STEP_STANDING_SPEED;
-    float step_wait = standing ? STEP_WAIT : STEP_WAIT_MOVING;
-    if (apart && ((far && standing) || f->apart_for[k] >= step_wait) && !f->stepping[1 - k] &&
-        f->locked[1 - k]) {
-        f->stepping[k] = true;
-        f->step_elapsed[k] = 0.0f;
-        f->step_from[k] = f->lock[k];
-        f->heel_locked[k] = f->toe_locked[k] = false;
-        f->apart_for[k] = 0.0f;
-        f->offset[k] = mm_vec3_sub(f->lock[k], a);
-        f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
-        step_foot(f, rig, k, heel_on, toe_on, ground, dt, a, t);
-        return finish_foot(f, d, rig, k, a, t, pose, dt, orientation);
-    }
     if (far) f->heel_locked[k] = f->toe_locked[k] = false;
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
@@ -297,11 +174,39 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
         f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
     }
-    return finish_foot(f, d, rig, k, a, t, pose, dt, orientation);
+    if (f->heel_locked[k] && f->toe_locked[k]) {
+        /* both planted: the foot turns so that its toe stays on the toe lock (the animated foot may
+         * pitch or yaw under a transition's offsets while both labels are on) */
+        mm_vec3 turn =
+            mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(f->toe_lock[k], f->heel_lock[k])));
+        float angle = mm_vec3_length(turn);
+        if (angle > MAX_FOOT_TURN) {
+            /* the animation turns the foot further than a planted foot should follow: the toe lock
+             * goes round the heel's as far as it must */
+            turn = mm_vec3_scale(turn, MAX_FOOT_TURN / angle);
+            f->toe_lock[k] =
+                mm_vec3_add(f->heel_lock[k], mm_quat_rotate(mm_quat_exp(turn), mm_vec3_sub(t, a)));
+        }
+        f->turn_velocity[k] = mm_vec3_scale(mm_vec3_sub(turn, f->turn[k]), 1.0f / dt);
+        f->turn[k] = turn;
+    } else {
+        mm_spring_decay_vec3(&f->turn[k], &f->turn_velocity[k], d->foot_halflife, dt);
+    }
+    f->last_ankle[k] = a, f->last_toe[k] = t;
+    *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), pose->global[ankle].rotation);
+    f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
+    return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+}
+
+/* The leg's length: hip to knee to ankle. */
+static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
+{
+    mm_vec3 h = pose->global[rig->hip[k]].translation, knee = pose->global[rig->knee[k]].translation;
+    return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
 }
 
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
- * rising back through a spring), at most max_hip_drop; a target no drop brings in reach asks for none. */
+ * rising back through a spring), at most max_hip_drop. */
 static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig, const mm_vec3 *target,
                        float dt, mm_rig_pose *pose)
 {
@@ -311,10 +216,9 @@ static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig
         mm_vec3 h = pose->global[rig->hip[k]].translation;
         float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
         float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
-        /* a target farther across than the leg reaches asks for nothing: no drop brings it in reach
-         * (the hips stayed down, crouched, for as long as such a lock held) */
-        if (across >= reach * reach) continue;
-        need = fmaxf(need, h.y - target[k].y - sqrtf(reach * reach - across));
+        float down =
+            across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : d->max_hip_drop;
+        need = fmaxf(need, down);
     }
     need = fminf(need, d->max_hip_drop);
     /* through a spring both ways (a drop followed at once would move the body as fast as the need

@@ -24,20 +24,13 @@ typedef struct mm_feet {
     mm_vec3 last_ankle[2], last_toe[2]; /* last tick's animated ankles and toes (when placed) */
     float landed[2]; /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
-    /* the settle step: a locked foot held away from where the animation plants it is lifted and
-     * carried there (from step_from, the ankle's place when it left, over step_elapsed s) */
-    bool stepping[2];
-    float step_elapsed[2];
-    float apart_for[2]; /* s the animation's foot has been planted away from its lock, unbroken */
-    mm_vec3 step_from[2];
-    mm_vec3 raw_contacts[4]; /* left ankle, left toe, right ankle, right toe before IK */
+    mm_vec3 raw_contacts[4];           /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
 
 /* What the clip playing says of the feet this tick. */
 typedef struct mm_feet_contacts {
     unsigned label;       /* mm_contact_bits of the frame playing */
     float until_label[2]; /* s until foot k's label turns on, when within plant_time; -1 otherwise */
-    float root_speed;     /* m/s: the frame's root speed on the ground plane */
 } mm_feet_contacts;
 
 /* The ground a foot stands on: its height, and whether the feet keep to it (not during a move,
