@@ -102,6 +102,22 @@ done
 kill -TERM "$pid"
 wait "$pid"
 [ -z "$(ls -A "$out")" ] && ok || bad "a run ended by SIGTERM left $(ls "$out")"
+# ... nor the video's, which the encoder writes
+if command -v ffmpeg >/dev/null 2>&1; then
+    "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 20000 -o "$out/signal.bvh" --video "$out/signal.mp4" \
+        --size 64x36 >/dev/null 2>&1 &
+    pid=$!
+    waited=0
+    while ! ls "$out" | grep -q 'signal.mp4.tmp' && [ "$waited" -lt 1200 ]; do
+        sleep 0.1
+        waited=$((waited + 1))
+    done
+    ls "$out" | grep -q 'signal.mp4.tmp' && ok || bad "mm simulate --video made no temporary video"
+    kill -TERM "$pid"
+    wait "$pid"
+    sleep 1 # the encoder ends when its input closes
+    [ -z "$(ls -A "$out")" ] && ok || bad "a video run ended by SIGTERM left $(ls "$out")"
+fi
 # two frames is the shortest run, and its foot slide is a number
 expect_exit 0 "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 0.034 -o "$out/two.bvh"
 expect_grep "2 frames at 60 fps" "$tmp/out"

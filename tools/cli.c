@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -160,19 +161,24 @@ int cli_parse_scale(const char *command, const cli_option *option, const char *v
 /* The temporary files being written, removed if a signal ends the process before they are renamed
  * or removed (an interrupted run leaves nothing behind). */
 #define CLI_MAX_TEMPS 8
-#define CLI_TEMP_MAX  (4096 + 64)
-static char cli_temps[CLI_MAX_TEMPS][CLI_TEMP_MAX];
+static char cli_temps[CLI_MAX_TEMPS][CLI_TEMP_NAME_MAX];
 static volatile sig_atomic_t cli_temp_used[CLI_MAX_TEMPS];
+
+static volatile sig_atomic_t cli_child; /* an encoder writing one of them; 0: none */
 
 static void cli_on_signal(int sig)
 {
+    if (cli_child > 0) { /* ended first: it could write its file again once removed */
+        kill((pid_t)cli_child, SIGKILL);
+        waitpid((pid_t)cli_child, NULL, 0);
+    }
     for (int i = 0; i < CLI_MAX_TEMPS; ++i)
         if (cli_temp_used[i]) unlink(cli_temps[i]); /* async-signal-safe */
     signal(sig, SIG_DFL);
     raise(sig);
 }
 
-static void cli_remember_temp(const char *tmp)
+void cli_remember_temp(const char *tmp)
 {
     static int installed = 0;
     if (!installed) {
@@ -186,7 +192,7 @@ static void cli_remember_temp(const char *tmp)
         }
         installed = 1;
     }
-    if (strlen(tmp) >= CLI_TEMP_MAX) return;
+    if (strlen(tmp) >= CLI_TEMP_NAME_MAX) return;
     for (int i = 0; i < CLI_MAX_TEMPS; ++i)
         if (!cli_temp_used[i]) {
             memcpy(cli_temps[i], tmp, strlen(tmp) + 1);
@@ -195,7 +201,9 @@ static void cli_remember_temp(const char *tmp)
         }
 }
 
-static void cli_forget_temp(const char *tmp)
+void cli_remember_child(long pid) { cli_child = (sig_atomic_t)pid; }
+
+void cli_forget_temp(const char *tmp)
 {
     for (int i = 0; i < CLI_MAX_TEMPS; ++i)
         if (cli_temp_used[i] && strcmp(cli_temps[i], tmp) == 0) cli_temp_used[i] = 0;

@@ -71,6 +71,13 @@ int cli_parse_size(const char *s, int *width, int *height);
  * anything fails, it removes the temporary file instead. Returns 0 when path was written, else 1
  * (after printing "mm: PATH: cannot write: ...", unless failed was given). */
 FILE *cli_create(const char *path, char *tmp, size_t tmp_size);
+/* A temporary file written by other means (an encoder's output), removed if a signal ends the
+ * program before cli_forget_temp: at most 8 at once, names shorter than CLI_TEMP_NAME_MAX. */
+#define CLI_TEMP_NAME_MAX (4096 + 64)
+void cli_remember_temp(const char *tmp);
+void cli_forget_temp(const char *tmp);
+/* The process writing them (an encoder), ended first by such a signal; 0: none. */
+void cli_remember_child(long pid);
 int cli_commit(FILE *f, const char *tmp, const char *path, int failed);
 /* The two halves of cli_commit, for commands that write several outputs which must appear together
  * or not at all: cli_finish every one (closes f; 0 when all was written, else prints, removes tmp

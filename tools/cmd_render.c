@@ -183,6 +183,12 @@ int mm_cmd_render(int argc, char **argv)
                mm_video_open(out, width, height, (float)fps, &video, &err) != MM_OK) {
         status = cli_report(&err);
     }
+    char video_tmp[CLI_TEMP_NAME_MAX] = ""; /* removed if a signal ends the render */
+    if (video && mm_video_temp_path(video)) {
+        snprintf(video_tmp, sizeof video_tmp, "%s", mm_video_temp_path(video));
+        cli_remember_child(mm_video_encoder_process(video));
+        cli_remember_temp(video_tmp);
+    }
     if (status == 0) {
         for (int j = 0; j < n; ++j) parents[j] = clip.skeleton.joints[j].parent;
         mm_camera cam;
@@ -217,6 +223,8 @@ int mm_cmd_render(int argc, char **argv)
     int written = 0;
     if (video && mm_video_close(video, status != 0, &written, &err) != MM_OK && status == 0)
         status = cli_report(&err);
+    cli_remember_child(0);
+    if (video_tmp[0]) cli_forget_temp(video_tmp);
     if (status == 0) printf("%s: %d frames, %d x %d at %g fps\n", out, written, width, height, fps);
     mm_offscreen_destroy(o);
     free(parents);

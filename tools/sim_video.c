@@ -1,6 +1,7 @@
 /* The video of mm simulate: one frame every 1 / video_fps seconds of simulated time. */
 #include <string.h>
 
+#include "cli.h"
 #include "sim_video.h"
 
 mm_result sim_video_open(sim_video *s, const char *path, int width, int height, double video_fps,
@@ -10,6 +11,10 @@ mm_result sim_video_open(sim_video *s, const char *path, int width, int height, 
     mm_result r = mm_offscreen_create(width, height, &s->offscreen, err);
     if (r == MM_OK) r = mm_view_init(&s->view, db, err);
     if (r == MM_OK) r = mm_video_open(path, width, height, (float)video_fps, &s->video, err);
+    if (r == MM_OK && mm_video_temp_path(s->video)) {
+        cli_remember_child(mm_video_encoder_process(s->video));
+        cli_remember_temp(mm_video_temp_path(s->video));
+    }
     if (r != MM_OK) {
         mm_view_free(&s->view);
         mm_offscreen_destroy(s->offscreen);
@@ -51,7 +56,12 @@ mm_result sim_video_tick(sim_video *s, const mm_character *c, const mm_input *in
 
 mm_result sim_video_close(sim_video *s, int abort, int *frames, mm_error *err)
 {
+    /* the temporary file is renamed or removed by the close: forgotten only then */
+    char tmp[CLI_TEMP_NAME_MAX] = "";
+    if (mm_video_temp_path(s->video)) snprintf(tmp, sizeof tmp, "%s", mm_video_temp_path(s->video));
     mm_result r = mm_video_close(s->video, abort != 0, frames, err);
+    cli_remember_child(0);
+    if (tmp[0]) cli_forget_temp(tmp);
     mm_view_free(&s->view);
     mm_offscreen_destroy(s->offscreen);
     memset(s, 0, sizeof *s);

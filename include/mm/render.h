@@ -20,7 +20,8 @@
  *            mm_camera_project mm_camera_orbit mm_camera_zoom mm_camera_follow
  *            mm_renderer_create mm_renderer_destroy mm_renderer_draw mm_renderer_read_pixels
  *            mm_offscreen_create mm_offscreen_render mm_offscreen_destroy
- *            mm_png_write mm_png_read_size mm_video_open mm_video_write mm_video_close
+ *            mm_png_write mm_png_read_size mm_video_open mm_video_write mm_video_temp_path
+ *            mm_video_encoder_process mm_video_close
  *            mm_video_encoder_available mm_text_measure mm_render_find_head mm_render_box_corners
  *            mm_render_find_feet mm_render_facing mm_sheet_tile_size mm_sheet_cameras mm_sheet_render
  */
@@ -227,6 +228,12 @@ bool mm_video_encoder_available(void);
  * receives frame_00000.png, frame_00001.png, ... Width and height must be even for .mp4. */
 mm_result mm_video_open(const char *path, int width, int height, float fps, mm_video **out, mm_error *err);
 mm_result mm_video_write(mm_video *v, const uint8_t *rgb, mm_error *err);
+/* The temporary file an encoded video is written to until mm_video_close renames it (so that a
+ * program can remove it if a signal ends it first); NULL for PNG frames. */
+const char *mm_video_temp_path(const mm_video *v);
+/* The encoder's process id (0 for PNG frames): a program ended by a signal ends it too, or it could
+ * write the temporary file again after it was removed. */
+long mm_video_encoder_process(const mm_video *v);
 /* Finishes the file; frames counts what was written. On error (or abort) nothing is left behind
  * for an encoded file. Always frees v. */
 mm_result mm_video_close(mm_video *v, bool abort, int *frames, mm_error *err);

@@ -190,6 +190,10 @@ mm_result mm_video_write(mm_video *v, const uint8_t *rgb, mm_error *err)
     return MM_OK;
 }
 
+const char *mm_video_temp_path(const mm_video *v) { return v && v->encoded ? v->tmp : NULL; }
+
+long mm_video_encoder_process(const mm_video *v) { return v && v->encoded ? (long)v->pid : 0; }
+
 mm_result mm_video_close(mm_video *v, bool abort, int *frames, mm_error *err)
 {
     if (frames) *frames = v ? v->frames : 0;
