@@ -81,11 +81,19 @@ static mm_result run(const mm_database *db, const mm_input_script *script, const
     r = mm_moves_init(&moves, db, desc ? desc->scene : NULL, &moves_desc, err);
     if (r == MM_OK) {
         float dt = (float)(1.0 / fps);
+        float times[MM_MAX_TRAJ_SAMPLES];
+        int future_count = mm_character_future_times(&c, times);
         for (int f = 0; f < frames; ++f) {
             mm_input in;
-            if (path)
-                mm_drive_input_path(c.trajectory, path, (float)(f / (double)fps), 0.0f, &in);
-            else
+            if (path) {
+                /* steered along the path, and the path itself the future the search matches */
+                float t = (float)(f / (double)fps);
+                mm_vec3 positions[MM_MAX_TRAJ_SAMPLES];
+                mm_quat facings[MM_MAX_TRAJ_SAMPLES];
+                mm_drive_input_path(c.trajectory, path, t, 0.0f, &in);
+                mm_path_future(path, t + dt, times, future_count, c.trajectory->facing, positions, facings);
+                mm_character_set_future(&c, positions, facings, future_count, NULL);
+            } else
                 mm_input_script_sample_tick(script, (float)(f / (double)fps), dt, &in);
             mm_moves_update(&moves, &c, &in, dt);
             record(&c, f, out);

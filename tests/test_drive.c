@@ -17,6 +17,7 @@
 #include <mm/drive.h>
 #include <mm/path_json.h>
 #include <mm/run.h>
+#include <mm/search.h>
 
 #include "test_databases.h"
 #include "test_util.h"
@@ -170,10 +171,17 @@ static void test_character_follows_a_path(void **state)
     mm_xform last = c.root;
     mm_vec3 travelled = mm_vec3_make(0, 0, 0);
     float turned = 0.0f;
+    float times[MM_MAX_TRAJ_SAMPLES];
+    int future_count = mm_character_future_times(&c, times);
+    assert_true(future_count > 0);
     for (int f = 0; f < ticks; ++f) {
         float t = (float)(f / 60.0); /* as mm_run_path and mm simulate time a tick */
         mm_input in;
+        mm_vec3 positions[MM_MAX_TRAJ_SAMPLES];
+        mm_quat facings[MM_MAX_TRAJ_SAMPLES];
         mm_drive_input_path(c.trajectory, &p, t, 0.0f, &in);
+        mm_path_future(&p, t + dt, times, future_count, c.trajectory->facing, positions, facings);
+        assert_int_equal(mm_character_set_future(&c, positions, facings, future_count, NULL), MM_OK);
         mm_character_update(&c, &in, dt);
         for (int j = 0; j < db.joint_count; ++j)
             assert_memory_equal(&recorded[((size_t)f * (size_t)db.joint_count + (size_t)j) * 3],
@@ -221,6 +229,95 @@ static void test_character_follows_a_path(void **state)
     assert_non_null(strstr(err.message, "points[1].t"));
     free(recorded);
     mm_path_free(&p);
+}
+
+/* The game's future replaces the simulation's prediction in the query: after a tick that searched,
+ * the query's future trajectory dimensions are the given points in the frame of the root the
+ * search ran from, normalised as the database normalises them; a future of the wrong length or
+ * with a NaN is refused and changes nothing; it holds for one tick only. */
+static void test_future_reaches_the_query(void **state)
+{
+    (void)state;
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    mm_character_desc desc;
+    assert_int_equal(mm_character_desc_from_database(&desc, &db, NULL), MM_OK);
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, &searcher, &desc, NULL), MM_OK);
+    float times[MM_MAX_TRAJ_SAMPLES];
+    int n = mm_character_future_times(&c, times);
+    assert_true(n > 0 && n <= MM_MAX_TRAJ_SAMPLES);
+    for (int k = 1; k < n; ++k) assert_true(times[k] > times[k - 1] && times[0] > 0.0f);
+    /* refused: the wrong count, a NaN */
+    mm_vec3 positions[MM_MAX_TRAJ_SAMPLES];
+    mm_quat facings[MM_MAX_TRAJ_SAMPLES];
+    for (int k = 0; k < n; ++k) {
+        positions[k] = mm_vec3_make(-1.5f * times[k], 0.0f, 0.5f * times[k]); /* back and to the right */
+        facings[k] = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), -1.0f * times[k]);
+    }
+    mm_error err;
+    assert_int_equal(mm_character_set_future(&c, positions, facings, n + 1, &err), MM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "future times"));
+    mm_vec3 saved = positions[0];
+    positions[0].x = NAN;
+    assert_int_equal(mm_character_set_future(&c, positions, facings, n, &err), MM_ERR_INVALID_ARGUMENT);
+    positions[0] = saved;
+    /* walking forward for a second, then a tick with the future given: the first tick searches */
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    const float dt = 1.0f / 60.0f;
+    for (int f = 0; f < 60; ++f) mm_character_update(&c, &in, dt);
+    int checked = 0;
+    for (int f = 0; f < 60 && checked < 3; ++f) {
+        mm_xform root = c.root; /* the search runs from the root of the tick before */
+        int searches = c.searches;
+        assert_int_equal(mm_character_set_future(&c, positions, facings, n, NULL), MM_OK);
+        mm_character_update(&c, &in, dt);
+        if (c.searches == searches) continue;
+        /* the expected query: the given points in the root's frame, normalised by the database */
+        mm_pose_data pd;
+        mm_database_pose(&db, 0, &pd);
+        mm_xform inverse = mm_xform_inverse(root);
+        for (int i = 0, k = 0; i < pd.traj_count; ++i) {
+            if (!(pd.traj_times[i] > 0.0f)) continue;
+            pd.traj_positions[i] =
+                mm_xform_apply_point(inverse, mm_vec3_make(positions[k].x, 0, positions[k].z));
+            pd.traj_directions[i] =
+                mm_quat_inv_rotate(root.rotation, mm_quat_rotate(facings[k], mm_vec3_make(0, 0, 1)));
+            ++k;
+        }
+        float *expected = malloc(sizeof(float) * (size_t)db.dims_padded);
+        assert_non_null(expected);
+        mm_search_query_from_pose(&db, &pd, expected);
+        int dims = 0;
+        for (int g = 0; g < db.group_count; ++g) {
+            const mm_feature_group *gr = &db.groups[g];
+            if ((gr->kind != MM_FEATURE_TRAJ_POSITION && gr->kind != MM_FEATURE_TRAJ_DIRECTION) ||
+                !(gr->time > 0))
+                continue;
+            for (int d = gr->offset; d < gr->offset + gr->dims; ++d, ++dims)
+                assert_float_equal(c.query[d], expected[d], 1e-4f);
+        }
+        assert_true(dims >= 2 * n);
+        ++checked;
+        /* for one tick only: the next search matches the simulation's own future, which walks
+         * ahead, not behind */
+        int next = c.searches;
+        for (int g2 = 0; g2 < 120 && c.searches == next; ++g2) mm_character_update(&c, &in, dt);
+        assert_true(c.searches > next);
+        int differ = 0;
+        for (int g = 0; g < db.group_count; ++g) {
+            const mm_feature_group *gr = &db.groups[g];
+            if (gr->kind == MM_FEATURE_TRAJ_POSITION && gr->time > 0)
+                differ += fabsf(c.query[gr->offset + 1] - expected[gr->offset + 1]) > 0.1f;
+        }
+        assert_true(differ > 0);
+        free(expected);
+    }
+    assert_true(checked >= 1);
+    mm_character_free(&c);
+    mm_searcher_free(&searcher);
 }
 
 static void test_path_json(void **state)
@@ -328,6 +425,7 @@ int main(void)
         cmocka_unit_test(test_path_sample),
         cmocka_unit_test(test_root_delta),
         cmocka_unit_test(test_character_follows_a_path),
+        cmocka_unit_test(test_future_reaches_the_query),
         cmocka_unit_test(test_path_json),
         cmocka_unit_test(test_simulate_path),
     };

@@ -269,12 +269,20 @@ int mm_cmd_simulate(int argc, char **argv)
     }
     int last_searches = 0;
     float dt = (float)(1.0 / fps);
+    float future_times[MM_MAX_TRAJ_SAMPLES];
+    int future_count = mm_character_future_times(&c, future_times);
     for (int f = 0; f < frames; ++f) {
         double t = f / fps;
         mm_input in;
-        if (path_file)
+        if (path_file) {
+            /* steered along the path, the path itself the future the search matches (as mm_run_path) */
+            mm_vec3 future_positions[MM_MAX_TRAJ_SAMPLES];
+            mm_quat future_facings[MM_MAX_TRAJ_SAMPLES];
             mm_drive_input_path(c.trajectory, &path, (float)t, 0.0f, &in);
-        else
+            mm_path_future(&path, (float)t + dt, future_times, future_count, c.trajectory->facing,
+                           future_positions, future_facings);
+            mm_character_set_future(&c, future_positions, future_facings, future_count, NULL);
+        } else
             mm_input_script_sample_tick(&script, (float)t, (float)(1.0 / fps), &in);
         mm_vec3 desired;
         mm_trajectory_desired(c.trajectory, &in, &desired, NULL);

@@ -49,6 +49,7 @@
  *            mm_character_play_move mm_character_move_playing mm_character_shift_root
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
+ *            mm_character_set_future mm_character_future_times
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -331,6 +332,19 @@ void mm_character_translate(mm_character *c, mm_vec3 delta);
 void mm_character_teleport_simulation(mm_character *c, mm_vec3 position, mm_quat facing);
 void mm_character_push_simulation(mm_character *c, mm_vec3 position);
 void mm_character_halt_simulation(mm_character *c);
+
+/* The game's own desired future (its AI's or navigation's path) for the next mm_character_update
+ * only, in place of the simulation's prediction in the search's query: world positions (y
+ * ignored) and facings (rotations about +Y; identity faces +Z) at the database's future trajectory
+ * times (mm_character_future_times), in order. Give it each tick the game decides the path; the
+ * simulation itself still follows the input (mm/drive.h steers it along a path). count 0 clears
+ * it. MM_ERR_INVALID_ARGUMENT when count is not the number of future times or a value is not
+ * finite (nothing is set). */
+mm_result mm_character_set_future(mm_character *c, const mm_vec3 *positions, const mm_quat *facings,
+                                  int count, mm_error *err);
+/* The database's future trajectory times (s ahead, increasing) into times (room for
+ * MM_MAX_TRAJ_SAMPLES); returns how many. */
+int mm_character_future_times(const mm_character *c, float *times);
 
 #ifdef __cplusplus
 }

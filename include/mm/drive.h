@@ -9,7 +9,9 @@
  *  - a whole desired path (mm_path: positions and facings over time, linear between points):
  *    mm_drive_input_path asks, each tick, for the velocity that brings the simulation from where
  *    it is to the path's point `lookahead` seconds ahead (pure pursuit: on a straight path at
- *    constant speed it settles on the path with no lag), facing the path's facing.
+ *    constant speed it settles on the path with no lag), facing the path's facing; and
+ *    mm_path_future gives the search the path itself as the future it matches
+ *    (mm_character_set_future), so that a turn or a stop the path makes is seen coming.
  * The character then runs as ever (mm_character_update or mm_moves_update) on that input.
  *
  * Root motion: mm_root_delta_between(before, after) is the character's root's move over a tick,
@@ -25,7 +27,7 @@
  * Nothing here allocates but mm_path_init.
  *
  * Functions: mm_drive_input_velocity mm_drive_input_path mm_root_delta_between
- *            mm_path_init mm_path_free mm_path_validate mm_path_sample
+ *            mm_path_init mm_path_free mm_path_validate mm_path_sample mm_path_future
  */
 #ifndef MM_DRIVE_H
 #define MM_DRIVE_H
@@ -80,6 +82,12 @@ void mm_drive_input_velocity(const mm_trajectory *t, mm_vec3 velocity, mm_vec3 f
  * facing at time + lookahead. */
 void mm_drive_input_path(const mm_trajectory *t, const mm_path *p, float time, float lookahead,
                          mm_input *out);
+
+/* The path's future for the search (mm_character_set_future): its positions and facings at
+ * time + times[k] (the database's future trajectory times, mm_character_future_times); where the
+ * path says no facing (a standing path without facings), `fallback`. */
+void mm_path_future(const mm_path *p, float time, const float *times, int count, mm_quat fallback,
+                    mm_vec3 *positions, mm_quat *facings);
 
 /* A root's move over a tick. */
 typedef struct mm_root_delta {

@@ -146,6 +146,18 @@ void mm_drive_input_path(const mm_trajectory *t, const mm_path *p, float time, f
     mm_drive_input_velocity(t, velocity, facing, out);
 }
 
+void mm_path_future(const mm_path *p, float time, const float *times, int count, mm_quat fallback,
+                    mm_vec3 *positions, mm_quat *facings)
+{
+    for (int k = 0; k < count; ++k) {
+        mm_vec3 facing;
+        mm_path_sample(p, time + times[k], &positions[k], NULL, &facing);
+        facings[k] = mm_vec3_length_sq(facing) > 0.0f
+                         ? mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), atan2f(facing.x, facing.z))
+                         : fallback;
+    }
+}
+
 /* The heading of a rotation: the angle of its forward (+Z) on the ground, about +Y. */
 static float heading(mm_quat q)
 {

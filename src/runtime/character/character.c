@@ -419,6 +419,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
         mm_matching_search(&s->matching, d, db, c->searcher, &s->trajectory, in, &s->intent,
                            s->root_motion.root, &s->playback, &found);
     if (found.frame >= 0) jump = found;
+    s->matching.future_count = 0; /* the game's future is given for one tick */
 
     /* 4. transition: the jump hidden, and the animated pose of this tick */
     mm_transition_jump(&s->transition, db, &jump, d->crossfade_time, s->root_motion.played, &s->playback, dt);
@@ -554,4 +555,49 @@ void mm_character_halt_simulation(mm_character *c)
 {
     if (!c || !c->state) return;
     c->state->trajectory.velocity = mm_vec3_make(0, 0, 0);
+}
+
+int mm_character_future_times(const mm_character *c, float *times)
+{
+    if (!c || !c->db || !times || c->db->frame_count < 1) return 0;
+    mm_pose_data pd; /* the times are the database's, the same for every frame */
+    mm_database_pose(c->db, 0, &pd);
+    int n = 0;
+    for (int i = 0; i < pd.traj_count; ++i)
+        if (pd.traj_times[i] > 0.0f) times[n++] = pd.traj_times[i];
+    return n;
+}
+
+mm_result mm_character_set_future(mm_character *c, const mm_vec3 *positions, const mm_quat *facings,
+                                  int count, mm_error *err)
+{
+    if (!c || !c->state) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no character");
+    mm_matching *m = &c->state->matching;
+    if (count == 0) {
+        m->future_count = 0;
+        return MM_OK;
+    }
+    float times[MM_MAX_TRAJ_SAMPLES];
+    int want = mm_character_future_times(c, times);
+    if (count != want || !positions || !facings)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "a future of %d points: the database's trajectory has %d future times", count,
+                            want);
+    for (int k = 0; k < count; ++k) {
+        mm_vec3 p = positions[k];
+        mm_quat q = facings[k];
+        float len = sqrtf(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+        if (!isfinite(p.x) || !isfinite(p.z) || !isfinite(len) || !(len > 0.0f))
+            return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                                "future point %d: a position or facing that is not finite (or a zero facing)",
+                                k);
+    }
+    for (int k = 0; k < count; ++k) {
+        mm_quat q = facings[k];
+        float len = sqrtf(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+        m->future_positions[k] = mm_vec3_make(positions[k].x, 0.0f, positions[k].z);
+        m->future_facings[k] = (mm_quat){q.x / len, q.y / len, q.z / len, q.w / len};
+    }
+    m->future_count = count;
+    return MM_OK;
 }

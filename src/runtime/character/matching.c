@@ -32,7 +32,7 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
 
 /* The query: the pose of the frame playing (from the database) and the simulated trajectory in
  * the character's frame. */
-static void build_query(float *query, const mm_database *db, int frame, const mm_trajectory *t,
+static void build_query(const mm_matching *m, const mm_database *db, int frame, const mm_trajectory *t,
                         const mm_input *in, mm_xform root)
 {
     mm_pose_data pd;
@@ -40,13 +40,20 @@ static void build_query(float *query, const mm_database *db, int frame, const mm
     mm_vec3 positions[MM_MAX_TRAJ_SAMPLES];
     mm_quat facings[MM_MAX_TRAJ_SAMPLES];
     mm_trajectory_sample(t, in, pd.traj_times, pd.traj_count, positions, facings);
+    /* the game's own future, where it gave one: the future samples in order (the past is the
+     * simulation's recorded one) */
+    for (int i = 0, k = 0; i < pd.traj_count && m->future_count > 0; ++i)
+        if (pd.traj_times[i] > 0.0f && k < m->future_count) {
+            positions[i] = m->future_positions[k];
+            facings[i] = m->future_facings[k++];
+        }
     mm_xform inverse = mm_xform_inverse(root);
     for (int i = 0; i < pd.traj_count; ++i) {
         pd.traj_positions[i] = mm_xform_apply_point(inverse, positions[i]);
         pd.traj_directions[i] =
             mm_quat_inv_rotate(root.rotation, mm_quat_rotate(facings[i], mm_vec3_make(0, 0, 1)));
     }
-    mm_search_query_from_pose(db, &pd, query);
+    mm_search_query_from_pose(db, &pd, m->query);
 }
 
 /* Stops and turns: when the stick is let go at a run, or turned, the playing clip carries on while
@@ -105,7 +112,7 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
 {
     jump->frame = -1;
     float speed, direction = desired_direction(intent, &speed);
-    build_query(m->query, db, pb->frame, t, in, root);
+    build_query(m, db, pb->frame, t, in, root);
     mm_search_params p = d->params;
     p.current_frame = pb->frame;
     p.type = !m->has_idle ? MM_SEARCH_ANY : m->idle ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION;

@@ -22,6 +22,11 @@ typedef struct mm_matching {
     float last_search_us;
     mm_search_result last_result;
     mm_search_params last_params; /* what the last search weighed with */
+    /* the game's desired future for this tick's search (mm_character_set_future), in place of the
+     * simulation's prediction at the database's future trajectory times; 0: none */
+    int future_count;
+    mm_vec3 future_positions[MM_MAX_TRAJ_SAMPLES];
+    mm_quat future_facings[MM_MAX_TRAJ_SAMPLES];
 } mm_matching;
 
 /* A jump of the playhead asked for: to frame at fraction (-1: none); uncancellable: the crossfade
@@ -43,7 +48,8 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
                      float simulated_speed, float root_speed, bool ended, bool move_playing, float dt);
 
 /* Searches with the pose of the frame playing and t's future in the frame of root (in: the input
- * that future is sampled under). *jump: where to go (frame -1 when playback goes on where it is). */
+ * that future is sampled under; m's future instead, when given). *jump: where to go (frame -1 when playback
+ * goes on where it is). */
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
                         const mm_intent *intent, mm_xform root, const mm_playback *p, mm_jump *jump);
