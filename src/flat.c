@@ -166,6 +166,18 @@ int mm_flat_search(const mm_database *db, const float *query, int current_frame,
     return r == MM_OK ? found : -report(&err, r, message, message_size);
 }
 
+/* The caller's arrays as a run's output (any may be NULL). */
+static mm_run_output run_output(float *world_positions, float *world_rotations, float *local_positions,
+                                float *local_rotations, int32_t *db_frames)
+{
+    mm_run_output out = {.world_positions = world_positions,
+                         .world_rotations = world_rotations,
+                         .local_positions = local_positions,
+                         .local_rotations = local_rotations,
+                         .db_frames = db_frames};
+    return out;
+}
+
 int mm_flat_simulate(const mm_database *db, const char *script_path, uint64_t seed, double seconds,
                      double fps, float *world_positions, float *world_rotations, float *local_positions,
                      float *local_rotations, int32_t *db_frames, char *message, size_t message_size)
@@ -188,11 +200,8 @@ int mm_flat_simulate(const mm_database *db, const char *script_path, uint64_t se
     mm_run_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.fps = (float)fps;
-    mm_run_output out = {.world_positions = world_positions,
-                         .world_rotations = world_rotations,
-                         .local_positions = local_positions,
-                         .local_rotations = local_rotations,
-                         .db_frames = db_frames};
+    mm_run_output out =
+        run_output(world_positions, world_rotations, local_positions, local_rotations, db_frames);
     r = mm_run_script(db, &script, mm_run_frames(seconds, fps), &desc, &out, &err);
     mm_input_script_free(&script);
     return r == MM_OK ? 0 : report(&err, r, message, message_size);
@@ -212,11 +221,8 @@ int mm_flat_simulate_path(const mm_database *db, const char *path_file, double s
     mm_run_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.fps = (float)fps;
-    mm_run_output out = {.world_positions = world_positions,
-                         .world_rotations = world_rotations,
-                         .local_positions = local_positions,
-                         .local_rotations = local_rotations,
-                         .db_frames = db_frames};
+    mm_run_output out =
+        run_output(world_positions, world_rotations, local_positions, local_rotations, db_frames);
     r = mm_run_path(db, &path, mm_run_frames(seconds, fps), &desc, &out, &err);
     mm_path_free(&path);
     return r == MM_OK ? 0 : report(&err, r, message, message_size);
