@@ -35,47 +35,9 @@ refused() {
     fi
 }
 
-"$mm" synth "$tmp/set" >/dev/null || { bad "mm synth"; # a Collada file that crashes assimp (200,000 nested nodes: an unbounded recursion upstream): the
-# import runs in a child process, so mm says so instead of going down, in mm import info and in a
-# database build that names the file
-awk 'BEGIN {
-    printf "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n";
-    printf "<library_visual_scenes><visual_scene id=\"s\">";
-    for (i = 0; i < 200000; ++i) printf "<node id=\"n\">";
-    for (i = 0; i < 200000; ++i) printf "</node>";
-    printf "</visual_scene></library_visual_scenes><scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>\n"
-}' >"$tmp/deep.dae"
-if "$mm" import info "$tmp/deep.dae" 2>&1 | grep -q "built without assimp"; then
-    echo "mm was built without assimp: the importer isolation is not checked"
-else
-    refused 1 "deep.dae: the importer failed" "$mm" import info "$tmp/deep.dae"
-    printf '{"clips": [{"file": "%s"}]}\n' "$tmp/deep.dae" >"$out/deep.json"
-    refused 1 "deep.dae: the importer failed" "$mm" db build "$out/deep.json" -o "$out/deep.mmdb"
-    [ ! -e "$out/deep.mmdb" ] && ok || bad "a failed build wrote deep.mmdb"
-fi
-
-finish test_cli_refusals; exit 1; }
+"$mm" synth "$tmp/set" >/dev/null || { bad "mm synth"; finish test_cli_refusals; exit 1; }
 "$mm" db build "$src/configs/synth.json" --data "$tmp/set" -o "$tmp/db.mmdb" >/dev/null 2>&1 ||
-    { bad "mm db build"; # a Collada file that crashes assimp (200,000 nested nodes: an unbounded recursion upstream): the
-# import runs in a child process, so mm says so instead of going down, in mm import info and in a
-# database build that names the file
-awk 'BEGIN {
-    printf "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n";
-    printf "<library_visual_scenes><visual_scene id=\"s\">";
-    for (i = 0; i < 200000; ++i) printf "<node id=\"n\">";
-    for (i = 0; i < 200000; ++i) printf "</node>";
-    printf "</visual_scene></library_visual_scenes><scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>\n"
-}' >"$tmp/deep.dae"
-if "$mm" import info "$tmp/deep.dae" 2>&1 | grep -q "built without assimp"; then
-    echo "mm was built without assimp: the importer isolation is not checked"
-else
-    refused 1 "deep.dae: the importer failed" "$mm" import info "$tmp/deep.dae"
-    printf '{"clips": [{"file": "%s"}]}\n' "$tmp/deep.dae" >"$out/deep.json"
-    refused 1 "deep.dae: the importer failed" "$mm" db build "$out/deep.json" -o "$out/deep.mmdb"
-    [ ! -e "$out/deep.mmdb" ] && ok || bad "a failed build wrote deep.mmdb"
-fi
-
-finish test_cli_refusals; exit 1; }
+    { bad "mm db build"; finish test_cli_refusals; exit 1; }
 out="$tmp/outputs"
 mkdir -p "$out"
 
