@@ -41,6 +41,8 @@
 extern "C" {
 #endif
 
+#define MM_RECORDER_MAX_CANDIDATES 64 /* top_k at most */
+
 /* What a recorder kept of one tick (the end of it: after mm_character_update). The arrays point
  * into the recorder's memory and stay valid until that tick gives way or the recorder is cleared. */
 typedef struct mm_recorded_tick {
@@ -79,6 +81,9 @@ typedef struct mm_recorded_tick {
     bool foot_locked[2];
     mm_vec3 foot_lock[2];
 
+    /* the character's counters after the tick (mm_character.searches, .transitions) */
+    int searches, transitions;
+
     /* the output pose: world transforms, [joint_count] */
     int joint_count;
     const mm_xform *global;
@@ -93,7 +98,9 @@ typedef struct mm_recorder {
     int64_t recorded;                    /* ticks recorded since init */
     double time;                         /* s: the sum of the dt recorded */
     int last_searches, last_transitions; /* the character's counters at the last record */
-    size_t snapshot_bytes;               /* mm_character_snapshot_bytes of the character */
+    int traj_count;                      /* the database's trajectory times */
+    float traj_times[MM_MAX_TRAJ_SAMPLES];
+    size_t snapshot_bytes; /* mm_character_snapshot_bytes of the character */
     /* in the caller's memory: per slot, the tick, its query, candidates, pose and state */
     mm_recorded_tick *ticks;
     float *queries;
