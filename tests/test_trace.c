@@ -151,6 +151,35 @@ static void test_replay_agrees(void **state)
     mm_trace_free(&t);
 }
 
+/* Tick by tick: after each step the character is where the trace's tick line says, the search
+ * matched is the trace's search of that tick, and the run ends with the header's ticks. */
+static void test_player_steps(void **state)
+{
+    (void)state;
+    mm_trace t;
+    assert_int_equal(mm_trace_read(trace_path, &t, NULL), MM_OK);
+    mm_trace_player *p;
+    assert_int_equal(mm_trace_player_open(&p, &t, &db, NULL), MM_OK);
+    int searches = 0;
+    for (int k = 0; k < t.run.ticks; ++k) {
+        assert_int_equal(mm_trace_player_step(p, NULL), MM_OK);
+        assert_int_equal(mm_trace_player_tick(p), k + 1);
+        const mm_character *c = mm_trace_player_character(p);
+        assert_int_equal(c->frame, t.ticks[k].frame);
+        assert_memory_equal(&c->root.translation, &t.ticks[k].root.translation, sizeof(mm_vec3));
+        int s = mm_trace_player_search(p);
+        if (s >= 0) {
+            assert_int_equal(s, searches++);
+            assert_int_equal(t.searches[s].tick, k);
+        }
+        assert_false(mm_trace_player_divergence(p)->diverged);
+    }
+    assert_int_equal(searches, t.search_count);
+    assert_int_equal(mm_trace_player_step(p, NULL), MM_ERR_INVALID_ARGUMENT); /* played out */
+    mm_trace_player_close(p);
+    mm_trace_free(&t);
+}
+
 /* Copies the trace, with the n-th search line's first `from` replaced by `to`; returns its line. */
 static long change_search_line(int n, const char *from, const char *to)
 {
@@ -366,11 +395,9 @@ static int teardown(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_read_back),
-        cmocka_unit_test(test_replay_agrees),
-        cmocka_unit_test(test_replay_finds_differences),
-        cmocka_unit_test(test_bad_files),
-        cmocka_unit_test(test_simulate_traces_replay),
+        cmocka_unit_test(test_read_back),    cmocka_unit_test(test_replay_agrees),
+        cmocka_unit_test(test_player_steps), cmocka_unit_test(test_replay_finds_differences),
+        cmocka_unit_test(test_bad_files),    cmocka_unit_test(test_simulate_traces_replay),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

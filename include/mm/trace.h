@@ -19,7 +19,9 @@
  *
  * Functions: mm_trace_run_defaults mm_trace_run_set_input_file mm_trace_run_free
  *            mm_trace_write_header mm_trace_write_tick mm_trace_read mm_trace_free mm_trace_replay
- *            mm_trace_db_checksum
+ *            mm_trace_player_open mm_trace_player_step mm_trace_player_character
+ *            mm_trace_player_input mm_trace_player_tick mm_trace_player_search
+ *            mm_trace_player_divergence mm_trace_player_close mm_trace_db_checksum
  */
 #ifndef MM_TRACE_H
 #define MM_TRACE_H
@@ -146,6 +148,23 @@ typedef struct mm_trace_divergence {
  * MM_ERR_INVALID_ARGUMENT otherwise) and compares each search with the trace's line, byte for byte;
  * *out says where they first differed. */
 mm_result mm_trace_replay(const mm_trace *t, const mm_database *db, mm_trace_divergence *out, mm_error *err);
+
+/* A replay tick by tick (what mm_trace_replay runs, for a viewer that draws each tick): open makes
+ * the run the header describes (the same checks as mm_trace_replay); each step runs one tick and,
+ * when it searched, compares that search with the trace's line; the character, the input of the
+ * last tick, the trace's search matched on it (an index into trace->searches, -1 when the tick did
+ * not search) and the first divergence so far are there to read. step returns
+ * MM_ERR_INVALID_ARGUMENT once every tick of the header has run. The trace must outlive the player. */
+typedef struct mm_trace_player mm_trace_player;
+mm_result mm_trace_player_open(mm_trace_player **player, const mm_trace *t, const mm_database *db,
+                               mm_error *err);
+mm_result mm_trace_player_step(mm_trace_player *player, mm_error *err);
+mm_character *mm_trace_player_character(mm_trace_player *player);
+const mm_input *mm_trace_player_input(const mm_trace_player *player);
+int mm_trace_player_tick(const mm_trace_player *player); /* ticks run */
+int mm_trace_player_search(const mm_trace_player *player);
+const mm_trace_divergence *mm_trace_player_divergence(const mm_trace_player *player);
+void mm_trace_player_close(mm_trace_player *player);
 
 #ifdef __cplusplus
 }
