@@ -54,9 +54,9 @@ typedef struct mm_trace_run {
     double fps;                      /* ticks per second */
     int ticks;                       /* ticks run */
     /* the input: a script (its file name and its text, verbatim), or a random script (seed and
-     * seconds, mm_input_script_random with the default desc), or a path file (mm simulate --path) */
+     * seconds: mm_input_script_random with only its seconds set), or a path file (mm simulate --path) */
     char input_path[MM_TRACE_MAX_PATH];
-    char *input_text; /* the script's text (NUL-terminated; mm_trace_read owns it) */
+    char *input_text; /* the script's text (NUL-terminated; the run owns it: mm_trace_run_free) */
     long random_seed; /* -1: none */
     double random_seconds;
     char path_file[MM_TRACE_MAX_PATH];
@@ -71,7 +71,8 @@ typedef struct mm_trace_run {
 /* Zero, with every switch -1, fps 60 and top_k MM_TRACE_DEFAULT_K. */
 void mm_trace_run_defaults(mm_trace_run *run);
 
-/* The database file's checksum (the header's field, as `mm db info` shows it). */
+/* The database file's checksum: the 64-bit field of its file header at offset 16 (docs/format.md),
+ * which covers every byte after it. */
 uint64_t mm_trace_db_checksum(const mm_database *db);
 
 /* The names of a candidate's terms ("pose_position", "pose_velocity", "root_velocity",
