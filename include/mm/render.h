@@ -32,6 +32,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "body_mesh.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"
@@ -121,6 +122,9 @@ typedef struct mm_render_scene {
     const mm_render_box *boxes; /* obstacles, drawn solid and lit with dark edges */
     int box_count;
     float ground_height; /* m: the height of the ground grid (0 by default) */
+    /* a body skinned to the joints (mm/body_mesh.h), drawn in place of the spheres and capsules
+     * when its joint_count is the scene's; NULL: the capsule figure */
+    const mm_body_mesh *body_mesh;
 } mm_render_scene;
 
 /* The joint named like a head: the head role's default name (mm_role_default_name) in any case,

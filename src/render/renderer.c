@@ -1,5 +1,5 @@
-/* The OpenGL 3.3 core renderer: a lit capsule character with contact shadows on a grid ground,
- * debug lines and markers, and overlay text in the built-in font. */
+/* The OpenGL 3.3 core renderer: a lit character (a skinned body mesh, or capsules) with contact
+ * shadows on a grid ground, debug lines and markers, and overlay text in the built-in font. */
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -23,10 +23,14 @@ struct mm_renderer {
     GLuint cube_vao, cube_vbo;                 /* unit box, x and z in [-0.5, 0.5], y in [0, 1] */
     GLuint ground_vao, ground_vbo;             /* one quad, moved under the camera */
     GLuint dynamic_vao, dynamic_vbo;           /* lines and text, refilled every draw */
+    GLuint skinned;                            /* program of the body mesh: per-vertex colours */
+    GLuint body_vao, body_vbo, body_ibo;       /* the skinned body, refilled every draw */
     GLuint font_texture;
     int sphere_index_count, cylinder_vertex_count;
     float *scratch; /* vertex data for the dynamic buffer */
     size_t scratch_capacity;
+    float *body_scratch; /* the skinned body: positions and normals, then interleaved vertices */
+    size_t body_scratch_capacity;
 };
 
 static const mm_rgba default_body = {0.62f, 0.68f, 0.78f, 1.0f};
@@ -63,6 +67,41 @@ static const char *lit_fs =
     "  c += 0.18 * pow(1.0 - max(dot(n, v), 0.0), 3.0);\n"
     "  float f = clamp((length(u_eye - v_world) - 30.0) / 120.0, 0.0, 1.0);\n"
     "  frag = vec4(mix(c, u_fog, f), u_color.a);\n"
+    "}\n";
+
+/* the body: world positions (skinned on the CPU), normals and colours per vertex, lit as above
+   with a softer key light and a little wrap so that the shaded side keeps its shape */
+static const char *skinned_vs = "#version 330 core\n"
+                                "layout(location = 0) in vec3 a_pos;\n"
+                                "layout(location = 1) in vec3 a_normal;\n"
+                                "layout(location = 2) in vec3 a_color;\n"
+                                "uniform mat4 u_view_proj;\n"
+                                "out vec3 v_world, v_normal, v_color;\n"
+                                "void main() {\n"
+                                "  v_world = a_pos;\n"
+                                "  v_normal = a_normal;\n"
+                                "  v_color = a_color;\n"
+                                "  gl_Position = u_view_proj * vec4(a_pos, 1.0);\n"
+                                "}\n";
+
+static const char *skinned_fs =
+    "#version 330 core\n"
+    "in vec3 v_world, v_normal, v_color;\n"
+    "uniform vec3 u_eye, u_fog;\n"
+    "out vec4 frag;\n"
+    "void main() {\n"
+    "  vec3 n = normalize(v_normal);\n"
+    "  vec3 v = normalize(u_eye - v_world);\n"
+    "  if (dot(n, v) < 0.0) n = -n;\n"
+    "  vec3 l = normalize(vec3(0.35, 1.0, 0.25));\n"
+    "  float key = max((dot(n, l) + 0.25) / 1.25, 0.0);\n"
+    "  vec3 ambient = mix(vec3(0.30, 0.28, 0.26), vec3(0.66, 0.70, 0.78), 0.5 + 0.5 * n.y);\n"
+    "  vec3 c = v_color * (0.55 * ambient + 0.75 * key);\n"
+    "  vec3 h = normalize(l + v);\n"
+    "  c += 0.12 * pow(max(dot(n, h), 0.0), 24.0);\n"
+    "  c += 0.10 * pow(1.0 - max(dot(n, v), 0.0), 3.0);\n"
+    "  float f = clamp((length(u_eye - v_world) - 30.0) / 120.0, 0.0, 1.0);\n"
+    "  frag = vec4(mix(c, u_fog, f), 1.0);\n"
     "}\n";
 
 static const char *ground_vs = "#version 330 core\n"
@@ -300,6 +339,19 @@ static void make_meshes(mm_renderer *r)
 
     gl->GenVertexArrays(1, &r->dynamic_vao);
     gl->GenBuffers(1, &r->dynamic_vbo);
+
+    /* the body: position, normal, colour; contents every draw */
+    gl->GenVertexArrays(1, &r->body_vao);
+    gl->BindVertexArray(r->body_vao);
+    gl->GenBuffers(1, &r->body_vbo);
+    gl->GenBuffers(1, &r->body_ibo);
+    gl->BindBuffer(GL_ARRAY_BUFFER, r->body_vbo);
+    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->body_ibo);
+    for (int a = 0; a < 3; ++a) {
+        gl->VertexAttribPointer((GLuint)a, 3, GL_FLOAT, GL_FALSE, (GLsizei)(sizeof(float) * 9),
+                                (const void *)(sizeof(float) * 3 * (size_t)a));
+        gl->EnableVertexAttribArray((GLuint)a);
+    }
     gl->BindVertexArray(0);
 }
 
@@ -341,7 +393,8 @@ mm_result mm_renderer_create(mm_gl_loader load, mm_renderer **out, mm_error *err
     r->ground = r->lit ? program(gl, ground_vs, ground_fs, "ground", err) : 0;
     r->flat = r->ground ? program(gl, flat_vs, flat_fs, "line", err) : 0;
     r->text = r->flat ? program(gl, text_vs, text_fs, "text", err) : 0;
-    if (!r->text) {
+    r->skinned = r->text ? program(gl, skinned_vs, skinned_fs, "body", err) : 0;
+    if (!r->skinned) {
         mm_renderer_destroy(r);
         return err ? err->code : MM_ERR_UNSUPPORTED;
     }
@@ -355,8 +408,8 @@ void mm_renderer_destroy(mm_renderer *r)
 {
     if (!r) return;
     mm_gl *gl = &r->gl;
-    GLuint programs[4] = {r->lit, r->ground, r->flat, r->text};
-    for (int i = 0; i < 4; ++i)
+    GLuint programs[5] = {r->lit, r->ground, r->flat, r->text, r->skinned};
+    for (int i = 0; i < 5; ++i)
         if (programs[i]) gl->DeleteProgram(programs[i]);
     GLuint vaos[5] = {r->sphere_vao, r->cylinder_vao, r->ground_vao, r->dynamic_vao, r->cube_vao};
     GLuint vbos[6] = {r->sphere_vbo, r->sphere_ibo,  r->cylinder_vbo,
@@ -365,7 +418,13 @@ void mm_renderer_destroy(mm_renderer *r)
         gl->DeleteVertexArrays(5, vaos);
         gl->DeleteBuffers(6, vbos);
     }
+    if (r->body_vao) {
+        GLuint body_buffers[2] = {r->body_vbo, r->body_ibo};
+        gl->DeleteVertexArrays(1, &r->body_vao);
+        gl->DeleteBuffers(2, body_buffers);
+    }
     if (r->font_texture) gl->DeleteTextures(1, &r->font_texture);
+    free(r->body_scratch);
     free(r->scratch);
     free(r);
 }
@@ -586,6 +645,53 @@ static int text_quads(float *v, const char *text, float x0, float y0, bool panel
     return n;
 }
 
+/* The body mesh skinned to the scene's pose: vertex colours, tinted by a joint's colour where the
+ * scene gives joints colours other than the body's (highlighted bones). */
+static bool draw_body_mesh(mm_renderer *r, const float view_proj[16], mm_vec3 eye, const mm_render_scene *s,
+                           mm_rgba body)
+{
+    const mm_body_mesh *m = s->body_mesh;
+    if (!m || !s->global || m->vertex_count <= 0 || m->triangle_count <= 0 ||
+        m->joint_count != s->joint_count)
+        return false;
+    size_t n = (size_t)m->vertex_count, need = n * 6 + n * 9;
+    if (need > r->body_scratch_capacity) {
+        float *p = realloc(r->body_scratch, sizeof(float) * need);
+        if (!p) return false;
+        r->body_scratch = p;
+        r->body_scratch_capacity = need;
+    }
+    mm_vec3 *positions = (mm_vec3 *)r->body_scratch, *normals = positions + n;
+    float *v = r->body_scratch + n * 6;
+    mm_body_mesh_skin(m, s->global, positions, normals);
+    for (size_t i = 0; i < n; ++i) {
+        float *o = v + i * 9;
+        o[0] = positions[i].x, o[1] = positions[i].y, o[2] = positions[i].z;
+        o[3] = normals[i].x, o[4] = normals[i].y, o[5] = normals[i].z;
+        const float *c = m->colors + i * 3;
+        o[6] = c[0], o[7] = c[1], o[8] = c[2];
+        int j = m->joints[i * MM_BODY_MAX_INFLUENCES];
+        if (s->joint_colors && j >= 0 && j < s->joint_count) {
+            mm_rgba t = s->joint_colors[j];
+            if (t.r != body.r || t.g != body.g || t.b != body.b)
+                o[6] = 0.3f * c[0] + 0.7f * t.r, o[7] = 0.3f * c[1] + 0.7f * t.g,
+                o[8] = 0.3f * c[2] + 0.7f * t.b;
+        }
+    }
+    mm_gl *gl = &r->gl;
+    gl->UseProgram(r->skinned);
+    gl->UniformMatrix4fv(gl->GetUniformLocation(r->skinned, "u_view_proj"), 1, GL_FALSE, view_proj);
+    gl->Uniform3f(gl->GetUniformLocation(r->skinned, "u_eye"), eye.x, eye.y, eye.z);
+    gl->Uniform3f(gl->GetUniformLocation(r->skinned, "u_fog"), fog_color[0], fog_color[1], fog_color[2]);
+    gl->BindVertexArray(r->body_vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, r->body_vbo);
+    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * n * 9), v, GL_STREAM_DRAW);
+    gl->BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * 3 * (size_t)m->triangle_count),
+                   m->indices, GL_STREAM_DRAW);
+    gl->DrawElements(GL_TRIANGLES, 3 * m->triangle_count, GL_UNSIGNED_INT, (const void *)0);
+    return true;
+}
+
 static void draw_overlay(mm_renderer *r, int width, int height, const char *text)
 {
     if (!text || !*text) return;
@@ -664,6 +770,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
         gl->DrawArrays(GL_TRIANGLES, 0, 6);
     }
 
+    bool body_drawn = draw_body_mesh(r, view_proj, eye, s, body);
     gl->UseProgram(r->lit);
     gl->UniformMatrix4fv(gl->GetUniformLocation(r->lit, "u_view_proj"), 1, GL_FALSE, view_proj);
     gl->Uniform3f(gl->GetUniformLocation(r->lit, "u_eye"), eye.x, eye.y, eye.z);
@@ -671,7 +778,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
     GLint u_model = gl->GetUniformLocation(r->lit, "u_model"),
           u_normal = gl->GetUniformLocation(r->lit, "u_normal"),
           u_color = gl->GetUniformLocation(r->lit, "u_color");
-    if (s->global && s->joint_count > 0)
+    if (s->global && s->joint_count > 0 && !body_drawn)
         for (int j = first; j < s->joint_count; ++j) {
             mm_rgba c = s->joint_colors ? s->joint_colors[j] : body;
             draw_sphere(r, u_model, u_normal, u_color, s->global[j].translation,
