@@ -21,7 +21,7 @@
  * 1.75 m adult); left and right from the hip joints; forward = left x up.
  *
  * Functions: mm_body_roles_from_database mm_body_mesh_build mm_body_mesh_build_from_database
- *            mm_body_mesh_load mm_body_mesh_skin mm_body_mesh_free mm_body_mesh_bind_score
+ *            mm_body_mesh_load mm_body_mesh_skin mm_body_mesh_free mm_body_mesh_bind_score mm_body_facing
  */
 #ifndef MM_BODY_MESH_H
 #define MM_BODY_MESH_H
@@ -102,6 +102,11 @@ mm_result mm_body_mesh_load(const char *path, const mm_joint *joints, int joint_
 void mm_body_mesh_skin(const mm_body_mesh *m, const mm_xform *global, mm_vec3 *positions, mm_vec3 *normals);
 
 void mm_body_mesh_free(mm_body_mesh *m);
+
+/* The yaw (rad about +Y, 0 facing +Z) a pose faces: at right angles to the line from the right hip
+ * joint to the left one (the feet's grandparents), left = up x forward; fallback without them. */
+float mm_body_facing(const mm_body_roles *roles, const int *parents, int joint_count, const mm_xform *pose,
+                     float fallback);
 
 #ifdef __cplusplus
 }

@@ -669,7 +669,7 @@ mm_result mm_body_mesh_build(const mm_body_desc *d, mm_body_mesh *out, mm_error 
                              mm_vec3_dot(bind[r->head].translation, f.up) - 0.01f * f.scale);
     mm_vec3 path[MAX_SPINE];
     int path_owner[MAX_SPINE];
-    int path_count = spine_path(bind, &f, spine, spine_count - 1, top_height, path, path_owner);
+    int path_count = spine_path(bind, &f, spine, spine_count, top_height, path, path_owner);
     add_torso(&b, &f, path, path_owner, path_count, hip_half, shoulder_half, shoulder_height);
     for (int s = 0; s < 2; ++s)
         if (arms[s]) add_arm(&b, d, &f, s, spine[arm_spine[s]]);
@@ -772,4 +772,21 @@ void mm_body_mesh_free(mm_body_mesh *m)
     free(m->local_normals);
     free(m->indices);
     memset(m, 0, sizeof *m);
+}
+
+float mm_body_facing(const mm_body_roles *roles, const int *parents, int joint_count, const mm_xform *pose,
+                     float fallback)
+{
+    mm_body_desc d;
+    memset(&d, 0, sizeof d);
+    d.joint_count = joint_count;
+    d.parents = parents;
+    if (!roles || !parents || !pose) return fallback;
+    int l = grandparent(&d, roles->foot[0]), r = grandparent(&d, roles->foot[1]);
+    if (!valid_joint(&d, l) || !valid_joint(&d, r)) return fallback;
+    mm_vec3 left = mm_vec3_sub(pose[l].translation, pose[r].translation);
+    /* forward = left x up, on the ground: (-left.z, 0, left.x) */
+    float fx = -left.z, fz = left.x;
+    if (!isfinite(fx) || !isfinite(fz) || fx * fx + fz * fz < 1e-12f) return fallback;
+    return atan2f(fx, fz);
 }

@@ -619,10 +619,11 @@ static void draw_lines(mm_renderer *r, const float view_proj[16], const mm_rende
     gl->DrawArrays(GL_LINES, 0, n);
 }
 
-/* Quads of the font atlas for text at pixel (x, y); solid cells when panel. Returns vertex count. */
-static int text_quads(float *v, const char *text, float x0, float y0, bool panel)
+/* Quads of the font atlas for text at pixel (x, y), font pixels of scale screen pixels; solid
+ * cells when panel. Returns vertex count. */
+static int text_quads(float *v, const char *text, float x0, float y0, int scale, bool panel)
 {
-    const float cw = MM_FONT_CELL_W * MM_FONT_SCALE, ch = MM_FONT_CELL_H * MM_FONT_SCALE;
+    const float cw = (float)(MM_FONT_CELL_W * scale), ch = (float)(MM_FONT_CELL_H * scale);
     const float atlas_w = 96.0f * MM_FONT_CELL_W;
     int n = 0;
     float x = x0, y = y0;
@@ -692,13 +693,76 @@ static bool draw_body_mesh(mm_renderer *r, const float view_proj[16], mm_vec3 ey
     return true;
 }
 
-static void draw_overlay(mm_renderer *r, int width, int height, const char *text)
+#define OVERLAY_MARGIN     8     /* pixels between the text and the image's edge */
+#define OVERLAY_BODY_REACH 0.15f /* m: the body's extent around its joints, for keeping the text off it */
+
+bool mm_render_character_box(const mm_camera *cam, int width, int height, const mm_render_scene *s,
+                             float box[4])
 {
+    box[0] = box[1] = INFINITY;
+    box[2] = box[3] = -INFINITY;
+    if (!cam || !s || !s->global || width <= 0 || height <= 0) return false;
+    float focal = 0.5f * (float)height / tanf(0.5f * cam->fov_y);
+    mm_vec3 eye = mm_camera_eye(cam);
+    bool any = false;
+    for (int j = s->first_joint > 0 ? s->first_joint : 0; j < s->joint_count; ++j) {
+        mm_vec3 p = s->global[j].translation;
+        float x, y;
+        if (!finite3(p) || !mm_camera_project(cam, width, height, p, &x, &y)) continue;
+        float reach = OVERLAY_BODY_REACH * focal / fmaxf(mm_vec3_distance(p, eye), cam->z_near);
+        box[0] = fminf(box[0], x - reach), box[1] = fminf(box[1], y - reach);
+        box[2] = fmaxf(box[2], x + reach), box[3] = fmaxf(box[3], y + reach);
+        any = true;
+    }
+    return any;
+}
+
+static float overlap_area(const float a[4], const float b[4])
+{
+    float w = fminf(a[2], b[2]) - fmaxf(a[0], b[0]), h = fminf(a[3], b[3]) - fmaxf(a[1], b[1]);
+    return w > 0.0f && h > 0.0f ? w * h : 0.0f;
+}
+
+void mm_render_overlay_place(const mm_camera *cam, int width, int height, const mm_render_scene *s,
+                             mm_overlay_place *out)
+{
+    int tw = 0, th = 0;
+    mm_text_measure(s ? s->overlay : NULL, &tw, &th);
+    out->x = out->y = OVERLAY_MARGIN;
+    out->scale = MM_FONT_SCALE;
+    out->width = tw;
+    out->height = th;
+    float body[4];
+    if (tw == 0 || !mm_render_character_box(cam, width, height, s, body)) return;
+    /* the top left, top right, bottom left, bottom right corner, at the font's scale and then at
+       half of it: the first clear of the body, else the one that covers least of it */
+    float best = INFINITY;
+    for (int scale = MM_FONT_SCALE; scale >= 1; --scale) {
+        int w = tw * scale / MM_FONT_SCALE, h = th * scale / MM_FONT_SCALE;
+        for (int corner = 0; corner < 4; ++corner) {
+            int x = corner & 1 ? width - OVERLAY_MARGIN - w : OVERLAY_MARGIN;
+            int y = corner & 2 ? height - OVERLAY_MARGIN - h : OVERLAY_MARGIN;
+            float rect[4] = {(float)x, (float)y, (float)(x + w), (float)(y + h)};
+            float covered = overlap_area(rect, body);
+            if (covered < best) {
+                best = covered;
+                out->x = x, out->y = y, out->scale = scale, out->width = w, out->height = h;
+            }
+            if (covered <= 0.0f) return;
+        }
+    }
+}
+
+static void draw_overlay(mm_renderer *r, const mm_camera *cam, int width, int height,
+                         const mm_render_scene *s)
+{
+    const char *text = s->overlay;
     if (!text || !*text) return;
+    mm_overlay_place place;
+    mm_render_overlay_place(cam, width, height, s, &place);
     size_t len = strlen(text);
     float *v = scratch(r, (len + 1) * 24 * 2);
     if (!v) return;
-    const float margin = 8.0f;
     mm_gl *gl = &r->gl;
     gl->Disable(GL_DEPTH_TEST);
     gl->Enable(GL_BLEND);
@@ -711,7 +775,7 @@ static void draw_overlay(mm_renderer *r, int width, int height, const char *text
     GLint u_color = gl->GetUniformLocation(r->text, "u_color");
     /* a dark panel behind the characters, then the characters */
     for (int pass = 0; pass < 2; ++pass) {
-        int n = text_quads(v, text, margin, margin, pass == 0);
+        int n = text_quads(v, text, (float)place.x, (float)place.y, place.scale, pass == 0);
         if (pass == 0)
             gl->Uniform4f(u_color, 0.05f, 0.06f, 0.08f, 0.55f);
         else
@@ -796,7 +860,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
         draw_box_edges(r, view_proj, s);
     }
     draw_lines(r, view_proj, s);
-    draw_overlay(r, width, height, s->overlay);
+    draw_overlay(r, cam, width, height, s);
     gl->BindVertexArray(0);
 }
 
