@@ -787,6 +787,39 @@ static void draw_overlay(mm_renderer *r, const mm_camera *cam, int width, int he
     gl->Enable(GL_DEPTH_TEST);
 }
 
+/* The ground: a grid at the scene's ground height under the camera's target, darkened by soft
+ * contact shadows of the joints (the nearer the ground, the darker and tighter). */
+static void draw_ground(mm_renderer *r, const float view_proj[16], mm_vec3 eye, const mm_camera *cam,
+                        const mm_render_scene *s)
+{
+    mm_gl *gl = &r->gl;
+    int first = s->first_joint > 0 ? s->first_joint : 0;
+    /* contact shadows: darker and tighter the closer a joint is to the ground */
+    float shadows[MAX_SHADOWS][4];
+    int count = 0, candidates = s->shadow_joints ? s->shadow_joint_count : s->joint_count;
+    for (int i = 0; i < candidates && count < MAX_SHADOWS; ++i) {
+        int j = s->shadow_joints ? s->shadow_joints[i] : i;
+        if (j < first || j >= s->joint_count || !s->global) continue;
+        mm_vec3 p = s->global[j].translation;
+        if (!finite3(p)) continue;
+        float h = fmaxf(p.y - s->ground_height, 0.0f), strength = 0.45f * fmaxf(0.0f, 1.0f - h / 1.2f);
+        if (strength <= 0.0f) continue;
+        shadows[count][0] = p.x, shadows[count][1] = p.z;
+        shadows[count][2] = 0.10f + 0.25f * h, shadows[count][3] = strength;
+        ++count;
+    }
+    gl->UseProgram(r->ground);
+    gl->UniformMatrix4fv(gl->GetUniformLocation(r->ground, "u_view_proj"), 1, GL_FALSE, view_proj);
+    gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_offset"), floorf(cam->target.x),
+                  isfinite(s->ground_height) ? s->ground_height : 0.0f, floorf(cam->target.z));
+    gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_eye"), eye.x, eye.y, eye.z);
+    gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_fog"), fog_color[0], fog_color[1], fog_color[2]);
+    if (count) gl->Uniform4fv(gl->GetUniformLocation(r->ground, "u_shadows"), count, &shadows[0][0]);
+    gl->Uniform1i(gl->GetUniformLocation(r->ground, "u_shadow_count"), count);
+    gl->BindVertexArray(r->ground_vao);
+    gl->DrawArrays(GL_TRIANGLES, 0, 6);
+}
+
 void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int height, const mm_render_scene *s)
 {
     if (!r || !cam || !s || width <= 0 || height <= 0) return;
@@ -807,32 +840,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
     mm_rgba body = s->body_color.a > 0.0f ? s->body_color : default_body;
     int first = s->first_joint > 0 ? s->first_joint : 0;
 
-    if (!s->no_ground) {
-        /* contact shadows: darker and tighter the closer a joint is to the ground */
-        float shadows[MAX_SHADOWS][4];
-        int count = 0, candidates = s->shadow_joints ? s->shadow_joint_count : s->joint_count;
-        for (int i = 0; i < candidates && count < MAX_SHADOWS; ++i) {
-            int j = s->shadow_joints ? s->shadow_joints[i] : i;
-            if (j < first || j >= s->joint_count || !s->global) continue;
-            mm_vec3 p = s->global[j].translation;
-            if (!finite3(p)) continue;
-            float h = fmaxf(p.y - s->ground_height, 0.0f), strength = 0.45f * fmaxf(0.0f, 1.0f - h / 1.2f);
-            if (strength <= 0.0f) continue;
-            shadows[count][0] = p.x, shadows[count][1] = p.z;
-            shadows[count][2] = 0.10f + 0.25f * h, shadows[count][3] = strength;
-            ++count;
-        }
-        gl->UseProgram(r->ground);
-        gl->UniformMatrix4fv(gl->GetUniformLocation(r->ground, "u_view_proj"), 1, GL_FALSE, view_proj);
-        gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_offset"), floorf(cam->target.x),
-                      isfinite(s->ground_height) ? s->ground_height : 0.0f, floorf(cam->target.z));
-        gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_eye"), eye.x, eye.y, eye.z);
-        gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_fog"), fog_color[0], fog_color[1], fog_color[2]);
-        if (count) gl->Uniform4fv(gl->GetUniformLocation(r->ground, "u_shadows"), count, &shadows[0][0]);
-        gl->Uniform1i(gl->GetUniformLocation(r->ground, "u_shadow_count"), count);
-        gl->BindVertexArray(r->ground_vao);
-        gl->DrawArrays(GL_TRIANGLES, 0, 6);
-    }
+    if (!s->no_ground) draw_ground(r, view_proj, eye, cam, s);
 
     bool body_drawn = draw_body_mesh(r, view_proj, eye, s, body);
     gl->UseProgram(r->lit);
