@@ -5,12 +5,18 @@
  * the body scales with the skeleton and shows which way it faces; a glTF written here (a two-bone
  * skinned mesh in centimetres) loads through assimp, matched by bone names and units, and a bone
  * no joint is named like is refused by name; the chase camera stands behind the facing and keeps
- * every framed point inside its window; the overlay never crosses the projected character. */
+ * every framed point inside its window; the overlay never crosses the projected character; and
+ * mm render and mm simulate --video draw a glTF body given with --mesh (its colour in the frames),
+ * refusing one whose bones are not the skeleton's. */
 #include <math.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 
 #include <mm/body_mesh.h>
+#include <mm/bvh.h>
 #include <mm/render.h>
 
+#include "test_databases.h"
 #include "test_util.h"
 
 /* ---- a hand-built skeleton, metres, facing +Z (left = +X), names that say nothing ---- */
@@ -700,6 +706,243 @@ static void test_overlay_stays_off_the_character(void **state)
     assert_int_equal(o.height, 2 * 18);
 }
 
+/* ---- --mesh through the program ---- */
+
+/* A glTF body for a skeleton in its rest pose (rotations identity): a box around every bone, bound
+ * to the joint that carries it, in centimetres, red. */
+static void write_skeleton_gltf(const char *path, const mm_joint *joints, int n, const char *rename_first)
+{
+    enum { MAXJ = 64 };
+    assert_true(n <= MAXJ);
+    mm_vec3 rest[MAXJ];
+    for (int j = 0; j < n; ++j)
+        rest[j] =
+            joints[j].parent < 0 ? joints[j].offset : mm_vec3_add(rest[joints[j].parent], joints[j].offset);
+    static float positions[MAXJ * 8][3], weights[MAXJ * 8][4], inverse_bind[MAXJ][16];
+    static uint16_t bone_of[MAXJ * 8][4], indices[MAXJ * 36];
+    int v = 0, t = 0;
+    static const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                                    {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    for (int j = 1; j < n; ++j) {
+        int p = joints[j].parent;
+        if (p < 0 || mm_vec3_distance(rest[p], rest[j]) < 0.02f) continue;
+        mm_vec3 lo = {fminf(rest[p].x, rest[j].x) - 0.04f, fminf(rest[p].y, rest[j].y) - 0.04f,
+                      fminf(rest[p].z, rest[j].z) - 0.04f};
+        mm_vec3 hi = {fmaxf(rest[p].x, rest[j].x) + 0.04f, fmaxf(rest[p].y, rest[j].y) + 0.04f,
+                      fmaxf(rest[p].z, rest[j].z) + 0.04f};
+        for (int c = 0; c < 8; ++c) {
+            positions[v + c][0] = 100.0f * (c & 1 ? hi.x : lo.x);
+            positions[v + c][1] = 100.0f * (c & 2 ? hi.y : lo.y);
+            positions[v + c][2] = 100.0f * (c & 4 ? hi.z : lo.z);
+            memset(bone_of[v + c], 0, sizeof bone_of[0]);
+            memset(weights[v + c], 0, sizeof weights[0]);
+            bone_of[v + c][0] = (uint16_t)p;
+            weights[v + c][0] = 1.0f;
+        }
+        for (int f = 0; f < 6; ++f) {
+            const int *q = faces[f];
+            uint16_t tri[6] = {(uint16_t)(v + q[0]), (uint16_t)(v + q[1]), (uint16_t)(v + q[2]),
+                               (uint16_t)(v + q[0]), (uint16_t)(v + q[2]), (uint16_t)(v + q[3])};
+            memcpy(indices + t, tri, sizeof tri);
+            t += 6;
+        }
+        v += 8;
+    }
+    for (int j = 0; j < n; ++j) {
+        memset(inverse_bind[j], 0, sizeof inverse_bind[j]);
+        inverse_bind[j][0] = inverse_bind[j][5] = inverse_bind[j][10] = inverse_bind[j][15] = 1.0f;
+        inverse_bind[j][12] = -100.0f * rest[j].x, inverse_bind[j][13] = -100.0f * rest[j].y;
+        inverse_bind[j][14] = -100.0f * rest[j].z;
+    }
+    size_t sp = sizeof(float) * 3 * (size_t)v, sj = sizeof(uint16_t) * 4 * (size_t)v,
+           sw = sizeof(float) * 4 * (size_t)v, si = sizeof(uint16_t) * (size_t)t,
+           sb = sizeof(float) * 16 * (size_t)n;
+    size_t total = sp + sj + sw + si + sb + 4;
+    uint8_t *buf = calloc(1, total);
+    char *b64 = malloc(total * 2 + 8);
+    assert_non_null(buf);
+    assert_non_null(b64);
+    memcpy(buf, positions, sp);
+    memcpy(buf + sp, bone_of, sj);
+    memcpy(buf + sp + sj, weights, sw);
+    memcpy(buf + sp + sj + sw, indices, si);
+    size_t ob = (sp + sj + sw + si + 3) / 4 * 4; /* floats start on 4 bytes */
+    memcpy(buf + ob, inverse_bind, sb);
+    total = ob + sb;
+    base64(buf, total, b64);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fprintf(f,
+            "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0, %d]}],\n "
+            "\"nodes\": [",
+            n);
+    for (int j = 0; j < n; ++j) {
+        fprintf(f, "%s{\"name\": \"%s\", \"translation\": [%g, %g, %g]", j ? ",\n  " : "",
+                j == 1 && rename_first ? rename_first : joints[j].name, 100.0 * joints[j].offset.x,
+                100.0 * joints[j].offset.y, 100.0 * joints[j].offset.z);
+        int children = 0;
+        for (int k = j + 1; k < n; ++k)
+            if (joints[k].parent == j) fprintf(f, "%s%d", children++ ? ", " : ", \"children\": [", k);
+        fprintf(f, "%s}", children ? "]" : "");
+    }
+    fprintf(f, ",\n  {\"name\": \"body\", \"mesh\": 0, \"skin\": 0}],\n \"skins\": [{\"joints\": [");
+    for (int j = 0; j < n; ++j) fprintf(f, "%s%d", j ? ", " : "", j);
+    fprintf(f, "], \"inverseBindMatrices\": 4, \"skeleton\": 0}],\n");
+    fprintf(f, " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"JOINTS_0\": 1, "
+               "\"WEIGHTS_0\": 2}, "
+               "\"indices\": 3, \"material\": 0}]}],\n"
+               " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.9, 0.1, 0.1, 1]}}],\n");
+    fprintf(f,
+            " \"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,%s\"}],\n",
+            total, b64);
+    fprintf(f,
+            " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": %zu}, {\"buffer\": 0, "
+            "\"byteOffset\": "
+            "%zu, \"byteLength\": %zu}, {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu}, "
+            "{\"buffer\": 0, "
+            "\"byteOffset\": %zu, \"byteLength\": %zu}, {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": "
+            "%zu}],\n",
+            sp, sp, sj, sp + sj, sw, sp + sj + sw, si, ob, sb);
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < v; ++i)
+        for (int c = 0; c < 3; ++c)
+            lo[c] = fminf(lo[c], positions[i][c]), hi[c] = fmaxf(hi[c], positions[i][c]);
+    fprintf(
+        f,
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\", "
+        "\"min\": "
+        "[%g, %g, %g], \"max\": [%g, %g, %g]},\n  {\"bufferView\": 1, \"componentType\": 5123, \"count\": "
+        "%d, \"type\": "
+        "\"VEC4\"},\n  {\"bufferView\": 2, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC4\"},\n  "
+        "{\"bufferView\": 3, \"componentType\": 5123, \"count\": %d, \"type\": \"SCALAR\"},\n  "
+        "{\"bufferView\": 4, "
+        "\"componentType\": 5126, \"count\": %d, \"type\": \"MAT4\"}]}\n",
+        v, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], v, v, t, n);
+    fclose(f);
+    free(buf);
+    free(b64);
+}
+
+/* Pixels of the glTF's red (red well over green and blue) in a frame of a skeleton's pose. */
+static int red_pixels(const mm_body_mesh *m, const mm_clip *clip)
+{
+    enum { PW = 320, PH = 180 };
+    int n = clip->skeleton.joint_count;
+    mm_quat *rot = malloc(sizeof(mm_quat) * (size_t)n);
+    mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
+    mm_xform *global = malloc(sizeof(mm_xform) * (size_t)n);
+    int *par = malloc(sizeof(int) * (size_t)n);
+    assert_true(rot && pos && global && par);
+    for (int j = 0; j < n; ++j) par[j] = clip->skeleton.joints[j].parent;
+    mm_clip_sample(clip, 0.0f, rot, pos);
+    mm_fk(&clip->skeleton, rot, pos, global);
+    mm_render_scene s;
+    memset(&s, 0, sizeof s);
+    s.joint_count = n;
+    s.parents = par;
+    s.global = global;
+    s.body_mesh = m;
+    s.no_ground = true;
+    mm_camera c;
+    mm_camera_defaults(&c);
+    c.target = global[0].translation;
+    mm_offscreen *o;
+    mm_error err;
+    assert_int_equal(mm_offscreen_create(PW, PH, &o, &err), MM_OK);
+    const uint8_t *rgb = mm_offscreen_render(o, &c, &s);
+    assert_non_null(rgb);
+    int red = 0;
+    for (int i = 0; i < PW * PH; ++i)
+        red += rgb[3 * i] > 2 * rgb[3 * i + 1] + 30 && rgb[3 * i] > 2 * rgb[3 * i + 2] + 30;
+    mm_offscreen_destroy(o);
+    free(rot);
+    free(pos);
+    free(global);
+    free(par);
+    return red;
+}
+
+static void test_mesh_option_through_the_program(void **state)
+{
+    (void)state;
+    const char *mm = getenv("MM_BIN");
+    if (!mm) skip();
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    /* a clip of the built-in set as BVH, and a body for its skeleton */
+    mm_synth_desc sd;
+    memset(&sd, 0, sizeof sd);
+    mm_synth_set set;
+    assert_int_equal(mm_synth_generate(&sd, &set, &err), MM_OK);
+    const mm_clip *clip = &set.clips[0].clip;
+    char bvh[1024], gltf[1024], wrong[1024], out[1024], cmd[8192];
+    snprintf(bvh, sizeof bvh, "%s/mesh_option.bvh", MM_TEST_OUT);
+    snprintf(gltf, sizeof gltf, "%s/mesh_option.gltf", MM_TEST_OUT);
+    snprintf(wrong, sizeof wrong, "%s/mesh_option_wrong.gltf", MM_TEST_OUT);
+    snprintf(out, sizeof out, "%s/mesh_option_frames", MM_TEST_OUT);
+    assert_int_equal(mm_bvh_save(bvh, clip, NULL, &err), MM_OK);
+    write_skeleton_gltf(gltf, clip->skeleton.joints, clip->skeleton.joint_count, NULL);
+    write_skeleton_gltf(wrong, clip->skeleton.joints, clip->skeleton.joint_count, "NoSuchBone");
+    /* the loader binds it to the clip's skeleton: a red body, its boxes on the bones */
+    mm_body_mesh m;
+    mm_result r = mm_body_mesh_load(gltf, clip->skeleton.joints, clip->skeleton.joint_count, &m, &err);
+    if (r == MM_ERR_UNSUPPORTED) {
+        mm_synth_set_free(&set);
+        skip();
+    }
+    assert_int_equal(r, MM_OK);
+    assert_true(m.vertex_count >= 8 * 10);
+    assert_true(fabsf(m.colors[0] - 0.9f) < 1e-3f);
+    assert_true(red_pixels(&m, clip) > 300);
+    mm_body_mesh_free(&m);
+    snprintf(cmd, sizeof cmd,
+             "\"%s\" render \"%s\" -o \"%s\" --size 160x90 --seconds 0.2 --fps 10 --mesh \"%s\" >/dev/null",
+             mm, bvh, out, gltf);
+    assert_int_equal(system(cmd), 0);
+    char frame[1200];
+    snprintf(frame, sizeof frame, "%s/frame_00002.png", out);
+    struct stat st;
+    assert_int_equal(stat(frame, &st), 0);
+    /* a bone no joint is named like: refused, naming it */
+    snprintf(
+        cmd, sizeof cmd,
+        "\"%s\" render \"%s\" -o \"%s\" --size 160x90 --seconds 0.2 --mesh \"%s\" 2>&1 | grep -q NoSuchBone",
+        mm, bvh, out, wrong);
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd,
+             "\"%s\" render \"%s\" -o \"%s\" --size 160x90 --seconds 0.2 --mesh \"%s\" 2>/dev/null", mm, bvh,
+             out, wrong);
+    int status = system(cmd);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 1);
+    mm_synth_set_free(&set);
+
+    /* mm simulate --video --mesh on the built-in set's database, a body for its skeleton */
+    mm_database db;
+    assert_int_equal(test_build_synth_database(&db), 0);
+    char dbpath[1024], dbgltf[1024], video[1024], motion[1024];
+    snprintf(dbpath, sizeof dbpath, "%s/mesh_option.mmdb", MM_TEST_OUT);
+    snprintf(dbgltf, sizeof dbgltf, "%s/mesh_option_db.gltf", MM_TEST_OUT);
+    snprintf(video, sizeof video, "%s/mesh_option_video", MM_TEST_OUT);
+    snprintf(motion, sizeof motion, "%s/mesh_option_motion.bvh", MM_TEST_OUT);
+    assert_int_equal(mm_database_save(&db, dbpath, &err), MM_OK);
+    write_skeleton_gltf(dbgltf, db.joints, db.joint_count, NULL);
+    mm_database_free(&db);
+    snprintf(cmd, sizeof cmd,
+             "\"%s\" simulate \"%s\" --random 3 --seconds 0.5 -o \"%s\" --video \"%s\" --size 160x90 "
+             "--video-fps 4 "
+             "--mesh \"%s\" >/dev/null",
+             mm, dbpath, motion, video, dbgltf);
+    assert_int_equal(system(cmd), 0);
+    snprintf(frame, sizeof frame, "%s/frame_00001.png", video);
+    assert_int_equal(stat(frame, &st), 0);
+    snprintf(cmd, sizeof cmd,
+             "\"%s\" simulate \"%s\" --random 3 --seconds 0.5 -o \"%s\" --video \"%s\" --size 160x90 --mesh "
+             "\"%s\" 2>&1 "
+             "| grep -q NoSuchBone",
+             mm, dbpath, motion, video, wrong);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -714,6 +957,7 @@ int main(void)
         cmocka_unit_test(test_gltf_mesh_refusals),
         cmocka_unit_test(test_chase_camera_frames_from_behind),
         cmocka_unit_test(test_overlay_stays_off_the_character),
+        cmocka_unit_test(test_mesh_option_through_the_program),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -295,7 +295,7 @@ static const help_entry entries[] = {
      "  --fps F            frames per second, 10 to 240 (default 60)\n"},
     {"view", "the interactive viewer: drive a character, or preview and tag a clip",
      "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] [--scene SCENE.json]\n"
-     "               [--size 1280x720] [--frames N [--screenshot OUT.png]]\n"
+     "               [--mesh FILE] [--size 1280x720] [--frames N [--screenshot OUT.png]]\n"
      "       mm view --clip FILE.bvh [--config CONFIG.json] [--clip-name NAME] [--scene SCENE.json]\n"
      "               [--size 1280x720] [--frames N [--screenshot OUT.png]]\n"
      "The interactive viewer (docs/viewer.md): drive a character on a database with keyboard or\n"
@@ -306,6 +306,8 @@ static const help_entry entries[] = {
      "  --clip-name NAME   the config's clip to edit (default: the clip of the file)\n"
      "  --input SCRIPT     drive by an input script (default: keyboard and gamepad)\n"
      "  --scene SCENE.json draw a scene's boxes (default: none)\n"
+     "  --mesh FILE        the character's body: an FBX or glTF mesh skinned to the database's\n"
+     "                     skeleton (bones named as its joints; default: the body mm makes)\n"
      "  --size WxH         the window's pixels (default 1280x720)\n"
      "  --frames N         run N frames and quit (default: until the window closes)\n"
      "  --screenshot PNG   save the last of the N frames\n"},
