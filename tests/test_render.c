@@ -18,6 +18,7 @@
 
 #include "runtime/character/state.h"
 
+#include "skeleton_variants.h"
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -565,6 +566,112 @@ static void test_body_of_pfnn(void **state)
 {
     (void)state;
     body_of_a_take("pfnn/bvh/LocomotionFlat09_000.bvh", 2.5f);
+}
+
+/* The body a clip's skeleton makes (roles found from its motion unless given), bound to one of 16
+ * of its poses, skinned at time t into out (vertex_count returned). */
+static int clip_body_at(const mm_clip *clip, const mm_body_roles *given, float t, mm_vec3 *out, int capacity,
+                        mm_body_roles *roles_out)
+{
+    enum { POSES = 16 };
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_body_roles roles;
+    if (given) {
+        roles = *given;
+    } else {
+        mm_skeleton_roles found;
+        assert_int_equal(mm_skeleton_roles_find(clip, 1, &found, &err), MM_OK);
+        roles.hips = found.roles[MM_BODY_HIPS].joint;
+        roles.head = found.roles[MM_BODY_HEAD].joint;
+        for (int k = 0; k < 2; ++k) {
+            roles.foot[k] = found.roles[k ? MM_BODY_RIGHT_FOOT : MM_BODY_LEFT_FOOT].joint;
+            roles.toe[k] = found.roles[k ? MM_BODY_RIGHT_TOE : MM_BODY_LEFT_TOE].joint;
+            roles.hand[k] = found.roles[k ? MM_BODY_RIGHT_HAND : MM_BODY_LEFT_HAND].joint;
+        }
+    }
+    if (roles_out) *roles_out = roles;
+    int n = clip->skeleton.joint_count;
+    int *par = malloc(sizeof(int) * (size_t)n);
+    mm_xform *poses = malloc(sizeof(mm_xform) * (size_t)n * POSES),
+             *now = malloc(sizeof(mm_xform) * (size_t)n);
+    mm_quat *rot = malloc(sizeof(mm_quat) * (size_t)n);
+    mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
+    assert_true(par && poses && now && rot && pos);
+    for (int j = 0; j < n; ++j) par[j] = clip->skeleton.joints[j].parent;
+    double duration = mm_clip_duration(clip);
+    for (int i = 0; i < POSES; ++i) {
+        mm_clip_sample(clip, (float)(duration * i / (POSES - 1)), rot, pos);
+        mm_fk(&clip->skeleton, rot, pos, poses + (size_t)i * (size_t)n);
+    }
+    mm_body_desc d;
+    memset(&d, 0, sizeof d);
+    d.joint_count = n;
+    d.parents = par;
+    d.poses = poses;
+    d.pose_count = POSES;
+    d.roles = roles;
+    mm_body_mesh body;
+    assert_int_equal(mm_body_mesh_build(&d, &body, &err), MM_OK);
+    assert_true(body.vertex_count <= capacity);
+    mm_clip_sample(clip, t, rot, pos);
+    mm_fk(&clip->skeleton, rot, pos, now);
+    mm_body_mesh_skin(&body, now, out, NULL);
+    int count = body.vertex_count;
+    mm_body_mesh_free(&body);
+    free(par);
+    free(poses);
+    free(now);
+    free(rot);
+    free(pos);
+    return count;
+}
+
+/* One body whatever the skeleton says beside the motion: joints renamed to another convention, the
+ * rest frames turned, a root added on the ground that carries the travel and turns, centimetres
+ * (the body 100 times larger, point for point). */
+static void test_body_of_skeleton_variants(void **state)
+{
+    (void)state;
+    mm_synth_desc sd;
+    memset(&sd, 0, sizeof sd);
+    mm_synth_set set;
+    mm_error err;
+    assert_int_equal(mm_synth_generate(&sd, &set, &err), MM_OK);
+    const mm_clip *walk = NULL;
+    for (int i = 0; i < set.clip_count && !walk; ++i)
+        if (strcmp(set.clips[i].name, "walk_1.40") == 0) walk = &set.clips[i].clip;
+    assert_non_null(walk);
+    enum { CAPACITY = 20000 };
+    mm_vec3 *base = malloc(sizeof(mm_vec3) * CAPACITY), *other = malloc(sizeof(mm_vec3) * CAPACITY);
+    assert_true(base && other);
+    const float t = 0.7f;
+    mm_body_roles roles;
+    int n = clip_body_at(walk, NULL, t, base, CAPACITY, &roles);
+    for (int k = 0; k < 4; ++k) {
+        sv_variant v;
+        const char *what = k == 0   ? "renamed"
+                           : k == 1 ? "rest axes"
+                           : k == 2 ? "root on the ground"
+                                    : "centimetres";
+        if (k == 0) sv_rename(walk, SV_NAMES_SUFFIX_LR, &v);
+        if (k == 1) sv_rest_axes(walk, 2, &v);
+        if (k == 2) sv_reroot(walk, SV_ROOT_YAW, &v);
+        if (k == 3) sv_units(walk, 0.01, &v);
+        float unit = k == 3 ? 100.0f : 1.0f;
+        /* centimetres: the roles finder reads metres; the joints are the same ones */
+        int m = clip_body_at(&v.clip, k == 3 ? &roles : NULL, t, other, CAPACITY, NULL);
+        assert_int_equal(m, n);
+        float worst = 0.0f;
+        for (int i = 0; i < n; ++i)
+            worst = fmaxf(worst, mm_vec3_distance(mm_vec3_scale(other[i], 1.0f / unit), base[i]));
+        if (worst > 1e-3f) print_error("%s: the body moved by %.4f m\n", what, worst);
+        assert_true(worst <= 1e-3f);
+        sv_free(&v);
+    }
+    free(base);
+    free(other);
+    mm_synth_set_free(&set);
 }
 
 static void test_overlay_is_drawn_where_placed(void **state)
@@ -1218,6 +1325,7 @@ int main(void)
         cmocka_unit_test(test_body_of_lafan1),
         cmocka_unit_test(test_body_of_games105),
         cmocka_unit_test(test_body_of_pfnn),
+        cmocka_unit_test(test_body_of_skeleton_variants),
         cmocka_unit_test(test_overlay_is_drawn_where_placed),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
