@@ -259,8 +259,10 @@ int mm_cmd_render(int argc, char **argv)
         if (mesh_path) {
             if (mm_body_mesh_load(mesh_path, clip.skeleton.joints, n, &body, &err) != MM_OK)
                 status = cli_report(&err);
-        } else if (!capsules && have_roles && clip_body(&clip, &roles, parents, &body, &err) != MM_OK) {
-            /* a body the roles cannot make: capsules, said once */
+        } else if (!capsules && !have_roles) {
+            /* a skeleton whose roles are not found, or a body they cannot make: capsules, said once */
+            fprintf(stderr, "mm: %s: drawn as capsules: %s\n", in, role_err.message);
+        } else if (!capsules && clip_body(&clip, &roles, parents, &body, &err) != MM_OK) {
             fprintf(stderr, "mm: %s: drawn as capsules: %s\n", in, err.message);
             memset(&err, 0, sizeof err);
         }
