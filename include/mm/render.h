@@ -72,9 +72,10 @@ void mm_camera_zoom(mm_camera *c, float factor);
 void mm_camera_follow(mm_camera *c, mm_vec3 p, float halflife, float dt);
 
 /* A camera chasing a character: behind its facing (turned yaw_offset to one side), at a fixed
- * pitch, aimed at the middle of the points to frame (the character's joints and its future path)
- * and as far as they need to lie inside a window of the image (normalised coordinates: x within
- * +-half_width, y from bottom to top; the band above top is left to the overlay text), each eased
+ * pitch, aimed so that the middle of the points to frame (the character's joints and its future
+ * path) is the middle of a window of the image, and as far as they need to lie inside that window
+ * (normalised coordinates: x within +-half_width, y from bottom to top; the band above top is left
+ * to the overlay text), each eased
  * with its half-life (s; the distance draws back four times faster than it closes in). */
 typedef struct mm_camera_framing {
     float yaw_offset, pitch;                                /* rad */
@@ -84,7 +85,7 @@ typedef struct mm_camera_framing {
 } mm_camera_framing;
 
 /* yaw_offset 0.35, pitch 0.30; half-lives 0.6, 0.25, 0.5 s; distance 2.5 to 25 m; window x within
- * +-0.80, y from -0.85 to 0.45. */
+ * +-0.80, y from -0.75 to 0.45. */
 void mm_camera_framing_defaults(mm_camera_framing *f);
 /* One step of dt seconds (dt <= 0: jump to the goal, for a first frame) of the chase: facing_yaw
  * is the character's (rad about +Y, 0 facing +Z; not finite: keep the yaw), points the count world

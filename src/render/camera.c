@@ -96,7 +96,7 @@ void mm_camera_framing_defaults(mm_camera_framing *f)
     f->max_distance = 25.0f;
     f->half_width = 0.80f;
     f->top = 0.45f;
-    f->bottom = -0.85f;
+    f->bottom = -0.75f;
 }
 
 static float approach(float value, float goal, float halflife, float dt)
@@ -156,10 +156,24 @@ void mm_camera_chase(mm_camera *c, const mm_camera_framing *f, float facing_yaw,
     }
     if (!(lo.x <= hi.x)) return;
     mm_vec3 middle = mm_vec3_scale(mm_vec3_add(lo, hi), 0.5f);
-    c->target = mm_vec3_make(approach(c->target.x, middle.x, jump ? 0.0f : f->target_halflife, dt),
-                             approach(c->target.y, middle.y, jump ? 0.0f : f->target_halflife, dt),
-                             approach(c->target.z, middle.z, jump ? 0.0f : f->target_halflife, dt));
-    float need = framing_distance(c, f, points, count, aspect);
+    /* the window's centre lies (top + bottom) / 2 off the image's: aim that far (at the distance the
+       points need) along the camera's up from their middle, so that they sit in the window's middle */
+    mm_camera probe = *c;
+    probe.target = middle;
+    probe.distance = 1.0f;
+    mm_vec3 up = mm_vec3_sub(mm_camera_eye(&probe), middle); /* from the eye's side: -forward */
+    mm_vec3 fwd = mm_vec3_normalize(mm_vec3_neg(up));
+    mm_vec3 right = mm_vec3_normalize(mm_vec3_cross(fwd, mm_vec3_make(0.0f, 1.0f, 0.0f)));
+    up = mm_vec3_cross(right, fwd);
+    float lift = -0.5f * (f->top + f->bottom) * tanf(0.5f * c->fov_y);
+    float need = framing_distance(&probe, f, points, count, aspect);
+    mm_vec3 aim = mm_vec3_add(middle, mm_vec3_scale(up, lift * need));
+    probe.target = aim;
+    need = framing_distance(&probe, f, points, count, aspect);
+    c->target = mm_vec3_make(approach(c->target.x, aim.x, jump ? 0.0f : f->target_halflife, dt),
+                             approach(c->target.y, aim.y, jump ? 0.0f : f->target_halflife, dt),
+                             approach(c->target.z, aim.z, jump ? 0.0f : f->target_halflife, dt));
+    if (!jump) need = framing_distance(c, f, points, count, aspect);
     /* draw back quickly (nothing leaves the window), come closer slowly */
     float halflife = need > c->distance ? 0.25f * f->distance_halflife : f->distance_halflife;
     c->distance = jump ? need : approach(c->distance, need, halflife, dt);
