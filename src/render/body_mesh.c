@@ -279,7 +279,8 @@ static int chain_up(const int *parents, int joint_count, int from, int to, int *
 
 static bool is_ancestor(const int *parents, int joint_count, int ancestor, int j)
 {
-    for (; j >= 0 && j < joint_count; j = parents[j])
+    /* at most joint_count steps: parents that loop end the walk */
+    for (int steps = 0; j >= 0 && j < joint_count && steps <= joint_count; j = parents[j], ++steps)
         if (j == ancestor) return true;
     return false;
 }
@@ -646,7 +647,8 @@ mm_result mm_body_mesh_build(const mm_body_desc *d, mm_body_mesh *out, mm_error 
     for (int s = 0; s < 2; ++s) {
         int hand = r->hand[s];
         if (!valid_joint(d, grandparent(d, hand))) continue;
-        for (int j = d->parents[hand]; j >= 0 && arm_spine[s] < 0; j = d->parents[j])
+        for (int j = d->parents[hand], steps = 0;
+             valid_joint(d, j) && arm_spine[s] < 0 && steps <= d->joint_count; j = d->parents[j], ++steps)
             for (int i = 0; i < spine_count; ++i)
                 if (spine[i] == j) arm_spine[s] = i;
         /* the upper arm must start off the spine */
