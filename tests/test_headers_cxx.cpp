@@ -1,4 +1,5 @@
 // Every public header compiles as C++ (with the project's warnings) and links from C++.
+#include <mm/body_mesh.h>
 #include <mm/character_config.h>
 #include <mm/config_init.h>
 #include <mm/config_json.h>

@@ -10,12 +10,15 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <mm/bvh.h>
 #include <mm/character.h>
 #include <mm/render.h>
+#include <mm/skeleton_roles.h>
 #include <mm/view.h>
 
 #include "runtime/character/state.h"
 
+#include "skeleton_variants.h"
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -381,6 +384,325 @@ static void test_character_lies_where_its_joints_project(void **state)
     assert_false(is_background(rgb, W / 2, H - 2));
     mm_view_free(&v);
     synth_character_free(&fx);
+}
+
+/* ---- the body ---- */
+
+static mm_vec3 lerp3(mm_vec3 a, mm_vec3 b, float t) { return mm_vec3_lerp(a, b, t); }
+
+static bool projected_background(const mm_camera *c, const uint8_t *rgb, mm_vec3 p)
+{
+    float px, py;
+    assert_true(mm_camera_project(c, W, H, p, &px, &py));
+    assert_true(px >= 0.0f && px < W && py >= 0.0f && py < H);
+    return is_background(rgb, (int)px, (int)py);
+}
+
+/* The body of a pose seen from its front, turned 30 degrees, level with the waist: its pixels
+ * cover the projected hips, head, hands and feet; the waist is as wide as a body (the capsules'
+ * spine is not); the image a metre to either side is empty; and it covers much more of the image
+ * than the capsule figure. */
+static void check_body_pixels(const mm_body_mesh *body, const mm_body_roles *roles, const int *parents, int n,
+                              const mm_xform *global, int first_joint)
+{
+    mm_render_scene s = empty_scene();
+    s.joint_count = n;
+    s.parents = parents;
+    s.global = global;
+    s.first_joint = first_joint;
+    s.body_mesh = body;
+    float facing = mm_body_facing(roles, parents, n, global, 0.0f);
+    mm_vec3 hips = global[roles->hips].translation, head = global[roles->head].translation;
+    mm_camera c;
+    mm_camera_defaults(&c);
+    c.target = lerp3(hips, head, 0.25f);
+    c.yaw = facing + (float)MM_PI + 0.5f; /* the eye in front */
+    c.pitch = 0.15f;
+    c.distance = 3.4f;
+    uint8_t *with = malloc((size_t)W * H * 3), *without = malloc((size_t)W * H * 3);
+    assert_non_null(with);
+    assert_non_null(without);
+    const uint8_t *rgb = mm_offscreen_render(offscreen, &c, &s);
+    assert_non_null(rgb);
+    memcpy(with, rgb, (size_t)W * H * 3);
+    s.body_mesh = NULL;
+    rgb = mm_offscreen_render(offscreen, &c, &s);
+    assert_non_null(rgb);
+    memcpy(without, rgb, (size_t)W * H * 3);
+    int joints[7] = {roles->hips,    roles->head, roles->hand[0], roles->hand[1], roles->foot[0],
+                     roles->foot[1], -1};
+    for (int i = 0; i < 6; ++i)
+        if (joints[i] >= 0) assert_false(projected_background(&c, with, global[joints[i]].translation));
+    /* the waist, 11 cm either side of the spine: a body's (half width 0.13 m for a 1.75 m adult) */
+    mm_vec3 left = mm_vec3_make(cosf(facing), 0.0f, -sinf(facing)); /* left = up x forward */
+    float leg = mm_vec3_distance(hips, global[roles->foot[0]].translation);
+    mm_vec3 waist = lerp3(hips, head, 0.25f);
+    for (int side = -1; side <= 1; side += 2) {
+        mm_vec3 p = mm_vec3_add(waist, mm_vec3_scale(left, (float)side * 0.11f * leg / 0.9f));
+        assert_false(projected_background(&c, with, p));
+        assert_true(projected_background(&c, without, p));
+        /* a metre beside the body: nothing */
+        mm_vec3 far = mm_vec3_add(waist, mm_vec3_scale(left, (float)side * 1.0f));
+        assert_true(projected_background(&c, with, far));
+    }
+    int body_pixels = 0, capsule_pixels = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            body_pixels += !is_background(with, x, y);
+            capsule_pixels += !is_background(without, x, y);
+        }
+    assert_true(body_pixels > 1.6 * capsule_pixels); /* about 2 on the built-in set and the takes */
+    free(with);
+    free(without);
+}
+
+/* The built-in set's character through its view (the body made from the database's roles). */
+static void test_body_of_the_built_in_set(void **state)
+{
+    (void)state;
+    synth_character fx;
+    synth_character_init(&fx);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    for (int i = 0; i < 50; ++i) mm_character_update(&fx.ch, &in, 1.0f / 60.0f);
+    mm_view v;
+    assert_int_equal(mm_view_init(&v, &fx.db, NULL), MM_OK);
+    assert_true(v.body.vertex_count > 1000);
+    mm_view_flags flags;
+    memset(&flags, 0, sizeof flags);
+    mm_view_update(&v, &fx.ch, &in, &flags, 0.0f);
+    assert_ptr_equal(v.scene.body_mesh, &v.body);
+    mm_body_roles roles;
+    mm_body_roles_from_database(&fx.db, &roles);
+    check_body_pixels(&v.body, &roles, v.parents, fx.db.joint_count, fx.ch.global, 1);
+    /* a user's body in its place, and back */
+    mm_body_mesh other;
+    memset(&other, 0, sizeof other);
+    mm_view_set_body(&v, &other);
+    mm_view_update(&v, &fx.ch, &in, &flags, 0.0f);
+    assert_ptr_equal(v.scene.body_mesh, &other);
+    mm_view_set_body(&v, NULL);
+    mm_view_update(&v, &fx.ch, &in, &flags, 0.0f);
+    assert_ptr_equal(v.scene.body_mesh, &v.body);
+    mm_view_free(&v);
+    synth_character_free(&fx);
+}
+
+/* A shared take (skipped without MM_DATA_DIR): its roles found from the motion, its joints renamed
+ * to say nothing first (the body is found from the roles, never the names). */
+static void body_of_a_take(const char *relative, float at_seconds)
+{
+    char path[1024];
+    if (!test_shared_data(relative, path, sizeof path)) skip();
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_bvh bvh;
+    assert_int_equal(mm_bvh_load(path, NULL, &bvh, &err), MM_OK);
+    mm_bvh_import_desc imp;
+    memset(&imp, 0, sizeof imp);
+    imp.auto_scale = true;
+    mm_clip clip;
+    assert_int_equal(mm_bvh_to_clip(&bvh, &imp, &clip, &err), MM_OK);
+    mm_bvh_free(&bvh);
+    int n = clip.skeleton.joint_count;
+    for (int j = 0; j < n; ++j) snprintf(clip.skeleton.joints[j].name, MM_NAME_MAX, "j%d", j);
+    mm_skeleton_roles found;
+    assert_int_equal(mm_skeleton_roles_find(&clip, 1, &found, &err), MM_OK);
+    mm_body_roles roles;
+    roles.hips = found.roles[MM_BODY_HIPS].joint;
+    roles.head = found.roles[MM_BODY_HEAD].joint;
+    for (int k = 0; k < 2; ++k) {
+        roles.foot[k] = found.roles[k ? MM_BODY_RIGHT_FOOT : MM_BODY_LEFT_FOOT].joint;
+        roles.toe[k] = found.roles[k ? MM_BODY_RIGHT_TOE : MM_BODY_LEFT_TOE].joint;
+        roles.hand[k] = found.roles[k ? MM_BODY_RIGHT_HAND : MM_BODY_LEFT_HAND].joint;
+    }
+    enum { POSES = 32 };
+    int *parents = malloc(sizeof(int) * (size_t)n);
+    mm_xform *poses = malloc(sizeof(mm_xform) * (size_t)n * POSES),
+             *now = malloc(sizeof(mm_xform) * (size_t)n);
+    mm_quat *rot = malloc(sizeof(mm_quat) * (size_t)n);
+    mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
+    for (int j = 0; j < n; ++j) parents[j] = clip.skeleton.joints[j].parent;
+    double duration = mm_clip_duration(&clip);
+    for (int i = 0; i < POSES; ++i) {
+        mm_clip_sample(&clip, (float)(duration * i / (POSES - 1)), rot, pos);
+        mm_fk(&clip.skeleton, rot, pos, poses + (size_t)i * (size_t)n);
+    }
+    mm_body_desc d;
+    memset(&d, 0, sizeof d);
+    d.joint_count = n;
+    d.parents = parents;
+    d.poses = poses;
+    d.pose_count = POSES;
+    d.roles = roles;
+    mm_body_mesh body;
+    assert_int_equal(mm_body_mesh_build(&d, &body, &err), MM_OK);
+    mm_clip_sample(&clip, (float)fmin(at_seconds, duration), rot, pos);
+    mm_fk(&clip.skeleton, rot, pos, now);
+    check_body_pixels(&body, &roles, parents, n, now, 0);
+    mm_body_mesh_free(&body);
+    free(parents);
+    free(poses);
+    free(now);
+    free(rot);
+    free(pos);
+    mm_clip_free(&clip);
+}
+
+static void test_body_of_lafan1(void **state)
+{
+    (void)state;
+    body_of_a_take("lafan1/multipleActions1_subject1.bvh", 11.5f);
+}
+
+static void test_body_of_games105(void **state)
+{
+    (void)state;
+    body_of_a_take("games105/walk_and_turn_left.bvh", 1.5f);
+}
+
+static void test_body_of_pfnn(void **state)
+{
+    (void)state;
+    body_of_a_take("pfnn/bvh/LocomotionFlat09_000.bvh", 2.5f);
+}
+
+/* The body a clip's skeleton makes (roles found from its motion unless given), bound to one of 16
+ * of its poses, skinned at time t into out (vertex_count returned). */
+static int clip_body_at(const mm_clip *clip, const mm_body_roles *given, float t, mm_vec3 *out, int capacity,
+                        mm_body_roles *roles_out)
+{
+    enum { POSES = 16 };
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_body_roles roles;
+    if (given) {
+        roles = *given;
+    } else {
+        mm_skeleton_roles found;
+        assert_int_equal(mm_skeleton_roles_find(clip, 1, &found, &err), MM_OK);
+        roles.hips = found.roles[MM_BODY_HIPS].joint;
+        roles.head = found.roles[MM_BODY_HEAD].joint;
+        for (int k = 0; k < 2; ++k) {
+            roles.foot[k] = found.roles[k ? MM_BODY_RIGHT_FOOT : MM_BODY_LEFT_FOOT].joint;
+            roles.toe[k] = found.roles[k ? MM_BODY_RIGHT_TOE : MM_BODY_LEFT_TOE].joint;
+            roles.hand[k] = found.roles[k ? MM_BODY_RIGHT_HAND : MM_BODY_LEFT_HAND].joint;
+        }
+    }
+    if (roles_out) *roles_out = roles;
+    int n = clip->skeleton.joint_count;
+    int *par = malloc(sizeof(int) * (size_t)n);
+    mm_xform *poses = malloc(sizeof(mm_xform) * (size_t)n * POSES),
+             *now = malloc(sizeof(mm_xform) * (size_t)n);
+    mm_quat *rot = malloc(sizeof(mm_quat) * (size_t)n);
+    mm_vec3 *pos = malloc(sizeof(mm_vec3) * (size_t)n);
+    assert_true(par && poses && now && rot && pos);
+    for (int j = 0; j < n; ++j) par[j] = clip->skeleton.joints[j].parent;
+    double duration = mm_clip_duration(clip);
+    for (int i = 0; i < POSES; ++i) {
+        mm_clip_sample(clip, (float)(duration * i / (POSES - 1)), rot, pos);
+        mm_fk(&clip->skeleton, rot, pos, poses + (size_t)i * (size_t)n);
+    }
+    mm_body_desc d;
+    memset(&d, 0, sizeof d);
+    d.joint_count = n;
+    d.parents = par;
+    d.poses = poses;
+    d.pose_count = POSES;
+    d.roles = roles;
+    mm_body_mesh body;
+    assert_int_equal(mm_body_mesh_build(&d, &body, &err), MM_OK);
+    assert_true(body.vertex_count <= capacity);
+    mm_clip_sample(clip, t, rot, pos);
+    mm_fk(&clip->skeleton, rot, pos, now);
+    mm_body_mesh_skin(&body, now, out, NULL);
+    int count = body.vertex_count;
+    mm_body_mesh_free(&body);
+    free(par);
+    free(poses);
+    free(now);
+    free(rot);
+    free(pos);
+    return count;
+}
+
+/* One body whatever the skeleton says beside the motion: joints renamed to another convention, the
+ * rest frames turned, a root added on the ground that carries the travel and turns, centimetres
+ * (the body 100 times larger, point for point). */
+static void test_body_of_skeleton_variants(void **state)
+{
+    (void)state;
+    mm_synth_desc sd;
+    memset(&sd, 0, sizeof sd);
+    mm_synth_set set;
+    mm_error err;
+    assert_int_equal(mm_synth_generate(&sd, &set, &err), MM_OK);
+    const mm_clip *walk = NULL;
+    for (int i = 0; i < set.clip_count && !walk; ++i)
+        if (strcmp(set.clips[i].name, "walk_1.40") == 0) walk = &set.clips[i].clip;
+    assert_non_null(walk);
+    enum { CAPACITY = 20000 };
+    mm_vec3 *base = malloc(sizeof(mm_vec3) * CAPACITY), *other = malloc(sizeof(mm_vec3) * CAPACITY);
+    assert_true(base && other);
+    const float t = 0.7f;
+    mm_body_roles roles;
+    int n = clip_body_at(walk, NULL, t, base, CAPACITY, &roles);
+    for (int k = 0; k < 4; ++k) {
+        sv_variant v;
+        const char *what = k == 0   ? "renamed"
+                           : k == 1 ? "rest axes"
+                           : k == 2 ? "root on the ground"
+                                    : "centimetres";
+        if (k == 0) sv_rename(walk, SV_NAMES_SUFFIX_LR, &v);
+        if (k == 1) sv_rest_axes(walk, 2, &v);
+        if (k == 2) sv_reroot(walk, SV_ROOT_YAW, &v);
+        if (k == 3) sv_units(walk, 0.01, &v);
+        float unit = k == 3 ? 100.0f : 1.0f;
+        /* centimetres: the roles finder reads metres; the joints are the same ones */
+        int m = clip_body_at(&v.clip, k == 3 ? &roles : NULL, t, other, CAPACITY, NULL);
+        assert_int_equal(m, n);
+        float worst = 0.0f;
+        for (int i = 0; i < n; ++i)
+            worst = fmaxf(worst, mm_vec3_distance(mm_vec3_scale(other[i], 1.0f / unit), base[i]));
+        if (worst > 1e-3f) print_error("%s: the body moved by %.4f m\n", what, worst);
+        assert_true(worst <= 1e-3f);
+        sv_free(&v);
+    }
+    free(base);
+    free(other);
+    mm_synth_set_free(&set);
+}
+
+static void test_overlay_is_drawn_where_placed(void **state)
+{
+    (void)state;
+    /* a capsule figure standing at the top left of the image: the text goes elsewhere */
+    mm_xform pose[3];
+    int par[3] = {-1, 0, 1};
+    pose[0] = mm_xform_make(mm_quat_identity(), mm_vec3_make(0, 0.1f, 0));
+    pose[1] = mm_xform_make(mm_quat_identity(), mm_vec3_make(0, 0.9f, 0));
+    pose[2] = mm_xform_make(mm_quat_identity(), mm_vec3_make(0, 1.7f, 0));
+    mm_render_scene s = empty_scene();
+    s.joint_count = 3;
+    s.parents = par;
+    s.global = pose;
+    s.overlay = "0123456789\nABCDEFGHIJ";
+    mm_camera c = straight_camera();
+    c.target = mm_vec3_make(-1.1f, 0.4f, 0.0f); /* the figure left of and above the centre (+X is left) */
+    mm_overlay_place o;
+    mm_render_overlay_place(&c, W, H, &s, &o);
+    float box[4];
+    assert_true(mm_render_character_box(&c, W, H, &s, box));
+    assert_true(box[0] < W / 2 && box[1] < 20.0f); /* it does reach the top left corner */
+    assert_false(o.x == 8 && o.y == 8);
+    assert_false(o.x < box[2] && o.x + o.width > box[0] && o.y < box[3] && o.y + o.height > box[1]);
+    const uint8_t *rgb = mm_offscreen_render(offscreen, &c, &s);
+    assert_non_null(rgb);
+    /* the panel darkens its top left cell's first pixel (a space in no glyph: '0' starts dark) */
+    assert_false(is_background(rgb, o.x, o.y));
+    assert_false(is_background(rgb, o.x + o.width - 1, o.y + o.height - 1));
+    assert_true(is_background(rgb, 8, 8) || box[0] < 9.0f);
 }
 
 static void test_overlay_glyph_pixels(void **state)
@@ -999,6 +1321,12 @@ int main(void)
         cmocka_unit_test(test_sheet_render_tiles_lines_and_labels),
         cmocka_unit_test(test_sheet_hostile_poses),
         cmocka_unit_test(test_sheet_of_a_bvh_through_the_program),
+        cmocka_unit_test(test_body_of_the_built_in_set),
+        cmocka_unit_test(test_body_of_lafan1),
+        cmocka_unit_test(test_body_of_games105),
+        cmocka_unit_test(test_body_of_pfnn),
+        cmocka_unit_test(test_body_of_skeleton_variants),
+        cmocka_unit_test(test_overlay_is_drawn_where_placed),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     mm_offscreen_destroy(offscreen);

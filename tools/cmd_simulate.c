@@ -48,13 +48,14 @@ int mm_cmd_simulate(int argc, char **argv)
     long trace_k = MM_TRACE_DEFAULT_K;
     long seed = -1;
     double seconds = 0.0, fps = 60.0, video_fps = 30.0, crossfade_time = -1.0;
-    int width = 640, height = 360;
+    int width = 1280, height = 720;
+    const char *mesh_path = NULL;                              /* --mesh: the video's body */
     int distance_matching = -1, warping = -1, transition = -1; /* -1: the controller's default */
     const char *usage =
         "usage: mm simulate DB.mmdb (--input SCRIPT.json | --random SEED | --path PATH.json) --seconds T "
         "[--fps F] -o OUT.bvh "
         "--metrics OUT.json [--scene SCENE.json] [--distance-matching on|off] [--warping on|off] "
-        "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]] "
+        "[--video OUT.mp4|OUT.gif|FOLDER [--size 1280x720] [--video-fps 30] [--mesh FILE]] "
         "[--transition inertialize|crossfade] [--crossfade-time S] [--skeleton GAME.bvh [--skeleton-map "
         "MAP.json]] [--trace OUT.jsonl [--trace-ticks] [--trace-k N]]";
     for (int i = 1; i < argc; ++i) {
@@ -87,6 +88,8 @@ int mm_cmd_simulate(int argc, char **argv)
             skeleton_map_path = argv[++i];
         else if (strcmp(a, "--video") == 0 && v)
             video_path = argv[++i];
+        else if (strcmp(a, "--mesh") == 0 && v)
+            mesh_path = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
             if (!cli_parse_size(v, &width, &height))
                 return cli_usage_error("simulate", "--size needs WIDTHxHEIGHT, each 16 to 4096");
@@ -311,7 +314,8 @@ int mm_cmd_simulate(int argc, char **argv)
     memset(&video, 0, sizeof video);
     if (video_path &&
         (sim_video_open(&video, video_path, width, height, video_fps, 1.0 / fps, &db, &err) != MM_OK ||
-         (scene_path && sim_video_set_scene(&video, &scene, &err) != MM_OK))) {
+         (scene_path && sim_video_set_scene(&video, &scene, &err) != MM_OK) ||
+         (mesh_path && sim_video_set_mesh(&video, mesh_path, &err) != MM_OK))) {
         status = cli_report(&err);
         goto done;
     }

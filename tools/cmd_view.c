@@ -27,6 +27,7 @@
 
 typedef struct options {
     const char *db, *clip, *config, *clip_name, *input, *screenshot, *scene_path;
+    const char *mesh_path; /* --mesh: a user's body for the database's character */
     const mm_scene *scene; /* loaded from scene_path; NULL: none */
     int width, height;
     long frames; /* 0: until the window closes */
@@ -224,6 +225,8 @@ static int view_database(const options *o)
     mm_character_desc desc;
     mm_view view;
     memset(&view, 0, sizeof view);
+    mm_body_mesh user_body;
+    memset(&user_body, 0, sizeof user_body);
     mm_view_tuning tuning;
     int status = 0;
     if (desc_from_config(&desc, &db, o->config, &err) != MM_OK ||
@@ -236,6 +239,13 @@ static int view_database(const options *o)
         mm_view_init(&view, &db, &err) != MM_OK || mm_view_set_scene(&view, o->scene, &err) != MM_OK) {
         status = cli_report(&err);
         goto done_data;
+    }
+    if (o->mesh_path) {
+        if (mm_body_mesh_load(o->mesh_path, db.joints, db.joint_count, &user_body, &err) != MM_OK) {
+            status = cli_report(&err);
+            goto done_character;
+        }
+        mm_view_set_body(&view, &user_body);
     }
     mm_view_tuning_init(&tuning, &c);
     window win;
@@ -316,6 +326,7 @@ static int view_database(const options *o)
     close_window(&win);
 done_character:
     mm_view_free(&view);
+    mm_body_mesh_free(&user_body);
     mm_character_free(&c);
 done_data:
     mm_searcher_free(&searcher);
@@ -526,10 +537,10 @@ int mm_cmd_view(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.width = 1280;
     o.height = 720;
-    const char *usage =
-        "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] | mm view --clip FILE.bvh "
-        "[--config CONFIG.json] [--clip-name NAME]  [--scene SCENE.json] [--size 1280x720] "
-        "[--frames N --screenshot OUT.png]";
+    const char *usage = "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] [--mesh FILE] | "
+                        "mm view --clip FILE.bvh "
+                        "[--config CONFIG.json] [--clip-name NAME]  [--scene SCENE.json] [--size 1280x720] "
+                        "[--frames N --screenshot OUT.png]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--clip") == 0 && v)
@@ -542,6 +553,8 @@ int mm_cmd_view(int argc, char **argv)
             o.input = argv[++i];
         else if (strcmp(a, "--scene") == 0 && v)
             o.scene_path = argv[++i];
+        else if (strcmp(a, "--mesh") == 0 && v)
+            o.mesh_path = argv[++i];
         else if (strcmp(a, "--screenshot") == 0 && v)
             o.screenshot = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
@@ -561,6 +574,7 @@ int mm_cmd_view(int argc, char **argv)
     }
     if ((!o.db) == (!o.clip)) return cli_usage_error("view", "%s", usage);
     if (o.screenshot && !o.frames) return cli_usage_error("view", "--screenshot needs --frames N");
+    if (o.mesh_path && o.clip) return cli_usage_error("view", "--mesh goes with a database, not --clip");
     static mm_scene scene; /* large: kept off the stack */
     if (o.scene_path) {
         mm_error err;

@@ -1,4 +1,6 @@
-/* The video of mm simulate: one frame every 1 / video_fps seconds of simulated time. */
+/* The video of mm simulate: one frame every 1 / video_fps seconds of simulated time, the camera
+ * chasing the character from behind and framing it with its predicted path. */
+#include <math.h>
 #include <string.h>
 
 #include "cli.h"
@@ -23,6 +25,8 @@ mm_result sim_video_open(sim_video *s, const char *path, int width, int height, 
     }
     mm_view_flags_defaults(&s->flags);
     mm_camera_defaults(&s->camera);
+    mm_camera_framing_defaults(&s->framing);
+    s->db = db;
     s->tick_seconds = tick_seconds;
     s->frame_seconds = 1.0 / video_fps;
     return MM_OK;
@@ -33,17 +37,42 @@ mm_result sim_video_set_scene(sim_video *s, const mm_scene *scene, mm_error *err
     return mm_view_set_scene(&s->view, scene, err);
 }
 
+mm_result sim_video_set_mesh(sim_video *s, const char *path, mm_error *err)
+{
+    mm_body_mesh_free(&s->mesh);
+    mm_result r = mm_body_mesh_load(path, s->db->joints, s->db->joint_count, &s->mesh, err);
+    mm_view_set_body(&s->view, r == MM_OK ? &s->mesh : NULL);
+    return r;
+}
+
+/* What the camera frames: the body's joints and the predicted path over the next second. */
+enum { FRAMED_PATH = 8, FRAMED_MAX = 256 + FRAMED_PATH };
+
+static void chase(sim_video *s, const mm_character *c, const mm_input *in, float dt)
+{
+    mm_vec3 points[FRAMED_MAX];
+    int n = 0;
+    for (int j = 1; j < s->db->joint_count && n < FRAMED_MAX - FRAMED_PATH; ++j)
+        points[n++] = c->global[j].translation;
+    float times[FRAMED_PATH];
+    mm_quat facings[FRAMED_PATH];
+    for (int i = 0; i < FRAMED_PATH; ++i) times[i] = (float)(i + 1) / FRAMED_PATH;
+    mm_trajectory_sample(c->trajectory, in, times, FRAMED_PATH, points + n, facings);
+    n += FRAMED_PATH;
+    mm_vec3 forward = mm_quat_rotate(c->root.rotation, mm_vec3_make(0.0f, 0.0f, 1.0f));
+    float yaw = atan2f(forward.x, forward.z);
+    int w = 0, h = 0;
+    mm_offscreen_size(s->offscreen, &w, &h);
+    mm_camera_chase(&s->camera, &s->framing, yaw, points, n, h > 0 ? (float)w / (float)h : 1.0f, dt);
+}
+
 mm_result sim_video_tick(sim_video *s, const mm_character *c, const mm_input *in, mm_error *err)
 {
     if (!s->video) return MM_OK;
     s->time += s->tick_seconds;
-    /* the camera eases after the character; aiming ahead by the distance an exponential follower
-       lags at constant velocity (v * halflife / ln 2) keeps a moving character in the middle */
-    const float halflife = 0.5f;
-    mm_vec3 aim =
-        mm_vec3_add(c->root.translation, mm_vec3_scale(c->trajectory->velocity, halflife / 0.6931472f));
-    mm_camera_follow(&s->camera, mm_vec3_make(aim.x, 0.9f, aim.z), s->frames == 0 ? 0.0f : halflife,
-                     (float)s->tick_seconds);
+    mm_input none;
+    memset(&none, 0, sizeof none);
+    chase(s, c, in ? in : &none, s->frames == 0 ? 0.0f : (float)s->tick_seconds);
     if (s->time + 1e-9 < s->next_frame) return MM_OK;
     s->next_frame += s->frame_seconds;
     mm_view_update(&s->view, c, in, &s->flags, 0.0f);
@@ -63,6 +92,7 @@ mm_result sim_video_close(sim_video *s, int abort, int *frames, mm_error *err)
     cli_remember_child(0);
     if (tmp[0]) cli_forget_temp(tmp);
     mm_view_free(&s->view);
+    mm_body_mesh_free(&s->mesh);
     mm_offscreen_destroy(s->offscreen);
     memset(s, 0, sizeof *s);
     return r;

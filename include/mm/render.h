@@ -18,8 +18,9 @@
  *
  * Functions: mm_camera_defaults mm_camera_eye mm_camera_view_matrix mm_camera_projection_matrix
  *            mm_camera_project mm_camera_orbit mm_camera_zoom mm_camera_follow
+ *            mm_camera_framing_defaults mm_camera_chase mm_render_overlay_place mm_render_character_box
  *            mm_renderer_create mm_renderer_destroy mm_renderer_draw mm_renderer_read_pixels
- *            mm_offscreen_create mm_offscreen_render mm_offscreen_destroy
+ *            mm_offscreen_create mm_offscreen_render mm_offscreen_destroy mm_offscreen_size
  *            mm_png_write mm_png_read_size mm_video_open mm_video_write mm_video_temp_path
  *            mm_video_encoder_process mm_video_close
  *            mm_video_encoder_available mm_text_measure mm_render_find_head mm_render_box_corners
@@ -32,6 +33,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "body_mesh.h"
 #include "math.h"
 #include "result.h"
 #include "skeleton.h"
@@ -68,6 +70,28 @@ void mm_camera_zoom(mm_camera *c, float factor);
  * the tick (two ticks of dt equal one of 2 dt). dt <= 0 or a non-finite p leave it; halflife
  * <= 0 jumps to p. */
 void mm_camera_follow(mm_camera *c, mm_vec3 p, float halflife, float dt);
+
+/* A camera chasing a character: behind its facing (turned yaw_offset to one side), at a fixed
+ * pitch, aimed so that the middle of the points to frame (the character's joints and its future
+ * path) is the middle of a window of the image, and as far as they need to lie inside that window
+ * (normalised coordinates: x within +-half_width, y from bottom to top; the band above top is left
+ * to the overlay text), each eased
+ * with its half-life (s; the distance draws back four times faster than it closes in). */
+typedef struct mm_camera_framing {
+    float yaw_offset, pitch;                                /* rad */
+    float yaw_halflife, target_halflife, distance_halflife; /* s */
+    float min_distance, max_distance;                       /* m */
+    float half_width, top, bottom;                          /* normalised image coordinates, -1 to 1 */
+} mm_camera_framing;
+
+/* yaw_offset 0.35, pitch 0.30; half-lives 0.6, 0.25, 0.5 s; distance 2.5 to 25 m; window x within
+ * +-0.80, y from -0.75 to 0.45. */
+void mm_camera_framing_defaults(mm_camera_framing *f);
+/* One step of dt seconds (dt <= 0: jump to the goal, for a first frame) of the chase: facing_yaw
+ * is the character's (rad about +Y, 0 facing +Z; not finite: keep the yaw), points the count world
+ * points to frame, aspect the image's width over height. */
+void mm_camera_chase(mm_camera *c, const mm_camera_framing *f, float facing_yaw, const mm_vec3 *points,
+                     int count, float aspect, float dt);
 
 /* ---- scene ---- */
 
@@ -121,12 +145,30 @@ typedef struct mm_render_scene {
     const mm_render_box *boxes; /* obstacles, drawn solid and lit with dark edges */
     int box_count;
     float ground_height; /* m: the height of the ground grid (0 by default) */
+    /* a body skinned to the joints (mm/body_mesh.h), drawn in place of the spheres and capsules
+     * when its joint_count is the scene's; NULL: the capsule figure */
+    const mm_body_mesh *body_mesh;
 } mm_render_scene;
 
 /* The joint named like a head: the head role's default name (mm_role_default_name) in any case,
  * the first such; 0 when none. For a skeleton without a database; with one, the head is its head
  * role (mm_database_role_joint), as the view of a character takes it. */
 int mm_render_find_head(const mm_joint *joints, int count);
+
+/* Where the renderer draws the scene's overlay text: its dark panel's top left corner and size
+ * (pixels, y down) and the font's scale (2: glyph cells of 12 x 18 pixels; 1: 6 x 9). It goes in
+ * the first corner (top left, top right, bottom left, bottom right; 8 pixels in) whose panel does
+ * not cross the character's box (mm_render_character_box), at the font's 2x scale and then at 1x;
+ * else where it covers the least of it. The top left at 2x when the scene has no character. */
+typedef struct mm_overlay_place {
+    int x, y, width, height, scale;
+} mm_overlay_place;
+void mm_render_overlay_place(const mm_camera *cam, int width, int height, const mm_render_scene *scene,
+                             mm_overlay_place *out);
+/* The box (min x, min y, max x, max y; pixels) around the projected joints (from first_joint),
+ * each grown by the 0.15 m a body reaches around it at its depth. False when no joint projects. */
+bool mm_render_character_box(const mm_camera *cam, int width, int height, const mm_render_scene *scene,
+                             float box[4]);
 
 /* Size in pixels of text drawn by the renderer (the built-in 5x7 font at 2x: glyph cells of
  * 12 x 18 pixels per character, lines 18 pixels apart). */
@@ -213,6 +255,8 @@ mm_result mm_offscreen_create(int width, int height, mm_offscreen **out, mm_erro
  * until the next call. NULL if the context was lost. */
 const uint8_t *mm_offscreen_render(mm_offscreen *o, const mm_camera *cam, const mm_render_scene *scene);
 void mm_offscreen_destroy(mm_offscreen *o);
+/* The context's width and height (0 for NULL). */
+void mm_offscreen_size(const mm_offscreen *o, int *width, int *height);
 
 /* ---- images and video ---- */
 

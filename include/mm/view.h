@@ -7,7 +7,7 @@
  *   each frame: mm_view_update(&v, &character, &input, &flags, fps);  draw v.scene
  *   mm_view_free(&v);
  *
- * Functions: mm_view_flags_defaults mm_view_init mm_view_free mm_view_update mm_view_overlay
+ * Functions: mm_view_flags_defaults mm_view_init mm_view_set_body mm_view_free mm_view_update mm_view_overlay
  *            mm_view_scene_boxes mm_view_set_scene mm_view_input mm_view_tuning_init mm_view_tuning_select
  * mm_view_tuning_step mm_view_tuning_text
  */
@@ -53,10 +53,17 @@ typedef struct mm_view {
     char overlay[MM_VIEW_OVERLAY_MAX];
     mm_render_box *boxes; /* the scene set by mm_view_set_scene (owned) */
     int box_count;
-    float ground; /* its ground height */
+    float ground;              /* its ground height */
+    mm_body_mesh body;         /* the body mm_view_init made from the database (none: no triangles) */
+    const mm_body_mesh *drawn; /* the body the scene shows: &body, a user's (mm_view_set_body), NULL */
 } mm_view;
 
+/* Also makes the database's body (mm_body_mesh_build_from_database); a database whose roles do not
+ * make one is drawn as capsules. */
 mm_result mm_view_init(mm_view *v, const mm_database *db, mm_error *err);
+/* Draws body (skinned to the database's skeleton, kept by the caller while the view draws it) in
+ * place of the body mm made; NULL: back to that one. */
+void mm_view_set_body(mm_view *v, const mm_body_mesh *body);
 void mm_view_free(mm_view *v);
 /* Rebuilds v->scene for the character's current state (in: the input of this tick; fps: the
  * display rate shown in the overlay, 0 to leave it out). */

@@ -99,3 +99,9 @@ void mm_offscreen_destroy(mm_offscreen *o)
     free(o->rgb);
     free(o);
 }
+
+void mm_offscreen_size(const mm_offscreen *o, int *width, int *height)
+{
+    if (width) *width = o ? o->width : 0;
+    if (height) *height = o ? o->height : 0;
+}

@@ -1,5 +1,5 @@
-/* The OpenGL 3.3 core renderer: a lit capsule character with contact shadows on a grid ground,
- * debug lines and markers, and overlay text in the built-in font. */
+/* The OpenGL 3.3 core renderer: a lit character (a skinned body mesh, or capsules) with contact
+ * shadows on a grid ground, debug lines and markers, and overlay text in the built-in font. */
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -23,10 +23,14 @@ struct mm_renderer {
     GLuint cube_vao, cube_vbo;                 /* unit box, x and z in [-0.5, 0.5], y in [0, 1] */
     GLuint ground_vao, ground_vbo;             /* one quad, moved under the camera */
     GLuint dynamic_vao, dynamic_vbo;           /* lines and text, refilled every draw */
+    GLuint skinned;                            /* program of the body mesh: per-vertex colours */
+    GLuint body_vao, body_vbo, body_ibo;       /* the skinned body, refilled every draw */
     GLuint font_texture;
     int sphere_index_count, cylinder_vertex_count;
     float *scratch; /* vertex data for the dynamic buffer */
     size_t scratch_capacity;
+    float *body_scratch; /* the skinned body: positions and normals, then interleaved vertices */
+    size_t body_scratch_capacity;
 };
 
 static const mm_rgba default_body = {0.62f, 0.68f, 0.78f, 1.0f};
@@ -63,6 +67,41 @@ static const char *lit_fs =
     "  c += 0.18 * pow(1.0 - max(dot(n, v), 0.0), 3.0);\n"
     "  float f = clamp((length(u_eye - v_world) - 30.0) / 120.0, 0.0, 1.0);\n"
     "  frag = vec4(mix(c, u_fog, f), u_color.a);\n"
+    "}\n";
+
+/* the body: world positions (skinned on the CPU), normals and colours per vertex, lit as above
+   with a softer key light and a little wrap so that the shaded side keeps its shape */
+static const char *skinned_vs = "#version 330 core\n"
+                                "layout(location = 0) in vec3 a_pos;\n"
+                                "layout(location = 1) in vec3 a_normal;\n"
+                                "layout(location = 2) in vec3 a_color;\n"
+                                "uniform mat4 u_view_proj;\n"
+                                "out vec3 v_world, v_normal, v_color;\n"
+                                "void main() {\n"
+                                "  v_world = a_pos;\n"
+                                "  v_normal = a_normal;\n"
+                                "  v_color = a_color;\n"
+                                "  gl_Position = u_view_proj * vec4(a_pos, 1.0);\n"
+                                "}\n";
+
+static const char *skinned_fs =
+    "#version 330 core\n"
+    "in vec3 v_world, v_normal, v_color;\n"
+    "uniform vec3 u_eye, u_fog;\n"
+    "out vec4 frag;\n"
+    "void main() {\n"
+    "  vec3 n = normalize(v_normal);\n"
+    "  vec3 v = normalize(u_eye - v_world);\n"
+    "  if (dot(n, v) < 0.0) n = -n;\n"
+    "  vec3 l = normalize(vec3(0.35, 1.0, 0.25));\n"
+    "  float key = max((dot(n, l) + 0.25) / 1.25, 0.0);\n"
+    "  vec3 ambient = mix(vec3(0.30, 0.28, 0.26), vec3(0.66, 0.70, 0.78), 0.5 + 0.5 * n.y);\n"
+    "  vec3 c = v_color * (0.55 * ambient + 0.75 * key);\n"
+    "  vec3 h = normalize(l + v);\n"
+    "  c += 0.12 * pow(max(dot(n, h), 0.0), 24.0);\n"
+    "  c += 0.10 * pow(1.0 - max(dot(n, v), 0.0), 3.0);\n"
+    "  float f = clamp((length(u_eye - v_world) - 30.0) / 120.0, 0.0, 1.0);\n"
+    "  frag = vec4(mix(c, u_fog, f), 1.0);\n"
     "}\n";
 
 static const char *ground_vs = "#version 330 core\n"
@@ -300,6 +339,19 @@ static void make_meshes(mm_renderer *r)
 
     gl->GenVertexArrays(1, &r->dynamic_vao);
     gl->GenBuffers(1, &r->dynamic_vbo);
+
+    /* the body: position, normal, colour; contents every draw */
+    gl->GenVertexArrays(1, &r->body_vao);
+    gl->BindVertexArray(r->body_vao);
+    gl->GenBuffers(1, &r->body_vbo);
+    gl->GenBuffers(1, &r->body_ibo);
+    gl->BindBuffer(GL_ARRAY_BUFFER, r->body_vbo);
+    gl->BindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->body_ibo);
+    for (int a = 0; a < 3; ++a) {
+        gl->VertexAttribPointer((GLuint)a, 3, GL_FLOAT, GL_FALSE, (GLsizei)(sizeof(float) * 9),
+                                (const void *)(sizeof(float) * 3 * (size_t)a));
+        gl->EnableVertexAttribArray((GLuint)a);
+    }
     gl->BindVertexArray(0);
 }
 
@@ -341,7 +393,8 @@ mm_result mm_renderer_create(mm_gl_loader load, mm_renderer **out, mm_error *err
     r->ground = r->lit ? program(gl, ground_vs, ground_fs, "ground", err) : 0;
     r->flat = r->ground ? program(gl, flat_vs, flat_fs, "line", err) : 0;
     r->text = r->flat ? program(gl, text_vs, text_fs, "text", err) : 0;
-    if (!r->text) {
+    r->skinned = r->text ? program(gl, skinned_vs, skinned_fs, "body", err) : 0;
+    if (!r->skinned) {
         mm_renderer_destroy(r);
         return err ? err->code : MM_ERR_UNSUPPORTED;
     }
@@ -355,8 +408,8 @@ void mm_renderer_destroy(mm_renderer *r)
 {
     if (!r) return;
     mm_gl *gl = &r->gl;
-    GLuint programs[4] = {r->lit, r->ground, r->flat, r->text};
-    for (int i = 0; i < 4; ++i)
+    GLuint programs[5] = {r->lit, r->ground, r->flat, r->text, r->skinned};
+    for (int i = 0; i < 5; ++i)
         if (programs[i]) gl->DeleteProgram(programs[i]);
     GLuint vaos[5] = {r->sphere_vao, r->cylinder_vao, r->ground_vao, r->dynamic_vao, r->cube_vao};
     GLuint vbos[6] = {r->sphere_vbo, r->sphere_ibo,  r->cylinder_vbo,
@@ -365,7 +418,13 @@ void mm_renderer_destroy(mm_renderer *r)
         gl->DeleteVertexArrays(5, vaos);
         gl->DeleteBuffers(6, vbos);
     }
+    if (r->body_vao) {
+        GLuint body_buffers[2] = {r->body_vbo, r->body_ibo};
+        gl->DeleteVertexArrays(1, &r->body_vao);
+        gl->DeleteBuffers(2, body_buffers);
+    }
     if (r->font_texture) gl->DeleteTextures(1, &r->font_texture);
+    free(r->body_scratch);
     free(r->scratch);
     free(r);
 }
@@ -560,10 +619,11 @@ static void draw_lines(mm_renderer *r, const float view_proj[16], const mm_rende
     gl->DrawArrays(GL_LINES, 0, n);
 }
 
-/* Quads of the font atlas for text at pixel (x, y); solid cells when panel. Returns vertex count. */
-static int text_quads(float *v, const char *text, float x0, float y0, bool panel)
+/* Quads of the font atlas for text at pixel (x, y), font pixels of scale screen pixels; solid
+ * cells when panel. Returns vertex count. */
+static int text_quads(float *v, const char *text, float x0, float y0, int scale, bool panel)
 {
-    const float cw = MM_FONT_CELL_W * MM_FONT_SCALE, ch = MM_FONT_CELL_H * MM_FONT_SCALE;
+    const float cw = (float)(MM_FONT_CELL_W * scale), ch = (float)(MM_FONT_CELL_H * scale);
     const float atlas_w = 96.0f * MM_FONT_CELL_W;
     int n = 0;
     float x = x0, y = y0;
@@ -586,13 +646,123 @@ static int text_quads(float *v, const char *text, float x0, float y0, bool panel
     return n;
 }
 
-static void draw_overlay(mm_renderer *r, int width, int height, const char *text)
+/* The body mesh skinned to the scene's pose: vertex colours, tinted by a joint's colour where the
+ * scene gives joints colours other than the body's (highlighted bones). */
+static bool draw_body_mesh(mm_renderer *r, const float view_proj[16], mm_vec3 eye, const mm_render_scene *s,
+                           mm_rgba body)
 {
+    const mm_body_mesh *m = s->body_mesh;
+    if (!m || !s->global || m->vertex_count <= 0 || m->triangle_count <= 0 ||
+        m->joint_count != s->joint_count)
+        return false;
+    size_t n = (size_t)m->vertex_count, need = n * 6 + n * 9;
+    if (need > r->body_scratch_capacity) {
+        float *p = realloc(r->body_scratch, sizeof(float) * need);
+        if (!p) return false;
+        r->body_scratch = p;
+        r->body_scratch_capacity = need;
+    }
+    mm_vec3 *positions = (mm_vec3 *)r->body_scratch, *normals = positions + n;
+    float *v = r->body_scratch + n * 6;
+    mm_body_mesh_skin(m, s->global, positions, normals);
+    for (size_t i = 0; i < n; ++i) {
+        float *o = v + i * 9;
+        o[0] = positions[i].x, o[1] = positions[i].y, o[2] = positions[i].z;
+        o[3] = normals[i].x, o[4] = normals[i].y, o[5] = normals[i].z;
+        const float *c = m->colors + i * 3;
+        o[6] = c[0], o[7] = c[1], o[8] = c[2];
+        int j = m->joints[i * MM_BODY_MAX_INFLUENCES];
+        if (s->joint_colors && j >= 0 && j < s->joint_count) {
+            mm_rgba t = s->joint_colors[j];
+            if (t.r != body.r || t.g != body.g || t.b != body.b)
+                o[6] = 0.3f * c[0] + 0.7f * t.r, o[7] = 0.3f * c[1] + 0.7f * t.g,
+                o[8] = 0.3f * c[2] + 0.7f * t.b;
+        }
+    }
+    mm_gl *gl = &r->gl;
+    gl->UseProgram(r->skinned);
+    gl->UniformMatrix4fv(gl->GetUniformLocation(r->skinned, "u_view_proj"), 1, GL_FALSE, view_proj);
+    gl->Uniform3f(gl->GetUniformLocation(r->skinned, "u_eye"), eye.x, eye.y, eye.z);
+    gl->Uniform3f(gl->GetUniformLocation(r->skinned, "u_fog"), fog_color[0], fog_color[1], fog_color[2]);
+    gl->BindVertexArray(r->body_vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, r->body_vbo);
+    gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(sizeof(float) * n * 9), v, GL_STREAM_DRAW);
+    gl->BufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(sizeof(uint32_t) * 3 * (size_t)m->triangle_count),
+                   m->indices, GL_STREAM_DRAW);
+    gl->DrawElements(GL_TRIANGLES, 3 * m->triangle_count, GL_UNSIGNED_INT, (const void *)0);
+    return true;
+}
+
+#define OVERLAY_MARGIN     8     /* pixels between the text and the image's edge */
+#define OVERLAY_BODY_REACH 0.15f /* m: the body's extent around its joints, for keeping the text off it */
+
+bool mm_render_character_box(const mm_camera *cam, int width, int height, const mm_render_scene *s,
+                             float box[4])
+{
+    box[0] = box[1] = INFINITY;
+    box[2] = box[3] = -INFINITY;
+    if (!cam || !s || !s->global || width <= 0 || height <= 0) return false;
+    float focal = 0.5f * (float)height / tanf(0.5f * cam->fov_y);
+    mm_vec3 eye = mm_camera_eye(cam);
+    bool any = false;
+    for (int j = s->first_joint > 0 ? s->first_joint : 0; j < s->joint_count; ++j) {
+        mm_vec3 p = s->global[j].translation;
+        float x, y;
+        if (!finite3(p) || !mm_camera_project(cam, width, height, p, &x, &y)) continue;
+        float reach = OVERLAY_BODY_REACH * focal / fmaxf(mm_vec3_distance(p, eye), cam->z_near);
+        box[0] = fminf(box[0], x - reach), box[1] = fminf(box[1], y - reach);
+        box[2] = fmaxf(box[2], x + reach), box[3] = fmaxf(box[3], y + reach);
+        any = true;
+    }
+    return any;
+}
+
+static float overlap_area(const float a[4], const float b[4])
+{
+    float w = fminf(a[2], b[2]) - fmaxf(a[0], b[0]), h = fminf(a[3], b[3]) - fmaxf(a[1], b[1]);
+    return w > 0.0f && h > 0.0f ? w * h : 0.0f;
+}
+
+void mm_render_overlay_place(const mm_camera *cam, int width, int height, const mm_render_scene *s,
+                             mm_overlay_place *out)
+{
+    int tw = 0, th = 0;
+    mm_text_measure(s ? s->overlay : NULL, &tw, &th);
+    out->x = out->y = OVERLAY_MARGIN;
+    out->scale = MM_FONT_SCALE;
+    out->width = tw;
+    out->height = th;
+    float body[4];
+    if (tw == 0 || !mm_render_character_box(cam, width, height, s, body)) return;
+    /* the top left, top right, bottom left, bottom right corner, at the font's scale and then at
+       half of it: the first clear of the body, else the one that covers least of it */
+    float best = INFINITY;
+    for (int scale = MM_FONT_SCALE; scale >= 1; --scale) {
+        int w = tw * scale / MM_FONT_SCALE, h = th * scale / MM_FONT_SCALE;
+        for (int corner = 0; corner < 4; ++corner) {
+            int x = corner & 1 ? width - OVERLAY_MARGIN - w : OVERLAY_MARGIN;
+            int y = corner & 2 ? height - OVERLAY_MARGIN - h : OVERLAY_MARGIN;
+            float rect[4] = {(float)x, (float)y, (float)(x + w), (float)(y + h)};
+            float covered = overlap_area(rect, body);
+            if (covered < best) {
+                best = covered;
+                out->x = x, out->y = y, out->scale = scale, out->width = w, out->height = h;
+            }
+            if (covered <= 0.0f) return;
+        }
+    }
+}
+
+static void draw_overlay(mm_renderer *r, const mm_camera *cam, int width, int height,
+                         const mm_render_scene *s)
+{
+    const char *text = s->overlay;
     if (!text || !*text) return;
+    mm_overlay_place place;
+    mm_render_overlay_place(cam, width, height, s, &place);
     size_t len = strlen(text);
     float *v = scratch(r, (len + 1) * 24 * 2);
     if (!v) return;
-    const float margin = 8.0f;
     mm_gl *gl = &r->gl;
     gl->Disable(GL_DEPTH_TEST);
     gl->Enable(GL_BLEND);
@@ -605,7 +775,7 @@ static void draw_overlay(mm_renderer *r, int width, int height, const char *text
     GLint u_color = gl->GetUniformLocation(r->text, "u_color");
     /* a dark panel behind the characters, then the characters */
     for (int pass = 0; pass < 2; ++pass) {
-        int n = text_quads(v, text, margin, margin, pass == 0);
+        int n = text_quads(v, text, (float)place.x, (float)place.y, place.scale, pass == 0);
         if (pass == 0)
             gl->Uniform4f(u_color, 0.05f, 0.06f, 0.08f, 0.55f);
         else
@@ -615,6 +785,39 @@ static void draw_overlay(mm_renderer *r, int width, int height, const char *text
     }
     gl->Disable(GL_BLEND);
     gl->Enable(GL_DEPTH_TEST);
+}
+
+/* The ground: a grid at the scene's ground height under the camera's target, darkened by soft
+ * contact shadows of the joints (the nearer the ground, the darker and tighter). */
+static void draw_ground(mm_renderer *r, const float view_proj[16], mm_vec3 eye, const mm_camera *cam,
+                        const mm_render_scene *s)
+{
+    mm_gl *gl = &r->gl;
+    int first = s->first_joint > 0 ? s->first_joint : 0;
+    /* contact shadows: darker and tighter the closer a joint is to the ground */
+    float shadows[MAX_SHADOWS][4];
+    int count = 0, candidates = s->shadow_joints ? s->shadow_joint_count : s->joint_count;
+    for (int i = 0; i < candidates && count < MAX_SHADOWS; ++i) {
+        int j = s->shadow_joints ? s->shadow_joints[i] : i;
+        if (j < first || j >= s->joint_count || !s->global) continue;
+        mm_vec3 p = s->global[j].translation;
+        if (!finite3(p)) continue;
+        float h = fmaxf(p.y - s->ground_height, 0.0f), strength = 0.45f * fmaxf(0.0f, 1.0f - h / 1.2f);
+        if (strength <= 0.0f) continue;
+        shadows[count][0] = p.x, shadows[count][1] = p.z;
+        shadows[count][2] = 0.10f + 0.25f * h, shadows[count][3] = strength;
+        ++count;
+    }
+    gl->UseProgram(r->ground);
+    gl->UniformMatrix4fv(gl->GetUniformLocation(r->ground, "u_view_proj"), 1, GL_FALSE, view_proj);
+    gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_offset"), floorf(cam->target.x),
+                  isfinite(s->ground_height) ? s->ground_height : 0.0f, floorf(cam->target.z));
+    gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_eye"), eye.x, eye.y, eye.z);
+    gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_fog"), fog_color[0], fog_color[1], fog_color[2]);
+    if (count) gl->Uniform4fv(gl->GetUniformLocation(r->ground, "u_shadows"), count, &shadows[0][0]);
+    gl->Uniform1i(gl->GetUniformLocation(r->ground, "u_shadow_count"), count);
+    gl->BindVertexArray(r->ground_vao);
+    gl->DrawArrays(GL_TRIANGLES, 0, 6);
 }
 
 void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int height, const mm_render_scene *s)
@@ -637,33 +840,9 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
     mm_rgba body = s->body_color.a > 0.0f ? s->body_color : default_body;
     int first = s->first_joint > 0 ? s->first_joint : 0;
 
-    if (!s->no_ground) {
-        /* contact shadows: darker and tighter the closer a joint is to the ground */
-        float shadows[MAX_SHADOWS][4];
-        int count = 0, candidates = s->shadow_joints ? s->shadow_joint_count : s->joint_count;
-        for (int i = 0; i < candidates && count < MAX_SHADOWS; ++i) {
-            int j = s->shadow_joints ? s->shadow_joints[i] : i;
-            if (j < first || j >= s->joint_count || !s->global) continue;
-            mm_vec3 p = s->global[j].translation;
-            if (!finite3(p)) continue;
-            float h = fmaxf(p.y - s->ground_height, 0.0f), strength = 0.45f * fmaxf(0.0f, 1.0f - h / 1.2f);
-            if (strength <= 0.0f) continue;
-            shadows[count][0] = p.x, shadows[count][1] = p.z;
-            shadows[count][2] = 0.10f + 0.25f * h, shadows[count][3] = strength;
-            ++count;
-        }
-        gl->UseProgram(r->ground);
-        gl->UniformMatrix4fv(gl->GetUniformLocation(r->ground, "u_view_proj"), 1, GL_FALSE, view_proj);
-        gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_offset"), floorf(cam->target.x),
-                      isfinite(s->ground_height) ? s->ground_height : 0.0f, floorf(cam->target.z));
-        gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_eye"), eye.x, eye.y, eye.z);
-        gl->Uniform3f(gl->GetUniformLocation(r->ground, "u_fog"), fog_color[0], fog_color[1], fog_color[2]);
-        if (count) gl->Uniform4fv(gl->GetUniformLocation(r->ground, "u_shadows"), count, &shadows[0][0]);
-        gl->Uniform1i(gl->GetUniformLocation(r->ground, "u_shadow_count"), count);
-        gl->BindVertexArray(r->ground_vao);
-        gl->DrawArrays(GL_TRIANGLES, 0, 6);
-    }
+    if (!s->no_ground) draw_ground(r, view_proj, eye, cam, s);
 
+    bool body_drawn = draw_body_mesh(r, view_proj, eye, s, body);
     gl->UseProgram(r->lit);
     gl->UniformMatrix4fv(gl->GetUniformLocation(r->lit, "u_view_proj"), 1, GL_FALSE, view_proj);
     gl->Uniform3f(gl->GetUniformLocation(r->lit, "u_eye"), eye.x, eye.y, eye.z);
@@ -671,7 +850,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
     GLint u_model = gl->GetUniformLocation(r->lit, "u_model"),
           u_normal = gl->GetUniformLocation(r->lit, "u_normal"),
           u_color = gl->GetUniformLocation(r->lit, "u_color");
-    if (s->global && s->joint_count > 0)
+    if (s->global && s->joint_count > 0 && !body_drawn)
         for (int j = first; j < s->joint_count; ++j) {
             mm_rgba c = s->joint_colors ? s->joint_colors[j] : body;
             draw_sphere(r, u_model, u_normal, u_color, s->global[j].translation,
@@ -689,7 +868,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
         draw_box_edges(r, view_proj, s);
     }
     draw_lines(r, view_proj, s);
-    draw_overlay(r, width, height, s->overlay);
+    draw_overlay(r, cam, width, height, s);
     gl->BindVertexArray(0);
 }
 

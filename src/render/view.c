@@ -41,11 +41,20 @@ mm_result mm_view_init(mm_view *v, const mm_database *db, mm_error *err)
     v->line_capacity = LINE_CAPACITY;
     v->marker_capacity = MARKER_CAPACITY;
     for (int j = 0; j < db->joint_count; ++j) v->parents[j] = db->joints[j].parent;
+    /* the body: without the roles it needs, the capsule figure */
+    mm_error body_err;
+    if (mm_body_mesh_build_from_database(db, &v->body, &body_err) == MM_OK) v->drawn = &v->body;
     return MM_OK;
+}
+
+void mm_view_set_body(mm_view *v, const mm_body_mesh *body)
+{
+    v->drawn = body ? body : v->body.vertex_count > 0 ? &v->body : NULL;
 }
 
 void mm_view_free(mm_view *v)
 {
+    mm_body_mesh_free(&v->body);
     free(v->boxes);
     free(v->parents);
     free(v->joint_colors);
@@ -109,6 +118,7 @@ void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const
     s->boxes = v->boxes;
     s->box_count = v->box_count;
     s->ground_height = v->ground;
+    s->body_mesh = v->drawn;
     mm_input none;
     memset(&none, 0, sizeof none);
     if (!in) in = &none;
