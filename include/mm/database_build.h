@@ -67,7 +67,7 @@ typedef struct mm_db_build_report {
 
 /* Compressing the local transforms (mm_database_compress; mm_db_build_desc.compress). */
 #define MM_POSE_ERROR_DEFAULT          0.0005f /* m: the default bound on world joint positions */
-#define MM_POSE_SEGMENT_FRAMES_DEFAULT 16      /* frames per segment */
+#define MM_POSE_SEGMENT_FRAMES_DEFAULT 32      /* frames per segment */
 /* m: besides the joints, points this far from each joint along its three axes are held to the
  * bound, so that a joint's own rotation (a hand's, the head's: no joint below them) and its twist
  * are kept too */
