@@ -13,6 +13,7 @@
 
 #include <mm/character.h>
 #include <mm/database_build.h>
+#include <mm/input.h>
 #include <mm/search.h>
 
 #define NOISE 0.05 /* standard deviation of the noise on the near queries (normalised units) */
@@ -64,6 +65,37 @@ static size_t character_bytes(const mm_database *db, const mm_searcher *s)
     if (mm_character_init(&c, db, s, &desc, &err) != MM_OK) return 0;
     mm_character_free(&c);
     return bytes;
+}
+
+/* Microseconds per 60 Hz tick of one character on db (TICKS ticks of a stick that turns, stops and
+ * runs; searches included), the median of RUNS runs. */
+#define TICKS 1200
+#define RUNS  3
+static double tick_us(const mm_database *db, const mm_searcher *s)
+{
+    double runs[RUNS];
+    for (int k = 0; k < RUNS; ++k) {
+        mm_character_desc desc;
+        mm_error err;
+        mm_character c;
+        if (mm_character_desc_from_database(&desc, db, &err) != MM_OK ||
+            mm_character_init(&c, db, s, &desc, &err) != MM_OK)
+            return 0.0;
+        mm_input in;
+        memset(&in, 0, sizeof in);
+        double t0 = now();
+        for (int i = 0; i < TICKS; ++i) {
+            float t = (float)i / 60.0f;
+            in.stick[0] = sinf(0.37f * t);
+            in.stick[1] = (i / 300) % 3 == 2 ? 0.0f : cosf(0.23f * t);
+            in.gait = (i / 450) % 2 == 1 ? MM_GAIT_RUN : MM_GAIT_WALK;
+            mm_character_update(&c, &in, 1.0f / 60.0f);
+        }
+        runs[k] = (now() - t0) * 1e6 / TICKS;
+        mm_character_free(&c);
+    }
+    qsort(runs, RUNS, sizeof runs[0], compare);
+    return runs[RUNS / 2];
 }
 
 /* median and p99 of n times (sorted in place) */
@@ -137,26 +169,33 @@ int main(int argc, char **argv)
             for (int b = 0; b < 2; ++b) percentiles(t[a][b], queries, &med[a][b], &p99[a][b]);
         double f = db.frame_count;
         size_t character = character_bytes(&db, &s);
+        mm_searcher s_small;
+        if (mm_searcher_init(&s_small, &small, NULL, &err) != MM_OK) return 1;
+        double tick[2] = {tick_us(&db, &s), tick_us(&small, &s_small)};
+        mm_searcher_free(&s_small);
         if (json)
             printf("%s{\"file\": \"%s\", \"frames\": %d, \"searcher_bytes\": %zu, \"character_bytes\": %zu, "
+                   "\"tick_us\": {\"floats\": %.2f, \"compressed\": %.2f}, "
                    "\"bytes_per_frame\": %.1f, "
                    "\"pose_bytes_per_frame\": %.1f, "
                    "\"compressed_bytes_per_frame\": %.1f, \"compressed_pose_bytes_per_frame\": %.1f, "
                    "\"transition\": {\"brute_median_us\": %.1f, \"brute_p99_us\": %.1f, \"median_us\": %.1f, "
                    "\"p99_us\": %.1f}, \"near\": {\"brute_median_us\": %.1f, \"brute_p99_us\": %.1f, "
                    "\"median_us\": %.1f, \"p99_us\": %.1f}}",
-                   k ? ", " : "", paths[k], db.frame_count, s.memory, character, db.size / f,
-                   mm_database_pose_bytes(&db) / f, small.size / f, mm_database_pose_bytes(&small) / f,
-                   med[0][0], p99[0][0], med[0][1], p99[0][1], med[1][0], p99[1][0], med[1][1], p99[1][1]);
+                   k ? ", " : "", paths[k], db.frame_count, s.memory, character, tick[0], tick[1],
+                   db.size / f, mm_database_pose_bytes(&db) / f, small.size / f,
+                   mm_database_pose_bytes(&small) / f, med[0][0], p99[0][0], med[0][1], p99[0][1], med[1][0],
+                   p99[1][0], med[1][1], p99[1][1]);
         else
             printf("%s: %d frames; file %.1f MB (%.0f bytes per frame), compressed %.1f MB (%.0f); poses "
                    "%.0f -> %.0f bytes per frame; searcher %.1f MB; a character %.1f KB\n"
+                   "  a character's 60 Hz tick: %.1f us on the floats, %.1f us compressed\n"
                    "  transition queries: brute %.0f us median (p99 %.0f), fast %.1f us (p99 %.0f)\n"
                    "  near queries:       brute %.0f us median (p99 %.0f), fast %.1f us (p99 %.0f)\n",
                    paths[k], db.frame_count, db.size / 1e6, db.size / f, small.size / 1e6, small.size / f,
                    mm_database_pose_bytes(&db) / f, mm_database_pose_bytes(&small) / f, s.memory / 1e6,
-                   character / 1024.0, med[0][0], p99[0][0], med[0][1], p99[0][1], med[1][0], p99[1][0],
-                   med[1][1], p99[1][1]);
+                   character / 1024.0, tick[0], tick[1], med[0][0], p99[0][0], med[0][1], p99[0][1],
+                   med[1][0], p99[1][0], med[1][1], p99[1][1]);
         for (int a = 0; a < 2; ++a)
             for (int b = 0; b < 2; ++b) free(t[a][b]);
         free(q);
