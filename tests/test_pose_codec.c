@@ -242,11 +242,13 @@ static void test_same_search(void **state)
  * becomes through inertialization: its offsets' velocities come from two consecutive decoded
  * frames, whose errors may differ by twice the bound in one frame interval, and its springs carry
  * that over their half-life (docs/database.md, "A smaller database for shipping"). */
-#define RUN_TOLERANCE (8.0f * BOUND)
-static void test_character_run(void **state)
+#define RUN_FACTOR    8.0f
+#define RUN_TOLERANCE (RUN_FACTOR * BOUND)
+/* The largest distance between the joints of a character on the floats and one on `small` over a
+ * 30 s run of the same input; checks that both play the same frames with the same root. */
+static double run_difference(const mm_database *small)
 {
-    (void)state;
-    const mm_database *dbs[2] = {&synth_floats, &synth_small};
+    const mm_database *dbs[2] = {&synth_floats, small};
     mm_searcher s[2];
     mm_character ch[2];
     mm_error err;
@@ -260,7 +262,6 @@ static void test_character_run(void **state)
     mm_input in;
     memset(&in, 0, sizeof in);
     double worst = 0.0;
-    int transitions = 0;
     for (int i = 0; i < 1800; ++i) { /* 30 s at 60 Hz: walking, turning, stopping, running */
         float t = (float)i / 60.0f;
         in.stick[0] = sinf(0.37f * t);
@@ -275,15 +276,31 @@ static void test_character_run(void **state)
             worst = d > worst ? d : worst;
         }
     }
-    transitions = ch[0].transitions;
-    printf("character: %d transitions, the same frames; joints at most %.4f mm apart\n", transitions,
-           1000.0 * worst);
-    assert_true(transitions > 5);
-    assert_true(worst <= RUN_TOLERANCE);
+    printf("character (bound %.3f mm): %d transitions, the same frames and root; joints at most %.4f mm "
+           "apart\n",
+           1000.0 * small->compressed.error_bound, ch[0].transitions, 1000.0 * worst);
+    assert_true(ch[0].transitions > 5);
     for (int k = 0; k < 2; ++k) {
         mm_character_free(&ch[k]);
         mm_searcher_free(&s[k]);
     }
+    return worst;
+}
+
+static void test_character_run(void **state)
+{
+    (void)state;
+    assert_true(run_difference(&synth_small) <= RUN_TOLERANCE);
+    /* compressed within an eighth of the bound, the character stays within the bound */
+    mm_db_compress_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.error_bound = BOUND / RUN_FACTOR;
+    mm_database fine;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    assert_int_equal(mm_database_compress(&synth_floats, &desc, &fine, &err), MM_OK);
+    assert_true(run_difference(&fine) <= BOUND);
+    mm_database_free(&fine);
 }
 
 /* Loads a copy of db with `width` bytes at byte `at` set to value (checksum not verified); the
