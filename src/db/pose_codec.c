@@ -263,20 +263,39 @@ mm_result mm__pose_codec_validate(const mm_database *db, mm_error *err)
                    (unsigned long long)offset, MM__POSE_BITS_TAIL);
     for (size_t b = (size_t)offset; b < c->bits_size; ++b)
         if (c->bits[b] != 0) return BAD("the bit stream's last %d bytes are not 0", MM__POSE_BITS_TAIL);
-    /* the frames as they decode: what a run reads, checked as loading checks floats; the padding bits
-     * after each segment's last frame are zero, so that one content has one file */
-    mm_quat rot[MM_MAX_JOINTS];
-    mm_vec3 pos[MM_MAX_JOINTS];
+    /* the floats of raw tracks, checked as loading checks floats (a quantized track decodes within
+     * its range, checked above: unit rotations, bounded translations); the padding bits after each
+     * segment's last frame are zero, so that one content has one file */
+    const mm_quat identity = mm_quat_identity();
+    const mm_vec3 origin = mm_vec3_make(0, 0, 0);
     for (s = 0; s < c->segment_count; ++s) {
         mm__pose_segment_view v;
         mm__pose_segment_of(db, s, &v);
         const mm_db_pose_segment *g = &c->segments[s];
         for (int f = 0; f < g->frame_count; ++f) {
-            mm__pose_decode(&v, f, rot, pos);
-            size_t j = mm__pose_first_bad_joint(rot, pos, (size_t)jc);
-            if (j < (size_t)jc)
-                return BAD("frame %d, joint %zu: rotation not of unit length or position out of range",
-                           g->first_frame + f, j);
+            uint64_t at = (uint64_t)f * g->frame_bits;
+            for (int j = 0; j < jc; ++j) {
+                const mm_db_rotation_track *rt = &v.rotations[j];
+                if (rt->bits != MM_POSE_RAW_BITS) {
+                    at += mm__pose_rotation_frame_bits(rt->bits);
+                    continue;
+                }
+                mm_quat q = decode_rotation(rt, v.bits, &at);
+                if (mm__pose_first_bad_joint(&q, &origin, 1) == 0)
+                    return BAD("frame %d, joint %d: rotation not of unit length or not finite",
+                               g->first_frame + f, j);
+            }
+            for (int t = 0; t < tc; ++t) {
+                const mm_db_translation_track *tt = &v.translations[t];
+                if (tt->bits != MM_POSE_RAW_BITS) {
+                    at += mm__pose_translation_frame_bits(tt->bits);
+                    continue;
+                }
+                mm_vec3 p = decode_translation(tt, v.bits, &at);
+                if (mm__pose_first_bad_joint(&identity, &p, 1) == 0)
+                    return BAD("frame %d, joint %d: translation out of range", g->first_frame + f,
+                               (int)c->translating_joints[t]);
+            }
         }
         uint64_t used = (uint64_t)g->frame_bits * (uint64_t)g->frame_count, end = (used + 7u) / 8u * 8u;
         for (uint64_t b = used; b < end; ++b)

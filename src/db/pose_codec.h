@@ -49,8 +49,9 @@ void mm__pose_segment_of(const mm_database *db, int s, mm__pose_segment_view *ou
 size_t mm__pose_first_bad_joint(const mm_quat *rot, const mm_vec3 *pos, size_t n);
 
 /* Validates db's compressed sections (header counts already checked): the segments tiling every
- * clip in order, the tracks' bits, ranges and reserved bytes, the bit stream's offsets and tail,
- * then every decoded frame as loading checks floats. MM_ERR_SYNTAX "compressed poses: ...". */
+ * clip in order, the tracks' bits, ranges and reserved bytes, the bit stream's offsets, padding and
+ * tail, then the floats of raw tracks as loading checks floats (a quantized track decodes within
+ * its range). MM_ERR_SYNTAX "compressed poses: ...". */
 mm_result mm__pose_codec_validate(const mm_database *db, mm_error *err);
 
 #endif
