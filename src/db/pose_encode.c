@@ -28,6 +28,10 @@
 /* A kept component below this magnitude as the dropped one would magnify the others' errors:
  * prefer a component of the right sign only down to it. */
 #define MM__DROPPED_MIN 0.3f
+/* A joint's translation counts as constant when it varies (over the whole database) by less than
+ * the bound / (MM__CONSTANT_SHARE x the skeleton's depth): resampling leaves rest offsets a
+ * fraction of a micrometre apart, which a translation track per segment would store for nothing. */
+#define MM__CONSTANT_SHARE 100.0f
 
 typedef struct segment_out {
     int first, count;
@@ -398,15 +402,23 @@ mm_result mm_database_compress(const mm_database *db, const mm_db_compress_desc 
         r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "compress: out of memory");
         goto done;
     }
+    /* a joint whose translation varies less than this keeps one, the middle of its range: the
+     * errors of every such joint of a chain together take at most 1 / (2 MM__CONSTANT_SHARE) of the
+     * bound (0 for a bound no quantization meets: only exact constants) */
+    float constant_range = bound / (MM__CONSTANT_SHARE * (float)job.depth);
     for (int j = 0; j < jc; ++j) {
-        mm_vec3 p0 = mm_database_positions(db, 0)[j];
-        bool moves = false;
-        for (int f = 1; f < db->frame_count && !moves; ++f)
-            moves = memcmp(&mm_database_positions(db, f)[j], &p0, sizeof p0) != 0;
-        if (moves)
+        mm_vec3 lo = mm_database_positions(db, 0)[j], hi = lo;
+        for (int f = 1; f < db->frame_count; ++f) {
+            mm_vec3 p = mm_database_positions(db, f)[j];
+            lo = mm_vec3_make(fminf(lo.x, p.x), fminf(lo.y, p.y), fminf(lo.z, p.z));
+            hi = mm_vec3_make(fmaxf(hi.x, p.x), fmaxf(hi.y, p.y), fmaxf(hi.z, p.z));
+        }
+        mm_vec3 range = mm_vec3_sub(hi, lo);
+        bool exact = range.x == 0.0f && range.y == 0.0f && range.z == 0.0f;
+        if (!exact && !(fmaxf(range.x, fmaxf(range.y, range.z)) <= constant_range))
             translating[job.translating_count++] = j;
         else
-            constants[j] = p0;
+            constants[j] = exact ? lo : mm_vec3_add(lo, mm_vec3_scale(range, 0.5f));
     }
     trans = calloc((size_t)job.segment_count * (size_t)(job.translating_count + 1),
                    sizeof(mm_db_translation_track));
