@@ -34,7 +34,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fclose(out);
         }
         mm_pose_data pd;
-        for (int f = 0; f < db.frame_count; f += 1 + db.frame_count / 16) mm_database_pose(&db, f, &pd);
+        mm_quat rot[MM_MAX_JOINTS];
+        mm_vec3 pos[MM_MAX_JOINTS];
+        for (int f = 0; f < db.frame_count; f += 1 + db.frame_count / 16) {
+            mm_database_pose(&db, f, &pd);
+            mm_database_local_pose(&db, f, rot, pos); /* decoded, when compressed */
+            for (int j = 0; j < db.joint_count; ++j) {
+                mm_quat q;
+                mm_vec3 p;
+                mm_database_local_joint(&db, f, j, &q, &p);
+                if (memcmp(&q, &rot[j], sizeof q) != 0 || memcmp(&p, &pos[j], sizeof p) != 0)
+                    __builtin_trap();
+            }
+        }
         /* the distance curves passed validation: the readers must be safe on them */
         for (int c = 0; c < db.clip_count && c < 64; ++c) {
             mm_distance_curve curve;

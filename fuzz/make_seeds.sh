@@ -2,7 +2,7 @@
 # Makes the seed corpora of fuzz_mmdb and fuzz_sim from the project's own procedural motion (mm
 # synth), nothing else: two tiny motion databases built from short cuts of a few built-in clips
 # (fuzz/seed_configs/small.json: one clip, 2 frames; rich.json: idle, loop, mirrored, ranged, tagged
-# and blended clips, 20 frames) and similarity tables of each (cosine and Euclidean, windows 1 and 2,
+# and blended clips, 20 frames; and rich_compressed: its poses compressed) and similarity tables of each (cosine and Euclidean, windows 1 and 2,
 # every channel).
 #
 #   fuzz/make_seeds.sh MM_BINARY [OUTDIR]     writes OUTDIR/mmdb/*.mmdb and OUTDIR/sim/*.sim
@@ -28,6 +28,8 @@ mkdir -p "$out/mmdb" "$out/sim"
 for c in small rich; do
     "$mm" db build "$here/seed_configs/$c.json" --data "$tmp/set" -o "$out/mmdb/$c.mmdb" >/dev/null
 done
+# the same poses compressed (segments of 8 frames: several per clip)
+"$mm" db compress "$out/mmdb/rich.mmdb" --segment-frames 8 --threads 1 -o "$out/mmdb/rich_compressed.mmdb" >/dev/null
 "$mm" similarity build "$out/mmdb/small.mmdb" --threads 1 -o "$out/sim/small.sim" >/dev/null
 "$mm" similarity build "$out/mmdb/rich.mmdb" --threads 1 --window 2 -o "$out/sim/rich_cos_w2.sim" >/dev/null
 "$mm" similarity build "$out/mmdb/rich.mmdb" --threads 1 --measure euclid --channels pos,rot,vel \

@@ -24,10 +24,10 @@
 
 /* The .mmdb header (docs/format.md): the byte offsets of its fields. */
 #define DB_FILE_SIZE_AT 24
-#define DB_COUNTS_AT    32 /* header_size, then the 11 int32 counts, interval, section_count */
-#define DB_COUNTS_END   88
-#define DB_SECTIONS_AT  88 /* MM_DB_SECTIONS x {offset, size}, uint64 each */
-#define DB_SECTIONS     25
+#define DB_COUNTS_AT    32 /* header_size, the 11 int32 counts, interval, the 6 pose fields, section_count */
+#define DB_COUNTS_END   112
+#define DB_SECTIONS_AT  112 /* MM_DB_SECTIONS x {offset, size}, uint64 each */
+#define DB_SECTIONS     31
 
 /* The similarity tables header (docs/similarity.md). */
 #define SIM_COUNTS_AT   32  /* header_size ... section_count */
@@ -286,10 +286,10 @@ typedef struct record_section {
     int float_free;
 } record_section;
 
-static void test_crafted_database(void **state)
+/* Every crafted file of db: the header, the section table, the records of the given sections. */
+static void craft_database(const mm_database *base, const record_section *records, size_t record_count)
 {
-    (void)state;
-    mm_database db = build_db();
+    mm_database db = *base;
     assert_int_equal(db.clip_count, 3);
     const uint32_t counts[] = {(uint32_t)db.frame_count,
                                (uint32_t)db.frame_count + 1,
@@ -298,7 +298,9 @@ static void test_crafted_database(void **state)
                                (uint32_t)db.dims,
                                (uint32_t)db.dims_padded,
                                (uint32_t)db.dims_padded + 8,
-                               (uint32_t)db.group_count};
+                               (uint32_t)db.group_count,
+                               (uint32_t)db.compressed.segment_count,
+                               (uint32_t)db.compressed.translating_count};
     const int ncounts = (int)(sizeof counts / sizeof counts[0]);
     tally t = {0, 0, 0, 0};
 
@@ -320,6 +322,35 @@ static void test_crafted_database(void **state)
     }
 
     /* the records: every 32-bit word of the first and last record of each section */
+    for (size_t i = 0; i < record_count; ++i) {
+        const record_section *rs = &records[i];
+        uint64_t off = db_section(&db, rs->section, 0), size = db_section(&db, rs->section, 1);
+        assert_true(size >= rs->record);
+        size_t n = (size_t)(size / rs->record), firsts[2] = {0, (n - 1) * rs->record};
+        for (int k = 0; k < (n > 1 ? 2 : 1); ++k)
+            for (size_t w = 0; w + 4 <= rs->record; w += 4) {
+                /* of a name (the records that start with one), its first and last words */
+                int named = rs->section == 0 || rs->section == 1 || rs->section == 3;
+                if (named && w > 0 && w < MM_NAME_MAX - 4) continue;
+                /* the mean of a padding dimension is 0, not free */
+                int is_free = rs->float_free && !(rs->section == 13 && k == 1 && db.dims < db.dims_padded);
+                try_db_word(&db, (size_t)off + firsts[k] + w, counts, ncounts, is_free, &t);
+            }
+    }
+    /* the bytes of a section that are not whole words (contacts), and a bool (a joint's End Site) */
+    for (int v = 0; v < 256; v += 15) try_db(&db, (size_t)db_section(&db, 7, 0), 1, (uint64_t)v, 0, &t);
+    for (int v = 0; v < 256; v += 15)
+        try_db(&db, (size_t)db_section(&db, 0, 0) + offsetof(mm_joint, has_end_site), 1, (uint64_t)v, 0, &t);
+    printf("crafted databases (%s poses): %d, refused %d, loaded %d (%d of them changed, all safe to run)\n",
+           db.pose_codec == MM_POSE_SEGMENTS ? "compressed" : "float", t.crafted, t.refused, t.loaded,
+           t.loaded_changed);
+    assert_true(t.refused > t.crafted / 2); /* the mutations mostly break something */
+}
+
+static void test_crafted_database(void **state)
+{
+    (void)state;
+    mm_database db = build_db();
     const record_section records[] = {{0, sizeof(mm_joint), 0},
                                       {1, sizeof(mm_db_clip), 0},
                                       {3, sizeof(mm_feature_group), 0},
@@ -343,25 +374,7 @@ static void test_crafted_database(void **state)
                                       {22, 4, 0} /* signed */,
                                       {23, sizeof(mm_distance_segment), 0},
                                       {24, sizeof(mm_database_settings), 0}};
-    for (size_t i = 0; i < sizeof records / sizeof records[0]; ++i) {
-        const record_section *rs = &records[i];
-        uint64_t off = db_section(&db, rs->section, 0), size = db_section(&db, rs->section, 1);
-        assert_true(size >= rs->record);
-        size_t n = (size_t)(size / rs->record), firsts[2] = {0, (n - 1) * rs->record};
-        for (int k = 0; k < (n > 1 ? 2 : 1); ++k)
-            for (size_t w = 0; w + 4 <= rs->record; w += 4) {
-                /* of a name (the records that start with one), its first and last words */
-                int named = rs->section == 0 || rs->section == 1 || rs->section == 3;
-                if (named && w > 0 && w < MM_NAME_MAX - 4) continue;
-                /* the mean of a padding dimension is 0, not free */
-                int is_free = rs->float_free && !(rs->section == 13 && k == 1 && db.dims < db.dims_padded);
-                try_db_word(&db, (size_t)off + firsts[k] + w, counts, ncounts, is_free, &t);
-            }
-    }
-    /* the bytes of a section that are not whole words (contacts), and a bool (a joint's End Site) */
-    for (int v = 0; v < 256; v += 15) try_db(&db, (size_t)db_section(&db, 7, 0), 1, (uint64_t)v, 0, &t);
-    for (int v = 0; v < 256; v += 15)
-        try_db(&db, (size_t)db_section(&db, 0, 0) + offsetof(mm_joint, has_end_site), 1, (uint64_t)v, 0, &t);
+    craft_database(&db, records, sizeof records / sizeof records[0]);
 
     /* the crash of issue 25: a feature group's offset near INT_MAX passed an overflowing range check */
     unsigned char *copy = aligned_copy(db.data, db.size);
@@ -375,9 +388,37 @@ static void test_crafted_database(void **state)
     assert_non_null(strstr(err.message, "feature group 0"));
     free(copy);
 
-    printf("crafted databases: %d, refused %d, loaded %d (%d of them changed, all safe to run)\n", t.crafted,
-           t.refused, t.loaded, t.loaded_changed);
-    assert_true(t.refused > t.crafted / 2); /* the mutations mostly break something */
+    mm_database_free(&db);
+}
+
+/* The same with the poses compressed: sections 10 and 11 empty, 25-30 the segments. */
+static void test_crafted_compressed(void **state)
+{
+    (void)state;
+    mm_database floats = build_db(), db;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_db_compress_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.segment_frames = 8; /* several segments per clip: first and last records differ */
+    assert_int_equal(mm_database_compress(&floats, &desc, &db, &err), MM_OK);
+    mm_database_free(&floats);
+    assert_int_equal(db.pose_codec, MM_POSE_SEGMENTS);
+    const record_section records[] = {{25, sizeof(mm_vec3), 0} /* constants */,
+                                      {26, 4, 0} /* translating joints */,
+                                      {27, sizeof(mm_db_pose_segment), 0},
+                                      {28, sizeof(mm_db_rotation_track), 0},
+                                      {29, sizeof(mm_db_translation_track), 0},
+                                      {30, 4, 0} /* the bit stream's first and last words */,
+                                      {4, 4, 0} /* frame_clip: the segments follow the clips */,
+                                      {1, sizeof(mm_db_clip), 0}};
+    craft_database(&db, records, sizeof records / sizeof records[0]);
+    /* the reserved and dropped bytes of a rotation track, one bit each */
+    tally t = {0, 0, 0, 0};
+    size_t track = (size_t)db_section(&db, 28, 0) + offsetof(mm_db_rotation_track, dropped);
+    for (int bit = 0; bit < 8; ++bit)
+        try_db(&db, track, 1, (uint64_t)(db.compressed.rotation_tracks[0].dropped ^ (1u << bit)), 0, &t);
+    assert_true(t.refused >= 5); /* bits 3-7 are not components nor the sign */
     mm_database_free(&db);
 }
 
@@ -495,6 +536,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_crafted_database),
+        cmocka_unit_test(test_crafted_compressed),
         cmocka_unit_test(test_crafted_tables),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

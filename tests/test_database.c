@@ -515,7 +515,7 @@ static void test_bad_files(void **state)
         mm_error e;
         memset(&e, 0, sizeof e);
         assert_int_equal(mm_database_load_memory(old, db.size, true, &out, &e), MM_ERR_OUT_OF_RANGE);
-        assert_string_equal(e.message, "format version 1, this mm reads version 3: rebuild it");
+        assert_string_equal(e.message, "format version 1, this mm reads version 4: rebuild it");
         free(old);
     }
     expect_refused(&db, db.size, db.size / 2, 1, MM_ERR_SYNTAX, "checksum");
@@ -677,7 +677,7 @@ static void test_settings_section(void **state)
     /* the section's size must be exactly one mm_database_settings (section 24 in the header) */
     unsigned char *copy = aligned_alloc(MM_DB_ALIGN, (db.size + MM_DB_ALIGN) / MM_DB_ALIGN * MM_DB_ALIGN);
     memcpy(copy, db.data, db.size);
-    size_t size_at = 88 + 16 * 24 + 8;
+    size_t size_at = 112 + 16 * 24 + 8; /* the section table starts at byte 112 */
     uint64_t size;
     memcpy(&size, copy + size_at, 8);
     assert_int_equal(size, sizeof(mm_database_settings));

@@ -20,12 +20,13 @@ loads() { # CMD... : exits 0
     rm -f "${TMPDIR:-/tmp}/mm_seeds.$$"
 }
 
-for f in "$corpus"/mmdb/small.mmdb "$corpus"/mmdb/rich.mmdb "$corpus"/sim/small.sim "$corpus"/sim/rich_cos_w2.sim \
+for f in "$corpus"/mmdb/small.mmdb "$corpus"/mmdb/rich.mmdb "$corpus"/mmdb/rich_compressed.mmdb "$corpus"/sim/small.sim "$corpus"/sim/rich_cos_w2.sim \
     "$corpus"/sim/rich_euclid_all.sim; do
     if [ -f "$f" ] && [ "$(wc -c <"$f")" -lt 32768 ]; then ok; else bad "$f is missing or not under 32768 bytes"; fi
 done
 loads "$mm" db dump "$corpus/mmdb/small.mmdb"
 loads "$mm" db dump "$corpus/mmdb/rich.mmdb"
+loads "$mm" db dump "$corpus/mmdb/rich_compressed.mmdb"
 loads "$mm" similarity info "$corpus/sim/small.sim" --db "$corpus/mmdb/small.mmdb"
 loads "$mm" similarity info "$corpus/sim/rich_cos_w2.sim" --db "$corpus/mmdb/rich.mmdb"
 loads "$mm" similarity info "$corpus/sim/rich_euclid_all.sim" --db "$corpus/mmdb/rich.mmdb"

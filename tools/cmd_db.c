@@ -109,20 +109,47 @@ static void progress(int done, int total, void *user)
     if (isatty(2) && done == total) fputc('\n', stderr);
 }
 
+/* The compressed poses of db in a line: their bytes per frame against the file's, the error. */
+static void print_poses(const mm_database *db)
+{
+    double per_frame = (double)mm_database_pose_bytes(db) / db->frame_count;
+    if (db->pose_codec == MM_POSE_SEGMENTS)
+        printf("poses:      compressed, %.1f bytes per frame (file %.1f), segments of %d frames, world joint "
+               "positions within %.3f mm of the floats (bound %.3f mm)\n",
+               per_frame, (double)db->size / db->frame_count, db->compressed.segment_frames,
+               1000.0 * db->compressed.max_error, 1000.0 * db->compressed.error_bound);
+    else
+        printf("poses:      floats, %.1f bytes per frame (file %.1f)\n", per_frame,
+               (double)db->size / db->frame_count);
+}
+
+/* Bounds (mm) and segment lengths the compressing options take. */
+#define COMPRESS_ERROR_MAX_MM 100.0
+
 static int cmd_build(int argc, char **argv)
 {
     const char *config = NULL, *out = NULL, *data = NULL;
     long threads = cli_default_threads();
+    int compress = 0;
+    double error_mm = 1000.0 * MM_POSE_ERROR_DEFAULT;
     const cli_option options[] = {
         {.name = "-o", .alias = "--output", .kind = CLI_STRING, .target = &out, .need = "a file name"},
         {.name = "--data", .kind = CLI_STRING, .target = &data, .need = "a folder"},
         {.name = "--threads", .kind = CLI_INT, .target = &threads, .min = 1, .max = MM_DB_MAX_THREADS},
+        {.name = "--compress", .kind = CLI_FLAG, .target = &compress},
+        {.name = "--compress-error",
+         .kind = CLI_DOUBLE,
+         .target = &error_mm,
+         .min = 0.0,
+         .open_min = 1,
+         .max = COMPRESS_ERROR_MAX_MM,
+         .need = "millimetres"},
     };
     int status = cli_parse_options("db build", argc, argv, options, CLI_COUNT(options), NULL, &config, 1);
     if (status) return status;
     if (!config || !out)
-        return cli_usage_error("db build",
-                               "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N]");
+        return cli_usage_error("db build", "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N] "
+                                           "[--compress [--compress-error MM]]");
     double t0 = cli_now();
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -145,6 +172,10 @@ static int cmd_build(int argc, char **argv)
     desc.threads = (int)threads;
     mm_db_build_report report;
     desc.report = &report;
+    mm_db_compress_desc compress_desc;
+    memset(&compress_desc, 0, sizeof compress_desc);
+    compress_desc.error_bound = (float)(error_mm / 1000.0);
+    if (compress) desc.compress = &compress_desc;
     mm_database db;
     snprintf(err.file, sizeof err.file, "%s", config);
     mm_result r = mm_database_build(&cfg, sources, &desc, &db, &err);
@@ -160,6 +191,7 @@ static int cmd_build(int argc, char **argv)
     }
     printf("%s: %d frames, %d dims, %d clips, %zu bytes, %.2f s (load %.2f s, build %.2f s)\n", out,
            db.frame_count, db.dims, db.clip_count, db.size, cli_now() - t0, t1 - t0, t2 - t1);
+    print_poses(&db);
     print_postures(&report);
     print_standing(&report.standing);
     status = print_diagnosis(&db, &report, 0);
@@ -335,9 +367,15 @@ static int cmd_info(int argc, char **argv)
         cli_json_string(stdout, path);
         printf(", \"version\": %d, \"frames\": %d, \"dims\": %d, \"dims_padded\": %d, \"clips\": %d, "
                "\"joints\": %d, "
-               "\"interval\": %.9g, \"duration\": %.9g, \"bytes\": %zu, \"clip_names\": [",
+               "\"interval\": %.9g, \"duration\": %.9g, \"bytes\": %zu, ",
                MM_DB_VERSION, db.frame_count, db.dims, db.dims_padded, db.clip_count, db.joint_count,
                db.interval, db.frame_count * db.interval, db.size);
+        printf("\"poses\": {\"codec\": \"%s\", \"segment_frames\": %d, \"error_bound_mm\": %.9g}, "
+               "\"pose_bytes_per_frame\": %.9g, \"bytes_per_frame\": %.9g, \"max_joint_error_mm\": %.9g, ",
+               db.pose_codec == MM_POSE_SEGMENTS ? "segments" : "floats", db.compressed.segment_frames,
+               1000.0 * db.compressed.error_bound, (double)mm_database_pose_bytes(&db) / db.frame_count,
+               (double)db.size / db.frame_count, 1000.0 * db.compressed.max_error);
+        printf("\"clip_names\": [");
         for (int c = 0; c < db.clip_count; ++c) {
             if (c) printf(", ");
             cli_json_string(stdout, db.clips[c].name);
@@ -379,6 +417,7 @@ static int cmd_info(int argc, char **argv)
         printf("joints:     %d (joint 0: %s)\n", db.joint_count, db.joints[0].name);
         printf("clips:      %d (%d idle, %d loop, %d mirrored, %d blend)\n", db.clip_count, idle, loops,
                mirrored, blends);
+        print_poses(&db);
         printf("features:   %d dims (%d padded)\n", db.dims, db.dims_padded);
         for (int g = 0; g < db.group_count; ++g)
             printf("  %-34s %-21s dims %d..%d  weight %-6g scale %.4g\n", db.groups[g].name,
@@ -593,12 +632,63 @@ static int cmd_search(int argc, char **argv)
     return status;
 }
 
+static int cmd_compress(int argc, char **argv)
+{
+    const char *in = NULL, *out = NULL;
+    long threads = cli_default_threads(), segment = MM_POSE_SEGMENT_FRAMES_DEFAULT;
+    double error_mm = 1000.0 * MM_POSE_ERROR_DEFAULT;
+    const cli_option options[] = {
+        {.name = "-o", .alias = "--output", .kind = CLI_STRING, .target = &out, .need = "a file name"},
+        {.name = "--error",
+         .kind = CLI_DOUBLE,
+         .target = &error_mm,
+         .min = 0.0,
+         .open_min = 1,
+         .max = COMPRESS_ERROR_MAX_MM,
+         .need = "millimetres"},
+        {.name = "--segment-frames",
+         .kind = CLI_INT,
+         .target = &segment,
+         .min = 1,
+         .max = MM_POSE_SEGMENT_FRAMES_MAX},
+        {.name = "--threads", .kind = CLI_INT, .target = &threads, .min = 1, .max = MM_DB_MAX_THREADS},
+    };
+    int status = cli_parse_options("db compress", argc, argv, options, CLI_COUNT(options), NULL, &in, 1);
+    if (status) return status;
+    if (!in || !out)
+        return cli_usage_error("db compress", "usage: mm db compress DB.mmdb -o OUT.mmdb [--error MM] "
+                                              "[--segment-frames N] [--threads N]");
+    mm_database db, small;
+    if (load(in, &db)) return 1;
+    mm_db_compress_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.error_bound = (float)(error_mm / 1000.0);
+    desc.segment_frames = (int)segment;
+    desc.threads = (int)threads;
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    snprintf(err.file, sizeof err.file, "%s", in);
+    double t0 = cli_now();
+    mm_result r = mm_database_compress(&db, &desc, &small, &err);
+    mm_database_free(&db);
+    if (r != MM_OK) return cli_report(&err);
+    double t1 = cli_now();
+    r = mm_database_save(&small, out, &err);
+    if (r == MM_OK) {
+        printf("%s: %d frames, %zu bytes, %.2f s\n", out, small.frame_count, small.size, t1 - t0);
+        print_poses(&small);
+    }
+    mm_database_free(&small);
+    return r == MM_OK ? 0 : cli_report(&err);
+}
+
 int mm_cmd_db(int argc, char **argv)
 {
-    if (argc < 2) return cli_usage_error("db", "usage: mm db build|info|dump ...");
+    if (argc < 2) return cli_usage_error("db", "usage: mm db build|info|dump|search|compress ...");
     if (strcmp(argv[1], "build") == 0) return cmd_build(argc - 1, argv + 1);
     if (strcmp(argv[1], "info") == 0) return cmd_info(argc - 1, argv + 1);
     if (strcmp(argv[1], "dump") == 0) return cmd_dump(argc - 1, argv + 1);
     if (strcmp(argv[1], "search") == 0) return cmd_search(argc - 1, argv + 1);
-    return cli_usage_error("db", "unknown subcommand '%s' (build, info, dump, search)", argv[1]);
+    if (strcmp(argv[1], "compress") == 0) return cmd_compress(argc - 1, argv + 1);
+    return cli_usage_error("db", "unknown subcommand '%s' (build, info, dump, search, compress)", argv[1]);
 }

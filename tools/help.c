@@ -112,7 +112,7 @@ static const help_entry entries[] = {
      "  --scale S|auto     multiply every length by S; auto: detect the unit (default 1)\n"
      "  --fps F            sample every take at F frames per second (default: each take's own rate)\n"},
     {"db build", "build a motion database from a config; warnings about what it lacks",
-     "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N]\n"
+     "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N] [--compress [--compress-error MM]]\n"
      "Builds a motion database (docs/database.md) and prints what it found: the postures, the\n"
      "standing poses it made when no clip is an idle clip (standing.make), the runtime's gait speeds\n"
      "against the data, and warnings about what the database lacks (docs/database.md, \"Diagnostics\").\n"
@@ -120,6 +120,21 @@ static const help_entry entries[] = {
      "                     then in $MM_DATA_DIR\n"
      "  -o, --output FILE  the database to write (required)\n"
      "  --data DIR         another folder to look for clip files in (default: none)\n"
+     "  --threads N        threads, 1 to 64 (default: the online cores, at most 8); the bytes are the\n"
+     "                     same for any count\n"
+     "  --compress         compress the poses for shipping: every frame's world joint positions within\n"
+     "                     the error bound of the floats; features and search data unchanged\n"
+     "                     (docs/database.md, \"A smaller database for shipping\")\n"
+     "  --compress-error MM  the bound, millimetres in (0, 100] (default 0.5)\n"},
+    {"db compress", "the shipping form of a database: its poses compressed within an error bound",
+     "usage: mm db compress DB.mmdb -o OUT.mmdb [--error MM] [--segment-frames N] [--threads N]\n"
+     "Writes DB.mmdb with its poses compressed, as a compressing build does (docs/database.md, \"A\n"
+     "smaller database for shipping\"), and prints the pose bytes per frame and the largest error.\n"
+     "  DB.mmdb            a database with its poses as floats\n"
+     "  -o, --output FILE  the database to write (required)\n"
+     "  --error MM         every frame's world joint positions within MM millimetres, in (0, 100]\n"
+     "                     (default 0.5)\n"
+     "  --segment-frames N frames per segment, 1 to 256 (default 16)\n"
      "  --threads N        threads, 1 to 64 (default: the online cores, at most 8); the bytes are the\n"
      "                     same for any count\n"},
     {"db info", "what a database holds: clips, features, speeds, settings, warnings",

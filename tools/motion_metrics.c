@@ -506,10 +506,10 @@ static long database_pops(const mm_database *db, const mm_skeleton *s, double fp
                 double x = i / fps / db->interval;
                 int f0 = (int)floor(x), f1 = f0 + 1 < clip->frame_count ? f0 + 1 : f0;
                 float a = (float)(x - f0);
-                const mm_quat *r0 = mm_database_rotations(db, clip->first_frame + f0),
-                              *r1 = mm_database_rotations(db, clip->first_frame + f1);
-                const mm_vec3 *p0 = mm_database_positions(db, clip->first_frame + f0),
-                              *p1 = mm_database_positions(db, clip->first_frame + f1);
+                mm_quat r0[MM_MAX_JOINTS], r1[MM_MAX_JOINTS];
+                mm_vec3 p0[MM_MAX_JOINTS], p1[MM_MAX_JOINTS];
+                mm_database_local_pose(db, clip->first_frame + f0, r0, p0);
+                mm_database_local_pose(db, clip->first_frame + f1, r1, p1);
                 for (int j = 0; j < n; ++j) {
                     rot[j] = mm_quat_slerp(r0[j], r1[j], a);
                     pos[j] = mm_vec3_lerp(p0[j], p1[j], a);
@@ -545,6 +545,8 @@ int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db
     /* the frames: heights above the ground (joint 0, the simulation root, is on it at y = 0) */
     size_t frames = (size_t)(db->frame_count > 0 ? db->frame_count : 1);
     mm_xform *g = malloc(sizeof(mm_xform) * (size_t)n);
+    mm_quat local_rotations[MM_MAX_JOINTS];
+    mm_vec3 local_positions[MM_MAX_JOINTS];
     float *all = malloc(sizeof(float) * frames), *upright = malloc(sizeof(float) * frames);
     float *planted[4];
     for (int k = 0; k < 4; ++k) planted[k] = malloc(sizeof(float) * frames);
@@ -555,7 +557,8 @@ int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db
             if (other_gait_tag(db->tag_names[t])) other |= 1ull << t;
         long all_count = 0, upright_count = 0, planted_count[4] = {0};
         for (int f = 0; f < db->frame_count; ++f) {
-            mm_fk(&s, mm_database_rotations(db, f), mm_database_positions(db, f), g);
+            mm_database_local_pose(db, f, local_rotations, local_positions);
+            mm_fk(&s, local_rotations, local_positions, g);
             int type = db->clips[db->frame_clip[f]].type;
             if (pj.head >= 0) {
                 float h = g[pj.head].translation.y;

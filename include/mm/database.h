@@ -26,10 +26,15 @@
  * Character frame: positions and directions are expressed relative to the simulation bone:
  * x is the character's local X (its left, since it faces +Z with Y up), z its forward, y up.
  *
+ * Local transforms: each frame's joint rotations and translations, stored as floats or compressed
+ * (mm_db_compressed_poses: quantized per clip segment within a measured error bound, docs/format.md
+ * "Compressed poses"). Read them with mm_database_local_pose, which copies or decodes one frame into
+ * the caller's arrays (no allocation); db->rotations and db->positions are NULL when compressed.
+ *
  * Functions: mm_database_save mm_database_load mm_database_load_memory mm_database_free
- *            mm_database_pose mm_database_matched_bone mm_database_find_clip mm_feature_kind_name
- *            mm_database_distance_curve mm_database_find_joint mm_database_role_joint
- *            mm_database_toe_joint mm_role_default_name
+ *            mm_database_local_pose mm_database_local_joint mm_database_pose_bytes mm_database_pose
+ * mm_database_matched_bone mm_database_find_clip mm_feature_kind_name mm_database_distance_curve
+ * mm_database_find_joint mm_database_role_joint mm_database_toe_joint mm_role_default_name
  *
  * Distance curves (mm/distance_curve.h): each clip's root (joint 0) path measured at build time by
  * mm_distance_curve_build (stop speed MM_DISTANCE_STOP_SPEED_DEFAULT), stored as flat arrays and
@@ -53,7 +58,7 @@
 extern "C" {
 #endif
 
-#define MM_DB_VERSION     3
+#define MM_DB_VERSION     4
 #define MM_DB_ALIGN       64  /* every array starts at a multiple of this in the buffer */
 #define MM_DB_SIMD_WIDTH  8   /* dims_padded is a multiple of this */
 #define MM_DB_SMALL_BLOCK 16  /* frames per small bounding box */
@@ -119,6 +124,61 @@ typedef struct mm_db_distance_clip {
     float path_length;     /* m: the curve's path_length */
     float stop_speed;      /* m/s: the stop threshold the curve was built with */
 } mm_db_distance_clip;
+
+/* How a database stores its frames' local transforms (mm_database.pose_codec). */
+typedef enum mm_pose_codec {
+    MM_POSE_FLOATS = 0,  /* rotations and positions as float arrays (sections 10 and 11) */
+    MM_POSE_SEGMENTS = 1 /* quantized per clip segment (sections 25-29, mm_db_compressed_poses) */
+} mm_pose_codec;
+
+#define MM_POSE_RAW_BITS             32 /* a track's bits: its values stored as floats, exactly */
+#define MM_POSE_ROTATION_BITS_MAX    16 /* quantized rotation components: 0..16 bits (or raw) */
+#define MM_POSE_TRANSLATION_BITS_MAX 24 /* quantized translation components: 0..24 bits (or raw) */
+#define MM_POSE_SEGMENT_FRAMES_MAX   256
+
+/* One segment of a clip's frames (16 bytes, stored as it is): frame_count frames from first_frame,
+ * each frame_bits bits long in the bit stream from byte data_offset. */
+typedef struct mm_db_pose_segment {
+    int32_t first_frame, frame_count;
+    uint32_t data_offset; /* bytes into mm_db_compressed_poses.bits */
+    uint32_t frame_bits;  /* the sum of the segment's tracks' bits per frame */
+} mm_db_pose_segment;
+
+/* A joint's rotation over one segment (16 bytes): three of the quaternion's components (all but
+ * `dropped & 3`), each `bits` bits over its range [lo, lo + extent] (16-bit fractions of [-1, 1]);
+ * the fourth is sqrt(1 - the others' squares), negative when `dropped & 4`. bits 0: every frame
+ * holds lo. bits MM_POSE_RAW_BITS: x y z w as floats (lo, extent and dropped 0). */
+typedef struct mm_db_rotation_track {
+    uint16_t lo[3], extent[3];
+    uint8_t bits, dropped;
+    uint16_t reserved; /* 0 */
+} mm_db_rotation_track;
+
+/* A translating joint's translation over one segment (28 bytes): x y z, each `bits` bits over
+ * [lo, lo + extent] (m). bits 0: every frame holds lo. bits MM_POSE_RAW_BITS: floats (lo and
+ * extent 0). */
+typedef struct mm_db_translation_track {
+    float lo[3], extent[3];
+    uint8_t bits, reserved[3]; /* reserved 0 */
+} mm_db_translation_track;
+
+/* The compressed local transforms of a database whose pose_codec is MM_POSE_SEGMENTS (everything
+ * zero otherwise). Every clip is cut into segments of segment_frames frames (its last one
+ * shorter); a segment holds a rotation track per joint and a translation track per translating
+ * joint; the other joints keep constant_positions on every frame. The build measured every
+ * frame's world joint positions against the floats it compressed: max_error <= error_bound. */
+typedef struct mm_db_compressed_poses {
+    int segment_frames, segment_count, translating_count;
+    float error_bound;                           /* m: the bound the build held every frame to */
+    float max_error;                             /* m: the largest world joint position error it measured */
+    const mm_vec3 *constant_positions;           /* [joint_count]; 0 for translating joints */
+    const int32_t *translating_joints;           /* [translating_count], increasing */
+    const mm_db_pose_segment *segments;          /* [segment_count], in frame order */
+    const mm_db_rotation_track *rotation_tracks; /* [segment_count x joint_count] */
+    const mm_db_translation_track *translation_tracks; /* [segment_count x translating_count] */
+    const uint8_t *bits;                               /* the segments' frames */
+    size_t bits_size;
+} mm_db_compressed_poses;
 
 /* ---- runtime settings -------------------------------------------------------------------- */
 
@@ -256,8 +316,11 @@ typedef struct mm_database {
     const uint8_t *contacts;            /* mm_contact_bits */
     const mm_vec3 *root_velocity;       /* simulation bone velocity in its own frame (m/s) */
     const float *root_angular_velocity; /* about +Y (rad/s) */
-    const mm_quat *rotations;           /* [frame_count x joint_count] local rotations */
-    const mm_vec3 *positions;           /* [frame_count x joint_count] local translations */
+    /* Local transforms: read them with mm_database_local_pose. With MM_POSE_FLOATS: */
+    const mm_quat *rotations; /* [frame_count x joint_count] local rotations (NULL when compressed) */
+    const mm_vec3 *positions; /* [frame_count x joint_count] local translations (NULL when compressed) */
+    int pose_codec;           /* mm_pose_codec */
+    mm_db_compressed_poses compressed; /* with MM_POSE_SEGMENTS */
 
     /* Features */
     const float *features;      /* [frame_count x dims_padded], normalised */
@@ -330,7 +393,19 @@ const char *mm_role_default_name(mm_role role);
  * as db). Loading validated it. MM_ERR_INVALID_ARGUMENT for a bad clip index, MM_ERR_OUT_OF_RANGE
  * for a clip of a single frame (no curve); *out is zeroed then. */
 mm_result mm_database_distance_curve(const mm_database *db, int clip, mm_distance_curve *out);
-/* Local rotations / translations of a frame ([joint_count] each). */
+/* Frame's local rotations and translations ([joint_count] each) into the caller's arrays: copied
+ * from the floats, or decoded from the compressed segments. Allocates nothing; frame must be in
+ * [0, frame_count). */
+void mm_database_local_pose(const mm_database *db, int frame, mm_quat *rotations, mm_vec3 *positions);
+/* One joint's local rotation and translation at frame (both in range): what mm_database_local_pose
+ * gives for it, decoding that joint alone. */
+void mm_database_local_joint(const mm_database *db, int frame, int joint, mm_quat *rotation,
+                             mm_vec3 *position);
+/* Bytes of the file that hold the local transforms (the float arrays, or the compressed sections
+ * with their tables). */
+size_t mm_database_pose_bytes(const mm_database *db);
+/* Pointers into the float arrays of a frame ([joint_count] each): only for a database stored with
+ * MM_POSE_FLOATS (tools and tests that know it; the runtime reads mm_database_local_pose). */
 static inline const mm_quat *mm_database_rotations(const mm_database *db, int frame)
 {
     return db->rotations + (size_t)frame * (size_t)db->joint_count;

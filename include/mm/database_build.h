@@ -7,7 +7,12 @@
  * settings section (docs/format.md). The result is saved with mm_database_save and loaded by the
  * runtime (mm/database.h, the mm_runtime library) with no part of this header.
  *
- * Functions: mm_database_build mm_database_dump mm_database_speed_summary
+ * mm_database_compress makes the shipping form of a database: its local transforms quantized per
+ * clip segment, every frame's world joint positions within a bound of the floats (measured on every
+ * frame as it compresses); features and search data unchanged (docs/database.md, "A smaller
+ * database for shipping").
+ *
+ * Functions: mm_database_build mm_database_compress mm_database_dump mm_database_speed_summary
  */
 #ifndef MM_DATABASE_BUILD_H
 #define MM_DATABASE_BUILD_H
@@ -60,6 +65,20 @@ typedef struct mm_db_build_report {
     mm_db_standing_report standing;      /* the standing clip made when no clip is an idle clip */
 } mm_db_build_report;
 
+/* Compressing the local transforms (mm_database_compress; mm_db_build_desc.compress). */
+#define MM_POSE_ERROR_DEFAULT          0.0005f /* m: the default bound on world joint positions */
+#define MM_POSE_SEGMENT_FRAMES_DEFAULT 32      /* frames per segment */
+/* m: besides the joints, points this far from each joint along its three axes are held to the
+ * bound, so that a joint's own rotation (a hand's, the head's: no joint below them) and its twist
+ * are kept too */
+#define MM_POSE_SHELL_DISTANCE 0.1f
+typedef struct mm_db_compress_desc {
+    float error_bound;  /* m: 0 for MM_POSE_ERROR_DEFAULT; at most 0.1 */
+    int segment_frames; /* 0 for MM_POSE_SEGMENT_FRAMES_DEFAULT; at most MM_POSE_SEGMENT_FRAMES_MAX */
+    int threads;        /* 0 or 1: the calling thread; the bytes never depend on it */
+    const mm_allocator *allocator; /* for the result; NULL: malloc */
+} mm_db_compress_desc;
+
 typedef struct mm_db_build_desc {
     const char *config_json;       /* text to embed (the config as read); NULL: none */
     const mm_allocator *allocator; /* NULL: malloc */
@@ -68,7 +87,9 @@ typedef struct mm_db_build_desc {
     void *progress_user;
     int threads; /* 0 or 1: the calling thread alone; at most MM_DB_MAX_THREADS. The bytes never depend on it
                   */
-    mm_db_build_report *report; /* optional: filled with what the build found */
+    mm_db_build_report *report;          /* optional: filled with what the build found */
+    const mm_db_compress_desc *compress; /* optional: the local transforms compressed (its threads: the
+                                            build's when 0) */
 } mm_db_build_desc;
 
 #define MM_DB_MAX_THREADS 64
@@ -80,6 +101,15 @@ typedef struct mm_db_build_desc {
  * of the range loading accepts is MM_ERR_OUT_OF_RANGE. */
 mm_result mm_database_build(const mm_config *config, const mm_clip *sources, const mm_db_build_desc *desc,
                             mm_database *out, mm_error *err);
+
+/* A copy of db (stored with floats) whose local transforms are compressed (desc may be NULL: the
+ * defaults): segments of segment_frames frames per clip, each track with the fewest bits that keep
+ * every frame's world joint positions (FK) and shell points within error_bound of db's, measured
+ * as the runtime decodes them (out->compressed.max_error: the largest joint error). Every other
+ * section is db's, byte for byte. MM_ERR_INVALID_ARGUMENT for a database compressed already,
+ * MM_ERR_OUT_OF_RANGE for a bound or segment length out of range. */
+mm_result mm_database_compress(const mm_database *db, const mm_db_compress_desc *desc, mm_database *out,
+                               mm_error *err);
 
 /* Deterministic text form of everything in the database, its settings included (for diffs and
  * bug reports). Numbers are printed with %.9g in the C locale. */

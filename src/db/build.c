@@ -974,6 +974,14 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     p.size[MM__SEC_CONFIG_JSON] = strlen(json) + 1;
     p.size[MM__SEC_DISTANCE_SEGMENTS] = sizeof(mm_distance_segment) * (size_t)dist.segment_count;
     r = mm__db_pack(&p, desc ? desc->allocator : NULL, out, err);
+    if (r == MM_OK && desc && desc->compress) { /* the shipping form: the poses compressed */
+        mm_db_compress_desc cd = *desc->compress;
+        if (cd.threads == 0) cd.threads = workers;
+        if (!cd.allocator) cd.allocator = desc->allocator;
+        mm_database floats = *out;
+        r = mm_database_compress(&floats, &cd, out, err);
+        mm_database_free(&floats);
+    }
     free_distance(&dist, b.count);
     free_arrays(&x);
     free_builder(&b);

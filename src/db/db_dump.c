@@ -79,12 +79,25 @@ static void dump_settings(const mm_database *db, FILE *out)
 mm_result mm_database_dump(const mm_database *db, FILE *out)
 {
     if (!db || !out || !db->data) return MM_ERR_INVALID_ARGUMENT;
+    mm_quat q[MM_MAX_JOINTS];
+    mm_vec3 p[MM_MAX_JOINTS];
     fprintf(out, "mmdb version %d\n", MM_DB_VERSION);
     fprintf(out, "frames %d joints %d clips %d tags %d groups %d dims %d dims_padded %d interval",
             db->frame_count, db->joint_count, db->clip_count, db->tag_count, db->group_count, db->dims,
             db->dims_padded);
     num(out, db->interval);
     fputc('\n', out);
+    if (db->pose_codec == MM_POSE_SEGMENTS) {
+        const mm_db_compressed_poses *c = &db->compressed;
+        fprintf(out, "poses segments segment_frames %d segments %d translating %d bytes %zu error_bound",
+                c->segment_frames, c->segment_count, c->translating_count, mm_database_pose_bytes(db));
+        num(out, c->error_bound);
+        fputs(" max_error", out);
+        num(out, c->max_error);
+        fputc('\n', out);
+    } else {
+        fprintf(out, "poses floats bytes %zu\n", mm_database_pose_bytes(db));
+    }
     for (int j = 0; j < db->joint_count; ++j) {
         const mm_joint *jt = &db->joints[j];
         fprintf(out, "joint %d %s parent %d flags %u order %d offset", j, jt->name, jt->parent, jt->flags,
@@ -155,8 +168,7 @@ mm_result mm_database_dump(const mm_database *db, FILE *out)
         fputs(" features", out);
         for (int d = 0; d < db->dims; ++d) num(out, mm_database_feature_raw(db, f, d));
         fputc('\n', out);
-        const mm_quat *q = mm_database_rotations(db, f);
-        const mm_vec3 *p = mm_database_positions(db, f);
+        mm_database_local_pose(db, f, q, p);
         fputs("  pose", out);
         for (int j = 0; j < db->joint_count; ++j) {
             num(out, q[j].x);

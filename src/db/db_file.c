@@ -7,6 +7,7 @@
  * feature groups), then points into the buffer: no pointer is ever stored in the file. */
 #define _POSIX_C_SOURCE 200809L
 #include "db/db_file.h"
+#include "db/pose_codec.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -46,6 +47,9 @@ typedef struct mm__db_header {
     int32_t frame_count, joint_count, clip_count, tag_count, group_count, dims, dims_padded;
     int32_t small_block, large_block, small_block_count, large_block_count;
     float interval;
+    uint32_t pose_codec; /* mm_pose_codec */
+    int32_t pose_segment_frames, pose_segment_count, pose_translating_count;
+    float pose_error_bound, pose_max_error; /* m */
     uint32_t section_count;
     mm__section sections[MM__SEC_COUNT];
 } mm__db_header;
@@ -62,8 +66,12 @@ _Static_assert(sizeof(mm_database_settings) == 300,
                "mm_database_settings layout changed: bump MM_DB_VERSION");
 _Static_assert(offsetof(mm_database_settings, walk) == 196 && offsetof(mm_database_settings, roles) == 268,
                "mm_database_settings layout changed: bump MM_DB_VERSION");
+_Static_assert(sizeof(mm_db_pose_segment) == 16 && sizeof(mm_db_rotation_track) == 16 &&
+                   sizeof(mm_db_translation_track) == 28,
+               "compressed pose layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_quat) == 16 && sizeof(mm_vec3) == 12, "vector layout");
-_Static_assert(offsetof(mm__db_header, checksum) == 16, "header layout");
+_Static_assert(offsetof(mm__db_header, checksum) == 16 && offsetof(mm__db_header, sections) == 112,
+               "header layout");
 
 static int block_count(int frames, int block) { return (frames + block - 1) / block; }
 
@@ -82,8 +90,10 @@ void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT])
     size[MM__SEC_CONTACTS] = f;
     size[MM__SEC_ROOT_VELOCITY] = f * sizeof(mm_vec3);
     size[MM__SEC_ROOT_ANGULAR_VELOCITY] = f * 4;
-    size[MM__SEC_ROTATIONS] = f * j * sizeof(mm_quat);
-    size[MM__SEC_POSITIONS] = f * j * sizeof(mm_vec3);
+    bool floats = p->pose_codec == MM_POSE_FLOATS;
+    size_t segments = (size_t)p->pose_segment_count, moving = (size_t)p->pose_translating_count;
+    size[MM__SEC_ROTATIONS] = floats ? f * j * sizeof(mm_quat) : 0;
+    size[MM__SEC_POSITIONS] = floats ? f * j * sizeof(mm_vec3) : 0;
     size[MM__SEC_FEATURES] = f * d * 4;
     size[MM__SEC_FEATURE_MEAN] = d * 4;
     size[MM__SEC_FEATURE_SCALE] = d * 4;
@@ -96,6 +106,13 @@ void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT])
     /* free size: a whole number of segments, checked against the clips on load */
     size[MM__SEC_DISTANCE_SEGMENTS] = p->size[MM__SEC_DISTANCE_SEGMENTS];
     size[MM__SEC_SETTINGS] = sizeof(mm_database_settings);
+    size[MM__SEC_POSE_CONSTANTS] = floats ? 0 : j * sizeof(mm_vec3);
+    size[MM__SEC_POSE_TRANSLATING] = moving * sizeof(int32_t);
+    size[MM__SEC_POSE_SEGMENTS] = segments * sizeof(mm_db_pose_segment);
+    size[MM__SEC_POSE_ROTATION_TRACKS] = segments * j * sizeof(mm_db_rotation_track);
+    size[MM__SEC_POSE_TRANSLATION_TRACKS] = segments * moving * sizeof(mm_db_translation_track);
+    /* free size: the segments' frames, checked against the segment table on load */
+    size[MM__SEC_POSE_BITS] = floats ? 0 : p->size[MM__SEC_POSE_BITS];
 }
 
 static void point_into(mm_database *db, const unsigned char *base, const mm__db_header *h)
@@ -121,8 +138,25 @@ static void point_into(mm_database *db, const unsigned char *base, const mm__db_
     db->contacts = (const uint8_t *)AT(MM__SEC_CONTACTS);
     db->root_velocity = (const mm_vec3 *)AT(MM__SEC_ROOT_VELOCITY);
     db->root_angular_velocity = (const float *)AT(MM__SEC_ROOT_ANGULAR_VELOCITY);
-    db->rotations = (const mm_quat *)AT(MM__SEC_ROTATIONS);
-    db->positions = (const mm_vec3 *)AT(MM__SEC_POSITIONS);
+    db->pose_codec = (int)h->pose_codec;
+    if (h->pose_codec == MM_POSE_FLOATS) {
+        db->rotations = (const mm_quat *)AT(MM__SEC_ROTATIONS);
+        db->positions = (const mm_vec3 *)AT(MM__SEC_POSITIONS);
+    } else {
+        mm_db_compressed_poses *c = &db->compressed;
+        c->segment_frames = h->pose_segment_frames;
+        c->segment_count = h->pose_segment_count;
+        c->translating_count = h->pose_translating_count;
+        c->error_bound = h->pose_error_bound;
+        c->max_error = h->pose_max_error;
+        c->constant_positions = (const mm_vec3 *)AT(MM__SEC_POSE_CONSTANTS);
+        c->translating_joints = (const int32_t *)AT(MM__SEC_POSE_TRANSLATING);
+        c->segments = (const mm_db_pose_segment *)AT(MM__SEC_POSE_SEGMENTS);
+        c->rotation_tracks = (const mm_db_rotation_track *)AT(MM__SEC_POSE_ROTATION_TRACKS);
+        c->translation_tracks = (const mm_db_translation_track *)AT(MM__SEC_POSE_TRANSLATION_TRACKS);
+        c->bits = (const uint8_t *)AT(MM__SEC_POSE_BITS);
+        c->bits_size = (size_t)h->sections[MM__SEC_POSE_BITS].size;
+    }
     db->features = (const float *)AT(MM__SEC_FEATURES);
     db->feature_mean = (const float *)AT(MM__SEC_FEATURE_MEAN);
     db->feature_scale = (const float *)AT(MM__SEC_FEATURE_SCALE);
@@ -164,6 +198,12 @@ mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, 
     h.small_block_count = block_count(parts->frame_count, MM_DB_SMALL_BLOCK);
     h.large_block_count = block_count(parts->frame_count, MM_DB_LARGE_BLOCK);
     h.interval = parts->interval;
+    h.pose_codec = (uint32_t)parts->pose_codec;
+    h.pose_segment_frames = parts->pose_segment_frames;
+    h.pose_segment_count = parts->pose_segment_count;
+    h.pose_translating_count = parts->pose_translating_count;
+    h.pose_error_bound = parts->pose_error_bound;
+    h.pose_max_error = parts->pose_max_error;
     h.section_count = MM__SEC_COUNT;
     size_t at = mm__sections_layout(sizeof h, MM_DB_ALIGN, size, MM__SEC_COUNT, h.sections);
     h.file_size = at;
@@ -179,6 +219,31 @@ mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, 
     out->size = at;
     point_into(out, base, &h);
     return MM_OK;
+}
+
+void mm__db_parts_of(const mm_database *db, mm__db_parts *p)
+{
+    mm__db_header h;
+    memcpy(&h, db->data, sizeof h);
+    memset(p, 0, sizeof *p);
+    p->frame_count = h.frame_count;
+    p->joint_count = h.joint_count;
+    p->clip_count = h.clip_count;
+    p->tag_count = h.tag_count;
+    p->group_count = h.group_count;
+    p->dims = h.dims;
+    p->dims_padded = h.dims_padded;
+    p->interval = h.interval;
+    p->pose_codec = (int)h.pose_codec;
+    p->pose_segment_frames = h.pose_segment_frames;
+    p->pose_segment_count = h.pose_segment_count;
+    p->pose_translating_count = h.pose_translating_count;
+    p->pose_error_bound = h.pose_error_bound;
+    p->pose_max_error = h.pose_max_error;
+    for (int s = 0; s < MM__SEC_COUNT; ++s) {
+        p->data[s] = (const unsigned char *)db->data + h.sections[s].offset;
+        p->size[s] = (size_t)h.sections[s].size;
+    }
 }
 
 #define BAD(...) mm_error_set(err, MM_ERR_SYNTAX, 0, 0, __VA_ARGS__)
@@ -213,6 +278,26 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
         h->small_block_count != block_count(h->frame_count, MM_DB_SMALL_BLOCK) ||
         h->large_block_count != block_count(h->frame_count, MM_DB_LARGE_BLOCK))
         return BAD("header counts are out of range");
+    if (h->pose_codec == MM_POSE_FLOATS) {
+        if (h->pose_segment_frames != 0 || h->pose_segment_count != 0 || h->pose_translating_count != 0 ||
+            h->pose_error_bound != 0.0f || h->pose_max_error != 0.0f)
+            return BAD("header: the pose fields of a database stored as floats must be 0");
+    } else if (h->pose_codec == MM_POSE_SEGMENTS) {
+        if (h->pose_segment_frames < 1 || h->pose_segment_frames > MM_POSE_SEGMENT_FRAMES_MAX ||
+            h->pose_segment_count < h->clip_count || h->pose_segment_count > h->frame_count ||
+            h->pose_translating_count < 0 || h->pose_translating_count > h->joint_count)
+            return BAD("compressed poses: header counts are out of range (segment frames %d, segments %d, "
+                       "translating joints %d)",
+                       h->pose_segment_frames, h->pose_segment_count, h->pose_translating_count);
+        if (!(h->pose_error_bound > 0.0f && h->pose_error_bound <= MM__POSE_ERROR_BOUND_MAX) ||
+            !(h->pose_max_error >= 0.0f && h->pose_max_error <= h->pose_error_bound))
+            return BAD("compressed poses: error bound %g m or measured error %g m out of range (0 < error "
+                       "<= bound <= %g m)",
+                       (double)h->pose_error_bound, (double)h->pose_max_error,
+                       (double)MM__POSE_ERROR_BOUND_MAX);
+    } else {
+        return BAD("header: pose codec %u is unknown (0 floats, 1 segments)", (unsigned)h->pose_codec);
+    }
     mm__db_parts p;
     memset(&p, 0, sizeof p);
     p.frame_count = h->frame_count;
@@ -221,6 +306,10 @@ static mm_result validate(const unsigned char *base, size_t size, bool verify_ch
     p.tag_count = h->tag_count;
     p.group_count = h->group_count;
     p.dims_padded = h->dims_padded;
+    p.pose_codec = (int)h->pose_codec;
+    p.pose_segment_count = h->pose_segment_count;
+    p.pose_translating_count = h->pose_translating_count;
+    p.size[MM__SEC_POSE_BITS] = (size_t)h->sections[MM__SEC_POSE_BITS].size;
     p.size[MM__SEC_CONFIG_JSON] = (size_t)h->sections[MM__SEC_CONFIG_JSON].size;
     p.size[MM__SEC_DISTANCE_SEGMENTS] = (size_t)h->sections[MM__SEC_DISTANCE_SEGMENTS].size;
     size_t want[MM__SEC_COUNT];
@@ -322,6 +411,17 @@ static bool bounded_floats(const float *v, size_t n, float limit)
 }
 #define finite_floats(v, n) bounded_floats(v, n, MM__DB_VALUE_MAX)
 
+size_t mm__pose_first_bad_joint(const mm_quat *q, const mm_vec3 *p, size_t n)
+{
+    for (size_t j = 0; j < n; ++j) {
+        float len = q[j].x * q[j].x + q[j].y * q[j].y + q[j].z * q[j].z + q[j].w * q[j].w;
+        if (!finite_floats(&q[j].x, 4) || !finite_floats(&p[j].x, 3) ||
+            !(fabsf(len - 1.0f) <= MM__DB_UNIT_TOLERANCE))
+            return j;
+    }
+    return n;
+}
+
 /* Whether mn / mx hold the exact per-dimension bounds of the features over blocks of block frames
  * (the last block may be short), as the build computes them. */
 static bool bounds_exact(const mm_database *db, int block, const float *mn, const float *mx)
@@ -387,12 +487,10 @@ static mm_result validate_values(const mm_database *db, mm_error *err)
                        (unsigned)(db->contacts[f] & ~known_contacts));
         if (!finite_floats(&db->root_velocity[f].x, 3) || !finite_floats(&db->root_angular_velocity[f], 1))
             return BAD("frame %zu: root velocity is not finite or out of range", f);
-        const mm_quat *q = db->rotations + f * j_count;
-        const mm_vec3 *p = db->positions + f * j_count;
-        for (size_t j = 0; j < j_count; ++j) {
-            float n = q[j].x * q[j].x + q[j].y * q[j].y + q[j].z * q[j].z + q[j].w * q[j].w;
-            if (!finite_floats(&q[j].x, 4) || !finite_floats(&p[j].x, 3) ||
-                !(fabsf(n - 1.0f) <= MM__DB_UNIT_TOLERANCE))
+        if (db->pose_codec == MM_POSE_FLOATS) {
+            size_t j =
+                mm__pose_first_bad_joint(db->rotations + f * j_count, db->positions + f * j_count, j_count);
+            if (j < j_count)
                 return BAD("frame %zu, joint %zu: rotation not of unit length or position out of range", f,
                            j);
         }
@@ -646,6 +744,7 @@ mm_result mm_database_load_memory(const void *data, size_t size, bool verify_che
     point_into(&db, (const unsigned char *)data, &h);
     r = validate_references(&db, err);
     if (r == MM_OK) r = validate_values(&db, err);
+    if (r == MM_OK && db.pose_codec == MM_POSE_SEGMENTS) r = mm__pose_codec_validate(&db, err);
     if (r == MM_OK) r = validate_distance(&db, err);
     if (r == MM_OK) r = mm__db_settings_validate(&db, db.settings, MM_ERR_SYNTAX, err);
     if (r != MM_OK) return r;

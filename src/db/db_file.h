@@ -30,6 +30,13 @@ enum mm__db_section {
     MM__SEC_DISTANCE_SIGNED,
     MM__SEC_DISTANCE_SEGMENTS,
     MM__SEC_SETTINGS,
+    /* compressed local transforms (mm_db_compressed_poses): empty with MM_POSE_FLOATS */
+    MM__SEC_POSE_CONSTANTS,
+    MM__SEC_POSE_TRANSLATING,
+    MM__SEC_POSE_SEGMENTS,
+    MM__SEC_POSE_ROTATION_TRACKS,
+    MM__SEC_POSE_TRANSLATION_TRACKS,
+    MM__SEC_POSE_BITS,
     MM__SEC_COUNT
 };
 
@@ -37,6 +44,9 @@ enum mm__db_section {
 typedef struct mm__db_parts {
     int frame_count, joint_count, clip_count, tag_count, group_count, dims, dims_padded;
     float interval;
+    /* the local transforms' codec (mm_pose_codec) and, compressed, its counts and measured error */
+    int pose_codec, pose_segment_frames, pose_segment_count, pose_translating_count;
+    float pose_error_bound, pose_max_error;
     const void *data[MM__SEC_COUNT];
     size_t size[MM__SEC_COUNT];
 } mm__db_parts;
@@ -50,6 +60,9 @@ void mm__db_section_sizes(const mm__db_parts *p, size_t size[MM__SEC_COUNT]);
  * MM_ERR_OUT_OF_RANGE for a config); err says which field. */
 mm_result mm__db_settings_validate(const mm_database *db, const mm_database_settings *settings,
                                    mm_result code, mm_error *err);
+
+/* The parts of a packed database (db->data, validated), pointing into its buffer. */
+void mm__db_parts_of(const mm_database *db, mm__db_parts *out);
 
 /* Packs parts into one aligned buffer in file layout and points out into it. */
 mm_result mm__db_pack(const mm__db_parts *parts, const mm_allocator *allocator, mm_database *out,

@@ -119,9 +119,10 @@ static float standing_height(const mm_database *db, float *v, mm_xform *g)
 {
     int n = db->frame_count, jc = db->joint_count, step = n > 4096 ? n / 4096 : 1, count = 0;
     int head = db->settings ? db->settings->roles[MM_ROLE_HEAD] : -1;
+    mm_quat rot[MM_MAX_JOINTS];
+    mm_vec3 pos[MM_MAX_JOINTS];
     for (int f = 0; f < n; f += step) {
-        const mm_quat *rot = mm_database_rotations(db, f);
-        const mm_vec3 *pos = mm_database_positions(db, f);
+        mm_database_local_pose(db, f, rot, pos);
         g[0].rotation = rot[0];
         g[0].translation = pos[0];
         mm_skeleton_global_from(db->joints, jc, 1, rot, pos, g);

@@ -191,9 +191,12 @@ static int desc_joint(const mm_database *db, const char *name, mm_role role)
 static mm_xform bone_in_root(const mm_database *db, int frame, int joint)
 {
     mm_xform x = mm_xform_identity();
-    const mm_quat *r = mm_database_rotations(db, frame);
-    const mm_vec3 *p = mm_database_positions(db, frame);
-    for (int j = joint; j > 0; j = db->joints[j].parent) x = mm_xform_mul(mm_xform_make(r[j], p[j]), x);
+    for (int j = joint; j > 0; j = db->joints[j].parent) {
+        mm_quat r;
+        mm_vec3 p;
+        mm_database_local_joint(db, frame, j, &r, &p);
+        x = mm_xform_mul(mm_xform_make(r, p), x);
+    }
     return x;
 }
 

@@ -28,7 +28,10 @@ static void frame_fk(const mm_database *db, int f, mm_xform *out)
     memset(&s, 0, sizeof s);
     s.joint_count = db->joint_count;
     s.joints = (mm_joint *)(uintptr_t)db->joints; /* mm_fk only reads it */
-    mm_fk(&s, mm_database_rotations(db, f), mm_database_positions(db, f), out);
+    mm_quat rot[MM_MAX_JOINTS];
+    mm_vec3 pos[MM_MAX_JOINTS];
+    mm_database_local_pose(db, f, rot, pos);
+    mm_fk(&s, rot, pos, out);
 }
 
 static mm_result check_desc(const mm_database *db, const mm_sim_desc *d, mm_error *err)

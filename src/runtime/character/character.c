@@ -201,6 +201,8 @@ static mm_character_state *lay_out(char *block, size_t joints, size_t dims, size
     tr->position_offset_velocity = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
     tr->slot_rotations = (mm_quat *)carve(block, &at, (MM_MIXER_SLOTS + 1) * joints * sizeof(mm_quat));
     tr->slot_positions = (mm_vec3 *)carve(block, &at, MM_MIXER_SLOTS * joints * sizeof(mm_vec3));
+    tr->frame_rotations = (mm_quat *)carve(block, &at, 2 * joints * sizeof(mm_quat));
+    tr->frame_positions = (mm_vec3 *)carve(block, &at, 2 * joints * sizeof(mm_vec3));
     s->matching.query = (float *)carve(block, &at, dims * sizeof(float));
     *size = at;
     return block ? s : NULL;

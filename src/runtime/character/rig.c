@@ -71,10 +71,12 @@ void mm_rig_learn_hinges(mm_rig *rig, const mm_database *db)
         if (knee < 0 || ankle < 0) continue;
         mm_vec3 sum = mm_vec3_make(0, 0, 0);
         for (int f = 0; f < db->frame_count; f += step) {
-            const mm_quat *r = mm_database_rotations(db, f);
-            const mm_vec3 *p = mm_database_positions(db, f);
+            mm_quat knee_rotation, ankle_rotation;
+            mm_vec3 knee_position, shin;
+            mm_database_local_joint(db, f, knee, &knee_rotation, &knee_position);
+            mm_database_local_joint(db, f, ankle, &ankle_rotation, &shin);
             /* in the knee's frame: the thigh (hip to knee) and the shin (knee to ankle) */
-            mm_vec3 thigh = mm_quat_inv_rotate(r[knee], p[knee]), shin = p[ankle];
+            mm_vec3 thigh = mm_quat_inv_rotate(knee_rotation, knee_position);
             float lt = mm_vec3_length(thigh), ls = mm_vec3_length(shin);
             if (!(lt > 1e-6f) || !(ls > 1e-6f)) continue;
             mm_vec3 c = mm_vec3_scale(mm_vec3_cross(thigh, shin), 1.0f / (lt * ls));
@@ -100,12 +102,15 @@ mm_vec3 mm_rig_knee_pole(const mm_rig *rig, const mm_rig_pose *pose, int k)
 /* Joint j's height above joint 0 (the root, on the ground) in database frame f. */
 static float height_above_root(const mm_rig *rig, const mm_database *db, int f, int j)
 {
-    const mm_quat *r = mm_database_rotations(db, f);
-    const mm_vec3 *p = mm_database_positions(db, f);
     /* from the joint up to the root: p = offset in the parent, rotated by the parent's global */
-    mm_vec3 v = mm_vec3_make(0, 0, 0);
-    for (int k = j; k > 0; k = rig->joints[k].parent) v = mm_vec3_add(p[k], mm_quat_rotate(r[k], v));
-    return mm_quat_rotate(r[0], v).y;
+    mm_vec3 v = mm_vec3_make(0, 0, 0), p;
+    mm_quat r;
+    for (int k = j; k > 0; k = rig->joints[k].parent) {
+        mm_database_local_joint(db, f, k, &r, &p);
+        v = mm_vec3_add(p, mm_quat_rotate(r, v));
+    }
+    mm_database_local_joint(db, f, 0, &r, &p);
+    return mm_quat_rotate(r, v).y;
 }
 
 static int compare_float(const void *a, const void *b)

@@ -7,12 +7,25 @@
 #include <mm/pose.h>
 #include <mm/spring.h>
 
+/* Frames `frame` and `next` read into tr's frame arrays: their local transforms. */
+static mm_frame_pair read_frames(mm_transition *tr, const mm_database *db, int frame, int next)
+{
+    size_t n = (size_t)db->joint_count;
+    mm_database_local_pose(db, frame, tr->frame_rotations, tr->frame_positions);
+    mm_database_local_pose(db, next, tr->frame_rotations + n, tr->frame_positions + n);
+    mm_frame_pair pair = {tr->frame_rotations, tr->frame_rotations + n, tr->frame_positions,
+                          tr->frame_positions + n};
+    return pair;
+}
+
 /* The database pose at a playhead: frame and the next, blended by the fraction. */
-static void pose_at(const mm_database *db, int frame, float fraction, mm_quat *rot, mm_vec3 *pos)
+static void pose_at(mm_transition *tr, const mm_database *db, int frame, float fraction, mm_quat *rot,
+                    mm_vec3 *pos)
 {
     int next = db->frame_next[frame] >= 0 ? db->frame_next[frame] : frame;
-    const mm_quat *r0 = mm_database_rotations(db, frame), *r1 = mm_database_rotations(db, next);
-    const mm_vec3 *p0 = mm_database_positions(db, frame), *p1 = mm_database_positions(db, next);
+    mm_frame_pair pair = read_frames(tr, db, frame, next);
+    const mm_quat *r0 = pair.rotations0, *r1 = pair.rotations1;
+    const mm_vec3 *p0 = pair.positions0, *p1 = pair.positions1;
     for (int j = 0; j < db->joint_count; ++j) {
         rot[j] = mm_quat_slerp(r0[j], r1[j], fraction);
         pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
@@ -47,7 +60,7 @@ static mm_root_played crossfade_play(mm_transition *tr, const mm_database *db, c
         r[i] = tr->slot_rotations + (size_t)i * n, ps[i] = tr->slot_positions + (size_t)i * n,
         w[i] = s->weight;
         if (rot) { /* blended in model space (mm/pose.h: mm_pose_to_model) */
-            pose_at(db, s->source, s->fraction, tr->slot_rotations + (size_t)i * n,
+            pose_at(tr, db, s->source, s->fraction, tr->slot_rotations + (size_t)i * n,
                     tr->slot_positions + (size_t)i * n);
             mm_pose_to_model(db->joints, (int)n, tr->slot_rotations + (size_t)i * n);
         }
@@ -71,7 +84,7 @@ static mm_root_played play_pose(mm_transition *tr, const mm_database *db, const 
                                 mm_vec3 *pos)
 {
     if (tr->mode == MM_TRANSITION_CROSSFADE) return crossfade_play(tr, db, p, rot, pos);
-    pose_at(db, p->frame, (float)p->fraction, rot, pos);
+    pose_at(tr, db, p->frame, (float)p->fraction, rot, pos);
     return root_at(db, p->frame, p);
 }
 
@@ -163,8 +176,7 @@ static void inertialize_to(mm_transition *tr, const mm_database *db, int to, dou
     /* the new clip's velocity at the playhead: that of the frame interval it is in (zero on a
      * clip's last frame, which playback holds); it plays on at the play rate: its velocity per
      * second is the rate times its velocity per frame interval */
-    mm_frame_pair pair = {mm_database_rotations(db, to), mm_database_rotations(db, next >= 0 ? next : to),
-                          mm_database_positions(db, to), mm_database_positions(db, next >= 0 ? next : to)};
+    mm_frame_pair pair = read_frames(tr, db, to, next >= 0 ? next : to);
     float rate = isfinite(p->play_rate) && p->play_rate >= 0.0f ? p->play_rate : 1.0f;
     float frame_rate = next >= 0 ? rate / db->interval : 0.0f;
     mm_transition_inertialize(tr, db->joint_count, &pair, (float)p->fraction, frame_rate, dt);

@@ -29,6 +29,9 @@ typedef struct mm_transition {
     mm_mixer mixer;
     mm_quat *slot_rotations;
     mm_vec3 *slot_positions;
+    /* two database frames' local transforms as read (mm_database_local_pose), [2 * joint_count] */
+    mm_quat *frame_rotations;
+    mm_vec3 *frame_positions;
     uint64_t uncancellable_tags;
     int cancelled;
     int transitions;
