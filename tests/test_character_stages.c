@@ -553,6 +553,73 @@ static void test_feet_lock_holds_and_releases(void **state)
     assert_float_equal(f.lock[0].y, 0.06f, 1e-6f);
 }
 
+/* The body with its left knee bent by 2 bend (the thigh forward, the shin back, the foot level) and
+ * the hips lowered so that the ankle stays 0.06 m above the ground, with pitch added to the foot;
+ * the hips then raised by lift. Within the leg's reach, unlike the straight legs of make_body. */
+static void bent_left_leg(body *b, float bend, float pitch, float lift)
+{
+    make_body(b);
+    mm_vec3 x = mm_vec3_make(1, 0, 0);
+    b->rotations[L_UPLEG] = mm_quat_from_axis_angle(x, -bend);
+    b->rotations[L_LEG] = mm_quat_from_axis_angle(x, 2.0f * bend);
+    b->rotations[L_FOOT] = mm_quat_from_axis_angle(x, pitch - bend);
+    b->positions[HIPS].y = 0.9f - 0.84f * (1.0f - cosf(bend)) + lift;
+    b->rig.planted_ankle[0] = 0.06f, b->rig.planted_toe[0] = 0.02f; /* the data's, standing */
+    mm_rig_forward(&b->rig, 1, &b->pose);
+}
+
+/* The heel lifts off while the toe holds (a foot rolling onto its toe): the toe stays on its lock
+ * as the animated foot pitches about the ankle, before and after the heel's label goes off, and
+ * the ankle rises with the roll. */
+static void test_feet_roll_onto_the_toe(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &both, 0.0f, true, dt, &b.pose);
+    assert_true(f.heel_locked[0] && f.toe_locked[0]);
+    mm_vec3 planted = b.global[L_TOE].translation;
+    for (int i = 1; i <= 20; ++i) {
+        /* the animated foot pitches toe-down about its ankle, 0.02 rad a tick (the heel rising) */
+        bent_left_leg(&b, 0.3f, 0.02f * (float)i, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, i < 4 ? &both : &toe, 0.0f, true, dt, &b.pose);
+        assert_vec3_near(b.global[L_TOE].translation, planted, 1e-3f);
+    }
+    assert_true(f.toe_locked[0] && !f.heel_locked[0]);
+    assert_true(b.global[L_FOOT].translation.y > 0.06f + 0.03f);
+}
+
+/* A foot planted while still settling (its label on 3 cm above where it comes to rest) follows the
+ * animated foot down to the ground instead of hovering at the height it was planted at. */
+static void test_feet_lock_comes_down(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    for (int i = 0; i <= 10; ++i) {
+        bent_left_leg(&b, 0.3f, 0.0f, 0.03f * (1.0f - (float)i / 10.0f));
+        float animated = b.global[L_FOOT].translation.y;
+        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        assert_float_equal(b.global[L_FOOT].translation.y, animated, 1e-3f);
+    }
+    assert_float_equal(b.global[L_FOOT].translation.y, 0.06f, 1e-3f);
+}
+
 /* A second difference |p2 - 2 p1 + p0| (m). */
 static float second_difference(mm_vec3 p0, mm_vec3 p1, mm_vec3 p2)
 {
@@ -745,6 +812,8 @@ int main(void)
         cmocka_unit_test(test_feet_land_without_warning),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
+        cmocka_unit_test(test_feet_roll_onto_the_toe),
+        cmocka_unit_test(test_feet_lock_comes_down),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -21,6 +21,8 @@
 #define TOE_SINK 0.01f
 /* m: below the soft floor, where a toe the leg cannot raise is lifted by pitching the foot */
 #define TOE_LIFT_MARGIN 0.002f
+/* m: an ankle-to-toe vector shorter than this has no direction to turn the foot by */
+#define MIN_FOOT_LENGTH 1e-6f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
 
@@ -104,19 +106,38 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
     int heel_on = (contacts->label >> (2 * k)) & 1u, toe_on = (contacts->label >> (2 * k + 1)) & 1u;
     if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
+    /* a lock comes down with the animated foot (never below the ground): planted as its label
+     * turns on, a foot is often still settling, and a lock held at that height leaves it hovering */
+    if (f->heel_locked[k])
+        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], fminf(f->heel_lock[k].y, a.y));
+    if (f->toe_locked[k])
+        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], fminf(f->toe_lock[k].y, t.y));
     mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
+    bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
     mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
     bool far = was_locked && mm_vec3_distance(before, a) > d->unlock_radius;
     if (far) f->heel_locked[k] = f->toe_locked[k] = false;
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
+    /* the heel lifts off while the toe holds: the ankle keeps its place, the foot turned about the
+     * toe's lock to meet it (the roll goes on from there as the turn fades) */
+    bool toe_held = toe_was_locked && f->toe_locked[k];
+    if (toe_held && heel_was_locked && !f->heel_locked[k]) {
+        mm_vec3 want = mm_vec3_sub(f->toe_lock[k], before), have = mm_vec3_sub(t, a);
+        if (mm_vec3_length(want) > MIN_FOOT_LENGTH && mm_vec3_length(have) > MIN_FOOT_LENGTH) {
+            f->turn[k] = mm_quat_log(mm_quat_between(have, want));
+            f->turn_velocity[k] = mm_vec3_make(0, 0, 0);
+        }
+    }
     f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(before, foot_source(f, k, a, t)));
     /* the velocity on the ground plane only: upward the foot takes what it follows at once (let
-     * go, it lifts off as animated instead of dragging along the ground while its offset fades) */
+     * go, it lifts off as animated instead of dragging along the ground while its offset fades).
+     * Not while the toe holds through the tick: the foot rolls about it as animated (keeping the
+     * ankle's velocity would hold the ankle still and drag the toe across the ground) */
     mm_vec3 kept = mm_vec3_sub(before_velocity, source_velocity(f, k, a, t, dt));
     kept.y = 0.0f;
-    f->offset_velocity[k] = mm_vec3_add(f->offset_velocity[k], kept);
+    if (!toe_held) f->offset_velocity[k] = mm_vec3_add(f->offset_velocity[k], kept);
     if (far) {
         /* pulled too far from the animation: released, and planted again below where the foot now
          * is, one spring step from rest toward the animation (the foot creeps after it) */
