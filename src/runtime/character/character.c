@@ -708,6 +708,8 @@ static void state_without_pointers(mm_character_state *s)
     tr->position_offset = tr->position_offset_velocity = NULL;
     tr->slot_rotations = NULL;
     tr->slot_positions = NULL;
+    tr->frame_rotations = NULL;
+    tr->frame_positions = NULL;
     s->pose.local_rotations = NULL;
     s->pose.local_positions = NULL;
     s->pose.global = NULL;
