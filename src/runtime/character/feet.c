@@ -126,7 +126,9 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (toe_held && heel_was_locked && !f->heel_locked[k]) {
         mm_vec3 want = mm_vec3_sub(f->toe_lock[k], before), have = mm_vec3_sub(t, a);
         if (mm_vec3_length(want) > MIN_FOOT_LENGTH && mm_vec3_length(have) > MIN_FOOT_LENGTH) {
-            f->turn[k] = mm_quat_log(mm_quat_between(have, want));
+            mm_vec3 turn = mm_quat_log(mm_quat_between(have, want));
+            float angle = mm_vec3_length(turn);
+            f->turn[k] = angle > MAX_FOOT_TURN ? mm_vec3_scale(turn, MAX_FOOT_TURN / angle) : turn;
             f->turn_velocity[k] = mm_vec3_make(0, 0, 0);
         }
     }
