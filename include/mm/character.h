@@ -49,7 +49,8 @@
  *            mm_character_play_move mm_character_move_playing mm_character_shift_root
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
- *            mm_character_set_future mm_character_future_times
+ *            mm_character_set_future mm_character_future_times mm_character_set_scene
+ *            mm_character_set_wall_pass
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -332,6 +333,17 @@ void mm_character_translate(mm_character *c, mm_vec3 delta);
 void mm_character_teleport_simulation(mm_character *c, mm_vec3 position, mm_quat facing);
 void mm_character_push_simulation(mm_character *c, mm_vec3 position);
 void mm_character_halt_simulation(mm_character *c);
+
+/* The scene the character walks in (NULL: none, the default). Its walls (boxes higher than a step,
+ * mm_trajectory_set_scene) stop the simulation and the root alike: both are a vertical capsule
+ * (desc.trajectory.collider_radius) pushed out of them each tick, sliding along them, and the
+ * predicted future the search sees stops or bends at them (docs/scene.md, "Collision"). The
+ * scene must outlive its use. */
+void mm_character_set_scene(mm_character *c, const mm_scene *scene);
+/* Boxes whose top is at most pass_height above the character's ground are not walls to it (the
+ * move layer raises it to the highest box a move crosses, INFINITY during a move); negative: the
+ * desc's collider_step. */
+void mm_character_set_wall_pass(mm_character *c, float pass_height);
 
 /* The game's own desired future (its AI's or navigation's path) for the next mm_character_update
  * only, in place of the simulation's prediction in the search's query: world positions (y

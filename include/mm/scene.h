@@ -20,7 +20,7 @@
  * functions are described in docs/scene.md.
  *
  * Functions: mm_scene_init mm_scene_add_box mm_scene_box_centre mm_scene_raycast
- *            mm_scene_ground_probe mm_scene_measure_obstacle
+ *            mm_scene_ground_probe mm_scene_measure_obstacle mm_scene_collide_capsule
  */
 #ifndef MM_SCENE_H
 #define MM_SCENE_H
@@ -125,6 +125,18 @@ typedef struct mm_obstacle {
  * for non-finite input. desc may be NULL (defaults). */
 bool mm_scene_measure_obstacle(const mm_scene *scene, mm_vec3 feet, mm_vec3 forward,
                                const mm_obstacle_desc *desc, mm_obstacle *out);
+
+/* Collision (src/scene/collide.c): a vertical capsule of `radius` whose axis passes through
+ * (position.x, position.z) is pushed sideways out of every box whose top is above `bottom` and
+ * whose bottom is below `top` (lower boxes are stepped over, higher ones walked under; bottom may
+ * be above top: a box must then reach over bottom and under top, and INFINITY makes none a wall), through the
+ * nearer side when its axis is inside one; boxes meeting at a corner are settled in a few rounds. position.y
+ * is untouched. A face within radius + skin touches it (skin >= 0: a capsule resting against a wall, pushed
+ * out on the last step, still touches it). Writes up to max_normals unit horizontal normals of the faces
+ * touched (pointing out of the boxes; normals may be NULL) and returns how many faces touched (0: clear, or
+ * bad input). Allocates nothing. */
+int mm_scene_collide_capsule(const mm_scene *scene, float radius, float skin, float bottom, float top,
+                             mm_vec3 *position, mm_vec3 *normals, int max_normals);
 
 #ifdef __cplusplus
 }

@@ -1240,15 +1240,19 @@ static bool push_out_of_box(const mm_scene_box *box, float radius, mm_vec3 *p)
 }
 
 /* The collider: a circle of radius about the root, and the simulation with it, out of the walls
- * (boxes whose top is above a step and whose bottom is below collider_height). */
+ * (boxes whose top is above a step and whose bottom is below collider_height), but for those the
+ * character collides with itself (higher than any move crosses, with mm_character_set_scene). */
 static void push_out_of_walls(mm_moves *m, mm_character *c)
 {
     const mm_moves_desc *d = &m->desc;
     const mm_scene *s = m->scene;
+    /* the walls the character collides with itself (mm_character_set_scene): its own capsule's */
+    float own = c->trajectory->scene == s ? c->trajectory->pass_height : INFINITY;
     for (int b = 0; b < s->box_count; ++b) {
         const mm_scene_box *box = &s->boxes[b];
         float y = c->root.translation.y;
-        if (box->position.y + box->size.y <= y + d->step_height || box->position.y >= y + d->collider_height)
+        if (box->position.y + box->size.y <= y + d->step_height ||
+            box->position.y >= y + d->collider_height || box->position.y + box->size.y > y + own)
             continue;
         mm_vec3 p = c->root.translation;
         if (push_out_of_box(box, d->radius, &p)) {
@@ -1393,6 +1397,10 @@ void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
     }
     m->finished = false;
     m->time += dt;
+    /* a character colliding with this scene itself (mm_character_set_scene) leaves the boxes a
+     * move crosses to the moves, and has no walls during one */
+    if (c->trajectory && c->trajectory->scene == m->scene)
+        mm_character_set_wall_pass(c, m->kind != MM_MOVE_NONE ? INFINITY : m->desc.high_max_height);
     int pressed = in && in->jump && !m->jump_held;
     m->jump_held = in && in->jump;
     if (m->kind != MM_MOVE_NONE)

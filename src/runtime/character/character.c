@@ -127,6 +127,9 @@ void mm_character_desc_resolve(const mm_database *db, const mm_character_desc *i
     r.trajectory.gait_halflife = written(t->gait_halflife, td->gait_halflife);
     r.trajectory.history_seconds = written(t->history_seconds, td->history_seconds);
     r.trajectory.history_rate = written(t->history_rate, td->history_rate);
+    r.trajectory.collider_radius = written(t->collider_radius, td->collider_radius);
+    r.trajectory.collider_height = written(t->collider_height, td->collider_height);
+    r.trajectory.collider_step = written(t->collider_step, td->collider_step);
     *out = r;
 }
 
@@ -262,6 +265,9 @@ static void apply_tuning(mm_character *c, const mm_character_desc *given)
     effective_desc(&c->desc, &s->desc);
     mm_trajectory_resolve_desc(&c->desc.trajectory, &s->desc.trajectory);
     for (int g = 0; g < MM_GAIT_COUNT; ++g) s->trajectory.desc.gaits[g] = s->desc.trajectory.gaits[g];
+    s->trajectory.desc.collider_radius = s->desc.trajectory.collider_radius;
+    s->trajectory.desc.collider_height = s->desc.trajectory.collider_height;
+    s->trajectory.desc.collider_step = s->desc.trajectory.collider_step;
     const mm_character_desc *d = &s->desc;
     mm_playback_params *pp = &s->playback_params;
     pp->distance_matching = d->distance_matching, pp->warping = d->warping;
@@ -403,7 +409,9 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     const mm_database *db = c->db;
     const mm_character_desc *d = &s->desc;
 
-    /* 1. input -> trajectory: the simulation, and what the input asks for */
+    /* 1. input -> trajectory: the simulation (standing where the character stands), and what the
+     * input asks for */
+    s->trajectory.floor = s->root_motion.root.translation.y;
     mm_intent_update(&s->trajectory, in, dt, &s->intent);
 
     /* 2. playback: by the clock, or by distance matching (never during a move) */
@@ -449,7 +457,15 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
                        dt, &s->pose);
     }
 
-    /* 8. pose: what the character shows */
+    /* 8. walls: in a scene, the body out of them (not during a move: the move layer has it) */
+    if (!s->move.playing && !s->move.pending) {
+        mm_vec3 out =
+            mm_walls_push(&s->trajectory, s->root_motion.root.translation, &s->pose, db->joint_count);
+        if (out.x != 0.0f || out.z != 0.0f)
+            mm_walls_move_body(&s->root_motion.root, &s->pose, db->joint_count, &s->feet, out);
+    }
+
+    /* 9. pose: what the character shows */
     publish(c);
 }
 
@@ -555,6 +571,20 @@ void mm_character_halt_simulation(mm_character *c)
 {
     if (!c || !c->state) return;
     c->state->trajectory.velocity = mm_vec3_make(0, 0, 0);
+}
+
+void mm_character_set_scene(mm_character *c, const mm_scene *scene)
+{
+    if (!c || !c->state) return;
+    mm_trajectory *t = &c->state->trajectory;
+    mm_trajectory_set_scene(t, scene, t->pass_height);
+}
+
+void mm_character_set_wall_pass(mm_character *c, float pass_height)
+{
+    if (!c || !c->state) return;
+    mm_trajectory *t = &c->state->trajectory;
+    mm_trajectory_set_scene(t, t->scene, pass_height);
 }
 
 int mm_character_future_times(const mm_character *c, float *times)

@@ -37,6 +37,8 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
     float angle = wrap_angle(yaw - yaw_of(t->facing));
     if (!free_root && fabsf(angle) > d->sync_max_angle)
         yaw = yaw_of(t->facing) + (angle > 0 ? d->sync_max_angle : -d->sync_max_angle);
+    /* in a scene, the root is the simulation's capsule too: out of the walls, as it is */
+    if (!free_root) mm_trajectory_collide(t, &position, NULL, 0);
     /* the height is kept: 0 on flat ground, or where the move layer put the character */
     r->root =
         mm_xform_make(yaw_quat(wrap_angle(yaw)), mm_vec3_make(position.x, r->root.translation.y, position.z));

@@ -17,8 +17,9 @@ typedef struct mm_root_motion {
 
 /* Moves r->root by `played` over dt, then (unless free_root: a move plays its clip's root motion
  * alone) pulls it toward the simulation t (sync_halflife), clamps it within sync_max_distance and
- * sync_max_angle of it, and turns a small facing error away at full speed (angle_threshold,
- * angle_revise_speed). The height is kept. */
+ * sync_max_angle of it, turns a small facing error away at full speed (angle_threshold,
+ * angle_revise_speed) and, in a scene, pushes it out of the walls as the simulation's capsule
+ * (mm_trajectory_collide). The height is kept. */
 void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const mm_trajectory *t,
                            const mm_intent *intent, mm_root_played played, bool free_root, float dt);
 
