@@ -49,7 +49,13 @@
  *            mm_character_play_move mm_character_move_playing mm_character_shift_root
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
- *            mm_character_set_future mm_character_future_times
+ *            mm_character_set_future mm_character_future_times mm_character_set_scene
+ *
+ * Terrain: mm_character_set_scene gives the character the scene it walks on (mm/scene.h). Its
+ * root and simulated trajectory then follow the height of the ground under them
+ * (mm_scene_ground_height, smoothed), and planted feet stand on the ground under each of them,
+ * turned to its slope (docs/scene.md, "Characters on terrain"). Without a scene, or on a flat
+ * one (mm_scene_is_flat), the character runs exactly as on the plane y = 0.
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -61,6 +67,7 @@
 #include "math.h"
 #include "mixer.h"
 #include "result.h"
+#include "scene.h"
 #include "search.h"
 #include "trajectory.h"
 
@@ -276,6 +283,8 @@ typedef struct mm_character {
     mm_search_params last_params;
     const float *query;
 
+    const mm_scene *scene; /* the ground walked on (mm_character_set_scene); NULL: the plane y = 0 */
+
     mm_character_state *state;
     mm_allocator allocator;
 } mm_character;
@@ -342,6 +351,11 @@ void mm_character_halt_simulation(mm_character *c);
  * finite (nothing is set). */
 mm_result mm_character_set_future(mm_character *c, const mm_vec3 *positions, const mm_quat *facings,
                                   int count, mm_error *err);
+/* The scene the character walks on from the next update (not copied: it must stay valid while
+ * set; it may change between ticks). NULL, or a flat scene (mm_scene_is_flat): the plane y = 0,
+ * bit for bit as without a scene. */
+void mm_character_set_scene(mm_character *c, const mm_scene *scene);
+
 /* The database's future trajectory times (s ahead, increasing) into times (room for
  * MM_MAX_TRAJ_SAMPLES); returns how many. */
 int mm_character_future_times(const mm_character *c, float *times);

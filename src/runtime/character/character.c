@@ -453,6 +453,12 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     publish(c);
 }
 
+void mm_character_set_scene(mm_character *c, const mm_scene *scene)
+{
+    if (!c) return;
+    c->scene = scene;
+}
+
 void mm_character_tune(mm_character *c, const mm_character_desc *d)
 {
     if (!c || !c->state || !d) return;
