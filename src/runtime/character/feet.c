@@ -40,6 +40,9 @@
 #define CLEAR_AHEAD_TIME 0.1f
 /* m: at most this far ahead */
 #define CLEAR_AHEAD_MAX 0.15f
+/* s: half-life of the spring an animated foot's shift to the ground under it follows with (a
+ * step's edge passing under the foot comes in over a few ticks) */
+#define GROUND_SHIFT_HALFLIFE 0.04f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -105,12 +108,14 @@ static float stand_height(const mm_feet_ground *ground, float x, float z, float 
     return h + planted / fmaxf(n.y, cosf(MAX_FOOT_TILT));
 }
 
-/* A height for a lock placed at p: not below where it stands (when the feet keep to the ground). */
+/* A height for a lock placed at p: not below where it stands (when the feet keep to the ground);
+ * on terrain, where it stands (a foot planted in the air, its label on early or a transition's
+ * offset holding it up, comes down onto the ground as its offset fades). */
 static float above_ground(const mm_feet_ground *ground, float planted, mm_vec3 p)
 {
     if (!ground->hold) return p.y;
     float floor = stand_height(ground, p.x, p.z, planted);
-    return p.y < floor ? floor : p.y;
+    return p.y < floor || ground->scene ? floor : p.y;
 }
 
 /* An ankle's height y kept so that its toe is at most TOE_SINK below floor (the ankle height at which
@@ -133,7 +138,16 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     int ankle = rig->ankle[k], toe = rig->toe[k];
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
     mm_quat animated = pose->global[ankle].rotation;
-    if (tilt) { /* on terrain: the animated foot turned to the ground about its ankle */
+    if (tilt) { /* on terrain: the animated foot moved from the root's ground to the ground under it */
+        float h = fmaxf(mm_scene_ground_height(ground->scene, a.x, a.z, NULL),
+                        mm_scene_ground_height(ground->scene, t.x, t.z, NULL));
+        if (!f->placed) f->ground_shift[k] = h - ground->height, f->ground_shift_velocity[k] = 0.0f;
+        mm_spring_update(&f->ground_shift[k], &f->ground_shift_velocity[k], h - ground->height,
+                         GROUND_SHIFT_HALFLIFE, dt);
+        a.y += f->ground_shift[k];
+        t.y += f->ground_shift[k];
+    }
+    if (tilt) { /* and turned to the ground about its ankle */
         t = mm_vec3_add(a, mm_quat_rotate(*tilt, mm_vec3_sub(t, a)));
         animated = mm_quat_normalize(mm_quat_mul(*tilt, animated));
     }

@@ -25,7 +25,10 @@ typedef struct mm_feet {
     float landed[2]; /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 tilt_normal[2];            /* on terrain: the ground's normal each foot was last turned to */
-    mm_vec3 raw_contacts[4];           /* left ankle, left toe, right ankle, right toe before IK */
+    /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
+     * root's ground (a spring's state) */
+    float ground_shift[2], ground_shift_velocity[2];
+    mm_vec3 raw_contacts[4]; /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
 
 /* What the clip playing says of the feet this tick. */
