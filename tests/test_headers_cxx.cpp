@@ -22,6 +22,7 @@
 #include <mm/scene_json.h>
 #include <mm/skeleton_roles.h>
 #include <mm/target_match.h>
+#include <mm/terrain_mesh.h>
 #include <mm/view.h>
 #include <mm/warp.h>
 

@@ -13,6 +13,7 @@
 #include <mm/mm.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
+#include <mm/terrain_mesh.h>
 #include <mm/view.h>
 
 #include "cli.h"
@@ -202,6 +203,13 @@ int mm_cmd_render(int argc, char **argv)
         scene.boxes = boxes;
         scene.box_count = box_count;
         scene.ground_height = scene_path ? obstacles.ground : 0.0f;
+        static float terrain[MM_TERRAIN_MESH_FLOATS * 4 *
+                             MM_SCENE_MAX_FIELD_SAMPLES]; /* the field's cells, and more */
+        scene.terrain = terrain;
+        scene.terrain_triangle_count =
+            scene_path ? mm_terrain_mesh(&obstacles, terrain, 4 * MM_SCENE_MAX_FIELD_SAMPLES) : 0;
+        if (scene.terrain_triangle_count > 4 * MM_SCENE_MAX_FIELD_SAMPLES)
+            scene.terrain_triangle_count = 4 * MM_SCENE_MAX_FIELD_SAMPLES;
         char overlay[256];
         scene.overlay = overlay;
         for (int f = 0; f < frames && status == 0; ++f) {

@@ -120,7 +120,10 @@ typedef struct mm_render_scene {
     bool no_ground;             /* skip the ground grid */
     const mm_render_box *boxes; /* obstacles, drawn solid and lit with dark edges */
     int box_count;
-    float ground_height; /* m: the height of the ground grid (0 by default) */
+    float ground_height;  /* m: the height of the ground grid (0 by default) */
+    const float *terrain; /* a scene's terrain (mm/terrain_mesh.h: triangles of positions and
+                             normals), drawn solid and lit; NULL: none */
+    int terrain_triangle_count;
 } mm_render_scene;
 
 /* The joint named like a head: the head role's default name (mm_role_default_name) in any case,

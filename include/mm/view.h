@@ -53,7 +53,9 @@ typedef struct mm_view {
     char overlay[MM_VIEW_OVERLAY_MAX];
     mm_render_box *boxes; /* the scene set by mm_view_set_scene (owned) */
     int box_count;
-    float ground; /* its ground height */
+    float ground;   /* its ground height */
+    float *terrain; /* its terrain's triangles (mm/terrain_mesh.h; owned) */
+    int terrain_triangle_count;
 } mm_view;
 
 mm_result mm_view_init(mm_view *v, const mm_database *db, mm_error *err);

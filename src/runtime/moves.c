@@ -1201,6 +1201,7 @@ static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 roo
 static void follow_ground(mm_moves *m, mm_character *c, float dt)
 {
     const mm_moves_desc *d = &m->desc;
+    if (!mm_scene_is_flat(c->scene)) return; /* a character on terrain follows the ground itself */
     mm_vec3 r = c->root.translation;
     float h;
     if (!ground_at(m, r, d->step_height, INFINITY, &h)) return;

@@ -408,11 +408,16 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_character_state *s = c->state;
     const mm_database *db = c->db;
     const mm_character_desc *d = &s->desc;
+    /* the terrain walked on: none on a flat scene (the plane y = 0, as without one) */
+    const mm_scene *terrain = mm_scene_is_flat(c->scene) ? NULL : c->scene;
 
-    /* 1. input -> trajectory: the simulation (standing where the character stands), and what the
-     * input asks for */
+    /* 1. input -> trajectory: the simulation, and what the input asks for; on terrain, at the
+     * height of the ground under it; its capsule stands where the character stands */
     s->trajectory.floor = s->root_motion.root.translation.y;
     mm_intent_update(&s->trajectory, in, dt, &s->intent);
+    if (terrain)
+        s->trajectory.position.y =
+            mm_scene_ground_height(terrain, s->trajectory.position.x, s->trajectory.position.z, NULL);
 
     /* 2. playback: by the clock, or by distance matching (never during a move) */
     choose_play_rate(s, db, in, dt);
@@ -437,6 +442,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
 
     /* 5. root motion: played, pulled toward the simulation and clamped (a move's is its clip's) */
     mm_root_motion_update(&s->root_motion, d, &s->trajectory, &s->intent, played, s->move.playing, dt);
+    mm_root_motion_follow_ground(&s->root_motion, s->move.playing ? NULL : terrain, dt);
     pose_from_animation(s, db->joint_count);
 
     /* 6. warping: the legs turned toward the movement and stretched along it */
@@ -453,8 +459,8 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_feet_record(&s->feet, &s->rig, &s->pose);
     if (!d->no_foot_ik) {
         mm_feet_contacts contacts = feet_contacts(db, &s->playback, d->plant_time);
-        mm_feet_update(&s->feet, d, &s->rig, &contacts, s->root_motion.root.translation.y, !s->move.playing,
-                       dt, &s->pose);
+        mm_feet_ground ground = {s->root_motion.root.translation.y, !s->move.playing, terrain};
+        mm_feet_update(&s->feet, d, &s->rig, &contacts, &ground, dt, &s->pose);
     }
 
     /* 8. walls: in a scene, the body out of them (not during a move: the move layer has it) */
@@ -467,6 +473,20 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
 
     /* 9. pose: what the character shows */
     publish(c);
+}
+
+void mm_character_set_scene(mm_character *c, const mm_scene *scene)
+{
+    if (!c) return;
+    c->scene = scene;
+    mm_character_set_walls(c, scene);
+    if (!c->state || mm_scene_is_flat(scene)) return;
+    /* on the ground from the start: the root's height spring starts there, at rest */
+    mm_root_motion *r = &c->state->root_motion;
+    r->root.translation.y = mm_root_motion_ground(scene, r->root);
+    r->on_ground = true;
+    r->ground_velocity = 0.0f;
+    c->root = r->root;
 }
 
 void mm_character_tune(mm_character *c, const mm_character_desc *d)
@@ -573,7 +593,7 @@ void mm_character_halt_simulation(mm_character *c)
     c->state->trajectory.velocity = mm_vec3_make(0, 0, 0);
 }
 
-void mm_character_set_scene(mm_character *c, const mm_scene *scene)
+void mm_character_set_walls(mm_character *c, const mm_scene *scene)
 {
     if (!c || !c->state) return;
     mm_trajectory *t = &c->state->trajectory;

@@ -2,10 +2,20 @@
 #include "root_motion.h"
 
 #include <math.h>
+
+#include <mm/spring.h>
+
 #include "math_private.h"
 
 /* the share of the gait's full forward speed from which the angle correction works */
 #define ANGLE_CORRECTION_FROM_SPEED 0.9f
+/* m: the root's ground is averaged from this far behind it to this far ahead (about a stride: a
+ * step's edge comes in over the stride, not at once) */
+#define ROOT_GROUND_SPAN 0.35f
+/* points the root's ground is averaged over (odd: one under the root) */
+#define ROOT_GROUND_SAMPLES 7
+/* s: half-life of the spring the root's height follows the ground with */
+#define ROOT_GROUND_HALFLIFE 0.08f
 
 void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const mm_trajectory *t,
                            const mm_intent *intent, mm_root_played played, bool free_root, float dt)
@@ -42,4 +52,33 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
     /* the height is kept: 0 on flat ground, or where the move layer put the character */
     r->root =
         mm_xform_make(yaw_quat(wrap_angle(yaw)), mm_vec3_make(position.x, r->root.translation.y, position.z));
+}
+
+float mm_root_motion_ground(const mm_scene *scene, mm_xform root)
+{
+    mm_vec3 forward = mm_quat_rotate(root.rotation, mm_vec3_make(0.0f, 0.0f, 1.0f));
+    float flat = sqrtf(forward.x * forward.x + forward.z * forward.z);
+    if (flat > 1e-6f) forward = mm_vec3_scale(forward, 1.0f / flat);
+    float sum = 0.0f;
+    for (int i = 0; i < ROOT_GROUND_SAMPLES; ++i) {
+        float s = ROOT_GROUND_SPAN * (2.0f * (float)i / (float)(ROOT_GROUND_SAMPLES - 1) - 1.0f);
+        sum += mm_scene_ground_height(scene, root.translation.x + s * forward.x,
+                                      root.translation.z + s * forward.z, NULL);
+    }
+    return sum / (float)ROOT_GROUND_SAMPLES;
+}
+
+void mm_root_motion_follow_ground(mm_root_motion *r, const mm_scene *scene, float dt)
+{
+    if (!scene) {
+        r->on_ground = false;
+        r->ground_velocity = 0.0f;
+        return;
+    }
+    if (!r->on_ground) r->ground_velocity = 0.0f;
+    r->on_ground = true;
+    float y = r->root.translation.y;
+    mm_spring_update(&y, &r->ground_velocity, mm_root_motion_ground(scene, r->root), ROOT_GROUND_HALFLIFE,
+                     dt);
+    r->root.translation.y = y;
 }

@@ -13,6 +13,9 @@
 typedef struct mm_root_motion {
     mm_xform root;         /* the character on the ground: position and facing (joint 0) */
     mm_root_played played; /* the root motion of the last tick, with its transition offsets */
+    /* on a scene's terrain: whether the root's height follows the ground, and its spring's speed */
+    bool on_ground;
+    float ground_velocity;
 } mm_root_motion;
 
 /* Moves r->root by `played` over dt, then (unless free_root: a move plays its clip's root motion
@@ -22,5 +25,15 @@ typedef struct mm_root_motion {
  * (mm_trajectory_collide). The height is kept. */
 void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const mm_trajectory *t,
                            const mm_intent *intent, mm_root_played played, bool free_root, float dt);
+
+/* The ground under the root for its height (mm/scene.h): the mean of the ground's height at
+ * ROOT_GROUND_SAMPLES points along the root's facing, ROOT_GROUND_SPAN ahead to as far behind (a
+ * flight of stairs reads as the slope of its nosings). */
+float mm_root_motion_ground(const mm_scene *scene, mm_xform root);
+
+/* On a scene's terrain (not during a move): the root's height follows mm_root_motion_ground
+ * through a critically damped spring; from where it is the first tick (after a move, or a scene
+ * set). Off the terrain (scene NULL) it only forgets its spring. */
+void mm_root_motion_follow_ground(mm_root_motion *r, const mm_scene *scene, float dt);
 
 #endif
