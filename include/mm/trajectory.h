@@ -16,8 +16,8 @@
  * MM_TRAJECTORY_COLLISION_STEP per step), each step the closed form and then the capsule pushed out
  * of the boxes (mm_scene_collide_capsule) with the velocity and acceleration into them removed.
  * The predicted future runs the same steps, so it stops at a wall or bends along it, and the
- * recorded past is what the collided simulation did. Without a scene nothing changes: the closed
- * form as above, to the bit.
+ * recorded past is what the collided simulation did. Without a scene, or in one without boxes,
+ * nothing changes: the closed form as above, to the bit.
  *
  *   mm_trajectory t;
  *   mm_trajectory_init(&t, NULL, NULL);

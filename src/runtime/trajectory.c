@@ -254,6 +254,9 @@ int mm_trajectory_collide(const mm_trajectory *t, mm_vec3 *position, mm_vec3 *no
                                     t->floor + d->collider_height, position, normals, max_normals);
 }
 
+/* In a scene with boxes: the collided simulation (without any, the closed form, to the bit). */
+static bool colliding(const mm_trajectory *t) { return t->scene && t->scene->box_count > 0; }
+
 /* The capsule out of the walls, and the motion into them taken away: what is left slides along. */
 static void collide(const mm_trajectory *t, state *s)
 {
@@ -326,7 +329,7 @@ void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
     double rate = t->desc.history_rate, end = t->time + dt;
     double k = t->history_count ? floor(t->history_time * rate + 0.5) + 1.0 : ceil(t->time * rate - 1e-9);
     state s;
-    if (t->scene) {
+    if (colliding(t)) {
         s = update_colliding(t, velocity, facing, p, dt, k);
         t->contact_count = s.normal_count;
         for (int i = 0; i < s.normal_count; ++i) t->contact_normals[i] = s.normals[i];
@@ -398,7 +401,7 @@ void mm_trajectory_sample(const mm_trajectory *t, const mm_input *in, const floa
             continue;
         }
         state s = current(t);
-        if (t->scene) {
+        if (colliding(t)) {
             int n = whole_steps(fminf(tau, MAX_PREDICT_SECONDS));
             if (n < grid_steps) grid = current(t), grid_steps = 0;
             for (; grid_steps < n; ++grid_steps)
@@ -422,7 +425,7 @@ int mm_trajectory_predict(const mm_trajectory *t, mm_vec3 velocity, mm_quat faci
     float tau = isfinite(seconds) ? fminf(fmaxf(seconds, 0.0f), MAX_PREDICT_SECONDS) : 0.0f;
     state s = current(t);
     float travelled = 0.0f;
-    if (t->scene) {
+    if (colliding(t)) {
         int n = whole_steps(tau);
         for (int i = 0; i <= n; ++i) {
             float h = i < n ? MM_TRAJECTORY_COLLISION_STEP : tau - (float)n * MM_TRAJECTORY_COLLISION_STEP;
