@@ -4,7 +4,7 @@
  * Each triangle is 3 vertices of 6 floats: position x, y, z then the unit normal of its face,
  * counter-clockwise seen from outside (from above for the field). The field gives two triangles per
  * cell, split along the same diagonal as mm_scene_ground_height's (the drawn surface is the one
- * the feet stand on); a ramp gives its top, its two sides and its high end (8); a flight of stairs
+ * the feet stand on); a ramp gives its top, its two sides and its high end (6); a flight of stairs
  * each step's box without its bottom (10 a step). Nothing here allocates.
  *
  *   int n = mm_terrain_mesh(scene, NULL, 0);

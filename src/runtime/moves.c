@@ -1344,6 +1344,24 @@ static void toward_wall(mm_moves *m, mm_character *c, mm_vec3 dir, mm_vec3 facin
     start_vault(m, c, kind, mc, &o);
 }
 
+/* pieces the way to the ledge probe is walked in on terrain (a step's edge between two is found) */
+#define TERRAIN_LEDGE_SAMPLES 8
+
+/* On terrain (the character follows the ground, mm_character_set_scene): a ledge is where the
+ * ground falls by more than step_height between two points on the way from the root to `ahead`
+ * (stairs and slopes going down are walked; their root is not on the ground under it). */
+static int terrain_ledge(const mm_moves *m, mm_vec3 root, mm_vec3 ahead)
+{
+    float before = mm_scene_ground_height(m->scene, root.x, root.z, NULL);
+    for (int i = 1; i <= TERRAIN_LEDGE_SAMPLES; ++i) {
+        mm_vec3 p = mm_vec3_lerp(root, ahead, (float)i / (float)TERRAIN_LEDGE_SAMPLES);
+        float h = mm_scene_ground_height(m->scene, p.x, p.z, NULL);
+        if (before - h > m->desc.step_height) return 1;
+        before = h;
+    }
+    return 0;
+}
+
 /* After the character's update in locomotion: a move to start? Not within cooldown of the last
  * one, but a drop where walking on would fall waits only LEDGE_COOLDOWN (a move may end a step
  * from a ledge: a climb onto a wall half a metre deep). */
@@ -1359,7 +1377,8 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
         speed > DIRECTION_MIN_SPEED ? mm_vec3_scale(desired, 1.0f / speed) : mm_vec3_normalize(facing);
     int moving = speed > d->moving_speed && m->fall_velocity == 0.0f;
     mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
-    int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
+    int ledge = mm_scene_is_flat(c->scene) ? !ground_at(m, ahead, d->step_height, d->step_height, &h)
+                                           : terrain_ledge(m, root, ahead);
     if (m->since_move < d->cooldown && !(moving && ledge && m->since_move >= LEDGE_COOLDOWN)) return;
     if (jump_or_drop(m, c, pressed, moving, ledge, dir, facing) || !moving) return;
     toward_wall(m, c, dir, facing);

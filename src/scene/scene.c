@@ -412,6 +412,19 @@ static bool cast_field(const mm_scene_field *f, mm_vec3 o, mm_vec3 d, float max_
 {
     if (f->columns < 2 || f->rows < 2) return false;
     float end = fminf(max_t, best->distance);
+    if (!(sqrtf(d.x * d.x + d.z * d.z) > 1e-6f)) { /* straight up or down: the height under it */
+        mm_vec3 normal;
+        float h;
+        if (!(d.y < 0.0f) || !mm_scene_field_height(f, o.x, o.z, &h, &normal) || !(o.y > h)) return false;
+        float t = (o.y - h) / -d.y;
+        if (t > end) return false;
+        best->distance = t;
+        best->box = -1;
+        best->inside = false;
+        best->normal = normal;
+        best->point = mm_vec3_make(o.x, h, o.z);
+        return true;
+    }
     /* the ray's stretch over the footprint (x and z slabs) */
     float lo = 0.0f, hi = end;
     const float o2[2] = {o.x, o.z}, d2[2] = {d.x, d.z}, base[2] = {f->origin.x, f->origin.z};

@@ -484,7 +484,7 @@ void mm_character_set_scene(mm_character *c, const mm_scene *scene)
     /* on the ground from the start: the root's height spring starts there, at rest */
     mm_root_motion *r = &c->state->root_motion;
     r->root.translation.y = mm_root_motion_ground(scene, r->root);
-    r->on_ground = true;
+    r->on_ground = false; /* the spring starts at rest from there */
     r->ground_velocity = 0.0f;
     c->root = r->root;
 }

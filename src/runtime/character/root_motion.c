@@ -13,7 +13,7 @@
  * step's edge comes in over the stride, not at once) */
 #define ROOT_GROUND_SPAN 0.35f
 /* points the root's ground is averaged over (odd: one under the root) */
-#define ROOT_GROUND_SAMPLES 7
+#define ROOT_GROUND_SAMPLES 15
 /* s: half-life of the spring the root's height follows the ground with */
 #define ROOT_GROUND_HALFLIFE 0.08f
 
@@ -54,18 +54,31 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
         mm_xform_make(yaw_quat(wrap_angle(yaw)), mm_vec3_make(position.x, r->root.translation.y, position.z));
 }
 
-float mm_root_motion_ground(const mm_scene *scene, mm_xform root)
+/* The mean of the ground's height at ROOT_GROUND_SAMPLES points along the root's facing, from
+ * ROOT_GROUND_SPAN behind to as far ahead, and its least-squares slope along the facing. */
+static float ground_along(const mm_scene *scene, mm_xform root, mm_vec3 *forward_out, float *slope)
 {
     mm_vec3 forward = mm_quat_rotate(root.rotation, mm_vec3_make(0.0f, 0.0f, 1.0f));
+    forward.y = 0.0f;
     float flat = sqrtf(forward.x * forward.x + forward.z * forward.z);
-    if (flat > 1e-6f) forward = mm_vec3_scale(forward, 1.0f / flat);
-    float sum = 0.0f;
+    forward = flat > 1e-6f ? mm_vec3_scale(forward, 1.0f / flat) : mm_vec3_make(0.0f, 0.0f, 1.0f);
+    float sum = 0.0f, moment = 0.0f, spread = 0.0f;
     for (int i = 0; i < ROOT_GROUND_SAMPLES; ++i) {
         float s = ROOT_GROUND_SPAN * (2.0f * (float)i / (float)(ROOT_GROUND_SAMPLES - 1) - 1.0f);
-        sum += mm_scene_ground_height(scene, root.translation.x + s * forward.x,
-                                      root.translation.z + s * forward.z, NULL);
+        float h = mm_scene_ground_height(scene, root.translation.x + s * forward.x,
+                                         root.translation.z + s * forward.z, NULL);
+        sum += h;
+        moment += s * h;
+        spread += s * s;
     }
+    if (forward_out) *forward_out = forward;
+    if (slope) *slope = moment / spread;
     return sum / (float)ROOT_GROUND_SAMPLES;
+}
+
+float mm_root_motion_ground(const mm_scene *scene, mm_xform root)
+{
+    return ground_along(scene, root, NULL, NULL);
 }
 
 void mm_root_motion_follow_ground(mm_root_motion *r, const mm_scene *scene, float dt)
@@ -75,10 +88,22 @@ void mm_root_motion_follow_ground(mm_root_motion *r, const mm_scene *scene, floa
         r->ground_velocity = 0.0f;
         return;
     }
-    if (!r->on_ground) r->ground_velocity = 0.0f;
+    mm_vec3 forward;
+    float slope;
+    float target = ground_along(scene, r->root, &forward, &slope);
+    /* the spring aims ahead of the ground by the lag a critically damped spring has behind a
+     * steady climb (2 v / y): on a slope the root keeps to the ground's height, not under it */
+    float speed = 0.0f;
+    if (r->on_ground) {
+        mm_vec3 moved = mm_vec3_sub(r->root.translation, r->ground_from);
+        speed = (moved.x * forward.x + moved.z * forward.z) / dt;
+    } else {
+        r->ground_velocity = 0.0f;
+    }
     r->on_ground = true;
+    r->ground_from = r->root.translation;
+    float lead = (float)(2.0 / mm_spring_damping(ROOT_GROUND_HALFLIFE)) * slope * speed;
     float y = r->root.translation.y;
-    mm_spring_update(&y, &r->ground_velocity, mm_root_motion_ground(scene, r->root), ROOT_GROUND_HALFLIFE,
-                     dt);
+    mm_spring_update(&y, &r->ground_velocity, target + lead, ROOT_GROUND_HALFLIFE, dt);
     r->root.translation.y = y;
 }

@@ -16,6 +16,7 @@ typedef struct mm_root_motion {
     /* on a scene's terrain: whether the root's height follows the ground, and its spring's speed */
     bool on_ground;
     float ground_velocity;
+    mm_vec3 ground_from; /* where the root was last tick (its speed along the slope) */
 } mm_root_motion;
 
 /* Moves r->root by `played` over dt, then (unless free_root: a move plays its clip's root motion
@@ -32,8 +33,9 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
 float mm_root_motion_ground(const mm_scene *scene, mm_xform root);
 
 /* On a scene's terrain (not during a move): the root's height follows mm_root_motion_ground
- * through a critically damped spring; from where it is the first tick (after a move, or a scene
- * set). Off the terrain (scene NULL) it only forgets its spring. */
+ * through a critically damped spring, aimed ahead by the spring's lag on the slope it climbs;
+ * from where it is the first tick (after a move, or a scene set). Off the terrain (scene NULL)
+ * it only forgets its spring. */
 void mm_root_motion_follow_ground(mm_root_motion *r, const mm_scene *scene, float dt);
 
 #endif
