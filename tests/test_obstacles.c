@@ -10,6 +10,7 @@
 
 #include <mm/character.h>
 #include <mm/moves.h>
+#include <mm/prediction.h>
 #include <mm/scene.h>
 #include <mm/trajectory.h>
 
@@ -233,6 +234,45 @@ static void test_untouched_scene(void **state)
     mm_trajectory_free(&unset);
 }
 
+/* The stop prediction (mm_distance_predict_trajectory) in a scene: running at +Z, a wall half
+ * way along the closed form's stop ends it at the wall (a capsule's radius before its face); a
+ * wall beyond it changes nothing, to the bit. */
+static void test_stop_at_wall(void **state)
+{
+    (void)state;
+    mm_trajectory t;
+    assert_int_equal(mm_trajectory_init(&t, NULL, NULL), MM_OK);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    in.gait = MM_GAIT_RUN;
+    for (int k = 0; k < 60; ++k) mm_trajectory_update(&t, &in, TICK);
+    mm_distance_prediction open, walled;
+    assert_int_equal(mm_distance_predict_trajectory(&t, &in, 0.0f, &open, NULL), MM_OK);
+    assert_true(open.found && open.offset.z > 0.2f);
+    float reach = open.offset.z;
+    for (int far = 0; far < 2; ++far) {
+        float face = t.position.z + CAPSULE_RADIUS + (far ? 2.0f : 0.5f) * reach;
+        mm_scene s;
+        mm_scene_init(&s, 0.0f);
+        assert_int_equal(mm_scene_add_box(&s, mm_vec3_make(0.0f, 0.0f, face + 0.5f),
+                                          mm_vec3_make(10.0f, 3.0f, 1.0f), 0.0f),
+                         MM_OK);
+        mm_trajectory_set_scene(&t, &s, -1.0f);
+        assert_int_equal(mm_distance_predict_trajectory(&t, &in, 0.0f, &walled, NULL), MM_OK);
+        assert_true(walled.found);
+        if (far) {
+            assert_memory_equal(&walled, &open, sizeof open);
+        } else {
+            assert_float_equal(walled.offset.z, face - CAPSULE_RADIUS - t.position.z, 1e-3f);
+            assert_float_equal(walled.offset.x, 0.0f, 1e-4f);
+            assert_float_equal(walled.distance, 0.5f * reach, 2e-3f);
+        }
+        mm_trajectory_set_scene(&t, NULL, -1.0f);
+    }
+    mm_trajectory_free(&t);
+}
+
 /* Into the wall at 0..80 degrees, walking and running: never more than 5 cm into it, and the
  * root kept out by about the capsule's radius. */
 static void test_no_joint_in_wall(void **state)
@@ -290,9 +330,8 @@ static void test_slide(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_capsule),
-        cmocka_unit_test(test_untouched_scene),
-        cmocka_unit_test(test_no_joint_in_wall),
+        cmocka_unit_test(test_capsule),      cmocka_unit_test(test_untouched_scene),
+        cmocka_unit_test(test_stop_at_wall), cmocka_unit_test(test_no_joint_in_wall),
         cmocka_unit_test(test_slide),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -257,17 +257,22 @@ int mm_trajectory_collide(const mm_trajectory *t, mm_vec3 *position, mm_vec3 *no
 /* In a scene with boxes: the collided simulation (without any, the closed form, to the bit). */
 static bool colliding(const mm_trajectory *t) { return t->scene && t->scene->box_count > 0; }
 
-/* The capsule out of the walls, and the motion into them taken away: what is left slides along. */
+/* The capsule out of the walls, and the motion into them taken away: what is left slides along.
+ * Pushed off a face while moving into it, the velocity and the acceleration lose their parts
+ * along its normal: the spring there starts again from rest at the wall (an acceleration left
+ * along the normal, the braking of a stop, would carry the character back off the wall). */
 static void collide(const mm_trajectory *t, state *s)
 {
-    mm_vec3 *normals = s->normals;
+    mm_vec3 *normals = s->normals, before = s->position;
     int n = mm_trajectory_collide(t, &s->position, normals, MM_TRAJECTORY_MAX_CONTACTS);
     if (n > MM_TRAJECTORY_MAX_CONTACTS) n = MM_TRAJECTORY_MAX_CONTACTS;
+    mm_vec3 pushed = mm_vec3_sub(s->position, before);
     for (int k = 0; k < n; ++k) {
         float into = mm_vec3_dot(s->velocity, normals[k]);
-        if (into < 0.0f) s->velocity = mm_vec3_sub(s->velocity, mm_vec3_scale(normals[k], into));
-        into = mm_vec3_dot(s->acceleration, normals[k]);
-        if (into < 0.0f) s->acceleration = mm_vec3_sub(s->acceleration, mm_vec3_scale(normals[k], into));
+        if (!(mm_vec3_dot(pushed, normals[k]) > 0.0f) || into > 0.0f) continue; /* resting, or leaving */
+        s->velocity = mm_vec3_sub(s->velocity, mm_vec3_scale(normals[k], into));
+        float along = mm_vec3_dot(s->acceleration, normals[k]);
+        s->acceleration = mm_vec3_sub(s->acceleration, mm_vec3_scale(normals[k], along));
     }
     s->position.y = 0.0f;
     s->normal_count = n;
