@@ -244,7 +244,17 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     f->last_ankle[k] = a, f->last_toe[k] = t;
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
-    return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    mm_vec3 target = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    if (tilt && f->toe_locked[k]) {
+        /* on terrain the locks stand at the data's planted heights over the ground, not where the
+         * foot was: a held toe stays on its lock while the ankle's offset fades (the foot turns
+         * about the toe, at most MAX_FOOT_TURN from the animation), not carried along by it */
+        mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(f->toe_lock[k], target)));
+        float angle = mm_vec3_length(aim);
+        if (angle > MAX_FOOT_TURN) aim = mm_vec3_scale(aim, MAX_FOOT_TURN / angle);
+        *orientation = mm_quat_mul(mm_quat_exp(aim), animated);
+    }
+    return target;
 }
 
 /* The leg's length: hip to knee to ankle. */
