@@ -268,8 +268,8 @@ static double planted_height(const mm_searcher *searcher, const mm_scene *s, flo
 }
 
 /* Walking up a long 15-degree ramp: the root at the ramp's height (within 2 cm), the planted ankles
- * as high above it, along its normal, as on level terrain (a plane raised 0.25 m; within 2 cm: 1.3 cm
- * higher on the built-in set, docs/scene.md). */
+ * as high above it, along its normal, as on level terrain (a plane raised 0.25 m; within 2 cm, the
+ * bound docs/scene.md gives). */
 static void test_walk_up_a_ramp(void **state)
 {
     (void)state;

@@ -35,11 +35,15 @@
 /* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
  * step below) */
 #define TERRAIN_HIP_DROP 0.2f
-/* s: a free foot is kept above the ground where its toe will be this long ahead, at its speed
- * (it clears a step's edge before it gets there) */
-#define CLEAR_AHEAD_TIME 0.1f
-/* m: at most this far ahead */
-#define CLEAR_AHEAD_MAX 0.15f
+/* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
+ * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
+ * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
+#define CLEAR_AHEAD 0.3f
+#define CLEAR_SLOPE 0.6f
+/* points the ground ahead of a free foot is read at */
+#define CLEAR_SAMPLES 8
+/* m/s: a free foot slower than this looks nowhere ahead */
+#define CLEAR_MIN_SPEED 0.2f
 /* s: half-life of the spring an animated foot's shift to the ground under it follows with (a
  * step's edge passing under the foot comes in over a few ticks) */
 #define GROUND_SHIFT_HALFLIFE 0.04f
@@ -244,7 +248,19 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     f->last_ankle[k] = a, f->last_toe[k] = t;
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
-    return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    mm_vec3 target = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    if (tilt && f->toe_locked[k]) {
+        /* on terrain the locks stand at the data's planted heights over the ground, not where the
+         * foot was: a held toe stays over its lock while the ankle's offset fades (the foot turns
+         * about the toe, at most MAX_FOOT_TURN from the animation), not carried along the ground by
+         * it; it comes down with the offset's height */
+        mm_vec3 toe_at = mm_vec3_make(f->toe_lock[k].x, f->toe_lock[k].y + f->offset[k].y, f->toe_lock[k].z);
+        mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, target)));
+        float angle = mm_vec3_length(aim);
+        if (angle > MAX_FOOT_TURN) aim = mm_vec3_scale(aim, MAX_FOOT_TURN / angle);
+        *orientation = mm_quat_mul(mm_quat_exp(aim), animated);
+    }
+    return target;
 }
 
 /* The leg's length: hip to knee to ankle. */
@@ -357,13 +373,17 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             mm_vec3 v = mm_quat_rotate(orientation[k], pose->local_positions[rig->toe[k]]);
             float toe_y = stand_height(ground, target[k].x + v.x, target[k].z + v.z, rig->planted_toe[k]);
             if (terrain && !f->locked[k] && f->placed) {
-                /* a free foot: above the ground ahead of its toe too (a step's edge is cleared) */
-                float vx = (target[k].x - f->lock[k].x) * CLEAR_AHEAD_TIME / dt,
-                      vz = (target[k].z - f->lock[k].z) * CLEAR_AHEAD_TIME / dt,
-                      ahead = sqrtf(vx * vx + vz * vz);
-                if (ahead > CLEAR_AHEAD_MAX) vx *= CLEAR_AHEAD_MAX / ahead, vz *= CLEAR_AHEAD_MAX / ahead;
-                toe_y = fmaxf(toe_y, stand_height(ground, target[k].x + v.x + vx, target[k].z + v.z + vz,
-                                                  rig->planted_toe[k]));
+                /* a free foot: above the ground ahead of its toe too, along a slope (a step's edge
+                 * is cleared) */
+                float vx = (target[k].x - f->lock[k].x) / dt, vz = (target[k].z - f->lock[k].z) / dt;
+                float speed = sqrtf(vx * vx + vz * vz);
+                for (int i = 1; speed > CLEAR_MIN_SPEED && i <= CLEAR_SAMPLES; ++i) {
+                    float ahead = CLEAR_AHEAD * (float)i / (float)CLEAR_SAMPLES;
+                    float x = target[k].x + v.x + vx / speed * ahead,
+                          z = target[k].z + v.z + vz / speed * ahead;
+                    toe_y =
+                        fmaxf(toe_y, stand_height(ground, x, z, rig->planted_toe[k]) - CLEAR_SLOPE * ahead);
+                }
             }
             target[k].y = toe_floor(target[k].y, toe_y - v.y);
         }
