@@ -495,7 +495,7 @@ static void test_feet_lock_holds_and_releases(void **state)
     mm_feet_record(&f, &b.rig, &b.pose);
     assert_vec3_near(f.raw_contacts[0], mm_vec3_make(0.1f, 0.06f, 0), 1e-6f);
     assert_vec3_near(f.raw_contacts[3], mm_vec3_make(-0.1f, 0.02f, 0.12f), 1e-6f);
-    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     assert_true(f.locked[0] && f.heel_locked[0]);
     assert_false(f.locked[1]);
     mm_vec3 planted = f.heel_lock[0];
@@ -505,7 +505,7 @@ static void test_feet_lock_holds_and_releases(void **state)
         make_body(&b);
         b.positions[HIPS].z = 0.05f;
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     }
     assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
     assert_vec3_near(b.global[R_FOOT].translation, mm_vec3_make(-0.1f, 0.06f, 0.05f), 1e-3f);
@@ -516,14 +516,14 @@ static void test_feet_lock_holds_and_releases(void **state)
     make_body(&b);
     b.positions[HIPS].z = 0.05f;
     mm_rig_forward(&b.rig, 1, &b.pose);
-    mm_feet_update(&f, &d, &b.rig, &none, 0.0f, true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     assert_false(f.locked[0]);
     assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
     for (int k = 0; k < ticks; ++k) {
         make_body(&b);
         b.positions[HIPS].z = 0.05f;
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &none, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     }
     assert_false(f.locked[0]);
     assert_float_equal(b.global[L_FOOT].translation.z, 0.05f - 0.025f, 2e-3f);
@@ -531,12 +531,12 @@ static void test_feet_lock_holds_and_releases(void **state)
      * from rest) from where it was toward the animation: the foot creeps after it */
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     make_body(&b);
     b.positions[ROOT].z = b.positions[HIPS].z = 0.0f;
     b.global[ROOT].translation.z = d.unlock_radius + 0.1f;
     mm_rig_forward(&b.rig, 1, &b.pose);
-    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     assert_true(f.heel_locked[0]);
     float pulled = d.unlock_radius + 0.1f, y = (float)mm_spring_damping(d.foot_halflife);
     assert_float_equal(f.heel_lock[0].z, pulled * (1.0f - (1.0f + y * dt) * expf(-y * dt)), 1e-4f);
@@ -545,11 +545,12 @@ static void test_feet_lock_holds_and_releases(void **state)
      * this pose, is at most 1 cm (feet.c's TOE_SINK) below its own planted height (0) */
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, 0.1f, true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.1f, true, NULL}, dt, &b.pose);
     assert_float_equal(f.lock[0].y, 0.1f + 0.04f - 0.01f, 1e-6f);
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, 0.1f, false, dt, &b.pose); /* a move: no ground held */
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.1f, false, NULL}, dt,
+                   &b.pose); /* a move: no ground held */
     assert_float_equal(f.lock[0].y, 0.06f, 1e-6f);
 }
 
@@ -584,13 +585,14 @@ static void test_feet_roll_onto_the_toe(void **state)
     mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
     mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-    mm_feet_update(&f, &d, &b.rig, &both, 0.0f, true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     assert_true(f.heel_locked[0] && f.toe_locked[0]);
     mm_vec3 planted = b.global[L_TOE].translation;
     for (int i = 1; i <= 20; ++i) {
         /* the animated foot pitches toe-down about its ankle, 0.02 rad a tick (the heel rising) */
         bent_left_leg(&b, 0.3f, 0.02f * (float)i, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, i < 4 ? &both : &toe, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, i < 4 ? &both : &toe, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
         assert_vec3_near(b.global[L_TOE].translation, planted, 1e-3f);
     }
     assert_true(f.toe_locked[0] && !f.heel_locked[0]);
@@ -613,7 +615,7 @@ static void test_feet_lock_comes_down(void **state)
     for (int i = 0; i <= 10; ++i) {
         bent_left_leg(&b, 0.3f, 0.0f, 0.03f * (1.0f - (float)i / 10.0f));
         float animated = b.global[L_FOOT].translation.y;
-        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         assert_true(f.heel_locked[0]);
         assert_float_equal(b.global[L_FOOT].translation.y, animated, 1e-3f);
     }
@@ -652,16 +654,16 @@ static void test_feet_release_keeps_velocity(void **state)
     body b;
     for (int k = 0; k < 5; ++k) {
         body_at(&b, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     }
     mm_vec3 P = f.heel_lock[0];
     body_at(&b, -v * dt); /* still held, the animation one step behind */
-    mm_feet_update(&f, &d, &b.rig, &heel, 0.0f, true, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     mm_vec3 last[3] = {P, P, P};
     float worst = 0.0f;
     for (int n = 0; n <= 20; ++n) {
         body_at(&b, v * (float)n * dt);
-        mm_feet_update(&f, &d, &b.rig, &none, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         float t = (float)n * dt;
         mm_vec3 expected = mm_vec3_add(P, mm_vec3_make(0, 0, v * t * (1.0f - expf(-y * t))));
         assert_vec3_near(f.lock[0], expected, 1e-4f);
@@ -692,7 +694,8 @@ static void test_feet_land_without_warning(void **state)
     mm_vec3 p[8];
     for (int n = 0; n < 8; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
         body_at(&b, v * (float)n * dt);
-        mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
         p[n] = f.lock[0];
         if (n == 5) assert_false(f.locked[0]); /* waited for */
         if (n == 6) assert_true(f.heel_locked[0]);
@@ -709,7 +712,11 @@ static void test_feet_land_without_warning(void **state)
     mm_feet_contacts coming = {0, {dt, -1.0f}};
     for (int n = 0; n < 7; ++n) {
         body_at(&b, v * (float)n * dt);
-        mm_feet_update(&f, &d, &b.rig, n < 4 ? &none : n == 4 ? &coming : &heel, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig,
+                       n < 4    ? &none
+                       : n == 4 ? &coming
+                                : &heel,
+                       &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         p[n] = f.lock[0];
     }
     assert_float_equal(p[4].z - p[3].z, 0.5f * v * dt, 1e-5f);
@@ -736,7 +743,7 @@ static void test_feet_hips_come_down_smoothly(void **state)
     float worst = 0.0f;
     for (int n = 1; n <= 30; ++n) {
         make_body(&b);
-        mm_feet_update(&f, &d, &b.rig, &both, 0.0f, true, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         float t = (float)n * dt;
         assert_float_equal(f.hip_drop, D * (1.0f - (1.0f + y * t) * expf(-y * t)), 1e-4f);
         p[0] = p[1], p[1] = p[2], p[2] = b.global[HIPS].translation;
@@ -768,7 +775,8 @@ static void test_feet_toe_floor_and_far_targets(void **state)
             make_body(&b);
             b.positions[HIPS].y = 0.9f - (0.06f - heights[i]); /* the body lowered: ankle at heights[i] */
             mm_rig_forward(&b.rig, 1, &b.pose);
-            mm_feet_update(&f, &d, &b.rig, &none, tick ? 0.0f : -1.0f, true, dt, &b.pose);
+            mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){tick ? 0.0f : -1.0f, true, NULL}, dt,
+                           &b.pose);
         }
         float yy = heights[i], expected = yy;
         if (yy < h - 2.0f * s)
@@ -782,11 +790,11 @@ static void test_feet_toe_floor_and_far_targets(void **state)
     memset(&f, 0, sizeof f);
     body b;
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &none, -1.0f, false, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){-1.0f, false, NULL}, dt, &b.pose);
     f.offset[0] = mm_vec3_make(0, 0, 1.5f);
     f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &none, -1.0f, false, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){-1.0f, false, NULL}, dt, &b.pose);
     /* the offset decayed one step from rest first: 1.5 (1 + y dt) e^(-y dt) */
     float y = (float)mm_spring_damping(d.foot_halflife), z = 1.5f * (1.0f + y * dt) * expf(-y * dt);
     mm_vec3 hip = mm_vec3_make(0.1f, 0.9f, 0.0f), along = mm_vec3_make(0.0f, -0.84f, z);

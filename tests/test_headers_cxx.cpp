@@ -25,6 +25,7 @@
 #include <mm/skeleton_roles.h>
 #include <mm/trace.h>
 #include <mm/target_match.h>
+#include <mm/terrain_mesh.h>
 #include <mm/view.h>
 #include <mm/warp.h>
 

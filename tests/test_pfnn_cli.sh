@@ -90,6 +90,23 @@ expect_grep "symmetry must be mirror or none" "$tmp/err"
 # the same run twice gives the same bytes
 "$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" --seconds 5 --mode linear -o "$tmp/walk2.bvh" >/dev/null
 cmp -s "$tmp/walk.bvh" "$tmp/walk2.bvh" && ok || bad "two runs differ"
+# on a scene: a flat one changes nothing; on the shipped slope the terrain metrics are measured
+printf '{"ground": 0, "boxes": []}\n' >"$tmp/flat.json"
+"$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" --seconds 5 --mode linear --scene "$tmp/flat.json" \
+    -o "$tmp/walk3.bvh" >/dev/null
+cmp -s "$tmp/walk.bvh" "$tmp/walk3.bvh" && ok || bad "a flat scene changed the motion"
+scenes=$(cd "$(dirname "$0")/../scenes" && pwd)
+expect_exit 0 "$mm" pfnn run --weights "$w" --input "$scripts/slope_21_walk.json" --seconds 5 --mode linear \
+    --scene "$scenes/slope_21.json" -o "$tmp/slope.bvh" --metrics "$tmp/slope.json"
+for key in below_ground_cm contact_height_err_cm foot_float_cm penetration_max_cm; do
+    grep -q "\"$key\": [0-9]" "$tmp/slope.json" && ok || bad "$key not measured on the slope"
+done
+# half way up the ramp (0.5 m at z = 4.4 m) the hips are that much higher than on flat ground (1 m)
+y=$("$mm" bvh fk "$tmp/slope.bvh" --frame 299 | awk 'NR == 1 {print $3}')
+awk -v y="$y" 'BEGIN {exit !(y > 1.2)}' && ok || bad "the hips at y = $y m on the slope"
+expect_exit 1 "$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" --seconds 1 --scene "$tmp/none.json" \
+    -o "$tmp/x.bvh"
+expect_grep "none.json" "$tmp/err"
 expect_exit 2 "$mm" pfnn run --weights "$w" --input "$scripts/straight_walk.json" -o "$tmp/x.bvh"
 expect_exit 2 "$mm" pfnn run --weights "$w" --random 1 --input "$scripts/straight_walk.json" --seconds 1 -o "$tmp/x.bvh"
 expect_exit 2 "$mm" pfnn run --weights "$w" --random 1 --seconds 1 --mode quadratic -o "$tmp/x.bvh"

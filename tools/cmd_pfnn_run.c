@@ -1,8 +1,10 @@
 /* mm pfnn run [--weights DIR] (--input SCRIPT.json | --random SEED) --seconds T [--mode M]
- *             [--symmetry mirror|none] -o OUT.bvh [--metrics OUT.json]
+ *             [--symmetry mirror|none] [--scene SCENE.json] -o OUT.bvh [--metrics OUT.json]
  * The neural controller (seed 004) on the same input scripts as mm simulate, measured with the
  * same metrics: the desired velocity comes from the same trajectory simulation (mm/trajectory.h),
- * whose path is also the reference for the trajectory and heading errors. */
+ * whose path is also the reference for the trajectory and heading errors. With a scene the network
+ * is fed the heights of its ground (mm_pfnn_height_scene), its walls are the controller's
+ * obstacles and the simulation's walls, and the metrics measure against its ground. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -11,6 +13,7 @@
 
 #include <mm/input_json.h>
 #include <mm/mm.h>
+#include <mm/scene_json.h>
 
 #include "cli.h"
 #include "commands.h"
@@ -18,7 +21,46 @@
 
 #define RUN_USAGE                                                                                            \
     "usage: mm pfnn run [--weights DIR] (--input SCRIPT.json | --random SEED) --seconds T "                  \
-    "[--mode constant|linear|cubic] [--symmetry mirror|none] -o OUT.bvh [--metrics OUT.json]"
+    "[--mode constant|linear|cubic] [--symmetry mirror|none] [--scene SCENE.json] -o OUT.bvh "               \
+    "[--metrics OUT.json]"
+
+/* m: a box whose top is at most this above the scene's ground plane is stepped on, not a wall (a
+ * step, as mm_trajectory_desc.collider_step) */
+#define PFNN_WALL_MIN_HEIGHT 0.3f
+
+/* s the controller stands still on flat ground to show where its feet rest */
+#define PFNN_STAND_SECONDS 1.0f
+
+/* Where the controller's contact joints rest (m above flat ground): their heights after it has
+ * stood still for PFNN_STAND_SECONDS on flat ground, without walls (NAN for a joint not found).
+ * The planted heights the contact and float metrics measure against. 0 on success. */
+static int standing_heights(const mm_pfnn_controller_desc *desc, const mm_skeleton *skel,
+                            const int contact[4], double planted[4])
+{
+    mm_pfnn_controller_desc flat = *desc;
+    flat.height = NULL, flat.height_user = NULL, flat.obstacles = NULL, flat.obstacle_count = 0;
+    mm_pfnn_controller *c = NULL;
+    int n = skel->joint_count;
+    mm_quat *rotations = malloc(sizeof(mm_quat) * (size_t)n);
+    mm_vec3 *positions = malloc(sizeof(mm_vec3) * (size_t)n);
+    mm_xform *global = malloc(sizeof(mm_xform) * (size_t)n);
+    int status = -1;
+    if (rotations && positions && global && mm_pfnn_controller_create(&flat, &c, NULL) == MM_OK) {
+        mm_pfnn_input rest;
+        memset(&rest, 0, sizeof rest);
+        mm_pfnn_controller_step(c, &rest, PFNN_STAND_SECONDS);
+        mm_pfnn_controller_local_pose(c, skel, rotations, positions);
+        global[0] = mm_xform_make(rotations[0], positions[0]);
+        mm_skeleton_global_from(skel->joints, n, 1, rotations, positions, global);
+        for (int k = 0; k < 4; ++k) planted[k] = contact[k] >= 0 ? global[contact[k]].translation.y : NAN;
+        status = 0;
+    }
+    mm_pfnn_controller_destroy(c);
+    free(rotations);
+    free(positions);
+    free(global);
+    return status;
+}
 
 static mm_pfnn_gait pfnn_gait(mm_gait g)
 {
@@ -36,7 +78,8 @@ static mm_pfnn_gait pfnn_gait(mm_gait g)
 
 int mm_cmd_pfnn_run(int argc, char **argv)
 {
-    const char *dir = NULL, *input = NULL, *out = NULL, *metrics = NULL, *mode_name = "cubic";
+    const char *dir = NULL, *input = NULL, *out = NULL, *metrics = NULL, *mode_name = "cubic",
+               *scene_path = NULL;
     mm_pfnn_symmetry symmetry = MM_PFNN_SYMMETRY_MIRROR;
     long seed = -1;
     double seconds = 0.0;
@@ -67,6 +110,8 @@ int mm_cmd_pfnn_run(int argc, char **argv)
             out = v;
         else if (strcmp(a, "--metrics") == 0)
             metrics = v;
+        else if (strcmp(a, "--scene") == 0)
+            scene_path = v;
         else
             return cli_usage_error("pfnn run", "unknown option '%s'\n%s", a, RUN_USAGE);
         ++i;
@@ -87,6 +132,22 @@ int mm_cmd_pfnn_run(int argc, char **argv)
 
     mm_error err;
     memset(&err, 0, sizeof err);
+    static mm_scene scene; /* large: not on the stack */
+    if (scene_path && mm_scene_load_json(scene_path, &scene, &err) != MM_OK) return cli_report(&err);
+    /* the scene's walls (boxes higher than a step above its ground plane) for the controller */
+    static mm_pfnn_obstacle walls[MM_SCENE_MAX_BOXES];
+    int wall_count = 0;
+    for (int b = 0; scene_path && b < scene.box_count; ++b) {
+        const mm_scene_box *box = &scene.boxes[b];
+        if (box->position.y + box->size.y <= scene.ground + PFNN_WALL_MIN_HEIGHT) continue;
+        mm_pfnn_obstacle *w = &walls[wall_count++];
+        memset(w, 0, sizeof *w);
+        w->shape = MM_PFNN_OBSTACLE_BOX;
+        w->centre = box->position;
+        w->half_x = 0.5f * box->size.x;
+        w->half_z = 0.5f * box->size.z;
+        w->yaw = box->yaw; /* the same turn about +Y as the scene's */
+    }
     mm_input_script script;
     memset(&script, 0, sizeof script);
     if (input) {
@@ -126,12 +187,19 @@ int mm_cmd_pfnn_run(int argc, char **argv)
     cd.network = net;
     cd.mode = mode;
     cd.symmetry = symmetry;
+    if (scene_path) {
+        cd.height = mm_pfnn_height_scene;
+        cd.height_user = &scene;
+        cd.obstacles = walls;
+        cd.obstacle_count = wall_count;
+    }
     if (mm_pfnn_controller_create(&cd, &ctrl, &err) != MM_OK ||
         mm_trajectory_init(&traj, NULL, NULL) != MM_OK ||
         mm_clip_init(&clip, &skel, frames, (float)fps, NULL) != MM_OK) {
         status = err.code != MM_OK ? cli_report(&err) : (fprintf(stderr, "mm: out of memory\n"), 1);
         goto done;
     }
+    if (scene_path) mm_trajectory_set_scene(&traj, &scene, -1.0f); /* asked along the walls */
     /* contacts: the network's order is left heel, left toe, right heel, right toe */
     int contact[4];
     mm_posture_joints posture_joints;
@@ -139,16 +207,20 @@ int mm_cmd_pfnn_run(int argc, char **argv)
     int n = skel.joint_count;
     mm_xform *global = malloc(sizeof(mm_xform) * (size_t)n);
     mm_vec3 *world = malloc(sizeof(mm_vec3) * (size_t)n);
-    if (!global || !world || motion_metrics_init(&mx, n, contact, fps, frames) != 0) {
+    double planted[4];
+    if (!global || !world || motion_metrics_init(&mx, n, contact, fps, frames) != 0 ||
+        standing_heights(&cd, &skel, contact, planted) != 0) {
         free(global);
         free(world);
         fprintf(stderr, "mm: out of memory\n");
         status = 1;
         goto done;
     }
-    /* no database: no upright head height or planted heights to measure the posture and the feet
-     * against (mm metrics on the BVH measures them against the motion itself) */
-    motion_metrics_reference(&mx, &posture_joints, 0.0f, NULL);
+    /* no database: no upright head height to measure the posture against (mm metrics on the BVH
+     * measures it against the motion itself); the feet's planted heights are where they rest
+     * standing */
+    motion_metrics_reference(&mx, &posture_joints, 0.0f, planted);
+    if (scene_path) motion_metrics_scene(&mx, &scene); /* heights and walls against the scene */
     /* the metrics file is opened first, so that a bad path fails before the run and leaves no
        motion behind */
     char tmp[4096 + 32];
@@ -169,6 +241,7 @@ int mm_cmd_pfnn_run(int argc, char **argv)
         mm_trajectory_desired(&traj, &in, &desired, &desired_facing);
         motion_metrics_input(&mx, t, &in, desired);
         mm_trajectory_update(&traj, &in, (float)dt);
+        traj.floor = mm_pfnn_controller_state(ctrl)->root_position.y; /* where the character stands */
         mm_pfnn_input pin;
         memset(&pin, 0, sizeof pin);
         pin.velocity = desired;

@@ -16,6 +16,7 @@
 #include <mm/render.h>
 #include <mm/scene_json.h>
 #include <mm/skeleton_roles.h>
+#include <mm/terrain_mesh.h>
 #include <mm/view.h>
 
 #include "cli.h"
@@ -283,6 +284,13 @@ int mm_cmd_render(int argc, char **argv)
         scene.box_count = box_count;
         scene.ground_height = scene_path ? obstacles.ground : 0.0f;
         scene.body_mesh = body.vertex_count > 0 ? &body : NULL;
+        static float terrain[MM_TERRAIN_MESH_FLOATS * 4 *
+                             MM_SCENE_MAX_FIELD_SAMPLES]; /* the field's cells, and more */
+        scene.terrain = terrain;
+        scene.terrain_triangle_count =
+            scene_path ? mm_terrain_mesh(&obstacles, terrain, 4 * MM_SCENE_MAX_FIELD_SAMPLES) : 0;
+        if (scene.terrain_triangle_count > 4 * MM_SCENE_MAX_FIELD_SAMPLES)
+            scene.terrain_triangle_count = 4 * MM_SCENE_MAX_FIELD_SAMPLES;
         char overlay[256];
         scene.overlay = overlay;
         /* what the camera frames: the joints, and where the hips go over the next second */

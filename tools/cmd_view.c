@@ -247,6 +247,7 @@ static int view_database(const options *o)
         }
         mm_view_set_body(&view, &user_body);
     }
+    mm_character_set_scene(&c, o->scene); /* it walks on the scene's ground */
     mm_view_tuning_init(&tuning, &c);
     window win;
     if ((status = open_window(&win, o, "mm view")) != 0) goto done_character;
@@ -295,6 +296,7 @@ static int view_database(const options *o)
                 status = cli_report(&err);
                 break;
             }
+            mm_character_set_scene(&c, o->scene);
             mm_view_tuning_init(&tuning, &c);
         }
         mm_view_keys keys;

@@ -203,7 +203,7 @@ static const help_entry entries[] = {
      "  -o Y.bin           the outputs (required)\n"},
     {"pfnn run", "the neural controller on the same input and metrics as mm simulate",
      "usage: mm pfnn run [--weights DIR] (--input SCRIPT.json | --random SEED) --seconds T [--mode cubic]\n"
-     "                   [--symmetry mirror] -o OUT.bvh [--metrics OUT.json]\n"
+     "                   [--symmetry mirror] [--scene SCENE.json] -o OUT.bvh [--metrics OUT.json]\n"
      "The PFNN controller on an input script or random input, measured with mm simulate's metrics\n"
      "(docs/pfnn.md).\n"
      "  --weights DIR      the folder holding network/ (default: $MM_DATA_DIR/pfnn)\n"
@@ -212,6 +212,8 @@ static const help_entry entries[] = {
      "  --seconds T        how long, in (0, 36000] (required)\n"
      "  --mode M           constant, linear or cubic (default cubic)\n"
      "  --symmetry S       mirror or none (default mirror)\n"
+     "  --scene SCENE.json the ground the network is fed the heights of, and its walls (default:\n"
+     "                     flat ground)\n"
      "  -o OUT.bvh         the motion (required)\n"
      "  --metrics OUT.json the metrics (default: none)\n"},
     {"render", "a BVH clip drawn headless: a video, PNG frames or a contact sheet",

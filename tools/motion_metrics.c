@@ -226,6 +226,21 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
             m->contact_err_count += 1;
         }
     }
+    /* a foot whose heel or toe label is on floats by the lower gap of its ankle and toe above their
+     * planted heights over the ground under each (one of them on the ground: the foot stands) */
+    for (int foot = 0; foot < 2; ++foot) {
+        if (!(contacts & (3u << (2 * foot)))) continue;
+        double gap = INFINITY;
+        for (int k = 2 * foot; k < 2 * foot + 2; ++k) {
+            int j = m->contact_joint[k];
+            if (j < 0 || !isfinite(m->planted[k])) continue;
+            double g = height_above(m, now[j]) - m->planted[k];
+            if (isfinite(g)) gap = fmin(gap, g);
+        }
+        if (!isfinite(gap)) continue;
+        ++m->foot_float_frames;
+        if (gap > m->foot_float) m->foot_float = gap;
+    }
     mm_vec3 raw[4];
     for (int k = 0; k < 4; ++k)
         raw[k] = raw_contacts               ? raw_contacts[k]
@@ -332,6 +347,7 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
     out->below_ground_cm = 100.0 * m->below_ground;
     out->contact_height_err_cm =
         labels && m->contact_err_count > 0 ? 100.0 * m->contact_err_sum / m->contact_err_count : NAN;
+    out->foot_float_cm = labels && m->foot_float_frames > 0 ? 100.0 * m->foot_float : NAN;
     out->contact_share = labels && m->contact_pairs > 0 ? m->contact_on / m->contact_pairs : NAN;
     out->foot_slide_height_cm_s =
         m->slide_height_weight > 0 ? m->slide_height_sum / m->slide_height_weight : NAN;
@@ -393,6 +409,7 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "below_ground_cm", s.below_ground_cm, 0);
     json_number(f, "contact_height_err_cm", s.contact_height_err_cm, 0);
     json_number(f, "contact_share", s.contact_share, 0);
+    json_number(f, "foot_float_cm", s.foot_float_cm, 0);
     json_number(f, "foot_slide_height_cm_s", s.foot_slide_height_cm_s, 0);
     json_number(f, "pop_p99_cm", s.pop_p99_cm, 0);
     json_number(f, "db_pop_p99_cm", x->db_pop_p99_cm, 0);

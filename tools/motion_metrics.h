@@ -54,8 +54,11 @@ typedef struct motion_metrics {
     mm_posture_reference reference;
     double planted[4];
     int pose_only;
-    int crouch_input;    /* the input of the coming frame asks for the crouch gait */
-    double below_ground; /* m: the deepest any joint but joint 0 went below the ground under it */
+    int crouch_input;       /* the input of the coming frame asks for the crouch gait */
+    double below_ground;    /* m: the deepest any joint but joint 0 went below the ground under it */
+    double foot_float;      /* m: the largest gap under a foot whose contact label is on (its lower
+                               of ankle and toe, each above its planted height) */
+    long foot_float_frames; /* frames with a labelled foot measured */
     double contact_err_sum, contact_err_count, contact_on, contact_pairs;
     double slide_height_sum, slide_height_weight;
     double hands_apart_max; /* m */
@@ -140,7 +143,7 @@ typedef struct motion_metrics_extra { /* what only the caller knows; NAN: null *
 /* The measures of the pose (NAN: null), as motion_metrics_write_json writes them. 0 on success,
  * -1 when out of memory. */
 typedef struct motion_metrics_seen {
-    double below_ground_cm, contact_height_err_cm, contact_share, foot_slide_height_cm_s;
+    double below_ground_cm, contact_height_err_cm, contact_share, foot_slide_height_cm_s, foot_float_cm;
     double max_pop_cm, pop_p99_cm, head_p2_cm, head_p5_cm, head_p50_cm;
     double crouched_s, bent_s, lying_s, calibration_s, arms_spread_s, arms_out_s, hands_apart_max_cm;
 } motion_metrics_seen;

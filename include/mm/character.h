@@ -54,7 +54,17 @@
  *            mm_character_play_move mm_character_move_playing mm_character_shift_root
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
- *            mm_character_set_future mm_character_future_times
+ *            mm_character_set_future mm_character_future_times mm_character_set_scene
+ *            mm_character_set_walls mm_character_set_wall_pass
+ *
+ * Terrain: mm_character_set_scene gives the character the scene it walks on (mm/scene.h). Its
+ * root and simulated trajectory then follow the height of the ground under them
+ * (mm_scene_ground_height, smoothed), and planted feet stand on the ground under each of them,
+ * turned to its slope (docs/scene.md, "Characters on terrain"). Without a scene, or on a flat
+ * one (mm_scene_is_flat), the character runs exactly as on the plane y = 0.
+ *
+ * Walls: the same scene's boxes higher than a step stop the character (docs/scene.md,
+ * "Collision"): its simulation and root are a vertical capsule that slides along them.
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -66,6 +76,7 @@
 #include "math.h"
 #include "mixer.h"
 #include "result.h"
+#include "scene.h"
 #include "search.h"
 #include "trajectory.h"
 
@@ -281,6 +292,8 @@ typedef struct mm_character {
     mm_search_params last_params;
     const float *query;
 
+    const mm_scene *scene; /* the ground walked on (mm_character_set_scene); NULL: the plane y = 0 */
+
     mm_character_state *state;
     mm_allocator allocator;
 } mm_character;
@@ -338,6 +351,22 @@ void mm_character_teleport_simulation(mm_character *c, mm_vec3 position, mm_quat
 void mm_character_push_simulation(mm_character *c, mm_vec3 position);
 void mm_character_halt_simulation(mm_character *c);
 
+/* The scene the character walks on from the next update (not copied: it must stay valid while
+ * set; it may change between ticks). NULL: the plane y = 0 and no walls. Its ground: a flat scene
+ * (mm_scene_is_flat) is the plane y = 0, bit for bit as without a scene. Its walls (boxes higher
+ * than a step, mm_trajectory_set_scene) stop the simulation and the root alike: both are a
+ * vertical capsule (desc.trajectory.collider_radius) pushed out of them each tick, sliding along
+ * them, and the predicted future the search sees stops or bends at them (docs/scene.md,
+ * "Collision"). */
+void mm_character_set_scene(mm_character *c, const mm_scene *scene);
+/* The scene's walls alone (its ground not walked on; NULL: no walls): what mm_character_set_scene
+ * does for the walls. */
+void mm_character_set_walls(mm_character *c, const mm_scene *scene);
+/* Boxes whose top is at most pass_height above the character's ground are not walls to it (the
+ * move layer raises it to the highest box a move crosses, INFINITY during a move); negative: the
+ * desc's collider_step. */
+void mm_character_set_wall_pass(mm_character *c, float pass_height);
+
 /* The game's own desired future (its AI's or navigation's path) for the next mm_character_update
  * only, in place of the simulation's prediction in the search's query: world positions (y
  * ignored) and facings (rotations about +Y; identity faces +Z) at the database's future trajectory
@@ -347,6 +376,7 @@ void mm_character_halt_simulation(mm_character *c);
  * finite (nothing is set). */
 mm_result mm_character_set_future(mm_character *c, const mm_vec3 *positions, const mm_quat *facings,
                                   int count, mm_error *err);
+
 /* The database's future trajectory times (s ahead, increasing) into times (room for
  * MM_MAX_TRAJ_SAMPLES); returns how many. */
 int mm_character_future_times(const mm_character *c, float *times);

@@ -33,6 +33,7 @@
  *            mm_pfnn_controller_create mm_pfnn_controller_destroy mm_pfnn_controller_reset
  *            mm_pfnn_controller_step mm_pfnn_controller_state mm_pfnn_controller_assemble_input
  *            mm_pfnn_controller_local_pose mm_pfnn_height_flat mm_pfnn_height_slopes
+ *            mm_pfnn_height_scene
  */
 #ifndef MM_PFNN_H
 #define MM_PFNN_H
@@ -153,6 +154,10 @@ float mm_pfnn_height_flat(float x, float z, void *user);
 /* A test terrain of gentle hills: y = 0.35 sin(0.4 x) + 0.25 sin(0.3 z + 0.5 sin(0.2 x)) (slopes
  * up to about 20 degrees). user is ignored. */
 float mm_pfnn_height_slopes(float x, float z, void *user);
+/* The ground of a scene: user is a const mm_scene * (mm/scene.h), the height its
+ * mm_scene_ground_height gives (ramps, stairs, a height field, box tops, the ground plane); a NULL
+ * user is flat. On a scene that is the plane y = 0 it is exactly mm_pfnn_height_flat. */
+float mm_pfnn_height_scene(float x, float z, void *user);
 
 typedef enum mm_pfnn_obstacle_shape {
     MM_PFNN_OBSTACLE_CIRCLE = 0, /* a vertical cylinder: centre, radius */

@@ -51,7 +51,10 @@ mm_result mm_distance_predict_stop(mm_vec3 velocity, mm_vec3 acceleration, float
 mm_result mm_distance_predict_pivot(mm_vec3 velocity, mm_vec3 acceleration, mm_vec3 target_velocity,
                                     float halflife, mm_distance_prediction *out);
 /* Both, for a trajectory (mm/trajectory.h) with the input `in` held: stop = where it would rest
- * if the stick were let go now; pivot = the pivot point under `in`. Either output may be NULL. */
+ * if the stick were let go now; pivot = the pivot point under `in`. Either output may be NULL.
+ * In a scene (mm_trajectory_set_scene) a stop whose way meets a wall is the collided simulation's
+ * (mm_trajectory_predict over the stop's time): it ends at the wall, or slides along it, and its
+ * distance is the path's. */
 mm_result mm_distance_predict_trajectory(const mm_trajectory *t, const mm_input *in, float rest_speed,
                                          mm_distance_prediction *stop, mm_distance_prediction *pivot);
 

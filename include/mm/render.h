@@ -148,6 +148,9 @@ typedef struct mm_render_scene {
     /* a body skinned to the joints (mm/body_mesh.h), drawn in place of the spheres and capsules
      * when its joint_count is the scene's; NULL: the capsule figure */
     const mm_body_mesh *body_mesh;
+    const float *terrain; /* a scene's terrain (mm/terrain_mesh.h: triangles of positions and
+                             normals), drawn solid and lit; NULL: none */
+    int terrain_triangle_count;
 } mm_render_scene;
 
 /* The joint named like a head: the head role's default name (mm_role_default_name) in any case,

@@ -37,7 +37,8 @@ extern "C" {
 typedef struct mm_run_desc {
     float fps;                          /* ticks per second; 0: MM_RUN_DEFAULT_FPS */
     const mm_character_desc *character; /* NULL: the database's settings (mm_character_desc_from_database) */
-    const mm_scene *scene;              /* NULL: flat ground (the move layer has no obstacle to use) */
+    const mm_scene *scene;              /* NULL: flat ground (the move layer has no obstacle to use);
+                                           its walls stop the character (mm_character_set_walls) */
     const mm_allocator *allocator;      /* the searcher's and the character's memory; NULL: malloc */
 } mm_run_desc;
 

@@ -11,6 +11,11 @@
  * (err->file) and the field path, e.g. "boxes[2].size[1] must not be negative". The format is
  * described in docs/scene.md.
  *
+ * Terrain (docs/scene.md, "Terrain"): "ramps" and "stairs" (arrays of {"position", "size", "yaw"},
+ * stairs with "steps") and "field" ({"origin", "spacing", "columns", "rows", "heights"}, or
+ * {"origin", "spacing", "image": "map.pgm", "height_scale"} with a PGM height map relative to the
+ * scene file's folder).
+ *
  * Functions: mm_scene_parse_json mm_scene_load_json mm_scene_write_json
  */
 #ifndef MM_SCENE_JSON_H

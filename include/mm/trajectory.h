@@ -11,6 +11,14 @@
  * the tick rate. Gait style weights (walk, run, ...) move toward the input's gait with their own
  * spring (seed 004).
  *
+ * In a scene (mm_trajectory_set_scene) the simulated character is a vertical capsule that collides
+ * with the scene's walls and slides along them: the motion is then stepped (at most
+ * MM_TRAJECTORY_COLLISION_STEP per step), each step the closed form and then the capsule pushed out
+ * of the boxes (mm_scene_collide_capsule) with the velocity and acceleration into them removed.
+ * The predicted future runs the same steps, so it stops at a wall or bends along it, and the
+ * recorded past is what the collided simulation did. Without a scene, or in one without boxes,
+ * nothing changes: the closed form as above, to the bit.
+ *
  *   mm_trajectory t;
  *   mm_trajectory_init(&t, NULL, NULL);
  *   each tick: mm_trajectory_update(&t, &input, dt);
@@ -21,6 +29,7 @@
  *
  * Functions: mm_trajectory_resolve_desc mm_trajectory_defaults mm_trajectory_init mm_trajectory_free
  * mm_trajectory_reset mm_trajectory_teleport mm_trajectory_update mm_trajectory_sample mm_trajectory_desired
+ * mm_trajectory_set_scene mm_trajectory_collide mm_trajectory_predict
  */
 #ifndef MM_TRAJECTORY_H
 #define MM_TRAJECTORY_H
@@ -29,6 +38,7 @@
 #include "input.h"
 #include "math.h"
 #include "result.h"
+#include "scene.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -47,12 +57,19 @@ typedef struct mm_gait_params {
  * field 0 (a speed of 0, a half-life of 0: at once, no recorded past). Defaults: walk 1.5 / 1.1 /
  * 1.0 m/s (forward / side / backward) with half-lives 0.25 s (velocity) and 0.2 s (facing); run
  * 4.0 / 2.6 / 2.2 m/s, 0.3 s and 0.25 s; crouch 0.9 / 0.7 / 0.6 m/s, 0.25 s and 0.2 s; jump as
- * run; gait_halflife 0.2 s, history_seconds 10 s, history_rate 60 per second. */
+ * run; gait_halflife 0.2 s, history_seconds 10 s, history_rate 60 per second; the collider 0.3 m
+ * in radius, 1.8 m high, stepping over 0.3 m. */
 typedef struct mm_trajectory_desc {
     mm_gait_params gaits[MM_GAIT_COUNT]; /* per gait */
     float gait_halflife;                 /* s: gait style weights follow the input's gait */
     float history_seconds;               /* s: the recorded past */
     float history_rate;                  /* samples per second of the past */
+    float collider_radius;               /* m: the capsule's radius, in a scene */
+    float collider_height;               /* m: a box whose bottom is this far above the floor is
+                                            walked under, not a wall */
+    float collider_step;                 /* m: a box whose top is at most this far above the floor
+                                            is stepped over, not a wall (mm_trajectory_set_scene
+                                            may raise it) */
     const mm_allocator *allocator;
 } mm_trajectory_desc;
 
@@ -61,6 +78,15 @@ void mm_trajectory_defaults(mm_trajectory_desc *d);
 /* in with its zero fields at their defaults and its negative ones at 0 (what mm_trajectory_init
  * runs with); out may be in. */
 void mm_trajectory_resolve_desc(const mm_trajectory_desc *in, mm_trajectory_desc *out);
+
+/* s: the longest step of the collided simulation */
+#define MM_TRAJECTORY_COLLISION_STEP (1.0f / 60.0f)
+/* the most wall faces one step slides along (a corner of two, and a margin) */
+#define MM_TRAJECTORY_MAX_CONTACTS 4
+/* m: a wall this close to the capsule touches it (it rests against it) */
+#define MM_TRAJECTORY_CONTACT_SKIN 0.01f
+/* m/s: slower, what is left of the velocity asked for along a wall does not turn the facing */
+#define MM_TRAJECTORY_SLIDE_MIN_SPEED 0.3f
 
 typedef struct mm_trajectory {
     mm_vec3 position, velocity, acceleration; /* on the ground (y = 0) */
@@ -75,6 +101,15 @@ typedef struct mm_trajectory {
     mm_quat *history_facing;
     int history_capacity, history_count, history_head; /* head: index of the newest */
     double history_time;                               /* time of the newest sample */
+    /* collision (mm_trajectory_set_scene): the scene (NULL: none), the height of the ground the
+     * capsule stands on (the caller keeps it where the character stands; 0 by default), and the
+     * height above it up to which a box is not a wall */
+    const mm_scene *scene;
+    float floor;
+    float pass_height;
+    /* the walls the simulation rests against after the last update (their faces' normals) */
+    mm_vec3 contact_normals[MM_TRAJECTORY_MAX_CONTACTS];
+    int contact_count;
     mm_trajectory_desc desc;
     mm_allocator allocator;
 } mm_trajectory;
@@ -90,12 +125,35 @@ void mm_trajectory_reset(mm_trajectory *t, mm_vec3 position, mm_quat facing);
  * character away from the simulation. Non-finite input does nothing. */
 void mm_trajectory_teleport(mm_trajectory *t, mm_vec3 position, mm_quat facing);
 
-/* The velocity and facing the input asks for, given the current facing (targets of the springs). */
+/* The velocity and facing the input asks for, given the current facing (targets of the springs).
+ * Resting against walls (contact_count), the velocity loses its part into them and, unless
+ * strafing, the facing turns along what is left (when it is at least MM_TRAJECTORY_SLIDE_MIN_SPEED):
+ * the character slides along a wall, or stops at it facing it. */
 void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *velocity, mm_quat *facing);
 
 /* Advances by dt seconds (negative, NaN or infinite dt do nothing; a NaN or oversized stick
  * counts as zero or is clamped to the unit circle). Allocates nothing. */
 void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt);
+
+/* The scene the simulated character collides with (NULL: none). A box is a wall when its top is
+ * more than pass_height above the floor and its bottom less than collider_height above it
+ * (t->floor: the ground under the character, kept by the caller); pass_height < 0 (or NaN) takes the desc's
+ * collider_step, INFINITY makes nothing a wall (collision off, the scene kept). The scene must
+ * outlive its use. */
+void mm_trajectory_set_scene(mm_trajectory *t, const mm_scene *scene, float pass_height);
+
+/* Pushes *position (horizontally) out of the walls as the simulation's capsule (the same rule:
+ * radius, floor, heights); writes up to max_normals faces' normals and returns how many faces
+ * it touched (0 without a scene). */
+int mm_trajectory_collide(const mm_trajectory *t, mm_vec3 *position, mm_vec3 *normals, int max_normals);
+
+/* The simulation `seconds` ahead (at most a minute) with the targets `velocity` and `facing` held
+ * and the gait's half-lives, stepped and collided as mm_trajectory_sample's future (in closed form
+ * without a scene). *position, *facing_out and *path may be NULL; path: the length of the stepped
+ * path (m; without a scene the straight distance).
+ * Returns how many steps touched a wall (0 without a scene). */
+int mm_trajectory_predict(const mm_trajectory *t, mm_vec3 velocity, mm_quat facing, mm_gait gait,
+                          float seconds, mm_vec3 *position, mm_quat *facing_out, float *path);
 
 /* Positions and facings at the given times relative to now (seconds; negative = past, from the
  * history, held at its oldest sample; positive = predicted with the input held). */

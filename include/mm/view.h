@@ -56,6 +56,8 @@ typedef struct mm_view {
     float ground;              /* its ground height */
     mm_body_mesh body;         /* the body mm_view_init made from the database (none: no triangles) */
     const mm_body_mesh *drawn; /* the body the scene shows: &body, a user's (mm_view_set_body), NULL */
+    float *terrain;            /* its terrain's triangles (mm/terrain_mesh.h; owned) */
+    int terrain_triangle_count;
 } mm_view;
 
 /* Also makes the database's body (mm_body_mesh_build_from_database); a database whose roles do not

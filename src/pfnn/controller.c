@@ -14,6 +14,7 @@
  *      (blended toward) the network's trajectory; 10. posture: positions half (previous + velocity),
  *      half predicted, rotations from the exponential maps; 11. phase advanced. */
 #include <mm/pfnn.h>
+#include <mm/scene.h>
 
 #include <math.h>
 #include <string.h>
@@ -111,6 +112,11 @@ float mm_pfnn_height_flat(float x, float z, void *user)
     (void)z;
     (void)user;
     return 0.0f;
+}
+
+float mm_pfnn_height_scene(float x, float z, void *user)
+{
+    return user ? mm_scene_ground_height((const mm_scene *)user, x, z, NULL) : 0.0f;
 }
 
 float mm_pfnn_height_slopes(float x, float z, void *user)

@@ -8,6 +8,7 @@
 
 #include <mm/alloc.h>
 #include <mm/database.h>
+#include <mm/terrain_mesh.h>
 
 #include "gl_api.h"
 #include "render_internal.h"
@@ -35,6 +36,7 @@ struct mm_renderer {
 
 static const mm_rgba default_body = {0.62f, 0.68f, 0.78f, 1.0f};
 static const mm_rgba default_box = {0.80f, 0.64f, 0.46f, 1.0f};
+static const mm_rgba terrain_color = {0.62f, 0.64f, 0.56f, 1.0f};
 static const float fog_color[3] = {0.80f, 0.84f, 0.88f};
 
 /* ---- shaders ---- */
@@ -595,6 +597,18 @@ static void upload_dynamic(mm_renderer *r, const float *data, size_t floats, int
     vertex_layout(gl, first_size + second_size, first_size, second_size);
 }
 
+/* The terrain's triangles (world positions and normals), lit in a stone colour. */
+static void draw_terrain(mm_renderer *r, GLint u_model, GLint u_normal, GLint u_color,
+                         const mm_render_scene *s)
+{
+    static const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    r->gl.UniformMatrix4fv(u_model, 1, GL_FALSE, identity);
+    r->gl.UniformMatrix4fv(u_normal, 1, GL_FALSE, identity);
+    r->gl.Uniform4f(u_color, terrain_color.r, terrain_color.g, terrain_color.b, terrain_color.a);
+    upload_dynamic(r, s->terrain, (size_t)s->terrain_triangle_count * MM_TERRAIN_MESH_FLOATS, 3, 3);
+    r->gl.DrawArrays(GL_TRIANGLES, 0, 3 * s->terrain_triangle_count);
+}
+
 static void draw_lines(mm_renderer *r, const float view_proj[16], const mm_render_scene *s)
 {
     if (s->line_count <= 0 || !s->lines) return;
@@ -863,6 +877,7 @@ void mm_renderer_draw(mm_renderer *r, const mm_camera *cam, int width, int heigh
     for (int i = 0; i < s->marker_count && s->markers; ++i)
         draw_sphere(r, u_model, u_normal, u_color, s->markers[i].position, s->markers[i].radius,
                     s->markers[i].color);
+    if (s->terrain && s->terrain_triangle_count > 0) draw_terrain(r, u_model, u_normal, u_color, s);
     if (s->boxes && s->box_count > 0) {
         for (int i = 0; i < s->box_count; ++i) draw_box(r, u_model, u_normal, u_color, &s->boxes[i]);
         draw_box_edges(r, view_proj, s);

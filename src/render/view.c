@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include <mm/view.h>
+#include <mm/terrain_mesh.h>
 
 enum { LINE_CAPACITY = 256, MARKER_CAPACITY = 64, PATH_SAMPLES = 16 };
 
@@ -56,6 +57,7 @@ void mm_view_free(mm_view *v)
 {
     mm_body_mesh_free(&v->body);
     free(v->boxes);
+    free(v->terrain);
     free(v->parents);
     free(v->joint_colors);
     free(v->lines);
@@ -119,6 +121,8 @@ void mm_view_update(mm_view *v, const mm_character *c, const mm_input *in, const
     s->box_count = v->box_count;
     s->ground_height = v->ground;
     s->body_mesh = v->drawn;
+    s->terrain = v->terrain;
+    s->terrain_triangle_count = v->terrain_triangle_count;
     mm_input none;
     memset(&none, 0, sizeof none);
     if (!in) in = &none;
@@ -213,7 +217,16 @@ mm_result mm_view_set_scene(mm_view *v, const mm_scene *scene, mm_error *err)
     v->boxes = NULL;
     v->box_count = 0;
     v->ground = 0.0f;
+    free(v->terrain);
+    v->terrain = NULL;
+    v->terrain_triangle_count = 0;
     if (!scene) return MM_OK;
+    int triangles = mm_terrain_mesh(scene, NULL, 0);
+    if (triangles > 0) {
+        v->terrain = malloc(sizeof(float) * MM_TERRAIN_MESH_FLOATS * (size_t)triangles);
+        if (!v->terrain) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+        v->terrain_triangle_count = mm_terrain_mesh(scene, v->terrain, triangles);
+    }
     int n = scene->box_count;
     if (n < 0 || n > MM_SCENE_MAX_BOXES)
         return mm_error_set(err, MM_ERR_OUT_OF_RANGE, 0, 0, "the scene has %d boxes (at most %d)", n,

@@ -1204,6 +1204,7 @@ static void after_move(mm_moves *m, mm_character *c, float t_before, mm_vec3 roo
 static void follow_ground(mm_moves *m, mm_character *c, float dt)
 {
     const mm_moves_desc *d = &m->desc;
+    if (!mm_scene_is_flat(c->scene)) return; /* a character on terrain follows the ground itself */
     mm_vec3 r = c->root.translation;
     float h;
     if (!ground_at(m, r, d->step_height, INFINITY, &h)) return;
@@ -1243,15 +1244,19 @@ static bool push_out_of_box(const mm_scene_box *box, float radius, mm_vec3 *p)
 }
 
 /* The collider: a circle of radius about the root, and the simulation with it, out of the walls
- * (boxes whose top is above a step and whose bottom is below collider_height). */
+ * (boxes whose top is above a step and whose bottom is below collider_height), but for those the
+ * character collides with itself (higher than any move crosses, with mm_character_set_scene). */
 static void push_out_of_walls(mm_moves *m, mm_character *c)
 {
     const mm_moves_desc *d = &m->desc;
     const mm_scene *s = m->scene;
+    /* the walls the character collides with itself (mm_character_set_scene): its own capsule's */
+    float own = c->trajectory->scene == s ? c->trajectory->pass_height : INFINITY;
     for (int b = 0; b < s->box_count; ++b) {
         const mm_scene_box *box = &s->boxes[b];
         float y = c->root.translation.y;
-        if (box->position.y + box->size.y <= y + d->step_height || box->position.y >= y + d->collider_height)
+        if (box->position.y + box->size.y <= y + d->step_height ||
+            box->position.y >= y + d->collider_height || box->position.y + box->size.y > y + own)
             continue;
         mm_vec3 p = c->root.translation;
         if (push_out_of_box(box, d->radius, &p)) {
@@ -1342,6 +1347,24 @@ static void toward_wall(mm_moves *m, mm_character *c, mm_vec3 dir, mm_vec3 facin
     start_vault(m, c, kind, mc, &o);
 }
 
+/* pieces the way to the ledge probe is walked in on terrain (a step's edge between two is found) */
+#define TERRAIN_LEDGE_SAMPLES 8
+
+/* On terrain (the character follows the ground, mm_character_set_scene): a ledge is where the
+ * ground falls by more than step_height between two points on the way from the root to `ahead`
+ * (stairs and slopes going down are walked; their root is not on the ground under it). */
+static int terrain_ledge(const mm_moves *m, mm_vec3 root, mm_vec3 ahead)
+{
+    float before = mm_scene_ground_height(m->scene, root.x, root.z, NULL);
+    for (int i = 1; i <= TERRAIN_LEDGE_SAMPLES; ++i) {
+        mm_vec3 p = mm_vec3_lerp(root, ahead, (float)i / (float)TERRAIN_LEDGE_SAMPLES);
+        float h = mm_scene_ground_height(m->scene, p.x, p.z, NULL);
+        if (before - h > m->desc.step_height) return 1;
+        before = h;
+    }
+    return 0;
+}
+
 /* After the character's update in locomotion: a move to start? Not within cooldown of the last
  * one, but a drop where walking on would fall waits only LEDGE_COOLDOWN (a move may end a step
  * from a ledge: a climb onto a wall half a metre deep). */
@@ -1357,7 +1380,8 @@ static void look_for_move(mm_moves *m, mm_character *c, const mm_input *in, int 
         speed > DIRECTION_MIN_SPEED ? mm_vec3_scale(desired, 1.0f / speed) : mm_vec3_normalize(facing);
     int moving = speed > d->moving_speed && m->fall_velocity == 0.0f;
     mm_vec3 ahead = mm_vec3_add(root, mm_vec3_scale(dir, d->ledge_probe));
-    int ledge = !ground_at(m, ahead, d->step_height, d->step_height, &h);
+    int ledge = mm_scene_is_flat(c->scene) ? !ground_at(m, ahead, d->step_height, d->step_height, &h)
+                                           : terrain_ledge(m, root, ahead);
     if (m->since_move < d->cooldown && !(moving && ledge && m->since_move >= LEDGE_COOLDOWN)) return;
     if (jump_or_drop(m, c, pressed, moving, ledge, dir, facing) || !moving) return;
     toward_wall(m, c, dir, facing);
@@ -1396,6 +1420,10 @@ void mm_moves_update(mm_moves *m, mm_character *c, const mm_input *in, float dt)
     }
     m->finished = false;
     m->time += dt;
+    /* a character colliding with this scene itself (mm_character_set_scene) leaves the boxes a
+     * move crosses to the moves, and has no walls during one */
+    if (c->trajectory && c->trajectory->scene == m->scene)
+        mm_character_set_wall_pass(c, m->kind != MM_MOVE_NONE ? INFINITY : m->desc.high_max_height);
     int pressed = in && in->jump && !m->jump_held;
     m->jump_held = in && in->jump;
     if (m->kind != MM_MOVE_NONE)

@@ -203,6 +203,17 @@ mm_result mm_distance_predict_trajectory(const mm_trajectory *t, const mm_input 
     float halflife = t->desc.gaits[g].velocity_halflife;
     mm_result r = MM_OK;
     if (stop) r = mm_distance_predict_stop(t->velocity, t->acceleration, halflife, rest_speed, stop);
+    if (stop && r == MM_OK && stop->found && t->scene) {
+        /* in a scene the stop is stepped as the simulation is (mm/trajectory.h): a wall in the way
+         * ends it there, the distance the path slid */
+        mm_vec3 at;
+        float path;
+        if (mm_trajectory_predict(t, mm_vec3_make(0, 0, 0), t->target_facing, (mm_gait)g, stop->time, &at,
+                                  NULL, &path) > 0) {
+            stop->offset = mm_vec3_make(at.x - t->position.x, 0.0f, at.z - t->position.z);
+            stop->distance = path;
+        }
+    }
     if (pivot && r == MM_OK) {
         mm_vec3 target;
         mm_trajectory_desired(t, in, &target, NULL);

@@ -20,6 +20,10 @@
 /* the stick's squared length under which it asks for no facing (0.01 of its travel): a stick at
  * rest does not turn the character */
 #define STICK_TURN_MIN_SQ 1e-4f
+/* m: the largest collider radius and height (a building is not a character) */
+#define MAX_COLLIDER_SIZE 100.0f
+/* s: the longest look ahead mm_trajectory_predict steps through */
+#define MAX_PREDICT_SECONDS 60.0f
 
 static mm_gait_params gait(float forward, float side, float backward, float velocity, float rotation)
 {
@@ -37,6 +41,9 @@ void mm_trajectory_defaults(mm_trajectory_desc *d)
     d->gait_halflife = 0.2f;
     d->history_seconds = 10.0f;
     d->history_rate = 60.0f;
+    d->collider_radius = 0.3f;
+    d->collider_height = 1.8f;
+    d->collider_step = 0.3f;
 }
 
 static float resolved(float given, float fallback)
@@ -60,6 +67,9 @@ void mm_trajectory_resolve_desc(const mm_trajectory_desc *in, mm_trajectory_desc
     r.gait_halflife = resolved(in->gait_halflife, def.gait_halflife);
     r.history_seconds = resolved(in->history_seconds, def.history_seconds);
     r.history_rate = resolved(in->history_rate, def.history_rate);
+    r.collider_radius = resolved(in->collider_radius, def.collider_radius);
+    r.collider_height = resolved(in->collider_height, def.collider_height);
+    r.collider_step = resolved(in->collider_step, def.collider_step);
     *out = r;
 }
 
@@ -80,7 +90,9 @@ mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, c
             return MM_ERR_OUT_OF_RANGE;
     }
     if (!sane(d->gait_halflife, 0, MAX_HALFLIFE) || !sane(d->history_seconds, 0, MAX_HISTORY_SECONDS) ||
-        !sane(d->history_rate, MIN_HISTORY_RATE, MAX_HISTORY_RATE))
+        !sane(d->history_rate, MIN_HISTORY_RATE, MAX_HISTORY_RATE) ||
+        !sane(d->collider_radius, 0, MAX_COLLIDER_SIZE) || !sane(d->collider_height, 0, MAX_COLLIDER_SIZE) ||
+        !sane(d->collider_step, 0, MAX_COLLIDER_SIZE))
         return MM_ERR_OUT_OF_RANGE;
     if (allocator) t->allocator = *allocator;
     int capacity = (int)ceil(d->history_seconds * d->history_rate) + HISTORY_SLACK;
@@ -91,6 +103,7 @@ mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, c
         return MM_ERR_OUT_OF_MEMORY;
     }
     t->history_capacity = capacity;
+    t->pass_height = -1.0f;
     mm_trajectory_reset(t, mm_vec3_make(0, 0, 0), mm_quat_identity());
     return MM_OK;
 }
@@ -131,6 +144,7 @@ void mm_trajectory_reset(mm_trajectory *t, mm_vec3 position, mm_quat facing)
     t->history_count = 0;
     t->history_head = -1;
     t->history_time = 0.0;
+    t->contact_count = 0;
 }
 
 /* The stick, cleaned: NaN counts as zero, longer than 1 is cut to 1. */
@@ -183,7 +197,18 @@ void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *
     local.x *= p->side_speed;
     local.z *= local.z >= 0.0f ? p->forward_speed : p->backward_speed;
     local.y = 0.0f;
-    if (velocity) *velocity = mm_quat_rotate(f, local);
+    mm_vec3 v = mm_quat_rotate(f, local);
+    if (t->contact_count > 0) { /* against walls: along them */
+        bool into = false;
+        for (int k = 0; k < t->contact_count && k < MM_TRAJECTORY_MAX_CONTACTS; ++k) {
+            float d = mm_vec3_dot(v, t->contact_normals[k]);
+            if (d < 0.0f) v = mm_vec3_sub(v, mm_vec3_scale(t->contact_normals[k], d)), into = true;
+        }
+        v.y = 0.0f;
+        if (into && !(in && in->strafe) && mm_vec3_length(v) >= MM_TRAJECTORY_SLIDE_MIN_SPEED)
+            f = facing_toward(v.x, v.z);
+    }
+    if (velocity) *velocity = v;
     if (facing) *facing = f;
 }
 
@@ -191,6 +216,9 @@ void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *
 typedef struct state {
     mm_vec3 position, velocity, acceleration, angular_velocity;
     mm_quat facing;
+    int contacts;                                /* steps that touched a wall (collided simulation) */
+    mm_vec3 normals[MM_TRAJECTORY_MAX_CONTACTS]; /* the walls the last step touched */
+    int normal_count;
 } state;
 
 static void advance(state *s, mm_vec3 velocity, mm_quat facing, const mm_gait_params *p, float dt)
@@ -202,9 +230,65 @@ static void advance(state *s, mm_vec3 velocity, mm_quat facing, const mm_gait_pa
 
 static state current(const mm_trajectory *t)
 {
-    state s = {t->position, t->velocity, t->acceleration, t->angular_velocity, t->facing};
+    state s;
+    memset(&s, 0, sizeof s);
+    s.position = t->position, s.velocity = t->velocity, s.acceleration = t->acceleration;
+    s.angular_velocity = t->angular_velocity, s.facing = t->facing;
     return s;
 }
+
+void mm_trajectory_set_scene(mm_trajectory *t, const mm_scene *scene, float pass_height)
+{
+    if (!t) return;
+    if (scene != t->scene) t->contact_count = 0;
+    t->scene = scene;
+    t->pass_height = pass_height >= 0.0f ? pass_height : -1.0f;
+}
+
+int mm_trajectory_collide(const mm_trajectory *t, mm_vec3 *position, mm_vec3 *normals, int max_normals)
+{
+    if (!t || !t->scene || !position) return 0;
+    const mm_trajectory_desc *d = &t->desc;
+    float pass = t->pass_height >= 0.0f ? t->pass_height : d->collider_step;
+    return mm_scene_collide_capsule(t->scene, d->collider_radius, MM_TRAJECTORY_CONTACT_SKIN, t->floor + pass,
+                                    t->floor + d->collider_height, position, normals, max_normals);
+}
+
+/* In a scene with boxes: the collided simulation (without any, the closed form, to the bit). */
+static bool colliding(const mm_trajectory *t) { return t->scene && t->scene->box_count > 0; }
+
+/* The capsule out of the walls, and the motion into them taken away: what is left slides along.
+ * Pushed off a face while moving into it, the velocity and the acceleration lose their parts
+ * along its normal: the spring there starts again from rest at the wall (an acceleration left
+ * along the normal, the braking of a stop, would carry the character back off the wall). */
+static void collide(const mm_trajectory *t, state *s)
+{
+    mm_vec3 *normals = s->normals, before = s->position;
+    int n = mm_trajectory_collide(t, &s->position, normals, MM_TRAJECTORY_MAX_CONTACTS);
+    if (n > MM_TRAJECTORY_MAX_CONTACTS) n = MM_TRAJECTORY_MAX_CONTACTS;
+    mm_vec3 pushed = mm_vec3_sub(s->position, before);
+    for (int k = 0; k < n; ++k) {
+        float into = mm_vec3_dot(s->velocity, normals[k]);
+        if (!(mm_vec3_dot(pushed, normals[k]) > 0.0f) || into > 0.0f) continue; /* resting, or leaving */
+        s->velocity = mm_vec3_sub(s->velocity, mm_vec3_scale(normals[k], into));
+        float along = mm_vec3_dot(s->acceleration, normals[k]);
+        s->acceleration = mm_vec3_sub(s->acceleration, mm_vec3_scale(normals[k], along));
+    }
+    s->position.y = 0.0f;
+    s->normal_count = n;
+    s->contacts += n > 0;
+}
+
+/* One step of the collided simulation: the closed form over dt, then the collision. */
+static void step(const mm_trajectory *t, state *s, mm_vec3 velocity, mm_quat facing, const mm_gait_params *p,
+                 float dt)
+{
+    advance(s, velocity, facing, p, dt);
+    collide(t, s);
+}
+
+/* The whole steps of the collided simulation from now that fit in `seconds`. */
+static int whole_steps(float seconds) { return (int)floorf(seconds / MM_TRAJECTORY_COLLISION_STEP); }
 
 static void push_history(mm_trajectory *t, mm_vec3 position, mm_quat facing, double time)
 {
@@ -213,6 +297,30 @@ static void push_history(mm_trajectory *t, mm_vec3 position, mm_quat facing, dou
     t->history_facing[t->history_head] = facing;
     if (t->history_count < t->history_capacity) ++t->history_count;
     t->history_time = time;
+}
+
+/* The collided simulation over dt in equal steps of at most MM_TRAJECTORY_COLLISION_STEP; the
+ * history samples from k / rate on that fall inside it, each stepped from the start of its step
+ * and collided. The state at the end. */
+static state update_colliding(mm_trajectory *t, mm_vec3 velocity, mm_quat facing, const mm_gait_params *p,
+                              float dt, double k)
+{
+    double rate = t->desc.history_rate, end = t->time + dt;
+    int steps = (int)ceilf(dt / MM_TRAJECTORY_COLLISION_STEP);
+    if (steps < 1) steps = 1;
+    float h = dt / (float)steps;
+    state s = current(t);
+    for (int i = 0; i < steps; ++i) {
+        double t0 = t->time + (double)h * i, t1 = i + 1 == steps ? end : t->time + (double)h * (i + 1);
+        for (; k / rate <= t1 + 1e-9; k += 1.0) {
+            state q = s;
+            float tau = (float)(k / rate - t0);
+            if (tau > 0.0f) step(t, &q, velocity, facing, p, tau);
+            push_history(t, q.position, q.facing, k / rate);
+        }
+        step(t, &s, velocity, facing, p, (float)(t1 - t0));
+    }
+    return s;
 }
 
 void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
@@ -225,14 +333,21 @@ void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
     /* the history at fixed times inside (time, time + dt], each from the closed form */
     double rate = t->desc.history_rate, end = t->time + dt;
     double k = t->history_count ? floor(t->history_time * rate + 0.5) + 1.0 : ceil(t->time * rate - 1e-9);
-    for (; k / rate <= end + 1e-9; k += 1.0) {
-        state s = current(t);
-        float tau = (float)(k / rate - t->time);
-        if (tau > 0.0f) advance(&s, velocity, facing, p, tau);
-        push_history(t, s.position, s.facing, k / rate);
+    state s;
+    if (colliding(t)) {
+        s = update_colliding(t, velocity, facing, p, dt, k);
+        t->contact_count = s.normal_count;
+        for (int i = 0; i < s.normal_count; ++i) t->contact_normals[i] = s.normals[i];
+    } else {
+        for (; k / rate <= end + 1e-9; k += 1.0) {
+            state q = current(t);
+            float tau = (float)(k / rate - t->time);
+            if (tau > 0.0f) advance(&q, velocity, facing, p, tau);
+            push_history(t, q.position, q.facing, k / rate);
+        }
+        s = current(t);
+        advance(&s, velocity, facing, p, dt);
     }
-    state s = current(t);
-    advance(&s, velocity, facing, p, dt);
     t->position = mm_vec3_make(s.position.x, 0.0f, s.position.z);
     t->velocity = s.velocity;
     t->acceleration = s.acceleration;
@@ -279,6 +394,11 @@ void mm_trajectory_sample(const mm_trajectory *t, const mm_input *in, const floa
     mm_quat facing;
     mm_trajectory_desired(t, in, &velocity, &facing);
     const mm_gait_params *p = gait_of(t, in);
+    /* in a scene: the collided simulation on a grid of whole steps from now, walked forward from
+     * one time to the next (and back to now when the times go back), each time the grid's last
+     * step before it and then the rest */
+    state grid = current(t);
+    int grid_steps = 0;
     for (int i = 0; i < count; ++i) {
         float tau = isfinite(times[i]) ? times[i] : 0.0f;
         if (tau <= 0.0f) {
@@ -286,8 +406,46 @@ void mm_trajectory_sample(const mm_trajectory *t, const mm_input *in, const floa
             continue;
         }
         state s = current(t);
-        advance(&s, velocity, facing, p, tau);
+        if (colliding(t)) {
+            int n = whole_steps(fminf(tau, MAX_PREDICT_SECONDS));
+            if (n < grid_steps) grid = current(t), grid_steps = 0;
+            for (; grid_steps < n; ++grid_steps)
+                step(t, &grid, velocity, facing, p, MM_TRAJECTORY_COLLISION_STEP);
+            s = grid;
+            float rest = tau - (float)n * MM_TRAJECTORY_COLLISION_STEP;
+            if (rest > 0.0f) step(t, &s, velocity, facing, p, rest);
+        } else {
+            advance(&s, velocity, facing, p, tau);
+        }
         positions[i] = mm_vec3_make(s.position.x, 0.0f, s.position.z);
         facings[i] = s.facing;
     }
+}
+
+int mm_trajectory_predict(const mm_trajectory *t, mm_vec3 velocity, mm_quat facing, mm_gait gait,
+                          float seconds, mm_vec3 *position, mm_quat *facing_out, float *path)
+{
+    if (!t || (int)gait < 0 || (int)gait >= MM_GAIT_COUNT) return 0;
+    const mm_gait_params *p = &t->desc.gaits[gait];
+    float tau = isfinite(seconds) ? fminf(fmaxf(seconds, 0.0f), MAX_PREDICT_SECONDS) : 0.0f;
+    state s = current(t);
+    float travelled = 0.0f;
+    if (colliding(t)) {
+        int n = whole_steps(tau);
+        for (int i = 0; i <= n; ++i) {
+            float h = i < n ? MM_TRAJECTORY_COLLISION_STEP : tau - (float)n * MM_TRAJECTORY_COLLISION_STEP;
+            if (!(h > 0.0f)) continue;
+            mm_vec3 before = s.position;
+            step(t, &s, velocity, facing, p, h);
+            travelled += mm_vec3_length(mm_vec3_sub(s.position, before));
+        }
+    } else if (tau > 0.0f) {
+        advance(&s, velocity, facing, p, tau);
+        s.position.y = 0.0f;
+        travelled = mm_vec3_length(mm_vec3_sub(s.position, t->position));
+    }
+    if (position) *position = mm_vec3_make(s.position.x, 0.0f, s.position.z);
+    if (facing_out) *facing_out = s.facing;
+    if (path) *path = travelled;
+    return s.contacts;
 }

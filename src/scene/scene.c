@@ -1,4 +1,5 @@
-/* Scenes of boxes on a flat ground: ray casts, the ground probe and the obstacle measure. */
+/* Scenes of boxes, ramps, stairs and a height field on a ground plane: the ground's height, ray
+ * casts, the ground probe and the obstacle measure. */
 #include <mm/scene.h>
 
 #include <math.h>
@@ -14,6 +15,11 @@
 /* m: how far inside, and in front of, an obstacle's near face its top and floor are measured from:
  * clear of the face's own rounding, far less than any box */
 #define FACE_STEP 1e-3f
+/* share of the field's spacing a ray marches by before it refines a crossing (a triangle's surface
+ * is planar: one crossing per step is found; a sliver of a crossing shorter than this is missed) */
+#define FIELD_MARCH 0.25f
+/* bisections that refine a ray's crossing of the field (the step shrinks 2^this times) */
+#define FIELD_BISECTIONS 24
 
 void mm_scene_init(mm_scene *scene, float ground)
 {
@@ -42,6 +48,84 @@ mm_result mm_scene_add_box(mm_scene *scene, mm_vec3 position, mm_vec3 size, floa
 mm_vec3 mm_scene_box_centre(const mm_scene_box *box)
 {
     return mm_vec3_make(box->position.x, box->position.y + 0.5f * box->size.y, box->position.z);
+}
+
+static bool valid_solid(mm_vec3 position, mm_vec3 size, float yaw)
+{
+    return in_range(position.x) && in_range(position.y) && in_range(position.z) && in_range(size.x) &&
+           in_range(size.y) && in_range(size.z) && isfinite(yaw) && fabsf(yaw) <= MAX_YAW && size.x >= 0.0f &&
+           size.y >= 0.0f && size.z >= 0.0f;
+}
+
+mm_result mm_scene_add_ramp(mm_scene *scene, mm_vec3 position, mm_vec3 size, float yaw)
+{
+    if (!scene) return MM_ERR_INVALID_ARGUMENT;
+    if (scene->ramp_count < 0 || scene->ramp_count >= MM_SCENE_MAX_RAMPS) return MM_ERR_LIMIT;
+    if (!valid_solid(position, size, yaw) || !(size.z > 0.0f)) return MM_ERR_OUT_OF_RANGE;
+    mm_scene_ramp *r = &scene->ramps[scene->ramp_count++];
+    r->position = position;
+    r->size = size;
+    r->yaw = yaw;
+    return MM_OK;
+}
+
+mm_result mm_scene_add_stairs(mm_scene *scene, mm_vec3 position, mm_vec3 size, float yaw, int steps)
+{
+    if (!scene) return MM_ERR_INVALID_ARGUMENT;
+    if (scene->stairs_count < 0 || scene->stairs_count >= MM_SCENE_MAX_STAIRS) return MM_ERR_LIMIT;
+    if (!valid_solid(position, size, yaw) || steps < 1 || steps > MM_SCENE_MAX_STEPS)
+        return MM_ERR_OUT_OF_RANGE;
+    mm_scene_stairs *st = &scene->stairs[scene->stairs_count++];
+    st->position = position;
+    st->size = size;
+    st->yaw = yaw;
+    st->steps = steps;
+    return MM_OK;
+}
+
+mm_result mm_scene_set_field(mm_scene *scene, mm_vec3 origin, float spacing, int columns, int rows,
+                             const float *heights)
+{
+    if (!scene) return MM_ERR_INVALID_ARGUMENT;
+    if (columns == 0 && rows == 0) {
+        memset(&scene->field, 0, sizeof scene->field);
+        return MM_OK;
+    }
+    if (!heights) return MM_ERR_INVALID_ARGUMENT;
+    if (columns < 2 || rows < 2) return MM_ERR_OUT_OF_RANGE;
+    if ((long)columns * rows > MM_SCENE_MAX_FIELD_SAMPLES) return MM_ERR_LIMIT;
+    if (!in_range(origin.x) || !in_range(origin.y) || !in_range(origin.z) || !in_range(spacing) ||
+        !(spacing > 0.0f) || !in_range(origin.x + spacing * (float)(columns - 1)) ||
+        !in_range(origin.z + spacing * (float)(rows - 1)))
+        return MM_ERR_OUT_OF_RANGE;
+    for (int i = 0; i < columns * rows; ++i)
+        if (!in_range(heights[i]) || !in_range(origin.y + heights[i])) return MM_ERR_OUT_OF_RANGE;
+    mm_scene_field *f = &scene->field;
+    f->origin = origin;
+    f->spacing = spacing;
+    f->columns = columns;
+    f->rows = rows;
+    memcpy(f->heights, heights, sizeof(float) * (size_t)(columns * rows));
+    return MM_OK;
+}
+
+bool mm_scene_stairs_step(const mm_scene_stairs *s, int i, mm_scene_box *out)
+{
+    if (!s || i < 0 || i >= s->steps || s->steps < 1) return false;
+    float run = s->size.z / (float)s->steps, rise = s->size.y / (float)s->steps;
+    float c = cosf(s->yaw), sn = sinf(s->yaw);
+    float lz = -0.5f * s->size.z + ((float)i + 0.5f) * run; /* the step's centre along the flight */
+    /* world from local: x = c lx + s lz, z = -s lx + c lz */
+    out->position = mm_vec3_make(s->position.x + sn * lz, s->position.y, s->position.z + c * lz);
+    out->size = mm_vec3_make(s->size.x, rise * (float)(i + 1), run);
+    out->yaw = s->yaw;
+    return true;
+}
+
+bool mm_scene_is_flat(const mm_scene *scene)
+{
+    return !scene || (scene->ground == 0.0f && scene->box_count == 0 && scene->ramp_count == 0 &&
+                      scene->stairs_count == 0 && scene->field.columns == 0);
 }
 
 /* ---- box frames ------------------------------------------------------------------------- */
@@ -116,10 +200,286 @@ static bool slab(const float o[3], const float d[3], const float half[3], float 
     return true;
 }
 
+/* ---- surfaces ---------------------------------------------------------------------------- */
+
+static int clamp_count(int n, int max) { return n < 0 ? 0 : n > max ? max : n; }
+
+bool mm_scene_field_height(const mm_scene_field *f, float x, float z, float *height, mm_vec3 *normal)
+{
+    if (!f || f->columns < 2 || f->rows < 2 || !(f->spacing > 0.0f) || !isfinite(x) || !isfinite(z))
+        return false;
+    float u = (x - f->origin.x) / f->spacing, v = (z - f->origin.z) / f->spacing;
+    float last_u = (float)(f->columns - 1), last_v = (float)(f->rows - 1);
+    if (!(u >= 0.0f && u <= last_u && v >= 0.0f && v <= last_v)) return false;
+    int i = (int)floorf(u), j = (int)floorf(v);
+    if (i > f->columns - 2) i = f->columns - 2;
+    if (j > f->rows - 2) j = f->rows - 2;
+    u -= (float)i, v -= (float)j;
+    const float *row0 = f->heights + (size_t)j * (size_t)f->columns + i, *row1 = row0 + f->columns;
+    float h00 = row0[0], h10 = row0[1], h01 = row1[0], h11 = row1[1], dx, dz;
+    if (u >= v) { /* the triangle (i, j), (i + 1, j), (i + 1, j + 1) */
+        dx = h10 - h00;
+        dz = h11 - h10;
+    } else { /* (i, j), (i, j + 1), (i + 1, j + 1) */
+        dx = h11 - h01;
+        dz = h01 - h00;
+    }
+    if (height) *height = f->origin.y + h00 + u * dx + v * dz;
+    if (normal) *normal = mm_vec3_normalize(mm_vec3_make(-dx / f->spacing, 1.0f, -dz / f->spacing));
+    return true;
+}
+
+/* A point in a footprint's local frame (x and z about its centre, the yaw undone). */
+static void footprint_local(mm_vec3 position, float yaw, float x, float z, float *lx, float *lz)
+{
+    float c = cosf(yaw), s = sinf(yaw), dx = x - position.x, dz = z - position.z;
+    *lx = c * dx - s * dz;
+    *lz = s * dx + c * dz;
+}
+
+static mm_vec3 yawed(float yaw, mm_vec3 v)
+{
+    float c = cosf(yaw), s = sinf(yaw);
+    return mm_vec3_make(c * v.x + s * v.z, v.y, -s * v.x + c * v.z);
+}
+
+/* The top of ramp r at (x, z) and its normal; false outside its footprint. */
+static bool ramp_top(const mm_scene_ramp *r, float x, float z, float *top, mm_vec3 *normal)
+{
+    float lx, lz, hx = 0.5f * r->size.x, hz = 0.5f * r->size.z;
+    footprint_local(r->position, r->yaw, x, z, &lx, &lz);
+    if (!(fabsf(lx) <= hx && fabsf(lz) <= hz)) return false;
+    float slope = r->size.y / r->size.z;
+    *top = r->position.y + r->size.y * (lz / r->size.z + 0.5f);
+    *normal = yawed(r->yaw, mm_vec3_normalize(mm_vec3_make(0.0f, 1.0f, -slope)));
+    return true;
+}
+
+/* The top of the step of stairs s under (x, z); false outside the flight's footprint. */
+static bool stairs_top(const mm_scene_stairs *s, float x, float z, float *top)
+{
+    float lx, lz, hx = 0.5f * s->size.x, hz = 0.5f * s->size.z;
+    footprint_local(s->position, s->yaw, x, z, &lx, &lz);
+    if (!(fabsf(lx) <= hx && fabsf(lz) <= hz) || s->steps < 1) return false;
+    float run = s->size.z / (float)s->steps;
+    int i = run > 0.0f ? (int)floorf((lz + hz) / run) : s->steps - 1;
+    if (i > s->steps - 1) i = s->steps - 1;
+    if (i < 0) i = 0;
+    *top = s->position.y + s->size.y * (float)(i + 1) / (float)s->steps;
+    return true;
+}
+
+/* The highest surface other than the ground plane (box tops, steps, ramps, the field) under (x, z)
+ * whose height lies in [lo, hi], if higher than *best: *best, *normal and *box (the box's index,
+ * -1 for terrain) updated. Returns whether one was. */
+static bool highest_surface(const mm_scene *scene, float x, float z, float lo, float hi, float *best,
+                            mm_vec3 *normal, int *box)
+{
+    bool found = false;
+    mm_vec3 up = mm_vec3_make(0.0f, 1.0f, 0.0f);
+    int boxes = clamp_count(scene->box_count, MM_SCENE_MAX_BOXES);
+    for (int b = 0; b < boxes; ++b) {
+        const mm_scene_box *bx = &scene->boxes[b];
+        float top = bx->position.y + bx->size.y, lx, lz;
+        if (top < lo || top > hi || !(top > *best)) continue;
+        footprint_local(bx->position, bx->yaw, x, z, &lx, &lz);
+        if (!(fabsf(lx) <= 0.5f * bx->size.x && fabsf(lz) <= 0.5f * bx->size.z)) continue;
+        *best = top, *normal = up, *box = b;
+        found = true;
+    }
+    int stairs = clamp_count(scene->stairs_count, MM_SCENE_MAX_STAIRS);
+    for (int k = 0; k < stairs; ++k) {
+        float top;
+        if (!stairs_top(&scene->stairs[k], x, z, &top) || top < lo || top > hi || !(top > *best)) continue;
+        *best = top, *normal = up, *box = -1;
+        found = true;
+    }
+    int ramps = clamp_count(scene->ramp_count, MM_SCENE_MAX_RAMPS);
+    for (int k = 0; k < ramps; ++k) {
+        float top;
+        mm_vec3 n;
+        if (!ramp_top(&scene->ramps[k], x, z, &top, &n) || top < lo || top > hi || !(top > *best)) continue;
+        *best = top, *normal = n, *box = -1;
+        found = true;
+    }
+    float top;
+    mm_vec3 n;
+    if (mm_scene_field_height(&scene->field, x, z, &top, &n) && top >= lo && top <= hi && top > *best) {
+        *best = top, *normal = n, *box = -1;
+        found = true;
+    }
+    return found;
+}
+
+float mm_scene_ground_height(const mm_scene *scene, float x, float z, mm_vec3 *normal)
+{
+    mm_vec3 n = mm_vec3_make(0.0f, 1.0f, 0.0f);
+    float best = scene ? scene->ground : 0.0f;
+    int box;
+    if (scene && isfinite(x) && isfinite(z))
+        highest_surface(scene, x, z, -INFINITY, INFINITY, &best, &n, &box);
+    if (normal) *normal = n;
+    return best;
+}
+
 /* ---- ray casts -------------------------------------------------------------------------- */
 
+/* The hit of o + t d (d unit), 0 <= t <= max_t, with box bx when nearer than best->distance: best
+ * updated (box index `index`). */
+static bool cast_box(const mm_scene_box *bx, int index, mm_vec3 o, mm_vec3 d, float max_t, mm_scene_hit *best)
+{
+    frame f = box_frame(bx);
+    float lo[3], ld[3], tn, tf;
+    int axis;
+    to_local_point(&f, o, lo);
+    to_local_vector(&f, d, ld);
+    if (!slab(lo, ld, f.half, &tn, &tf, &axis)) return false;
+    if (tf < 0.0f || (tn < 0.0f && tf <= 0.0f)) return false; /* behind, or leaving from a surface */
+    float t = tn > 0.0f ? tn : 0.0f;
+    if (t > max_t || !(t < best->distance)) return false;
+    best->distance = t;
+    best->box = index;
+    best->inside = tn < 0.0f;
+    if (best->inside || axis < 0) {
+        best->normal = mm_vec3_neg(d);
+        best->inside = true;
+    } else {
+        float n[3] = {0.0f, 0.0f, 0.0f};
+        n[axis] = ld[axis] > 0.0f ? -1.0f : 1.0f;
+        best->normal = to_world_vector(&f, n);
+    }
+    best->point = best->inside ? o : mm_vec3_add(o, mm_vec3_scale(d, t));
+    return true;
+}
+
+/* The hit of the ray with ramp r (a convex wedge: five planes n.p <= c in its frame, about its
+ * footprint's centre at its base) when nearer than best->distance. */
+static bool cast_ramp(const mm_scene_ramp *r, mm_vec3 o, mm_vec3 d, float max_t, mm_scene_hit *best)
+{
+    float c = cosf(r->yaw), s = sinf(r->yaw);
+    mm_vec3 p = mm_vec3_sub(o, r->position);
+    float lo[3] = {c * p.x - s * p.z, p.y, s * p.x + c * p.z},
+          ld[3] = {c * d.x - s * d.z, d.y, s * d.x + c * d.z};
+    float hx = 0.5f * r->size.x, hz = 0.5f * r->size.z, k = r->size.y / r->size.z;
+    /* planes: x <= hx, -x <= hx, -y <= 0, z <= hz, -z <= hz, y - k z <= rise / 2 */
+    const float planes[6][4] = {{1, 0, 0, hx}, {-1, 0, 0, hx}, {0, -1, 0, 0},
+                                {0, 0, 1, hz}, {0, 0, -1, hz}, {0, 1, -k, 0.5f * r->size.y}};
+    float tn = -INFINITY, tf = INFINITY;
+    int entry = -1;
+    for (int i = 0; i < 6; ++i) {
+        const float *n = planes[i];
+        float dist = n[0] * lo[0] + n[1] * lo[1] + n[2] * lo[2] - n[3],
+              along = n[0] * ld[0] + n[1] * ld[1] + n[2] * ld[2];
+        if (fabsf(along) < 1e-30f) {
+            if (dist > 0.0f) return false;
+            continue;
+        }
+        float t = -dist / along;
+        if (along < 0.0f) {
+            if (t > tn) tn = t, entry = i;
+        } else if (t < tf) {
+            tf = t;
+        }
+    }
+    if (!(tn <= tf) || tf < 0.0f || (tn < 0.0f && tf <= 0.0f)) return false;
+    float t = tn > 0.0f ? tn : 0.0f;
+    if (t > max_t || !(t < best->distance)) return false;
+    best->distance = t;
+    best->box = -1;
+    best->inside = tn < 0.0f || entry < 0;
+    if (best->inside) {
+        best->normal = mm_vec3_neg(d);
+        best->point = o;
+    } else {
+        const float *n = planes[entry];
+        best->normal = yawed(r->yaw, mm_vec3_normalize(mm_vec3_make(n[0], n[1], n[2])));
+        best->point = mm_vec3_add(o, mm_vec3_scale(d, t));
+    }
+    return true;
+}
+
+/* How far the ray's point at t is above the field (-INFINITY outside its footprint). */
+static float above_field(const mm_scene_field *f, mm_vec3 o, mm_vec3 d, float t)
+{
+    float h;
+    if (!mm_scene_field_height(f, o.x + d.x * t, o.z + d.z * t, &h, NULL)) return -INFINITY;
+    return o.y + d.y * t - h;
+}
+
+/* The first crossing of the ray down through the height field (from above: a ray under it passes)
+ * when nearer than best->distance: marched by a share of the spacing, refined by bisection. */
+static bool cast_field(const mm_scene_field *f, mm_vec3 o, mm_vec3 d, float max_t, mm_scene_hit *best)
+{
+    if (f->columns < 2 || f->rows < 2) return false;
+    float end = fminf(max_t, best->distance);
+    if (!(sqrtf(d.x * d.x + d.z * d.z) > 1e-6f)) { /* straight up or down: the height under it */
+        mm_vec3 normal;
+        float h;
+        if (!(d.y < 0.0f) || !mm_scene_field_height(f, o.x, o.z, &h, &normal) || !(o.y > h)) return false;
+        float t = (o.y - h) / -d.y;
+        if (t > end) return false;
+        best->distance = t;
+        best->box = -1;
+        best->inside = false;
+        best->normal = normal;
+        best->point = mm_vec3_make(o.x, h, o.z);
+        return true;
+    }
+    /* the ray's stretch over the footprint (x and z slabs) */
+    float lo = 0.0f, hi = end;
+    const float o2[2] = {o.x, o.z}, d2[2] = {d.x, d.z}, base[2] = {f->origin.x, f->origin.z};
+    const float span[2] = {f->spacing * (float)(f->columns - 1), f->spacing * (float)(f->rows - 1)};
+    for (int a = 0; a < 2; ++a) {
+        if (fabsf(d2[a]) < 1e-30f) {
+            if (o2[a] < base[a] || o2[a] > base[a] + span[a]) return false;
+            continue;
+        }
+        float t0 = (base[a] - o2[a]) / d2[a], t1 = (base[a] + span[a] - o2[a]) / d2[a];
+        if (t0 > t1) {
+            float tmp = t0;
+            t0 = t1;
+            t1 = tmp;
+        }
+        lo = fmaxf(lo, t0);
+        hi = fminf(hi, t1);
+    }
+    if (!(lo <= hi) || !isfinite(hi)) return false;
+    float horizontal = sqrtf(d.x * d.x + d.z * d.z);
+    float step = horizontal > 1e-6f ? FIELD_MARCH * f->spacing / horizontal : hi - lo;
+    if (!(step > 0.0f)) step = hi - lo;
+    float t0 = lo, g0 = above_field(f, o, d, t0);
+    if (g0 == 0.0f && lo == 0.0f) g0 = 1.0f; /* starting on the surface: leaving it is no hit */
+    if (t0 > 0.0f && g0 <= 0.0f && g0 > -INFINITY) g0 = 1.0f; /* entering the footprint below: no hit here */
+    for (int n = 0; t0 < hi && n < 1 << 24; ++n) {
+        float t1 = fminf(t0 + (step > 0.0f ? step : hi - t0), hi), g1 = above_field(f, o, d, t1);
+        if (g0 > 0.0f && g1 <= 0.0f && g1 > -INFINITY) {
+            float a = t0, b = t1;
+            for (int k = 0; k < FIELD_BISECTIONS; ++k) {
+                float m = 0.5f * (a + b);
+                if (above_field(f, o, d, m) > 0.0f)
+                    a = m;
+                else
+                    b = m;
+            }
+            mm_vec3 normal;
+            float h;
+            mm_vec3 p = mm_vec3_add(o, mm_vec3_scale(d, b));
+            mm_scene_field_height(f, p.x, p.z, &h, &normal);
+            best->distance = b;
+            best->box = -1;
+            best->inside = false;
+            best->normal = normal;
+            best->point = mm_vec3_make(p.x, h, p.z);
+            return true;
+        }
+        if (t1 >= hi) break;
+        t0 = t1, g0 = g1;
+    }
+    return false;
+}
+
 /* The nearest hit of o + t d (d unit), 0 <= t <= max_t, with the boxes and, when with_ground,
- * the ground. */
+ * the ground plane and the terrain (stairs, ramps, field). */
 static bool cast(const mm_scene *scene, mm_vec3 o, mm_vec3 d, float max_t, bool with_ground,
                  mm_scene_hit *out)
 {
@@ -127,32 +487,18 @@ static bool cast(const mm_scene *scene, mm_vec3 o, mm_vec3 d, float max_t, bool 
     mm_scene_hit best;
     memset(&best, 0, sizeof best);
     best.distance = INFINITY;
-    int count = scene->box_count < 0                    ? 0
-                : scene->box_count > MM_SCENE_MAX_BOXES ? MM_SCENE_MAX_BOXES
-                                                        : scene->box_count;
-    for (int b = 0; b < count; ++b) {
-        frame f = box_frame(&scene->boxes[b]);
-        float lo[3], ld[3], tn, tf;
-        int axis;
-        to_local_point(&f, o, lo);
-        to_local_vector(&f, d, ld);
-        if (!slab(lo, ld, f.half, &tn, &tf, &axis)) continue;
-        if (tf < 0.0f || (tn < 0.0f && tf <= 0.0f)) continue; /* behind, or leaving from a surface */
-        float t = tn > 0.0f ? tn : 0.0f;
-        if (t > max_t || !(t < best.distance)) continue;
-        best.distance = t;
-        best.box = b;
-        best.inside = tn < 0.0f;
-        if (best.inside || axis < 0) {
-            best.normal = mm_vec3_neg(d);
-            best.inside = true;
-        } else {
-            float n[3] = {0.0f, 0.0f, 0.0f};
-            n[axis] = ld[axis] > 0.0f ? -1.0f : 1.0f;
-            best.normal = to_world_vector(&f, n);
+    int count = clamp_count(scene->box_count, MM_SCENE_MAX_BOXES);
+    for (int b = 0; b < count; ++b) found |= cast_box(&scene->boxes[b], b, o, d, max_t, &best);
+    if (with_ground) {
+        int stairs = clamp_count(scene->stairs_count, MM_SCENE_MAX_STAIRS);
+        for (int k = 0; k < stairs; ++k) {
+            mm_scene_box step;
+            for (int i = 0; mm_scene_stairs_step(&scene->stairs[k], i, &step); ++i)
+                found |= cast_box(&step, -1, o, d, max_t, &best);
         }
-        best.point = best.inside ? o : mm_vec3_add(o, mm_vec3_scale(d, t));
-        found = true;
+        int ramps = clamp_count(scene->ramp_count, MM_SCENE_MAX_RAMPS);
+        for (int k = 0; k < ramps; ++k) found |= cast_ramp(&scene->ramps[k], o, d, max_t, &best);
+        found |= cast_field(&scene->field, o, d, max_t, &best);
     }
     if (with_ground) {
         float g = scene->ground, t = 0.0f;
@@ -191,34 +537,21 @@ bool mm_scene_ground_probe(const mm_scene *scene, mm_vec3 point, float step_heig
 {
     if (!scene || !finite3(point) || !isfinite(step_height) || isnan(max_drop)) return false;
     float lo = point.y - max_drop, hi = point.y + step_height;
-    bool found = false;
     float best = -INFINITY;
     int best_box = -1;
-    int count = scene->box_count < 0                    ? 0
-                : scene->box_count > MM_SCENE_MAX_BOXES ? MM_SCENE_MAX_BOXES
-                                                        : scene->box_count;
-    for (int b = 0; b < count; ++b) {
-        const mm_scene_box *box = &scene->boxes[b];
-        float top = box->position.y + box->size.y;
-        if (top < lo || top > hi || !(top > best)) continue;
-        frame f = box_frame(box);
-        float lp[3];
-        to_local_point(&f, point, lp);
-        if (fabsf(lp[0]) > f.half[0] || fabsf(lp[2]) > f.half[2]) continue;
-        best = top;
-        best_box = b;
-        found = true;
-    }
+    mm_vec3 normal = mm_vec3_make(0.0f, 1.0f, 0.0f);
+    bool found = highest_surface(scene, point.x, point.z, lo, hi, &best, &normal, &best_box);
     float g = scene->ground;
     if (g >= lo && g <= hi && g > best) {
         best = g;
         best_box = -1;
+        normal = mm_vec3_make(0.0f, 1.0f, 0.0f);
         found = true;
     }
     if (!found) return false;
     if (hit) {
         hit->point = mm_vec3_make(point.x, best, point.z);
-        hit->normal = mm_vec3_make(0.0f, 1.0f, 0.0f);
+        hit->normal = normal;
         hit->distance = point.y - best;
         hit->box = best_box;
         hit->inside = false;

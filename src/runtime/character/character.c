@@ -127,6 +127,9 @@ void mm_character_desc_resolve(const mm_database *db, const mm_character_desc *i
     r.trajectory.gait_halflife = written(t->gait_halflife, td->gait_halflife);
     r.trajectory.history_seconds = written(t->history_seconds, td->history_seconds);
     r.trajectory.history_rate = written(t->history_rate, td->history_rate);
+    r.trajectory.collider_radius = written(t->collider_radius, td->collider_radius);
+    r.trajectory.collider_height = written(t->collider_height, td->collider_height);
+    r.trajectory.collider_step = written(t->collider_step, td->collider_step);
     *out = r;
 }
 
@@ -264,6 +267,9 @@ static void apply_tuning(mm_character *c, const mm_character_desc *given)
     effective_desc(&c->desc, &s->desc);
     mm_trajectory_resolve_desc(&c->desc.trajectory, &s->desc.trajectory);
     for (int g = 0; g < MM_GAIT_COUNT; ++g) s->trajectory.desc.gaits[g] = s->desc.trajectory.gaits[g];
+    s->trajectory.desc.collider_radius = s->desc.trajectory.collider_radius;
+    s->trajectory.desc.collider_height = s->desc.trajectory.collider_height;
+    s->trajectory.desc.collider_step = s->desc.trajectory.collider_step;
     const mm_character_desc *d = &s->desc;
     mm_playback_params *pp = &s->playback_params;
     pp->distance_matching = d->distance_matching, pp->warping = d->warping;
@@ -405,9 +411,16 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_character_state *s = c->state;
     const mm_database *db = c->db;
     const mm_character_desc *d = &s->desc;
+    /* the terrain walked on: none on a flat scene (the plane y = 0, as without one) */
+    const mm_scene *terrain = mm_scene_is_flat(c->scene) ? NULL : c->scene;
 
-    /* 1. input -> trajectory: the simulation, and what the input asks for */
+    /* 1. input -> trajectory: the simulation, and what the input asks for; on terrain, at the
+     * height of the ground under it; its capsule stands where the character stands */
+    s->trajectory.floor = s->root_motion.root.translation.y;
     mm_intent_update(&s->trajectory, in, dt, &s->intent);
+    if (terrain)
+        s->trajectory.position.y =
+            mm_scene_ground_height(terrain, s->trajectory.position.x, s->trajectory.position.z, NULL);
 
     /* 2. playback: by the clock, or by distance matching (never during a move) */
     choose_play_rate(s, db, in, dt);
@@ -432,6 +445,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
 
     /* 5. root motion: played, pulled toward the simulation and clamped (a move's is its clip's) */
     mm_root_motion_update(&s->root_motion, d, &s->trajectory, &s->intent, played, s->move.playing, dt);
+    mm_root_motion_follow_ground(&s->root_motion, s->move.playing ? NULL : terrain, dt);
     pose_from_animation(s, db->joint_count);
 
     /* 6. warping: the legs turned toward the movement and stretched along it */
@@ -448,12 +462,34 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_feet_record(&s->feet, &s->rig, &s->pose);
     if (!d->no_foot_ik) {
         mm_feet_contacts contacts = feet_contacts(db, &s->playback, d->plant_time);
-        mm_feet_update(&s->feet, d, &s->rig, &contacts, s->root_motion.root.translation.y, !s->move.playing,
-                       dt, &s->pose);
+        mm_feet_ground ground = {s->root_motion.root.translation.y, !s->move.playing, terrain};
+        mm_feet_update(&s->feet, d, &s->rig, &contacts, &ground, dt, &s->pose);
     }
 
-    /* 8. pose: what the character shows */
+    /* 8. walls: in a scene, the body out of them (not during a move: the move layer has it) */
+    if (!s->move.playing && !s->move.pending) {
+        mm_vec3 out =
+            mm_walls_push(&s->trajectory, s->root_motion.root.translation, &s->pose, db->joint_count);
+        if (out.x != 0.0f || out.z != 0.0f)
+            mm_walls_move_body(&s->root_motion.root, &s->pose, db->joint_count, &s->feet, out);
+    }
+
+    /* 9. pose: what the character shows */
     publish(c);
+}
+
+void mm_character_set_scene(mm_character *c, const mm_scene *scene)
+{
+    if (!c) return;
+    c->scene = scene;
+    mm_character_set_walls(c, scene);
+    if (!c->state || mm_scene_is_flat(scene)) return;
+    /* on the ground from the start: the root's height spring starts there, at rest */
+    mm_root_motion *r = &c->state->root_motion;
+    r->root.translation.y = mm_root_motion_ground(scene, r->root);
+    r->on_ground = false; /* the spring starts at rest from there */
+    r->ground_velocity = 0.0f;
+    c->root = r->root;
 }
 
 void mm_character_tune(mm_character *c, const mm_character_desc *d)
@@ -558,6 +594,20 @@ void mm_character_halt_simulation(mm_character *c)
 {
     if (!c || !c->state) return;
     c->state->trajectory.velocity = mm_vec3_make(0, 0, 0);
+}
+
+void mm_character_set_walls(mm_character *c, const mm_scene *scene)
+{
+    if (!c || !c->state) return;
+    mm_trajectory *t = &c->state->trajectory;
+    mm_trajectory_set_scene(t, scene, t->pass_height);
+}
+
+void mm_character_set_wall_pass(mm_character *c, float pass_height)
+{
+    if (!c || !c->state) return;
+    mm_trajectory *t = &c->state->trajectory;
+    mm_trajectory_set_scene(t, t->scene, pass_height);
 }
 
 int mm_character_future_times(const mm_character *c, float *times)

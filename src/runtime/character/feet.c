@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include <mm/leg_ik.h>
+#include <mm/scene.h>
 #include <mm/spring.h>
 
 /* share of the leg's length over which the IK's reach softens (mm_leg_ik_params.soft_reach) */
@@ -25,6 +26,29 @@
 #define MIN_FOOT_LENGTH 1e-6f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
+/* rad: on terrain, the most a foot is turned to the ground's slope (about 26 degrees) */
+#define MAX_FOOT_TILT 0.45f
+/* m: a free foot this far above where it would stand is not turned to the ground at all (fully
+ * at 0, linearly between) */
+#define TILT_FADE_HEIGHT 0.15f
+/* s: half-life over which the normal a foot is turned to follows the ground's (an edge of a ramp
+ * passes under the foot over a few ticks, not at once) */
+#define TILT_HALFLIFE 0.05f
+/* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
+ * step below) */
+#define TERRAIN_HIP_DROP 0.2f
+/* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
+ * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
+ * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
+#define CLEAR_AHEAD 0.3f
+#define CLEAR_SLOPE 0.6f
+/* points the ground ahead of a free foot is read at */
+#define CLEAR_SAMPLES 8
+/* m/s: a free foot slower than this looks nowhere ahead */
+#define CLEAR_MIN_SPEED 0.2f
+/* s: half-life of the spring an animated foot's shift to the ground under it follows with (a
+ * step's edge passing under the foot comes in over a few ticks) */
+#define GROUND_SHIFT_HALFLIFE 0.04f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -79,10 +103,25 @@ void mm_feet_record(mm_feet *f, const mm_rig *rig, const mm_rig_pose *pose)
     }
 }
 
-/* A height for a lock placed at y: not below planted above the ground (when the feet keep to it). */
-static float above_ground(const mm_feet_ground *ground, float planted, float y)
+/* The height at which an ankle or a toe that the data plants `planted` above flat ground stands
+ * over (x, z): on the plane, its height + planted; on terrain, the ground under the point +
+ * planted along its normal (planted / cos(slope), the slope as far as a foot is turned). */
+static float stand_height(const mm_feet_ground *ground, float x, float z, float planted)
 {
-    return ground->hold && y < ground->height + planted ? ground->height + planted : y;
+    if (!ground->scene) return ground->height + planted;
+    mm_vec3 n;
+    float h = mm_scene_ground_height(ground->scene, x, z, &n);
+    return h + planted / fmaxf(n.y, cosf(MAX_FOOT_TILT));
+}
+
+/* A height for a lock placed at p: not below where it stands (when the feet keep to the ground);
+ * on terrain, where it stands (a foot planted in the air, its label on early or a transition's
+ * offset holding it up, comes down onto the ground as its offset fades). */
+static float above_ground(const mm_feet_ground *ground, float planted, mm_vec3 p)
+{
+    if (!ground->hold) return p.y;
+    float floor = stand_height(ground, p.x, p.z, planted);
+    return p.y < floor || ground->scene ? floor : p.y;
 }
 
 /* An ankle's height y kept so that its toe is at most TOE_SINK below floor (the ankle height at which
@@ -99,19 +138,37 @@ static float toe_floor(float y, float floor)
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
 static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
-                         const mm_feet_contacts *contacts, int k, const mm_feet_ground *ground, float dt,
-                         const mm_rig_pose *pose, mm_quat *orientation)
+                         const mm_feet_contacts *contacts, int k, const mm_feet_ground *ground,
+                         const mm_quat *tilt, float dt, const mm_rig_pose *pose, mm_quat *orientation)
 {
     int ankle = rig->ankle[k], toe = rig->toe[k];
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
+    mm_quat animated = pose->global[ankle].rotation;
+    if (tilt) { /* on terrain: the animated foot moved from the root's ground to the ground under it */
+        float h = fmaxf(mm_scene_ground_height(ground->scene, a.x, a.z, NULL),
+                        mm_scene_ground_height(ground->scene, t.x, t.z, NULL));
+        if (!f->placed) f->ground_shift[k] = h - ground->height, f->ground_shift_velocity[k] = 0.0f;
+        mm_spring_update(&f->ground_shift[k], &f->ground_shift_velocity[k], h - ground->height,
+                         GROUND_SHIFT_HALFLIFE, dt);
+        a.y += f->ground_shift[k];
+        t.y += f->ground_shift[k];
+    }
+    if (tilt) { /* and turned to the ground about its ankle */
+        t = mm_vec3_add(a, mm_quat_rotate(*tilt, mm_vec3_sub(t, a)));
+        animated = mm_quat_normalize(mm_quat_mul(*tilt, animated));
+    }
     int heel_on = (contacts->label >> (2 * k)) & 1u, toe_on = (contacts->label >> (2 * k + 1)) & 1u;
     if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
     /* a lock comes down with the animated foot (never below the ground): planted as its label
      * turns on, a foot is often still settling, and a lock held at that height leaves it hovering */
-    if (f->heel_locked[k])
-        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], fminf(f->heel_lock[k].y, a.y));
-    if (f->toe_locked[k])
-        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], fminf(f->toe_lock[k].y, t.y));
+    if (f->heel_locked[k]) {
+        mm_vec3 lowered = mm_vec3_make(f->heel_lock[k].x, fminf(f->heel_lock[k].y, a.y), f->heel_lock[k].z);
+        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], lowered);
+    }
+    if (f->toe_locked[k]) {
+        mm_vec3 lowered = mm_vec3_make(f->toe_lock[k].x, fminf(f->toe_lock[k].y, t.y), f->toe_lock[k].z);
+        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], lowered);
+    }
     mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
@@ -182,14 +239,14 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     int planted = 0;
     if (heel_on && !held_heel && !wait) {
         f->heel_lock[k] = held_toe ? foot_source(f, k, a, t) : out;
-        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], f->heel_lock[k].y);
+        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], f->heel_lock[k]);
         f->heel_locked[k] = true;
         planted = 1;
     }
     if (toe_on && !held_toe && !wait) {
         f->toe_lock[k] = mm_vec3_add(held_heel ? f->heel_lock[k] : out,
                                      mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
-        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k].y);
+        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k]);
         f->toe_locked[k] = true;
         planted = 1;
     }
@@ -216,9 +273,21 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         mm_spring_decay_vec3(&f->turn[k], &f->turn_velocity[k], d->foot_halflife, dt);
     }
     f->last_ankle[k] = a, f->last_toe[k] = t;
-    *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), pose->global[ankle].rotation);
+    *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
-    return mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    mm_vec3 target = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    if (tilt && f->toe_locked[k]) {
+        /* on terrain the locks stand at the data's planted heights over the ground, not where the
+         * foot was: a held toe stays over its lock while the ankle's offset fades (the foot turns
+         * about the toe, at most MAX_FOOT_TURN from the animation), not carried along the ground by
+         * it; it comes down with the offset's height */
+        mm_vec3 toe_at = mm_vec3_make(f->toe_lock[k].x, f->toe_lock[k].y + f->offset[k].y, f->toe_lock[k].z);
+        mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, target)));
+        float angle = mm_vec3_length(aim);
+        if (angle > MAX_FOOT_TURN) aim = mm_vec3_scale(aim, MAX_FOOT_TURN / angle);
+        *orientation = mm_quat_mul(mm_quat_exp(aim), animated);
+    }
+    return target;
 }
 
 /* The leg's length: hip to knee to ankle. */
@@ -230,8 +299,8 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
 
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
  * rising back through a spring), at most max_hip_drop. */
-static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig, const mm_vec3 *target,
-                       float dt, mm_rig_pose *pose)
+static void lower_hips(mm_feet *f, float max_hip_drop, const mm_rig *rig, const mm_vec3 *target, float dt,
+                       mm_rig_pose *pose)
 {
     int pelvis = rig->pelvis;
     float need = 0.0f;
@@ -240,16 +309,16 @@ static void lower_hips(mm_feet *f, const mm_character_desc *d, const mm_rig *rig
         float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
         float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
         float down =
-            across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : d->max_hip_drop;
+            across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : max_hip_drop;
         need = fmaxf(need, down);
     }
-    need = fminf(need, d->max_hip_drop);
+    need = fminf(need, max_hip_drop);
     /* through a spring both ways (a drop followed at once would move the body as fast as the need
      * changes, which grows without bound as a target nears the leg's reach across), never past
      * [0, max_hip_drop] */
     mm_spring_update(&f->hip_drop, &f->hip_drop_velocity, need, HIP_DROP_HALFLIFE, dt);
-    if (f->hip_drop > d->max_hip_drop || f->hip_drop < 0.0f) {
-        f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), d->max_hip_drop);
+    if (f->hip_drop > max_hip_drop || f->hip_drop < 0.0f) {
+        f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), max_hip_drop);
         f->hip_drop_velocity = 0.0f;
     }
     if (f->hip_drop > 0.0f) {
@@ -282,27 +351,73 @@ static int lift_toe(const mm_rig *rig, int k, float floor_y, mm_rig_pose *pose)
     return 1;
 }
 
+/* On terrain: the rotation that turns foot k to the ground's normal under it (where it was held or
+ * aimed last tick; the animated ankle before the first), the normal followed over TILT_HALFLIFE,
+ * at most MAX_FOOT_TILT, fading out as a free foot rises TILT_FADE_HEIGHT above where it stands. */
+static mm_quat foot_tilt(mm_feet *f, const mm_rig *rig, int k, const mm_feet_ground *ground, float dt,
+                         const mm_rig_pose *pose)
+{
+    int ankle = rig->ankle[k], toe = rig->toe[k];
+    mm_vec3 a = pose->global[ankle].translation;
+    mm_vec3 along = toe >= 0 ? mm_vec3_sub(pose->global[toe].translation, a) : mm_vec3_make(0, 0, 0);
+    mm_vec3 where = f->placed ? f->lock[k] : a;
+    mm_vec3 heel_normal, toe_normal;
+    mm_scene_ground_height(ground->scene, where.x, where.z, &heel_normal);
+    mm_scene_ground_height(ground->scene, where.x + along.x, where.z + along.z, &toe_normal);
+    mm_vec3 n = mm_vec3_normalize(mm_vec3_add(heel_normal, toe_normal));
+    mm_vec3 before = f->tilt_normal[k];
+    if (f->placed && mm_vec3_length(before) > 0.5f)
+        n = mm_vec3_normalize(mm_vec3_lerp(before, n, 1.0f - exp2f(-dt / TILT_HALFLIFE)));
+    f->tilt_normal[k] = n;
+    float share = 1.0f;
+    if (!f->locked[k]) {
+        float above = where.y - stand_height(ground, where.x, where.z, rig->planted_ankle[k]);
+        share = fminf(fmaxf(1.0f - above / TILT_FADE_HEIGHT, 0.0f), 1.0f);
+    }
+    mm_vec3 axis = mm_vec3_cross(mm_vec3_make(0.0f, 1.0f, 0.0f), n);
+    float sine = mm_vec3_length(axis), angle = fminf(atan2f(sine, n.y), MAX_FOOT_TILT) * share;
+    if (!(sine > 1e-6f)) return mm_quat_identity();
+    return mm_quat_from_axis_angle(mm_vec3_scale(axis, 1.0f / sine), angle);
+}
+
 void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
-                    const mm_feet_contacts *contacts, float ground, bool hold_ground, float dt,
+                    const mm_feet_contacts *contacts, const mm_feet_ground *ground, float dt,
                     mm_rig_pose *pose)
 {
     mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}};
     mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
-    mm_feet_ground on_ground = {ground, hold_ground};
+    bool terrain = ground->scene && ground->hold;
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
-        target[k] = lock_foot(f, d, rig, contacts, k, &on_ground, dt, pose, &orientation[k]);
+        mm_quat tilt = terrain ? foot_tilt(f, rig, k, ground, dt, pose) : mm_quat_identity();
+        target[k] =
+            lock_foot(f, d, rig, contacts, k, ground, terrain ? &tilt : NULL, dt, pose, &orientation[k]);
         /* never lower than the data puts a planted ankle above the ground (the root's height in
          * locomotion: it stands on the ground, which a scene may put anywhere) */
-        if (hold_ground && target[k].y < ground + rig->planted_ankle[k])
-            target[k].y = ground + rig->planted_ankle[k];
-        if (hold_ground && rig->toe[k] >= 0) { /* and high enough for the toe as the foot is turned */
+        float floor = stand_height(ground, target[k].x, target[k].z, rig->planted_ankle[k]);
+        if (ground->hold && target[k].y < floor) target[k].y = floor;
+        if (ground->hold && rig->toe[k] >= 0) { /* and high enough for the toe as the foot is turned */
             mm_vec3 v = mm_quat_rotate(orientation[k], pose->local_positions[rig->toe[k]]);
-            target[k].y = toe_floor(target[k].y, ground + rig->planted_toe[k] - v.y);
+            float toe_y = stand_height(ground, target[k].x + v.x, target[k].z + v.z, rig->planted_toe[k]);
+            if (terrain && !f->locked[k] && f->placed) {
+                /* a free foot: above the ground ahead of its toe too, along a slope (a step's edge
+                 * is cleared) */
+                float vx = (target[k].x - f->lock[k].x) / dt, vz = (target[k].z - f->lock[k].z) / dt;
+                float speed = sqrtf(vx * vx + vz * vz);
+                for (int i = 1; speed > CLEAR_MIN_SPEED && i <= CLEAR_SAMPLES; ++i) {
+                    float ahead = CLEAR_AHEAD * (float)i / (float)CLEAR_SAMPLES;
+                    float x = target[k].x + v.x + vx / speed * ahead,
+                          z = target[k].z + v.z + vz / speed * ahead;
+                    toe_y =
+                        fmaxf(toe_y, stand_height(ground, x, z, rig->planted_toe[k]) - CLEAR_SLOPE * ahead);
+                }
+            }
+            target[k].y = toe_floor(target[k].y, toe_y - v.y);
         }
         f->lock[k] = target[k];
     }
-    if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) lower_hips(f, d, rig, target, dt, pose);
+    if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f)
+        lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, rig, target, dt, pose);
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
         /* a target far out of the leg's reach (a lock the hips moved away from, or the offset a
@@ -326,10 +441,15 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
     }
     f->placed = true;
     mm_rig_forward(rig, 1, pose); /* below the ankles */
-    if (hold_ground) {
+    if (ground->hold) {
         int lifted = 0;
-        for (int k = 0; k < 2; ++k)
-            lifted |= lift_toe(rig, k, ground + rig->planted_toe[k] - TOE_SINK - TOE_LIFT_MARGIN, pose);
+        for (int k = 0; k < 2; ++k) {
+            int toe = rig->toe[k];
+            if (rig->ankle[k] < 0 || toe < 0) continue;
+            mm_vec3 p = pose->global[toe].translation;
+            float floor = stand_height(ground, p.x, p.z, rig->planted_toe[k]);
+            lifted |= lift_toe(rig, k, floor - TOE_SINK - TOE_LIFT_MARGIN, pose);
+        }
         if (lifted) mm_rig_forward(rig, 1, pose);
     }
 }

@@ -24,7 +24,11 @@ typedef struct mm_feet {
     mm_vec3 last_ankle[2], last_toe[2]; /* last tick's animated ankles and toes (when placed) */
     float landed[2]; /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
-    mm_vec3 raw_contacts[4];           /* left ankle, left toe, right ankle, right toe before IK */
+    mm_vec3 tilt_normal[2];            /* on terrain: the ground's normal each foot was last turned to */
+    /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
+     * root's ground (a spring's state) */
+    float ground_shift[2], ground_shift_velocity[2];
+    mm_vec3 raw_contacts[4]; /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
 
 /* What the clip playing says of the feet this tick. */
@@ -33,11 +37,13 @@ typedef struct mm_feet_contacts {
     float until_label[2]; /* s until foot k's label turns on, when within plant_time; -1 otherwise */
 } mm_feet_contacts;
 
-/* The ground a foot stands on: its height, and whether the feet keep to it (not during a move,
- * whose root follows its clip). */
+/* The ground a foot stands on: its height (scene NULL: the plane at that height; else the scene's
+ * ground under each foot, mm_scene_ground_height), and whether the feet keep to it (not during a
+ * move, whose root follows its clip). */
 typedef struct mm_feet_ground {
     float height;
     bool hold;
+    const mm_scene *scene;
 } mm_feet_ground;
 
 /* Records the raw contact positions (ankles and toes of the pose as it comes). */
@@ -45,10 +51,13 @@ void mm_feet_record(mm_feet *f, const mm_rig *rig, const mm_rig_pose *pose);
 
 /* Locks, hip drop and IK (mm/character.h, desc's foot fields; the leg IK of mm/leg_ik.h, the
  * knees bending toward the pelvis's facing): writes the legs and the joints below them. ground:
- * the height no target goes below, when hold_ground (not during a move: its root follows its
- * clip). */
+ * what no target goes below, when ground->hold (not during a move: its root follows its clip).
+ * On a scene's terrain each foot is turned to the ground's normal under it (within MAX_FOOT_TILT,
+ * fully when planted, fading as a free foot rises) and kept above the ground under its ankle and
+ * its toe, a free foot also above the ground just ahead of its toe (it clears a step's edge); the
+ * hips may come down further (TERRAIN_HIP_DROP more) so that a leg reaches a lower step. */
 void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
-                    const mm_feet_contacts *contacts, float ground, bool hold_ground, float dt,
+                    const mm_feet_contacts *contacts, const mm_feet_ground *ground, float dt,
                     mm_rig_pose *pose);
 
 #endif

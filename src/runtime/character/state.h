@@ -14,6 +14,7 @@
 #include "rig.h"
 #include "root_motion.h"
 #include "transition.h"
+#include "walls.h"
 #include "warping.h"
 
 /* A move clip asked for by mm_character_play_move. */
