@@ -162,7 +162,7 @@ static const help_entry entries[] = {
      "                     roles' default joint names and the file itself)\n"
      "  --config CONFIG    instead: take the bone roles from this database config (by name)\n"
      "  --scale S|auto     multiply lengths by S to get metres (default auto)\n"
-     "  --scene SCENE.json the ground and boxes the motion is on (default: flat ground)\n"
+     "  --scene SCENE.json the ground, boxes and terrain the motion is on (default: flat ground)\n"
      "  -o OUT.json        write the metrics there (default: standard output)\n"},
     {"moves detect", "jumps, vaults, climbs and drops with their events; into a config",
      "usage: mm moves detect FILE.bvh [--config CONFIG.json] [--json] [--write CONFIG.json] [--as NAME]\n"
@@ -214,7 +214,7 @@ static const help_entry entries[] = {
      "  --from S           start at S seconds (default 0)\n"
      "  --seconds T        draw T seconds (default: to the end)\n"
      "  --scale S|auto     multiply lengths by S to get metres (default auto)\n"
-     "  --scene SCENE.json draw a scene's boxes (default: none)\n"},
+     "  --scene SCENE.json draw a scene's boxes and terrain (default: none)\n"},
     {"similarity", "audit how well two clips join: similarity CSV, heat map, poor frames",
      "usage: mm similarity DB.mmdb --from CLIP --to CLIP -o DIR [--window 1] [--measure cos]\n"
      "                     [--channels pos] [--poor S] [--threads 2]\n"
@@ -267,7 +267,7 @@ static const help_entry entries[] = {
      "  --fps F            ticks per second, 1 to 1000 (default 60)\n"
      "  -o OUT.bvh         the motion (required)\n"
      "  --metrics OUT.json the metrics (default: none)\n"
-     "  --scene SCENE.json boxes to move on (default: flat ground, no moves)\n"
+     "  --scene SCENE.json boxes to move on, terrain to walk on (default: flat ground, no moves)\n"
      "  --distance-matching on|off  (default: the database's settings, else off)\n"
      "  --warping on|off   stride warping (default: the database's settings, else off)\n"
      "  --transition T     inertialize or crossfade (default inertialize)\n"
