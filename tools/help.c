@@ -177,7 +177,7 @@ static const help_entry entries[] = {
      "                     roles' default joint names and the file itself)\n"
      "  --config CONFIG    instead: take the bone roles from this database config (by name)\n"
      "  --scale S|auto     multiply lengths by S to get metres (default auto)\n"
-     "  --scene SCENE.json the ground and boxes the motion is on (default: flat ground)\n"
+     "  --scene SCENE.json the ground, boxes and terrain the motion is on (default: flat ground)\n"
      "  -o OUT.json        write the metrics there (default: standard output)\n"},
     {"moves detect", "jumps, vaults, climbs and drops with their events; into a config",
      "usage: mm moves detect FILE.bvh [--config CONFIG.json] [--json] [--write CONFIG.json] [--as NAME]\n"
@@ -232,7 +232,7 @@ static const help_entry entries[] = {
      "  --from S           start at S seconds (default 0)\n"
      "  --seconds T        draw T seconds (default: to the end)\n"
      "  --scale S|auto     multiply lengths by S to get metres (default auto)\n"
-     "  --scene SCENE.json draw a scene's boxes (default: none)\n"
+     "  --scene SCENE.json draw a scene's boxes and terrain (default: none)\n"
      "  --mesh FILE        the body: an FBX or glTF mesh skinned to the clip's skeleton (bones named\n"
      "                     as its joints; default: the body mm makes from the skeleton)\n"
      "  --capsules         draw the skeleton as capsules instead of a body\n"},
@@ -289,7 +289,7 @@ static const help_entry entries[] = {
      "  --fps F            ticks per second, 1 to 1000 (default 60)\n"
      "  -o OUT.bvh         the motion (required)\n"
      "  --metrics OUT.json the metrics (default: none)\n"
-     "  --scene SCENE.json boxes to move on (default: flat ground, no moves)\n"
+     "  --scene SCENE.json boxes to move on, terrain to walk on (default: flat ground, no moves)\n"
      "  --distance-matching on|off  (default: the database's settings, else off)\n"
      "  --warping on|off   stride warping (default: the database's settings, else off)\n"
      "  --transition T     inertialize or crossfade (default inertialize)\n"
