@@ -382,7 +382,7 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
         for (int j = 0; j < td; ++j) {
             double z = 0.0;
             for (int k = 0; k < dims; ++k)
-                z += s->basis[(size_t)k * dims + j] *
+                z += s->basis[(size_t)k * td + j] *
                      (s->sqrt_w0[k] * (double)db->features[(size_t)f * dims + k] - s->center[k]);
             assert_true(z >= lo[j * MM_SEARCH_WIDTH + l] && z <= hi[j * MM_SEARCH_WIDTH + l]);
         }
@@ -409,7 +409,8 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
 static void check_tree(const mm_searcher *s)
 {
     const mm_database *db = s->db;
-    assert_true(s->tree_dims >= 1 && s->tree_dims <= db->dims_padded && s->tree_dims % 4 == 0);
+    assert_true(s->tree_dims >= 4 && s->tree_dims <= db->dims_padded + 8 && s->tree_dims % 4 == 0);
+    assert_true(s->pose_dims >= 0 && s->pose_dims < s->tree_dims && s->pose_dims % 4 == 0);
     char *seen = calloc((size_t)db->frame_count, 1);
     for (int p = 0; p < db->frame_count; ++p) {
         assert_true(s->order[p] >= 0 && s->order[p] < db->frame_count);

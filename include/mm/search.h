@@ -168,13 +168,16 @@ typedef struct mm_searcher {
     float *node_min, *node_max; /* in the tree's coordinates (below) */
     int node_count;
     /* The tree's coordinates: z = basis^T (sqrt_w0 x - center), the principal axes of the
-     * features weighted by the database's default weights w0 (boxes along them are much tighter). */
+     * features weighted by the database's default weights w0 (boxes along them are much tighter),
+     * those of the pose dimensions (bones, root velocity) and those of the trajectory apart, so that
+     * a bound weighs each block by its own ratio of weights. */
     float w0[MM_SEARCH_MAX_DIMS], sqrt_w0[MM_SEARCH_MAX_DIMS];
     double center[MM_SEARCH_MAX_DIMS];
-    int tree_dims; /* the axes the boxes use: all but those of padding, a multiple of 4 */
-    double *basis; /* [dims_padded x dims_padded]: basis[k * dims_padded + j] is component k of
-                    * axis j; axes by decreasing variance, those of padding (dimensions of
-                    * default weight 0) last */
+    int tree_dims; /* slots of the coordinates (and of the boxes): [0, pose_dims) the pose axes,
+                    * [pose_dims, tree_dims) the trajectory axes, each block by decreasing variance
+                    * and padded with zero axes to a multiple of 4; at most dims_padded + 8 */
+    int pose_dims;
+    double *basis; /* [dims_padded x tree_dims]: basis[k * tree_dims + j] is component k of slot j */
     int units[MM_SEARCH_MAX_UNITS]; /* work units: node * MM_SEARCH_WIDTH + lane */
     int unit_count;
     float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */

@@ -21,6 +21,8 @@
 
 #define LANES         8
 #define TIE_TOLERANCE 1e-6f
+/* slots of the tree's coordinates, at most: the axes of both blocks, each padded to a multiple of 4 */
+#define SEARCH_MAX_SLOTS (MM_SEARCH_MAX_DIMS + 8)
 
 const char *mm_search_method_name(mm_search_method m)
 {
@@ -181,6 +183,19 @@ static void dimension_weights(const mm_database *db, const mm_search_params *p, 
     }
 }
 
+/* Which block of the tree's coordinates dimension d belongs to: the pose (bones and root velocity)
+ * or the trajectory, whose weights the ratio scales apart; or none (padding, default weight 0). */
+enum { BLOCK_POSE = 0, BLOCK_TRAJECTORY = 1, BLOCK_NONE = 2 };
+static void dimension_blocks(const mm_database *db, const float *w0, unsigned char *block)
+{
+    for (int d = 0; d < db->dims_padded; ++d) block[d] = BLOCK_NONE;
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        for (int d = grp->offset; d < grp->offset + grp->dims; ++d)
+            if (w0[d] > 0.0f) block[d] = is_pose_group(grp->kind) ? BLOCK_POSE : BLOCK_TRAJECTORY;
+    }
+}
+
 void mm_search_cost_terms(const mm_database *db, const float *query, const mm_search_params *p, int frame,
                           mm_search_terms *out)
 {
@@ -223,32 +238,41 @@ static inline float distance(const float *q, const float *x, const float *w, int
  * The terms are non-negative, so any order of additions is within float rounding of the exact
  * sum, which the bound's factor 1 - 1e-5 covers. */
 #if defined(__SSE2__) && MM_SEARCH_WIDTH == 4
-static inline void lane_bounds(const float *q, const float *lo, const float *hi, int dims, float *out)
+static inline __m128 gap_sum(const float *q, const float *lo, const float *hi, int d0, int d1)
 {
     __m128 acc[4] = {_mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps()};
     const __m128 zero = _mm_setzero_ps();
-    for (int d = 0; d < dims; d += 4)
-        for (int h = 0; h < 4; ++h) {
+    for (int d = d0; d < d1; d += 4)
+        for (int h = 0; h < 4; ++h) { /* d1 - d0 is a multiple of 4 */
             __m128 x = _mm_loadu_ps(q + (d + h) * 4);
             __m128 below = _mm_sub_ps(_mm_loadu_ps(lo + (d + h) * 4), x);
             __m128 above = _mm_sub_ps(x, _mm_loadu_ps(hi + (d + h) * 4));
             __m128 t = _mm_max_ps(_mm_max_ps(below, above), zero); /* at most one gap is positive */
             acc[h] = _mm_add_ps(acc[h], _mm_mul_ps(t, t));
         }
-    _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(acc[0], acc[1]), _mm_add_ps(acc[2], acc[3])));
+    return _mm_add_ps(_mm_add_ps(acc[0], acc[1]), _mm_add_ps(acc[2], acc[3]));
+}
+/* scale[0] x the pose slots' sum + scale[1] x the trajectory slots' */
+static inline void lane_bounds(const float *q, const float *lo, const float *hi, int split, int dims,
+                               const float *scale, float *out)
+{
+    __m128 pose = gap_sum(q, lo, hi, 0, split), traj = gap_sum(q, lo, hi, split, dims);
+    _mm_storeu_ps(
+        out, _mm_add_ps(_mm_mul_ps(pose, _mm_set1_ps(scale[0])), _mm_mul_ps(traj, _mm_set1_ps(scale[1]))));
 }
 #else
-static inline void lane_bounds(const float *q, const float *lo, const float *hi, int dims, float *out)
+static inline void lane_bounds(const float *q, const float *lo, const float *hi, int split, int dims,
+                               const float *scale, float *out)
 {
-    float acc[MM_SEARCH_WIDTH] = {0};
+    float acc[2][MM_SEARCH_WIDTH] = {{0}};
     for (int d = 0; d < dims; ++d)
         for (int l = 0; l < MM_SEARCH_WIDTH; ++l) {
             int i = d * MM_SEARCH_WIDTH + l;
             float below = lo[i] - q[i], above = q[i] - hi[i];
             float t = (below > 0.0f ? below : 0.0f) + (above > 0.0f ? above : 0.0f); /* one is 0 */
-            acc[l] += t * t;
+            acc[d >= split][l] += t * t;
         }
-    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] = acc[l];
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] = scale[0] * acc[0][l] + scale[1] * acc[1][l];
 }
 #endif
 
@@ -265,9 +289,10 @@ typedef struct query_ctx {
     int current, next;                 /* -1 when none */
     float loop_lo;                     /* the smallest factor a frame of a loop clip can get */
     float query_facing[2], facing_cos; /* unit (x, z) of the query's furthest facing; cos(threshold) */
-    float zq[MM_SEARCH_MAX_DIMS];      /* the query in the tree's coordinates */
-    float zq_lanes[MM_SEARCH_MAX_DIMS * MM_SEARCH_WIDTH]; /* the same, each repeated per lane */
-    float bound_scale; /* rho (1 - 1e-5): turns a box distance into a bound on the cost */
+    float zq_lanes[SEARCH_MAX_SLOTS * MM_SEARCH_WIDTH]; /* the query in the tree's coordinates, each
+                                                         * slot repeated per lane */
+    float bound_scale[2]; /* rho (1 - 1e-5) of the pose and trajectory blocks: turn their box
+                           * distances into a bound on the cost */
     int use_facing;
     int evaluated, boxes; /* work counters (single-threaded paths) */
 } query_ctx;
@@ -329,15 +354,16 @@ static inline int lane_possible(const query_ctx *c, const mm_search_node *n, int
            !(n->tags_all[l] & c->p->excluded_tags);
 }
 
-/* z = basis^T (sqrt_w0 x - center): a point in the tree's coordinates (the sum for each axis
- * in the order of the components). */
-static void rotate(const mm_searcher *s, const float *x, int dims, double *z)
+/* z = basis^T (sqrt_w0 x - center): a point in the tree's coordinates, tree_dims slots (the sum
+ * for each slot in the order of the components). */
+static void rotate(const mm_searcher *s, const float *x, double *z)
 {
-    for (int j = 0; j < dims; ++j) z[j] = 0.0;
+    int dims = s->db->dims_padded, slots = s->tree_dims;
+    for (int j = 0; j < slots; ++j) z[j] = 0.0;
     for (int k = 0; k < dims; ++k) {
         double y = s->sqrt_w0[k] * (double)x[k] - s->center[k];
-        const double *axis = s->basis + (size_t)k * dims;
-        for (int j = 0; j < dims; ++j) z[j] += axis[j] * y;
+        const double *axis = s->basis + (size_t)k * slots;
+        for (int j = 0; j < slots; ++j) z[j] += axis[j] * y;
     }
 }
 
@@ -363,19 +389,22 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
      * least rho times that, rho = min over dimensions of w / w0. The factor 1 - 1e-5 covers float
      * rounding in the kernels (the boxes are widened by the rounding of the coordinates). */
     int dims = db->dims_padded;
-    double rho = INFINITY;
+    unsigned char block[MM_SEARCH_MAX_DIMS];
+    dimension_blocks(db, s->w0, block);
+    double rho[2] = {INFINITY, INFINITY}; /* pose, trajectory */
     for (int d = 0; d < dims; ++d)
-        if (s->w0[d] > 0.0f) {
+        if (block[d] != BLOCK_NONE) {
             double r = (double)c->w[d] / s->w0[d];
-            if (r < rho) rho = r;
+            if (r < rho[block[d]]) rho[block[d]] = r;
         }
-    if (!(rho < INFINITY)) rho = 0.0;
-    c->bound_scale = (float)(rho * (1.0 - 1e-5));
-    double zq[MM_SEARCH_MAX_DIMS];
-    rotate(s, query, dims, zq);
-    for (int j = 0; j < dims; ++j) c->zq[j] = (float)zq[j];
+    for (int b = 0; b < 2; ++b) {
+        if (!(rho[b] < INFINITY)) rho[b] = 0.0;
+        c->bound_scale[b] = (float)(rho[b] * (1.0 - 1e-5));
+    }
+    double zq[SEARCH_MAX_SLOTS];
+    rotate(s, query, zq);
     for (int j = 0; j < s->tree_dims; ++j)
-        for (int l = 0; l < MM_SEARCH_WIDTH; ++l) c->zq_lanes[j * MM_SEARCH_WIDTH + l] = c->zq[j];
+        for (int l = 0; l < MM_SEARCH_WIDTH; ++l) c->zq_lanes[j * MM_SEARCH_WIDTH + l] = (float)zq[j];
     if (c->method == MM_SEARCH_FACING) {
         if (s->facing_group >= 0) {
             int o = db->groups[s->facing_group].offset;
@@ -528,9 +557,10 @@ static inline void node_bounds(query_ctx *c, int n, float *out)
     const mm_searcher *s = c->s;
     const mm_search_node *node = &s->nodes[n];
     size_t at = (size_t)n * s->tree_dims * MM_SEARCH_WIDTH;
-    lane_bounds(c->zq_lanes, s->node_min + at, s->node_max + at, s->tree_dims, out);
+    lane_bounds(c->zq_lanes, s->node_min + at, s->node_max + at, s->pose_dims, s->tree_dims, c->bound_scale,
+                out);
     c->boxes += node->count;
-    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] *= c->bound_scale * node_factor(c, node->loop[l]);
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] *= node_factor(c, node->loop[l]);
 }
 
 static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st);
@@ -979,12 +1009,17 @@ static int make_wide(builder *b, int n, int in_unit)
     return w;
 }
 
-/* Principal axes of the default-weighted features (cyclic Jacobi on their covariance): fills
- * s->sqrt_w0, s->center and s->basis (column j: the j-th axis). cov is scratch of dims x dims. */
-static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
+/* Principal axes of the default-weighted features, the pose and the trajectory blocks apart
+ * (cyclic Jacobi on their covariance, the entries between blocks zeroed: each axis mixes the
+ * dimensions of one block only, so that a bound can weigh the two blocks by their own ratio of
+ * weights). Fills s->sqrt_w0, s->center, s->basis (column j: the axis of slot j), s->pose_dims and
+ * s->tree_dims: the pose axes by decreasing variance, zero columns up to a multiple of 4, then the
+ * trajectory axes the same way. cov and v are scratch of dims x dims. */
+static void principal_axes(const mm_database *db, mm_searcher *s, double *cov, double *v)
 {
     int n = db->dims_padded;
-    double *v = s->basis; /* column j: the j-th axis */
+    unsigned char block[MM_SEARCH_MAX_DIMS];
+    dimension_blocks(db, s->w0, block);
     for (int d = 0; d < n; ++d) s->sqrt_w0[d] = sqrtf(s->w0[d]);
     for (int d = 0; d < n; ++d) s->center[d] = 0.0;
     for (int f = 0; f < db->frame_count; ++f)
@@ -995,7 +1030,9 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
         const float *x = db->features + (size_t)f * n;
         for (int i = 0; i < n; ++i) {
             double yi = s->sqrt_w0[i] * (double)x[i] - s->center[i];
-            for (int j = i; j < n; ++j) cov[i * n + j] += yi * (s->sqrt_w0[j] * (double)x[j] - s->center[j]);
+            for (int j = i; j < n; ++j)
+                if (block[i] == block[j] && block[i] != BLOCK_NONE)
+                    cov[i * n + j] += yi * (s->sqrt_w0[j] * (double)x[j] - s->center[j]);
         }
     }
     for (int i = 0; i < n; ++i)
@@ -1012,7 +1049,7 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
         if (off <= 1e-24 * total || off == 0.0) break;
         for (int p = 0; p < n - 1; ++p)
             for (int q = p + 1; q < n; ++q) {
-                double apq = cov[p * n + q];
+                double apq = cov[p * n + q]; /* 0 between blocks: they never mix */
                 if (fabs(apq) < 1e-300) continue;
                 double theta = (cov[q * n + q] - cov[p * n + p]) / (2.0 * apq);
                 double t = (theta >= 0.0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
@@ -1034,39 +1071,33 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
                 }
             }
     }
-    /* Axes that only involve dimensions of default weight 0 (padding) are 0 for every frame and
-     * every query: they go last, and the boxes leave them out. The others by variance, largest
-     * first. */
-    int used = 0;
-    unsigned char padding[MM_SEARCH_MAX_DIMS];
+    /* the block of each axis (that of its components: one block per axis) */
+    unsigned char axis_block[MM_SEARCH_MAX_DIMS];
     for (int j = 0; j < n; ++j) {
-        padding[j] = 1;
-        for (int k = 0; k < n && padding[j]; ++k)
-            if (s->w0[k] > 0.0f && v[k * n + j] != 0.0) padding[j] = 0;
-        used += !padding[j];
+        axis_block[j] = BLOCK_NONE;
+        for (int k = 0; k < n && axis_block[j] == BLOCK_NONE; ++k)
+            if (block[k] != BLOCK_NONE && v[k * n + j] != 0.0) axis_block[j] = block[k];
     }
-    for (int i = 0; i < n; ++i) {
-        int best = i;
-        for (int j = i + 1; j < n; ++j)
-            if (padding[j] < padding[best] ||
-                (padding[j] == padding[best] && cov[j * n + j] > cov[best * n + best]))
-                best = j;
-        if (best == i) continue;
-        double t = cov[i * n + i];
-        cov[i * n + i] = cov[best * n + best];
-        cov[best * n + best] = t;
-        unsigned char pt = padding[i];
-        padding[i] = padding[best];
-        padding[best] = pt;
-        for (int k = 0; k < n; ++k) {
-            t = v[k * n + i];
-            v[k * n + i] = v[k * n + best];
-            v[k * n + best] = t;
+    /* slots: each block's axes by decreasing variance, then zero columns (-1) to a multiple of 4 */
+    int slots = 0, slot_axis[SEARCH_MAX_SLOTS];
+    unsigned char taken[MM_SEARCH_MAX_DIMS] = {0};
+    for (int b = BLOCK_POSE; b <= BLOCK_TRAJECTORY; ++b) {
+        for (;;) {
+            int best = -1;
+            for (int j = 0; j < n; ++j)
+                if (!taken[j] && axis_block[j] == b && (best < 0 || cov[j * n + j] > cov[best * n + best]))
+                    best = j;
+            if (best < 0) break;
+            taken[best] = 1;
+            slot_axis[slots++] = best;
         }
+        while (slots % 4 || (b == BLOCK_TRAJECTORY && slots == 0)) slot_axis[slots++] = -1;
+        if (b == BLOCK_POSE) s->pose_dims = slots;
     }
-    s->tree_dims = (used + 3) / 4 * 4; /* a multiple of 4 (extra axes only tighten the bounds) */
-    if (s->tree_dims > n) s->tree_dims = n;
-    if (s->tree_dims < 4) s->tree_dims = n < 4 ? n : 4;
+    s->tree_dims = slots;
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < slots; ++j)
+            s->basis[(size_t)k * slots + j] = slot_axis[j] >= 0 ? v[k * n + slot_axis[j]] : 0.0;
 }
 
 /* ---- the searcher ----------------------------------------------------------------------- */
@@ -1090,14 +1121,14 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     s->order_tags = (uint64_t *)mm_alloc_array(a, frames, sizeof(uint64_t));
     s->features = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
     s->facing = (float *)mm_alloc_array(a, 2 * frames, sizeof(float));
-    s->basis = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
+    s->basis = (double *)mm_alloc_array(a, dims * (dims + 8), sizeof(double)); /* tree_dims <= dims + 8 */
     s->job = mm_alloc_array(a, 1, sizeof(parallel_job));
     builder *b = (builder *)mm_alloc_array(a, 1, sizeof(builder));
-    float *coords = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
-    double *cov = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
+    float *coords = (float *)mm_alloc_array(a, frames * (dims + 8), sizeof(float));
+    double *cov = (double *)mm_alloc_array(a, 2 * dims * dims, sizeof(double)); /* and the axes */
     bin_node *bin = (bin_node *)mm_alloc_array(a, max_bin, sizeof(bin_node));
-    float *bin_min = (float *)mm_alloc_array(a, max_bin * dims, sizeof(float));
-    float *bin_max = (float *)mm_alloc_array(a, max_bin * dims, sizeof(float));
+    float *bin_min = (float *)mm_alloc_array(a, max_bin * (dims + 8), sizeof(float));
+    float *bin_max = (float *)mm_alloc_array(a, max_bin * (dims + 8), sizeof(float));
     int ok = s->order && s->order_clip && s->order_tags && s->features && s->facing && s->job && s->basis &&
              b && coords && cov && bin && bin_min && bin_max;
     if (ok) {
@@ -1105,19 +1136,20 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         mm_search_params defaults;
         mm_search_params_defaults(db, &defaults);
         dimension_weights(db, &defaults, s->w0);
-        principal_axes(db, s, cov);
-        double largest = 0.0, z[MM_SEARCH_MAX_DIMS];
+        principal_axes(db, s, cov, cov + dims * dims);
+        size_t slots = (size_t)s->tree_dims;
+        double largest = 0.0, z[SEARCH_MAX_SLOTS];
         for (size_t f = 0; f < frames; ++f) {
-            rotate(s, db->features + f * dims, (int)dims, z);
-            for (size_t j = 0; j < dims; ++j) {
-                coords[f * dims + j] = (float)z[j];
+            rotate(s, db->features + f * dims, z);
+            for (size_t j = 0; j < slots; ++j) {
+                coords[f * slots + j] = (float)z[j];
                 if (fabs(z[j]) > largest) largest = fabs(z[j]);
             }
         }
         memset(b, 0, sizeof *b);
         b->s = s;
         b->db = db;
-        b->dims = (int)dims;
+        b->dims = (int)slots;
         b->coords = coords;
         b->margin = (float)(1e-5 * (1.0 + largest)); /* far above float rounding of these coordinates */
         b->bin = bin;
@@ -1163,7 +1195,7 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     s->memory = frames * (2 * sizeof(int32_t) + sizeof(uint64_t) + dims * sizeof(float) + 2 * sizeof(float)) +
                 (size_t)s->node_count *
                     (sizeof(mm_search_node) + 2 * (size_t)s->tree_dims * MM_SEARCH_WIDTH * sizeof(float)) +
-                dims * dims * sizeof(double);
+                dims * (size_t)s->tree_dims * sizeof(double);
     int threads = desc && desc->threads > 1 ? desc->threads : 1;
     if (threads > MM_SEARCH_MAX_THREADS) threads = MM_SEARCH_MAX_THREADS;
     if (threads > 1) s->pool = mm__pool_create(threads, a); /* NULL: the calling thread alone */
