@@ -156,23 +156,30 @@ static timing summarise(double *t, int n)
     return r;
 }
 
-/* Times the first n queries of set one by one with method (cold: a sweep before each); answers
- * into found. Work counters summed into stats. */
-static timing time_queries(const mm_searcher *s, const query_set *set, int n, mm_search_method method,
-                           int cold, mm_search_result *found, double *t, mm_search_stats *total)
+/* Times the first n queries of set one by one, with the fast search into fast (times tf) and brute
+ * force into brute (times tb); its work summed into total. Warm: each method in its own loop (no
+ * cache shared between them). Cold: a sweep before each search, the two methods in turn on each
+ * query (the machine's load then weighs on both alike). */
+static void time_queries(const mm_searcher *s, const query_set *set, int n, int cold, mm_search_result *fast,
+                         mm_search_result *brute, double *tf, double *tb, mm_search_stats *total)
 {
     int dims = s->db->dims_padded;
     memset(total, 0, sizeof *total);
-    for (int i = 0; i < n; ++i) {
-        if (cold) sweep();
-        mm_search_stats st;
-        double a = now();
-        mm_searcher_search_stats(s, set->q + (size_t)i * dims, &set->p[i], method, &found[i], 1, &st);
-        t[i] = now() - a;
-        total->frames_evaluated += st.frames_evaluated;
-        total->boxes_tested += st.boxes_tested;
-    }
-    return summarise(t, n);
+    for (int pass = 0; pass < (cold ? 1 : 2); ++pass)
+        for (int i = 0; i < n; ++i)
+            for (int m = 0; m < 2; ++m) {
+                if (!cold && m != pass) continue;
+                if (cold) sweep();
+                mm_search_stats st;
+                const float *q = set->q + (size_t)i * dims;
+                double a = now();
+                mm_searcher_search_stats(s, q, &set->p[i], m ? MM_SEARCH_BRUTE : MM_SEARCH_FAST,
+                                         m ? &brute[i] : &fast[i], 1, &st);
+                (m ? tb : tf)[i] = now() - a;
+                if (m) continue;
+                total->frames_evaluated += st.frames_evaluated;
+                total->boxes_tested += st.boxes_tested;
+            }
 }
 
 /* Queries per second of a batch of the first n queries (the best of BATCH_REPEATS). */
@@ -223,7 +230,7 @@ int main(int argc, char **argv)
             make_queries(&db, k, &sets[k]);
         }
     }
-    double *t = malloc(sizeof(double) * (size_t)n);
+    double *t = malloc(sizeof(double) * (size_t)n), *tb = malloc(sizeof(double) * (size_t)n);
     mm_search_result *fast = malloc(sizeof(mm_search_result) * (size_t)n),
                      *brute = malloc(sizeof(mm_search_result) * (size_t)n);
     timing fast_t[KINDS][CACHES], brute_t[KINDS][CACHES];
@@ -235,10 +242,10 @@ int main(int argc, char **argv)
     for (int k = 0; k < KINDS; ++k)
         for (int c = 0; c < CACHES; ++c) {
             int m = c ? (cold_n < sets[k].n ? cold_n : sets[k].n) : sets[k].n;
-            mm_search_stats fs, bs;
-            /* each method in its own loop: no cache sharing between them */
-            fast_t[k][c] = time_queries(&s, &sets[k], m, MM_SEARCH_FAST, c, fast, t, &fs);
-            brute_t[k][c] = time_queries(&s, &sets[k], m, MM_SEARCH_BRUTE, c, brute, t, &bs);
+            mm_search_stats fs;
+            time_queries(&s, &sets[k], m, c, fast, brute, t, tb, &fs);
+            fast_t[k][c] = summarise(t, m);
+            brute_t[k][c] = summarise(tb, m);
             for (int i = 0; i < m; ++i) mismatches += fast[i].frame != brute[i].frame;
             checked += m;
             fprintf(
@@ -285,6 +292,7 @@ int main(int argc, char **argv)
         free(sets[k].p);
     }
     free(t);
+    free(tb);
     free(fast);
     free(brute);
     free(sweep_buffer);

@@ -142,7 +142,7 @@ typedef struct mm_searcher_pool mm_searcher_pool;
 #define MM_SEARCH_MAX_UNITS  (2 << MM_SEARCH_UNIT_DEPTH)
 
 /* A node of the searcher's tree (internal): up to MM_SEARCH_WIDTH children ("lanes"), whose
- * boxes are stored lane by lane per dimension (node_min / node_max) so that one pass bounds them
+ * boxes are stored lane by lane per dimension (mm_searcher.boxes) so that one pass bounds them
  * all. A lane is another node or a leaf: the frames at positions [begin, end) of the tree order. */
 typedef struct mm_search_node {
     int32_t child[MM_SEARCH_WIDTH];                                /* the lane's node, -1 for a leaf */
@@ -158,14 +158,15 @@ typedef struct mm_searcher {
     const mm_database *db;
     int threads;
     /* The tree: frames reordered by median splits of the widest dimension; their features copied
-     * in that order; per node the boxes of its lanes (node_min / node_max: tree_dims x
+     * in that order; per node the boxes of its lanes (boxes: minima and maxima, tree_dims x
      * MM_SEARCH_WIDTH floats each, [axis][lane]). Node 0 is the root. */
     int32_t *order;       /* position -> frame */
     int32_t *order_clip;  /* position -> the frame's clip */
     uint64_t *order_tags; /* position -> the frame's tags */
     float *features;
     mm_search_node *nodes;
-    float *node_min, *node_max; /* in the tree's coordinates (below) */
+    float *boxes; /* per node, in the tree's coordinates (below): its lanes' minima (tree_dims x
+                   * MM_SEARCH_WIDTH floats, [axis][lane]), then their maxima */
     int node_count;
     /* The tree's coordinates: z = basis^T (sqrt_w0 x - center), the principal axes of the
      * features weighted by the database's default weights w0 (boxes along them are much tighter),

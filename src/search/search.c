@@ -23,6 +23,12 @@
 #define TIE_TOLERANCE 1e-6f
 /* slots of the tree's coordinates, at most: the axes of both blocks, each padded to a multiple of 4 */
 #define SEARCH_MAX_SLOTS (MM_SEARCH_MAX_DIMS + 8)
+#define PREFETCH_STRIDE  64 /* bytes: a cache line */
+/* The nearest-first phase of a descent evaluates at most this share of the frames (and this many
+ * at least) before the rest is walked in memory order; it records at most MAX_SORTED_LEAVES. */
+#define SORTED_BUDGET_PERCENT 5
+#define SORTED_BUDGET_MIN     64
+#define MAX_SORTED_LEAVES     512
 
 const char *mm_search_method_name(mm_search_method m)
 {
@@ -294,6 +300,11 @@ typedef struct query_ctx {
     float bound_scale[2]; /* rho (1 - 1e-5) of the pose and trajectory blocks: turn their box
                            * distances into a bound on the cost */
     int use_facing;
+    /* the two phases of a descent: nearest first until sorted_budget frames are evaluated, then in
+     * memory order (streaming), skipping the leaves the first phase scanned (their first positions,
+     * scanned[0..scanned_count)) */
+    int sorted_budget, streaming, scanned_count, skip_at;
+    int32_t scanned[MAX_SORTED_LEAVES];
     int evaluated, boxes; /* work counters (single-threaded paths) */
 } query_ctx;
 
@@ -384,6 +395,9 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
     if (!(c->loop_lo >= 0.0f)) c->loop_lo = 0.0f; /* a negative or NaN favour gives no bound */
     c->use_facing = 0;
     c->evaluated = c->boxes = 0;
+    c->sorted_budget = INT32_MAX; /* work units of a thread: nearest first throughout */
+    c->streaming = c->scanned_count = c->skip_at = 0;
+
     /* The tree lives in rotated, default-weighted coordinates z = V^T (sqrt(w0) x - mean). There
      * |z(q) - z(x)|^2 is the cost with the default weights w0; for other weights the cost is at
      * least rho times that, rho = min over dimensions of w / w0. The factor 1 - 1e-5 covers float
@@ -550,22 +564,51 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
     scan_rows(c, s->features, s->order, s->order_clip, s->order_tags, p0, p1, st);
 }
 
+/* The boxes of node n: its lanes' minima ([axis][lane]), then their maxima. */
+static inline const float *node_boxes(const mm_searcher *s, int n)
+{
+    return s->boxes + (size_t)n * 2 * s->tree_dims * MM_SEARCH_WIDTH;
+}
+
 /* Bounds of the lanes of node n: the least cost any frame under a lane can have, favours
  * included (the next frame is handled on its own). */
 static inline void node_bounds(query_ctx *c, int n, float *out)
 {
     const mm_searcher *s = c->s;
     const mm_search_node *node = &s->nodes[n];
-    size_t at = (size_t)n * s->tree_dims * MM_SEARCH_WIDTH;
-    lane_bounds(c->zq_lanes, s->node_min + at, s->node_max + at, s->pose_dims, s->tree_dims, c->bound_scale,
-                out);
+    const float *lo = node_boxes(s, n), *hi = lo + (size_t)s->tree_dims * MM_SEARCH_WIDTH;
+    lane_bounds(c->zq_lanes, lo, hi, s->pose_dims, s->tree_dims, c->bound_scale, out);
     c->boxes += node->count;
     for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] *= node_factor(c, node->loop[l]);
 }
 
 static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st);
 
-/* Visits the lanes of node n whose frames can matter, nearest first. */
+/* Asks for the memory lane l of node n leads to (its node's boxes, or its frames' features) ahead
+ * of the visit: the lanes after the first are visited later, so their loads overlap the first's
+ * walk (with cold caches the tree's scattered reads otherwise wait on memory one by one). */
+static inline void prefetch_lane(const query_ctx *c, const mm_search_node *node, int l)
+{
+#if defined(__GNUC__)
+    const mm_searcher *s = c->s;
+    const char *at, *end;
+    if (node->child[l] >= 0) {
+        __builtin_prefetch(&s->nodes[node->child[l]]);
+        at = (const char *)node_boxes(s, node->child[l]);
+        end = at + 2 * sizeof(float) * (size_t)s->tree_dims * MM_SEARCH_WIDTH;
+    } else {
+        size_t row = sizeof(float) * (size_t)c->db->dims_padded;
+        at = (const char *)s->features + row * (size_t)node->begin[l];
+        end = (const char *)s->features + row * (size_t)node->end[l];
+    }
+    for (; at < end; at += PREFETCH_STRIDE) __builtin_prefetch(at);
+#else
+    (void)c, (void)node, (void)l;
+#endif
+}
+
+/* Visits the lanes of node n whose frames can matter: nearest first, or in memory order once
+ * streaming (the lanes that pass asked for ahead: they are read in turn). */
 static void expand(query_ctx *c, int n, scan_state *st)
 {
     const mm_search_node *node = &c->s->nodes[n];
@@ -576,13 +619,18 @@ static void expand(query_ctx *c, int n, scan_state *st)
     for (int l = 0; l < node->count; ++l) { /* the lanes that can matter, by bound */
         if (bounds[l] > limit || !lane_possible(c, node, l)) continue;
         int i = m++;
-        while (i > 0 && bounds[idx[i - 1]] > bounds[l]) {
+        while (!c->streaming && i > 0 && bounds[idx[i - 1]] > bounds[l]) {
             idx[i] = idx[i - 1];
             --i;
         }
         idx[i] = l;
     }
-    for (int i = 0; i < m; ++i) visit_lane(c, n, idx[i], bounds[idx[i]], st);
+    if (c->streaming)
+        for (int i = 0; i < m; ++i) prefetch_lane(c, node, idx[i]);
+    for (int i = 0; i < m; ++i) {
+        visit_lane(c, n, idx[i], bounds[idx[i]], st);
+        if (c->streaming < 0) return; /* the nearest-first phase is over */
+    }
 }
 
 /* Visits lane l of node n, whose bound is known (the limit may have fallen since): its frames, or
@@ -593,10 +641,48 @@ static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st)
     if (bound > state_limit(st)) return;
     if (st->find_first && st->first.frame >= 0 && node->min_frame[l] >= st->first.frame)
         return; /* cannot win */
-    if (node->child[l] < 0)
-        scan_positions(c, node->begin[l], node->end[l], st);
-    else
+    int begin = node->begin[l];
+    if (node->child[l] >= 0) {
         expand(c, node->child[l], st);
+        return;
+    }
+    if (c->streaming > 0) { /* skip the leaves the first phase scanned (met in the same order) */
+        while (c->skip_at < c->scanned_count && c->scanned[c->skip_at] < begin) ++c->skip_at;
+        if (c->skip_at < c->scanned_count && c->scanned[c->skip_at] == begin) return;
+    } else if (c->sorted_budget < INT32_MAX) { /* in the nearest-first phase of a descent */
+        if (c->evaluated >= c->sorted_budget || c->scanned_count == MAX_SORTED_LEAVES) {
+            c->streaming = -1; /* unwind: the rest streams */
+            return;
+        }
+        c->scanned[c->scanned_count++] = begin;
+    }
+    scan_positions(c, begin, node->end[l], st);
+}
+
+static int compare_positions(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The whole tree: nearest first (the lowest limit soonest) while that evaluates at most
+ * sorted_budget frames; what it did not reach then in memory order, pruned by the same bounds.
+ * Nearest-first visits are scattered in memory, and where the bounds prune little (queries far
+ * from every frame) a walk that reads the tree and the features in order costs less. */
+static void descend(query_ctx *c, scan_state *st)
+{
+    long budget = (long)c->db->frame_count * SORTED_BUDGET_PERCENT / 100;
+    if (budget < SORTED_BUDGET_MIN) budget = SORTED_BUDGET_MIN;
+    c->sorted_budget = (int)(c->evaluated + budget < INT32_MAX ? c->evaluated + budget : INT32_MAX);
+    c->streaming = c->scanned_count = c->skip_at = 0;
+    expand(c, 0, st);
+    if (c->streaming != 0) {
+        qsort(c->scanned, (size_t)c->scanned_count, sizeof c->scanned[0], compare_positions);
+        c->streaming = 1;
+        expand(c, 0, st);
+    }
+    c->sorted_budget = INT32_MAX;
+    c->streaming = c->scanned_count = c->skip_at = 0;
 }
 
 /* Brute force and the facing filter: database frames [f0, f1) in order. */
@@ -616,7 +702,7 @@ static void scan_units(query_ctx *c, int u0, int u1, scan_state *st)
         return;
     }
     if (u0 == 0 && u1 == s->unit_count) {
-        expand(c, 0, st);
+        descend(c, st);
         return;
     }
     for (int u = u0; u < u1; ++u) {
@@ -975,8 +1061,7 @@ static int make_wide(builder *b, int n, int in_unit)
     mm_search_node *node = &s->nodes[w];
     memset(node, 0, sizeof *node);
     node->count = count;
-    float *lo = s->node_min + (size_t)w * dims * MM_SEARCH_WIDTH,
-          *hi = s->node_max + (size_t)w * dims * MM_SEARCH_WIDTH;
+    float *lo = s->boxes + (size_t)w * 2 * dims * MM_SEARCH_WIDTH, *hi = lo + (size_t)dims * MM_SEARCH_WIDTH;
     for (int l = 0; l < MM_SEARCH_WIDTH; ++l) {
         node->child[l] = -1;
         for (int d = 0; d < dims; ++d) /* unused lanes: empty boxes (never visited: count) */
@@ -1159,9 +1244,8 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         s->node_count = count_wide(b, 0);
         size_t boxes = (size_t)s->node_count * s->tree_dims * MM_SEARCH_WIDTH;
         s->nodes = (mm_search_node *)mm_alloc_array(a, (size_t)s->node_count, sizeof(mm_search_node));
-        s->node_min = (float *)mm_alloc_array(a, boxes, sizeof(float));
-        s->node_max = (float *)mm_alloc_array(a, boxes, sizeof(float));
-        ok = s->nodes && s->node_min && s->node_max;
+        s->boxes = (float *)mm_alloc_array(a, 2 * boxes, sizeof(float));
+        ok = s->nodes && s->boxes;
         if (ok) make_wide(b, 0, 0);
     }
     mm_free(a, b);
@@ -1214,8 +1298,7 @@ void mm_searcher_free(mm_searcher *s)
     mm_free(a, s->features);
     mm_free(a, s->nodes);
     mm_free(a, s->basis);
-    mm_free(a, s->node_min);
-    mm_free(a, s->node_max);
+    mm_free(a, s->boxes);
     mm_free(a, s->facing);
     mm_free(a, s->job);
     memset(s, 0, sizeof *s);
