@@ -215,9 +215,12 @@ int main(int argc, char **argv)
     mm_error err;
     if (mm_searcher_init(&s, &db, NULL, &err) != MM_OK) return 1;
     int dims = db.dims_padded;
-    fprintf(out, "database: %s: %d frames x %d dims (%d padded); searcher %.1f MB, %d nodes of %d lanes\n",
-            lafan ? "LAFAN1 (lafan1.json)" : "the built-in set (set MM_DATA_DIR for LAFAN1)", db.frame_count,
-            db.dims, dims, s.memory / 1e6, s.node_count, MM_SEARCH_WIDTH);
+    fprintf(
+        out,
+        "database: %s: %d frames x %d dims (%d padded); searcher %.1f MB, %d nodes of %d lanes, boxes on %d "
+        "pose and %d trajectory slots\n",
+        lafan ? "LAFAN1 (lafan1.json)" : "the built-in set (set MM_DATA_DIR for LAFAN1)", db.frame_count,
+        db.dims, dims, s.memory / 1e6, s.node_count, MM_SEARCH_WIDTH, s.pose_dims, s.tree_dims - s.pose_dims);
     sweep_buffer = calloc(COLD_SWEEP_BYTES, 1);
     query_set sets[KINDS];
     for (int k = 0; k < KINDS; ++k) {
