@@ -164,15 +164,22 @@ static void dimension_weights(const mm_database *db, const mm_search_params *p, 
     if (!(r >= 0.0f)) r = 0.0f; /* also NaN */
     if (r > 1.0f) r = 1.0f;
     float pose = 2.0f * (1.0f - r), traj = 2.0f * r;
+    int bones[MM_MAX_MATCH_BONES], bone_count = 0; /* bone_slot's order, built along the way */
     for (int g = 0; g < db->group_count; ++g) {
         const mm_feature_group *grp = &db->groups[g];
         float x = 0.0f;
+        int slot = 0;
+        if (grp->kind == MM_FEATURE_BONE_POSITION || grp->kind == MM_FEATURE_BONE_VELOCITY) {
+            while (slot < bone_count && bones[slot] != grp->bone) ++slot;
+            if (slot == bone_count && bone_count < MM_MAX_MATCH_BONES) bones[bone_count++] = grp->bone;
+            if (slot >= MM_MAX_MATCH_BONES) slot = MM_MAX_MATCH_BONES - 1;
+        }
         switch (grp->kind) {
         case MM_FEATURE_BONE_POSITION:
-            x = pose * p->joint_position_weights[bone_slot(db, g)];
+            x = pose * p->joint_position_weights[slot];
             break;
         case MM_FEATURE_BONE_VELOCITY:
-            x = pose * p->joint_velocity_weights[bone_slot(db, g)];
+            x = pose * p->joint_velocity_weights[slot];
             break;
         case MM_FEATURE_ROOT_VELOCITY:
             x = pose * p->body_velocity_weight;
@@ -370,12 +377,15 @@ static inline int lane_possible(const query_ctx *c, const mm_search_node *n, int
 static void rotate(const mm_searcher *s, const float *x, double *z)
 {
     int dims = s->db->dims_padded, slots = s->tree_dims;
-    for (int j = 0; j < slots; ++j) z[j] = 0.0;
+    double sum[SEARCH_MAX_SLOTS]; /* local: the loop vectorises (z might alias the basis) */
+    for (int j = 0; j < slots; ++j) sum[j] = 0.0;
     for (int k = 0; k < dims; ++k) {
         double y = s->sqrt_w0[k] * (double)x[k] - s->center[k];
+        if (y == 0.0) continue; /* padding: adds nothing */
         const double *axis = s->basis + (size_t)k * slots;
-        for (int j = 0; j < slots; ++j) z[j] += axis[j] * y;
+        for (int j = 0; j < slots; ++j) sum[j] += axis[j] * y;
     }
+    memcpy(z, sum, sizeof(double) * (size_t)slots);
 }
 
 static void prepare(query_ctx *c, const mm_searcher *s, const float *query, const mm_search_params *p,
