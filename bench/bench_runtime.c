@@ -1,7 +1,13 @@
 /* bench_runtime: the tick cost of characters sharing one database, and how many tick at 60 Hz on
  * the machine's cores through mm_crowd. LAFAN1 (lafan1.json, scripts/data_configs.sh) or the built-in set.
- * usage: bench_runtime [CHARACTERS]   Prints figures; never fails on speed. */
+ * Every character runs with the database's full runtime settings (mm_character_desc_from_database:
+ * the search schedule, feet and IK, distance matching and warping as tuned) on its own random input.
+ * The crowd ticks CROWD_TICKS times (10 s at 60 Hz) on 1 and then 2 threads of mm's pool, each tick
+ * timed; characters per tick come from the p99 tick time (n x 16.7 ms / p99). pose_hash is a hash
+ * of every character's final pose, the same for 1 and 2 threads.
+ * usage: bench_runtime [--json] [CHARACTERS]   (default 2000). Prints figures; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,11 +27,37 @@ static double now(void)
 }
 
 #define CROWD_TICKS 600 /* 10 s at 60 Hz */
+#define TICK        (1.0 / 60.0)
+
+static int compare(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* FNV-1a over the bytes of every character's world transforms. */
+static uint64_t pose_hash(const mm_crowd *crowd)
+{
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (int i = 0; i < crowd->count; ++i) {
+        const unsigned char *b = (const unsigned char *)crowd->characters[i].global;
+        size_t n = sizeof(mm_xform) * (size_t)crowd->db->joint_count;
+        for (size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 0x100000001b3ull;
+    }
+    return h;
+}
 
 int main(int argc, char **argv)
 {
-    int n = argc > 1 ? atoi(argv[1]) : 200;
+    int n = 2000, json = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--json") == 0)
+            json = 1;
+        else
+            n = atoi(argv[i]);
+    }
     if (n < 1) n = 1;
+    FILE *out = json ? stderr : stdout; /* with --json the figures for people go to stderr */
     mm_database db;
     int lafan = 0;
     if (test_build_real_database(&db, &lafan) != 0) return 1;
@@ -34,8 +66,12 @@ int main(int argc, char **argv)
     /* the settings the database was tuned with, as mm simulate runs it */
     mm_character_desc desc;
     if (mm_character_desc_from_database(&desc, &db, NULL) != MM_OK) return 1;
-    printf("database: %s, %d frames (distance matching %s, warping %s)\n", lafan ? "LAFAN1" : "built-in set",
-           db.frame_count, desc.distance_matching ? "on" : "off", desc.warping ? "on" : "off");
+    fprintf(
+        out,
+        "database: %s, %d frames (search every %.3f s and on turns; feet and IK %s, distance matching %s, "
+        "warping %s)\n",
+        lafan ? "LAFAN1" : "built-in set", db.frame_count, desc.search_interval,
+        desc.no_foot_ik ? "off" : "on", desc.distance_matching ? "on" : "off", desc.warping ? "on" : "off");
     mm_input_script *scripts = calloc((size_t)n, sizeof(mm_input_script));
     for (int i = 0; i < n; ++i) {
         mm_input_random_desc rd = {20.0f, 0, 0, 0, 0, NULL};
@@ -59,41 +95,53 @@ int main(int argc, char **argv)
             else
                 without += e, ++nwo;
         }
-        printf("one character: %.1f us per tick without a search, %.1f us with (%d searches in 20 s)\n",
-               1e6 * without / nwo, 1e6 * with / nw, nw);
+        fprintf(out, "one character: %.1f us per tick without a search, %.1f us with (%d searches in 20 s)\n",
+                1e6 * without / nwo, 1e6 * with / nw, nw);
         mm_character_free(&one);
     }
     /* the crowd, 10 s of game time, through mm_crowd (mm/crowd.h) on 1 and 2 threads of mm's pool:
-     * a fresh crowd each time (the same work), its update timed (the inputs sampled outside) */
+     * a fresh crowd each time (the same work), each update timed (the inputs sampled outside) */
     mm_input *inputs = calloc((size_t)n, sizeof(mm_input));
-    double first_sum = 0.0;
+    double *tick = malloc(sizeof(double) * CROWD_TICKS);
+    int per_tick[3] = {0};
+    uint64_t hash[3] = {0};
     for (int threads = 1; threads <= 2; ++threads) {
         mm_crowd crowd;
         mm_crowd_desc cd = {.count = n, .character = &desc, .threads = threads};
         if (mm_crowd_init(&crowd, &db, &s, &cd, NULL) != MM_OK) return 1;
-        double spent = 0.0;
+        long searches = 0;
         for (int t = 0; t < CROWD_TICKS; ++t) {
-            for (int i = 0; i < n; ++i) mm_input_script_sample(&scripts[i], t / 60.0f, &inputs[i]);
+            for (int i = 0; i < n; ++i) mm_input_script_sample(&scripts[i], (float)(t * TICK), &inputs[i]);
             double a = now();
-            mm_crowd_update(&crowd, inputs, 1.0f / 60.0f);
-            spent += now() - a;
+            mm_crowd_update(&crowd, inputs, (float)TICK);
+            tick[t] = now() - a;
         }
-        /* the same crowd whatever the threads: a sum over every character's joints */
-        double sum = 0.0;
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < db.joint_count; ++j) sum += crowd.characters[i].global[j].translation.x;
-        if (threads == 1) first_sum = sum;
-        double per_tick = spent / CROWD_TICKS;
-        printf("mm_crowd, %d characters, %d thread%s: %.2f ms per 60 Hz tick (%.1f us per character); %d "
-               "characters per 60 Hz tick (16.7 ms)%s\n",
-               n, threads, threads > 1 ? "s" : "", 1e3 * per_tick, 1e6 * per_tick / n,
-               (int)(n * (1.0 / 60.0) / per_tick), threads > 1 && sum != first_sum ? " DIFFERENT POSES" : "");
+        for (int i = 0; i < n; ++i) searches += crowd.characters[i].searches;
+        hash[threads] = pose_hash(&crowd);
+        double total = 0.0;
+        for (int t = 0; t < CROWD_TICKS; ++t) total += tick[t];
+        qsort(tick, CROWD_TICKS, sizeof(double), compare);
+        double median = tick[CROWD_TICKS / 2], p99 = tick[(int)(0.99 * (CROWD_TICKS - 1) + 0.5)];
+        per_tick[threads] = (int)(n * TICK / p99);
+        fprintf(
+            out,
+            "mm_crowd, %d characters, %d thread%s: tick median %.2f ms, p99 %.2f ms, mean %.2f ms (%.1f us "
+            "per character at p99); %d characters per 60 Hz tick (16.7 ms) at p99; %.1f%% of character "
+            "ticks search; pose hash %016" PRIx64 "%s\n",
+            n, threads, threads > 1 ? "s" : "", 1e3 * median, 1e3 * p99, 1e3 * total / CROWD_TICKS,
+            1e6 * p99 / n, per_tick[threads], 100.0 * searches / ((double)n * CROWD_TICKS), hash[threads],
+            threads > 1 && hash[2] != hash[1] ? " DIFFERENT POSES" : "");
         mm_crowd_free(&crowd);
     }
+    if (json)
+        printf("{\"database\": {\"frames\": %d}, \"characters_per_tick\": {\"1\": %d, \"2\": %d}, "
+               "\"pose_hash\": {\"1\": \"%016" PRIx64 "\", \"2\": \"%016" PRIx64 "\"}}\n",
+               db.frame_count, per_tick[1], per_tick[2], hash[1], hash[2]);
+    free(tick);
     free(inputs);
     for (int i = 0; i < n; ++i) mm_input_script_free(&scripts[i]);
     free(scripts);
     mm_searcher_free(&s);
     mm_database_free(&db);
-    return 0;
+    return hash[1] == hash[2] ? 0 : 1;
 }

@@ -1,7 +1,20 @@
-/* bench_search: microseconds per query for each search method and three kinds of query, the
- * work pruned, and batch throughput, on the LAFAN1 database (lafan1.json, made from $MM_DATA_DIR
- * by `cmake --build build --target data_configs` or the tests) or the built-in motion set when MM_DATA_DIR is
- * unset. usage: bench_search [QUERIES]   Prints figures; never fails on speed. */
+/* bench_search: the exact search against brute force on the queries games make, on the LAFAN1
+ * database (lafan1.json, made from $MM_DATA_DIR by `cmake --build build --target data_configs` or
+ * the tests) or the built-in motion set when MM_DATA_DIR is unset.
+ *
+ * Four kinds of query:
+ *   near        a database frame plus small noise (0.1 per normalised dimension)
+ *   recorded    the queries characters searched with on random input (the database's own runtime
+ *               settings: weights, favours, tags and type as the runtime adjusts them)
+ *   transition  the pose of frame i with the trajectory of frame j
+ *   random      normal in feature space
+ * each timed query by query with warm caches and with cold ones (a COLD_SWEEP_BYTES sweep before
+ * each query), median and p99 for the fast search and brute force in the same run; then batch
+ * throughput of each kind on 1 and 2 threads. Every answer of the fast search is checked against
+ * brute force (the exit status is 1 on a mismatch).
+ *
+ * usage: bench_search [--json] [QUERIES]   (QUERIES per kind, default 1000; the cold runs take a
+ *        quarter of them, at least 100). Prints figures; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -9,10 +22,24 @@
 #include <string.h>
 #include <time.h>
 
-#include <mm/config_json.h>
-#include <mm/database_build.h>
+#include <mm/character.h>
+#include <mm/input.h>
 #include <mm/search.h>
-#include <mm/synth.h>
+
+#include "../tests/test_databases.h"
+
+#define COLD_SWEEP_BYTES  (48u << 20) /* more than the last-level cache of the machines we run on */
+#define CACHE_LINE        64
+#define NEAR_NOISE        0.1 /* per normalised dimension */
+#define RECORD_CHARACTERS 16  /* characters whose searches are recorded, ticked in turn */
+#define RECORD_INPUT_SECS 120.0f
+#define BATCH_REPEATS     3
+#define BATCH_BRUTE_MAX   200 /* queries per brute-force batch (it is slow) */
+#define KINDS             4
+#define CACHES            2
+
+static const char *const KIND_NAMES[KINDS] = {"near", "recorded", "transition", "random"};
+static const char *const CACHE_NAMES[CACHES] = {"warm", "cold"};
 
 static double now(void)
 {
@@ -41,145 +68,237 @@ static double normal(void)
     return sqrt(-2.0 * log(u)) * cos(2.0 * MM_PI * v);
 }
 
-static int build_database(mm_database *db, const char **name)
+/* Reads (and writes) every cache line of the sweep buffer: what a game's frame does to the caches
+ * between two searches. */
+static unsigned char *sweep_buffer;
+static void sweep(void)
 {
-    mm_error err;
-    memset(&err, 0, sizeof err);
-    mm_config cfg;
-    memset(&cfg, 0, sizeof cfg);
-    mm_clip *sources = NULL;
-    char *text = NULL;
-    if (getenv("MM_DATA_DIR")) {
-        *name = "LAFAN1 (lafan1.json)";
-        if (mm_config_load_json(MM_DATA_CONFIGS "/lafan1.json", &cfg, &text, &err) != MM_OK ||
-            mm_config_load_sources(&cfg, &sources, &err) != MM_OK) {
-            fprintf(stderr, "bench_search: %s: %s (make it: cmake --build build --target data_configs)\n",
-                    err.file, err.message);
-            return -1;
-        }
-    } else {
-        *name = "the built-in set (configs/synth.json; set MM_DATA_DIR for LAFAN1)";
-        if (mm_config_load_json(MM_SOURCE_DIR "/configs/synth.json", &cfg, &text, &err) != MM_OK) return -1;
-        mm_synth_desc sd;
-        memset(&sd, 0, sizeof sd);
-        mm_synth_set set;
-        if (mm_synth_generate(&sd, &set, &err) != MM_OK) return -1;
-        sources = calloc((size_t)cfg.clip_count, sizeof(mm_clip));
-        for (int i = 0; i < cfg.clip_count; ++i)
-            for (int k = 0; k < set.clip_count; ++k)
-                if (strcmp(set.clips[k].name, cfg.clips[i].name) == 0)
-                    mm_clip_copy(&sources[i], &set.clips[k].clip, NULL);
-        mm_synth_set_free(&set);
+    for (size_t i = 0; i < COLD_SWEEP_BYTES; i += CACHE_LINE)
+        sweep_buffer[i] = (unsigned char)(sweep_buffer[i] + 1);
+}
+
+/* The queries of one kind and their parameters. */
+typedef struct query_set {
+    float *q;            /* [n x dims_padded] */
+    mm_search_params *p; /* [n] */
+    int n;
+} query_set;
+
+static int frame_at_random(const mm_database *db)
+{
+    return (int)(uniform() * db->frame_count) % db->frame_count;
+}
+
+/* What characters searched with: RECORD_CHARACTERS characters with the database's runtime
+ * settings on random input, ticked in turn at 60 Hz, every search's query and parameters kept
+ * until n are. */
+static int record_queries(const mm_database *db, const mm_searcher *s, query_set *set)
+{
+    mm_character_desc desc;
+    if (mm_character_desc_from_database(&desc, db, NULL) != MM_OK) return -1;
+    int dims = db->dims_padded, got = 0;
+    mm_character chars[RECORD_CHARACTERS];
+    mm_input_script scripts[RECORD_CHARACTERS];
+    int searches[RECORD_CHARACTERS];
+    for (int i = 0; i < RECORD_CHARACTERS; ++i) {
+        mm_input_random_desc rd = {RECORD_INPUT_SECS, 0, 0, 0, 0, NULL};
+        if (mm_input_script_random(&scripts[i], 1000 + (uint64_t)i, &rd) != MM_OK) return -1;
+        if (mm_character_init(&chars[i], db, s, &desc, NULL) != MM_OK) return -1;
+        searches[i] = 0;
     }
-    mm_db_build_desc desc;
-    memset(&desc, 0, sizeof desc);
-    mm_result r = mm_database_build(&cfg, sources, &desc, db, &err);
-    if (r != MM_OK) fprintf(stderr, "bench_search: build: %s\n", err.message);
-    mm_config_free_sources(&cfg, sources);
-    mm_config_free(&cfg);
-    free(text);
-    return r == MM_OK ? 0 : -1;
+    for (int t = 0; got < set->n && t < (int)(RECORD_INPUT_SECS * 60.0f); ++t)
+        for (int i = 0; i < RECORD_CHARACTERS && got < set->n; ++i) {
+            mm_input in;
+            mm_input_script_sample(&scripts[i], (float)t / 60.0f, &in);
+            mm_character_update(&chars[i], &in, 1.0f / 60.0f);
+            if (chars[i].searches == searches[i]) continue;
+            searches[i] = chars[i].searches;
+            memcpy(set->q + (size_t)got * dims, chars[i].query, sizeof(float) * (size_t)dims);
+            set->p[got++] = chars[i].last_params;
+        }
+    for (int i = 0; i < RECORD_CHARACTERS; ++i) {
+        mm_character_free(&chars[i]);
+        mm_input_script_free(&scripts[i]);
+    }
+    set->n = got;
+    return got > 0 ? 0 : -1;
+}
+
+static void make_queries(const mm_database *db, int kind, query_set *set)
+{
+    int dims = db->dims_padded;
+    for (int i = 0; i < set->n; ++i) {
+        float *q = set->q + (size_t)i * dims;
+        mm_search_params *p = &set->p[i];
+        mm_search_params_defaults(db, p);
+        int a = frame_at_random(db), b = frame_at_random(db);
+        p->current_frame = a;
+        if (kind == 0) {
+            mm_search_query_from_frames(db, a, a, q);
+            for (int d = 0; d < db->dims; ++d) q[d] += (float)(NEAR_NOISE * normal());
+        } else if (kind == 2) {
+            mm_search_query_from_frames(db, a, b, q);
+        } else {
+            memset(q, 0, sizeof(float) * (size_t)dims);
+            for (int d = 0; d < db->dims; ++d) q[d] = (float)normal();
+        }
+    }
+}
+
+typedef struct timing {
+    double median_us, p99_us;
+} timing;
+
+static timing summarise(double *t, int n)
+{
+    qsort(t, (size_t)n, sizeof(double), compare);
+    timing r = {1e6 * t[n / 2], 1e6 * t[(int)(0.99 * (n - 1) + 0.5)]};
+    return r;
+}
+
+/* Times the first n queries of set one by one, with the fast search into fast (times tf) and brute
+ * force into brute (times tb); its work summed into total. Warm: each method in its own loop (no
+ * cache shared between them). Cold: a sweep before each search, the two methods in turn on each
+ * query (the machine's load then weighs on both alike). */
+static void time_queries(const mm_searcher *s, const query_set *set, int n, int cold, mm_search_result *fast,
+                         mm_search_result *brute, double *tf, double *tb, mm_search_stats *total)
+{
+    int dims = s->db->dims_padded;
+    memset(total, 0, sizeof *total);
+    for (int pass = 0; pass < (cold ? 1 : 2); ++pass)
+        for (int i = 0; i < n; ++i)
+            for (int m = 0; m < 2; ++m) {
+                if (!cold && m != pass) continue;
+                if (cold) sweep();
+                mm_search_stats st;
+                const float *q = set->q + (size_t)i * dims;
+                double a = now();
+                mm_searcher_search_stats(s, q, &set->p[i], m ? MM_SEARCH_BRUTE : MM_SEARCH_FAST,
+                                         m ? &brute[i] : &fast[i], 1, &st);
+                (m ? tb : tf)[i] = now() - a;
+                if (m) continue;
+                total->frames_evaluated += st.frames_evaluated;
+                total->boxes_tested += st.boxes_tested;
+            }
+}
+
+/* Queries per second of a batch of the first n queries (the best of BATCH_REPEATS). */
+static double batch_rate(const mm_searcher *s, const query_set *set, int n, mm_search_method method,
+                         mm_search_result *found)
+{
+    double best = INFINITY;
+    for (int rep = 0; rep < BATCH_REPEATS; ++rep) {
+        double a = now();
+        mm_searcher_batch(s, set->q, set->p, 1, method, found, n);
+        double e = now() - a;
+        if (e < best) best = e;
+    }
+    return n / best;
 }
 
 int main(int argc, char **argv)
 {
-    int n = argc > 1 ? atoi(argv[1]) : 2000;
-    if (n < 10) n = 10;
+    int n = 1000, json = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--json") == 0)
+            json = 1;
+        else
+            n = atoi(argv[i]);
+    }
+    if (n < 100) n = 100;
+    int cold_n = n / 4 > 100 ? n / 4 : 100;
+    FILE *out = json ? stderr : stdout; /* with --json the figures for people go to stderr */
     mm_database db;
-    const char *name;
-    if (build_database(&db, &name) != 0) return 1;
-    printf("database: %s: %d frames x %d dims (%d padded)\n", name, db.frame_count, db.dims, db.dims_padded);
+    int lafan = 0;
+    if (test_build_real_database(&db, &lafan) != 0) return 1;
     mm_searcher s;
     mm_error err;
     if (mm_searcher_init(&s, &db, NULL, &err) != MM_OK) return 1;
-    mm_search_params p;
-    mm_search_params_defaults(&db, &p);
     int dims = db.dims_padded;
-    float *queries = malloc(sizeof(float) * (size_t)dims * (size_t)n * 3);
-    int *current = malloc(sizeof(int) * (size_t)n);
-    for (int i = 0; i < n; ++i) {
-        int a = (int)(uniform() * db.frame_count), b = (int)(uniform() * db.frame_count);
-        current[i] = a;
-        mm_search_query_from_frames(&db, a, b, queries + (size_t)(0 * n + i) * dims);
-        float *q = queries + (size_t)(1 * n + i) * dims;
-        mm_search_query_from_frames(&db, a, a, q);
-        for (int d = 0; d < db.dims; ++d) q[d] += (float)(0.1 * normal());
-        q = queries + (size_t)(2 * n + i) * dims;
-        memset(q, 0, sizeof(float) * (size_t)dims);
-        for (int d = 0; d < db.dims; ++d) q[d] = (float)normal();
-    }
-    const char *kinds[3] = {"(a) pose of i, trajectory of j", "(b) frame i + noise 0.1", "(c) random normal"};
-    double *t = malloc(sizeof(double) * (size_t)n);
-    mm_search_result *found[3];
-    for (int m = 0; m < 3; ++m) found[m] = malloc(sizeof(mm_search_result) * (size_t)n);
-    double brute_median[3] = {0};
-    int mismatches = 0;
-    for (int kind = 0; kind < 3; ++kind) {
-        printf("\n%s, %d queries:\n", kinds[kind], n);
-        for (int m = 0; m < 3; ++m) { /* each method in its own loop: no cache pollution between them */
-            double evaluated = 0, boxes = 0;
-            for (int i = 0; i < n; ++i) {
-                const float *q = queries + (size_t)(kind * n + i) * dims;
-                p.current_frame = current[i];
-                mm_search_stats st;
-                double a = now();
-                mm_searcher_search_stats(&s, q, &p, (mm_search_method)m, &found[m][i], 1, &st);
-                t[i] = now() - a;
-                evaluated += st.frames_evaluated;
-                boxes += st.boxes_tested;
-            }
-            qsort(t, (size_t)n, sizeof(double), compare);
-            double median = 1e6 * t[n / 2], p99 = 1e6 * t[(int)(0.99 * (n - 1))];
-            if (m == MM_SEARCH_BRUTE) brute_median[kind] = median;
-            printf(
-                "  %-6s median %8.1f us  p99 %8.1f us  %6.1fx brute  frames evaluated %6.2f%%  boxes %6.0f\n",
-                mm_search_method_name((mm_search_method)m), median, p99, brute_median[kind] / median,
-                100.0 * evaluated / n / db.frame_count, boxes / n);
+    fprintf(
+        out,
+        "database: %s: %d frames x %d dims (%d padded); searcher %.1f MB, %d nodes of %d lanes, boxes on %d "
+        "pose and %d trajectory slots\n",
+        lafan ? "LAFAN1 (lafan1.json)" : "the built-in set (set MM_DATA_DIR for LAFAN1)", db.frame_count,
+        db.dims, dims, s.memory / 1e6, s.node_count, MM_SEARCH_WIDTH, s.pose_dims, s.tree_dims - s.pose_dims);
+    sweep_buffer = calloc(COLD_SWEEP_BYTES, 1);
+    query_set sets[KINDS];
+    for (int k = 0; k < KINDS; ++k) {
+        sets[k].n = n;
+        sets[k].q = calloc((size_t)n * dims, sizeof(float));
+        sets[k].p = calloc((size_t)n, sizeof(mm_search_params));
+        if (k == 1) {
+            if (record_queries(&db, &s, &sets[k]) != 0) return 1;
+        } else {
+            make_queries(&db, k, &sets[k]);
         }
-        int agree = 0;
-        for (int i = 0; i < n; ++i) {
-            mismatches += found[MM_SEARCH_FAST][i].frame != found[MM_SEARCH_BRUTE][i].frame;
-            agree += found[MM_SEARCH_FACING][i].frame == found[MM_SEARCH_BRUTE][i].frame;
-        }
-        printf("  facing (approximate) agrees with brute force on %.1f%% of queries\n", 100.0 * agree / n);
     }
-    printf("\nexact method vs brute force: %d mismatches in %d queries\n", mismatches, 3 * n);
-    printf(
-        "acceleration structure: %d nodes of %d lanes, boxes on %d of %d axes, %.1f MB (of which %.1f MB the "
-        "features in tree order)\n",
-        s.node_count, MM_SEARCH_WIDTH, s.tree_dims, dims, s.memory / 1e6,
-        (double)db.frame_count * dims * 4 / 1e6);
+    double *t = malloc(sizeof(double) * (size_t)n), *tb = malloc(sizeof(double) * (size_t)n);
+    mm_search_result *fast = malloc(sizeof(mm_search_result) * (size_t)n),
+                     *brute = malloc(sizeof(mm_search_result) * (size_t)n);
+    timing fast_t[KINDS][CACHES], brute_t[KINDS][CACHES];
+    long mismatches = 0, checked = 0;
+    fprintf(out, "\nper query (fast / brute force, the same queries; cold: a %u MB sweep before each)\n",
+            COLD_SWEEP_BYTES >> 20);
+    fprintf(out, "%-10s %-4s %5s  %9s %9s  %9s %9s  %7s %7s  %8s %6s\n", "kind", "cache", "n", "fast med",
+            "p99", "brute med", "p99", "x med", "x p99", "frames%", "boxes");
+    for (int k = 0; k < KINDS; ++k)
+        for (int c = 0; c < CACHES; ++c) {
+            int m = c ? (cold_n < sets[k].n ? cold_n : sets[k].n) : sets[k].n;
+            mm_search_stats fs;
+            time_queries(&s, &sets[k], m, c, fast, brute, t, tb, &fs);
+            fast_t[k][c] = summarise(t, m);
+            brute_t[k][c] = summarise(tb, m);
+            for (int i = 0; i < m; ++i) mismatches += fast[i].frame != brute[i].frame;
+            checked += m;
+            fprintf(
+                out, "%-10s %-5s %5d  %6.1f us %6.1f us  %6.1f us %6.1f us  %6.1fx %6.1fx  %7.2f%% %6.0f\n",
+                KIND_NAMES[k], CACHE_NAMES[c], m, fast_t[k][c].median_us, fast_t[k][c].p99_us,
+                brute_t[k][c].median_us, brute_t[k][c].p99_us,
+                brute_t[k][c].median_us / fast_t[k][c].median_us, brute_t[k][c].p99_us / fast_t[k][c].p99_us,
+                100.0 * fs.frames_evaluated / m / db.frame_count, (double)fs.boxes_tested / m);
+        }
 
-    /* Batch throughput, kind (b), on 1 and 2 threads. */
-    mm_search_result *res = malloc(sizeof(mm_search_result) * (size_t)n);
-    mm_search_params *ps = malloc(sizeof(mm_search_params) * (size_t)n);
-    for (int i = 0; i < n; ++i) {
-        ps[i] = p;
-        ps[i].current_frame = current[i];
-    }
-    int first_1 = -1;
+    /* batch throughput of each kind on 1 and 2 threads */
+    fprintf(out, "\nbatch, queries/s (fast / brute force, the same queries)\n");
     for (int threads = 1; threads <= 2; ++threads) {
         mm_searcher sb;
         mm_searcher_desc sd = {threads, NULL};
-        mm_searcher_init(&sb, &db, &sd, &err);
-        double best = 1e9;
-        for (int rep = 0; rep < 5; ++rep) {
-            double a = now();
-            mm_searcher_batch(&sb, queries + (size_t)n * dims, ps, 1, MM_SEARCH_FAST, res, n);
-            double e = now() - a;
-            if (e < best) best = e;
+        if (mm_searcher_init(&sb, &db, &sd, &err) != MM_OK) return 1;
+        for (int k = 0; k < KINDS; ++k) {
+            int bn = sets[k].n < BATCH_BRUTE_MAX ? sets[k].n : BATCH_BRUTE_MAX;
+            double f = batch_rate(&sb, &sets[k], sets[k].n, MM_SEARCH_FAST, fast);
+            double b = batch_rate(&sb, &sets[k], bn, MM_SEARCH_BRUTE, brute);
+            for (int i = 0; i < bn; ++i) mismatches += fast[i].frame != brute[i].frame;
+            checked += bn;
+            fprintf(out, "%-10s %d thread%s  fast %9.0f  brute %7.0f  %6.1fx\n", KIND_NAMES[k], sb.threads,
+                    sb.threads > 1 ? "s" : " ", f, b, f / b);
         }
-        if (threads == 1) first_1 = res[n / 2].frame;
-        printf("batch (b), %d thread%s: %.0f queries/s%s\n", sb.threads, sb.threads > 1 ? "s" : "", n / best,
-               threads == 2 && res[n / 2].frame != first_1 ? "  (RESULT DIFFERS)" : "");
         mm_searcher_free(&sb);
     }
-    free(res);
-    free(ps);
+    fprintf(out, "\nfast vs brute force: %ld mismatches in %ld answers\n", mismatches, checked);
+    if (json) {
+        printf("{\"database\": {\"frames\": %d}", db.frame_count);
+        for (int k = 0; k < KINDS; ++k) {
+            printf(", \"%s\": {", KIND_NAMES[k]);
+            for (int c = 0; c < CACHES; ++c)
+                printf("%s\"%s\": {\"median_us\": %.2f, \"p99_us\": %.2f, \"brute_median_us\": %.2f, "
+                       "\"brute_p99_us\": %.2f}",
+                       c ? ", " : "", CACHE_NAMES[c], fast_t[k][c].median_us, fast_t[k][c].p99_us,
+                       brute_t[k][c].median_us, brute_t[k][c].p99_us);
+            printf("}");
+        }
+        printf("}\n");
+    }
+    for (int k = 0; k < KINDS; ++k) {
+        free(sets[k].q);
+        free(sets[k].p);
+    }
     free(t);
-    for (int m = 0; m < 3; ++m) free(found[m]);
-    free(queries);
-    free(current);
+    free(tb);
+    free(fast);
+    free(brute);
+    free(sweep_buffer);
     mm_searcher_free(&s);
     mm_database_free(&db);
     return mismatches ? 1 : 0;

@@ -2,7 +2,9 @@
  * and bias on small crafted databases. */
 #include <math.h>
 
+#include <mm/character.h>
 #include <mm/database_build.h>
+#include <mm/input.h>
 #include <mm/search.h>
 
 #include "test_databases.h"
@@ -363,8 +365,8 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
     int dims = db->dims_padded, td = s->tree_dims;
     assert_true(depth < 64);
     assert_true(node->begin[l] < node->end[l]);
-    const float *lo = s->node_min + (size_t)n * td * MM_SEARCH_WIDTH;
-    const float *hi = s->node_max + (size_t)n * td * MM_SEARCH_WIDTH;
+    const float *lo = s->boxes + (size_t)n * 2 * td * MM_SEARCH_WIDTH;
+    const float *hi = lo + (size_t)td * MM_SEARCH_WIDTH;
     for (int p = node->begin[l]; p < node->end[l]; ++p) {
         int f = s->order[p];
         assert_true(f >= node->min_frame[l]);
@@ -382,7 +384,7 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
         for (int j = 0; j < td; ++j) {
             double z = 0.0;
             for (int k = 0; k < dims; ++k)
-                z += s->basis[(size_t)k * dims + j] *
+                z += s->basis[(size_t)k * td + j] *
                      (s->sqrt_w0[k] * (double)db->features[(size_t)f * dims + k] - s->center[k]);
             assert_true(z >= lo[j * MM_SEARCH_WIDTH + l] && z <= hi[j * MM_SEARCH_WIDTH + l]);
         }
@@ -409,7 +411,8 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
 static void check_tree(const mm_searcher *s)
 {
     const mm_database *db = s->db;
-    assert_true(s->tree_dims >= 1 && s->tree_dims <= db->dims_padded && s->tree_dims % 4 == 0);
+    assert_true(s->tree_dims >= 4 && s->tree_dims <= db->dims_padded + 8 && s->tree_dims % 4 == 0);
+    assert_true(s->pose_dims >= 0 && s->pose_dims < s->tree_dims && s->pose_dims % 4 == 0);
     char *seen = calloc((size_t)db->frame_count, 1);
     for (int p = 0; p < db->frame_count; ++p) {
         assert_true(s->order[p] >= 0 && s->order[p] < db->frame_count);
@@ -537,6 +540,135 @@ static int teardown(void **state)
     return 0;
 }
 
+/* ---- the kinds of query games make, and ties ---------------------------------------------- */
+
+/* A query of kind (0 near: frame a plus noise, 1 transition: the pose of a and the trajectory of
+ * b, 2 random in feature space), with the database's default parameters and a as current frame. */
+static void make_kind(const mm_database *db, test_rng *r, int kind, float *q, mm_search_params *p)
+{
+    int a = (int)test_rng_uniform(r, 0, db->frame_count), b = (int)test_rng_uniform(r, 0, db->frame_count);
+    mm_search_params_defaults(db, p);
+    p->current_frame = a;
+    if (kind == 0) {
+        mm_search_query_from_frames(db, a, a, q);
+        for (int d = 0; d < db->dims; ++d) q[d] += (float)(0.1 * normal(r));
+    } else if (kind == 1) {
+        mm_search_query_from_frames(db, a, b, q);
+    } else {
+        memset(q, 0, sizeof(float) * (size_t)db->dims_padded);
+        for (int d = 0; d < db->dims; ++d) q[d] = (float)normal(r);
+    }
+}
+
+/* Brute force is the reference: the fast search's winner is the same frame at the same cost; and
+ * brute force's own answer obeys the tie rule (no frame within the tolerance of the lowest cost has
+ * a lower index: checked over all frames with the cost terms). Returns whether the answer was a
+ * tie (another candidate within the tolerance). */
+static int check_query(const mm_searcher *s, const float *q, const mm_search_params *p, const char *what,
+                       int i)
+{
+    mm_search_result brute, fast, top[2];
+    mm_searcher_search(s, q, p, MM_SEARCH_BRUTE, &brute, 1);
+    mm_searcher_search(s, q, p, MM_SEARCH_FAST, &fast, 1);
+    if (fast.frame != brute.frame)
+        print_error("%s query %d: brute %d (%.9g), fast %d (%.9g)\n", what, i, brute.frame, brute.cost,
+                    fast.frame, fast.cost);
+    assert_int_equal(fast.frame, brute.frame);
+    assert_true(fast.cost == brute.cost);
+    int n = mm_searcher_search(s, q, p, MM_SEARCH_BRUTE, top, 2);
+    return n == 2 && top[1].cost <= brute.cost + 1e-6f * fabsf(brute.cost) && top[1].frame != brute.frame;
+}
+
+/* Every kind of query on the real database, and what characters searched with on random input
+ * (the database's runtime settings: the ratio, favours, tags and type the runtime sets). */
+static void test_kinds_equal_brute(void **state)
+{
+    (void)state;
+    const mm_database *db = &real_db;
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, db, NULL, NULL), MM_OK);
+    test_rng r = {0x5eed};
+    int n = getenv("MM_TEST_SEARCH_QUERIES") ? atoi(getenv("MM_TEST_SEARCH_QUERIES")) / 3 : 300;
+    if (n < 10) n = 10;
+    float q[MM_SEARCH_MAX_DIMS];
+    const char *names[3] = {"near", "transition", "random"};
+    for (int kind = 0; kind < 3; ++kind)
+        for (int i = 0; i < n; ++i) {
+            mm_search_params p;
+            make_kind(db, &r, kind, q, &p);
+            check_query(&s, q, &p, names[kind], i);
+        }
+    /* recorded: characters on random input; each search's query and parameters, and the answer the
+     * character got (the fast search) is brute force's */
+    mm_character_desc desc;
+    assert_int_equal(mm_character_desc_from_database(&desc, db, NULL), MM_OK);
+    int recorded = 0, ratios = 0;
+    for (int k = 0; k < 4 && recorded < n; ++k) {
+        mm_character c;
+        mm_input_script script;
+        mm_input_random_desc rd = {30.0f, 0, 0, 0, 0, NULL};
+        assert_int_equal(mm_input_script_random(&script, 77 + (uint64_t)k, &rd), MM_OK);
+        assert_int_equal(mm_character_init(&c, db, &s, &desc, NULL), MM_OK);
+        int searches = 0;
+        for (int t = 0; t < 30 * 60 && recorded < n; ++t) {
+            mm_input in;
+            mm_input_script_sample(&script, t / 60.0f, &in);
+            mm_character_update(&c, &in, 1.0f / 60.0f);
+            if (c.searches == searches) continue;
+            searches = c.searches;
+            mm_search_result brute;
+            mm_searcher_search(&s, c.query, &c.last_params, MM_SEARCH_BRUTE, &brute, 1);
+            assert_int_equal(c.last_result.frame, brute.frame);
+            check_query(&s, c.query, &c.last_params, "recorded", recorded++);
+            ratios += c.last_params.pose_trajectory_ratio != c.desc.params.pose_trajectory_ratio;
+        }
+        mm_character_free(&c);
+        mm_input_script_free(&script);
+    }
+    assert_true(recorded >= n / 2);
+    print_message(
+        "%s: near, transition, random (%d each) and %d recorded queries (%d with the ratio the runtime "
+        "moved): fast = brute force\n",
+        real_name, n, recorded, ratios);
+    mm_searcher_free(&s);
+}
+
+/* Ties: the real database with its features on a coarse grid (many frames then have exactly the
+ * same features, so exact ties are everywhere), every kind of query; the fast search returns
+ * brute force's winner, the lowest index among the tied. */
+static void test_ties_every_kind(void **state)
+{
+    (void)state;
+    mm_database coarse = real_db; /* shares everything but the features */
+    size_t count = (size_t)real_db.frame_count * real_db.dims_padded;
+    float *features = malloc(sizeof(float) * count);
+    for (size_t i = 0; i < count; ++i) features[i] = roundf(real_db.features[i] * 2.0f) * 0.5f;
+    coarse.features = features;
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, &coarse, NULL, NULL), MM_OK);
+    check_tree(&s);
+    test_rng r = {0x7e5};
+    int n = getenv("MM_TEST_SEARCH_QUERIES") ? atoi(getenv("MM_TEST_SEARCH_QUERIES")) / 3 : 300;
+    if (n < 10) n = 10;
+    float q[MM_SEARCH_MAX_DIMS];
+    int ties = 0;
+    for (int kind = 0; kind < 4; ++kind)
+        for (int i = 0; i < n; ++i) {
+            mm_search_params p;
+            make_kind(&coarse, &r, kind % 3, q, &p);
+            if (kind == 3) { /* the query on the grid too: cost 0 for every frame on its point */
+                for (int d = 0; d < coarse.dims; ++d) q[d] = roundf(q[d] * 2.0f) * 0.5f;
+                p.current_frame = -1;
+            }
+            if (i % 2) p.pose_trajectory_ratio = (float)test_rng_uniform(&r, 0, 1);
+            ties += check_query(&s, q, &p, "coarse grid", i);
+        }
+    print_message("coarse-grid database: %d queries, %d with ties: fast = brute force\n", 4 * n, ties);
+    assert_true(ties > n / 2);
+    mm_searcher_free(&s);
+    free(features);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -546,6 +678,8 @@ int main(void)
         cmocka_unit_test(test_query_from_pose),
         cmocka_unit_test(test_tree),
         cmocka_unit_test(test_small_trees),
+        cmocka_unit_test(test_kinds_equal_brute),
+        cmocka_unit_test(test_ties_every_kind),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

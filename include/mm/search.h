@@ -142,7 +142,7 @@ typedef struct mm_searcher_pool mm_searcher_pool;
 #define MM_SEARCH_MAX_UNITS  (2 << MM_SEARCH_UNIT_DEPTH)
 
 /* A node of the searcher's tree (internal): up to MM_SEARCH_WIDTH children ("lanes"), whose
- * boxes are stored lane by lane per dimension (node_min / node_max) so that one pass bounds them
+ * boxes are stored lane by lane per dimension (mm_searcher.boxes) so that one pass bounds them
  * all. A lane is another node or a leaf: the frames at positions [begin, end) of the tree order. */
 typedef struct mm_search_node {
     int32_t child[MM_SEARCH_WIDTH];                                /* the lane's node, -1 for a leaf */
@@ -158,23 +158,27 @@ typedef struct mm_searcher {
     const mm_database *db;
     int threads;
     /* The tree: frames reordered by median splits of the widest dimension; their features copied
-     * in that order; per node the boxes of its lanes (node_min / node_max: tree_dims x
+     * in that order; per node the boxes of its lanes (boxes: minima and maxima, tree_dims x
      * MM_SEARCH_WIDTH floats each, [axis][lane]). Node 0 is the root. */
     int32_t *order;       /* position -> frame */
     int32_t *order_clip;  /* position -> the frame's clip */
     uint64_t *order_tags; /* position -> the frame's tags */
     float *features;
     mm_search_node *nodes;
-    float *node_min, *node_max; /* in the tree's coordinates (below) */
+    float *boxes; /* per node, in the tree's coordinates (below): its lanes' minima (tree_dims x
+                   * MM_SEARCH_WIDTH floats, [axis][lane]), then their maxima */
     int node_count;
     /* The tree's coordinates: z = basis^T (sqrt_w0 x - center), the principal axes of the
-     * features weighted by the database's default weights w0 (boxes along them are much tighter). */
+     * features weighted by the database's default weights w0 (boxes along them are much tighter),
+     * those of the pose dimensions (bones, root velocity) and those of the trajectory apart, so that
+     * a bound weighs each block by its own ratio of weights. */
     float w0[MM_SEARCH_MAX_DIMS], sqrt_w0[MM_SEARCH_MAX_DIMS];
     double center[MM_SEARCH_MAX_DIMS];
-    int tree_dims; /* the axes the boxes use: all but those of padding, a multiple of 4 */
-    double *basis; /* [dims_padded x dims_padded]: basis[k * dims_padded + j] is component k of
-                    * axis j; axes by decreasing variance, those of padding (dimensions of
-                    * default weight 0) last */
+    int tree_dims; /* slots of the coordinates (and of the boxes): [0, pose_dims) the pose axes,
+                    * [pose_dims, tree_dims) the trajectory axes, each block by decreasing variance
+                    * and padded with zero axes to a multiple of 4; at most dims_padded + 8 */
+    int pose_dims;
+    double *basis; /* [dims_padded x tree_dims]: basis[k * tree_dims + j] is component k of slot j */
     int units[MM_SEARCH_MAX_UNITS]; /* work units: node * MM_SEARCH_WIDTH + lane */
     int unit_count;
     float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */

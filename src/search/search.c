@@ -21,6 +21,14 @@
 
 #define LANES         8
 #define TIE_TOLERANCE 1e-6f
+/* slots of the tree's coordinates, at most: the axes of both blocks, each padded to a multiple of 4 */
+#define SEARCH_MAX_SLOTS (MM_SEARCH_MAX_DIMS + 8)
+#define PREFETCH_STRIDE  64 /* bytes: a cache line */
+/* The nearest-first phase of a descent evaluates at most this share of the frames (and this many
+ * at least) before the rest is walked in memory order; it records at most MAX_SORTED_LEAVES. */
+#define SORTED_BUDGET_PERCENT 5
+#define SORTED_BUDGET_MIN     64
+#define MAX_SORTED_LEAVES     512
 
 const char *mm_search_method_name(mm_search_method m)
 {
@@ -156,15 +164,22 @@ static void dimension_weights(const mm_database *db, const mm_search_params *p, 
     if (!(r >= 0.0f)) r = 0.0f; /* also NaN */
     if (r > 1.0f) r = 1.0f;
     float pose = 2.0f * (1.0f - r), traj = 2.0f * r;
+    int bones[MM_MAX_MATCH_BONES], bone_count = 0; /* bone_slot's order, built along the way */
     for (int g = 0; g < db->group_count; ++g) {
         const mm_feature_group *grp = &db->groups[g];
         float x = 0.0f;
+        int slot = 0;
+        if (grp->kind == MM_FEATURE_BONE_POSITION || grp->kind == MM_FEATURE_BONE_VELOCITY) {
+            while (slot < bone_count && bones[slot] != grp->bone) ++slot;
+            if (slot == bone_count && bone_count < MM_MAX_MATCH_BONES) bones[bone_count++] = grp->bone;
+            if (slot >= MM_MAX_MATCH_BONES) slot = MM_MAX_MATCH_BONES - 1;
+        }
         switch (grp->kind) {
         case MM_FEATURE_BONE_POSITION:
-            x = pose * p->joint_position_weights[bone_slot(db, g)];
+            x = pose * p->joint_position_weights[slot];
             break;
         case MM_FEATURE_BONE_VELOCITY:
-            x = pose * p->joint_velocity_weights[bone_slot(db, g)];
+            x = pose * p->joint_velocity_weights[slot];
             break;
         case MM_FEATURE_ROOT_VELOCITY:
             x = pose * p->body_velocity_weight;
@@ -178,6 +193,19 @@ static void dimension_weights(const mm_database *db, const mm_search_params *p, 
         }
         if (!(x >= 0.0f) || !isfinite(x)) x = 0.0f; /* negative or NaN weights count as 0 */
         for (int d = 0; d < grp->dims; ++d) w[grp->offset + d] = x;
+    }
+}
+
+/* Which block of the tree's coordinates dimension d belongs to: the pose (bones and root velocity)
+ * or the trajectory, whose weights the ratio scales apart; or none (padding, default weight 0). */
+enum { BLOCK_POSE = 0, BLOCK_TRAJECTORY = 1, BLOCK_NONE = 2 };
+static void dimension_blocks(const mm_database *db, const float *w0, unsigned char *block)
+{
+    for (int d = 0; d < db->dims_padded; ++d) block[d] = BLOCK_NONE;
+    for (int g = 0; g < db->group_count; ++g) {
+        const mm_feature_group *grp = &db->groups[g];
+        for (int d = grp->offset; d < grp->offset + grp->dims; ++d)
+            if (w0[d] > 0.0f) block[d] = is_pose_group(grp->kind) ? BLOCK_POSE : BLOCK_TRAJECTORY;
     }
 }
 
@@ -223,32 +251,41 @@ static inline float distance(const float *q, const float *x, const float *w, int
  * The terms are non-negative, so any order of additions is within float rounding of the exact
  * sum, which the bound's factor 1 - 1e-5 covers. */
 #if defined(__SSE2__) && MM_SEARCH_WIDTH == 4
-static inline void lane_bounds(const float *q, const float *lo, const float *hi, int dims, float *out)
+static inline __m128 gap_sum(const float *q, const float *lo, const float *hi, int d0, int d1)
 {
     __m128 acc[4] = {_mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps(), _mm_setzero_ps()};
     const __m128 zero = _mm_setzero_ps();
-    for (int d = 0; d < dims; d += 4)
-        for (int h = 0; h < 4; ++h) {
+    for (int d = d0; d < d1; d += 4)
+        for (int h = 0; h < 4; ++h) { /* d1 - d0 is a multiple of 4 */
             __m128 x = _mm_loadu_ps(q + (d + h) * 4);
             __m128 below = _mm_sub_ps(_mm_loadu_ps(lo + (d + h) * 4), x);
             __m128 above = _mm_sub_ps(x, _mm_loadu_ps(hi + (d + h) * 4));
             __m128 t = _mm_max_ps(_mm_max_ps(below, above), zero); /* at most one gap is positive */
             acc[h] = _mm_add_ps(acc[h], _mm_mul_ps(t, t));
         }
-    _mm_storeu_ps(out, _mm_add_ps(_mm_add_ps(acc[0], acc[1]), _mm_add_ps(acc[2], acc[3])));
+    return _mm_add_ps(_mm_add_ps(acc[0], acc[1]), _mm_add_ps(acc[2], acc[3]));
+}
+/* scale[0] x the pose slots' sum + scale[1] x the trajectory slots' */
+static inline void lane_bounds(const float *q, const float *lo, const float *hi, int split, int dims,
+                               const float *scale, float *out)
+{
+    __m128 pose = gap_sum(q, lo, hi, 0, split), traj = gap_sum(q, lo, hi, split, dims);
+    _mm_storeu_ps(
+        out, _mm_add_ps(_mm_mul_ps(pose, _mm_set1_ps(scale[0])), _mm_mul_ps(traj, _mm_set1_ps(scale[1]))));
 }
 #else
-static inline void lane_bounds(const float *q, const float *lo, const float *hi, int dims, float *out)
+static inline void lane_bounds(const float *q, const float *lo, const float *hi, int split, int dims,
+                               const float *scale, float *out)
 {
-    float acc[MM_SEARCH_WIDTH] = {0};
+    float acc[2][MM_SEARCH_WIDTH] = {{0}};
     for (int d = 0; d < dims; ++d)
         for (int l = 0; l < MM_SEARCH_WIDTH; ++l) {
             int i = d * MM_SEARCH_WIDTH + l;
             float below = lo[i] - q[i], above = q[i] - hi[i];
             float t = (below > 0.0f ? below : 0.0f) + (above > 0.0f ? above : 0.0f); /* one is 0 */
-            acc[l] += t * t;
+            acc[d >= split][l] += t * t;
         }
-    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] = acc[l];
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] = scale[0] * acc[0][l] + scale[1] * acc[1][l];
 }
 #endif
 
@@ -265,10 +302,16 @@ typedef struct query_ctx {
     int current, next;                 /* -1 when none */
     float loop_lo;                     /* the smallest factor a frame of a loop clip can get */
     float query_facing[2], facing_cos; /* unit (x, z) of the query's furthest facing; cos(threshold) */
-    float zq[MM_SEARCH_MAX_DIMS];      /* the query in the tree's coordinates */
-    float zq_lanes[MM_SEARCH_MAX_DIMS * MM_SEARCH_WIDTH]; /* the same, each repeated per lane */
-    float bound_scale; /* rho (1 - 1e-5): turns a box distance into a bound on the cost */
+    float zq_lanes[SEARCH_MAX_SLOTS * MM_SEARCH_WIDTH]; /* the query in the tree's coordinates, each
+                                                         * slot repeated per lane */
+    float bound_scale[2]; /* rho (1 - 1e-5) of the pose and trajectory blocks: turn their box
+                           * distances into a bound on the cost */
     int use_facing;
+    /* the two phases of a descent: nearest first until sorted_budget frames are evaluated, then in
+     * memory order (streaming), skipping the leaves the first phase scanned (their first positions,
+     * scanned[0..scanned_count)) */
+    int sorted_budget, streaming, scanned_count, skip_at;
+    int32_t scanned[MAX_SORTED_LEAVES];
     int evaluated, boxes; /* work counters (single-threaded paths) */
 } query_ctx;
 
@@ -329,16 +372,20 @@ static inline int lane_possible(const query_ctx *c, const mm_search_node *n, int
            !(n->tags_all[l] & c->p->excluded_tags);
 }
 
-/* z = basis^T (sqrt_w0 x - center): a point in the tree's coordinates (the sum for each axis
- * in the order of the components). */
-static void rotate(const mm_searcher *s, const float *x, int dims, double *z)
+/* z = basis^T (sqrt_w0 x - center): a point in the tree's coordinates, tree_dims slots (the sum
+ * for each slot in the order of the components). */
+static void rotate(const mm_searcher *s, const float *x, double *z)
 {
-    for (int j = 0; j < dims; ++j) z[j] = 0.0;
+    int dims = s->db->dims_padded, slots = s->tree_dims;
+    double sum[SEARCH_MAX_SLOTS]; /* local: the loop vectorises (z might alias the basis) */
+    for (int j = 0; j < slots; ++j) sum[j] = 0.0;
     for (int k = 0; k < dims; ++k) {
         double y = s->sqrt_w0[k] * (double)x[k] - s->center[k];
-        const double *axis = s->basis + (size_t)k * dims;
-        for (int j = 0; j < dims; ++j) z[j] += axis[j] * y;
+        if (y == 0.0) continue; /* padding: adds nothing */
+        const double *axis = s->basis + (size_t)k * slots;
+        for (int j = 0; j < slots; ++j) sum[j] += axis[j] * y;
     }
+    memcpy(z, sum, sizeof(double) * (size_t)slots);
 }
 
 static void prepare(query_ctx *c, const mm_searcher *s, const float *query, const mm_search_params *p,
@@ -358,24 +405,30 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
     if (!(c->loop_lo >= 0.0f)) c->loop_lo = 0.0f; /* a negative or NaN favour gives no bound */
     c->use_facing = 0;
     c->evaluated = c->boxes = 0;
+    c->sorted_budget = INT32_MAX; /* work units of a thread: nearest first throughout */
+    c->streaming = c->scanned_count = c->skip_at = 0;
+
     /* The tree lives in rotated, default-weighted coordinates z = V^T (sqrt(w0) x - mean). There
      * |z(q) - z(x)|^2 is the cost with the default weights w0; for other weights the cost is at
      * least rho times that, rho = min over dimensions of w / w0. The factor 1 - 1e-5 covers float
      * rounding in the kernels (the boxes are widened by the rounding of the coordinates). */
     int dims = db->dims_padded;
-    double rho = INFINITY;
+    unsigned char block[MM_SEARCH_MAX_DIMS];
+    dimension_blocks(db, s->w0, block);
+    double rho[2] = {INFINITY, INFINITY}; /* pose, trajectory */
     for (int d = 0; d < dims; ++d)
-        if (s->w0[d] > 0.0f) {
+        if (block[d] != BLOCK_NONE) {
             double r = (double)c->w[d] / s->w0[d];
-            if (r < rho) rho = r;
+            if (r < rho[block[d]]) rho[block[d]] = r;
         }
-    if (!(rho < INFINITY)) rho = 0.0;
-    c->bound_scale = (float)(rho * (1.0 - 1e-5));
-    double zq[MM_SEARCH_MAX_DIMS];
-    rotate(s, query, dims, zq);
-    for (int j = 0; j < dims; ++j) c->zq[j] = (float)zq[j];
+    for (int b = 0; b < 2; ++b) {
+        if (!(rho[b] < INFINITY)) rho[b] = 0.0;
+        c->bound_scale[b] = (float)(rho[b] * (1.0 - 1e-5));
+    }
+    double zq[SEARCH_MAX_SLOTS];
+    rotate(s, query, zq);
     for (int j = 0; j < s->tree_dims; ++j)
-        for (int l = 0; l < MM_SEARCH_WIDTH; ++l) c->zq_lanes[j * MM_SEARCH_WIDTH + l] = c->zq[j];
+        for (int l = 0; l < MM_SEARCH_WIDTH; ++l) c->zq_lanes[j * MM_SEARCH_WIDTH + l] = (float)zq[j];
     if (c->method == MM_SEARCH_FACING) {
         if (s->facing_group >= 0) {
             int o = db->groups[s->facing_group].offset;
@@ -521,21 +574,51 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
     scan_rows(c, s->features, s->order, s->order_clip, s->order_tags, p0, p1, st);
 }
 
+/* The boxes of node n: its lanes' minima ([axis][lane]), then their maxima. */
+static inline const float *node_boxes(const mm_searcher *s, int n)
+{
+    return s->boxes + (size_t)n * 2 * s->tree_dims * MM_SEARCH_WIDTH;
+}
+
 /* Bounds of the lanes of node n: the least cost any frame under a lane can have, favours
  * included (the next frame is handled on its own). */
 static inline void node_bounds(query_ctx *c, int n, float *out)
 {
     const mm_searcher *s = c->s;
     const mm_search_node *node = &s->nodes[n];
-    size_t at = (size_t)n * s->tree_dims * MM_SEARCH_WIDTH;
-    lane_bounds(c->zq_lanes, s->node_min + at, s->node_max + at, s->tree_dims, out);
+    const float *lo = node_boxes(s, n), *hi = lo + (size_t)s->tree_dims * MM_SEARCH_WIDTH;
+    lane_bounds(c->zq_lanes, lo, hi, s->pose_dims, s->tree_dims, c->bound_scale, out);
     c->boxes += node->count;
-    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] *= c->bound_scale * node_factor(c, node->loop[l]);
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] *= node_factor(c, node->loop[l]);
 }
 
 static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st);
 
-/* Visits the lanes of node n whose frames can matter, nearest first. */
+/* Asks for the memory lane l of node n leads to (its node's boxes, or its frames' features) ahead
+ * of the visit: the lanes after the first are visited later, so their loads overlap the first's
+ * walk (with cold caches the tree's scattered reads otherwise wait on memory one by one). */
+static inline void prefetch_lane(const query_ctx *c, const mm_search_node *node, int l)
+{
+#if defined(__GNUC__)
+    const mm_searcher *s = c->s;
+    const char *at, *end;
+    if (node->child[l] >= 0) {
+        __builtin_prefetch(&s->nodes[node->child[l]]);
+        at = (const char *)node_boxes(s, node->child[l]);
+        end = at + 2 * sizeof(float) * (size_t)s->tree_dims * MM_SEARCH_WIDTH;
+    } else {
+        size_t row = sizeof(float) * (size_t)c->db->dims_padded;
+        at = (const char *)s->features + row * (size_t)node->begin[l];
+        end = (const char *)s->features + row * (size_t)node->end[l];
+    }
+    for (; at < end; at += PREFETCH_STRIDE) __builtin_prefetch(at);
+#else
+    (void)c, (void)node, (void)l;
+#endif
+}
+
+/* Visits the lanes of node n whose frames can matter: nearest first, or in memory order once
+ * streaming (the lanes that pass asked for ahead: they are read in turn). */
 static void expand(query_ctx *c, int n, scan_state *st)
 {
     const mm_search_node *node = &c->s->nodes[n];
@@ -546,13 +629,18 @@ static void expand(query_ctx *c, int n, scan_state *st)
     for (int l = 0; l < node->count; ++l) { /* the lanes that can matter, by bound */
         if (bounds[l] > limit || !lane_possible(c, node, l)) continue;
         int i = m++;
-        while (i > 0 && bounds[idx[i - 1]] > bounds[l]) {
+        while (!c->streaming && i > 0 && bounds[idx[i - 1]] > bounds[l]) {
             idx[i] = idx[i - 1];
             --i;
         }
         idx[i] = l;
     }
-    for (int i = 0; i < m; ++i) visit_lane(c, n, idx[i], bounds[idx[i]], st);
+    if (c->streaming)
+        for (int i = 0; i < m; ++i) prefetch_lane(c, node, idx[i]);
+    for (int i = 0; i < m; ++i) {
+        visit_lane(c, n, idx[i], bounds[idx[i]], st);
+        if (c->streaming < 0) return; /* the nearest-first phase is over */
+    }
 }
 
 /* Visits lane l of node n, whose bound is known (the limit may have fallen since): its frames, or
@@ -563,10 +651,48 @@ static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st)
     if (bound > state_limit(st)) return;
     if (st->find_first && st->first.frame >= 0 && node->min_frame[l] >= st->first.frame)
         return; /* cannot win */
-    if (node->child[l] < 0)
-        scan_positions(c, node->begin[l], node->end[l], st);
-    else
+    int begin = node->begin[l];
+    if (node->child[l] >= 0) {
         expand(c, node->child[l], st);
+        return;
+    }
+    if (c->streaming > 0) { /* skip the leaves the first phase scanned (met in the same order) */
+        while (c->skip_at < c->scanned_count && c->scanned[c->skip_at] < begin) ++c->skip_at;
+        if (c->skip_at < c->scanned_count && c->scanned[c->skip_at] == begin) return;
+    } else if (c->sorted_budget < INT32_MAX) { /* in the nearest-first phase of a descent */
+        if (c->evaluated >= c->sorted_budget || c->scanned_count == MAX_SORTED_LEAVES) {
+            c->streaming = -1; /* unwind: the rest streams */
+            return;
+        }
+        c->scanned[c->scanned_count++] = begin;
+    }
+    scan_positions(c, begin, node->end[l], st);
+}
+
+static int compare_positions(const void *a, const void *b)
+{
+    int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The whole tree: nearest first (the lowest limit soonest) while that evaluates at most
+ * sorted_budget frames; what it did not reach then in memory order, pruned by the same bounds.
+ * Nearest-first visits are scattered in memory, and where the bounds prune little (queries far
+ * from every frame) a walk that reads the tree and the features in order costs less. */
+static void descend(query_ctx *c, scan_state *st)
+{
+    long budget = (long)c->db->frame_count * SORTED_BUDGET_PERCENT / 100;
+    if (budget < SORTED_BUDGET_MIN) budget = SORTED_BUDGET_MIN;
+    c->sorted_budget = (int)(c->evaluated + budget < INT32_MAX ? c->evaluated + budget : INT32_MAX);
+    c->streaming = c->scanned_count = c->skip_at = 0;
+    expand(c, 0, st);
+    if (c->streaming != 0) {
+        qsort(c->scanned, (size_t)c->scanned_count, sizeof c->scanned[0], compare_positions);
+        c->streaming = 1;
+        expand(c, 0, st);
+    }
+    c->sorted_budget = INT32_MAX;
+    c->streaming = c->scanned_count = c->skip_at = 0;
 }
 
 /* Brute force and the facing filter: database frames [f0, f1) in order. */
@@ -586,7 +712,7 @@ static void scan_units(query_ctx *c, int u0, int u1, scan_state *st)
         return;
     }
     if (u0 == 0 && u1 == s->unit_count) {
-        expand(c, 0, st);
+        descend(c, st);
         return;
     }
     for (int u = u0; u < u1; ++u) {
@@ -945,8 +1071,7 @@ static int make_wide(builder *b, int n, int in_unit)
     mm_search_node *node = &s->nodes[w];
     memset(node, 0, sizeof *node);
     node->count = count;
-    float *lo = s->node_min + (size_t)w * dims * MM_SEARCH_WIDTH,
-          *hi = s->node_max + (size_t)w * dims * MM_SEARCH_WIDTH;
+    float *lo = s->boxes + (size_t)w * 2 * dims * MM_SEARCH_WIDTH, *hi = lo + (size_t)dims * MM_SEARCH_WIDTH;
     for (int l = 0; l < MM_SEARCH_WIDTH; ++l) {
         node->child[l] = -1;
         for (int d = 0; d < dims; ++d) /* unused lanes: empty boxes (never visited: count) */
@@ -979,12 +1104,17 @@ static int make_wide(builder *b, int n, int in_unit)
     return w;
 }
 
-/* Principal axes of the default-weighted features (cyclic Jacobi on their covariance): fills
- * s->sqrt_w0, s->center and s->basis (column j: the j-th axis). cov is scratch of dims x dims. */
-static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
+/* Principal axes of the default-weighted features, the pose and the trajectory blocks apart
+ * (cyclic Jacobi on their covariance, the entries between blocks zeroed: each axis mixes the
+ * dimensions of one block only, so that a bound can weigh the two blocks by their own ratio of
+ * weights). Fills s->sqrt_w0, s->center, s->basis (column j: the axis of slot j), s->pose_dims and
+ * s->tree_dims: the pose axes by decreasing variance, zero columns up to a multiple of 4, then the
+ * trajectory axes the same way. cov and v are scratch of dims x dims. */
+static void principal_axes(const mm_database *db, mm_searcher *s, double *cov, double *v)
 {
     int n = db->dims_padded;
-    double *v = s->basis; /* column j: the j-th axis */
+    unsigned char block[MM_SEARCH_MAX_DIMS];
+    dimension_blocks(db, s->w0, block);
     for (int d = 0; d < n; ++d) s->sqrt_w0[d] = sqrtf(s->w0[d]);
     for (int d = 0; d < n; ++d) s->center[d] = 0.0;
     for (int f = 0; f < db->frame_count; ++f)
@@ -995,7 +1125,9 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
         const float *x = db->features + (size_t)f * n;
         for (int i = 0; i < n; ++i) {
             double yi = s->sqrt_w0[i] * (double)x[i] - s->center[i];
-            for (int j = i; j < n; ++j) cov[i * n + j] += yi * (s->sqrt_w0[j] * (double)x[j] - s->center[j]);
+            for (int j = i; j < n; ++j)
+                if (block[i] == block[j] && block[i] != BLOCK_NONE)
+                    cov[i * n + j] += yi * (s->sqrt_w0[j] * (double)x[j] - s->center[j]);
         }
     }
     for (int i = 0; i < n; ++i)
@@ -1012,7 +1144,7 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
         if (off <= 1e-24 * total || off == 0.0) break;
         for (int p = 0; p < n - 1; ++p)
             for (int q = p + 1; q < n; ++q) {
-                double apq = cov[p * n + q];
+                double apq = cov[p * n + q]; /* 0 between blocks: they never mix */
                 if (fabs(apq) < 1e-300) continue;
                 double theta = (cov[q * n + q] - cov[p * n + p]) / (2.0 * apq);
                 double t = (theta >= 0.0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
@@ -1034,39 +1166,33 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov)
                 }
             }
     }
-    /* Axes that only involve dimensions of default weight 0 (padding) are 0 for every frame and
-     * every query: they go last, and the boxes leave them out. The others by variance, largest
-     * first. */
-    int used = 0;
-    unsigned char padding[MM_SEARCH_MAX_DIMS];
+    /* the block of each axis (that of its components: one block per axis) */
+    unsigned char axis_block[MM_SEARCH_MAX_DIMS];
     for (int j = 0; j < n; ++j) {
-        padding[j] = 1;
-        for (int k = 0; k < n && padding[j]; ++k)
-            if (s->w0[k] > 0.0f && v[k * n + j] != 0.0) padding[j] = 0;
-        used += !padding[j];
+        axis_block[j] = BLOCK_NONE;
+        for (int k = 0; k < n && axis_block[j] == BLOCK_NONE; ++k)
+            if (block[k] != BLOCK_NONE && v[k * n + j] != 0.0) axis_block[j] = block[k];
     }
-    for (int i = 0; i < n; ++i) {
-        int best = i;
-        for (int j = i + 1; j < n; ++j)
-            if (padding[j] < padding[best] ||
-                (padding[j] == padding[best] && cov[j * n + j] > cov[best * n + best]))
-                best = j;
-        if (best == i) continue;
-        double t = cov[i * n + i];
-        cov[i * n + i] = cov[best * n + best];
-        cov[best * n + best] = t;
-        unsigned char pt = padding[i];
-        padding[i] = padding[best];
-        padding[best] = pt;
-        for (int k = 0; k < n; ++k) {
-            t = v[k * n + i];
-            v[k * n + i] = v[k * n + best];
-            v[k * n + best] = t;
+    /* slots: each block's axes by decreasing variance, then zero columns (-1) to a multiple of 4 */
+    int slots = 0, slot_axis[SEARCH_MAX_SLOTS];
+    unsigned char taken[MM_SEARCH_MAX_DIMS] = {0};
+    for (int b = BLOCK_POSE; b <= BLOCK_TRAJECTORY; ++b) {
+        for (;;) {
+            int best = -1;
+            for (int j = 0; j < n; ++j)
+                if (!taken[j] && axis_block[j] == b && (best < 0 || cov[j * n + j] > cov[best * n + best]))
+                    best = j;
+            if (best < 0) break;
+            taken[best] = 1;
+            slot_axis[slots++] = best;
         }
+        while (slots % 4 || (b == BLOCK_TRAJECTORY && slots == 0)) slot_axis[slots++] = -1;
+        if (b == BLOCK_POSE) s->pose_dims = slots;
     }
-    s->tree_dims = (used + 3) / 4 * 4; /* a multiple of 4 (extra axes only tighten the bounds) */
-    if (s->tree_dims > n) s->tree_dims = n;
-    if (s->tree_dims < 4) s->tree_dims = n < 4 ? n : 4;
+    s->tree_dims = slots;
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < slots; ++j)
+            s->basis[(size_t)k * slots + j] = slot_axis[j] >= 0 ? v[k * n + slot_axis[j]] : 0.0;
 }
 
 /* ---- the searcher ----------------------------------------------------------------------- */
@@ -1090,14 +1216,14 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     s->order_tags = (uint64_t *)mm_alloc_array(a, frames, sizeof(uint64_t));
     s->features = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
     s->facing = (float *)mm_alloc_array(a, 2 * frames, sizeof(float));
-    s->basis = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
+    s->basis = (double *)mm_alloc_array(a, dims * (dims + 8), sizeof(double)); /* tree_dims <= dims + 8 */
     s->job = mm_alloc_array(a, 1, sizeof(parallel_job));
     builder *b = (builder *)mm_alloc_array(a, 1, sizeof(builder));
-    float *coords = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
-    double *cov = (double *)mm_alloc_array(a, dims * dims, sizeof(double));
+    float *coords = (float *)mm_alloc_array(a, frames * (dims + 8), sizeof(float));
+    double *cov = (double *)mm_alloc_array(a, 2 * dims * dims, sizeof(double)); /* and the axes */
     bin_node *bin = (bin_node *)mm_alloc_array(a, max_bin, sizeof(bin_node));
-    float *bin_min = (float *)mm_alloc_array(a, max_bin * dims, sizeof(float));
-    float *bin_max = (float *)mm_alloc_array(a, max_bin * dims, sizeof(float));
+    float *bin_min = (float *)mm_alloc_array(a, max_bin * (dims + 8), sizeof(float));
+    float *bin_max = (float *)mm_alloc_array(a, max_bin * (dims + 8), sizeof(float));
     int ok = s->order && s->order_clip && s->order_tags && s->features && s->facing && s->job && s->basis &&
              b && coords && cov && bin && bin_min && bin_max;
     if (ok) {
@@ -1105,19 +1231,20 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         mm_search_params defaults;
         mm_search_params_defaults(db, &defaults);
         dimension_weights(db, &defaults, s->w0);
-        principal_axes(db, s, cov);
-        double largest = 0.0, z[MM_SEARCH_MAX_DIMS];
+        principal_axes(db, s, cov, cov + dims * dims);
+        size_t slots = (size_t)s->tree_dims;
+        double largest = 0.0, z[SEARCH_MAX_SLOTS];
         for (size_t f = 0; f < frames; ++f) {
-            rotate(s, db->features + f * dims, (int)dims, z);
-            for (size_t j = 0; j < dims; ++j) {
-                coords[f * dims + j] = (float)z[j];
+            rotate(s, db->features + f * dims, z);
+            for (size_t j = 0; j < slots; ++j) {
+                coords[f * slots + j] = (float)z[j];
                 if (fabs(z[j]) > largest) largest = fabs(z[j]);
             }
         }
         memset(b, 0, sizeof *b);
         b->s = s;
         b->db = db;
-        b->dims = (int)dims;
+        b->dims = (int)slots;
         b->coords = coords;
         b->margin = (float)(1e-5 * (1.0 + largest)); /* far above float rounding of these coordinates */
         b->bin = bin;
@@ -1127,9 +1254,8 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         s->node_count = count_wide(b, 0);
         size_t boxes = (size_t)s->node_count * s->tree_dims * MM_SEARCH_WIDTH;
         s->nodes = (mm_search_node *)mm_alloc_array(a, (size_t)s->node_count, sizeof(mm_search_node));
-        s->node_min = (float *)mm_alloc_array(a, boxes, sizeof(float));
-        s->node_max = (float *)mm_alloc_array(a, boxes, sizeof(float));
-        ok = s->nodes && s->node_min && s->node_max;
+        s->boxes = (float *)mm_alloc_array(a, 2 * boxes, sizeof(float));
+        ok = s->nodes && s->boxes;
         if (ok) make_wide(b, 0, 0);
     }
     mm_free(a, b);
@@ -1163,7 +1289,7 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     s->memory = frames * (2 * sizeof(int32_t) + sizeof(uint64_t) + dims * sizeof(float) + 2 * sizeof(float)) +
                 (size_t)s->node_count *
                     (sizeof(mm_search_node) + 2 * (size_t)s->tree_dims * MM_SEARCH_WIDTH * sizeof(float)) +
-                dims * dims * sizeof(double);
+                dims * (size_t)s->tree_dims * sizeof(double);
     int threads = desc && desc->threads > 1 ? desc->threads : 1;
     if (threads > MM_SEARCH_MAX_THREADS) threads = MM_SEARCH_MAX_THREADS;
     if (threads > 1) s->pool = mm__pool_create(threads, a); /* NULL: the calling thread alone */
@@ -1182,8 +1308,7 @@ void mm_searcher_free(mm_searcher *s)
     mm_free(a, s->features);
     mm_free(a, s->nodes);
     mm_free(a, s->basis);
-    mm_free(a, s->node_min);
-    mm_free(a, s->node_max);
+    mm_free(a, s->boxes);
     mm_free(a, s->facing);
     mm_free(a, s->job);
     memset(s, 0, sizeof *s);
