@@ -1,9 +1,12 @@
 /* mm view DB.mmdb [--config CONFIG] | mm view --clip FILE.bvh [--config CONFIG] [--clip-name NAME]
  * (either with [--scene SCENE.json]: its boxes are drawn)
  * The interactive viewer (GLFW + OpenGL 3.3): drive a character on a database with keyboard or
- * gamepad, watch the debug drawing, tune the cost weights and trajectory parameters live and save
- * them into the config; or inspect a clip: play, scrub, step, and edit its tag ranges.
- * --frames N and --screenshot FILE.png run N frames and save the last one (smoke tests, docs). */
+ * gamepad and debug its motion matching in a panel (Dear ImGui, view_panel.h): its status and
+ * every cost term, the runtime layers as switches, live tuning saved into the config, the
+ * search's best candidates drawn as ghosts, and a timeline of the recorded ticks to pause, step,
+ * rewind and resume from (view_debug.h); or inspect a clip: play, scrub, step, and edit its tag
+ * ranges. --frames N and --screenshot FILE.png run N frames and save the last one; --script
+ * KEYS.txt plays a key script (view_script.h) with --screenshot-dir DIR for its shots. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,11 +25,15 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "view_config.h"
+#include "view_debug.h"
+#include "view_panel.h"
+#include "view_script.h"
 
 #define TICK (1.0 / 60.0)
 
 typedef struct options {
-    const char *db, *clip, *config, *clip_name, *input, *screenshot, *scene_path;
+    const char *db, *clip, *config, *clip_name, *input, *screenshot, *scene_path, *script, *screenshot_dir;
     const mm_scene *scene; /* loaded from scene_path; NULL: none */
     int width, height;
     long frames; /* 0: until the window closes */
@@ -40,6 +47,8 @@ typedef struct window {
     bool dragging;
     float scroll;
     int pressed[GLFW_KEY_LAST + 1]; /* key presses since the last frame (edges, not levels) */
+    bool script;                    /* keys come from a key script: held is their state */
+    bool held[GLFW_KEY_LAST + 1];
     uint8_t *pixels;
 } window;
 
@@ -66,7 +75,10 @@ static int take(window *win, int key)
     return n;
 }
 
-static bool down(window *win, int key) { return glfwGetKey(win->glfw, key) == GLFW_PRESS; }
+static bool down(window *win, int key)
+{
+    return win->script ? win->held[key] : glfwGetKey(win->glfw, key) == GLFW_PRESS;
+}
 
 static int open_window(window *win, const options *o, const char *title)
 {
@@ -173,18 +185,7 @@ static mm_result desc_from_config(mm_character_desc *d, const mm_database *db, c
     return r;
 }
 
-/* The live values: the tuning's copy of the desc. */
-static mm_result save_tuning(const mm_view_tuning *t, const mm_database *db, const char *config,
-                             mm_error *err)
-{
-    return mm_config_save_tuning(config, db, &t->desc, err);
-}
-
 static double monotonic_seconds(void) { return glfwGetTime(); }
-
-static const char *db_help = "WASD/arrows move  shift run  Q strafe  C crouch  mouse orbit  wheel zoom\n"
-                             "1 future  2 matched  3 past  4 contacts  5 bones  6 velocities  H text\n"
-                             "tab/shift-tab pick a value  -/= change it  F5 save to config  R reset";
 
 static void read_keys(window *win, mm_view_keys *k)
 {
@@ -197,7 +198,8 @@ static void read_keys(window *win, mm_view_keys *k)
     k->strafe = down(win, GLFW_KEY_Q);
     k->crouch = down(win, GLFW_KEY_C);
     GLFWgamepadstate pad;
-    if (glfwJoystickIsGamepad(GLFW_JOYSTICK_1) && glfwGetGamepadState(GLFW_JOYSTICK_1, &pad)) {
+    if (!win->script && glfwJoystickIsGamepad(GLFW_JOYSTICK_1) &&
+        glfwGetGamepadState(GLFW_JOYSTICK_1, &pad)) {
         k->pad_stick[0] = pad.axes[GLFW_GAMEPAD_AXIS_LEFT_X];
         k->pad_stick[1] = -pad.axes[GLFW_GAMEPAD_AXIS_LEFT_Y]; /* GLFW's y points down */
         k->pad_run =
@@ -205,6 +207,287 @@ static void read_keys(window *win, mm_view_keys *k)
         k->pad_strafe =
             pad.axes[GLFW_GAMEPAD_AXIS_LEFT_TRIGGER] > 0.0f || pad.buttons[GLFW_GAMEPAD_BUTTON_LEFT_BUMPER];
     }
+}
+
+static bool jump_down(window *win)
+{
+    GLFWgamepadstate pad;
+    if (!win->script && glfwJoystickIsGamepad(GLFW_JOYSTICK_1) &&
+        glfwGetGamepadState(GLFW_JOYSTICK_1, &pad) && pad.buttons[GLFW_GAMEPAD_BUTTON_A])
+        return true;
+    return down(win, GLFW_KEY_J);
+}
+
+/* What the debugger draws beside the character. */
+#define CANDIDATES       5     /* listed in the panel */
+#define GHOSTS           3     /* of them drawn beside the character (and the one picked) */
+#define GHOST_SPACING    0.75f /* m between ghosts, to the camera's right of the character */
+#define PREVIEW_DISTANCE 0.9f  /* m to the camera's left: the picked candidate's clip playing */
+static const mm_rgba ghost_color = {0.55f, 0.6f, 0.75f, 1.0f};
+static const mm_rgba picked_color = {0.95f, 0.8f, 0.25f, 1.0f};
+static const mm_rgba preview_color = {0.3f, 0.85f, 0.45f, 1.0f};
+
+typedef struct debugger {
+    view_sim sim;
+    mm_view_tuning tuning;
+    mm_view_flags flags;
+    view_draws draws;
+    view_candidate candidates[VIEW_MAX_CANDIDATES];
+    int candidate_count, selected;
+    view_preview preview;
+    bool paused;
+    mm_render_line *lines; /* the view's lines with the ghosts' */
+    int line_capacity;
+    mm_xform *pose; /* a ghost's pose */
+    char message[640];
+} debugger;
+
+/* The camera's right on the ground (mm_view_input's). */
+static mm_vec3 camera_right(const mm_camera *cam)
+{
+    return mm_vec3_make(-cosf(cam->yaw), 0.0f, sinf(cam->yaw));
+}
+
+static mm_xform ghost_anchor(const mm_character *c, const mm_camera *cam, float offset)
+{
+    mm_xform a = c->root;
+    a.translation = mm_vec3_add(a.translation, mm_vec3_scale(camera_right(cam), offset));
+    return a;
+}
+
+/* The view's lines, then the ghosts of the candidates and the preview. */
+static void add_ghosts(debugger *d, mm_view *view, const mm_camera *cam)
+{
+    const mm_character *c = &d->sim.character;
+    const mm_database *db = c->db;
+    int n = view->scene.line_count < d->line_capacity ? view->scene.line_count : d->line_capacity;
+    memcpy(d->lines, view->scene.lines, sizeof *d->lines * (size_t)n);
+    int slot = 0;
+    for (int i = 0; d->draws.ghosts && i < d->candidate_count; ++i) {
+        if (d->candidates[i].frame < 0 || (i >= GHOSTS && i != d->selected)) continue;
+        view_ghost_pose(db, d->candidates[i].frame, ghost_anchor(c, cam, GHOST_SPACING * (float)++slot),
+                        d->pose);
+        view_ghost_lines(db, d->pose, i == d->selected ? picked_color : ghost_color, d->lines, &n,
+                         d->line_capacity);
+    }
+    if (d->draws.preview && d->selected >= 0 && d->preview.frame >= 0) {
+        view_ghost_pose(db, d->preview.frame, ghost_anchor(c, cam, -PREVIEW_DISTANCE), d->pose);
+        view_ghost_lines(db, d->pose, preview_color, d->lines, &n, d->line_capacity);
+    }
+    view->scene.lines = d->lines;
+    view->scene.line_count = n;
+}
+
+static void select_candidate(debugger *d, int i)
+{
+    d->selected = i >= 0 && i < d->candidate_count ? i : -1;
+    view_preview_start(&d->preview, d->selected >= 0 ? d->candidates[d->selected].frame : -1);
+}
+
+/* Hands the tuning and layers to the character (recorded); a switch of the transition layer
+ * starts the character again. */
+static int retune(debugger *d, mm_error *err)
+{
+    mm_character_desc desc;
+    mm_view_tuning_desc(&d->tuning, &desc);
+    if (desc.transition_mode != d->sim.character.desc.transition_mode) {
+        if (view_sim_restart(&d->sim, &desc, err) != MM_OK) return cli_report(err);
+        snprintf(d->message, sizeof d->message, "%s: the character started again",
+                 d->tuning.layers.crossfade ? "crossfade" : "inertialization");
+        mm_view_tuning tuned = d->tuning; /* the entries follow the transition in use */
+        mm_view_tuning_init(&d->tuning, &d->sim.character);
+        for (int i = 0; i < d->tuning.count; ++i)
+            for (int k = 0; k < tuned.count; ++k)
+                if (strcmp(d->tuning.entries[i].name, tuned.entries[k].name) == 0)
+                    d->tuning.entries[i].saved = tuned.entries[k].saved;
+        d->tuning.saved_layers = tuned.saved_layers;
+        d->tuning.layers = tuned.layers;
+        return 0;
+    }
+    if (!view_sim_tune(&d->sim, &desc)) {
+        fprintf(stderr, "mm: out of memory\n");
+        return 1;
+    }
+    return 0;
+}
+
+/* What a screenshot shows, beside it: DIR/NAME.json (the camera, the character's joints, the
+ * candidates and their ghosts, the panel's windows), for the tests to check the image against. */
+static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam, int w, int h,
+                            const view_ui *ui)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "mm: %s: cannot create it\n", path);
+        return 1;
+    }
+    const mm_character *c = &d->sim.character;
+    const mm_database *db = c->db;
+    fprintf(
+        f,
+        "{\"width\": %d, \"height\": %d, \"tick\": %ld, \"recorded\": %ld, \"paused\": %s, \"frame\": %d,\n",
+        w, h, d->sim.now, d->sim.count, d->paused ? "true" : "false", c->frame);
+    fprintf(
+        f,
+        " \"camera\": {\"target\": [%.9g, %.9g, %.9g], \"yaw\": %.9g, \"pitch\": %.9g, \"distance\": %.9g, "
+        "\"fov_y\": %.9g, \"z_near\": %.9g, \"z_far\": %.9g},\n",
+        (double)cam->target.x, (double)cam->target.y, (double)cam->target.z, (double)cam->yaw,
+        (double)cam->pitch, (double)cam->distance, (double)cam->fov_y, (double)cam->z_near,
+        (double)cam->z_far);
+    fprintf(f, " \"joints\": [");
+    for (int j = 0; j < db->joint_count; ++j)
+        fprintf(f, "%s[%.9g, %.9g, %.9g]", j ? ", " : "", (double)c->global[j].translation.x,
+                (double)c->global[j].translation.y, (double)c->global[j].translation.z);
+    fprintf(f, "],\n \"foot_locked\": [%d, %d], \"selected\": %d, \"preview_frame\": %d,\n",
+            c->foot_locked[0], c->foot_locked[1], d->selected, d->selected >= 0 ? d->preview.frame : -1);
+    const mm_view_layers *l = &d->tuning.layers;
+    fprintf(f,
+            " \"layers\": {\"crossfade\": %d, \"foot_ik\": %d, \"distance_matching\": %d, \"warping\": %d, "
+            "\"root_sync\": %d, \"root_clamps\": %d},\n",
+            l->crossfade, l->foot_ik, l->distance_matching, l->warping, l->root_sync, l->root_clamps);
+    fprintf(f, " \"candidates\": [");
+    for (int i = 0; i < d->candidate_count; ++i) {
+        const view_candidate *v = &d->candidates[i];
+        fprintf(
+            f,
+            "%s\n  {\"frame\": %d, \"cost\": %.9g, \"base\": %.9g, \"terms\": [%.9g, %.9g, %.9g, %.9g, %.9g]",
+            i ? "," : "", v->frame, (double)v->cost, (double)v->base, (double)v->terms.pose_position,
+            (double)v->terms.pose_velocity, (double)v->terms.root_velocity, (double)v->terms.traj_position,
+            (double)v->terms.traj_direction);
+        fprintf(f, "}");
+    }
+    fprintf(f, "],\n \"ghosts\": [");
+    int slot = 0, written = 0;
+    for (int i = 0; d->draws.ghosts && i < d->candidate_count; ++i) {
+        if (d->candidates[i].frame < 0 || (i >= GHOSTS && i != d->selected)) continue;
+        view_ghost_pose(db, d->candidates[i].frame, ghost_anchor(c, cam, GHOST_SPACING * (float)++slot),
+                        d->pose);
+        fprintf(f, "%s\n  {\"candidate\": %d, \"joints\": [", written++ ? "," : "", i);
+        for (int j = 1; j < db->joint_count; ++j)
+            fprintf(f, "%s[%.9g, %.9g, %.9g]", j > 1 ? ", " : "", (double)d->pose[j].translation.x,
+                    (double)d->pose[j].translation.y, (double)d->pose[j].translation.z);
+        fprintf(f, "]}");
+    }
+    static const char *const names[VIEW_PANEL_WINDOWS] = {"status", "layers", "tuning", "candidates",
+                                                          "timeline"};
+    fprintf(f, "],\n \"panel\": {");
+    for (int k = 0; k < VIEW_PANEL_WINDOWS; ++k)
+        fprintf(f, "%s\"%s\": [%.1f, %.1f, %.1f, %.1f]", k ? ", " : "", names[k], (double)ui->rects[k][0],
+                (double)ui->rects[k][1], (double)ui->rects[k][2], (double)ui->rects[k][3]);
+    fprintf(f, "}}\n");
+    return fclose(f) == 0 ? 0 : 1;
+}
+
+static int save_screenshot(window *win, const char *png, int w, int h)
+{
+    free(win->pixels);
+    win->pixels = malloc((size_t)w * (size_t)h * 3);
+    if (!win->pixels) {
+        fprintf(stderr, "mm: out of memory\n");
+        return 1;
+    }
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_renderer_read_pixels(win->renderer, w, h, win->pixels);
+    return mm_png_write(png, win->pixels, w, h, &err) != MM_OK ? cli_report(&err) : 0;
+}
+
+/* Keys of the debugger and its layers (the panel's buttons do the same). */
+static void debugger_keys(window *win, debugger *d, view_ui *ui)
+{
+    if (take(win, GLFW_KEY_SPACE)) ui->toggle_pause = true;
+    ui->step_back += take(win, GLFW_KEY_COMMA);
+    ui->step_forward += take(win, GLFW_KEY_PERIOD);
+    if (take(win, GLFW_KEY_HOME)) ui->seek = 0;
+    if (take(win, GLFW_KEY_END)) ui->seek = d->sim.count;
+    mm_view_flags *f = &d->flags;
+    if (take(win, GLFW_KEY_1)) f->predicted = !f->predicted;
+    if (take(win, GLFW_KEY_2)) f->matched = !f->matched;
+    if (take(win, GLFW_KEY_3)) f->past = !f->past;
+    if (take(win, GLFW_KEY_4)) f->contacts = !f->contacts;
+    if (take(win, GLFW_KEY_5)) f->matched_bones = !f->matched_bones;
+    if (take(win, GLFW_KEY_6)) f->velocities = !f->velocities;
+    if (take(win, GLFW_KEY_7)) d->draws.ghosts = !d->draws.ghosts;
+    if (take(win, GLFW_KEY_8)) d->draws.preview = !d->draws.preview;
+    mm_view_layers *l = &d->tuning.layers;
+    bool *switches[] = {&l->foot_ik, &l->distance_matching, &l->warping, &l->root_sync, &l->root_clamps};
+    int keys[] = {GLFW_KEY_F, GLFW_KEY_G, GLFW_KEY_V, GLFW_KEY_Y, GLFW_KEY_U};
+    for (int k = 0; k < 5; ++k)
+        if (take(win, keys[k]) % 2) {
+            *switches[k] = !*switches[k];
+            ui->layers_changed = true;
+        }
+    if (take(win, GLFW_KEY_X) % 2) {
+        l->crossfade = !l->crossfade;
+        ui->layers_changed = true;
+    }
+    bool shift = down(win, GLFW_KEY_LEFT_SHIFT) || down(win, GLFW_KEY_RIGHT_SHIFT);
+    for (int n = take(win, GLFW_KEY_TAB); n > 0; --n) mm_view_tuning_select(&d->tuning, shift ? -1 : 1);
+    for (int n = take(win, GLFW_KEY_MINUS) + take(win, GLFW_KEY_KP_SUBTRACT); n > 0; --n) {
+        mm_view_tuning_step(&d->tuning, -1);
+        ui->tuning_changed = true;
+    }
+    for (int n = take(win, GLFW_KEY_EQUAL) + take(win, GLFW_KEY_KP_ADD); n > 0; --n) {
+        mm_view_tuning_step(&d->tuning, 1);
+        ui->tuning_changed = true;
+    }
+    for (int n = take(win, GLFW_KEY_RIGHT_BRACKET); n > 0; --n) {
+        *ui->selected = *ui->selected + 1 < d->candidate_count ? *ui->selected + 1 : 0;
+        ui->select_changed = true;
+    }
+    for (int n = take(win, GLFW_KEY_LEFT_BRACKET); n > 0; --n) {
+        *ui->selected = *ui->selected > 0 ? *ui->selected - 1 : d->candidate_count - 1;
+        ui->select_changed = true;
+    }
+    if (take(win, GLFW_KEY_F5)) ui->save = true;
+    if (take(win, GLFW_KEY_R)) ui->reset = true;
+}
+
+/* Carries out the panel's and the keys' requests. */
+static int debugger_requests(debugger *d, const options *o, view_ui *ui, const mm_input *live, mm_error *err)
+{
+    view_sim *sim = &d->sim;
+    if (ui->layers_changed || ui->tuning_changed) {
+        int status = retune(d, err);
+        if (status) return status;
+    }
+    if (ui->save) {
+        if (!o->config) {
+            snprintf(d->message, sizeof d->message, "start with --config CONFIG.json to save");
+        } else {
+            char why[400] = "";
+            int n = view_config_save(o->config, &d->tuning, why, sizeof why);
+            if (n < 0)
+                snprintf(d->message, sizeof d->message, "not saved: %.300s", why);
+            else
+                snprintf(d->message, sizeof d->message, "%d value%s saved into %.200s", n, n == 1 ? "" : "s",
+                         o->config);
+        }
+    }
+    if (ui->reset) {
+        mm_character_desc desc;
+        mm_view_tuning_desc(&d->tuning, &desc);
+        if (view_sim_restart(sim, &desc, err) != MM_OK) return cli_report(err);
+    }
+    if (ui->toggle_pause) d->paused = !d->paused;
+    long seek = ui->seek;
+    if (ui->step_back > 0) {
+        d->paused = true;
+        seek = sim->now > ui->step_back ? sim->now - ui->step_back : 0;
+    }
+    if (seek >= 0 && view_sim_seek(sim, seek, err) != MM_OK) return cli_report(err);
+    if (seek >= 0) d->paused = true;
+    for (int n = 0; n < ui->step_forward; ++n) {
+        d->paused = true;
+        if (!view_sim_replay_one(sim) && !view_sim_step(sim, live)) {
+            fprintf(stderr, "mm: out of memory\n");
+            return 1;
+        }
+    }
+    ui->layers_changed = ui->tuning_changed = ui->save = ui->reset = ui->toggle_pause = false;
+    ui->step_back = ui->step_forward = 0;
+    ui->seek = -1;
+    return 0;
 }
 
 static int view_database(const options *o)
@@ -215,111 +498,178 @@ static int view_database(const options *o)
     if (mm_database_load(o->db, NULL, &db, &err) != MM_OK) return cli_report(&err);
     mm_input_script script;
     memset(&script, 0, sizeof script);
+    view_script keys_script;
+    memset(&keys_script, 0, sizeof keys_script);
     if (o->input && mm_input_script_load_json(o->input, &script, &err) != MM_OK) {
         mm_database_free(&db);
         return cli_report(&err);
     }
+    if (o->script && view_script_load(o->script, TICK, &keys_script)) {
+        mm_input_script_free(&script);
+        mm_database_free(&db);
+        return 1;
+    }
     mm_searcher searcher;
-    mm_character c;
     mm_character_desc desc;
     mm_view view;
     memset(&view, 0, sizeof view);
-    mm_view_tuning tuning;
+    static debugger d; /* large: kept off the stack */
+    memset(&d, 0, sizeof d);
     int status = 0;
     if (desc_from_config(&desc, &db, o->config, &err) != MM_OK ||
         mm_searcher_init(&searcher, &db, NULL, &err) != MM_OK) {
         mm_database_free(&db);
         mm_input_script_free(&script);
+        view_script_free(&keys_script);
         return cli_report(&err);
     }
-    if (mm_character_init(&c, &db, &searcher, &desc, &err) != MM_OK ||
-        mm_view_init(&view, &db, &err) != MM_OK || mm_view_set_scene(&view, o->scene, &err) != MM_OK) {
+    d.line_capacity = 256 + (GHOSTS + 2) * db.joint_count;
+    d.lines = malloc(sizeof *d.lines * (size_t)d.line_capacity);
+    d.pose = malloc(sizeof *d.pose * (size_t)db.joint_count);
+    if (!d.lines || !d.pose) {
+        fprintf(stderr, "mm: out of memory\n");
+        status = 1;
+        goto done_data;
+    }
+    if (view_sim_init(&d.sim, &db, &searcher, o->scene, &desc, (float)TICK, &err) != MM_OK) {
         status = cli_report(&err);
         goto done_data;
     }
-    mm_view_tuning_init(&tuning, &c);
+    if (mm_view_init(&view, &db, &err) != MM_OK || mm_view_set_scene(&view, o->scene, &err) != MM_OK) {
+        status = cli_report(&err);
+        goto done_character;
+    }
+    mm_view_tuning_init(&d.tuning, &d.sim.character);
+    mm_view_flags_defaults(&d.flags);
+    d.flags.overlay = false; /* the panel shows it */
+    d.draws.ghosts = d.draws.preview = true;
+    d.selected = -1;
+    d.preview.frame = -1;
     window win;
     if ((status = open_window(&win, o, "mm view")) != 0) goto done_character;
-    tuning.desc.clock = monotonic_seconds; /* GLFW's clock works once a window is open */
-    mm_character_tune(&c, &tuning.desc);
-    mm_view_flags flags;
-    mm_view_flags_defaults(&flags);
-    bool text = true;
-    char overlay[MM_VIEW_OVERLAY_MAX + 2048], message[640] = "";
-    double last = glfwGetTime(), pending = 0.0, sim_time = 0.0, fps = 60.0;
+    win.script = o->script != NULL;
+    view_panel *panel = view_panel_create(win.glfw);
+    if (!panel) {
+        fprintf(stderr, "mm: the panel (Dear ImGui) cannot start in this OpenGL context\n");
+        status = 1;
+        goto done_window;
+    }
+    d.tuning.desc.clock = monotonic_seconds; /* GLFW's clock works once a window is open */
+    if ((status = retune(&d, &err)) != 0) goto done_panel;
+    view_ui ui;
+    memset(&ui, 0, sizeof ui);
+    ui.seek = -1;
+    bool show_panel = true, scripted = o->script || o->frames;
+    double last = glfwGetTime(), pending = 0.0, fps = 60.0;
     mm_input in;
     memset(&in, 0, sizeof in);
-    for (long frame = 0; !glfwWindowShouldClose(win.glfw) && (o->frames == 0 || frame < o->frames); ++frame) {
+    long end = o->frames                            ? o->frames
+               : o->script && keys_script.count > 0 ? keys_script.events[keys_script.count - 1].frame + 1
+                                                    : 0;
+    for (long frame = 0; !glfwWindowShouldClose(win.glfw) && (end == 0 || frame < end); ++frame) {
         glfwPollEvents();
         double now = glfwGetTime(), dt = now - last;
         last = now;
         if (dt > 0.0) fps += (1.0 / dt - fps) * 0.05;
         /* scripted runs step a fixed tick per frame so that they are reproducible */
-        pending += o->frames ? TICK : fmin(dt, 0.25);
+        double frame_dt = scripted ? TICK : fmin(dt, 0.25);
+        const char *shot = NULL;
+        bool quit = false;
+        for (const view_script_event *e; (e = view_script_next(&keys_script, frame)) != NULL;) {
+            if (e->action == VIEW_SCRIPT_HOLD) win.held[e->key] = true, ++win.pressed[e->key];
+            if (e->action == VIEW_SCRIPT_RELEASE) win.held[e->key] = false;
+            if (e->action == VIEW_SCRIPT_PRESS) win.pressed[e->key] += (int)e->count;
+            if (e->action == VIEW_SCRIPT_SHOT) shot = e->name;
+            if (e->action == VIEW_SCRIPT_SCRUB) ui.seek = e->count;
+            if (e->action == VIEW_SCRIPT_SELECT) d.selected = (int)e->count, ui.select_changed = true;
+            if (e->action == VIEW_SCRIPT_QUIT) quit = true;
+        }
+        if (!win.script && view_panel_wants_keyboard(panel)) memset(win.pressed, 0, sizeof win.pressed);
         if (take(&win, GLFW_KEY_ESCAPE)) break;
-        if (take(&win, GLFW_KEY_1)) flags.predicted = !flags.predicted;
-        if (take(&win, GLFW_KEY_2)) flags.matched = !flags.matched;
-        if (take(&win, GLFW_KEY_3)) flags.past = !flags.past;
-        if (take(&win, GLFW_KEY_4)) flags.contacts = !flags.contacts;
-        if (take(&win, GLFW_KEY_5)) flags.matched_bones = !flags.matched_bones;
-        if (take(&win, GLFW_KEY_6)) flags.velocities = !flags.velocities;
-        if (take(&win, GLFW_KEY_H)) text = !text;
-        bool shift = down(&win, GLFW_KEY_LEFT_SHIFT) || down(&win, GLFW_KEY_RIGHT_SHIFT);
-        for (int n = take(&win, GLFW_KEY_TAB); n > 0; --n) mm_view_tuning_select(&tuning, shift ? -1 : 1);
-        for (int n = take(&win, GLFW_KEY_MINUS) + take(&win, GLFW_KEY_KP_SUBTRACT); n > 0; --n)
-            mm_view_tuning_step(&tuning, -1);
-        for (int n = take(&win, GLFW_KEY_EQUAL) + take(&win, GLFW_KEY_KP_ADD); n > 0; --n)
-            mm_view_tuning_step(&tuning, 1);
-        if (take(&win, GLFW_KEY_F5)) {
-            if (!o->config)
-                snprintf(message, sizeof message, "start with --config CONFIG.json to save");
-            else if (save_tuning(&tuning, &db, o->config, &err) != MM_OK)
-                snprintf(message, sizeof message, "not saved: %.200s", err.message);
-            else
-                snprintf(message, sizeof message, "saved into %.200s", o->config);
-        }
-        if (take(&win, GLFW_KEY_R)) {
-            mm_character_desc tuned = tuning.desc; /* the character starts again, as tuned */
-            mm_character_free(&c);
-            if (mm_character_init(&c, &db, &searcher, &tuned, &err) != MM_OK) {
-                status = cli_report(&err);
-                break;
-            }
-            mm_view_tuning_init(&tuning, &c);
-        }
+        if (take(&win, GLFW_KEY_H)) show_panel = !show_panel;
+        ui.selected = &d.selected;
+        debugger_keys(&win, &d, &ui);
         mm_view_keys keys;
         read_keys(&win, &keys);
-        while (pending >= TICK) {
-            if (o->input)
-                mm_input_script_sample(&script, (float)sim_time, &in);
-            else
-                mm_view_input(&keys, win.camera.yaw, &in);
-            mm_character_update(&c, &in, (float)TICK);
-            sim_time += TICK;
-            pending -= TICK;
+        mm_input live;
+        mm_view_input(&keys, win.camera.yaw, &live);
+        live.jump = jump_down(&win);
+        if (o->input) mm_input_script_sample(&script, (float)((double)d.sim.now * TICK), &live);
+        if ((status = debugger_requests(&d, o, &ui, &live, &err)) != 0) break;
+        if (!d.paused) {
+            pending += frame_dt;
+            for (; pending >= TICK; pending -= TICK) {
+                if (o->input) mm_input_script_sample(&script, (float)((double)d.sim.now * TICK), &live);
+                if (!view_sim_step(&d.sim, &live)) {
+                    fprintf(stderr, "mm: out of memory\n");
+                    status = 1;
+                    break;
+                }
+            }
+            if (status) break;
+        } else {
+            pending = 0.0;
         }
-        camera_controls(&win, (float)dt);
-        mm_vec3 root = c.root.translation;
+        in = d.sim.now > 0 && d.sim.now <= d.sim.count ? d.sim.inputs[d.sim.now - 1] : live;
+        const mm_character *c = &d.sim.character;
+        /* the candidates of the search that chose the frame playing (the preview plays on) */
+        d.candidate_count = view_candidates(c, CANDIDATES, d.candidates);
+        if (ui.select_changed) select_candidate(&d, d.selected);
+        if (d.selected >= d.candidate_count) select_candidate(&d, -1);
+        view_preview_advance(&d.preview, &db, frame_dt);
+        if (!win.script && !view_panel_wants_mouse(panel)) camera_controls(&win, (float)dt);
+        mm_vec3 root = c->root.translation;
         mm_camera_follow(&win.camera, mm_vec3_make(root.x, 0.9f, root.z), frame == 0 ? 0.0f : 0.5f,
-                         (float)(o->frames ? TICK : dt));
-        flags.overlay = text;
-        mm_view_update(&view, &c, &in, &flags, (float)fps);
-        if (text) {
-            size_t at = (size_t)snprintf(overlay, sizeof overlay, "%s\n\n", view.overlay);
-            at += mm_view_tuning_text(&tuning, overlay + at, sizeof overlay - at);
-            snprintf(overlay + at, sizeof overlay - at, "\n%s\n\n%s", message, db_help);
-            view.scene.overlay = overlay;
-        }
+                         (float)frame_dt);
+        mm_view_update(&view, c, &in, &d.flags, (float)fps);
+        add_ghosts(&d, &view, &win.camera);
+        int w, h;
+        glfwGetFramebufferSize(win.glfw, &w, &h);
+        mm_renderer_draw(win.renderer, &win.camera, w, h, &view.scene);
+        ui.character = c;
+        ui.input = &in;
+        ui.fps = (float)fps;
+        ui.message = d.message;
+        ui.candidates = d.candidates;
+        ui.candidate_count = d.candidate_count;
+        ui.preview_frame = d.selected >= 0 ? d.preview.frame : -1;
+        ui.tick = d.sim.now;
+        ui.recorded = d.sim.count;
+        ui.tick_seconds = (float)TICK;
+        ui.paused = d.paused;
+        ui.can_save = o->config != NULL;
+        ui.tuning = &d.tuning;
+        ui.flags = &d.flags;
+        ui.draws = &d.draws;
+        ui.selected = &d.selected;
+        if (show_panel) view_panel_draw(panel, &ui); /* its requests act on the next frame */
         bool last_frame = o->frames && frame + 1 == o->frames;
-        if ((status = present(&win, &view.scene, last_frame ? o->screenshot : NULL)) != 0) break;
+        if (last_frame && o->screenshot && w > 0 && h > 0 &&
+            (status = save_screenshot(&win, o->screenshot, w, h)))
+            break;
+        if (shot && o->screenshot_dir && w > 0 && h > 0) {
+            char path[4096];
+            snprintf(path, sizeof path, "%s/%s.png", o->screenshot_dir, shot);
+            if ((status = save_screenshot(&win, path, w, h)) != 0) break;
+            snprintf(path, sizeof path, "%s/%s.json", o->screenshot_dir, shot);
+            if ((status = write_shot_facts(path, &d, &win.camera, w, h, &ui)) != 0) break;
+        }
+        glfwSwapBuffers(win.glfw);
+        if (quit) break;
     }
+done_panel:
+    view_panel_destroy(panel);
+done_window:
     close_window(&win);
 done_character:
     mm_view_free(&view);
-    mm_character_free(&c);
+    view_sim_free(&d.sim);
 done_data:
+    free(d.lines);
+    free(d.pose);
     mm_searcher_free(&searcher);
     mm_input_script_free(&script);
+    view_script_free(&keys_script);
     mm_database_free(&db);
     return status;
 }
@@ -529,7 +879,7 @@ int mm_cmd_view(int argc, char **argv)
     const char *usage =
         "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] | mm view --clip FILE.bvh "
         "[--config CONFIG.json] [--clip-name NAME]  [--scene SCENE.json] [--size 1280x720] "
-        "[--frames N --screenshot OUT.png]";
+        "[--frames N --screenshot OUT.png] [--script KEYS.txt [--screenshot-dir DIR]]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--clip") == 0 && v)
@@ -544,6 +894,10 @@ int mm_cmd_view(int argc, char **argv)
             o.scene_path = argv[++i];
         else if (strcmp(a, "--screenshot") == 0 && v)
             o.screenshot = argv[++i];
+        else if (strcmp(a, "--script") == 0 && v)
+            o.script = argv[++i];
+        else if (strcmp(a, "--screenshot-dir") == 0 && v)
+            o.screenshot_dir = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
             if (!cli_parse_size(v, &o.width, &o.height))
                 return cli_usage_error("view", "--size needs WIDTHxHEIGHT, each 16 to 4096");
@@ -561,6 +915,9 @@ int mm_cmd_view(int argc, char **argv)
     }
     if ((!o.db) == (!o.clip)) return cli_usage_error("view", "%s", usage);
     if (o.screenshot && !o.frames) return cli_usage_error("view", "--screenshot needs --frames N");
+    if (o.screenshot_dir && !o.script)
+        return cli_usage_error("view", "--screenshot-dir needs --script KEYS.txt");
+    if (o.clip && o.script) return cli_usage_error("view", "--script drives a database, not --clip");
     static mm_scene scene; /* large: kept off the stack */
     if (o.scene_path) {
         mm_error err;
