@@ -16,12 +16,14 @@
 #include <mm/moves.h>
 #include <mm/pose.h>
 #include <mm/prediction.h>
+#include <mm/recorder.h>
 #include <mm/pfnn_character.h>
 #include <mm/render.h>
 #include <mm/runtime.h>
 #include <mm/scene_json.h>
 #include <mm/skeleton_roles.h>
 #include <mm/target_match.h>
+#include <mm/trace.h>
 #include <mm/view.h>
 #include <mm/warp.h>
 

@@ -50,6 +50,8 @@
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
  *            mm_character_set_future mm_character_future_times
+ *            mm_character_set_candidates mm_character_candidates
+ *            mm_character_snapshot_bytes mm_character_snapshot_save mm_character_snapshot_load
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H
@@ -345,6 +347,42 @@ mm_result mm_character_set_future(mm_character *c, const mm_vec3 *positions, con
 /* The database's future trajectory times (s ahead, increasing) into times (room for
  * MM_MAX_TRAJ_SAMPLES); returns how many. */
 int mm_character_future_times(const mm_character *c, float *times);
+
+/* The last search's best candidates, for a debugger (mm/recorder.h, mm simulate --trace): the
+ * frame and its clip, the cost the decision weighed (favours and bias in), the weighted distance
+ * before them (base) and every term of the cost: the five weighted distances (mm_search_cost_terms,
+ * summing to base up to float rounding) and what the favours and the bias added, so that
+ * base + loop_favour + next_pose_favour + continuing_bias = cost (up to rounding). */
+typedef struct mm_candidate {
+    int frame, clip;
+    float cost, base;
+    mm_search_terms terms;
+    float loop_favour;      /* base x (loop_anim_favour - 1) for frames of loop clips, else 0 */
+    float next_pose_favour; /* (base + loop_favour) x (next_pose_favour - 1) for the frame after the
+                               one playing, else 0 */
+    float continuing_bias;  /* -continuing_bias for the frame after the one playing, else 0 */
+} mm_candidate;
+
+/* Asks every later search for its best k frames (k >= 1; 1, the default, is the winner alone and
+ * costs nothing more): allocates room for them here, once (never per tick). The winner and the
+ * run are the same whatever k. MM_ERR_INVALID_ARGUMENT for k < 1, MM_ERR_OUT_OF_MEMORY. */
+mm_result mm_character_set_candidates(mm_character *c, int k, mm_error *err);
+
+/* The last search's best candidates (at most max, at most the k asked for) into out, the winner
+ * first (c->last_result), then by cost then frame, with their cost terms (computed here, on the
+ * query and parameters of that search: c->query, c->last_params); returns how many (0 before any
+ * search, or when no frame passed the filters). */
+int mm_character_candidates(const mm_character *c, mm_candidate *out, int max);
+
+/* The character's whole state as bytes: its public fields and everything its stages keep, to be
+ * put back later (a debugger's rewind). Bytes a snapshot of c takes; save writes one into memory
+ * (bytes at least that; any alignment); load puts c back to it: c must have been made the same
+ * way (the same database and desc; its memory may lie elsewhere: pointers are fixed up). After a
+ * load, updating c with the same inputs repeats the saved run bit for bit. No allocation.
+ * MM_ERR_INVALID_ARGUMENT for too little memory or a snapshot of another layout. */
+size_t mm_character_snapshot_bytes(const mm_character *c);
+mm_result mm_character_snapshot_save(const mm_character *c, void *memory, size_t bytes, mm_error *err);
+mm_result mm_character_snapshot_load(mm_character *c, const void *memory, size_t bytes, mm_error *err);
 
 #ifdef __cplusplus
 }

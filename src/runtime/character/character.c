@@ -334,6 +334,7 @@ void mm_character_free(mm_character *c)
     if (!c) return;
     if (c->state) {
         mm_trajectory_free(&c->state->trajectory);
+        mm_free(&c->allocator, c->state->matching.candidates);
         mm_free(&c->allocator, c->state->block);
     }
     memset(c, 0, sizeof *c);
@@ -599,5 +600,225 @@ mm_result mm_character_set_future(mm_character *c, const mm_vec3 *positions, con
         m->future_facings[k] = (mm_quat){q.x / len, q.y / len, q.z / len, q.w / len};
     }
     m->future_count = count;
+    return MM_OK;
+}
+
+/* ---- the debugger's view: candidates and snapshots --------------------------------------- */
+
+mm_result mm_character_set_candidates(mm_character *c, int k, mm_error *err)
+{
+    if (!c || !c->state || k < 1)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "candidates: needs a character and k >= 1");
+    mm_matching *m = &c->state->matching;
+    if (k == m->candidate_capacity || (k == 1 && m->candidate_capacity == 0)) return MM_OK;
+    mm_search_result *room = NULL;
+    if (k > 1) { /* the winner alone needs no room: it is last_result */
+        room = (mm_search_result *)mm_alloc_array(&c->allocator, (size_t)k, sizeof(mm_search_result));
+        if (!room) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for %d candidates", k);
+        room[0] = m->last_result;
+        for (int i = 1; i < k; ++i) room[i].frame = -1, room[i].base = room[i].cost = 0.0f;
+    }
+    mm_free(&c->allocator, m->candidates);
+    m->candidates = room;
+    m->candidate_capacity = k > 1 ? k : 0;
+    if (m->candidate_count > 1) m->candidate_count = 1; /* the older ones are gone */
+    return MM_OK;
+}
+
+int mm_character_candidates(const mm_character *c, mm_candidate *out, int max)
+{
+    if (!c || !c->state || !out || max < 1) return 0;
+    const mm_database *db = c->db;
+    const mm_matching *m = &c->state->matching;
+    const mm_search_result *found = m->candidate_capacity > 0 ? m->candidates : &m->last_result;
+    int n = m->searches > 0 && m->last_result.frame >= 0 ? m->candidate_count : 0;
+    if (n > (m->candidate_capacity > 0 ? m->candidate_capacity : 1)) n = m->candidate_capacity;
+    if (n > max) n = max;
+    const mm_search_params *p = &m->last_params;
+    int playing = p->current_frame >= 0 && p->current_frame < db->frame_count ? p->current_frame : -1;
+    int next = playing >= 0 ? db->frame_next[playing] : -1;
+    for (int i = 0; i < n; ++i) {
+        mm_candidate *o = &out[i];
+        memset(o, 0, sizeof *o);
+        o->frame = found[i].frame;
+        if (o->frame < 0 || o->frame >= db->frame_count) {
+            o->clip = -1;
+            continue;
+        }
+        o->clip = db->frame_clip[o->frame];
+        o->cost = found[i].cost;
+        o->base = found[i].base;
+        mm_search_cost_terms(db, m->query, p, o->frame, &o->terms);
+        /* the favours as the search applies them (mm/search.h): a factor on the base for loops,
+         * then a factor and a bias for the frame after the one playing */
+        float cost = o->base;
+        if (db->clips[o->clip].loop) {
+            o->loop_favour = cost * (p->loop_anim_favour - 1.0f);
+            cost *= p->loop_anim_favour;
+        }
+        if (o->frame == next) {
+            o->next_pose_favour = cost * (p->next_pose_favour - 1.0f);
+            o->continuing_bias = -p->continuing_bias;
+        }
+    }
+    return n;
+}
+
+/* A snapshot: this header, then the state's block, the simulation's recorded past and the
+ * candidates. The block's own pointers are laid out again on load (lay_out); pointers out of
+ * the block (the database's skeleton, the past, the candidates, the desc's clock and allocator)
+ * stay the loading character's. */
+#define SNAPSHOT_MAGIC   0x70616e73u /* "snap" */
+#define SNAPSHOT_VERSION 1u
+typedef struct snapshot_header {
+    uint32_t magic, version;
+    uint64_t block_size;
+    int32_t joint_count, dims, history_capacity, candidate_capacity;
+    mm_character_desc desc; /* the public desc (mm_character_tune changes it) */
+} snapshot_header;
+
+/* A desc without its pointers (a clock, an allocator, the feet's names): what a snapshot keeps. */
+static void desc_without_pointers(mm_character_desc *d)
+{
+    d->clock = NULL;
+    d->allocator = NULL;
+    d->trajectory.allocator = NULL;
+    d->left_foot = d->right_foot = NULL;
+}
+
+/* The state as a snapshot keeps it: every pointer null (into the block, laid out again on load,
+ * or out of it, kept by the loading character), so that the same state gives the same bytes in
+ * any character. */
+static void state_without_pointers(mm_character_state *s)
+{
+    desc_without_pointers(&s->desc);
+    s->rig.joints = NULL;
+    s->trajectory.history_position = NULL;
+    s->trajectory.history_facing = NULL;
+    memset(&s->trajectory.allocator, 0, sizeof s->trajectory.allocator);
+    s->trajectory.desc.allocator = NULL;
+    s->matching.query = NULL;
+    s->matching.candidates = NULL;
+    mm_transition *tr = &s->transition;
+    tr->rotations = tr->previous_rotations = NULL;
+    tr->positions = tr->previous_positions = NULL;
+    tr->rotation_offset = tr->rotation_offset_velocity = NULL;
+    tr->position_offset = tr->position_offset_velocity = NULL;
+    tr->slot_rotations = NULL;
+    tr->slot_positions = NULL;
+    s->pose.local_rotations = NULL;
+    s->pose.local_positions = NULL;
+    s->pose.global = NULL;
+    s->block = NULL;
+}
+
+/* The parts of a snapshot of c, in bytes. */
+static void snapshot_parts(const mm_character *c, size_t *block, size_t *history, size_t *candidates)
+{
+    lay_out(NULL, (size_t)c->db->joint_count, (size_t)c->db->dims_padded, block);
+    size_t samples = (size_t)c->state->trajectory.history_capacity;
+    *history = samples * (sizeof(mm_vec3) + sizeof(mm_quat));
+    *candidates = (size_t)c->state->matching.candidate_capacity * sizeof(mm_search_result);
+}
+
+size_t mm_character_snapshot_bytes(const mm_character *c)
+{
+    if (!c || !c->state) return 0;
+    size_t block, history, candidates;
+    snapshot_parts(c, &block, &history, &candidates);
+    return sizeof(snapshot_header) + block + history + candidates;
+}
+
+mm_result mm_character_snapshot_save(const mm_character *c, void *memory, size_t bytes, mm_error *err)
+{
+    size_t need = mm_character_snapshot_bytes(c);
+    if (!need || !memory || bytes < need)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "snapshot: %zu bytes given, %zu needed",
+                            bytes, need);
+    const mm_character_state *s = c->state;
+    size_t block, history, candidates;
+    snapshot_parts(c, &block, &history, &candidates);
+    snapshot_header h;
+    memset(&h, 0, sizeof h);
+    h.magic = SNAPSHOT_MAGIC, h.version = SNAPSHOT_VERSION;
+    h.block_size = block;
+    h.joint_count = c->db->joint_count, h.dims = c->db->dims_padded;
+    h.history_capacity = s->trajectory.history_capacity;
+    h.candidate_capacity = s->matching.candidate_capacity;
+    memcpy(&h.desc, &c->desc, sizeof h.desc);
+    desc_without_pointers(&h.desc);
+    unsigned char *at = (unsigned char *)memory;
+    memcpy(at, &h, sizeof h);
+    at += sizeof h;
+    memcpy(at, s->block, block); /* the state first (lay_out), then its arrays */
+    mm_character_state bare;
+    memcpy(&bare, s, sizeof bare);
+    state_without_pointers(&bare);
+    memcpy(at, &bare, sizeof bare);
+    at += block;
+    size_t samples = (size_t)s->trajectory.history_capacity;
+    memcpy(at, s->trajectory.history_position, samples * sizeof(mm_vec3));
+    at += samples * sizeof(mm_vec3);
+    memcpy(at, s->trajectory.history_facing, samples * sizeof(mm_quat));
+    at += samples * sizeof(mm_quat);
+    if (candidates) memcpy(at, s->matching.candidates, candidates);
+    return MM_OK;
+}
+
+mm_result mm_character_snapshot_load(mm_character *c, const void *memory, size_t bytes, mm_error *err)
+{
+    size_t need = mm_character_snapshot_bytes(c);
+    snapshot_header h;
+    if (!need || !memory || bytes < sizeof h)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "snapshot: no character or no snapshot");
+    memcpy(&h, memory, sizeof h);
+    mm_character_state *s = c->state;
+    size_t block, history, candidates;
+    snapshot_parts(c, &block, &history, &candidates);
+    if (h.magic != SNAPSHOT_MAGIC || h.version != SNAPSHOT_VERSION || h.block_size != block ||
+        h.joint_count != c->db->joint_count || h.dims != c->db->dims_padded ||
+        h.history_capacity != s->trajectory.history_capacity ||
+        h.candidate_capacity != s->matching.candidate_capacity || bytes < need)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0,
+                            "snapshot: of another character's layout (or cut short)");
+    /* what lies outside the block stays this character's */
+    char *own_block = (char *)s->block;
+    const mm_joint *joints = s->rig.joints;
+    mm_vec3 *history_position = s->trajectory.history_position;
+    mm_quat *history_facing = s->trajectory.history_facing;
+    mm_allocator history_allocator = s->trajectory.allocator;
+    const mm_allocator *trajectory_desc_allocator = s->trajectory.desc.allocator;
+    mm_search_result *room = s->matching.candidates;
+    mm_character_desc own = c->desc;
+    const mm_character_desc own_state_desc = s->desc;
+
+    const unsigned char *at = (const unsigned char *)memory + sizeof h;
+    memcpy(own_block, at, block);
+    at += block;
+    s = lay_out(own_block, (size_t)c->db->joint_count, (size_t)c->db->dims_padded, &block);
+    s->block = own_block;
+    s->rig.joints = joints;
+    s->trajectory.history_position = history_position;
+    s->trajectory.history_facing = history_facing;
+    s->trajectory.allocator = history_allocator;
+    s->trajectory.desc.allocator = trajectory_desc_allocator;
+    s->matching.candidates = room;
+    s->desc.clock = own_state_desc.clock;
+    s->desc.allocator = own_state_desc.allocator;
+    s->desc.left_foot = own_state_desc.left_foot, s->desc.right_foot = own_state_desc.right_foot;
+    s->desc.trajectory.allocator = own_state_desc.trajectory.allocator;
+    size_t samples = (size_t)s->trajectory.history_capacity;
+    memcpy(history_position, at, samples * sizeof(mm_vec3));
+    at += samples * sizeof(mm_vec3);
+    memcpy(history_facing, at, samples * sizeof(mm_quat));
+    at += samples * sizeof(mm_quat);
+    if (candidates) memcpy(room, at, candidates);
+    c->state = s;
+    c->desc = h.desc;
+    c->desc.clock = own.clock;
+    c->desc.allocator = own.allocator;
+    c->desc.left_foot = own.left_foot, c->desc.right_foot = own.right_foot;
+    c->desc.trajectory.allocator = own.trajectory.allocator;
+    publish(c);
     return MM_OK;
 }

@@ -121,13 +121,17 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     for (int g = 0; g < MM_GAIT_COUNT; ++g)
         if (g != (int)intent->gait) p.excluded_tags |= m->gait_tags[g];
     velocity_change_weights(d, t, intent, &p);
-    mm_search_result best;
+    /* the best candidates when a debugger asked for them (the winner is the same whatever k) */
+    mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
+    int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
     double start = d->clock ? d->clock() : 0.0;
-    int found = mm_searcher_search(searcher, m->query, &p, d->method, &best, 1);
+    int found = mm_searcher_search(searcher, m->query, &p, d->method, results, k);
     if (d->clock) m->last_search_us = (float)(1e6 * (d->clock() - start));
     ++m->searches;
     m->since_search = 0.0f;
+    mm_search_result best = results[0];
     m->last_result = best;
+    m->candidate_count = found;
     m->last_params = p;
     if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
     if (!found || best.frame < 0) return;

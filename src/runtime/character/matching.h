@@ -22,6 +22,10 @@ typedef struct mm_matching {
     float last_search_us;
     mm_search_result last_result;
     mm_search_params last_params; /* what the last search weighed with */
+    /* the last search's best candidates, winner first (mm_character_set_candidates: allocated
+     * apart from the state's block; NULL with capacity 0: the winner alone, in last_result) */
+    mm_search_result *candidates;
+    int candidate_capacity, candidate_count;
     /* the game's desired future for this tick's search (mm_character_set_future), in place of the
      * simulation's prediction at the database's future trajectory times; 0: none */
     int future_count;
