@@ -7,7 +7,9 @@
  * rewind and resume from (view_debug.h); or inspect a clip: play, scrub, step, and edit its tag
  * ranges. --frames N and --screenshot FILE.png run N frames and save the last one; --script
  * KEYS.txt plays a key script (view_script.h) with --screenshot-dir DIR for its shots. */
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -219,10 +221,12 @@ static bool jump_down(window *win)
 }
 
 /* What the debugger draws beside the character. */
-#define CANDIDATES       5     /* listed in the panel */
-#define GHOSTS           3     /* of them drawn beside the character (and the one picked) */
-#define GHOST_SPACING    0.75f /* m between ghosts, to the camera's right of the character */
-#define PREVIEW_DISTANCE 0.9f  /* m to the camera's left: the picked candidate's clip playing */
+#define CANDIDATES       5                   /* listed in the panel */
+#define RECORD_SECONDS   120.0               /* the timeline keeps this much */
+#define RECORD_MAX_BYTES ((size_t)512 << 20) /* or less, to stay within this memory */
+#define GHOSTS           3                   /* of them drawn beside the character (and the one picked) */
+#define GHOST_SPACING    0.75f               /* m between ghosts, to the camera's right of the character */
+#define PREVIEW_DISTANCE 0.9f                /* m to the camera's left: the picked candidate's clip playing */
 static const mm_rgba ghost_color = {0.55f, 0.6f, 0.75f, 1.0f};
 static const mm_rgba picked_color = {0.95f, 0.8f, 0.25f, 1.0f};
 static const mm_rgba preview_color = {0.3f, 0.85f, 0.45f, 1.0f};
@@ -232,7 +236,7 @@ typedef struct debugger {
     mm_view_tuning tuning;
     mm_view_flags flags;
     view_draws draws;
-    view_candidate candidates[VIEW_MAX_CANDIDATES];
+    mm_candidate candidates[CANDIDATES];
     int candidate_count, selected;
     view_preview preview;
     bool paused;
@@ -304,10 +308,7 @@ static int retune(debugger *d, mm_error *err)
         d->tuning.layers = tuned.layers;
         return 0;
     }
-    if (!view_sim_tune(&d->sim, &desc)) {
-        fprintf(stderr, "mm: out of memory\n");
-        return 1;
-    }
+    view_sim_tune(&d->sim, &desc);
     return 0;
 }
 
@@ -323,10 +324,14 @@ static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam,
     }
     const mm_character *c = &d->sim.character;
     const mm_database *db = c->db;
+    int64_t first, last;
+    view_sim_range(&d->sim, &first, &last);
     fprintf(
         f,
-        "{\"width\": %d, \"height\": %d, \"tick\": %ld, \"recorded\": %ld, \"paused\": %s, \"frame\": %d,\n",
-        w, h, d->sim.now, d->sim.count, d->paused ? "true" : "false", c->frame);
+        "{\"width\": %d, \"height\": %d, \"tick\": %lld, \"first\": %lld, \"last\": %lld, \"paused\": %s, "
+        "\"frame\": %d,\n",
+        w, h, (long long)d->sim.now, (long long)first, (long long)last, d->paused ? "true" : "false",
+        c->frame);
     fprintf(
         f,
         " \"camera\": {\"target\": [%.9g, %.9g, %.9g], \"yaw\": %.9g, \"pitch\": %.9g, \"distance\": %.9g, "
@@ -338,8 +343,14 @@ static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam,
     for (int j = 0; j < db->joint_count; ++j)
         fprintf(f, "%s[%.9g, %.9g, %.9g]", j ? ", " : "", (double)c->global[j].translation.x,
                 (double)c->global[j].translation.y, (double)c->global[j].translation.z);
-    fprintf(f, "],\n \"foot_locked\": [%d, %d], \"selected\": %d, \"preview_frame\": %d,\n",
-            c->foot_locked[0], c->foot_locked[1], d->selected, d->selected >= 0 ? d->preview.frame : -1);
+    /* how far foot IK moved the ankles from the animation (0 with it off) */
+    float ik_offset = 0.0f;
+    for (int k = 0; k < 2; ++k)
+        if (c->foot_joint[k] >= 0)
+            ik_offset = fmaxf(ik_offset, mm_vec3_length(mm_vec3_sub(c->global[c->foot_joint[k]].translation,
+                                                                    c->raw_contact_positions[2 * k])));
+    fprintf(f, "],\n \"ik_offset\": %.9g, \"selected\": %d, \"preview_frame\": %d,\n", (double)ik_offset,
+            d->selected, d->selected >= 0 ? d->preview.frame : -1);
     const mm_view_layers *l = &d->tuning.layers;
     fprintf(f,
             " \"layers\": {\"crossfade\": %d, \"foot_ik\": %d, \"distance_matching\": %d, \"warping\": %d, "
@@ -347,7 +358,7 @@ static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam,
             l->crossfade, l->foot_ik, l->distance_matching, l->warping, l->root_sync, l->root_clamps);
     fprintf(f, " \"candidates\": [");
     for (int i = 0; i < d->candidate_count; ++i) {
-        const view_candidate *v = &d->candidates[i];
+        const mm_candidate *v = &d->candidates[i];
         fprintf(
             f,
             "%s\n  {\"frame\": %d, \"cost\": %.9g, \"base\": %.9g, \"terms\": [%.9g, %.9g, %.9g, %.9g, %.9g]",
@@ -399,7 +410,7 @@ static void debugger_keys(window *win, debugger *d, view_ui *ui)
     ui->step_back += take(win, GLFW_KEY_COMMA);
     ui->step_forward += take(win, GLFW_KEY_PERIOD);
     if (take(win, GLFW_KEY_HOME)) ui->seek = 0;
-    if (take(win, GLFW_KEY_END)) ui->seek = d->sim.count;
+    if (take(win, GLFW_KEY_END)) ui->seek = LONG_MAX;
     mm_view_flags *f = &d->flags;
     if (take(win, GLFW_KEY_1)) f->predicted = !f->predicted;
     if (take(win, GLFW_KEY_2)) f->matched = !f->matched;
@@ -477,12 +488,11 @@ static int debugger_requests(debugger *d, const options *o, view_ui *ui, const m
     }
     if (seek >= 0 && view_sim_seek(sim, seek, err) != MM_OK) return cli_report(err);
     if (seek >= 0) d->paused = true;
+    mm_character_desc desc;
+    mm_view_tuning_desc(&d->tuning, &desc);
     for (int n = 0; n < ui->step_forward; ++n) {
         d->paused = true;
-        if (!view_sim_replay_one(sim) && !view_sim_step(sim, live)) {
-            fprintf(stderr, "mm: out of memory\n");
-            return 1;
-        }
+        view_sim_forward(sim, live, &desc);
     }
     ui->layers_changed = ui->tuning_changed = ui->save = ui->reset = ui->toggle_pause = false;
     ui->step_back = ui->step_forward = 0;
@@ -531,7 +541,8 @@ static int view_database(const options *o)
         status = 1;
         goto done_data;
     }
-    if (view_sim_init(&d.sim, &db, &searcher, o->scene, &desc, (float)TICK, &err) != MM_OK) {
+    if (view_sim_init(&d.sim, &db, &searcher, o->scene, &desc, (float)TICK, RECORD_SECONDS, RECORD_MAX_BYTES,
+                      CANDIDATES, &err) != MM_OK) {
         status = cli_report(&err);
         goto done_data;
     }
@@ -598,22 +609,19 @@ static int view_database(const options *o)
         if ((status = debugger_requests(&d, o, &ui, &live, &err)) != 0) break;
         if (!d.paused) {
             pending += frame_dt;
+            mm_character_desc tuned;
+            mm_view_tuning_desc(&d.tuning, &tuned);
             for (; pending >= TICK; pending -= TICK) {
                 if (o->input) mm_input_script_sample(&script, (float)((double)d.sim.now * TICK), &live);
-                if (!view_sim_step(&d.sim, &live)) {
-                    fprintf(stderr, "mm: out of memory\n");
-                    status = 1;
-                    break;
-                }
+                view_sim_step(&d.sim, &live, &tuned);
             }
-            if (status) break;
         } else {
             pending = 0.0;
         }
-        in = d.sim.now > 0 && d.sim.now <= d.sim.count ? d.sim.inputs[d.sim.now - 1] : live;
+        in = d.sim.now > 0 ? view_sim_input(&d.sim) : live;
         const mm_character *c = &d.sim.character;
         /* the candidates of the search that chose the frame playing (the preview plays on) */
-        d.candidate_count = view_candidates(c, CANDIDATES, d.candidates);
+        d.candidate_count = mm_character_candidates(c, d.candidates, CANDIDATES);
         if (ui.select_changed) select_candidate(&d, d.selected);
         if (d.selected >= d.candidate_count) select_candidate(&d, -1);
         view_preview_advance(&d.preview, &db, frame_dt);
@@ -633,8 +641,11 @@ static int view_database(const options *o)
         ui.candidates = d.candidates;
         ui.candidate_count = d.candidate_count;
         ui.preview_frame = d.selected >= 0 ? d.preview.frame : -1;
-        ui.tick = d.sim.now;
-        ui.recorded = d.sim.count;
+        int64_t kept_first, kept_last;
+        view_sim_range(&d.sim, &kept_first, &kept_last);
+        ui.tick = (long)d.sim.now;
+        ui.first = (long)kept_first;
+        ui.last = (long)kept_last;
         ui.tick_seconds = (float)TICK;
         ui.paused = d.paused;
         ui.can_save = o->config != NULL;

@@ -7,155 +7,145 @@
 
 /* ---- the recorded character ---- */
 
-static mm_result make_character(view_sim *s, const mm_character_desc *desc, mm_error *err)
+/* The move layer and the recorder of a character just made. */
+static mm_result attach(view_sim *s, mm_error *err)
 {
-    mm_result r = mm_character_init(&s->character, s->db, s->searcher, desc, err);
-    if (r != MM_OK) return r;
-    r = mm_moves_init(&s->moves, s->db, s->scene, NULL, err);
+    mm_result r = mm_moves_init(&s->moves, s->db, s->scene, NULL, err);
+    int capacity = s->recorder.capacity;
+    size_t bytes = mm_recorder_bytes(&s->character, capacity, s->candidates);
+    if (r == MM_OK && bytes > s->memory_bytes) { /* a character of another layout (the mixer's) */
+        void *more = realloc(s->memory, bytes);
+        if (!more) r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for the recorder");
+        if (more) s->memory = more, s->memory_bytes = bytes;
+    }
+    if (r == MM_OK)
+        r = mm_recorder_init(&s->recorder, s->memory, bytes, &s->character, capacity, s->candidates, err);
     if (r != MM_OK) mm_character_free(&s->character);
+    s->now = 0;
+    s->looking_back = s->diverged = false;
     return r;
 }
 
-static bool grow(void **items, long *capacity, long need, size_t size)
-{
-    if (need <= *capacity) return true;
-    long cap = *capacity ? *capacity : 1024;
-    while (cap < need) cap *= 2;
-    void *p = realloc(*items, (size_t)cap * size);
-    if (!p) return false;
-    *items = p;
-    *capacity = cap;
-    return true;
-}
-
-static bool record_change(view_sim *s, long tick, const mm_character_desc *desc)
-{
-    /* a later change at the same tick replaces the earlier one (not the desc made with) */
-    if (s->change_count > 1 && s->changes[s->change_count - 1].tick == tick) {
-        s->changes[s->change_count - 1].desc = *desc;
-        return true;
-    }
-    long cap = s->change_capacity;
-    if (!grow((void **)&s->changes, &cap, s->change_count + 1, sizeof *s->changes)) return false;
-    s->change_capacity = (int)cap;
-    s->changes[s->change_count].tick = tick;
-    s->changes[s->change_count++].desc = *desc;
-    return true;
-}
-
 mm_result view_sim_init(view_sim *s, const mm_database *db, const mm_searcher *searcher,
-                        const mm_scene *scene, const mm_character_desc *desc, float tick, mm_error *err)
+                        const mm_scene *scene, const mm_character_desc *desc, float tick, double seconds,
+                        size_t max_bytes, int candidates, mm_error *err)
 {
     memset(s, 0, sizeof *s);
     s->db = db;
     s->searcher = searcher;
     s->scene = scene;
     s->tick = tick;
-    mm_result r = make_character(s, desc, err);
+    s->candidates = candidates;
+    mm_result r = mm_character_init(&s->character, db, searcher, desc, err);
     if (r != MM_OK) return r;
-    if (!record_change(s, 0, desc)) {
-        view_sim_free(s);
-        return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    /* as many ticks as asked for, within max_bytes */
+    size_t per_tick =
+        mm_recorder_bytes(&s->character, 2, candidates) - mm_recorder_bytes(&s->character, 1, candidates);
+    if (scene) per_tick += sizeof(mm_moves);
+    double ticks = fmin(seconds / tick, (double)max_bytes / (double)(per_tick > 0 ? per_tick : 1));
+    int capacity = ticks < 1.0 ? 1 : (int)ticks;
+    s->recorder.capacity = capacity;
+    s->memory_bytes = mm_recorder_bytes(&s->character, capacity, candidates);
+    s->memory = malloc(s->memory_bytes);
+    s->history = scene ? malloc(sizeof(mm_moves) * (size_t)capacity) : NULL;
+    if (!s->memory || (scene && !s->history)) {
+        mm_character_free(&s->character);
+        r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for %d recorded ticks", capacity);
+    } else {
+        r = attach(s, err);
     }
-    return MM_OK;
+    if (r != MM_OK) {
+        free(s->memory);
+        free(s->history);
+        memset(s, 0, sizeof *s);
+    }
+    return r;
 }
 
 void view_sim_free(view_sim *s)
 {
     if (s->db) mm_character_free(&s->character);
-    free(s->inputs);
-    free(s->changes);
+    free(s->memory);
+    free(s->history);
     memset(s, 0, sizeof *s);
 }
 
-static void play(view_sim *s, const mm_input *in)
+void view_sim_range(const view_sim *s, int64_t *first, int64_t *last)
 {
+    int64_t oldest = mm_recorder_oldest(&s->recorder), newest = mm_recorder_newest(&s->recorder);
+    *first = oldest < 0 ? 0 : oldest + 1;
+    *last = newest < 0 ? 0 : newest + 1;
+}
+
+void view_sim_step(view_sim *s, const mm_input *in, const mm_character_desc *desc)
+{
+    if (s->looking_back) { /* the run resumes from the tick shown, as tuned now */
+        int index = mm_recorder_index(&s->recorder, s->now - 1);
+        if (index >= 0) mm_recorder_truncate(&s->recorder, index);
+        mm_character_tune(&s->character, desc);
+        s->looking_back = s->diverged = false;
+    }
     mm_moves_update(&s->moves, &s->character, in, s->tick);
+    mm_recorder_record(&s->recorder, &s->character, in, s->tick);
+    if (s->history) s->history[(s->recorder.recorded - 1) % s->recorder.capacity] = s->moves;
     ++s->now;
 }
 
-bool view_sim_step(view_sim *s, const mm_input *in)
+void view_sim_forward(view_sim *s, const mm_input *in, const mm_character_desc *desc)
 {
-    if (s->count > s->now) { /* resumed from a recorded tick: what followed it is dropped */
-        s->count = s->now;
-        while (s->change_count > 1 && s->changes[s->change_count - 1].tick > s->now) --s->change_count;
+    int64_t first, last;
+    view_sim_range(s, &first, &last);
+    if (s->looking_back && s->now < last) {
+        /* the tick after the one shown: gone to as recorded, or run again with its input */
+        const mm_recorded_tick *t = mm_recorder_tick(&s->recorder, mm_recorder_index(&s->recorder, s->now));
+        if (t && !s->diverged) {
+            view_sim_seek(s, s->now + 1, NULL);
+            return;
+        }
+        if (t) {
+            mm_input recorded = t->input;
+            view_sim_step(s, &recorded, desc);
+            return;
+        }
     }
-    if (!grow((void **)&s->inputs, &s->capacity, s->count + 1, sizeof *s->inputs)) return false;
-    s->inputs[s->count++] = *in;
-    play(s, in);
-    return true;
+    view_sim_step(s, in, desc);
 }
 
-/* The desc recorded for tick (the last change at or before it): applied when it starts there. */
-static void apply_changes_at(view_sim *s, long tick)
+mm_result view_sim_seek(view_sim *s, int64_t tick, mm_error *err)
 {
-    for (int i = 1; i < s->change_count; ++i)
-        if (s->changes[i].tick == tick) mm_character_tune(&s->character, &s->changes[i].desc);
-}
-
-bool view_sim_replay_one(view_sim *s)
-{
-    if (s->now >= s->count) return false;
-    apply_changes_at(s, s->now);
-    play(s, &s->inputs[s->now]);
-    return true;
-}
-
-mm_result view_sim_seek(view_sim *s, long tick, mm_error *err)
-{
-    if (tick < 0) tick = 0;
-    if (tick > s->count) tick = s->count;
-    mm_character_free(&s->character);
-    mm_result r = make_character(s, &s->changes[0].desc, err);
+    int64_t first, last;
+    view_sim_range(s, &first, &last);
+    if (last == 0) return MM_OK; /* nothing recorded yet */
+    tick = tick < first ? first : tick > last ? last : tick;
+    int index = mm_recorder_index(&s->recorder, tick - 1);
+    mm_result r = mm_recorder_restore(&s->recorder, index, &s->character, err);
     if (r != MM_OK) return r;
-    s->now = 0;
-    while (s->now < tick) view_sim_replay_one(s);
-    /* a change made at the tick sought acts from it, as when it was made */
-    apply_changes_at(s, s->now);
+    if (s->history) s->moves = s->history[(tick - 1) % s->recorder.capacity];
+    s->now = tick;
+    s->looking_back = tick < last;
+    s->diverged = false;
     return MM_OK;
 }
 
-bool view_sim_tune(view_sim *s, const mm_character_desc *desc)
+void view_sim_tune(view_sim *s, const mm_character_desc *desc)
 {
     mm_character_tune(&s->character, desc);
-    return record_change(s, s->now, desc);
+    if (s->looking_back) s->diverged = true;
 }
 
 mm_result view_sim_restart(view_sim *s, const mm_character_desc *desc, mm_error *err)
 {
     mm_character_free(&s->character);
-    s->count = s->now = 0;
-    s->change_count = 0;
-    mm_result r = make_character(s, desc, err);
-    if (r == MM_OK && !record_change(s, 0, desc))
-        r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-    return r;
+    mm_result r = mm_character_init(&s->character, s->db, s->searcher, desc, err);
+    return r == MM_OK ? attach(s, err) : r;
 }
 
-/* ---- candidates ---- */
-
-int view_candidates(const mm_character *c, int k, view_candidate *out)
+mm_input view_sim_input(const view_sim *s)
 {
-    if (k > VIEW_MAX_CANDIDATES) k = VIEW_MAX_CANDIDATES;
-    if (k < 1 || c->searches == 0 || !c->query) return 0;
-    const mm_database *db = c->db;
-    mm_search_result results[VIEW_MAX_CANDIDATES];
-    int n = mm_searcher_search(c->searcher, c->query, &c->last_params, c->desc.method, results, k);
-    for (int i = 0; i < n; ++i) {
-        view_candidate *v = &out[i];
-        memset(v, 0, sizeof *v);
-        v->frame = results[i].frame;
-        v->base = results[i].base;
-        v->cost = results[i].cost;
-        if (v->frame < 0 || v->frame >= db->frame_count) {
-            v->clip = v->clip_frame = -1;
-            continue;
-        }
-        v->clip = db->frame_clip[v->frame];
-        v->clip_frame = v->frame - db->clips[v->clip].first_frame;
-        mm_search_cost_terms(db, c->query, &c->last_params, v->frame, &v->terms);
-    }
-    return n;
+    const mm_recorded_tick *t = mm_recorder_tick(&s->recorder, mm_recorder_index(&s->recorder, s->now - 1));
+    mm_input none;
+    memset(&none, 0, sizeof none);
+    return t ? t->input : none;
 }
 
 /* ---- ghosts ---- */

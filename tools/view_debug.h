@@ -1,9 +1,7 @@
 /* view_debug.h - the viewer's motion-matching debugger, without a window: the character and its
- * move layer run tick by tick with every tick's input and every change of tuning recorded, so that
- * any recorded tick can be gone back to (the character made again and the ticks before it played
- * again: the runtime gives the same bits for the same input), resumed from, or stepped through;
- * the best candidates of the current search with every cost term; and the poses of database
- * frames as ghost skeletons (lines) beside the character. */
+ * move layer run tick by tick, the last ticks recorded (mm/recorder.h) so that any of them can be
+ * gone back to bit for bit, resumed from, or stepped through; and the poses of database frames
+ * (the search's candidates) as ghost skeletons (lines) beside the character. */
 #ifndef MM_TOOLS_VIEW_DEBUG_H
 #define MM_TOOLS_VIEW_DEBUG_H
 
@@ -11,6 +9,7 @@
 
 #include <mm/character.h>
 #include <mm/moves.h>
+#include <mm/recorder.h>
 #include <mm/render.h>
 #include <mm/search.h>
 
@@ -18,59 +17,47 @@
 extern "C" {
 #endif
 
-/* The character, its moves and what it was given, tick by tick. */
+/* The character and its moves, with the last ticks recorded (mm/recorder.h, the move layer's
+ * state beside each) so that any of them can be gone back to. */
 typedef struct view_sim {
     const mm_database *db;
     const mm_searcher *searcher;
     const mm_scene *scene; /* NULL: no moves */
     mm_character character;
     mm_moves moves;
-    float tick; /* s */
-    long now;   /* the tick the character is at (ticks played since the start) */
-    /* recorded: the input of every tick played, and the desc from each tick it changed */
-    mm_input *inputs;
-    long count, capacity; /* ticks recorded (count >= now) */
-    struct view_sim_change {
-        long tick;
-        mm_character_desc desc;
-    } * changes;
-    int change_count, change_capacity;
+    float tick;     /* s */
+    int candidates; /* kept per search */
+    mm_recorder recorder;
+    void *memory; /* the recorder's */
+    size_t memory_bytes;
+    mm_moves *history; /* the move layer after each tick kept ([recorder capacity]; NULL: no scene) */
+    int64_t now;       /* ticks played: the tick shown is number now - 1 of the recorder */
+    bool looking_back; /* restored to a recorded tick (not the newest) */
+    bool diverged;     /* tuned while looking back: stepping on runs again instead of restoring */
 } view_sim;
 
-/* Makes the character with desc at tick 0 (desc is kept as the first change). */
+/* Makes the character with desc and a recorder of `seconds` of ticks (fewer when that would take
+ * more than max_bytes), asking for `candidates` per search. */
 mm_result view_sim_init(view_sim *s, const mm_database *db, const mm_searcher *searcher,
-                        const mm_scene *scene, const mm_character_desc *desc, float tick, mm_error *err);
+                        const mm_scene *scene, const mm_character_desc *desc, float tick, double seconds,
+                        size_t max_bytes, int candidates, mm_error *err);
 void view_sim_free(view_sim *s);
-/* Plays one tick with in, recorded at tick `now` (a recording past now is dropped first: the
- * session resumes from here). False when out of memory. */
-bool view_sim_step(view_sim *s, const mm_input *in);
-/* Plays the recorded tick `now` again (stepping forward through the recording). False at its end. */
-bool view_sim_replay_one(view_sim *s);
-/* Goes to recorded tick `tick` (clamped to [0, count]): the character made again from the first
- * desc and the recording played up to it. */
-mm_result view_sim_seek(view_sim *s, long tick, mm_error *err);
-/* Hands desc to the character from now on, and records it. False when out of memory. */
-bool view_sim_tune(view_sim *s, const mm_character_desc *desc);
+/* Plays one tick with in and records it (looking back, the ticks after the one shown are dropped
+ * first: the run resumes from there, with desc, the tuning now). */
+void view_sim_step(view_sim *s, const mm_input *in, const mm_character_desc *desc);
+/* Steps one tick on: to the next recorded tick, or (at the newest, or diverged) plays one with the
+ * recorded input of the next tick when there is one, else with in. */
+void view_sim_forward(view_sim *s, const mm_input *in, const mm_character_desc *desc);
+/* Goes to recorded tick `tick` (ticks played; clamped to what is kept). */
+mm_result view_sim_seek(view_sim *s, int64_t tick, mm_error *err);
+/* The first and last ticks that can be gone to (0, 0 when none is kept). */
+void view_sim_range(const view_sim *s, int64_t *first, int64_t *last);
+/* Hands desc to the character from now on. */
+void view_sim_tune(view_sim *s, const mm_character_desc *desc);
 /* Starts again at tick 0 with desc (the recording is dropped). */
 mm_result view_sim_restart(view_sim *s, const mm_character_desc *desc, mm_error *err);
-
-/* ---- candidates ---- */
-
-#define VIEW_MAX_CANDIDATES 8
-
-typedef struct view_candidate {
-    int frame;      /* database frame; -1: none */
-    int clip;       /* database clip */
-    int clip_frame; /* frame within its clip */
-    float base;     /* the weighted distance */
-    float cost;     /* after favours and bias */
-    mm_search_terms terms;
-} view_candidate;
-
-/* The best k (<= VIEW_MAX_CANDIDATES) frames for the character's last query with the parameters
- * it searched with, by its method (out[0] is the frame it chose). Returns how many (0 before the
- * first search). */
-int view_candidates(const mm_character *c, int k, view_candidate *out);
+/* The input of the tick shown (neutral before the first). */
+mm_input view_sim_input(const view_sim *s);
 
 /* ---- ghosts ---- */
 

@@ -160,29 +160,31 @@ static void status_window(view_ui *ui)
     ImGui::Text("speed  asked %.2f m/s   now %.2f m/s", (double)asked, (double)speed);
     ImGui::Text("play   %s  rate %.2f  stride %.2f", playback_name(c->playback), (double)c->play_rate,
                 (double)c->stride_scale);
-    ImGui::Text("feet   left %s  right %s", c->foot_locked[0] ? "locked" : "free",
-                c->foot_locked[1] ? "locked" : "free");
+    if (c->desc.no_foot_ik)
+        ImGui::TextUnformatted("feet   as animated (foot IK off)");
+    else
+        ImGui::Text("feet   left %s  right %s", c->foot_locked[0] ? "locked" : "free",
+                    c->foot_locked[1] ? "locked" : "free");
     ImGui::Separator();
-    if (c->searches > 0 && c->last_result.frame >= 0 && c->query) {
-        mm_search_terms t;
-        mm_search_cost_terms(db, c->query, &c->last_params, c->last_result.frame, &t);
-        const mm_search_result *r = &c->last_result;
-        ImGui::Text("cost   %.4f  (base %.4f)", (double)r->cost, (double)r->base);
-        ImGui::Text("  pose positions   %.4f", (double)t.pose_position);
-        ImGui::Text("  pose velocities  %.4f", (double)t.pose_velocity);
-        ImGui::Text("  root velocity    %.4f", (double)t.root_velocity);
-        ImGui::Text("  traj positions   %.4f", (double)t.traj_position);
-        ImGui::Text("  traj directions  %.4f", (double)t.traj_direction);
-        ImGui::Text("  favour x%.3f  bias %.3f",
-                    r->base > 0.0f ? (double)((r->cost + c->last_params.continuing_bias) / r->base) : 1.0,
-                    (double)c->last_params.continuing_bias);
+    if (ui->candidate_count > 0) { /* the winner, with every term of its cost */
+        const mm_candidate *w = &ui->candidates[0];
+        ImGui::Text("cost   %.4f  (base %.4f)", (double)w->cost, (double)w->base);
+        ImGui::Text("  pose positions   %.4f", (double)w->terms.pose_position);
+        ImGui::Text("  pose velocities  %.4f", (double)w->terms.pose_velocity);
+        ImGui::Text("  root velocity    %.4f", (double)w->terms.root_velocity);
+        ImGui::Text("  traj positions   %.4f", (double)w->terms.traj_position);
+        ImGui::Text("  traj directions  %.4f", (double)w->terms.traj_direction);
+        ImGui::Text("  loop favour      %+.4f", (double)w->loop_favour);
+        ImGui::Text("  next pose favour %+.4f", (double)w->next_pose_favour);
+        ImGui::Text("  continuing bias  %+.4f", (double)w->continuing_bias);
         ImGui::Text("  ratio %.3f", (double)c->last_params.pose_trajectory_ratio);
     } else {
         ImGui::TextUnformatted("cost   - (no search yet)");
     }
     ImGui::Text("search %.0f us   searches %d", (double)c->last_search_us, c->searches);
     ImGui::Text("transitions %d  cancelled %d", c->transitions, c->cancelled_transitions);
-    ImGui::Text("fps    %.0f", (double)ui->fps);
+    ImGui::Text("fps    %.0f   recording %.0f s", (double)ui->fps,
+                (double)((float)(ui->last - ui->first + 1) * ui->tick_seconds));
     if (ui->message && ui->message[0]) {
         ImGui::Separator();
         ImGui::TextWrapped("%s", ui->message);
@@ -253,15 +255,17 @@ static void candidates_window(view_ui *ui)
     const mm_database *db = ui->character->db;
     ImGui::TextUnformatted("The search's best frames ([ ] pick, 7 ghosts, 8 preview)");
     ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX |
-                            ImGuiTableFlags_SizingFixedFit;
-    if (ImGui::BeginTable("candidates", 10, flags)) {
-        static const char *const heads[10] = {"#",   "clip", "frame", "cost", "pose",
-                                              "vel", "root", "traj",  "dir",  "favour"};
-        for (int k = 0; k < 10; ++k) ImGui::TableSetupColumn(heads[k]);
+                            ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit;
+    enum { COLUMNS = 12 };
+    if (ImGui::BeginTable("candidates", COLUMNS, flags)) {
+        static const char *const heads[COLUMNS] = {"#",    "clip", "frame", "cost", "pose", "vel",
+                                                   "root", "traj", "dir",   "loop", "next", "bias"};
+        ImGui::TableSetupScrollFreeze(1, 1);
+        for (int k = 0; k < COLUMNS; ++k) ImGui::TableSetupColumn(heads[k]);
         ImGui::TableHeadersRow();
         for (int i = 0; i < ui->candidate_count; ++i) {
-            const view_candidate *v = &ui->candidates[i];
-            if (v->frame < 0) continue;
+            const mm_candidate *v = &ui->candidates[i];
+            if (v->frame < 0 || v->clip < 0) continue;
             ImGui::TableNextRow();
             ImGui::TableSetColumnIndex(0);
             char label[16];
@@ -273,17 +277,21 @@ static void candidates_window(view_ui *ui)
             ImGui::TableSetColumnIndex(1);
             ImGui::TextUnformatted(db->clips[v->clip].name);
             ImGui::TableSetColumnIndex(2);
-            ImGui::Text("%d", v->clip_frame);
-            ImGui::TableSetColumnIndex(3);
-            ImGui::Text("%.4f", (double)v->cost);
-            const float terms[5] = {v->terms.pose_position, v->terms.pose_velocity, v->terms.root_velocity,
-                                    v->terms.traj_position, v->terms.traj_direction};
-            for (int k = 0; k < 5; ++k) {
-                ImGui::TableSetColumnIndex(4 + k);
+            ImGui::Text("%d", v->frame - db->clips[v->clip].first_frame);
+            // the cost, then every term: the five weighted distances and what favours and bias add
+            const float terms[9] = {v->cost,
+                                    v->terms.pose_position,
+                                    v->terms.pose_velocity,
+                                    v->terms.root_velocity,
+                                    v->terms.traj_position,
+                                    v->terms.traj_direction,
+                                    v->loop_favour,
+                                    v->next_pose_favour,
+                                    v->continuing_bias};
+            for (int k = 0; k < 9; ++k) {
+                ImGui::TableSetColumnIndex(3 + k);
                 ImGui::Text("%.4f", (double)terms[k]);
             }
-            ImGui::TableSetColumnIndex(9);
-            ImGui::Text("x%.3f", v->base > 0.0f ? (double)(v->cost / v->base) : 1.0);
         }
         ImGui::EndTable();
     }
@@ -304,14 +312,15 @@ static void timeline_window(view_ui *ui)
     ImGui::SameLine();
     if (ImGui::Button("[.] >")) ui->step_forward = 1;
     ImGui::SameLine();
-    if (ImGui::Button(">|")) ui->seek = ui->recorded;
+    if (ImGui::Button(">|")) ui->seek = ui->last;
     ImGui::SameLine();
-    int tick = (int)ui->tick, last = (int)ui->recorded;
+    int tick = (int)ui->tick, first = (int)ui->first, last = (int)ui->last;
     ImGui::PushItemWidth(-1.0f);
-    char format[64];
-    std::snprintf(format, sizeof format, "tick %%d / %d  (%.2f s)", last,
-                  (double)((float)ui->tick * ui->tick_seconds));
-    if (ImGui::SliderInt("##tick", &tick, 0, last > 0 ? last : 1, format) && tick != (int)ui->tick)
+    char format[80];
+    std::snprintf(format, sizeof format, "tick %%d  (%.2f s)   kept %d to %d",
+                  (double)((float)ui->tick * ui->tick_seconds), first, last);
+    if (ImGui::SliderInt("##tick", &tick, first, last > first ? last : first + 1, format) &&
+        tick != (int)ui->tick)
         ui->seek = tick;
     ImGui::PopItemWidth();
 }

@@ -40,10 +40,10 @@ typedef struct view_ui {
     const mm_input *input;
     float fps;
     const char *message;
-    const view_candidate *candidates;
+    const mm_candidate *candidates;
     int candidate_count;
-    int preview_frame;   /* the preview's database frame, -1: none */
-    long tick, recorded; /* the tick shown, the ticks recorded */
+    int preview_frame;      /* the preview's database frame, -1: none */
+    long tick, first, last; /* the tick shown (ticks played), the first and last kept */
     float tick_seconds;
     bool paused;
     bool can_save; /* a config to save into */
