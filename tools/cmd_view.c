@@ -224,8 +224,8 @@ static bool jump_down(window *win)
 #define CANDIDATES       5                   /* listed in the panel */
 #define RECORD_SECONDS   120.0               /* the timeline keeps this much */
 #define RECORD_MAX_BYTES ((size_t)512 << 20) /* or less, to stay within this memory */
-#define GHOSTS           3                   /* of them drawn beside the character (and the one picked) */
-#define GHOST_SPACING    0.75f               /* m between ghosts, to the camera's right of the character */
+#define GHOSTS           3                   /* of them drawn beside the character (the one picked nearest) */
+#define GHOST_SPACING    0.7f                /* m between ghosts, to the camera's right of the character */
 #define PREVIEW_DISTANCE 0.9f                /* m to the camera's left: the picked candidate's clip playing */
 static const mm_rgba ghost_color = {0.55f, 0.6f, 0.75f, 1.0f};
 static const mm_rgba picked_color = {0.95f, 0.8f, 0.25f, 1.0f};
@@ -259,6 +259,19 @@ static mm_xform ghost_anchor(const mm_character *c, const mm_camera *cam, float 
     return a;
 }
 
+/* The candidates drawn as ghosts, nearest first: the one picked, then the best GHOSTS. Returns how
+ * many. */
+static int ghost_order(const debugger *d, int *order)
+{
+    int n = 0;
+    if (!d->draws.ghosts) return 0;
+    if (d->selected >= 0 && d->selected < d->candidate_count && d->candidates[d->selected].frame >= 0)
+        order[n++] = d->selected;
+    for (int i = 0; i < d->candidate_count && i < GHOSTS; ++i)
+        if (i != d->selected && d->candidates[i].frame >= 0) order[n++] = i;
+    return n;
+}
+
 /* The view's lines, then the ghosts of the candidates and the preview. */
 static void add_ghosts(debugger *d, mm_view *view, const mm_camera *cam)
 {
@@ -266,10 +279,11 @@ static void add_ghosts(debugger *d, mm_view *view, const mm_camera *cam)
     const mm_database *db = c->db;
     int n = view->scene.line_count < d->line_capacity ? view->scene.line_count : d->line_capacity;
     memcpy(d->lines, view->scene.lines, sizeof *d->lines * (size_t)n);
-    int slot = 0;
-    for (int i = 0; d->draws.ghosts && i < d->candidate_count; ++i) {
-        if (d->candidates[i].frame < 0 || (i >= GHOSTS && i != d->selected)) continue;
-        view_ghost_pose(db, d->candidates[i].frame, ghost_anchor(c, cam, GHOST_SPACING * (float)++slot),
+    int order[CANDIDATES];
+    int shown = ghost_order(d, order);
+    for (int k = 0; k < shown; ++k) {
+        int i = order[k];
+        view_ghost_pose(db, d->candidates[i].frame, ghost_anchor(c, cam, GHOST_SPACING * (float)(k + 1)),
                         d->pose);
         view_ghost_lines(db, d->pose, i == d->selected ? picked_color : ghost_color, d->lines, &n,
                          d->line_capacity);
@@ -368,12 +382,13 @@ static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam,
         fprintf(f, "}");
     }
     fprintf(f, "],\n \"ghosts\": [");
-    int slot = 0, written = 0;
-    for (int i = 0; d->draws.ghosts && i < d->candidate_count; ++i) {
-        if (d->candidates[i].frame < 0 || (i >= GHOSTS && i != d->selected)) continue;
-        view_ghost_pose(db, d->candidates[i].frame, ghost_anchor(c, cam, GHOST_SPACING * (float)++slot),
+    int order[CANDIDATES];
+    int shown = ghost_order(d, order);
+    for (int k = 0; k < shown; ++k) {
+        int i = order[k];
+        view_ghost_pose(db, d->candidates[i].frame, ghost_anchor(c, cam, GHOST_SPACING * (float)(k + 1)),
                         d->pose);
-        fprintf(f, "%s\n  {\"candidate\": %d, \"joints\": [", written++ ? "," : "", i);
+        fprintf(f, "%s\n  {\"candidate\": %d, \"joints\": [", k ? "," : "", i);
         for (int j = 1; j < db->joint_count; ++j)
             fprintf(f, "%s[%.9g, %.9g, %.9g]", j > 1 ? ", " : "", (double)d->pose[j].translation.x,
                     (double)d->pose[j].translation.y, (double)d->pose[j].translation.z);
