@@ -4,10 +4,12 @@
  *             [--video OUT.mp4|OUT.gif|FOLDER [--size WxH] [--video-fps F]]
  *             [--transition inertialize|crossfade] [--crossfade-time S]
  *             [--skeleton GAME.bvh [--skeleton-map MAP.json]]
+ *             [--trace OUT.jsonl [--trace-ticks] [--trace-k N]]
  * Runs one character over scripted or random input, or along a desired path (mm/drive.h); writes its motion,
  * the metrics of docs/metrics.md and, on request, a video of it rendered headless. With a scene, the move
  * layer (mm/moves.h: jump, vault, climb, drop-down) runs around the character. With a skeleton, the motion is
- * written in the game's joint names and order (mm/skeleton_map.h, sim_skeleton.h). */
+ * written in the game's joint names and order (mm/skeleton_map.h, sim_skeleton.h). With a trace, every search
+ * (and with --trace-ticks every tick) goes to JSON lines (mm/trace.h) that mm view --replay runs again. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -21,6 +23,7 @@
 #include <mm/path_json.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
+#include <mm/trace.h>
 #include <mm/view.h>
 
 #include "cli.h"
@@ -39,7 +42,10 @@
 int mm_cmd_simulate(int argc, char **argv)
 {
     const char *db_path = NULL, *input = NULL, *out = NULL, *metrics = NULL, *video_path = NULL,
-               *scene_path = NULL, *skeleton_path = NULL, *skeleton_map_path = NULL, *path_file = NULL;
+               *scene_path = NULL, *skeleton_path = NULL, *skeleton_map_path = NULL, *path_file = NULL,
+               *trace_path = NULL;
+    int trace_ticks = 0;
+    long trace_k = MM_TRACE_DEFAULT_K;
     long seed = -1;
     double seconds = 0.0, fps = 60.0, video_fps = 30.0, crossfade_time = -1.0;
     int width = 640, height = 360;
@@ -50,7 +56,7 @@ int mm_cmd_simulate(int argc, char **argv)
         "--metrics OUT.json [--scene SCENE.json] [--distance-matching on|off] [--warping on|off] "
         "[--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]] "
         "[--transition inertialize|crossfade] [--crossfade-time S] [--skeleton GAME.bvh [--skeleton-map "
-        "MAP.json]]";
+        "MAP.json]] [--trace OUT.jsonl [--trace-ticks] [--trace-k N]]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--input") == 0 && v)
@@ -108,6 +114,14 @@ int mm_cmd_simulate(int argc, char **argv)
             if (!cli_parse_double(v, &crossfade_time) || crossfade_time < 0 || crossfade_time > 10)
                 return cli_usage_error("simulate", "--crossfade-time needs seconds in [0, 10]");
             ++i;
+        } else if (strcmp(a, "--trace") == 0 && v) {
+            trace_path = argv[++i];
+        } else if (strcmp(a, "--trace-ticks") == 0) {
+            trace_ticks = 1;
+        } else if (strcmp(a, "--trace-k") == 0 && v) {
+            if (!cli_parse_int(v, 1, MM_TRACE_MAX_K, &trace_k))
+                return cli_usage_error("simulate", "--trace-k needs 1 to %d", MM_TRACE_MAX_K);
+            ++i;
         } else if (a[0] == '-' && a[1])
             return cli_usage_error("simulate", "unknown or incomplete option '%s'\n%s", a, usage);
         else if (!db_path)
@@ -123,6 +137,8 @@ int mm_cmd_simulate(int argc, char **argv)
                                seconds, fps, SIM_MIN_FRAMES, SIM_MIN_FRAMES / fps);
     if (skeleton_map_path && !skeleton_path)
         return cli_usage_error("simulate", "--skeleton-map needs --skeleton");
+    if ((trace_ticks || trace_k != MM_TRACE_DEFAULT_K) && !trace_path)
+        return cli_usage_error("simulate", "--trace-ticks and --trace-k need --trace");
     if (seconds * fps > SIM_MAX_FRAMES)
         return cli_usage_error("simulate",
                                "--seconds %g at --fps %g is %.0f frames, more than the %d allowed", seconds,
@@ -171,6 +187,37 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_path_free(&path);
         mm_database_free(&db);
         return cli_report(&err);
+    }
+    /* the trace: how the run was made (all a replay needs), and the candidates kept per search */
+    mm_trace_run trace_run;
+    mm_trace_run_defaults(&trace_run);
+    if (trace_path) {
+        snprintf(trace_run.db_path, sizeof trace_run.db_path, "%s", db_path);
+        trace_run.db_checksum = mm_trace_db_checksum(&db);
+        trace_run.db_size = (uint64_t)db.size;
+        trace_run.db_frames = db.frame_count;
+        trace_run.fps = fps;
+        trace_run.ticks = (int)floor(seconds * fps + 1e-6);
+        trace_run.random_seed = input || path_file ? -1 : seed;
+        trace_run.random_seconds = seconds;
+        if (path_file) snprintf(trace_run.path_file, sizeof trace_run.path_file, "%s", path_file);
+        if (scene_path) snprintf(trace_run.scene_path, sizeof trace_run.scene_path, "%s", scene_path);
+        trace_run.distance_matching = distance_matching;
+        trace_run.warping = warping;
+        trace_run.transition_mode = transition;
+        trace_run.crossfade_time = crossfade_time;
+        trace_run.top_k = (int)trace_k;
+        trace_run.tick_lines = trace_ticks != 0;
+        if ((input && mm_trace_run_set_input_file(&trace_run, input, &err) != MM_OK) ||
+            mm_character_set_candidates(&c, (int)trace_k, &err) != MM_OK) {
+            mm_trace_run_free(&trace_run);
+            mm_character_free(&c);
+            mm_searcher_free(&searcher);
+            mm_input_script_free(&script);
+            mm_path_free(&path);
+            mm_database_free(&db);
+            return cli_report(&err);
+        }
     }
     mm_moves moves; /* without a scene: plain locomotion; hands and feet by the database's roles */
     mm_moves_desc moves_desc;
@@ -236,8 +283,8 @@ int mm_cmd_simulate(int argc, char **argv)
     /* the motion and the metrics go to temporary files, opened now so that a bad path fails before
      * the run; they are renamed into place only when they and the video were all written, so a
      * failure leaves none of the outputs */
-    char metrics_tmp[4096 + 32], bvh_tmp[4096 + 32];
-    FILE *m = NULL, *bf = NULL;
+    char metrics_tmp[4096 + 32], bvh_tmp[4096 + 32], trace_tmp[4096 + 32];
+    FILE *m = NULL, *bf = NULL, *tf = NULL;
     if (too_long) {
         status = 1;
         goto done;
@@ -248,7 +295,8 @@ int mm_cmd_simulate(int argc, char **argv)
         goto done;
     }
     if (!(bf = cli_create(out, bvh_tmp, sizeof bvh_tmp)) ||
-        (metrics && !(m = cli_create(metrics, metrics_tmp, sizeof metrics_tmp)))) {
+        (metrics && !(m = cli_create(metrics, metrics_tmp, sizeof metrics_tmp))) ||
+        (trace_path && !(tf = cli_create(trace_path, trace_tmp, sizeof trace_tmp)))) {
         status = 1;
         goto done;
     }
@@ -267,6 +315,7 @@ int mm_cmd_simulate(int argc, char **argv)
         status = cli_report(&err);
         goto done;
     }
+    if (tf && mm_trace_write_header(tf, &trace_run, &db) != MM_OK) status = 1;
     int last_searches = 0;
     float dt = (float)(1.0 / fps);
     float future_times[MM_MAX_TRAJ_SAMPLES];
@@ -287,9 +336,14 @@ int mm_cmd_simulate(int argc, char **argv)
         mm_vec3 desired;
         mm_trajectory_desired(c.trajectory, &in, &desired, NULL);
         motion_metrics_input(&mx, t, &in, desired);
+        int searches_before = c.searches, transitions_before = c.transitions;
         double start = cli_now();
         mm_moves_update(&moves, &c, &in, dt);
         float frame_us = (float)(1e6 * (cli_now() - start));
+        if (tf && status == 0 &&
+            mm_trace_write_tick(tf, &trace_run, &c, f, (f + 1) / fps, searches_before, transitions_before) !=
+                MM_OK)
+            status = 1;
         if (path_file) {
             mm_vec3 want, root = c.root.translation;
             mm_path_sample(&path, (float)(t + dt), &want, NULL, NULL);
@@ -336,7 +390,7 @@ int mm_cmd_simulate(int argc, char **argv)
     }
     /* close the temporary files, finish the video, and only then rename: a failure at any step
      * leaves none of the outputs */
-    int bvh_done = 0, metrics_done = 0, video_done = 0, video_frames = 0;
+    int bvh_done = 0, metrics_done = 0, video_done = 0, video_frames = 0, trace_done = 0;
     if (status == 0)
         bvh_done = cli_finish(bf, bvh_tmp, out) == 0;
     else
@@ -350,6 +404,14 @@ int mm_cmd_simulate(int argc, char **argv)
             cli_commit(m, metrics_tmp, metrics, 1);
         m = NULL;
         if (!metrics_done) status = 1;
+    }
+    if (tf) {
+        if (status == 0)
+            trace_done = cli_finish(tf, trace_tmp, trace_path) == 0;
+        else
+            cli_commit(tf, trace_tmp, trace_path, 1);
+        tf = NULL;
+        if (!trace_done) status = 1;
     }
     if (video_path) {
         if (sim_video_close(&video, status != 0, &video_frames, &err) != MM_OK && status == 0)
@@ -367,10 +429,19 @@ int mm_cmd_simulate(int argc, char **argv)
                 remove(out);
             }
         }
+        if (status == 0 && trace_done) {
+            trace_done = 0;
+            if (cli_publish(trace_tmp, trace_path) != 0) {
+                status = 1;
+                remove(out);
+                if (metrics) remove(metrics);
+            }
+        }
     }
     if (status != 0) {
         if (bvh_done) remove(bvh_tmp);
         if (metrics_done) remove(metrics_tmp);
+        if (trace_done) remove(trace_tmp);
         if (video_done) remove(video_path); /* an encoded file (a folder of frames stays) */
     }
     if (video_path && status == 0) printf("%s: %d video frames\n", video_path, video_frames);
@@ -386,6 +457,8 @@ done:
     mm_bvh_stream_close(stream, NULL);             /* before its file is closed */
     if (m) cli_commit(m, metrics_tmp, metrics, 1); /* a failure before the outputs were written */
     if (bf) cli_commit(bf, bvh_tmp, out, 1);
+    if (tf) cli_commit(tf, trace_tmp, trace_path, 1);
+    mm_trace_run_free(&trace_run);
     free(world);
     motion_metrics_free(&mx);
     mm_skeleton_free(&skel);

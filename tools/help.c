@@ -252,6 +252,7 @@ static const help_entry entries[] = {
      "                   [--warping on|off] [--transition inertialize|crossfade] [--crossfade-time 0.2]\n"
      "                   [--video OUT.mp4|OUT.gif|FOLDER [--size 640x360] [--video-fps 30]]\n"
      "                   [--skeleton GAME.bvh [--skeleton-map MAP.json]]\n"
+     "                   [--trace OUT.jsonl [--trace-ticks] [--trace-k 5]]\n"
      "Runs one character over an input script, random input or a desired path: its motion as BVH,\n"
      "the metrics of docs/metrics.md and a video of it with its debug drawing. With a scene, the moves\n"
      "(jump, vault, climb, drop-down) run around it (docs/moves.md). With a skeleton, the motion is\n"
@@ -279,7 +280,12 @@ static const help_entry entries[] = {
      "                     by name, the others at the game's rest, no simulation root, the game's\n"
      "                     bone lengths (default: the database's skeleton)\n"
      "  --skeleton-map MAP a JSON map for --skeleton: {\"pairs\": {GAME: DATABASE}, \"follow\":\n"
-     "                     [{\"joint\", \"follows\", \"weight\", \"twist\"}], \"root\", \"game_lengths\"}\n"},
+     "                     [{\"joint\", \"follows\", \"weight\", \"twist\"}], \"root\", \"game_lengths\"}\n"
+     "  --trace OUT.jsonl  every search as a JSON line: the query, the winner, whether it jumped and\n"
+     "                     the best candidates with every cost term, after a header with what a\n"
+     "                     replay needs (docs/viewer.md, \"Record, rewind, trace\"; default: none)\n"
+     "  --trace-ticks      one more line per tick: clip, frame, root, the feet's contacts and locks\n"
+     "  --trace-k N        candidates per search line, 1 to 64 (default 5)\n"},
     {"synth", "write the built-in procedural motion set (BVH files and clips.json)",
      "usage: mm synth OUTDIR [--seed 0] [--fps 60]\n"
      "Writes the built-in procedural motion set: 40 BVH clips and clips.json with their ground truth\n"

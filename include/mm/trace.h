@@ -17,8 +17,9 @@
  * Writing: mm_trace_write_header once, then after each tick mm_trace_write_tick (it writes a
  * search line when one ran, and a tick line when asked).
  *
- * Functions: mm_trace_run_defaults mm_trace_write_header mm_trace_write_tick mm_trace_read
- *            mm_trace_free mm_trace_replay mm_trace_db_checksum
+ * Functions: mm_trace_run_defaults mm_trace_run_set_input_file mm_trace_run_free
+ *            mm_trace_write_header mm_trace_write_tick mm_trace_read mm_trace_free mm_trace_replay
+ *            mm_trace_db_checksum
  */
 #ifndef MM_TRACE_H
 #define MM_TRACE_H
@@ -75,8 +76,13 @@ uint64_t mm_trace_db_checksum(const mm_database *db);
  * "traj_position", "traj_direction", "loop_favour", "next_pose_favour", "continuing_bias"). */
 extern const char *const mm_trace_term_names[MM_TRACE_TERM_COUNT];
 
-/* The header line. MM_ERR_IO on a write error. */
-mm_result mm_trace_write_header(FILE *out, const mm_trace_run *run);
+/* The script file a run reads (--input): its name and its text, verbatim, into run (which then
+ * owns the text: mm_trace_run_free). */
+mm_result mm_trace_run_set_input_file(mm_trace_run *run, const char *path, mm_error *err);
+void mm_trace_run_free(mm_trace_run *run);
+
+/* The header line (db: the run's database, for its query length). MM_ERR_IO on a write error. */
+mm_result mm_trace_write_header(FILE *out, const mm_trace_run *run, const mm_database *db);
 
 /* After tick `tick` (0-based; it ended at time t s): a search line when c searched during it
  * (searches_before: c->searches before the tick; transitions_before likewise), and a tick line when
