@@ -23,6 +23,7 @@
 #include <mm/mm.h>
 #include <mm/render.h>
 #include <mm/scene_json.h>
+#include <mm/trace.h>
 #include <mm/view.h>
 
 #include "cli.h"
@@ -35,7 +36,8 @@
 #define TICK (1.0 / 60.0)
 
 typedef struct options {
-    const char *db, *clip, *config, *clip_name, *input, *screenshot, *scene_path, *script, *screenshot_dir;
+    const char *db, *clip, *config, *clip_name, *input, *screenshot, *scene_path, *script, *screenshot_dir,
+        *replay;
     const mm_scene *scene; /* loaded from scene_path; NULL: none */
     int width, height;
     long frames; /* 0: until the window closes */
@@ -240,6 +242,7 @@ typedef struct debugger {
     int candidate_count, selected;
     view_preview preview;
     bool paused;
+    bool jumped;           /* went to another tick: the camera is put on the character at once */
     mm_render_line *lines; /* the view's lines with the ghosts' */
     int line_capacity;
     mm_xform *pose; /* a ghost's pose */
@@ -502,7 +505,7 @@ static int debugger_requests(debugger *d, const options *o, view_ui *ui, const m
         seek = sim->now > ui->step_back ? sim->now - ui->step_back : 0;
     }
     if (seek >= 0 && view_sim_seek(sim, seek, err) != MM_OK) return cli_report(err);
-    if (seek >= 0) d->paused = true;
+    if (seek >= 0) d->paused = d->jumped = true;
     mm_character_desc desc;
     mm_view_tuning_desc(&d->tuning, &desc);
     for (int n = 0; n < ui->step_forward; ++n) {
@@ -513,6 +516,91 @@ static int debugger_requests(debugger *d, const options *o, view_ui *ui, const m
     ui->step_back = ui->step_forward = 0;
     ui->seek = -1;
     return 0;
+}
+
+/* The input of tick `tick` from --input's script, or a trace's (as mm simulate ran it); else in is
+ * left as the keys made it. */
+static void scripted_input(const options *o, const mm_input_script *script, int64_t tick, mm_input *in)
+{
+    if (o->replay)
+        mm_input_script_sample_tick(script, (float)((double)tick * TICK), (float)TICK, in);
+    else if (o->input)
+        mm_input_script_sample(script, (float)((double)tick * TICK), in);
+}
+
+/* A trace (mm simulate --trace) to open on the timeline: its input and switches, and its searches
+ * to set beside the viewer's own. */
+typedef struct replay {
+    mm_trace trace;
+    bool loaded;
+    int search; /* the trace's search at or before the tick shown, -1: none */
+    char note[320];
+} replay;
+
+static int load_replay(const options *o, const mm_database *db, replay *rp, mm_input_script *script,
+                       mm_character_desc *desc, mm_error *err)
+{
+    if (mm_trace_read(o->replay, &rp->trace, err) != MM_OK) return cli_report(err);
+    rp->loaded = true;
+    const mm_trace_run *run = &rp->trace.run;
+    if (mm_trace_db_checksum(db) != run->db_checksum || (uint64_t)db->size != run->db_size) {
+        fprintf(stderr, "mm: %s: the trace was made on another database (%s)\n", o->replay, run->db_path);
+        return 1;
+    }
+    if (fabs(run->fps - 1.0 / TICK) > 1e-9) {
+        fprintf(stderr, "mm: %s: the trace ticks %g times a second; the viewer ticks 60\n", o->replay,
+                run->fps);
+        return 1;
+    }
+    if (run->path_file[0]) {
+        fprintf(stderr, "mm: %s: a trace of a path run (--path) cannot be opened in the viewer\n", o->replay);
+        return 1;
+    }
+    mm_result r;
+    if (run->random_seed >= 0) {
+        mm_input_random_desc rd;
+        memset(&rd, 0, sizeof rd);
+        rd.seconds = (float)run->random_seconds;
+        r = mm_input_script_random(script, (uint64_t)run->random_seed, &rd);
+        if (r != MM_OK) mm_error_set(err, r, 0, 0, "%s: cannot make the random input", o->replay);
+    } else {
+        const char *text = run->input_text ? run->input_text : "";
+        r = mm_input_script_parse_json(text, strlen(text), run->input_path, script, err);
+    }
+    if (r != MM_OK) return cli_report(err);
+    /* the run's switches over the database's settings */
+    if (run->distance_matching >= 0) desc->distance_matching = run->distance_matching != 0;
+    if (run->warping >= 0) desc->warping = run->warping != 0;
+    if (run->transition_mode >= 0) desc->transition_mode = (mm_transition_mode)run->transition_mode;
+    if (run->crossfade_time >= 0)
+        desc->crossfade_time = run->crossfade_time > 0 ? (float)run->crossfade_time : MM_OFF;
+    return 0;
+}
+
+/* The trace's last search at or before the tick shown, against the viewer's own. */
+static void replay_note(replay *rp, const mm_character *c, int64_t now)
+{
+    const mm_trace *t = &rp->trace;
+    int lo = 0, hi = t->search_count - 1, found = -1;
+    while (lo <= hi) { /* the trace's ticks count from 0: tick k ends with now = k + 1 */
+        int mid = (lo + hi) / 2;
+        if (t->searches[mid].tick <= now - 1)
+            found = mid, lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    rp->search = found;
+    if (found < 0) {
+        snprintf(rp->note, sizeof rp->note, "trace: no search yet");
+        return;
+    }
+    const mm_trace_search *s = &t->searches[found];
+    const mm_trace_candidate *best = s->candidate_count > 0 ? &t->candidates[s->candidate_first] : NULL;
+    int mine = c->last_result.frame;
+    snprintf(rp->note, sizeof rp->note,
+             "trace: search at tick %d (line %ld): best frame %d cost %.4f%s; here %d: %s", s->tick + 1,
+             s->line, best ? best->frame : -1, best ? (double)best->cost : 0.0,
+             s->transition ? " (jumped)" : "", mine, best && best->frame == mine ? "the same" : "DIFFERENT");
 }
 
 static int view_database(const options *o)
@@ -548,6 +636,18 @@ static int view_database(const options *o)
         view_script_free(&keys_script);
         return cli_report(&err);
     }
+    static replay rp; /* large: kept off the stack */
+    memset(&rp, 0, sizeof rp);
+    const mm_scene *scene = o->scene;
+    static mm_scene trace_scene;
+    if (o->replay && (status = load_replay(o, &db, &rp, &script, &desc, &err)) != 0) goto done_data;
+    if (o->replay && !scene && rp.trace.run.scene_path[0]) {
+        if (mm_scene_load_json(rp.trace.run.scene_path, &trace_scene, &err) != MM_OK) {
+            status = cli_report(&err);
+            goto done_data;
+        }
+        scene = &trace_scene;
+    }
     d.line_capacity = 256 + (GHOSTS + 2) * db.joint_count;
     d.lines = malloc(sizeof *d.lines * (size_t)d.line_capacity);
     d.pose = malloc(sizeof *d.pose * (size_t)db.joint_count);
@@ -556,12 +656,12 @@ static int view_database(const options *o)
         status = 1;
         goto done_data;
     }
-    if (view_sim_init(&d.sim, &db, &searcher, o->scene, &desc, (float)TICK, RECORD_SECONDS, RECORD_MAX_BYTES,
+    if (view_sim_init(&d.sim, &db, &searcher, scene, &desc, (float)TICK, RECORD_SECONDS, RECORD_MAX_BYTES,
                       CANDIDATES, &err) != MM_OK) {
         status = cli_report(&err);
         goto done_data;
     }
-    if (mm_view_init(&view, &db, &err) != MM_OK || mm_view_set_scene(&view, o->scene, &err) != MM_OK) {
+    if (mm_view_init(&view, &db, &err) != MM_OK || mm_view_set_scene(&view, scene, &err) != MM_OK) {
         status = cli_report(&err);
         goto done_character;
     }
@@ -582,6 +682,21 @@ static int view_database(const options *o)
     }
     d.tuning.desc.clock = monotonic_seconds; /* GLFW's clock works once a window is open */
     if ((status = retune(&d, &err)) != 0) goto done_panel;
+    if (rp.loaded) { /* the trace's run, recorded, shown from its start */
+        mm_character_desc tuned;
+        mm_view_tuning_desc(&d.tuning, &tuned);
+        for (int f = 0; f < rp.trace.run.ticks; ++f) {
+            mm_input in_f;
+            memset(&in_f, 0, sizeof in_f);
+            scripted_input(o, &script, d.sim.now, &in_f);
+            view_sim_step(&d.sim, &in_f, &tuned);
+        }
+        if (view_sim_seek(&d.sim, 1, &err) != MM_OK) {
+            status = cli_report(&err);
+            goto done_panel;
+        }
+        d.paused = true;
+    }
     view_ui ui;
     memset(&ui, 0, sizeof ui);
     ui.seek = -1;
@@ -620,14 +735,14 @@ static int view_database(const options *o)
         mm_input live;
         mm_view_input(&keys, win.camera.yaw, &live);
         live.jump = jump_down(&win);
-        if (o->input) mm_input_script_sample(&script, (float)((double)d.sim.now * TICK), &live);
+        scripted_input(o, &script, d.sim.now, &live);
         if ((status = debugger_requests(&d, o, &ui, &live, &err)) != 0) break;
         if (!d.paused) {
             pending += frame_dt;
             mm_character_desc tuned;
             mm_view_tuning_desc(&d.tuning, &tuned);
             for (; pending >= TICK; pending -= TICK) {
-                if (o->input) mm_input_script_sample(&script, (float)((double)d.sim.now * TICK), &live);
+                scripted_input(o, &script, d.sim.now, &live);
                 view_sim_step(&d.sim, &live, &tuned);
             }
         } else {
@@ -642,8 +757,9 @@ static int view_database(const options *o)
         view_preview_advance(&d.preview, &db, frame_dt);
         if (!win.script && !view_panel_wants_mouse(panel)) camera_controls(&win, (float)dt);
         mm_vec3 root = c->root.translation;
-        mm_camera_follow(&win.camera, mm_vec3_make(root.x, 0.9f, root.z), frame == 0 ? 0.0f : 0.5f,
-                         (float)frame_dt);
+        mm_camera_follow(&win.camera, mm_vec3_make(root.x, 0.9f, root.z),
+                         frame == 0 || d.jumped ? 0.0f : 0.5f, (float)frame_dt);
+        d.jumped = false;
         mm_view_update(&view, c, &in, &d.flags, (float)fps);
         add_ghosts(&d, &view, &win.camera);
         int w, h;
@@ -653,6 +769,8 @@ static int view_database(const options *o)
         ui.input = &in;
         ui.fps = (float)fps;
         ui.message = d.message;
+        if (rp.loaded) replay_note(&rp, c, d.sim.now);
+        ui.note = rp.loaded ? rp.note : NULL;
         ui.candidates = d.candidates;
         ui.candidate_count = d.candidate_count;
         ui.preview_frame = d.selected >= 0 ? d.preview.frame : -1;
@@ -691,6 +809,7 @@ done_character:
     mm_view_free(&view);
     view_sim_free(&d.sim);
 done_data:
+    if (rp.loaded) mm_trace_free(&rp.trace);
     free(d.lines);
     free(d.pose);
     mm_searcher_free(&searcher);
@@ -905,7 +1024,7 @@ int mm_cmd_view(int argc, char **argv)
     const char *usage =
         "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] | mm view --clip FILE.bvh "
         "[--config CONFIG.json] [--clip-name NAME]  [--scene SCENE.json] [--size 1280x720] "
-        "[--frames N --screenshot OUT.png] [--script KEYS.txt [--screenshot-dir DIR]]";
+        "[--frames N --screenshot OUT.png] [--script KEYS.txt [--screenshot-dir DIR]] [--replay TRACE.jsonl]";
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--clip") == 0 && v)
@@ -922,6 +1041,8 @@ int mm_cmd_view(int argc, char **argv)
             o.screenshot = argv[++i];
         else if (strcmp(a, "--script") == 0 && v)
             o.script = argv[++i];
+        else if (strcmp(a, "--replay") == 0 && v)
+            o.replay = argv[++i];
         else if (strcmp(a, "--screenshot-dir") == 0 && v)
             o.screenshot_dir = argv[++i];
         else if (strcmp(a, "--size") == 0 && v) {
@@ -943,7 +1064,10 @@ int mm_cmd_view(int argc, char **argv)
     if (o.screenshot && !o.frames) return cli_usage_error("view", "--screenshot needs --frames N");
     if (o.screenshot_dir && !o.script)
         return cli_usage_error("view", "--screenshot-dir needs --script KEYS.txt");
-    if (o.clip && o.script) return cli_usage_error("view", "--script drives a database, not --clip");
+    if (o.clip && (o.script || o.replay))
+        return cli_usage_error("view", "--script and --replay go with a database, not --clip");
+    if (o.replay && o.input)
+        return cli_usage_error("view", "--replay runs the trace's input: no --input with it");
     static mm_scene scene; /* large: kept off the stack */
     if (o.scene_path) {
         mm_error err;

@@ -254,6 +254,7 @@ static void candidates_window(view_ui *ui)
 {
     const mm_database *db = ui->character->db;
     ImGui::TextUnformatted("The search's best frames ([ ] pick, 7 ghosts, 8 preview)");
+    if (ui->note) ImGui::TextWrapped("%s", ui->note);
     ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX |
                             ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit;
     enum { COLUMNS = 12 };

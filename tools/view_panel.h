@@ -40,6 +40,7 @@ typedef struct view_ui {
     const mm_input *input;
     float fps;
     const char *message;
+    const char *note; /* a trace's search beside the viewer's (--replay), NULL: none */
     const mm_candidate *candidates;
     int candidate_count;
     int preview_frame;      /* the preview's database frame, -1: none */
