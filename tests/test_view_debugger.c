@@ -4,7 +4,8 @@
  * project (mm_camera_project with the shot's camera), the panel's windows in their rectangles, the
  * picked candidate's ghost where its joints project, a rewound tick's pose equal bit for bit to
  * the pose recorded live, and a config saved with only its changed fields, layout and "extends"
- * kept. Also the config editor alone (tools/view_config.c). Skipped without xvfb-run or MM_BIN. */
+ * kept; and a trace of mm simulate opened on the timeline (--replay) showing the trace's tick. Also
+ * the config editor alone (tools/view_config.c). Skipped without xvfb-run or MM_BIN. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -345,6 +346,21 @@ static int setup(void **state)
         sh("cat '%s/view.out'", r.dir);
         return -1;
     }
+    /* a trace of mm simulate, opened on the timeline at tick 30 */
+    if (sh("cd '%s' && '%s' simulate s.mmdb --input '%s/scripts/input/turn_90.json' --seconds 1 -o sim.bvh "
+           "--trace "
+           "trace.jsonl --trace-ticks >/dev/null",
+           r.dir, r.mm, MM_SOURCE_DIR) != 0)
+        return -1;
+    snprintf(path, sizeof path, "%s/replay_keys.txt", r.dir);
+    write_file(path, "0.0 scrub 30\n0.0 shot replay30\n0.05 quit\n");
+    if (sh("cd '%s' && ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '%s' view s.mmdb "
+           "--replay "
+           "trace.jsonl --script replay_keys.txt --screenshot-dir shots --size 640x360 >replay.out 2>&1",
+           r.dir, r.mm) != 0) {
+        sh("cat '%s/replay.out'", r.dir);
+        return -1;
+    }
     *state = &r;
     return 0;
 }
@@ -505,6 +521,43 @@ static void test_saved_config_changed_only_where_tuned(void **state)
     assert_string_equal(text, saved_config);
 }
 
+/* The trace's tick 30 (its line for tick 29, counted from 0) is the tick the viewer shows there. */
+static void test_replay_shows_the_trace(void **state)
+{
+    NEED_RUN(state);
+    const run *r = *state;
+    image img;
+    cJSON *j = shot(r, "replay30", &img);
+    assert_int_equal((int)number(j, "tick"), 30);
+    assert_int_equal((int)number(j, "last"), 60);
+    assert_true(number(j, "paused"));
+    char path[1024];
+    snprintf(path, sizeof path, "%s/trace.jsonl", r->dir);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    static char line[1 << 16];
+    int found = 0;
+    while (fgets(line, sizeof line, f)) {
+        cJSON *l = cJSON_Parse(line);
+        assert_non_null(l);
+        const cJSON *type = cJSON_GetObjectItemCaseSensitive(l, "type");
+        if (cJSON_IsString(type) && strcmp(type->valuestring, "tick") == 0 && (int)number(l, "tick") == 29) {
+            found = 1;
+            assert_int_equal((int)number(l, "frame"), (int)number(j, "frame"));
+            mm_vec3 root = vec(
+                cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(l, "root"), "position"));
+            mm_vec3 mine = vec(cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "joints"), 0));
+            assert_float_equal(root.x, mine.x, 1e-6f);
+            assert_float_equal(root.z, mine.z, 1e-6f);
+        }
+        cJSON_Delete(l);
+    }
+    fclose(f);
+    assert_true(found);
+    cJSON_Delete(j);
+    free(img.rgb);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -515,6 +568,7 @@ int main(void)
         cmocka_unit_test(test_picked_candidate_drawn_as_a_ghost),
         cmocka_unit_test(test_foot_ik_off_and_resumed),
         cmocka_unit_test(test_saved_config_changed_only_where_tuned),
+        cmocka_unit_test(test_replay_shows_the_trace),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -321,6 +321,7 @@ static int retune(debugger *d, mm_error *err)
             for (int k = 0; k < tuned.count; ++k)
                 if (strcmp(d->tuning.entries[i].name, tuned.entries[k].name) == 0)
                     d->tuning.entries[i].saved = tuned.entries[k].saved;
+        d->tuning.desc = tuned.desc; /* the values as tuned, not as the layers set them */
         d->tuning.saved_layers = tuned.saved_layers;
         d->tuning.layers = tuned.layers;
         return 0;

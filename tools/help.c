@@ -296,7 +296,7 @@ static const help_entry entries[] = {
     {"view", "the interactive viewer and motion-matching debugger, or a clip's preview and tagging",
      "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] [--scene SCENE.json]\n"
      "               [--size 1280x720] [--frames N [--screenshot OUT.png]]\n"
-     "               [--script KEYS.txt [--screenshot-dir DIR]]\n"
+     "               [--script KEYS.txt [--screenshot-dir DIR]] [--replay TRACE.jsonl]\n"
      "       mm view --clip FILE.bvh [--config CONFIG.json] [--clip-name NAME] [--scene SCENE.json]\n"
      "               [--size 1280x720] [--frames N [--screenshot OUT.png]]\n"
      "The interactive viewer (docs/viewer.md): drive a character on a database with keyboard or\n"
@@ -308,6 +308,8 @@ static const help_entry entries[] = {
      "  --config CONFIG    the config the tuning (or a clip's tags) is saved into (default: none)\n"
      "  --clip-name NAME   the config's clip to edit (default: the clip of the file)\n"
      "  --input SCRIPT     drive by an input script (default: keyboard and gamepad)\n"
+     "  --replay TRACE     open a trace that mm simulate wrote on the timeline: its input and\n"
+     "                     switches run again, each search set beside the trace's (default: none)\n"
      "  --scene SCENE.json draw a scene's boxes, and with a database play its moves (J jumps)\n"
      "                     (default: none)\n"
      "  --size WxH         the window's pixels (default 1280x720)\n"
