@@ -22,8 +22,8 @@
 #include <mm/runtime.h>
 #include <mm/scene_json.h>
 #include <mm/skeleton_roles.h>
-#include <mm/target_match.h>
 #include <mm/trace.h>
+#include <mm/target_match.h>
 #include <mm/view.h>
 #include <mm/warp.h>
 

@@ -7,6 +7,7 @@
 
 #include "test_util.h"
 
+#include <mm/database.h>
 #include <mm/input_json.h>
 #include <mm/moves.h>
 #include <mm/trace.h>
@@ -150,6 +151,35 @@ static void test_replay_agrees(void **state)
     mm_trace_free(&t);
 }
 
+/* Tick by tick: after each step the character is where the trace's tick line says, the search
+ * matched is the trace's search of that tick, and the run ends with the header's ticks. */
+static void test_player_steps(void **state)
+{
+    (void)state;
+    mm_trace t;
+    assert_int_equal(mm_trace_read(trace_path, &t, NULL), MM_OK);
+    mm_trace_player *p;
+    assert_int_equal(mm_trace_player_open(&p, &t, &db, NULL), MM_OK);
+    int searches = 0;
+    for (int k = 0; k < t.run.ticks; ++k) {
+        assert_int_equal(mm_trace_player_step(p, NULL), MM_OK);
+        assert_int_equal(mm_trace_player_tick(p), k + 1);
+        const mm_character *c = mm_trace_player_character(p);
+        assert_int_equal(c->frame, t.ticks[k].frame);
+        assert_memory_equal(&c->root.translation, &t.ticks[k].root.translation, sizeof(mm_vec3));
+        int s = mm_trace_player_search(p);
+        if (s >= 0) {
+            assert_int_equal(s, searches++);
+            assert_int_equal(t.searches[s].tick, k);
+        }
+        assert_false(mm_trace_player_divergence(p)->diverged);
+    }
+    assert_int_equal(searches, t.search_count);
+    assert_int_equal(mm_trace_player_step(p, NULL), MM_ERR_INVALID_ARGUMENT); /* played out */
+    mm_trace_player_close(p);
+    mm_trace_free(&t);
+}
+
 /* Copies the trace, with the n-th search line's first `from` replaced by `to`; returns its line. */
 static long change_search_line(int n, const char *from, const char *to)
 {
@@ -283,6 +313,64 @@ static void test_bad_files(void **state)
     assert_int_equal(mm_trace_read("/no/such/trace.jsonl", &(mm_trace){0}, &err) != MM_OK, 1);
 }
 
+/* mm simulate's own traces replay without a difference: a script with crossfades, distance
+ * matching and warping switched on over the database's settings, and a desired path. */
+static void test_simulate_traces_replay(void **state)
+{
+    (void)state;
+    const char *mm = getenv("MM_BIN");
+    if (!mm) skip();
+    char db_path[1024], path_file[1024], out[1024], trace[1024], cmd[8192];
+    snprintf(db_path, sizeof db_path, "%s/test_trace.mmdb", MM_TEST_OUT);
+    snprintf(path_file, sizeof path_file, "%s/test_trace_path.json", MM_TEST_OUT);
+    snprintf(out, sizeof out, "%s/test_trace.bvh", MM_TEST_OUT);
+    snprintf(trace, sizeof trace, "%s/test_trace_cli.jsonl", MM_TEST_OUT);
+    assert_int_equal(mm_database_save(&db, db_path, NULL), MM_OK);
+    mm_database loaded;
+    assert_int_equal(mm_database_load(db_path, NULL, &loaded, NULL), MM_OK);
+    FILE *f = fopen(path_file, "w");
+    assert_non_null(f);
+    fprintf(f, "{\"points\": [{\"t\": 0, \"position\": [0, 0]}, {\"t\": 3, \"position\": [0, 4]},\n"
+               "  {\"t\": 5, \"position\": [2, 5]}]}\n");
+    fclose(f);
+    const char *runs[2] = {"--input " MM_SOURCE_DIR "/scripts/input/demo.json --transition crossfade "
+                           "--distance-matching on --warping on --trace-k 3 --trace-ticks",
+                           "--path %s"};
+    for (int k = 0; k < 2; ++k) {
+        char options[2048];
+        snprintf(options, sizeof options, runs[k], path_file);
+        snprintf(cmd, sizeof cmd, "%s simulate %s %s --seconds 5 -o %s --trace %s > %s.out", mm, db_path,
+                 options, out, trace, trace);
+        assert_int_equal(system(cmd), 0);
+        mm_trace t;
+        mm_error err;
+        memset(&err, 0, sizeof err);
+        assert_int_equal(mm_trace_read(trace, &t, &err), MM_OK);
+        assert_true(t.search_count > 10);
+        assert_int_equal(t.run.ticks, 300);
+        if (k == 0) {
+            assert_int_equal(t.run.transition_mode, MM_TRANSITION_CROSSFADE);
+            assert_int_equal(t.run.distance_matching, 1);
+            assert_int_equal(t.run.top_k, 3);
+            assert_int_equal(t.tick_count, 300);
+        } else {
+            assert_string_equal(t.run.path_file, path_file);
+        }
+        mm_trace_divergence d;
+        assert_int_equal(mm_trace_replay(&t, &loaded, &d, &err), MM_OK);
+        if (d.diverged) print_error("run %d: tick %d, line %ld: %s\n", k, d.tick, d.line, d.message);
+        assert_false(d.diverged);
+        mm_trace_free(&t);
+    }
+    mm_database_free(&loaded);
+    remove(db_path);
+    remove(path_file);
+    remove(out);
+    remove(trace);
+    snprintf(cmd, sizeof cmd, "%s.out", trace);
+    remove(cmd);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -307,10 +395,9 @@ static int teardown(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_read_back),
-        cmocka_unit_test(test_replay_agrees),
-        cmocka_unit_test(test_replay_finds_differences),
-        cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_read_back),    cmocka_unit_test(test_replay_agrees),
+        cmocka_unit_test(test_player_steps), cmocka_unit_test(test_replay_finds_differences),
+        cmocka_unit_test(test_bad_files),    cmocka_unit_test(test_simulate_traces_replay),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -34,6 +34,11 @@
  * (mm_character_desc_apply_config, mm/character_config.h in the mm_build library, applies a config's tuning
  * to a desc directly, for tools that load a config file at run time.)
  *
+ * For a debugger (docs/viewer.md, "Record, rewind, trace"): mm_character_set_candidates and
+ * mm_character_candidates (the last search's best frames with every cost term),
+ * mm_character_snapshot_bytes, mm_character_snapshot_save and mm_character_snapshot_load (the
+ * whole state as bytes, put back bit for bit; mm/recorder.h keeps the last N ticks).
+ *
  * Moves (mm/moves.h) play a clip through mm_character_play_move: no search until its end frame,
  * root motion as animated (not pulled toward the simulation); the move layer may set the root
  * between ticks (mm_character_set_root: the body moves with it) and mm_character_shift_root moves
@@ -50,8 +55,6 @@
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
  *            mm_character_set_future mm_character_future_times
- *            mm_character_set_candidates mm_character_candidates
- *            mm_character_snapshot_bytes mm_character_snapshot_save mm_character_snapshot_load
  */
 #ifndef MM_CHARACTER_H
 #define MM_CHARACTER_H

@@ -39,6 +39,7 @@
 #include "skeleton_roles.h"
 #include "spring.h"
 #include "synth.h"
+#include "trace.h"
 #include "trajectory.h"
 #include "version.h"
 #include "warp.h"

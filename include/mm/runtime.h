@@ -27,6 +27,7 @@
 #include "moves.h"
 #include "pose.h"
 #include "prediction.h"
+#include "recorder.h"
 #include "result.h"
 #include "run.h"
 #include "scene.h"

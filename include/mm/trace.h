@@ -19,7 +19,9 @@
  *
  * Functions: mm_trace_run_defaults mm_trace_run_set_input_file mm_trace_run_free
  *            mm_trace_write_header mm_trace_write_tick mm_trace_read mm_trace_free mm_trace_replay
- *            mm_trace_db_checksum
+ *            mm_trace_player_open mm_trace_player_step mm_trace_player_character
+ *            mm_trace_player_input mm_trace_player_tick mm_trace_player_search
+ *            mm_trace_player_divergence mm_trace_player_close mm_trace_db_checksum
  */
 #ifndef MM_TRACE_H
 #define MM_TRACE_H
@@ -52,9 +54,9 @@ typedef struct mm_trace_run {
     double fps;                      /* ticks per second */
     int ticks;                       /* ticks run */
     /* the input: a script (its file name and its text, verbatim), or a random script (seed and
-     * seconds, mm_input_script_random with the default desc), or a path file (mm simulate --path) */
+     * seconds: mm_input_script_random with only its seconds set), or a path file (mm simulate --path) */
     char input_path[MM_TRACE_MAX_PATH];
-    char *input_text; /* the script's text (NUL-terminated; mm_trace_read owns it) */
+    char *input_text; /* the script's text (NUL-terminated; the run owns it: mm_trace_run_free) */
     long random_seed; /* -1: none */
     double random_seconds;
     char path_file[MM_TRACE_MAX_PATH];
@@ -69,7 +71,8 @@ typedef struct mm_trace_run {
 /* Zero, with every switch -1, fps 60 and top_k MM_TRACE_DEFAULT_K. */
 void mm_trace_run_defaults(mm_trace_run *run);
 
-/* The database file's checksum (the header's field, as `mm db info` shows it). */
+/* The database file's checksum: the 64-bit field of its file header at offset 16 (docs/format.md),
+ * which covers every byte after it. */
 uint64_t mm_trace_db_checksum(const mm_database *db);
 
 /* The names of a candidate's terms ("pose_position", "pose_velocity", "root_velocity",
@@ -146,6 +149,23 @@ typedef struct mm_trace_divergence {
  * MM_ERR_INVALID_ARGUMENT otherwise) and compares each search with the trace's line, byte for byte;
  * *out says where they first differed. */
 mm_result mm_trace_replay(const mm_trace *t, const mm_database *db, mm_trace_divergence *out, mm_error *err);
+
+/* A replay tick by tick (what mm_trace_replay runs, for a viewer that draws each tick): open makes
+ * the run the header describes (the same checks as mm_trace_replay); each step runs one tick and,
+ * when it searched, compares that search with the trace's line; the character, the input of the
+ * last tick, the trace's search matched on it (an index into trace->searches, -1 when the tick did
+ * not search) and the first divergence so far are there to read. step returns
+ * MM_ERR_INVALID_ARGUMENT once every tick of the header has run. The trace must outlive the player. */
+typedef struct mm_trace_player mm_trace_player;
+mm_result mm_trace_player_open(mm_trace_player **player, const mm_trace *t, const mm_database *db,
+                               mm_error *err);
+mm_result mm_trace_player_step(mm_trace_player *player, mm_error *err);
+mm_character *mm_trace_player_character(mm_trace_player *player);
+const mm_input *mm_trace_player_input(const mm_trace_player *player);
+int mm_trace_player_tick(const mm_trace_player *player); /* ticks run */
+int mm_trace_player_search(const mm_trace_player *player);
+const mm_trace_divergence *mm_trace_player_divergence(const mm_trace_player *player);
+void mm_trace_player_close(mm_trace_player *player);
 
 #ifdef __cplusplus
 }

@@ -717,12 +717,40 @@ static void diverge(mm_trace_divergence *out, int tick, long line, const char *f
     va_end(ap);
 }
 
-mm_result mm_trace_replay(const mm_trace *t, const mm_database *db, mm_trace_divergence *out, mm_error *err)
+/* A replay going tick by tick: the run the header describes, made again. */
+struct mm_trace_player {
+    const mm_trace *trace;
+    const mm_database *db;
+    mm_input_script script;
+    mm_path path;
+    mm_scene scene;
+    mm_searcher searcher;
+    mm_character character;
+    mm_moves moves;
+    mm_input input; /* of the last tick */
+    int tick;       /* ticks run */
+    int next;       /* the trace's next search line */
+    int search;     /* the trace's search of the last tick, -1 */
+    float future_times[MM_MAX_TRAJ_SAMPLES];
+    int future_count;
+    mm_trace_divergence divergence;
+};
+
+void mm_trace_player_close(mm_trace_player *p)
 {
-    if (!t || !db || !out)
-        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "replay: needs a trace, a database");
-    memset(out, 0, sizeof *out);
-    out->tick = -1;
+    if (!p) return;
+    mm_character_free(&p->character);
+    mm_searcher_free(&p->searcher);
+    mm_input_script_free(&p->script);
+    mm_path_free(&p->path);
+    free(p);
+}
+
+mm_result mm_trace_player_open(mm_trace_player **out, const mm_trace *t, const mm_database *db, mm_error *err)
+{
+    if (!out || !t || !db)
+        return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "replay: needs a trace and a database");
+    *out = NULL;
     const mm_trace_run *run = &t->run;
     if (mm_trace_db_checksum(db) != run->db_checksum || (uint64_t)db->size != run->db_size ||
         db->dims != t->dims)
@@ -732,83 +760,118 @@ mm_result mm_trace_replay(const mm_trace *t, const mm_database *db, mm_trace_div
             "%016llx, %llu bytes)",
             (unsigned long long)run->db_checksum, (unsigned long long)run->db_size,
             (unsigned long long)mm_trace_db_checksum(db), (unsigned long long)db->size);
-    mm_input_script script;
-    memset(&script, 0, sizeof script);
-    mm_path path;
-    memset(&path, 0, sizeof path);
-    static mm_scene scene; /* several KB: not on the stack (replays run one at a time) */
+    mm_trace_player *p = (mm_trace_player *)calloc(1, sizeof *p);
+    if (!p) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    p->trace = t;
+    p->db = db;
+    p->search = -1;
+    p->divergence.tick = -1;
     mm_result r = MM_OK;
     if (run->path_file[0]) {
-        r = mm_path_load_json(run->path_file, &path, err);
+        r = mm_path_load_json(run->path_file, &p->path, err);
     } else if (run->random_seed >= 0) {
         mm_input_random_desc rd;
         memset(&rd, 0, sizeof rd);
         rd.seconds = (float)run->random_seconds;
-        r = mm_input_script_random(&script, (uint64_t)run->random_seed, &rd);
+        r = mm_input_script_random(&p->script, (uint64_t)run->random_seed, &rd);
         if (r != MM_OK) mm_error_set(err, r, 0, 0, "replay: cannot make the random input");
     } else {
         const char *text = run->input_text ? run->input_text : "";
-        r = mm_input_script_parse_json(text, strlen(text), run->input_path, &script, err);
+        r = mm_input_script_parse_json(text, strlen(text), run->input_path, &p->script, err);
     }
-    if (r == MM_OK && run->scene_path[0]) r = mm_scene_load_json(run->scene_path, &scene, err);
+    if (r == MM_OK && run->scene_path[0]) r = mm_scene_load_json(run->scene_path, &p->scene, err);
     mm_character_desc desc;
     if (r == MM_OK) r = run_desc(run, db, &desc, err);
-    mm_searcher searcher;
-    mm_character c;
-    memset(&searcher, 0, sizeof searcher);
-    memset(&c, 0, sizeof c);
-    if (r == MM_OK) r = mm_searcher_init(&searcher, db, NULL, err);
-    if (r == MM_OK) r = mm_character_init(&c, db, &searcher, &desc, err);
-    if (r == MM_OK) r = mm_character_set_candidates(&c, run->top_k, err);
-    mm_moves moves;
+    if (r == MM_OK) r = mm_searcher_init(&p->searcher, db, NULL, err);
+    if (r == MM_OK) r = mm_character_init(&p->character, db, &p->searcher, &desc, err);
+    if (r == MM_OK) r = mm_character_set_candidates(&p->character, run->top_k, err);
     mm_moves_desc moves_desc;
     mm_moves_desc_from_database(&moves_desc, db);
-    if (r == MM_OK) r = mm_moves_init(&moves, db, run->scene_path[0] ? &scene : NULL, &moves_desc, err);
-    double fps = run->fps;
-    float dt = (float)(1.0 / fps);
-    float future_times[MM_MAX_TRAJ_SAMPLES];
-    int future_count = r == MM_OK ? mm_character_future_times(&c, future_times) : 0;
-    int next = 0; /* the next search line of the trace */
-    for (int f = 0; r == MM_OK && f < run->ticks && !out->diverged; ++f) {
-        double time = f / fps;
-        mm_input in;
-        if (run->path_file[0]) { /* as mm simulate --path */
-            mm_vec3 positions[MM_MAX_TRAJ_SAMPLES];
-            mm_quat facings[MM_MAX_TRAJ_SAMPLES];
-            mm_drive_input_path(c.trajectory, &path, (float)time, 0.0f, &in);
-            mm_path_future(&path, (float)time + dt, future_times, future_count, c.trajectory->facing,
-                           positions, facings);
-            mm_character_set_future(&c, positions, facings, future_count, NULL);
-        } else {
-            mm_input_script_sample_tick(&script, (float)time, dt, &in);
-        }
-        int searches = c.searches, transitions = c.transitions;
-        mm_moves_update(&moves, &c, &in, dt);
-        if (c.searches == searches) continue;
-        line_text b = {0};
-        search_line(&b, run, &c, f, (f + 1) / fps, c.transitions != transitions);
-        if (b.failed) {
-            r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
-        } else if (next >= t->search_count) {
-            diverge(out, f, 0, "the replay searched at tick %d, the trace has no more searches", f);
-        } else if (t->searches[next].tick != f) {
-            diverge(out, f, t->searches[next].line,
-                    "the replay searched at tick %d, the trace's next search is at tick %d", f,
-                    t->searches[next].tick);
-        } else if (strcmp(b.data, t->search_lines[next]) != 0) {
-            char message[sizeof out->message];
-            describe_difference(t->search_lines[next], b.data, message, sizeof message);
-            diverge(out, f, t->searches[next].line, "%s", message);
-        }
-        ++next;
-        free(b.data);
+    if (r == MM_OK) r = mm_moves_init(&p->moves, db, run->scene_path[0] ? &p->scene : NULL, &moves_desc, err);
+    if (r != MM_OK) {
+        mm_trace_player_close(p);
+        return r;
     }
-    if (r == MM_OK && !out->diverged && next < t->search_count)
-        diverge(out, t->searches[next].tick, t->searches[next].line,
-                "the trace searched at tick %d, the replay did not search again", t->searches[next].tick);
-    mm_character_free(&c);
-    mm_searcher_free(&searcher);
-    mm_input_script_free(&script);
-    mm_path_free(&path);
+    p->future_count = mm_character_future_times(&p->character, p->future_times);
+    *out = p;
+    return MM_OK;
+}
+
+mm_result mm_trace_player_step(mm_trace_player *p, mm_error *err)
+{
+    if (!p) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "replay: no player");
+    const mm_trace *t = p->trace;
+    const mm_trace_run *run = &t->run;
+    p->search = -1;
+    if (p->tick >= run->ticks) return MM_ERR_INVALID_ARGUMENT; /* played out */
+    int f = p->tick++;
+    double fps = run->fps, time = f / fps;
+    float dt = (float)(1.0 / fps);
+    mm_character *c = &p->character;
+    if (run->path_file[0]) { /* as mm simulate --path */
+        mm_vec3 positions[MM_MAX_TRAJ_SAMPLES];
+        mm_quat facings[MM_MAX_TRAJ_SAMPLES];
+        mm_drive_input_path(c->trajectory, &p->path, (float)time, 0.0f, &p->input);
+        mm_path_future(&p->path, (float)time + dt, p->future_times, p->future_count, c->trajectory->facing,
+                       positions, facings);
+        mm_character_set_future(c, positions, facings, p->future_count, NULL);
+    } else {
+        mm_input_script_sample_tick(&p->script, (float)time, dt, &p->input);
+    }
+    int searches = c->searches, transitions = c->transitions;
+    mm_moves_update(&p->moves, c, &p->input, dt);
+    mm_trace_divergence *out = &p->divergence;
+    if (c->searches == searches) {
+        /* a search the trace has here and the replay did not make */
+        if (p->next < t->search_count && t->searches[p->next].tick == f)
+            diverge(out, f, t->searches[p->next].line, "the trace searched at tick %d, the replay did not",
+                    f);
+        if (p->next < t->search_count && t->searches[p->next].tick <= f) ++p->next;
+        return MM_OK;
+    }
+    line_text b = {0};
+    search_line(&b, run, c, f, (f + 1) / fps, c->transitions != transitions);
+    mm_result r = MM_OK;
+    if (b.failed) {
+        r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
+    } else if (p->next >= t->search_count || t->searches[p->next].tick > f) {
+        diverge(out, f, p->next < t->search_count ? t->searches[p->next].line : 0,
+                "the replay searched at tick %d, the trace did not", f);
+    } else {
+        p->search = p->next++;
+        if (strcmp(b.data, t->search_lines[p->search]) != 0) {
+            char message[sizeof out->message];
+            describe_difference(t->search_lines[p->search], b.data, message, sizeof message);
+            diverge(out, f, t->searches[p->search].line, "%s", message);
+        }
+    }
+    free(b.data);
+    return r;
+}
+
+mm_character *mm_trace_player_character(mm_trace_player *p) { return p ? &p->character : NULL; }
+const mm_input *mm_trace_player_input(const mm_trace_player *p) { return p ? &p->input : NULL; }
+int mm_trace_player_tick(const mm_trace_player *p) { return p ? p->tick : 0; }
+int mm_trace_player_search(const mm_trace_player *p) { return p ? p->search : -1; }
+const mm_trace_divergence *mm_trace_player_divergence(const mm_trace_player *p)
+{
+    return p ? &p->divergence : NULL;
+}
+
+mm_result mm_trace_replay(const mm_trace *t, const mm_database *db, mm_trace_divergence *out, mm_error *err)
+{
+    if (!out) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "replay: nowhere to say how it went");
+    memset(out, 0, sizeof *out);
+    out->tick = -1;
+    mm_trace_player *p;
+    mm_result r = mm_trace_player_open(&p, t, db, err);
+    while (r == MM_OK && p->tick < t->run.ticks && !p->divergence.diverged) r = mm_trace_player_step(p, err);
+    if (r == MM_OK) {
+        if (!p->divergence.diverged && p->next < t->search_count)
+            diverge(&p->divergence, t->searches[p->next].tick, t->searches[p->next].line,
+                    "the trace searched at tick %d, after the replay's last tick", t->searches[p->next].tick);
+        *out = p->divergence;
+    }
+    mm_trace_player_close(p);
     return r;
 }
