@@ -531,6 +531,10 @@ static void test_replay_shows_the_trace(void **state)
     assert_int_equal((int)number(j, "tick"), 30);
     assert_int_equal((int)number(j, "last"), 60);
     assert_true(number(j, "paused"));
+    /* the trace's own replay agreed with it (mm_trace_player) */
+    const cJSON *message = cJSON_GetObjectItemCaseSensitive(j, "message");
+    assert_true(cJSON_IsString(message));
+    assert_non_null(strstr(message->valuestring, "every search of the trace, byte for byte"));
     char path[1024];
     snprintf(path, sizeof path, "%s/trace.jsonl", r->dir);
     FILE *f = fopen(path, "r");

@@ -404,7 +404,10 @@ static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam,
     for (int k = 0; k < VIEW_PANEL_WINDOWS; ++k)
         fprintf(f, "%s\"%s\": [%.1f, %.1f, %.1f, %.1f]", k ? ", " : "", names[k], (double)ui->rects[k][0],
                 (double)ui->rects[k][1], (double)ui->rects[k][2], (double)ui->rects[k][3]);
-    fprintf(f, "}}\n");
+    fprintf(f, "},\n \"message\": \"");
+    for (const char *m = d->message; *m; ++m) /* JSON-escaped */
+        fprintf(f, *m == '"' || *m == '\\' ? "\\%c" : (unsigned char)*m < 0x20 ? " " : "%c", *m);
+    fprintf(f, "\"}\n");
     return fclose(f) == 0 ? 0 : 1;
 }
 
@@ -692,6 +695,22 @@ static int view_database(const options *o)
             scripted_input(o, &script, d.sim.now, &in_f);
             view_sim_step(&d.sim, &in_f, &tuned);
         }
+        /* the trace's own replay, search line against search line (mm_trace_player) */
+        mm_trace_player *player = NULL;
+        if (mm_trace_player_open(&player, &rp.trace, &db, &err) != MM_OK) {
+            status = cli_report(&err);
+            goto done_panel;
+        }
+        while (mm_trace_player_step(player, NULL) == MM_OK) continue;
+        const mm_trace_divergence *dv = mm_trace_player_divergence(player);
+        if (dv->diverged)
+            snprintf(d.message, sizeof d.message,
+                     "the replay differs from the trace from tick %d (line %ld): %.300s", dv->tick + 1,
+                     dv->line, dv->message);
+        else
+            snprintf(d.message, sizeof d.message,
+                     "the replay makes every search of the trace, byte for byte");
+        mm_trace_player_close(player);
         if (view_sim_seek(&d.sim, 1, &err) != MM_OK) {
             status = cli_report(&err);
             goto done_panel;

@@ -143,6 +143,10 @@ static void status_window(view_ui *ui)
     int frame = c->frame >= 0 && c->frame < db->frame_count ? c->frame : 0;
     const mm_db_clip *clip = &db->clips[db->frame_clip[frame]];
     int in_clip = frame - clip->first_frame;
+    if (ui->message && ui->message[0]) { /* the last thing done: a save, a restart, a replay's verdict */
+        ImGui::TextWrapped("%s", ui->message);
+        ImGui::Separator();
+    }
     ImGui::Text("clip   %s", clip->name);
     ImGui::Text("frame  %d / %d   t %.2f s", in_clip, clip->frame_count,
                 (double)((float)in_clip * db->interval));
@@ -185,10 +189,6 @@ static void status_window(view_ui *ui)
     ImGui::Text("transitions %d  cancelled %d", c->transitions, c->cancelled_transitions);
     ImGui::Text("fps    %.0f   recording %.0f s", (double)ui->fps,
                 (double)((float)(ui->last - ui->first + 1) * ui->tick_seconds));
-    if (ui->message && ui->message[0]) {
-        ImGui::Separator();
-        ImGui::TextWrapped("%s", ui->message);
-    }
 }
 
 static void layers_window(view_ui *ui)
