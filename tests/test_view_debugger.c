@@ -4,8 +4,9 @@
  * project (mm_camera_project with the shot's camera), the panel's windows in their rectangles, the
  * picked candidate's ghost where its joints project, a rewound tick's pose equal bit for bit to
  * the pose recorded live, and a config saved with only its changed fields, layout and "extends"
- * kept; and a trace of mm simulate opened on the timeline (--replay) showing the trace's tick. Also
- * the config editor alone (tools/view_config.c). Skipped without xvfb-run or MM_BIN. */
+ * kept; and a trace of mm simulate jumping a gap (the move layer) opened on the timeline (--replay)
+ * showing the trace's tick. Also the config editor alone (tools/view_config.c). Skipped without
+ * xvfb-run or MM_BIN. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -346,14 +347,14 @@ static int setup(void **state)
         sh("cat '%s/view.out'", r.dir);
         return -1;
     }
-    /* a trace of mm simulate, opened on the timeline at tick 30 */
-    if (sh("cd '%s' && '%s' simulate s.mmdb --input '%s/scripts/input/turn_90.json' --seconds 1 -o sim.bvh "
-           "--trace "
-           "trace.jsonl --trace-ticks >/dev/null",
-           r.dir, r.mm, MM_SOURCE_DIR) != 0)
+    /* a trace of mm simulate jumping a gap (the move layer in a scene), opened on the timeline at tick
+     * 250, in the jump */
+    if (sh("cd '%s' && '%s' simulate s.mmdb --input '%s/scripts/input/moves_jump_gap.json' --scene "
+           "'%s/scenes/jump_gap.json' --seconds 5 -o sim.bvh --trace trace.jsonl --trace-ticks >/dev/null",
+           r.dir, r.mm, MM_SOURCE_DIR, MM_SOURCE_DIR) != 0)
         return -1;
     snprintf(path, sizeof path, "%s/replay_keys.txt", r.dir);
-    write_file(path, "0.0 scrub 30\n0.0 shot replay30\n0.05 quit\n");
+    write_file(path, "0.0 scrub 250\n0.0 shot replay250\n0.05 quit\n");
     if (sh("cd '%s' && ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '%s' view s.mmdb "
            "--replay "
            "trace.jsonl --script replay_keys.txt --screenshot-dir shots --size 640x360 >replay.out 2>&1",
@@ -521,15 +522,17 @@ static void test_saved_config_changed_only_where_tuned(void **state)
     assert_string_equal(text, saved_config);
 }
 
-/* The trace's tick 30 (its line for tick 29, counted from 0) is the tick the viewer shows there. */
+/* The trace's tick 250 (its line for tick 249, counted from 0) is the tick the viewer shows there, in
+ * the jump over the gap. */
 static void test_replay_shows_the_trace(void **state)
 {
     NEED_RUN(state);
     const run *r = *state;
     image img;
-    cJSON *j = shot(r, "replay30", &img);
-    assert_int_equal((int)number(j, "tick"), 30);
-    assert_int_equal((int)number(j, "last"), 60);
+    cJSON *j = shot(r, "replay250", &img);
+    assert_int_equal((int)number(j, "tick"), 250);
+    assert_int_equal((int)number(j, "last"), 300);
+    assert_int_equal((int)number(j, "move"), 1);
     assert_true(number(j, "paused"));
     /* the trace's own replay agreed with it (mm_trace_player) */
     const cJSON *message = cJSON_GetObjectItemCaseSensitive(j, "message");
@@ -545,7 +548,7 @@ static void test_replay_shows_the_trace(void **state)
         cJSON *l = cJSON_Parse(line);
         assert_non_null(l);
         const cJSON *type = cJSON_GetObjectItemCaseSensitive(l, "type");
-        if (cJSON_IsString(type) && strcmp(type->valuestring, "tick") == 0 && (int)number(l, "tick") == 29) {
+        if (cJSON_IsString(type) && strcmp(type->valuestring, "tick") == 0 && (int)number(l, "tick") == 249) {
             found = 1;
             assert_int_equal((int)number(l, "frame"), (int)number(j, "frame"));
             mm_vec3 root = vec(

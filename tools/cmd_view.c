@@ -347,9 +347,9 @@ static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam,
     fprintf(
         f,
         "{\"width\": %d, \"height\": %d, \"tick\": %lld, \"first\": %lld, \"last\": %lld, \"paused\": %s, "
-        "\"frame\": %d,\n",
+        "\"frame\": %d, \"move\": %d,\n",
         w, h, (long long)d->sim.now, (long long)first, (long long)last, d->paused ? "true" : "false",
-        c->frame);
+        c->frame, c->move_playing);
     fprintf(
         f,
         " \"camera\": {\"target\": [%.9g, %.9g, %.9g], \"yaw\": %.9g, \"pitch\": %.9g, \"distance\": %.9g, "
