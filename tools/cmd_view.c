@@ -148,26 +148,28 @@ static void camera_controls(window *win, float dt)
     }
 }
 
+/* Saves the current framebuffer's w x h pixels as a PNG. */
+static int save_screenshot(window *win, const char *png, int w, int h)
+{
+    free(win->pixels);
+    win->pixels = malloc((size_t)w * (size_t)h * 3);
+    if (!win->pixels) {
+        fprintf(stderr, "mm: out of memory\n");
+        return 1;
+    }
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_renderer_read_pixels(win->renderer, w, h, win->pixels);
+    return mm_png_write(png, win->pixels, w, h, &err) != MM_OK ? cli_report(&err) : 0;
+}
+
 /* Draws the scene, saves a screenshot when asked, and shows the frame. */
 static int present(window *win, const mm_render_scene *scene, const char *screenshot)
 {
     int w, h;
     glfwGetFramebufferSize(win->glfw, &w, &h);
     mm_renderer_draw(win->renderer, &win->camera, w, h, scene);
-    int status = 0;
-    if (screenshot && w > 0 && h > 0) {
-        free(win->pixels);
-        win->pixels = malloc((size_t)w * (size_t)h * 3);
-        mm_error err;
-        memset(&err, 0, sizeof err);
-        if (!win->pixels) {
-            fprintf(stderr, "mm: out of memory\n");
-            status = 1;
-        } else {
-            mm_renderer_read_pixels(win->renderer, w, h, win->pixels);
-            if (mm_png_write(screenshot, win->pixels, w, h, &err) != MM_OK) status = cli_report(&err);
-        }
-    }
+    int status = screenshot && w > 0 && h > 0 ? save_screenshot(win, screenshot, w, h) : 0;
     glfwSwapBuffers(win->glfw);
     return status;
 }
@@ -405,24 +407,12 @@ static int write_shot_facts(const char *path, debugger *d, const mm_camera *cam,
         fprintf(f, "%s\"%s\": [%.1f, %.1f, %.1f, %.1f]", k ? ", " : "", names[k], (double)ui->rects[k][0],
                 (double)ui->rects[k][1], (double)ui->rects[k][2], (double)ui->rects[k][3]);
     fprintf(f, "},\n \"message\": \"");
-    for (const char *m = d->message; *m; ++m) /* JSON-escaped */
-        fprintf(f, *m == '"' || *m == '\\' ? "\\%c" : (unsigned char)*m < 0x20 ? " " : "%c", *m);
+    for (const char *m = d->message; *m; ++m) { /* JSON-escaped */
+        if (*m == '"' || *m == '\\') fputc('\\', f);
+        fputc((unsigned char)*m < 0x20 ? ' ' : *m, f);
+    }
     fprintf(f, "\"}\n");
     return fclose(f) == 0 ? 0 : 1;
-}
-
-static int save_screenshot(window *win, const char *png, int w, int h)
-{
-    free(win->pixels);
-    win->pixels = malloc((size_t)w * (size_t)h * 3);
-    if (!win->pixels) {
-        fprintf(stderr, "mm: out of memory\n");
-        return 1;
-    }
-    mm_error err;
-    memset(&err, 0, sizeof err);
-    mm_renderer_read_pixels(win->renderer, w, h, win->pixels);
-    return mm_png_write(png, win->pixels, w, h, &err) != MM_OK ? cli_report(&err) : 0;
 }
 
 /* Keys of the debugger and its layers (the panel's buttons do the same). */
