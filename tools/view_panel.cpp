@@ -253,14 +253,19 @@ static void tuning_window(view_ui *ui)
 static void candidates_window(view_ui *ui)
 {
     const mm_database *db = ui->character->db;
-    ImGui::TextUnformatted("The search's best frames ([ ] pick, 7 ghosts, 8 preview)");
+    ImGui::TextWrapped("The search's best frames ([ ] pick, 7 ghosts, 8 preview)");
     if (ui->note) ImGui::TextWrapped("%s", ui->note);
     ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX |
                             ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit;
     enum { COLUMNS = 12 };
-    if (ImGui::BeginTable("candidates", COLUMNS, flags)) {
-        static const char *const heads[COLUMNS] = {"#",    "clip", "frame", "cost", "pose", "vel",
-                                                   "root", "traj", "dir",   "loop", "next", "bias"};
+    // as tall as its rows, so that the picked frame's line shows below it
+    float height = ImGui::GetFrameHeightWithSpacing() * (float)(ui->candidate_count + 1) +
+                   ImGui::GetStyle().ScrollbarSize;
+    if (ImGui::BeginTable("candidates", COLUMNS, flags, ImVec2(0.0f, height))) {
+        // the cost and its terms first (the five weighted distances, what favours and bias add), then
+        // which frame: clip names can be long
+        static const char *const heads[COLUMNS] = {"#",   "cost", "pose", "vel",  "root",  "traj",
+                                                   "dir", "loop", "next", "bias", "frame", "clip"};
         ImGui::TableSetupScrollFreeze(1, 1);
         for (int k = 0; k < COLUMNS; ++k) ImGui::TableSetupColumn(heads[k]);
         ImGui::TableHeadersRow();
@@ -275,11 +280,6 @@ static void candidates_window(view_ui *ui)
                 *ui->selected = *ui->selected == i ? -1 : i;
                 ui->select_changed = true;
             }
-            ImGui::TableSetColumnIndex(1);
-            ImGui::TextUnformatted(db->clips[v->clip].name);
-            ImGui::TableSetColumnIndex(2);
-            ImGui::Text("%d", v->frame - db->clips[v->clip].first_frame);
-            // the cost, then every term: the five weighted distances and what favours and bias add
             const float terms[9] = {v->cost,
                                     v->terms.pose_position,
                                     v->terms.pose_velocity,
@@ -290,16 +290,23 @@ static void candidates_window(view_ui *ui)
                                     v->next_pose_favour,
                                     v->continuing_bias};
             for (int k = 0; k < 9; ++k) {
-                ImGui::TableSetColumnIndex(3 + k);
+                ImGui::TableSetColumnIndex(1 + k);
                 ImGui::Text("%.4f", (double)terms[k]);
             }
+            ImGui::TableSetColumnIndex(10);
+            ImGui::Text("%d", v->frame - db->clips[v->clip].first_frame);
+            ImGui::TableSetColumnIndex(11);
+            ImGui::TextUnformatted(db->clips[v->clip].name);
         }
         ImGui::EndTable();
     }
     if (*ui->selected >= 0 && *ui->selected < ui->candidate_count && ui->preview_frame >= 0) {
         int f = ui->preview_frame;
         const mm_db_clip *clip = &db->clips[db->frame_clip[f]];
-        ImGui::Text("preview: %s frame %d / %d", clip->name, f - clip->first_frame, clip->frame_count);
+        const mm_candidate *v = &ui->candidates[*ui->selected];
+        ImGui::TextWrapped("picked %d: %s frame %d; preview at frame %d / %d", *ui->selected,
+                           db->clips[v->clip].name, v->frame - db->clips[v->clip].first_frame,
+                           f - clip->first_frame, clip->frame_count);
     }
 }
 
