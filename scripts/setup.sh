@@ -9,8 +9,9 @@ if [ "${1:-}" = "--program-only" ]; then
     target="--target mm_cli"
     shift
 fi
-# OSMesa: headless rendering; GLFW: the viewer's window; ffmpeg: MP4 and GIF output.
-packages="build-essential cmake pkg-config libcmocka-dev libcjson-dev libassimp-dev zlib1g-dev libosmesa6-dev libglfw3-dev ffmpeg"
+# OSMesa: headless rendering; GLFW: the viewer's window; Dear ImGui: its panel (DejaVu: its font);
+# ffmpeg: MP4 and GIF output.
+packages="build-essential cmake pkg-config libcmocka-dev libcjson-dev libassimp-dev zlib1g-dev libosmesa6-dev libglfw3-dev libimgui-dev fonts-dejavu-core ffmpeg"
 missing=""
 for p in $packages; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

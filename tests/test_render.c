@@ -806,10 +806,29 @@ static void test_tuning_steps_select_and_clamp(void **state)
     synth_character_init(&fx);
     mm_view_tuning t;
     mm_view_tuning_init(&t, &fx.ch);
-    /* 4 weights, 2 per matched bone, 4 favours and timings, 5 per gait for walk and run */
-    mm_pose_data pose;
-    mm_database_pose(&fx.db, 0, &pose);
-    assert_int_equal(t.count, 4 + 2 * pose.bone_count + 4 + 10);
+    /* only what the database uses: the ratio, a weight per feature group kind it has (root velocity,
+     * trajectory positions, directions), a weight per bone feature, the favours (loop_anim_favour
+     * with loop clips), bias, search interval, transition half-life, idle speed, sync half-life, and 5
+     * per gait for walk and run (no crouch tag) */
+    int kinds[5] = {0, 0, 0, 0, 0};
+    for (int g = 0; g < fx.db.group_count; ++g) ++kinds[fx.db.groups[g].kind];
+    int loops = 0;
+    for (int i = 0; i < fx.db.clip_count; ++i) loops |= fx.db.clips[i].loop != 0;
+    assert_int_equal(mm_search_tag_mask(&fx.db, "Crouch"), 0);
+    assert_int_equal(t.count, 1 + (kinds[MM_FEATURE_ROOT_VELOCITY] > 0) +
+                                  (kinds[MM_FEATURE_TRAJ_POSITION] > 0) +
+                                  (kinds[MM_FEATURE_TRAJ_DIRECTION] > 0) + kinds[MM_FEATURE_BONE_POSITION] +
+                                  kinds[MM_FEATURE_BONE_VELOCITY] + 1 + loops + 1 + 4 + 10);
+    /* a bone's weight is there only where a feature uses the bone */
+    for (int i = 0; i < t.count; ++i) {
+        if (!t.entries[i].bone[0]) continue;
+        int joint = mm_database_find_joint(&fx.db, t.entries[i].bone), found = 0;
+        bool velocity = strcmp(t.entries[i].key, "velocity_weight") == 0;
+        for (int g = 0; g < fx.db.group_count; ++g)
+            found |= fx.db.groups[g].bone == joint &&
+                     fx.db.groups[g].kind == (velocity ? MM_FEATURE_BONE_VELOCITY : MM_FEATURE_BONE_POSITION);
+        assert_true(found);
+    }
     assert_ptr_equal(t.entries[0].value, &t.desc.params.pose_trajectory_ratio);
     /* the ratio: steps of 0.05 within [0, 1] */
     float r0 = fx.ch.desc.params.pose_trajectory_ratio;
@@ -819,16 +838,17 @@ static void test_tuning_steps_select_and_clamp(void **state)
     assert_float_equal(fx.ch.desc.params.pose_trajectory_ratio, 1.0f, 0.0f);
     /* a weight: by factors of 1.25, down to 0 never below, and back up from zero */
     mm_view_tuning_select(&t, 1);
-    assert_ptr_equal(t.entries[t.selected].value, &t.desc.params.body_velocity_weight);
-    float w0 = fx.ch.desc.params.body_velocity_weight;
+    assert_true(t.entries[t.selected].multiply);
+    float *weight = t.entries[t.selected].value;
+    float *running = (float *)((char *)&fx.ch.desc + ((char *)weight - (char *)&t.desc));
+    float w0 = *running;
     mm_view_tuning_step(&t, -2);
-    assert_float_equal(fx.ch.desc.params.body_velocity_weight, w0 / 1.5625f, 1e-6f * (1.0f + w0));
-    t.desc.params.body_velocity_weight = MM_OFF; /* 0: zero means default in a desc */
+    assert_float_equal(*running, w0 / 1.5625f, 1e-6f * (1.0f + w0));
+    *weight = MM_OFF; /* 0: zero means default in a desc */
     mm_view_tuning_step(&t, -1);
-    assert_float_equal(fx.ch.desc.params.body_velocity_weight, MM_OFF, 0.0f);
-    assert_float_equal(fx.ch.state->desc.params.body_velocity_weight, 0.0f, 0.0f); /* as it runs */
+    assert_float_equal(*running, MM_OFF, 0.0f);
     mm_view_tuning_step(&t, 1);
-    assert_float_equal(fx.ch.desc.params.body_velocity_weight, 0.1f, 1e-6f);
+    assert_float_equal(*running, 0.1f, 1e-6f);
     /* selection wraps both ways; the last entries are the run gait's */
     mm_view_tuning_select(&t, -2);
     assert_int_equal(t.selected, t.count - 1);
@@ -854,6 +874,56 @@ static void test_tuning_steps_select_and_clamp(void **state)
     mm_trajectory_desired(fx.ch.trajectory, &in, &v, NULL);
     assert_float_equal(mm_vec3_length(v), fx.ch.trajectory->desc.gaits[MM_GAIT_WALK].forward_speed, 1e-5f);
     assert_float_equal(fx.ch.trajectory->desc.gaits[MM_GAIT_WALK].forward_speed, 1.0f, 1e-5f);
+    synth_character_free(&fx);
+}
+
+/* The layers switch the desc's fields; they act from the next tick (foot IK off: the ankles stay where
+ * the animation puts them),
+ * and only the transition's layer asks for the character to be made again. */
+static void test_tuning_layers(void **state)
+{
+    (void)state;
+    synth_character fx;
+    synth_character_init(&fx);
+    mm_view_tuning t;
+    mm_view_tuning_init(&t, &fx.ch);
+    assert_true(t.layers.foot_ik && t.layers.root_sync && t.layers.root_clamps && !t.layers.crossfade);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    /* how far the IK moved the ankles from where the animation put them (raw_contact_positions) */
+    float moved = 0.0f;
+    for (int i = 0; i < 60; ++i) {
+        mm_character_update(&fx.ch, &in, 1.0f / 60.0f);
+        for (int k = 0; k < 2; ++k)
+            moved = fmaxf(moved, mm_vec3_length(mm_vec3_sub(fx.ch.global[fx.ch.foot_joint[k]].translation,
+                                                            fx.ch.raw_contact_positions[2 * k])));
+    }
+    assert_true(moved > 1e-4f);
+    t.layers.foot_ik = t.layers.root_sync = t.layers.root_clamps = false;
+    mm_character_desc d;
+    mm_view_tuning_desc(&t, &d);
+    assert_true(d.no_foot_ik);
+    assert_float_equal(d.sync_halflife, MM_VIEW_NO_SYNC_HALFLIFE, 0.0f);
+    assert_float_equal(d.sync_max_distance, MM_VIEW_NO_CLAMP, 0.0f);
+    assert_float_equal(d.sync_max_angle, MM_VIEW_NO_CLAMP, 0.0f);
+    assert_false(mm_view_tuning_apply(&t));
+    moved = 0.0f;
+    for (int i = 0; i < 60; ++i) {
+        mm_character_update(&fx.ch, &in, 1.0f / 60.0f);
+        for (int k = 0; k < 2; ++k)
+            moved = fmaxf(moved, mm_vec3_length(mm_vec3_sub(fx.ch.global[fx.ch.foot_joint[k]].translation,
+                                                            fx.ch.raw_contact_positions[2 * k])));
+    }
+    assert_float_equal(moved, 0.0f, 0.0f);
+    /* the layers read back from the desc they made */
+    mm_character saved = fx.ch;
+    saved.desc = d;
+    mm_view_tuning back;
+    mm_view_tuning_init(&back, &saved);
+    assert_false(back.layers.foot_ik || back.layers.root_sync || back.layers.root_clamps);
+    t.layers.crossfade = true;
+    assert_true(mm_view_tuning_apply(&t));
     synth_character_free(&fx);
 }
 
@@ -1314,6 +1384,7 @@ int main(void)
         cmocka_unit_test(test_video_folder_and_errors),
         cmocka_unit_test(test_overlay_text_of_a_character),
         cmocka_unit_test(test_tuning_steps_select_and_clamp),
+        cmocka_unit_test(test_tuning_layers),
         cmocka_unit_test(test_box_corners_by_hand),
         cmocka_unit_test(test_box_covers_its_projected_hull),
         cmocka_unit_test(test_sheet_feet_and_facing),

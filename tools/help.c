@@ -316,24 +316,34 @@ static const help_entry entries[] = {
      "  OUTDIR             the folder written (made if missing)\n"
      "  --seed N           the random seed, an integer >= 0 (default 0)\n"
      "  --fps F            frames per second, 10 to 240 (default 60)\n"},
-    {"view", "the interactive viewer: drive a character, or preview and tag a clip",
+    {"view", "the interactive viewer and motion-matching debugger, or a clip's preview and tagging",
      "usage: mm view DB.mmdb [--config CONFIG.json] [--input SCRIPT.json] [--scene SCENE.json]\n"
      "               [--mesh FILE] [--size 1280x720] [--frames N [--screenshot OUT.png]]\n"
+     "               [--script KEYS.txt [--screenshot-dir DIR]] [--replay TRACE.jsonl]\n"
      "       mm view --clip FILE.bvh [--config CONFIG.json] [--clip-name NAME] [--scene SCENE.json]\n"
      "               [--size 1280x720] [--frames N [--screenshot OUT.png]]\n"
      "The interactive viewer (docs/viewer.md): drive a character on a database with keyboard or\n"
-     "gamepad and tune it live, or play, scrub and tag a clip.\n"
+     "gamepad and debug it in a panel: status and every cost term, the runtime layers as switches,\n"
+     "live tuning saved into the config, the search's best candidates as ghosts, and a timeline to\n"
+     "pause (space), step (, .), rewind and resume from; or play, scrub and tag a clip.\n"
      "  DB.mmdb            a database to drive a character on\n"
      "  --clip FILE.bvh    instead: preview this clip\n"
      "  --config CONFIG    the config the tuning (or a clip's tags) is saved into (default: none)\n"
      "  --clip-name NAME   the config's clip to edit (default: the clip of the file)\n"
      "  --input SCRIPT     drive by an input script (default: keyboard and gamepad)\n"
-     "  --scene SCENE.json draw a scene's boxes (default: none)\n"
+     "  --replay TRACE     open a trace that mm simulate wrote on the timeline: its input and\n"
+     "                     switches run again, each search set beside the trace's (default: none)\n"
+     "  --scene SCENE.json draw a scene's boxes and terrain, and with a database play its moves (J jumps)\n"
+     "                     (default: none)\n"
      "  --mesh FILE        the character's body: an FBX or glTF mesh skinned to the database's\n"
      "                     skeleton (bones named as its joints; default: the body mm makes)\n"
      "  --size WxH         the window's pixels (default 1280x720)\n"
      "  --frames N         run N frames and quit (default: until the window closes)\n"
-     "  --screenshot PNG   save the last of the N frames\n"},
+     "  --screenshot PNG   save the last of the N frames\n"
+     "  --script KEYS.txt  play a key script, one fixed 1/60 s tick a frame (docs/viewer.md,\n"
+     "                     \"Key scripts\"); the run ends at its quit or after its last line\n"
+     "  --screenshot-dir DIR  where the script's shots go: NAME.png and NAME.json\n"
+     "                     (default: the shots are not saved)\n"},
     {"version", "print the version",
      "usage: mm version   (or mm --version)\n"
      "Prints the program's version, the version of the mm library it runs with (mm_version(),\n"

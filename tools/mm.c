@@ -12,9 +12,11 @@ int mm_cmd_view(int argc, char **argv)
 {
     (void)argc;
     (void)argv;
-    fputs("mm: this mm was built without GLFW, so it has no viewer: apt-get install libglfw3-dev and rebuild "
-          "(mm render and mm simulate --video draw without a window)\n",
-          stderr);
+    fputs(
+        "mm: this mm was built without GLFW or Dear ImGui, so it has no viewer: apt-get install libglfw3-dev "
+        "libimgui-dev and rebuild "
+        "(mm render and mm simulate --video draw without a window)\n",
+        stderr);
     return 1;
 }
 #endif

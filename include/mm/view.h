@@ -9,7 +9,8 @@
  *
  * Functions: mm_view_flags_defaults mm_view_init mm_view_set_body mm_view_free mm_view_update mm_view_overlay
  *            mm_view_scene_boxes mm_view_set_scene mm_view_input mm_view_tuning_init mm_view_tuning_select
- * mm_view_tuning_step mm_view_tuning_text
+ *            mm_view_tuning_step mm_view_tuning_set mm_view_tuning_value mm_view_tuning_desc
+ *            mm_view_tuning_apply mm_view_tuning_text
  */
 #ifndef MM_VIEW_H
 #define MM_VIEW_H
@@ -98,11 +99,17 @@ typedef struct mm_view_keys {
  * forward. Non-finite pad values count as zero. */
 void mm_view_input(const mm_view_keys *k, float camera_yaw, mm_input *out);
 
-/* Live tuning: a list of the character's cost weights (mm_search_params), favours, search and
- * transition timing, and trajectory parameters per gait, one of them selected, changed in steps on
- * a copy of the character's desc (written out: mm_character_desc_resolve) that each step hands to
- * the character (mm_character_tune). */
-#define MM_VIEW_TUNING_MAX 48
+/* Live tuning: a list of the character's parameters the database actually uses (a bone's
+ * position or velocity weight only where its features match it, body_velocity_weight,
+ * position_multiplier and angle_multiplier only where the database has that feature group,
+ * loop_anim_favour only with loop clips, the crouch gait only with a "Crouch" tag, the
+ * transition's half-life or crossfade time by the transition in use), one of them selected,
+ * changed in steps or set on a copy of the character's desc (written out:
+ * mm_character_desc_resolve). Beside them, the runtime layers as switches (mm_view_layers). The
+ * desc the character runs with is the tuned values with the layers applied
+ * (mm_view_tuning_desc); each change hands it to the character (mm_character_tune), so it acts
+ * from the next tick. */
+#define MM_VIEW_TUNING_MAX 64
 
 typedef struct mm_view_tuning_entry {
     char name[48];
@@ -110,22 +117,56 @@ typedef struct mm_view_tuning_entry {
     float step; /* added per step, or the factor per step when multiply */
     bool multiply;
     float min, max; /* the value is kept within */
+    /* where the value lives in a config: key is the path under the config's root ("runtime.walk.
+     * forward_speed", "features.angle_multiplier"); bone weights name their bone instead (key is
+     * "position_weight" or "velocity_weight" of features.bones' entry named bone) */
+    char key[48];
+    char bone[MM_NAME_MAX];
+    float saved; /* the value when tuning started or was last saved: a save writes what differs */
 } mm_view_tuning_entry;
+
+/* The runtime layers a viewer switches (each on as the character's desc has it at init). */
+typedef struct mm_view_layers {
+    bool crossfade;         /* transitions through the crossfade mixer, else inertialization (fixed
+                               at mm_character_init: switching it restarts the character) */
+    bool foot_ik;           /* foot locking and leg IK (desc.no_foot_ik off) */
+    bool distance_matching; /* desc.distance_matching */
+    bool warping;           /* desc.warping */
+    bool root_sync;         /* the root pulled toward the simulation (off: it follows the clip's
+                               root motion alone, within the clamps) */
+    bool root_clamps;       /* the root kept within sync_max_distance / sync_max_angle of it */
+} mm_view_layers;
+
+/* Half-life and clamps that switch the root's sync or clamps off (s, m, rad): past any session. */
+#define MM_VIEW_NO_SYNC_HALFLIFE 1e9f
+#define MM_VIEW_NO_CLAMP         1e9f
 
 typedef struct mm_view_tuning {
     mm_view_tuning_entry entries[MM_VIEW_TUNING_MAX];
     int count, selected;
     mm_character_desc desc; /* the values tuned */
+    mm_view_layers layers, saved_layers;
     mm_character *character;
 } mm_view_tuning;
 
-/* Copies c's tuning into t->desc and points the entries at it (c must outlive t and not move). */
+/* Copies c's tuning into t->desc and its layers into t->layers, and points the entries at it (c
+ * must outlive t and not move). */
 void mm_view_tuning_init(mm_view_tuning *t, mm_character *c);
+/* The desc the character runs with: t->desc with the layers applied. */
+void mm_view_tuning_desc(const mm_view_tuning *t, mm_character_desc *out);
+/* Hands mm_view_tuning_desc to the character (after a value or a layer changed). Returns true
+ * when the character must be made again for it to act (the transition layer switched). */
+bool mm_view_tuning_apply(mm_view_tuning *t);
 /* Moves the selection by delta entries, wrapping around. */
 void mm_view_tuning_select(mm_view_tuning *t, int delta);
 /* Changes the selected value by direction steps (negative: down), clamped to its range, and hands
  * the tuning to the character. */
 void mm_view_tuning_step(mm_view_tuning *t, int direction);
+/* Sets entry i to value (clamped to its range; 0 kept as MM_OFF) and hands the tuning to the
+ * character. */
+void mm_view_tuning_set(mm_view_tuning *t, int i, float value);
+/* The value of entry i as it acts (MM_OFF as 0). */
+float mm_view_tuning_value(const mm_view_tuning *t, int i);
 /* The selected entry with its neighbours, one per line, the selected one marked '>'. Returns the
  * length written (truncated to n). */
 size_t mm_view_tuning_text(const mm_view_tuning *t, char *out, size_t n);
