@@ -79,7 +79,7 @@ static mm_result run(const mm_database *db, const mm_input_script *script, const
     mm_moves_desc moves_desc;
     mm_moves_desc_from_database(&moves_desc, db);
     r = mm_moves_init(&moves, db, desc ? desc->scene : NULL, &moves_desc, err);
-    if (desc && desc->scene) mm_character_set_walls(&c, desc->scene); /* its walls stop the character */
+    if (desc && desc->scene) mm_character_place_in_scene(&c, desc->scene);
     if (r == MM_OK) {
         float dt = (float)(1.0 / fps);
         float times[MM_MAX_TRAJ_SAMPLES];

@@ -159,7 +159,14 @@ static const uint8_t *pixel(const image *img, int x, int y)
 
 /* Colours: the body is a dark bluish grey, lit (the sky and ground are light); the picked ghost is
  * yellow; the panel's windows are near black, their sliders and buttons dark blue. */
-static int is_body(const uint8_t *p) { return p[0] + p[1] + p[2] < 3 * 130 && p[2] >= p[0] && p[2] > 40; }
+/* the body's colours (skin, shirt, trousers, shoes): darker or more saturated than the light grey
+ * ground and sky */
+static int is_body(const uint8_t *p)
+{
+    int lo = p[0] < p[1] ? (p[0] < p[2] ? p[0] : p[2]) : (p[1] < p[2] ? p[1] : p[2]);
+    int hi = p[0] > p[1] ? (p[0] > p[2] ? p[0] : p[2]) : (p[1] > p[2] ? p[1] : p[2]);
+    return p[0] + p[1] + p[2] < 3 * 130 || hi - lo > 40;
+}
 static int is_picked(const uint8_t *p) { return p[0] > 170 && p[1] > 130 && p[2] < 120; }
 static int is_panel(const uint8_t *p)
 {

@@ -226,12 +226,7 @@ int mm_cmd_simulate(int argc, char **argv)
     mm_moves_desc moves_desc;
     mm_moves_desc_from_database(&moves_desc, &db);
     mm_moves_init(&moves, &db, scene_path ? &scene : NULL, &moves_desc, NULL);
-    /* a scene with terrain (ramps, stairs, a height field): the character walks on its ground;
-     * any scene: its walls stop the character */
-    if (scene_path && (scene.ramp_count || scene.stairs_count || scene.field.columns))
-        mm_character_set_scene(&c, &scene);
-    else if (scene_path)
-        mm_character_set_walls(&c, &scene);
+    if (scene_path) mm_character_place_in_scene(&c, &scene);
     int frames = (int)floor(seconds * fps + 1e-6), n = db.joint_count;
     /* the motion's skeleton: the database's, or the game's (--skeleton) */
     sim_skeleton game;

@@ -52,6 +52,7 @@ typedef struct window {
     double last_x, last_y;
     bool dragging;
     float scroll;
+    double orbited;                 /* when the user last turned or zoomed the camera (glfwGetTime) */
     int pressed[GLFW_KEY_LAST + 1]; /* key presses since the last frame (edges, not levels) */
     bool script;                    /* keys come from a key script: held is their state */
     bool held[GLFW_KEY_LAST + 1];
@@ -89,6 +90,7 @@ static bool down(window *win, int key)
 static int open_window(window *win, const options *o, const char *title)
 {
     memset(win, 0, sizeof *win);
+    win->orbited = -INFINITY; /* the camera chases from the start */
     if (!glfwInit()) {
         fprintf(
             stderr,
@@ -136,17 +138,24 @@ static void camera_controls(window *win, float dt)
     double x, y;
     glfwGetCursorPos(win->glfw, &x, &y);
     bool button = glfwGetMouseButton(win->glfw, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-    if (button && win->dragging)
+    if (button && win->dragging && (x != win->last_x || y != win->last_y)) {
         mm_camera_orbit(&win->camera, (float)(x - win->last_x) * -0.005f, (float)(y - win->last_y) * 0.005f);
+        win->orbited = glfwGetTime();
+    }
     win->dragging = button;
     win->last_x = x, win->last_y = y;
-    if (win->scroll != 0.0f) mm_camera_zoom(&win->camera, powf(0.9f, win->scroll));
+    if (win->scroll != 0.0f) {
+        mm_camera_zoom(&win->camera, powf(0.9f, win->scroll));
+        win->orbited = glfwGetTime();
+    }
     win->scroll = 0.0f;
     GLFWgamepadstate pad;
     if (glfwJoystickIsGamepad(GLFW_JOYSTICK_1) && glfwGetGamepadState(GLFW_JOYSTICK_1, &pad)) {
         float rx = pad.axes[GLFW_GAMEPAD_AXIS_RIGHT_X], ry = pad.axes[GLFW_GAMEPAD_AXIS_RIGHT_Y];
-        if (fabsf(rx) > 0.15f || fabsf(ry) > 0.15f)
+        if (fabsf(rx) > 0.15f || fabsf(ry) > 0.15f) {
             mm_camera_orbit(&win->camera, -2.0f * rx * dt, 1.5f * ry * dt);
+            win->orbited = glfwGetTime();
+        }
     }
 }
 
@@ -227,6 +236,41 @@ static bool jump_down(window *win)
 }
 
 /* What the debugger draws beside the character. */
+/* s after the user last turned or zoomed the camera from which it chases the character again */
+#define CHASE_AFTER_ORBIT 3.0
+/* s: the chase turns the camera behind the character slowly, so that the keys (relative to the
+ * camera) keep their meaning while the character turns */
+#define CHASE_YAW_HALFLIFE 2.0f
+/* the chase keeps what it frames within this much of the image's half-width about its middle,
+ * clear of the panel's windows on either side */
+#define CHASE_HALF_WIDTH 0.35f
+/* what the chase frames: the body's joints and the predicted path over the next second */
+enum { CHASE_PATH = 8, CHASE_POINTS = 256 + CHASE_PATH };
+
+/* The camera behind the character, framing its body and its predicted path (mm_camera_chase). */
+static void chase_camera(window *win, const mm_database *db, const mm_character *c, const mm_input *in,
+                         float dt)
+{
+    mm_vec3 points[CHASE_POINTS];
+    int n = 0;
+    for (int j = 1; j < db->joint_count && n < CHASE_POINTS - CHASE_PATH; ++j)
+        points[n++] = c->global[j].translation;
+    float times[CHASE_PATH];
+    mm_quat facings[CHASE_PATH];
+    for (int i = 0; i < CHASE_PATH; ++i) times[i] = (float)(i + 1) / CHASE_PATH;
+    mm_trajectory_sample(c->trajectory, in, times, CHASE_PATH, points + n, facings);
+    n += CHASE_PATH;
+    mm_vec3 forward = mm_quat_rotate(c->root.rotation, mm_vec3_make(0.0f, 0.0f, 1.0f));
+    mm_camera_framing framing;
+    mm_camera_framing_defaults(&framing);
+    framing.yaw_halflife = CHASE_YAW_HALFLIFE;
+    framing.half_width = CHASE_HALF_WIDTH;
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(win->glfw, &w, &h);
+    mm_camera_chase(&win->camera, &framing, atan2f(forward.x, forward.z), points, n,
+                    h > 0 ? (float)w / (float)h : 1.0f, dt);
+}
+
 #define CANDIDATES       5                   /* listed in the panel */
 #define RECORD_SECONDS   120.0               /* the timeline keeps this much */
 #define RECORD_MAX_BYTES ((size_t)512 << 20) /* or less, to stay within this memory */
@@ -777,9 +821,13 @@ static int view_database(const options *o)
         if (d.selected >= d.candidate_count) select_candidate(&d, -1);
         view_preview_advance(&d.preview, &db, frame_dt);
         if (!win.script && !view_panel_wants_mouse(panel)) camera_controls(&win, (float)dt);
-        mm_vec3 root = c->root.translation;
-        mm_camera_follow(&win.camera, mm_vec3_make(root.x, 0.9f, root.z),
-                         frame == 0 || d.jumped ? 0.0f : 0.5f, (float)frame_dt);
+        if (win.script || glfwGetTime() - win.orbited > CHASE_AFTER_ORBIT) {
+            chase_camera(&win, &db, c, &in, frame == 0 || d.jumped ? 0.0f : (float)frame_dt);
+        } else {
+            mm_vec3 root = c->root.translation;
+            mm_camera_follow(&win.camera, mm_vec3_make(root.x, 0.9f, root.z),
+                             frame == 0 || d.jumped ? 0.0f : 0.5f, (float)frame_dt);
+        }
         d.jumped = false;
         mm_view_update(&view, c, &in, &d.flags, (float)fps);
         add_ghosts(&d, &view, &win.camera);

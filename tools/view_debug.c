@@ -38,7 +38,7 @@ mm_result view_sim_init(view_sim *s, const mm_database *db, const mm_searcher *s
     s->candidates = candidates;
     mm_result r = mm_character_init(&s->character, db, searcher, desc, err);
     if (r != MM_OK) return r;
-    mm_character_set_scene(&s->character, scene); /* it walks on the scene's ground, stops at its walls */
+    mm_character_place_in_scene(&s->character, scene);
     /* as many ticks as asked for, within max_bytes */
     size_t per_tick =
         mm_recorder_bytes(&s->character, 2, candidates) - mm_recorder_bytes(&s->character, 1, candidates);
@@ -138,7 +138,7 @@ mm_result view_sim_restart(view_sim *s, const mm_character_desc *desc, mm_error 
 {
     mm_character_free(&s->character);
     mm_result r = mm_character_init(&s->character, s->db, s->searcher, desc, err);
-    if (r == MM_OK) mm_character_set_scene(&s->character, s->scene);
+    if (r == MM_OK) mm_character_place_in_scene(&s->character, s->scene);
     return r == MM_OK ? attach(s, err) : r;
 }
 

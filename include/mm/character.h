@@ -55,7 +55,7 @@
  *            mm_character_set_root mm_character_move_foot_locks mm_character_translate
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
  *            mm_character_set_future mm_character_future_times mm_character_set_scene
- *            mm_character_set_walls mm_character_set_wall_pass
+ *            mm_character_set_walls mm_character_set_wall_pass mm_character_place_in_scene
  *
  * Terrain: mm_character_set_scene gives the character the scene it walks on (mm/scene.h). Its
  * root and simulated trajectory then follow the height of the ground under them
@@ -362,6 +362,10 @@ void mm_character_set_scene(mm_character *c, const mm_scene *scene);
 /* The scene's walls alone (its ground not walked on; NULL: no walls): what mm_character_set_scene
  * does for the walls. */
 void mm_character_set_walls(mm_character *c, const mm_scene *scene);
+/* The character in a scene as mm simulate, mm_run, traces and the viewer put it: a scene with
+ * terrain (mm_scene_has_terrain) is walked on (mm_character_set_scene); any other scene's boxes are
+ * walls alone (mm_character_set_walls: their tops are for the moves to climb); NULL: none. */
+void mm_character_place_in_scene(mm_character *c, const mm_scene *scene);
 /* Boxes whose top is at most pass_height above the character's ground are not walls to it (the
  * move layer raises it to the highest box a move crosses, INFINITY during a move); negative: the
  * desc's collider_step. */

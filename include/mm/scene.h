@@ -176,6 +176,9 @@ float mm_scene_ground_height(const mm_scene *scene, float x, float z, mm_vec3 *n
  * field): a character on it runs exactly as on no scene. NULL is flat. */
 bool mm_scene_is_flat(const mm_scene *scene);
 
+/* True when the scene has terrain to walk on: ramps, stairs or a height field (NULL: false). */
+bool mm_scene_has_terrain(const mm_scene *scene);
+
 #define MM_OBSTACLE_MAX_PROBES 16
 
 /* How an obstacle is looked for. Zero fields take the defaults in brackets. */

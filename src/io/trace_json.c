@@ -785,6 +785,7 @@ mm_result mm_trace_player_open(mm_trace_player **out, const mm_trace *t, const m
     if (r == MM_OK) r = mm_searcher_init(&p->searcher, db, NULL, err);
     if (r == MM_OK) r = mm_character_init(&p->character, db, &p->searcher, &desc, err);
     if (r == MM_OK) r = mm_character_set_candidates(&p->character, run->top_k, err);
+    if (r == MM_OK && run->scene_path[0]) mm_character_place_in_scene(&p->character, &p->scene);
     mm_moves_desc moves_desc;
     mm_moves_desc_from_database(&moves_desc, db);
     if (r == MM_OK) r = mm_moves_init(&p->moves, db, run->scene_path[0] ? &p->scene : NULL, &moves_desc, err);

@@ -128,6 +128,11 @@ bool mm_scene_is_flat(const mm_scene *scene)
                       scene->stairs_count == 0 && scene->field.columns == 0);
 }
 
+bool mm_scene_has_terrain(const mm_scene *scene)
+{
+    return scene && (scene->ramp_count > 0 || scene->stairs_count > 0 || scene->field.columns > 0);
+}
+
 /* ---- box frames ------------------------------------------------------------------------- */
 
 /* A box's local frame: centre, the yaw's cosine and sine, and half extents. World from local:

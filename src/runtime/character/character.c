@@ -492,6 +492,14 @@ void mm_character_set_scene(mm_character *c, const mm_scene *scene)
     c->root = r->root;
 }
 
+void mm_character_place_in_scene(mm_character *c, const mm_scene *scene)
+{
+    if (mm_scene_has_terrain(scene))
+        mm_character_set_scene(c, scene);
+    else
+        mm_character_set_walls(c, scene);
+}
+
 void mm_character_tune(mm_character *c, const mm_character_desc *d)
 {
     if (!c || !c->state || !d) return;
