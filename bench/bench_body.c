@@ -18,22 +18,11 @@
 #include <mm/skeleton_roles.h>
 #include <mm/synth.h>
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
+#include "bench_common.h"
 
 static double median(double *v, int n)
 {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    qsort(v, (size_t)n, sizeof *v, compare);
     return v[n / 2];
 }
 
@@ -107,19 +96,19 @@ int main(int argc, char **argv)
     d.pose_count = frames < 256 ? frames : 256;
     d.roles = roles;
     mm_body_mesh body;
-    double t0 = now_seconds();
+    double t0 = now();
     if (mm_body_mesh_build(&d, &body, &err) != MM_OK) {
         fprintf(stderr, "bench_body: %s\n", err.message);
         return 1;
     }
-    double build_ms = 1e3 * (now_seconds() - t0);
+    double build_ms = 1e3 * (now() - t0);
     mm_vec3 *vp = malloc(sizeof(mm_vec3) * (size_t)body.vertex_count),
             *vn = malloc(sizeof(mm_vec3) * (size_t)body.vertex_count);
     if (!vp || !vn) return 1;
     for (int f = 0; f < frames; ++f) {
-        double s0 = now_seconds();
+        double s0 = now();
         mm_body_mesh_skin(&body, poses + (size_t)f * (size_t)n, vp, vn);
-        skin[f] = 1e6 * (now_seconds() - s0);
+        skin[f] = 1e6 * (now() - s0);
     }
     mm_offscreen *o;
     if (mm_offscreen_create(width, height, &o, &err) != MM_OK) {
@@ -139,9 +128,9 @@ int main(int argc, char **argv)
             scene.global = poses + (size_t)f * (size_t)n;
             scene.body_mesh = pass == 0 ? &body : NULL;
             cam.target = scene.global[roles.hips].translation;
-            double r0 = now_seconds();
+            double r0 = now();
             if (!mm_offscreen_render(o, &cam, &scene)) return 1;
-            (pass == 0 ? with : without)[f] = 1e3 * (now_seconds() - r0);
+            (pass == 0 ? with : without)[f] = 1e3 * (now() - r0);
         }
     double skin_us = median(skin, frames), with_ms = median(with, frames),
            without_ms = median(without, frames);

@@ -13,22 +13,11 @@
 #include <mm/config_json.h>
 #include <mm/database_build.h>
 
+#include "bench_common.h"
+
 /* frames read per timing, and timings per figure (the median is printed) */
 #define READS 200000
 #define RUNS  5
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static int load_or_build(const char *path, mm_database *db)
 {

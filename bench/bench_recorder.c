@@ -15,19 +15,14 @@
 
 #include "../tests/test_databases.h"
 
+#include "bench_common.h"
+
 #define TICKS      1200 /* 20 s at 60 Hz */
 #define RING       600
 #define TICK_DT    (1.0f / 60.0f)
 #define RESTORES   200
 #define INPUT_SEED 5u
 #define LAPS       5
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Seconds of TICKS updates of a character keeping k candidates (k 1: the winner alone), recording
  * into rec when given (record_s: the seconds recording took). */

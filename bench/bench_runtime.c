@@ -19,21 +19,10 @@
 
 #include "../tests/test_databases.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "bench_common.h"
 
 #define CROWD_TICKS 600 /* 10 s at 60 Hz */
 #define TICK        (1.0 / 60.0)
-
-static int compare(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 /* FNV-1a over the bytes of every character's world transforms. */
 static uint64_t pose_hash(const mm_crowd *crowd)

@@ -28,6 +28,8 @@
 
 #include "../tests/test_databases.h"
 
+#include "bench_common.h"
+
 #define COLD_SWEEP_BYTES  (48u << 20) /* more than the last-level cache of the machines we run on */
 #define CACHE_LINE        64
 #define NEAR_NOISE        0.1 /* per normalised dimension */
@@ -40,19 +42,6 @@
 
 static const char *const KIND_NAMES[KINDS] = {"near", "recorded", "transition", "random"};
 static const char *const CACHE_NAMES[CACHES] = {"warm", "cold"};
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static uint64_t rng = 0x9E3779B97F4A7C15ull;
 static double uniform(void)

@@ -14,12 +14,7 @@
 #include <mm/similarity.h>
 #include <mm/synth.h>
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "bench_common.h"
 
 static int build_database(mm_database *db)
 {

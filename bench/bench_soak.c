@@ -17,6 +17,8 @@
 
 #include "../tests/test_databases.h"
 
+#include "bench_common.h"
+
 /* ---- allocation counting (-Wl,--wrap=malloc,...) ---------------------------------------------- */
 
 static long allocations;
@@ -43,13 +45,6 @@ void *__wrap_realloc(void *p, size_t size)
 }
 
 /* ---- the soak --------------------------------------------------------------------------------- */
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static uint64_t next_random(uint64_t *state) /* xorshift64* */
 {

@@ -244,31 +244,16 @@ static bool jump_down(window *win)
 /* the chase keeps what it frames within this much of the image's half-width about its middle,
  * clear of the panel's windows on either side */
 #define CHASE_HALF_WIDTH 0.35f
-/* what the chase frames: the body's joints and the predicted path over the next second */
-enum { CHASE_PATH = 8, CHASE_POINTS = 256 + CHASE_PATH };
-
-/* The camera behind the character, framing its body and its predicted path (mm_camera_chase). */
-static void chase_camera(window *win, const mm_database *db, const mm_character *c, const mm_input *in,
-                         float dt)
+/* The camera behind the character, framing its body and its predicted path, turning slowly. */
+static void chase_camera(window *win, const mm_character *c, const mm_input *in, float dt)
 {
-    mm_vec3 points[CHASE_POINTS];
-    int n = 0;
-    for (int j = 1; j < db->joint_count && n < CHASE_POINTS - CHASE_PATH; ++j)
-        points[n++] = c->global[j].translation;
-    float times[CHASE_PATH];
-    mm_quat facings[CHASE_PATH];
-    for (int i = 0; i < CHASE_PATH; ++i) times[i] = (float)(i + 1) / CHASE_PATH;
-    mm_trajectory_sample(c->trajectory, in, times, CHASE_PATH, points + n, facings);
-    n += CHASE_PATH;
-    mm_vec3 forward = mm_quat_rotate(c->root.rotation, mm_vec3_make(0.0f, 0.0f, 1.0f));
     mm_camera_framing framing;
     mm_camera_framing_defaults(&framing);
     framing.yaw_halflife = CHASE_YAW_HALFLIFE;
     framing.half_width = CHASE_HALF_WIDTH;
     int w = 0, h = 0;
     glfwGetFramebufferSize(win->glfw, &w, &h);
-    mm_camera_chase(&win->camera, &framing, atan2f(forward.x, forward.z), points, n,
-                    h > 0 ? (float)w / (float)h : 1.0f, dt);
+    mm_view_chase(&win->camera, &framing, c, in, h > 0 ? (float)w / (float)h : 1.0f, dt);
 }
 
 #define CANDIDATES       5                   /* listed in the panel */
@@ -822,7 +807,7 @@ static int view_database(const options *o)
         view_preview_advance(&d.preview, &db, frame_dt);
         if (!win.script && !view_panel_wants_mouse(panel)) camera_controls(&win, (float)dt);
         if (win.script || glfwGetTime() - win.orbited > CHASE_AFTER_ORBIT) {
-            chase_camera(&win, &db, c, &in, frame == 0 || d.jumped ? 0.0f : (float)frame_dt);
+            chase_camera(&win, c, &in, frame == 0 || d.jumped ? 0.0f : (float)frame_dt);
         } else {
             mm_vec3 root = c->root.translation;
             mm_camera_follow(&win.camera, mm_vec3_make(root.x, 0.9f, root.z),

@@ -45,25 +45,11 @@ mm_result sim_video_set_mesh(sim_video *s, const char *path, mm_error *err)
     return r;
 }
 
-/* What the camera frames: the body's joints and the predicted path over the next second. */
-enum { FRAMED_PATH = 8, FRAMED_MAX = 256 + FRAMED_PATH };
-
 static void chase(sim_video *s, const mm_character *c, const mm_input *in, float dt)
 {
-    mm_vec3 points[FRAMED_MAX];
-    int n = 0;
-    for (int j = 1; j < s->db->joint_count && n < FRAMED_MAX - FRAMED_PATH; ++j)
-        points[n++] = c->global[j].translation;
-    float times[FRAMED_PATH];
-    mm_quat facings[FRAMED_PATH];
-    for (int i = 0; i < FRAMED_PATH; ++i) times[i] = (float)(i + 1) / FRAMED_PATH;
-    mm_trajectory_sample(c->trajectory, in, times, FRAMED_PATH, points + n, facings);
-    n += FRAMED_PATH;
-    mm_vec3 forward = mm_quat_rotate(c->root.rotation, mm_vec3_make(0.0f, 0.0f, 1.0f));
-    float yaw = atan2f(forward.x, forward.z);
     int w = 0, h = 0;
     mm_offscreen_size(s->offscreen, &w, &h);
-    mm_camera_chase(&s->camera, &s->framing, yaw, points, n, h > 0 ? (float)w / (float)h : 1.0f, dt);
+    mm_view_chase(&s->camera, &s->framing, c, in, h > 0 ? (float)w / (float)h : 1.0f, dt);
 }
 
 mm_result sim_video_tick(sim_video *s, const mm_character *c, const mm_input *in, mm_error *err)

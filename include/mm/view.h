@@ -8,8 +8,8 @@
  *   mm_view_free(&v);
  *
  * Functions: mm_view_flags_defaults mm_view_init mm_view_set_body mm_view_free mm_view_update mm_view_overlay
- *            mm_view_scene_boxes mm_view_set_scene mm_view_input mm_view_tuning_init mm_view_tuning_select
- *            mm_view_tuning_step mm_view_tuning_set mm_view_tuning_value mm_view_tuning_desc
+ *            mm_view_scene_boxes mm_view_set_scene mm_view_input mm_view_chase mm_view_tuning_init
+ * mm_view_tuning_select mm_view_tuning_step mm_view_tuning_set mm_view_tuning_value mm_view_tuning_desc
  *            mm_view_tuning_apply mm_view_tuning_text
  */
 #ifndef MM_VIEW_H
@@ -98,6 +98,12 @@ typedef struct mm_view_keys {
  * 0.15 dead zone rescaled to [0, 1], replaces the keys when moved. Strafing faces the camera's
  * forward. Non-finite pad values count as zero. */
 void mm_view_input(const mm_view_keys *k, float camera_yaw, mm_input *out);
+
+/* One step of the camera chasing the character (mm_camera_chase): behind its facing, framing its
+ * joints and its predicted path over the next second (in: this tick's input); aspect: the image's
+ * width over height; dt <= 0 jumps there. */
+void mm_view_chase(mm_camera *cam, const mm_camera_framing *framing, const mm_character *c,
+                   const mm_input *in, float aspect, float dt);
 
 /* Live tuning: a list of the character's parameters the database actually uses (a bone's
  * position or velocity weight only where its features match it, body_velocity_weight,

@@ -53,30 +53,42 @@ static mm_result vec3(const cJSON *v, const char *what, mm_vec3 *out, mm_error *
     return MM_OK;
 }
 
-static mm_result parse_box(const cJSON *j, int i, mm_scene *s, mm_error *err)
+/* What boxes, ramps and stairs share, of the object `where`: position and size (metres, no size
+ * negative) and yaw (degrees, 0 when left out). keys: the object's allowed keys. */
+static mm_result parse_placement(const cJSON *j, const char *where, const char *const *keys, int key_count,
+                                 mm_vec3 *position, mm_vec3 *size, double *yaw, mm_error *err)
 {
-    static const char *const keys[] = {"position", "size", "yaw"};
-    char where[64], what[96];
-    snprintf(where, sizeof where, "boxes[%d]", i);
+    char what[96];
     if (!cJSON_IsObject(j)) return FAIL(MM_ERR_SYNTAX, "%s must be an object", where);
-    mm_result r = check_keys(j, where, keys, 3, err);
+    mm_result r = check_keys(j, where, keys, key_count, err);
     if (r != MM_OK) return r;
-    mm_vec3 position, size;
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(j, "position");
     snprintf(what, sizeof what, "%s.position", where);
     if (!v) return FAIL(MM_ERR_SYNTAX, "%s is missing", what);
-    if ((r = vec3(v, what, &position, err)) != MM_OK) return r;
+    if ((r = vec3(v, what, position, err)) != MM_OK) return r;
     v = cJSON_GetObjectItemCaseSensitive(j, "size");
     snprintf(what, sizeof what, "%s.size", where);
     if (!v) return FAIL(MM_ERR_SYNTAX, "%s is missing", what);
-    if ((r = vec3(v, what, &size, err)) != MM_OK) return r;
-    const float sz[3] = {size.x, size.y, size.z};
+    if ((r = vec3(v, what, size, err)) != MM_OK) return r;
+    const float sz[3] = {size->x, size->y, size->z};
     for (int k = 0; k < 3; ++k)
         if (sz[k] < 0.0f) return FAIL(MM_ERR_OUT_OF_RANGE, "%s.size[%d] must not be negative", where, k);
-    double yaw = 0.0;
+    *yaw = 0.0;
     v = cJSON_GetObjectItemCaseSensitive(j, "yaw");
     snprintf(what, sizeof what, "%s.yaw", where);
-    if (v && (r = number(v, what, 36000.0, &yaw, err)) != MM_OK) return r;
+    if (v && (r = number(v, what, 36000.0, yaw, err)) != MM_OK) return r;
+    return MM_OK;
+}
+
+static mm_result parse_box(const cJSON *j, int i, mm_scene *s, mm_error *err)
+{
+    static const char *const keys[] = {"position", "size", "yaw"};
+    char where[64];
+    snprintf(where, sizeof where, "boxes[%d]", i);
+    mm_vec3 position, size;
+    double yaw;
+    mm_result r = parse_placement(j, where, keys, 3, &position, &size, &yaw, err);
+    if (r != MM_OK) return r;
     r = mm_scene_add_box(s, position, size, (float)(yaw * MM_DEG_TO_RAD) + 0.0f);
     if (r != MM_OK) return FAIL(r, "%s: %s", where, mm_result_str(r));
     return MM_OK;
@@ -89,29 +101,14 @@ static mm_result parse_terrain_solid(const cJSON *j, const char *list, int i, bo
     static const char *const keys[] = {"position", "size", "yaw", "steps"};
     char where[64], what[96];
     snprintf(where, sizeof where, "%s[%d]", list, i);
-    if (!cJSON_IsObject(j)) return FAIL(MM_ERR_SYNTAX, "%s must be an object", where);
-    mm_result r = check_keys(j, where, keys, stairs ? 4 : 3, err);
-    if (r != MM_OK) return r;
     mm_vec3 position, size;
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(j, "position");
-    snprintf(what, sizeof what, "%s.position", where);
-    if (!v) return FAIL(MM_ERR_SYNTAX, "%s is missing", what);
-    if ((r = vec3(v, what, &position, err)) != MM_OK) return r;
-    v = cJSON_GetObjectItemCaseSensitive(j, "size");
-    snprintf(what, sizeof what, "%s.size", where);
-    if (!v) return FAIL(MM_ERR_SYNTAX, "%s is missing", what);
-    if ((r = vec3(v, what, &size, err)) != MM_OK) return r;
-    const float sz[3] = {size.x, size.y, size.z};
-    for (int k = 0; k < 3; ++k)
-        if (sz[k] < 0.0f) return FAIL(MM_ERR_OUT_OF_RANGE, "%s.size[%d] must not be negative", where, k);
+    double yaw, steps = 0.0;
+    mm_result r = parse_placement(j, where, keys, stairs ? 4 : 3, &position, &size, &yaw, err);
+    if (r != MM_OK) return r;
     if (!(size.z > 0.0f))
         return FAIL(MM_ERR_OUT_OF_RANGE, "%s.size[2] (its length) must be more than 0", where);
-    double yaw = 0.0, steps = 0.0;
-    v = cJSON_GetObjectItemCaseSensitive(j, "yaw");
-    snprintf(what, sizeof what, "%s.yaw", where);
-    if (v && (r = number(v, what, 36000.0, &yaw, err)) != MM_OK) return r;
     if (stairs) {
-        v = cJSON_GetObjectItemCaseSensitive(j, "steps");
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(j, "steps");
         snprintf(what, sizeof what, "%s.steps", where);
         if (!v) return FAIL(MM_ERR_SYNTAX, "%s is missing", what);
         if ((r = number(v, what, MM_SCENE_MAX_STEPS, &steps, err)) != MM_OK) return r;

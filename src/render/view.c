@@ -311,3 +311,21 @@ void mm_view_input(const mm_view_keys *k, float camera_yaw, mm_input *out)
         out->facing[1] = fz;
     }
 }
+
+/* what the chase frames: the joints (up to CHASE_JOINTS) and the path over the next second */
+enum { CHASE_PATH = 8, CHASE_JOINTS = 256 };
+
+void mm_view_chase(mm_camera *cam, const mm_camera_framing *framing, const mm_character *c,
+                   const mm_input *in, float aspect, float dt)
+{
+    mm_vec3 points[CHASE_JOINTS + CHASE_PATH];
+    int n = 0;
+    for (int j = 1; j < c->db->joint_count && n < CHASE_JOINTS; ++j) points[n++] = c->global[j].translation;
+    float times[CHASE_PATH];
+    mm_quat facings[CHASE_PATH];
+    for (int i = 0; i < CHASE_PATH; ++i) times[i] = (float)(i + 1) / CHASE_PATH;
+    mm_trajectory_sample(c->trajectory, in, times, CHASE_PATH, points + n, facings);
+    n += CHASE_PATH;
+    mm_vec3 forward = mm_quat_rotate(c->root.rotation, mm_vec3_make(0.0f, 0.0f, 1.0f));
+    mm_camera_chase(cam, framing, atan2f(forward.x, forward.z), points, n, aspect, dt);
+}
