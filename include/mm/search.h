@@ -183,6 +183,14 @@ typedef struct mm_searcher {
     int unit_count;
     float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */
     int facing_group;
+    /* A quantized copy of the features in tree order (one byte per dimension, quant_dims bytes a
+     * row: dims_padded rounded up to 16), for a first pass that bounds each frame's cost from
+     * below before the exact cost is computed: code c of dimension d stands for quant_lo[d] +
+     * c quant_step[d], within half a step of the feature (codes 0 and 255 also stand for everything
+     * below and above the grid). */
+    uint8_t *quantized;
+    int quant_dims;
+    double quant_lo[MM_SEARCH_MAX_DIMS], quant_step[MM_SEARCH_MAX_DIMS];
     size_t memory; /* bytes of all the above */
     mm_searcher_pool *pool;
     void *job; /* scratch for one threaded query */
@@ -203,6 +211,7 @@ int mm_searcher_search(const mm_searcher *s, const float *query, const mm_search
 typedef struct mm_search_stats {
     int frames_evaluated; /* frames whose full cost was computed (both passes) */
     int boxes_tested;     /* bounding boxes whose lower bound was computed */
+    int frames_bounded;   /* frames whose cost was bounded from the quantized copy */
 } mm_search_stats;
 
 /* mm_searcher_search that also reports its work (stats may be NULL). */
