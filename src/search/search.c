@@ -29,15 +29,18 @@
 #define SORTED_BUDGET_PERCENT 5
 #define SORTED_BUDGET_MIN     64
 #define MAX_SORTED_LEAVES     512
-/* The quantized copy of the features: one byte per dimension, rows padded to QUANT_ROW bytes; each
- * dimension's grid spans its values but the QUANT_TAIL share at either end (those take the end
- * codes), located with a histogram of QUANT_BINS bins. Query weights become 16-bit integers whose
- * largest is QUANT_WEIGHT_MAX. */
+/* The quantized copy of the features: one byte per dimension, in blocks of QUANT_BLOCK positions
+ * stored dimension by dimension (a block's codes of one dimension side by side, so that one SIMD
+ * pass bounds the whole block); each dimension's grid spans its values but the QUANT_TAIL share at
+ * either end (those take the end codes), located with a histogram of QUANT_BINS bins. Query weights
+ * become 16-bit integers whose largest is QUANT_WEIGHT_MAX. */
 #define QUANT_LEVELS     256
-#define QUANT_ROW        16
+#define QUANT_BLOCK      16
 #define QUANT_TAIL       0.0005
 #define QUANT_BINS       4096
 #define QUANT_WEIGHT_MAX 32767
+#define QUANT_CHECK      8 /* slots between the checks whether a block's bounds all exceed the limit */
+#define QUANT_HEAD       8 /* slots stored apart (the widest): all a far block's bound usually reads */
 
 const char *mm_search_method_name(mm_search_method m)
 {
@@ -298,36 +301,58 @@ static inline void lane_bounds(const float *q, const float *lo, const float *hi,
 }
 #endif
 
-/* The integer part of a frame's quantized bound: per dimension g = max(|query code - code| - 1, 0),
- * summed as floor(g^2 weight / 2^16) (each below 2^15, so pairs add in 16 bits signed). */
-#if defined(__SSE2__)
-static inline uint32_t quant_sum(const uint8_t *row, const uint8_t *query, const uint16_t *weight, int qdims)
+/* The integer parts of the quantized bounds of the QUANT_BLOCK positions of a block: per slot j (a
+ * dimension), g = max(|query code - code| - 1, 0) adds floor(g^2 weight_j / 2^16), in 16 bits
+ * saturating (a saturated sum is still a lower bound). head: the block's codes of the first
+ * head_slots slots, tail: those of the others (slot by slot, QUANT_BLOCK codes side by side); query
+ * and weight: per slot, repeated per lane. Returns the mask of the positions whose sum is at most
+ * thr, stopping early when none can be. */
+#if defined(__SSE2__) && QUANT_BLOCK == 16
+static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
+                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
 {
-    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi8(1), ones = _mm_set1_epi16(1);
-    __m128i acc = zero;
-    for (int d = 0; d < qdims; d += QUANT_ROW) {
-        __m128i x = _mm_loadu_si128((const __m128i *)(row + d)),
-                q = _mm_loadu_si128((const __m128i *)(query + d));
+    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi8(1), t = _mm_set1_epi16((short)thr);
+    __m128i sum_lo = zero, sum_hi = zero;
+    unsigned mask = 0xFFFF;
+    for (int j = 0; j < slots; ++j) {
+        if (j % QUANT_CHECK == 0 && j > 0) { /* every sum already above thr: the rest cannot help */
+            mask = (unsigned)_mm_movemask_epi8(
+                _mm_packs_epi16(_mm_cmpeq_epi16(_mm_subs_epu16(sum_lo, t), zero),
+                                _mm_cmpeq_epi16(_mm_subs_epu16(sum_hi, t), zero)));
+            if (!mask) return 0;
+        }
+        const uint8_t *codes =
+            j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
+        __m128i x = _mm_loadu_si128((const __m128i *)codes);
+        __m128i q = _mm_loadu_si128((const __m128i *)(query + j * QUANT_BLOCK));
+        __m128i w = _mm_loadu_si128((const __m128i *)(weight + j * 8));
         __m128i gap = _mm_subs_epu8(_mm_or_si128(_mm_subs_epu8(x, q), _mm_subs_epu8(q, x)), one);
         __m128i lo = _mm_unpacklo_epi8(gap, zero), hi = _mm_unpackhi_epi8(gap, zero);
-        lo = _mm_mulhi_epu16(_mm_mullo_epi16(lo, lo), _mm_loadu_si128((const __m128i *)(weight + d)));
-        hi = _mm_mulhi_epu16(_mm_mullo_epi16(hi, hi), _mm_loadu_si128((const __m128i *)(weight + d + 8)));
-        acc = _mm_add_epi32(acc, _mm_add_epi32(_mm_madd_epi16(lo, ones), _mm_madd_epi16(hi, ones)));
+        sum_lo = _mm_adds_epu16(sum_lo, _mm_mulhi_epu16(_mm_mullo_epi16(lo, lo), w));
+        sum_hi = _mm_adds_epu16(sum_hi, _mm_mulhi_epu16(_mm_mullo_epi16(hi, hi), w));
     }
-    acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0x4E));
-    acc = _mm_add_epi32(acc, _mm_shuffle_epi32(acc, 0xB1));
-    return (uint32_t)_mm_cvtsi128_si32(acc);
+    return (unsigned)_mm_movemask_epi8(_mm_packs_epi16(_mm_cmpeq_epi16(_mm_subs_epu16(sum_lo, t), zero),
+                                                       _mm_cmpeq_epi16(_mm_subs_epu16(sum_hi, t), zero)));
 }
 #else
-static inline uint32_t quant_sum(const uint8_t *row, const uint8_t *query, const uint16_t *weight, int qdims)
+static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
+                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
 {
-    uint32_t sum = 0;
-    for (int d = 0; d < qdims; ++d) {
-        int g = row[d] > query[d] ? row[d] - query[d] : query[d] - row[d];
-        g = g > 1 ? g - 1 : 0;
-        sum += ((uint32_t)(g * g) * weight[d]) >> 16;
+    unsigned mask = 0;
+    for (int i = 0; i < QUANT_BLOCK; ++i) {
+        uint32_t sum = 0;
+        for (int j = 0; j < slots; ++j) {
+            const uint8_t *codes =
+                j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
+            int x = codes[i], q = query[j * QUANT_BLOCK];
+            int g = x > q ? x - q : q - x;
+            g = g > 1 ? g - 1 : 0;
+            sum += ((uint32_t)(g * g) * weight[j * 8]) >> 16;
+            if (sum > 0xFFFF) sum = 0xFFFF;
+        }
+        if (sum <= thr) mask |= 1u << i;
     }
-    return sum;
+    return mask;
 }
 #endif
 
@@ -360,8 +385,8 @@ typedef struct query_ctx {
      * query or its weights do not fit the grid (NaN, all weights 0) */
     int use_quant;
     float quant_scale;
-    uint8_t quant_query[MM_SEARCH_MAX_DIMS + QUANT_ROW];
-    uint16_t quant_weight[MM_SEARCH_MAX_DIMS + QUANT_ROW];
+    uint8_t quant_query[MM_SEARCH_MAX_DIMS * QUANT_BLOCK]; /* per slot, repeated per lane */
+    uint16_t quant_weight[MM_SEARCH_MAX_DIMS * 8];
     int evaluated, boxes, bounded; /* work counters (single-threaded paths) */
 } query_ctx;
 
@@ -447,25 +472,27 @@ static void rotate(const mm_searcher *s, const float *x, double *z)
 static void prepare_quantized(query_ctx *c)
 {
     const mm_searcher *s = c->s;
-    int dims = c->db->dims_padded;
     c->use_quant = 0;
     if (!s->quantized) return;
-    memset(c->quant_query, 0, sizeof c->quant_query);
-    memset(c->quant_weight, 0, sizeof c->quant_weight);
     double largest = 0.0, term[MM_SEARCH_MAX_DIMS];
-    for (int d = 0; d < dims; ++d) {
-        term[d] = (double)c->w[d] * s->quant_step[d] * s->quant_step[d];
-        if (term[d] > largest) largest = term[d];
-        if (c->w[d] <= 0.0f) continue;
+    for (int j = 0; j < s->quant_slots; ++j) {
+        int d = s->quant_order[j];
+        term[j] = (double)c->w[d] * s->quant_step[d] * s->quant_step[d];
+        if (term[j] > largest) largest = term[j];
         double v = floor(((double)c->q[d] - s->quant_lo[d]) / s->quant_step[d] + 0.5);
         if (v != v) return; /* NaN: no bound */
-        c->quant_query[d] = (uint8_t)(v < 0.0 ? 0.0 : v > QUANT_LEVELS - 1 ? QUANT_LEVELS - 1 : v);
+        memset(c->quant_query + j * QUANT_BLOCK,
+               (uint8_t)(v < 0.0                ? 0.0
+                         : v > QUANT_LEVELS - 1 ? QUANT_LEVELS - 1
+                                                : v),
+               QUANT_BLOCK);
     }
     if (!(largest > 0.0) || !isfinite(largest)) return;
     double unit = largest / QUANT_WEIGHT_MAX;
-    for (int d = 0; d < dims; ++d) {
-        double x = floor(term[d] * (1.0 - 1e-5) / unit);
-        c->quant_weight[d] = (uint16_t)(x < 0.0 ? 0.0 : x > QUANT_WEIGHT_MAX ? QUANT_WEIGHT_MAX : x);
+    for (int j = 0; j < s->quant_slots; ++j) {
+        double x = floor(term[j] * (1.0 - 1e-5) / unit);
+        uint16_t weight = (uint16_t)(x < 0.0 ? 0.0 : x > QUANT_WEIGHT_MAX ? QUANT_WEIGHT_MAX : x);
+        for (int l = 0; l < 8; ++l) c->quant_weight[j * 8 + l] = weight;
     }
     c->quant_scale = nextafterf((float)(unit * 65536.0 * (1.0 - 1e-6)), 0.0f);
     c->use_quant = 1;
@@ -659,9 +686,26 @@ static void scan_rows(query_ctx *c, const float *features, const int32_t *order,
     }
 }
 
-/* Rows [p0, p1) of the tree order: each frame's bound from the quantized copy first, the exact cost
- * only for those whose bound can reach the limit (the limit only falls, so the one at the start of
- * a run is safe for the run). */
+/* The codes of block b's slots after the head ones. */
+static inline const uint8_t *quant_tail(const mm_searcher *s, int b)
+{
+    size_t blocks = ((size_t)s->db->frame_count + QUANT_BLOCK - 1) / QUANT_BLOCK;
+    return s->quantized +
+           QUANT_BLOCK * (blocks * (size_t)s->quant_head + (size_t)b * (s->quant_slots - s->quant_head));
+}
+
+/* The largest integer sum of the quantized bound with which a frame can still reach limit (the
+ * frames above it have a cost above limit; rounding errs towards keeping). */
+static uint16_t quant_threshold(const query_ctx *c, float limit, float least)
+{
+    double t = (double)limit / ((double)c->quant_scale * least) * (1.0 + 1e-5) + 1.0;
+    if (!(t < 65535.0)) return 65535; /* also NaN, and least 0 */
+    return t < 0.0 ? 0 : (uint16_t)t;
+}
+
+/* Rows [p0, p1) of the tree order: the bounds of their blocks from the quantized copy first, the
+ * exact cost only for the frames whose bound can reach the limit (the limit only falls, so the one
+ * at the start of a block is safe for the block). */
 static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
 {
     const mm_searcher *s = c->s;
@@ -670,21 +714,27 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
         scan_rows(c, s->features, s->order, s->order_clip, s->order_tags, p0, p1, st);
         return;
     }
-    int dims = c->db->dims_padded, qdims = s->quant_dims;
+    int dims = c->db->dims_padded;
     float least = c->loop_lo < 1.0f ? c->loop_lo : 1.0f;
-    for (int p = p0; p < p1; p += RUN) {
-        int n = p1 - p < RUN ? p1 - p : RUN, keep[RUN], m = 0;
-        float limit = state_limit(st);
-        const uint8_t *row = s->quantized + (size_t)p * qdims;
-        for (int i = 0; i < n; ++i) {
-            float bound = (float)quant_sum(row + (size_t)i * qdims, c->quant_query, c->quant_weight, qdims) *
-                          c->quant_scale;
-            if (!(bound * least > limit)) keep[m++] = i;
+    c->bounded += p1 - p0;
+    float limit = state_limit(st);
+    uint16_t thr = quant_threshold(c, limit, least);
+    for (int block = p0 / QUANT_BLOCK; block * QUANT_BLOCK < p1; ++block) {
+        int first = block * QUANT_BLOCK;
+        if (state_limit(st) != limit) {
+            limit = state_limit(st);
+            thr = quant_threshold(c, limit, least);
         }
-        c->bounded += n;
-        c->evaluated += m;
-        for (int j = 0; j < m; ++j) {
-            int at = p + keep[j];
+        int head = s->quant_head;
+        unsigned mask =
+            quant_block_mask(s->quantized + (size_t)block * head * QUANT_BLOCK, quant_tail(s, block),
+                             c->quant_query, c->quant_weight, head, s->quant_slots, thr);
+        if (first < p0) mask &= ~0u << (p0 - first);
+        if (p1 - first < QUANT_BLOCK) mask &= (1u << (p1 - first)) - 1u;
+        while (mask) {
+            int at = first + __builtin_ctz(mask);
+            mask &= mask - 1u;
+            ++c->evaluated;
             float base = distance(c->q, s->features + (size_t)at * dims, c->w, dims);
             consider(c, s->order, s->order_clip, s->order_tags, at, base, least, st);
         }
@@ -724,10 +774,15 @@ static inline void prefetch_lane(const query_ctx *c, const mm_search_node *node,
         at = (const char *)node_boxes(s, node->child[l]);
         end = at + 2 * sizeof(float) * (size_t)s->tree_dims * MM_SEARCH_WIDTH;
     } else { /* the rows the leaf's first pass reads */
-        const char *base = c->use_quant ? (const char *)s->quantized : (const char *)s->features;
-        size_t row = c->use_quant ? (size_t)s->quant_dims : sizeof(float) * (size_t)c->db->dims_padded;
-        at = base + row * (size_t)node->begin[l];
-        end = base + row * (size_t)node->end[l];
+        size_t dims = (size_t)c->db->dims_padded;
+        if (c->use_quant) { /* the head codes of its blocks */
+            size_t head = (size_t)s->quant_head * QUANT_BLOCK;
+            at = (const char *)s->quantized + head * (size_t)(node->begin[l] / QUANT_BLOCK);
+            end = (const char *)s->quantized + head * (size_t)((node->end[l] - 1) / QUANT_BLOCK + 1);
+        } else {
+            at = (const char *)(s->features + dims * (size_t)node->begin[l]);
+            end = (const char *)(s->features + dims * (size_t)node->end[l]);
+        }
     }
     for (; at < end; at += PREFETCH_STRIDE) __builtin_prefetch(at);
 #else
@@ -1139,7 +1194,9 @@ static int build_node(builder *b, int begin, int end, int depth)
             split = d;
         }
     }
-    int mid = begin + (end - begin) / 2;
+    /* near the median, on a boundary of the quantized copy's blocks (so that leaves are whole blocks) */
+    int mid = (begin + (end - begin) / 2 + QUANT_BLOCK / 2) / QUANT_BLOCK * QUANT_BLOCK;
+    if (mid <= begin || mid >= end) mid = begin + (end - begin) / 2;
     select_rank(b, s->order, begin, end, mid, split);
     int left = build_node(b, begin, mid, depth + 1);
     int right = build_node(b, mid, end, depth + 1);
@@ -1321,16 +1378,20 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov, d
 static void quantize_features(mm_searcher *s, uint32_t *hist)
 {
     size_t frames = (size_t)s->db->frame_count;
-    int dims = s->db->dims_padded, qdims = s->quant_dims;
-    memset(s->quantized, 0, frames * (size_t)qdims);
-    double tail = QUANT_TAIL * (double)frames;
+    int dims = s->db->dims_padded;
+    size_t blocks = (frames + QUANT_BLOCK - 1) / QUANT_BLOCK;
+    double tail = QUANT_TAIL * (double)frames, spread[MM_SEARCH_MAX_DIMS];
+    s->quant_slots = 0;
     for (int d = 0; d < dims; ++d) {
-        double lo = INFINITY, hi = -INFINITY;
+        double lo = INFINITY, hi = -INFINITY, sum = 0.0, sq = 0.0;
         for (size_t i = 0; i < frames; ++i) {
             double x = s->features[i * dims + d];
             lo = x < lo ? x : lo;
             hi = x > hi ? x : hi;
+            sum += x;
+            sq += x * x;
         }
+        spread[d] = s->w0[d] * (sq / (double)frames - (sum / (double)frames) * (sum / (double)frames));
         if (hi > lo && isfinite(hi - lo)) { /* the quantiles, to a bin */
             double width = (hi - lo) / QUANT_BINS;
             memset(hist, 0, sizeof(uint32_t) * QUANT_BINS);
@@ -1348,12 +1409,34 @@ static void quantize_features(mm_searcher *s, uint32_t *hist)
         }
         s->quant_lo[d] = isfinite(lo) ? lo : 0.0;
         s->quant_step[d] = hi > lo && isfinite(hi - lo) ? (hi - lo) / (QUANT_LEVELS - 1) : 1.0;
+        if (!(s->w0[d] > 0.0f)) continue; /* padding: no slot (a bound may leave dimensions out) */
+        int j = s->quant_slots++;         /* slots by decreasing spread, then index */
+        while (j > 0 && spread[s->quant_order[j - 1]] < spread[d]) {
+            s->quant_order[j] = s->quant_order[j - 1];
+            --j;
+        }
+        s->quant_order[j] = (int16_t)d;
+    }
+    s->quant_head = s->quant_slots < QUANT_HEAD ? s->quant_slots : QUANT_HEAD;
+    for (int j = 0; j < s->quant_slots; ++j) {
+        int d = s->quant_order[j];
         for (size_t i = 0; i < frames; ++i) {
             double v = floor((s->features[i * dims + d] - s->quant_lo[d]) / s->quant_step[d] + 0.5);
-            s->quantized[i * qdims + d] =
-                (uint8_t)(v > 0.0 ? (v < QUANT_LEVELS - 1 ? v : QUANT_LEVELS - 1) : 0.0);
+            size_t b = i / QUANT_BLOCK;
+            uint8_t *at = j < s->quant_head
+                              ? s->quantized + (b * s->quant_head + j) * QUANT_BLOCK
+                              : (uint8_t *)quant_tail(s, (int)b) + (j - s->quant_head) * QUANT_BLOCK;
+            at[i % QUANT_BLOCK] = (uint8_t)(v > 0.0 ? (v < QUANT_LEVELS - 1 ? v : QUANT_LEVELS - 1) : 0.0);
         }
     }
+    for (size_t i = frames; i < blocks * QUANT_BLOCK; ++i) /* the last block's unused positions */
+        for (int j = 0; j < s->quant_slots; ++j) {
+            size_t b = i / QUANT_BLOCK;
+            uint8_t *at = j < s->quant_head
+                              ? s->quantized + (b * s->quant_head + j) * QUANT_BLOCK
+                              : (uint8_t *)quant_tail(s, (int)b) + (j - s->quant_head) * QUANT_BLOCK;
+            at[i % QUANT_BLOCK] = 0;
+        }
 }
 
 /* ---- the searcher ----------------------------------------------------------------------- */
@@ -1376,8 +1459,8 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     s->order_clip = (int32_t *)mm_alloc_array(a, frames, sizeof(int32_t));
     s->order_tags = (uint64_t *)mm_alloc_array(a, frames, sizeof(uint64_t));
     s->features = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
-    s->quant_dims = (int)((dims + QUANT_ROW - 1) / QUANT_ROW * QUANT_ROW);
-    s->quantized = (uint8_t *)mm_alloc_array(a, frames, (size_t)s->quant_dims);
+    size_t quant_bytes = (frames + QUANT_BLOCK - 1) / QUANT_BLOCK * QUANT_BLOCK * dims;
+    s->quantized = (uint8_t *)mm_alloc_array(a, quant_bytes, 1);
     uint32_t *hist = (uint32_t *)mm_alloc_array(a, QUANT_BINS, sizeof(uint32_t));
     s->facing = (float *)mm_alloc_array(a, 2 * frames, sizeof(float));
     s->basis = (double *)mm_alloc_array(a, dims * (dims + 8), sizeof(double)); /* tree_dims <= dims + 8 */
@@ -1453,8 +1536,8 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         s->facing[2 * f] = len > 1e-6f ? x / len : 0.0f;
         s->facing[2 * f + 1] = len > 1e-6f ? z / len : 1.0f;
     }
-    s->memory = frames * (2 * sizeof(int32_t) + sizeof(uint64_t) + dims * sizeof(float) + 2 * sizeof(float) +
-                          (size_t)s->quant_dims) +
+    s->memory = frames * (2 * sizeof(int32_t) + sizeof(uint64_t) + dims * sizeof(float) + 2 * sizeof(float)) +
+                quant_bytes +
                 (size_t)s->node_count *
                     (sizeof(mm_search_node) + 2 * (size_t)s->tree_dims * MM_SEARCH_WIDTH * sizeof(float)) +
                 dims * (size_t)s->tree_dims * sizeof(double);
