@@ -406,6 +406,40 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
     return seen;
 }
 
+/* The quantized copy: every dimension of default weight above 0 has one slot; each code stands for
+ * its feature within half a step (the end codes also for everything beyond the grid), in the
+ * documented layout. This is what the first pass's bound rests on. */
+static void check_quantized(const mm_searcher *s)
+{
+    const mm_database *db = s->db;
+    int dims = db->dims_padded, slots = s->quant_slots, head = s->quant_head;
+    size_t blocks = ((size_t)db->frame_count + 15) / 16;
+    int weighted = 0;
+    for (int d = 0; d < dims; ++d) weighted += s->w0[d] > 0.0f;
+    assert_int_equal(slots, weighted);
+    assert_true(head >= 0 && head <= slots);
+    char seen[MM_SEARCH_MAX_DIMS] = {0};
+    long interior = 0;
+    for (int j = 0; j < slots; ++j) {
+        int d = s->quant_order[j];
+        assert_true(d >= 0 && d < dims && s->w0[d] > 0.0f && !seen[d]);
+        seen[d] = 1;
+        assert_true(s->quant_step[d] > 0.0);
+        for (int p = 0; p < db->frame_count; ++p) {
+            size_t b = (size_t)p / 16;
+            const uint8_t *codes = j < head
+                                       ? s->quantized + (b * head + j) * 16
+                                       : s->quantized + 16 * (blocks * head + b * (slots - head) + j - head);
+            int c = codes[p % 16];
+            double v = (s->features[(size_t)p * dims + d] - s->quant_lo[d]) / s->quant_step[d];
+            if (c > 0) assert_true(v >= c - 0.5 - 1e-9);
+            if (c < 255) assert_true(v <= c + 0.5 + 1e-9);
+            interior += c > 0 && c < 255;
+        }
+    }
+    assert_true(interior > 0);
+}
+
 /* The tree covers every frame once, each lane's box holds its frames, and the work units tile
  * the frames in order. */
 static void check_tree(const mm_searcher *s)
@@ -439,6 +473,7 @@ static void check_tree(const mm_searcher *s)
         at = n->end[l];
     }
     assert_int_equal(at, db->frame_count);
+    check_quantized(s);
 }
 
 static void test_tree(void **state)
@@ -633,6 +668,67 @@ static void test_kinds_equal_brute(void **state)
     mm_searcher_free(&s);
 }
 
+/* The first pass's bound with weights and queries far from the defaults: queries far outside the
+ * quantized grid, one dimension weighing 1000 times the others, weights of 0, loop favours of 0 and
+ * a NaN in the query; the fast search still returns brute force's winner, and on near queries the
+ * bound leaves few frames to evaluate exactly. */
+static void test_quantized_bound(void **state)
+{
+    (void)state;
+    const mm_database *db = &real_db;
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, db, NULL, NULL), MM_OK);
+    test_rng r = {0x9a47};
+    float q[MM_SEARCH_MAX_DIMS];
+    long bounded = 0, evaluated = 0;
+    for (int i = 0; i < 120; ++i) {
+        mm_search_params p;
+        make_kind(db, &r, i % 3, q, &p);
+        switch (i % 6) {
+        case 1: /* far outside the grid */
+            for (int d = 0; d < db->dims; ++d) q[d] *= 40.0f;
+            break;
+        case 2: /* one bone's weight dominates, another's is 0 */
+            p.joint_position_weights[0] = 1000.0f;
+            p.joint_velocity_weights[0] = 0.0f;
+            break;
+        case 3: /* the trajectory alone */
+            p.pose_trajectory_ratio = 1.0f;
+            p.loop_anim_favour = 0.0f;
+            break;
+        case 4: /* tiny weights everywhere but the trajectory directions */
+            for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) p.joint_position_weights[b] = 1e-4f;
+            p.angle_multiplier = 50.0f;
+            break;
+        case 5: /* a query exactly on a frame */
+            mm_search_query_from_frames(db, p.current_frame, p.current_frame, q);
+            p.current_frame = -1;
+            break;
+        }
+        check_query(&s, q, &p, "quantized bound", i);
+        if (i % 6 == 0 && i % 3 == 0) { /* near queries with default weights */
+            mm_search_result res;
+            mm_search_stats st;
+            mm_searcher_search_stats(&s, q, &p, MM_SEARCH_FAST, &res, 1, &st);
+            bounded += st.frames_bounded;
+            evaluated += st.frames_evaluated;
+        }
+    }
+    assert_true(bounded > 0);
+    assert_true(evaluated * 4 < bounded); /* the bound prunes most frames it sees */
+    /* a NaN in the query: every cost is NaN; brute force and the fast search agree */
+    mm_search_params p;
+    make_kind(db, &r, 0, q, &p);
+    q[0] = NAN;
+    mm_search_result brute, fast;
+    mm_searcher_search(&s, q, &p, MM_SEARCH_BRUTE, &brute, 1);
+    mm_searcher_search(&s, q, &p, MM_SEARCH_FAST, &fast, 1);
+    assert_int_equal(fast.frame, brute.frame);
+    print_message("quantized bound: %ld of %ld frames bounded on near queries evaluated exactly\n", evaluated,
+                  bounded);
+    mm_searcher_free(&s);
+}
+
 /* Ties: the real database with its features on a coarse grid (many frames then have exactly the
  * same features, so exact ties are everywhere), every kind of query; the fast search returns
  * brute force's winner, the lowest index among the tied. */
@@ -680,6 +776,7 @@ int main(void)
         cmocka_unit_test(test_small_trees),
         cmocka_unit_test(test_kinds_equal_brute),
         cmocka_unit_test(test_ties_every_kind),
+        cmocka_unit_test(test_quantized_bound),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -136,7 +136,7 @@ typedef struct mm_searcher_desc {
 
 typedef struct mm_searcher_pool mm_searcher_pool;
 
-#define MM_SEARCH_LEAF       16 /* frames per leaf of the searcher's tree, at most */
+#define MM_SEARCH_LEAF       32 /* frames per leaf of the searcher's tree, at most */
 #define MM_SEARCH_WIDTH      4  /* children per node of the searcher's tree, at most */
 #define MM_SEARCH_UNIT_DEPTH 5  /* the tree is split into about 2^5 work units for threads */
 #define MM_SEARCH_MAX_UNITS  (2 << MM_SEARCH_UNIT_DEPTH)
@@ -183,6 +183,17 @@ typedef struct mm_searcher {
     int unit_count;
     float *facing; /* per frame: unit (x, z) of the furthest future trajectory direction (MM_SEARCH_FACING) */
     int facing_group;
+    /* A quantized copy of the features in tree order, for a first pass that bounds each frame's
+     * cost from below before the exact cost is computed: one byte per dimension (code c of
+     * dimension d stands for quant_lo[d] + c quant_step[d], within half a step of the feature; codes
+     * 0 and 255 also for everything below and above the grid). The dimensions of default weight
+     * above 0 are its slots, by decreasing weighted variance (quant_order: slot -> dimension).
+     * Blocks of 16 positions, slot by slot (16 codes side by side): first every block's first
+     * quant_head slots, then every block's others. */
+    uint8_t *quantized;
+    int16_t quant_order[MM_SEARCH_MAX_DIMS];
+    int quant_slots, quant_head;
+    double quant_lo[MM_SEARCH_MAX_DIMS], quant_step[MM_SEARCH_MAX_DIMS];
     size_t memory; /* bytes of all the above */
     mm_searcher_pool *pool;
     void *job; /* scratch for one threaded query */
@@ -203,6 +214,7 @@ int mm_searcher_search(const mm_searcher *s, const float *query, const mm_search
 typedef struct mm_search_stats {
     int frames_evaluated; /* frames whose full cost was computed (both passes) */
     int boxes_tested;     /* bounding boxes whose lower bound was computed */
+    int frames_bounded;   /* frames whose cost was bounded from the quantized copy */
 } mm_search_stats;
 
 /* mm_searcher_search that also reports its work (stats may be NULL). */

@@ -29,6 +29,18 @@
 #define SORTED_BUDGET_PERCENT 5
 #define SORTED_BUDGET_MIN     64
 #define MAX_SORTED_LEAVES     512
+/* The quantized copy of the features: one byte per dimension, in blocks of QUANT_BLOCK positions
+ * stored dimension by dimension (a block's codes of one dimension side by side, so that one SIMD
+ * pass bounds the whole block); each dimension's grid spans its values but the QUANT_TAIL share at
+ * either end (those take the end codes), located with a histogram of QUANT_BINS bins. Query weights
+ * become 16-bit integers whose largest is QUANT_WEIGHT_MAX. */
+#define QUANT_LEVELS     256
+#define QUANT_BLOCK      16
+#define QUANT_TAIL       0.0005
+#define QUANT_BINS       4096
+#define QUANT_WEIGHT_MAX 32767
+#define QUANT_CHECK      8 /* slots between the checks whether a block's bounds all exceed the limit */
+#define QUANT_HEAD       8 /* slots stored apart (the widest): all a far block's bound usually reads */
 
 const char *mm_search_method_name(mm_search_method m)
 {
@@ -289,6 +301,61 @@ static inline void lane_bounds(const float *q, const float *lo, const float *hi,
 }
 #endif
 
+/* The integer parts of the quantized bounds of the QUANT_BLOCK positions of a block: per slot j (a
+ * dimension), g = max(|query code - code| - 1, 0) adds floor(g^2 weight_j / 2^16), in 16 bits
+ * saturating (a saturated sum is still a lower bound). head: the block's codes of the first
+ * head_slots slots, tail: those of the others (slot by slot, QUANT_BLOCK codes side by side); query
+ * and weight: per slot, repeated per lane. Returns the mask of the positions whose sum is at most
+ * thr, stopping early when none can be. */
+#if defined(__SSE2__) && QUANT_BLOCK == 16
+static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
+                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
+{
+    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi8(1), t = _mm_set1_epi16((short)thr);
+    __m128i sum_lo = zero, sum_hi = zero;
+    unsigned mask = 0xFFFF;
+    for (int j = 0; j < slots; ++j) {
+        if (j % QUANT_CHECK == 0 && j > 0) { /* every sum already above thr: the rest cannot help */
+            mask = (unsigned)_mm_movemask_epi8(
+                _mm_packs_epi16(_mm_cmpeq_epi16(_mm_subs_epu16(sum_lo, t), zero),
+                                _mm_cmpeq_epi16(_mm_subs_epu16(sum_hi, t), zero)));
+            if (!mask) return 0;
+        }
+        const uint8_t *codes =
+            j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
+        __m128i x = _mm_loadu_si128((const __m128i *)codes);
+        __m128i q = _mm_loadu_si128((const __m128i *)(query + j * QUANT_BLOCK));
+        __m128i w = _mm_loadu_si128((const __m128i *)(weight + j * 8));
+        __m128i gap = _mm_subs_epu8(_mm_or_si128(_mm_subs_epu8(x, q), _mm_subs_epu8(q, x)), one);
+        __m128i lo = _mm_unpacklo_epi8(gap, zero), hi = _mm_unpackhi_epi8(gap, zero);
+        sum_lo = _mm_adds_epu16(sum_lo, _mm_mulhi_epu16(_mm_mullo_epi16(lo, lo), w));
+        sum_hi = _mm_adds_epu16(sum_hi, _mm_mulhi_epu16(_mm_mullo_epi16(hi, hi), w));
+    }
+    return (unsigned)_mm_movemask_epi8(_mm_packs_epi16(_mm_cmpeq_epi16(_mm_subs_epu16(sum_lo, t), zero),
+                                                       _mm_cmpeq_epi16(_mm_subs_epu16(sum_hi, t), zero)));
+}
+#else
+static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
+                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
+{
+    unsigned mask = 0;
+    for (int i = 0; i < QUANT_BLOCK; ++i) {
+        uint32_t sum = 0;
+        for (int j = 0; j < slots; ++j) {
+            const uint8_t *codes =
+                j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
+            int x = codes[i], q = query[j * QUANT_BLOCK];
+            int g = x > q ? x - q : q - x;
+            g = g > 1 ? g - 1 : 0;
+            sum += ((uint32_t)(g * g) * weight[j * 8]) >> 16;
+            if (sum > 0xFFFF) sum = 0xFFFF;
+        }
+        if (sum <= thr) mask |= 1u << i;
+    }
+    return mask;
+}
+#endif
+
 /* ---- one query -------------------------------------------------------------------------- */
 
 typedef struct query_ctx {
@@ -312,7 +379,15 @@ typedef struct query_ctx {
      * scanned[0..scanned_count)) */
     int sorted_budget, streaming, scanned_count, skip_at;
     int32_t scanned[MAX_SORTED_LEAVES];
-    int evaluated, boxes; /* work counters (single-threaded paths) */
+    int touched; /* frames of the leaves scanned so far (what the nearest-first budget counts) */
+    /* the quantized first pass: the query's codes and integer weights (quant_dims each), and the
+     * factor turning their integer sum into a lower bound of the cost; off (use_quant 0) when the
+     * query or its weights do not fit the grid (NaN, all weights 0) */
+    int use_quant;
+    float quant_scale;
+    uint8_t quant_query[MM_SEARCH_MAX_DIMS * QUANT_BLOCK]; /* per slot, repeated per lane */
+    uint16_t quant_weight[MM_SEARCH_MAX_DIMS * 8];
+    int evaluated, boxes, bounded; /* work counters (single-threaded paths) */
 } query_ctx;
 
 /* Whether frame f (of clip clip_index, with tags) is a candidate. */
@@ -388,6 +463,41 @@ static void rotate(const mm_searcher *s, const float *x, double *z)
     memcpy(z, sum, sizeof(double) * (size_t)slots);
 }
 
+/* The query on the quantized grid, and its weights as integers. With g the gap in steps between
+ * the query's code and a frame's, less one (half a step for the frame's rounding and half for the
+ * query's; the end codes also stand for everything beyond, where the same gap holds), a frame's
+ * distance along d is at least w_d step_d^2 g^2. The integer kernel sums
+ * floor(g^2 quant_weight_d / 2^16), quant_weight_d = floor(w_d step_d^2 (1 - 1e-5) / unit), so that
+ * sum x unit x 2^16 never exceeds the cost (1 - 1e-5 covers the rounding of the float kernel). */
+static void prepare_quantized(query_ctx *c)
+{
+    const mm_searcher *s = c->s;
+    c->use_quant = 0;
+    if (!s->quantized) return;
+    double largest = 0.0, term[MM_SEARCH_MAX_DIMS];
+    for (int j = 0; j < s->quant_slots; ++j) {
+        int d = s->quant_order[j];
+        term[j] = (double)c->w[d] * s->quant_step[d] * s->quant_step[d];
+        if (term[j] > largest) largest = term[j];
+        double v = floor(((double)c->q[d] - s->quant_lo[d]) / s->quant_step[d] + 0.5);
+        if (v != v) return; /* NaN: no bound */
+        memset(c->quant_query + j * QUANT_BLOCK,
+               (uint8_t)(v < 0.0                ? 0.0
+                         : v > QUANT_LEVELS - 1 ? QUANT_LEVELS - 1
+                                                : v),
+               QUANT_BLOCK);
+    }
+    if (!(largest > 0.0) || !isfinite(largest)) return;
+    double unit = largest / QUANT_WEIGHT_MAX;
+    for (int j = 0; j < s->quant_slots; ++j) {
+        double x = floor(term[j] * (1.0 - 1e-5) / unit);
+        uint16_t weight = (uint16_t)(x < 0.0 ? 0.0 : x > QUANT_WEIGHT_MAX ? QUANT_WEIGHT_MAX : x);
+        for (int l = 0; l < 8; ++l) c->quant_weight[j * 8 + l] = weight;
+    }
+    c->quant_scale = nextafterf((float)(unit * 65536.0 * (1.0 - 1e-6)), 0.0f);
+    c->use_quant = 1;
+}
+
 static void prepare(query_ctx *c, const mm_searcher *s, const float *query, const mm_search_params *p,
                     mm_search_method method)
 {
@@ -404,7 +514,7 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
     c->loop_lo = p->loop_anim_favour;
     if (!(c->loop_lo >= 0.0f)) c->loop_lo = 0.0f; /* a negative or NaN favour gives no bound */
     c->use_facing = 0;
-    c->evaluated = c->boxes = 0;
+    c->evaluated = c->boxes = c->bounded = c->touched = 0;
     c->sorted_budget = INT32_MAX; /* work units of a thread: nearest first throughout */
     c->streaming = c->scanned_count = c->skip_at = 0;
 
@@ -429,6 +539,7 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
     rotate(s, query, zq);
     for (int j = 0; j < s->tree_dims; ++j)
         for (int l = 0; l < MM_SEARCH_WIDTH; ++l) c->zq_lanes[j * MM_SEARCH_WIDTH + l] = (float)zq[j];
+    prepare_quantized(c);
     if (c->method == MM_SEARCH_FACING) {
         if (s->facing_group >= 0) {
             int o = db->groups[s->facing_group].offset;
@@ -542,6 +653,22 @@ static void run_distances(const query_ctx *c, const float *x, int count, float *
 
 #define RUN 64 /* rows per run: distances first, then the rules for the few that can matter */
 
+/* Row at (of the tree order, or of the database when order is NULL) with distance base: taken if
+ * it is a candidate whose cost can enter the list or the ties. */
+static inline void consider(query_ctx *c, const int32_t *order, const int32_t *clips, const uint64_t *tags,
+                            int at, float base, float least, scan_state *st)
+{
+    const mm_database *db = c->db;
+    float limit = state_limit(st);
+    if (base * least > limit) return; /* cannot enter the list nor the ties */
+    int f = order ? order[at] : at;
+    int clip = clips ? clips[at] : db->frame_clip[f];
+    if (f == c->next || !accepted_with(c, f, clip, tags ? tags[at] : db->frame_tags[f])) return;
+    float cost = db->clips[clip].loop ? base * c->p->loop_anim_favour : base;
+    if (cost > limit && !st->find_first) return;
+    take(st, f, cost, base);
+}
+
 /* Rows [p0, p1) of the searcher's tree order, or of the database when order is NULL. */
 static void scan_rows(query_ctx *c, const float *features, const int32_t *order, const int32_t *clips,
                       const uint64_t *tags, int p0, int p1, scan_state *st)
@@ -555,23 +682,63 @@ static void scan_rows(query_ctx *c, const float *features, const int32_t *order,
         int n = p1 - p < RUN ? p1 - p : RUN;
         run_distances(c, features + (size_t)p * dims, n, base);
         c->evaluated += n;
-        for (int i = 0; i < n; ++i) {
-            float limit = state_limit(st);
-            if (base[i] * least > limit) continue; /* cannot enter the list nor the ties */
-            int at = p + i, f = order ? order[at] : at;
-            int clip = clips ? clips[at] : db->frame_clip[f];
-            if (f == c->next || !accepted_with(c, f, clip, tags ? tags[at] : db->frame_tags[f])) continue;
-            float cost = db->clips[clip].loop ? base[i] * c->p->loop_anim_favour : base[i];
-            if (cost > limit && !st->find_first) continue;
-            take(st, f, cost, base[i]);
-        }
+        for (int i = 0; i < n; ++i) consider(c, order, clips, tags, p + i, base[i], least, st);
     }
 }
 
+/* The codes of block b's slots after the head ones. */
+static inline const uint8_t *quant_tail(const mm_searcher *s, int b)
+{
+    size_t blocks = ((size_t)s->db->frame_count + QUANT_BLOCK - 1) / QUANT_BLOCK;
+    return s->quantized +
+           QUANT_BLOCK * (blocks * (size_t)s->quant_head + (size_t)b * (s->quant_slots - s->quant_head));
+}
+
+/* The largest integer sum of the quantized bound with which a frame can still reach limit (the
+ * frames above it have a cost above limit; rounding errs towards keeping). */
+static uint16_t quant_threshold(const query_ctx *c, float limit, float least)
+{
+    double t = (double)limit / ((double)c->quant_scale * least) * (1.0 + 1e-5) + 1.0;
+    if (!(t < 65535.0)) return 65535; /* also NaN, and least 0 */
+    return t < 0.0 ? 0 : (uint16_t)t;
+}
+
+/* Rows [p0, p1) of the tree order: the bounds of their blocks from the quantized copy first, the
+ * exact cost only for the frames whose bound can reach the limit (the limit only falls, so the one
+ * at the start of a block is safe for the block). */
 static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
 {
     const mm_searcher *s = c->s;
-    scan_rows(c, s->features, s->order, s->order_clip, s->order_tags, p0, p1, st);
+    c->touched += p1 - p0;
+    if (!c->use_quant) {
+        scan_rows(c, s->features, s->order, s->order_clip, s->order_tags, p0, p1, st);
+        return;
+    }
+    int dims = c->db->dims_padded;
+    float least = c->loop_lo < 1.0f ? c->loop_lo : 1.0f;
+    c->bounded += p1 - p0;
+    float limit = state_limit(st);
+    uint16_t thr = quant_threshold(c, limit, least);
+    for (int block = p0 / QUANT_BLOCK; block * QUANT_BLOCK < p1; ++block) {
+        int first = block * QUANT_BLOCK;
+        if (state_limit(st) != limit) {
+            limit = state_limit(st);
+            thr = quant_threshold(c, limit, least);
+        }
+        int head = s->quant_head;
+        unsigned mask =
+            quant_block_mask(s->quantized + (size_t)block * head * QUANT_BLOCK, quant_tail(s, block),
+                             c->quant_query, c->quant_weight, head, s->quant_slots, thr);
+        if (first < p0) mask &= ~0u << (p0 - first);
+        if (p1 - first < QUANT_BLOCK) mask &= (1u << (p1 - first)) - 1u;
+        while (mask) {
+            int at = first + __builtin_ctz(mask);
+            mask &= mask - 1u;
+            ++c->evaluated;
+            float base = distance(c->q, s->features + (size_t)at * dims, c->w, dims);
+            consider(c, s->order, s->order_clip, s->order_tags, at, base, least, st);
+        }
+    }
 }
 
 /* The boxes of node n: its lanes' minima ([axis][lane]), then their maxima. */
@@ -606,10 +773,16 @@ static inline void prefetch_lane(const query_ctx *c, const mm_search_node *node,
         __builtin_prefetch(&s->nodes[node->child[l]]);
         at = (const char *)node_boxes(s, node->child[l]);
         end = at + 2 * sizeof(float) * (size_t)s->tree_dims * MM_SEARCH_WIDTH;
-    } else {
-        size_t row = sizeof(float) * (size_t)c->db->dims_padded;
-        at = (const char *)s->features + row * (size_t)node->begin[l];
-        end = (const char *)s->features + row * (size_t)node->end[l];
+    } else { /* the rows the leaf's first pass reads */
+        size_t dims = (size_t)c->db->dims_padded;
+        if (c->use_quant) { /* the head codes of its blocks */
+            size_t head = (size_t)s->quant_head * QUANT_BLOCK;
+            at = (const char *)s->quantized + head * (size_t)(node->begin[l] / QUANT_BLOCK);
+            end = (const char *)s->quantized + head * (size_t)((node->end[l] - 1) / QUANT_BLOCK + 1);
+        } else {
+            at = (const char *)(s->features + dims * (size_t)node->begin[l]);
+            end = (const char *)(s->features + dims * (size_t)node->end[l]);
+        }
     }
     for (; at < end; at += PREFETCH_STRIDE) __builtin_prefetch(at);
 #else
@@ -660,7 +833,7 @@ static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st)
         while (c->skip_at < c->scanned_count && c->scanned[c->skip_at] < begin) ++c->skip_at;
         if (c->skip_at < c->scanned_count && c->scanned[c->skip_at] == begin) return;
     } else if (c->sorted_budget < INT32_MAX) { /* in the nearest-first phase of a descent */
-        if (c->evaluated >= c->sorted_budget || c->scanned_count == MAX_SORTED_LEAVES) {
+        if (c->touched >= c->sorted_budget || c->scanned_count == MAX_SORTED_LEAVES) {
             c->streaming = -1; /* unwind: the rest streams */
             return;
         }
@@ -683,7 +856,7 @@ static void descend(query_ctx *c, scan_state *st)
 {
     long budget = (long)c->db->frame_count * SORTED_BUDGET_PERCENT / 100;
     if (budget < SORTED_BUDGET_MIN) budget = SORTED_BUDGET_MIN;
-    c->sorted_budget = (int)(c->evaluated + budget < INT32_MAX ? c->evaluated + budget : INT32_MAX);
+    c->sorted_budget = (int)(c->touched + budget < INT32_MAX ? c->touched + budget : INT32_MAX);
     c->streaming = c->scanned_count = c->skip_at = 0;
     expand(c, 0, st);
     if (c->streaming != 0) {
@@ -833,6 +1006,7 @@ static int search_parallel(const mm_searcher *s, query_ctx *c, mm_search_result 
         overflow |= st->overflow;
         c->evaluated += job->worker_ctx[t].evaluated;
         c->boxes += job->worker_ctx[t].boxes;
+        c->bounded += job->worker_ctx[t].bounded;
     }
     if (all.count == 0) return 0;
     float limit = tie_limit(lowest.cost);
@@ -877,6 +1051,7 @@ int mm_searcher_search_stats(const mm_searcher *s, const float *query, const mm_
     if (stats) {
         stats->frames_evaluated = c.evaluated;
         stats->boxes_tested = c.boxes;
+        stats->frames_bounded = c.bounded;
     }
     return found;
 }
@@ -1019,7 +1194,9 @@ static int build_node(builder *b, int begin, int end, int depth)
             split = d;
         }
     }
-    int mid = begin + (end - begin) / 2;
+    /* near the median, on a boundary of the quantized copy's blocks (so that leaves are whole blocks) */
+    int mid = (begin + (end - begin) / 2 + QUANT_BLOCK / 2) / QUANT_BLOCK * QUANT_BLOCK;
+    if (mid <= begin || mid >= end) mid = begin + (end - begin) / 2;
     select_rank(b, s->order, begin, end, mid, split);
     int left = build_node(b, begin, mid, depth + 1);
     int right = build_node(b, mid, end, depth + 1);
@@ -1195,6 +1372,73 @@ static void principal_axes(const mm_database *db, mm_searcher *s, double *cov, d
             s->basis[(size_t)k * slots + j] = slot_axis[j] >= 0 ? v[k * n + slot_axis[j]] : 0.0;
 }
 
+/* The quantized copy of the features (in tree order, already in s->features): per dimension a
+ * grid of QUANT_LEVELS codes from the QUANT_TAIL quantile to the 1 - QUANT_TAIL one (the values
+ * beyond take the end codes), each value coded to the nearest point. hist: QUANT_BINS counters. */
+static void quantize_features(mm_searcher *s, uint32_t *hist)
+{
+    size_t frames = (size_t)s->db->frame_count;
+    int dims = s->db->dims_padded;
+    size_t blocks = (frames + QUANT_BLOCK - 1) / QUANT_BLOCK;
+    double tail = QUANT_TAIL * (double)frames, spread[MM_SEARCH_MAX_DIMS];
+    s->quant_slots = 0;
+    for (int d = 0; d < dims; ++d) {
+        double lo = INFINITY, hi = -INFINITY, sum = 0.0, sq = 0.0;
+        for (size_t i = 0; i < frames; ++i) {
+            double x = s->features[i * dims + d];
+            lo = x < lo ? x : lo;
+            hi = x > hi ? x : hi;
+            sum += x;
+            sq += x * x;
+        }
+        spread[d] = s->w0[d] * (sq / (double)frames - (sum / (double)frames) * (sum / (double)frames));
+        if (hi > lo && isfinite(hi - lo)) { /* the quantiles, to a bin */
+            double width = (hi - lo) / QUANT_BINS;
+            memset(hist, 0, sizeof(uint32_t) * QUANT_BINS);
+            for (size_t i = 0; i < frames; ++i) {
+                int bin = (int)((s->features[i * dims + d] - lo) / width);
+                ++hist[bin < 0 ? 0 : bin >= QUANT_BINS ? QUANT_BINS - 1 : bin];
+            }
+            int first = 0, last = QUANT_BINS - 1;
+            for (double below = hist[0]; below <= tail && first < QUANT_BINS - 1;) below += hist[++first];
+            for (double above = hist[last]; above <= tail && last > 0;) above += hist[--last];
+            if (first < last) {
+                hi = lo + (last + 1) * width;
+                lo = lo + first * width;
+            }
+        }
+        s->quant_lo[d] = isfinite(lo) ? lo : 0.0;
+        s->quant_step[d] = hi > lo && isfinite(hi - lo) ? (hi - lo) / (QUANT_LEVELS - 1) : 1.0;
+        if (!(s->w0[d] > 0.0f)) continue; /* padding: no slot (a bound may leave dimensions out) */
+        int j = s->quant_slots++;         /* slots by decreasing spread, then index */
+        while (j > 0 && spread[s->quant_order[j - 1]] < spread[d]) {
+            s->quant_order[j] = s->quant_order[j - 1];
+            --j;
+        }
+        s->quant_order[j] = (int16_t)d;
+    }
+    s->quant_head = s->quant_slots < QUANT_HEAD ? s->quant_slots : QUANT_HEAD;
+    for (int j = 0; j < s->quant_slots; ++j) {
+        int d = s->quant_order[j];
+        for (size_t i = 0; i < frames; ++i) {
+            double v = floor((s->features[i * dims + d] - s->quant_lo[d]) / s->quant_step[d] + 0.5);
+            size_t b = i / QUANT_BLOCK;
+            uint8_t *at = j < s->quant_head
+                              ? s->quantized + (b * s->quant_head + j) * QUANT_BLOCK
+                              : (uint8_t *)quant_tail(s, (int)b) + (j - s->quant_head) * QUANT_BLOCK;
+            at[i % QUANT_BLOCK] = (uint8_t)(v > 0.0 ? (v < QUANT_LEVELS - 1 ? v : QUANT_LEVELS - 1) : 0.0);
+        }
+    }
+    for (size_t i = frames; i < blocks * QUANT_BLOCK; ++i) /* the last block's unused positions */
+        for (int j = 0; j < s->quant_slots; ++j) {
+            size_t b = i / QUANT_BLOCK;
+            uint8_t *at = j < s->quant_head
+                              ? s->quantized + (b * s->quant_head + j) * QUANT_BLOCK
+                              : (uint8_t *)quant_tail(s, (int)b) + (j - s->quant_head) * QUANT_BLOCK;
+            at[i % QUANT_BLOCK] = 0;
+        }
+}
+
 /* ---- the searcher ----------------------------------------------------------------------- */
 
 mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searcher_desc *desc, mm_error *err)
@@ -1215,6 +1459,9 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     s->order_clip = (int32_t *)mm_alloc_array(a, frames, sizeof(int32_t));
     s->order_tags = (uint64_t *)mm_alloc_array(a, frames, sizeof(uint64_t));
     s->features = (float *)mm_alloc_array(a, frames * dims, sizeof(float));
+    size_t quant_bytes = (frames + QUANT_BLOCK - 1) / QUANT_BLOCK * QUANT_BLOCK * dims;
+    s->quantized = (uint8_t *)mm_alloc_array(a, quant_bytes, 1);
+    uint32_t *hist = (uint32_t *)mm_alloc_array(a, QUANT_BINS, sizeof(uint32_t));
     s->facing = (float *)mm_alloc_array(a, 2 * frames, sizeof(float));
     s->basis = (double *)mm_alloc_array(a, dims * (dims + 8), sizeof(double)); /* tree_dims <= dims + 8 */
     s->job = mm_alloc_array(a, 1, sizeof(parallel_job));
@@ -1225,7 +1472,7 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     float *bin_min = (float *)mm_alloc_array(a, max_bin * (dims + 8), sizeof(float));
     float *bin_max = (float *)mm_alloc_array(a, max_bin * (dims + 8), sizeof(float));
     int ok = s->order && s->order_clip && s->order_tags && s->features && s->facing && s->job && s->basis &&
-             b && coords && cov && bin && bin_min && bin_max;
+             s->quantized && hist && b && coords && cov && bin && bin_min && bin_max;
     if (ok) {
         for (size_t f = 0; f < frames; ++f) s->order[f] = (int32_t)f;
         mm_search_params defaults;
@@ -1265,6 +1512,7 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
     mm_free(a, bin_min);
     mm_free(a, bin_max);
     if (!ok) {
+        mm_free(a, hist);
         mm_searcher_free(s);
         return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
     }
@@ -1273,6 +1521,8 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         s->order_clip[i] = db->frame_clip[s->order[i]];
         s->order_tags[i] = db->frame_tags[s->order[i]];
     }
+    quantize_features(s, hist);
+    mm_free(a, hist);
     /* MM_SEARCH_FACING: the yaw of each frame's furthest future trajectory direction. */
     s->facing_group = -1;
     for (int g = 0; g < db->group_count; ++g)
@@ -1287,6 +1537,7 @@ mm_result mm_searcher_init(mm_searcher *s, const mm_database *db, const mm_searc
         s->facing[2 * f + 1] = len > 1e-6f ? z / len : 1.0f;
     }
     s->memory = frames * (2 * sizeof(int32_t) + sizeof(uint64_t) + dims * sizeof(float) + 2 * sizeof(float)) +
+                quant_bytes +
                 (size_t)s->node_count *
                     (sizeof(mm_search_node) + 2 * (size_t)s->tree_dims * MM_SEARCH_WIDTH * sizeof(float)) +
                 dims * (size_t)s->tree_dims * sizeof(double);
@@ -1306,6 +1557,7 @@ void mm_searcher_free(mm_searcher *s)
     mm_free(a, s->order_clip);
     mm_free(a, s->order_tags);
     mm_free(a, s->features);
+    mm_free(a, s->quantized);
     mm_free(a, s->nodes);
     mm_free(a, s->basis);
     mm_free(a, s->boxes);
