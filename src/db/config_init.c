@@ -10,6 +10,10 @@
 
 /* ---- gait speeds ------------------------------------------------------------------------ */
 
+#define MM_GAIT_MIN_SECONDS 0.25 /* s of windows a speed is measured on */
+#define MM_GAIT_PEAK_BAND   1.1f /* the walk's pace: the speed with the most windows within /1.1 to x1.1 */
+#define MM_GAIT_WALK_SPREAD 1.5f /* the walk: the windows within /1.5 to x1.5 of its pace */
+
 typedef struct speed_list {
     float *v;
     int n, cap;
@@ -30,10 +34,47 @@ static int push_speed(speed_list *l, float v, double dt)
     return 1;
 }
 
+/* The windows of frames [b, e) (a piece of a span): p the root's x z per frame, sum the prefix
+ * sums of the unit facing. 0: out of memory. */
+static int piece_speeds(const double *p, const double *sum, int b, int e, float fps, speed_list lists[3])
+{
+    const double cos45 = sqrt(0.5);
+    int h = (int)lround(0.5 * MM_GAIT_WINDOW * fps);
+    if (h > (e - b) / 8) h = (e - b) / 8;
+    if (h < 1) return 1;
+    for (int f = b + h; f + h < e; ++f) {
+        double vx = (p[2 * (f + h)] - p[2 * (f - h)]) * fps / (2.0 * h);
+        double vz = (p[2 * (f + h) + 1] - p[2 * (f - h) + 1]) * fps / (2.0 * h);
+        double speed = hypot(vx, vz);
+        if (speed < MM_GAIT_SPEED_MIN) continue;
+        double fx = sum[2 * (f + h + 1)] - sum[2 * (f - h)],
+               fz = sum[2 * (f + h + 1) + 1] - sum[2 * (f - h) + 1];
+        double fl = hypot(fx, fz);
+        if (fl < 1e-6) continue;
+        double c = (vx * fx + vz * fz) / (speed * fl);
+        int dir = c >= cos45 ? 0 : c <= -cos45 ? 2 : 1;
+        if (!push_speed(&lists[dir], (float)speed, 1.0 / fps)) return 0;
+    }
+    return 1;
+}
+
+/* Frame f is played by the walk and run gaits: it and every frame within pad of it are upright.
+ * The build tags crouched and bent frames Crouch (the crouch gait's), leaves out arms spread,
+ * and cuts pad more around each change of posture (docs/database.md, "Postures"). */
+static int gait_frame(const mm_take_spans *spans, int f, int pad)
+{
+    if (pad < 0) return 1; /* every frame */
+    for (int k = f - pad; k <= f + pad; ++k)
+        if (k >= 0 && k < spans->frame_count && spans->kinds[k] != MM_POSTURE_UPRIGHT) return 0;
+    return 1;
+}
+
 /* Root speeds of the locomotion spans in windows, by direction in the facing frame: forward
- * within 45 degrees of the facing, backward within 45 degrees of its opposite, sideways between. */
+ * within 45 degrees of the facing, backward within 45 degrees of its opposite, sideways between.
+ * Only the pieces of the spans the walk and run gaits play count (gait_frame, pad seconds; all
+ * with pad_seconds < 0). */
 static mm_result collect_speeds(const mm_clip *clip, const mm_take_spans *spans, int root_bone, int facing,
-                                mm_vec3 axis, speed_list lists[3])
+                                mm_vec3 axis, float pad_seconds, speed_list lists[3])
 {
     int n = clip->frame_count, jc = clip->skeleton.joint_count;
     mm_xform *g = (mm_xform *)malloc(sizeof(mm_xform) * (size_t)jc);
@@ -55,27 +96,19 @@ static mm_result collect_speeds(const mm_clip *clip, const mm_take_spans *spans,
         sum[2 * f + 2] = sum[2 * f] + (len > 1e-6 ? d.x / len : 0.0);
         sum[2 * f + 3] = sum[2 * f + 1] + (len > 1e-6 ? d.z / len : 0.0);
     }
-    const double cos45 = sqrt(0.5);
     int ok = 1;
-    for (int s = 0; s < spans->locomotion_count && ok; ++s) {
-        int b = spans->locomotion[s].begin, e = spans->locomotion[s].end;
-        int h = (int)lround(0.5 * MM_GAIT_WINDOW * clip->fps);
-        if (h > (e - b) / 8) h = (e - b) / 8;
-        if (h < 1) continue;
-        for (int f = b + h; f + h < e && ok; ++f) {
-            double vx = (p[2 * (f + h)] - p[2 * (f - h)]) * clip->fps / (2.0 * h);
-            double vz = (p[2 * (f + h) + 1] - p[2 * (f - h) + 1]) * clip->fps / (2.0 * h);
-            double speed = hypot(vx, vz);
-            if (speed < MM_GAIT_SPEED_MIN) continue;
-            double fx = sum[2 * (f + h + 1)] - sum[2 * (f - h)],
-                   fz = sum[2 * (f + h + 1) + 1] - sum[2 * (f - h) + 1];
-            double fl = hypot(fx, fz);
-            if (fl < 1e-6) continue;
-            double c = (vx * fx + vz * fz) / (speed * fl);
-            int dir = c >= cos45 ? 0 : c <= -cos45 ? 2 : 1;
-            ok = push_speed(&lists[dir], (float)speed, 1.0 / clip->fps);
+    int pad = pad_seconds < 0.0f ? -1 : (int)lroundf(pad_seconds * clip->fps);
+    for (int s = 0; s < spans->locomotion_count && ok; ++s)
+        for (int b = spans->locomotion[s].begin, end = spans->locomotion[s].end; b < end && ok;) {
+            if (!gait_frame(spans, b, pad)) {
+                ++b;
+                continue;
+            }
+            int e = b + 1;
+            while (e < end && gait_frame(spans, e, pad)) ++e;
+            ok = piece_speeds(p, sum, b, e, clip->fps, lists);
+            b = e;
         }
-    }
     free(g);
     free(p);
     return ok ? MM_OK : MM_ERR_OUT_OF_MEMORY;
@@ -87,18 +120,17 @@ static float round_speed(float v)
     return r < 0.05f ? 0.05f : r;
 }
 
-/* The q quantile of the speeds of l below limit (all when limit is 0; above -limit when it is
- * negative), when they last at least 0.25 s. 0 otherwise. */
-static int quantile_below(const speed_list *l, float limit, float q, mm_gait_speed_estimate *out)
+/* The q quantile of the speeds of l in [lo, hi) (hi 0: no bound), when they last at least
+ * MM_GAIT_MIN_SECONDS. 0 otherwise. */
+static int quantile_between(const speed_list *l, float lo, float hi, float q, mm_gait_speed_estimate *out)
 {
     float *v = (float *)malloc(sizeof(float) * (size_t)(l->n + 1));
     if (!v) return 0;
     int n = 0;
     for (int i = 0; i < l->n; ++i)
-        if (limit == 0.0f || (limit > 0.0f && l->v[i] < limit) || (limit < 0.0f && l->v[i] > -limit))
-            v[n++] = l->v[i];
+        if (l->v[i] >= lo && (hi <= 0.0f || l->v[i] < hi)) v[n++] = l->v[i];
     double seconds = l->n ? l->seconds * n / l->n : 0.0;
-    int found = seconds >= 0.25 && n > 0;
+    int found = seconds >= MM_GAIT_MIN_SECONDS && n > 0;
     if (found) {
         out->speed = round_speed(mm__quantile(v, n, q));
         out->seconds = (float)seconds;
@@ -108,27 +140,56 @@ static int quantile_below(const speed_list *l, float limit, float q, mm_gait_spe
     return found;
 }
 
+/* The walk's own pace in l: the speed under MM_GAIT_SPEED_RUN with the most windows within
+ * MM_GAIT_PEAK_BAND of it (the slowest of equals); 0 when there is none. */
+static float walk_peak(const speed_list *l)
+{
+    float *v = (float *)malloc(sizeof(float) * (size_t)(l->n + 1));
+    if (!v) return 0.0f;
+    int n = 0;
+    for (int i = 0; i < l->n; ++i)
+        if (l->v[i] < MM_GAIT_SPEED_RUN) v[n++] = l->v[i];
+    mm__quantile(v, n, 0.0f); /* sorts */
+    float peak = 0.0f;
+    int best = 0;
+    for (int i = 0, lo = 0, hi = 0; i < n; ++i) {
+        while (v[lo] < v[i] / MM_GAIT_PEAK_BAND) ++lo;
+        while (hi < n && v[hi] <= v[i] * MM_GAIT_PEAK_BAND) ++hi;
+        if (hi - lo > best) {
+            best = hi - lo;
+            peak = v[i];
+        }
+    }
+    free(v);
+    return peak;
+}
+
 static void estimate_speeds(speed_list lists[3], mm_config_init_report *rep, mm_runtime_config *rt)
 {
     mm_gait_speed_estimate(*e)[3] = rep->speeds;
     memset(rep->speeds, 0, sizeof rep->speeds);
     rep->moving_seconds = (float)(lists[0].seconds + lists[1].seconds + lists[2].seconds);
-    if (rep->moving_seconds < 0.25f) return; /* the takes never move: the runtime keeps its defaults */
+    if (rep->moving_seconds < MM_GAIT_MIN_SECONDS)
+        return; /* the takes never move: the runtime keeps its defaults */
     static const float walk_q[3] = {0.85f, 0.5f, 0.6f};
     for (int d = 0; d < 3; ++d) {
-        if (!quantile_below(&lists[d], MM_GAIT_SPEED_RUN, walk_q[d], &e[0][d]) &&
-            !quantile_below(&lists[d], 0.0f, 0.1f, &e[0][d])) { /* running alone: the slowest of it */
-            e[0][d].speed = MM_GAIT_SPEED_MIN;                  /* not moving this way: a creep */
+        /* the walk around its own pace: not the stroll or jog a take also holds for a moment */
+        float peak = walk_peak(&lists[d]), lo = peak / MM_GAIT_WALK_SPREAD,
+              hi = fminf(peak * MM_GAIT_WALK_SPREAD, MM_GAIT_SPEED_RUN);
+        if (!(peak > 0.0f && quantile_between(&lists[d], lo, hi, walk_q[d], &e[0][d])) &&
+            !quantile_between(&lists[d], 0.0f, 0.0f, 0.1f, &e[0][d])) { /* running alone: the slowest of it */
+            e[0][d].speed = MM_GAIT_SPEED_MIN;                          /* not moving this way: a creep */
             e[0][d].seconds = e[0][d].quantile = 0.0f;
         }
-        if (!quantile_below(&lists[d], 0.0f, 0.95f, &e[1][d])) {
+        mm_gait_speed_estimate running; /* takes that never run: the brisk end of their walk */
+        int runs = quantile_between(&lists[d], MM_GAIT_SPEED_RUN, 0.0f, 0.5f, &running);
+        if (!(runs ? quantile_between(&lists[d], 0.0f, 0.0f, 0.95f, &e[1][d])
+                   : peak > 0.0f && quantile_between(&lists[d], lo, hi, 0.95f, &e[1][d]))) {
             e[1][d] = e[0][d];
             e[1][d].seconds = 0.0f;
             e[1][d].quantile = 0.0f;
         }
-        mm_gait_speed_estimate running; /* a short run forward among long walks */
-        if (d == 0 && quantile_below(&lists[d], -MM_GAIT_SPEED_RUN, 0.5f, &running) &&
-            running.speed > e[1][d].speed)
+        if (d == 0 && runs && running.speed > e[1][d].speed) /* a short run forward among long walks */
             e[1][d] = running;
         if (e[1][d].speed < e[0][d].speed) e[1][d].speed = e[0][d].speed;
     }
@@ -315,8 +376,9 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
     /* the takes turned to +Y up, +Z forward, then in metres */
     mm_clip *metric = (mm_clip *)calloc((size_t)count, sizeof(mm_clip));
     mm_take_spans *spans = (mm_take_spans *)calloc((size_t)count, sizeof(mm_take_spans));
-    speed_list lists[3];
+    speed_list lists[3], all_lists[3]; /* the windows the walk and run gaits play; all of them */
     memset(lists, 0, sizeof lists);
+    memset(all_lists, 0, sizeof all_lists);
     mm_result r = metric && spans ? MM_OK : MM_ERR_OUT_OF_MEMORY;
     int made = 0;
     for (int t = 0; t < count && r == MM_OK; ++t) {
@@ -376,7 +438,11 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
                 rep->arms_missing += !s->arms_found;
             }
             if (r == MM_OK)
-                r = collect_speeds(&metric[t], &spans[t], root, facing, roles->forward_axis, lists);
+                r = collect_speeds(&metric[t], &spans[t], root, facing, roles->forward_axis,
+                                   out->postures_pad, lists);
+            if (r == MM_OK)
+                r = collect_speeds(&metric[t], &spans[t], root, facing, roles->forward_axis, -1.0f,
+                                   all_lists);
             if (r != MM_OK) {
                 mm_error_set(err, r, 0, 0, "out of memory");
                 break;
@@ -407,7 +473,11 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
         if (r == MM_OK && out->clip_count == 0)
             r = mm_error_set(err, MM_ERR_NOT_FOUND, 0, 0,
                              "no take has frames to use: every frame lies down or the takes are too short");
-        if (r == MM_OK) estimate_speeds(lists, rep, &out->runtime);
+        if (r == MM_OK) /* takes that only crouch: their speeds all the same */
+            estimate_speeds(lists[0].seconds + lists[1].seconds + lists[2].seconds >= MM_GAIT_MIN_SECONDS
+                                ? lists
+                                : all_lists,
+                            rep, &out->runtime);
         if (r == MM_OK && !(desc && desc->no_tuning)) { /* configs/mocap.json's tuning */
             mm_runtime_config *rt = &out->runtime;
             out->contact_speed = 0.3f;
@@ -423,7 +493,10 @@ mm_result mm_config_init(const mm_config_init_take *takes, int count, const mm_c
     }
     for (int t = 0; t < made; ++t) mm_clip_free(&metric[t]);
     for (int t = 0; spans && t < count; ++t) mm_take_spans_free(&spans[t]);
-    for (int d = 0; d < 3; ++d) free(lists[d].v);
+    for (int d = 0; d < 3; ++d) {
+        free(lists[d].v);
+        free(all_lists[d].v);
+    }
     free(metric);
     free(spans);
     if (r != MM_OK) mm_config_free(out);
