@@ -246,9 +246,9 @@ static void print_report(const mm_config_init_report *rep, const mm_config *cfg,
            rep->arms_missing ? "; A poses not looked for on some takes (no elbows and shoulders found)" : "");
     if (rep->moving_seconds > 0.0f) {
         static const char *const gait[2] = {"walk", "run"}, *const dir[3] = {"forward", "side", "backward"};
-        printf(
-            "gait speeds:  m/s, from %.1f s of windows (%.2g s, shorter in short spans) of the locomotion\n",
-            (double)rep->moving_seconds, (double)MM_GAIT_WINDOW);
+        printf("gait speeds:  m/s, from %.1f s of windows (%.2g s, shorter in short spans) of the locomotion "
+               "the walk and run play\n",
+               (double)rep->moving_seconds, (double)MM_GAIT_WINDOW);
         for (int g = 0; g < 2; ++g)
             for (int d = 0; d < 3; ++d) {
                 speed_text(&rep->speeds[g][d], text, sizeof text);

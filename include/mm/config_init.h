@@ -79,15 +79,18 @@ typedef struct mm_config_init_report {
     int calibration_starts;
     int arms_missing; /* takes on which no A pose was looked for (no elbows and shoulders found) */
     mm_skeleton_roles roles;
-    /* [0] walk, [1] run; forward, side, backward. Walk: the 0.85 quantile forward, the median
-     * sideways, the 0.6 quantile backward, of windows slower than MM_GAIT_SPEED_RUN; run: the 0.95 quantile
-     * of all windows (the fastest the takes hold, running or not), forward the median of the running ones
-     * when faster (a short run among long walks). A direction with under 0.25 s of windows gets
-     * MM_GAIT_SPEED_MIN (a creep: asking more only drags the feet), one with running alone the walk the 0.1
-     * quantile of it, and no speed is set without moving windows at all. Rounded to 0.05 m/s; a run is never
-     * slower than the walk. */
+    /* [0] walk, [1] run; forward, side, backward, from the windows of the frames the walk and run
+     * gaits play (upright, not within postures.pad of a crouched, bent or arms-spread frame; all the
+     * frames when none is). Walk: its pace is the speed under MM_GAIT_SPEED_RUN with the most windows
+     * within /1.1 to x1.1 of it; the 0.85 quantile forward, the median sideways, the 0.6 quantile
+     * backward of the windows within /1.5 to x1.5 of the pace. Run: the 0.95 quantile of all windows
+     * when the takes run that way (0.25 s over MM_GAIT_SPEED_RUN; forward the median of the running
+     * ones when faster: a short run among long walks), else of the walk's windows. A direction with
+     * under 0.25 s of windows gets MM_GAIT_SPEED_MIN (a creep: asking more only drags the feet), one
+     * with running alone the walk the 0.1 quantile of it, and no speed is set without moving windows
+     * at all. Rounded to 0.05 m/s; a run is never slower than the walk. */
     mm_gait_speed_estimate speeds[2][3];
-    float moving_seconds; /* seconds of windows faster than MM_GAIT_SPEED_MIN */
+    float moving_seconds; /* seconds of those windows faster than MM_GAIT_SPEED_MIN */
 } mm_config_init_report;
 
 typedef struct mm_config_init_desc {
