@@ -7,6 +7,8 @@
 #include <mm/pose.h>
 #include <mm/spring.h>
 
+#include "math_private.h"
+
 /* Frames `frame` and `next` read into tr's frame arrays: their local transforms. */
 static mm_frame_pair read_frames(mm_transition *tr, const mm_database *db, int frame, int next)
 {
@@ -27,7 +29,7 @@ static void pose_at(mm_transition *tr, const mm_database *db, int frame, float f
     const mm_quat *r0 = pair.rotations0, *r1 = pair.rotations1;
     const mm_vec3 *p0 = pair.positions0, *p1 = pair.positions1;
     for (int j = 0; j < db->joint_count; ++j) {
-        rot[j] = mm_quat_slerp(r0[j], r1[j], fraction);
+        rot[j] = mm__quat_slerp_series(r0[j], r1[j], fraction); /* neighbouring frames: close together */
         pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
     }
 }
