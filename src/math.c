@@ -203,6 +203,26 @@ static double asin_over_h(double z)
     return sum;
 }
 
+/* cos(x), of y = x^2 <= SERIES_MAX_ANGLE^2: the Taylor series, sum of (-y)^n / (2n)!. */
+static double cos_series(double y)
+{
+    return 1.0 +
+           y * (-1.0 / 2.0 +
+                y * (1.0 / 24.0 + y * (-1.0 / 720.0 + y * (1.0 / 40320.0 + y * (-1.0 / 3628800.0 +
+                                                                                y * (1.0 / 479001600.0))))));
+}
+
+mm_quat mm__quat_exp_series(mm_vec3 v)
+{
+    double d[3] = {v.x, v.y, v.z}, q[4];
+    double angle2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], h2 = 0.25 * angle2; /* h = angle / 2 */
+    if (!(h2 < SERIES_MAX_ANGLE * SERIES_MAX_ANGLE)) return mm_quat_exp(v);
+    double scale = 0.5 * sin_over_x(h2); /* sin(h) / angle */
+    for (int c = 0; c < 3; c++) q[c] = d[c] * scale;
+    q[3] = cos_series(h2);
+    return dq_to_quat(q);
+}
+
 mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t)
 {
     double qa[4], qb[4], out[4];

@@ -40,4 +40,8 @@ static inline bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) &&
  * mm_quat_slerp itself beyond. */
 mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t);
 
+/* mm_quat_exp without its sine and cosine, for small rotations (offsets decaying to none): under
+ * 0.6 rad from the Taylor series, exact to double rounding; mm_quat_exp itself beyond. */
+mm_quat mm__quat_exp_series(mm_vec3 v);
+
 #endif /* MM_MATH_PRIVATE_H */

@@ -205,7 +205,7 @@ void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, flo
         mm_spring_decay_vec3_step(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], &step);
         mm_spring_decay_vec3_step(&tr->position_offset[j], &tr->position_offset_velocity[j], &step);
         tr->rotations[j] =
-            mm_quat_normalize(mm_quat_mul(mm_quat_exp(tr->rotation_offset[j]), tr->rotations[j]));
+            mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(tr->rotation_offset[j]), tr->rotations[j]));
         tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
     }
 }
