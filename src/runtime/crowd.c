@@ -7,6 +7,9 @@
 
 #include "search/pool.h"
 
+/* bytes: a cache line */
+#define CACHE_LINE 64
+
 struct mm_crowd_state {
     mm_searcher own_searcher; /* when the crowd was given none */
     bool owns_searcher;
@@ -16,7 +19,11 @@ struct mm_crowd_state {
     /* this tick's work, read by every thread */
     const mm_input *inputs;
     float dt;
-    atomic_int next; /* mm's pool: the first character no thread has taken yet */
+    /* mm's pool: the first character no thread has taken yet, alone on its cache line (each thread
+     * writes it per batch; the fields above are read per batch by every thread) */
+    char before_next[CACHE_LINE];
+    atomic_int next;
+    char after_next[CACHE_LINE];
     mm_allocator allocator;
 };
 
