@@ -2,9 +2,13 @@
  * the machine's cores through mm_crowd. LAFAN1 (lafan1.json, scripts/data_configs.sh) or the built-in set.
  * Every character runs with the database's full runtime settings (mm_character_desc_from_database:
  * the search schedule, feet and IK, distance matching and warping as tuned) on its own random input.
- * The crowd ticks CROWD_TICKS times (10 s at 60 Hz) on 1 and then 2 threads of mm's pool, each tick
- * timed; characters per tick come from the p99 tick time (n x 16.7 ms / p99). pose_hash is a hash
- * of every character's final pose, the same for 1 and 2 threads.
+ * The crowd ticks CROWD_TICKS times (10 s at 60 Hz) on 1 and then 2 threads of mm's pool, its
+ * searches spread over the ticks (mm_crowd_desc.spread_searches), each tick timed; characters per
+ * tick come from the p99 tick time (n x 16.7 ms / p99). The process's CPU time per tick (all its
+ * threads) is timed too: on a machine shared with other work the wall-clock times are the
+ * scheduler's as much as mm's, while the CPU time per character tells whether a second thread adds
+ * work of its own. pose_hash is a hash of every character's final pose, the same for 1 and 2
+ * threads.
  * usage: bench_runtime [--json] [CHARACTERS]   (default 2000). Prints figures; never fails on speed. */
 #define _POSIX_C_SOURCE 200809L
 #include <inttypes.h>
@@ -21,8 +25,29 @@
 
 #include "bench_common.h"
 
-#define CROWD_TICKS 600 /* 10 s at 60 Hz */
-#define TICK        (1.0 / 60.0)
+#define CROWD_TICKS          600 /* 10 s at 60 Hz */
+#define SEARCH_TICKS_SKIPPED 1   /* the first tick, on which every character searches at once */
+#define TICK                 (1.0 / 60.0)
+
+/* Seconds of CPU time the process has taken, all its threads. */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The machine's load average over the last minute (-1 where /proc/loadavg is not to be had). */
+static double load_average(void)
+{
+    double load = -1.0;
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (f) {
+        if (fscanf(f, "%lf", &load) != 1) load = -1.0;
+        fclose(f);
+    }
+    return load;
+}
 
 /* FNV-1a over the bytes of every character's world transforms. */
 static uint64_t pose_hash(const mm_crowd *crowd)
@@ -92,19 +117,28 @@ int main(int argc, char **argv)
      * a fresh crowd each time (the same work), each update timed (the inputs sampled outside) */
     mm_input *inputs = calloc((size_t)n, sizeof(mm_input));
     double *tick = malloc(sizeof(double) * CROWD_TICKS);
-    int per_tick[3] = {0};
+    int per_tick[3] = {0}, most_searches[3] = {0};
+    double cpu_per_character[3] = {0};
     uint64_t hash[3] = {0};
     for (int threads = 1; threads <= 2; ++threads) {
         mm_crowd crowd;
-        mm_crowd_desc cd = {.count = n, .character = &desc, .threads = threads};
+        mm_crowd_desc cd = {.count = n, .character = &desc, .threads = threads, .spread_searches = true};
         if (mm_crowd_init(&crowd, &db, &s, &cd, NULL) != MM_OK) return 1;
         long searches = 0;
+        double cpu = 0.0, load = load_average();
         for (int t = 0; t < CROWD_TICKS; ++t) {
             for (int i = 0; i < n; ++i) mm_input_script_sample(&scripts[i], (float)(t * TICK), &inputs[i]);
-            double a = now();
+            long before = 0, after = 0;
+            for (int i = 0; i < n; ++i) before += crowd.characters[i].searches;
+            double a = now(), c = cpu_now();
             mm_crowd_update(&crowd, inputs, (float)TICK);
             tick[t] = now() - a;
+            cpu += cpu_now() - c;
+            for (int i = 0; i < n; ++i) after += crowd.characters[i].searches;
+            if (t >= SEARCH_TICKS_SKIPPED && after - before > most_searches[threads])
+                most_searches[threads] = (int)(after - before);
         }
+        cpu_per_character[threads] = 1e6 * cpu / CROWD_TICKS / n;
         for (int i = 0; i < n; ++i) searches += crowd.characters[i].searches;
         hash[threads] = pose_hash(&crowd);
         double total = 0.0;
@@ -114,18 +148,22 @@ int main(int argc, char **argv)
         per_tick[threads] = (int)(n * TICK / p99);
         fprintf(
             out,
-            "mm_crowd, %d characters, %d thread%s: tick median %.2f ms, p99 %.2f ms, mean %.2f ms (%.1f us "
-            "per character at p99); %d characters per 60 Hz tick (16.7 ms) at p99; %.1f%% of character "
-            "ticks search; pose hash %016" PRIx64 "%s\n",
-            n, threads, threads > 1 ? "s" : "", 1e3 * median, 1e3 * p99, 1e3 * total / CROWD_TICKS,
-            1e6 * p99 / n, per_tick[threads], 100.0 * searches / ((double)n * CROWD_TICKS), hash[threads],
+            "mm_crowd, %d characters, %d thread%s (load average %.1f): tick median %.2f ms, p99 %.2f ms, "
+            "mean %.2f ms (%.1f us per character at p99); %d characters per 60 Hz tick (16.7 ms) at p99; "
+            "CPU %.1f us per character tick (all threads); %.1f%% of character ticks search, at most %d on "
+            "one tick after the first; pose hash %016" PRIx64 "%s\n",
+            n, threads, threads > 1 ? "s" : "", load, 1e3 * median, 1e3 * p99, 1e3 * total / CROWD_TICKS,
+            1e6 * p99 / n, per_tick[threads], cpu_per_character[threads],
+            100.0 * searches / ((double)n * CROWD_TICKS), most_searches[threads], hash[threads],
             threads > 1 && hash[2] != hash[1] ? " DIFFERENT POSES" : "");
         mm_crowd_free(&crowd);
     }
     if (json)
         printf("{\"database\": {\"frames\": %d}, \"characters_per_tick\": {\"1\": %d, \"2\": %d}, "
-               "\"pose_hash\": {\"1\": \"%016" PRIx64 "\", \"2\": \"%016" PRIx64 "\"}}\n",
-               db.frame_count, per_tick[1], per_tick[2], hash[1], hash[2]);
+               "\"cpu_us_per_character\": {\"1\": %.2f, \"2\": %.2f}, \"most_searches_in_a_tick\": {\"1\": "
+               "%d, \"2\": %d}, \"pose_hash\": {\"1\": \"%016" PRIx64 "\", \"2\": \"%016" PRIx64 "\"}}\n",
+               db.frame_count, per_tick[1], per_tick[2], cpu_per_character[1], cpu_per_character[2],
+               most_searches[1], most_searches[2], hash[1], hash[2]);
     free(tick);
     free(inputs);
     for (int i = 0; i < n; ++i) mm_input_script_free(&scripts[i]);

@@ -8,6 +8,7 @@
  * component about axis n (0 = X, 1 = Y, 2 = Z) is simply q[n].
  */
 #include <mm/math.h>
+#include "math_private.h"
 
 #include <stddef.h>
 
@@ -164,6 +165,87 @@ mm_quat mm_quat_slerp(mm_quat a, mm_quat b, float t)
         double s = sin(theta);
         wa = sin((1.0 - td) * theta) / s;
         wb = sin(td * theta) / s;
+    }
+    for (int c = 0; c < 4; c++) out[c] = wa * qa[c] + wb * qb[c];
+    dq_normalize(out);
+    return dq_to_quat(out);
+}
+
+/* The 4D angle under which mm__quat_slerp_series takes its series: up to it the series below are
+ * truncated under double rounding (their next terms are under 1e-16 of their sums). */
+#define SERIES_MAX_ANGLE 0.3
+
+/* sin(x) / x, of y = x^2 <= SERIES_MAX_ANGLE^2: the Taylor series, sum of (-y)^n / (2n + 1)!. */
+static double sin_over_x(double y)
+{
+    return 1.0 + y * (-1.0 / 6.0 +
+                      y * (1.0 / 120.0 +
+                           y * (-1.0 / 5040.0 +
+                                y * (1.0 / 362880.0 + y * (-1.0 / 39916800.0 + y * (1.0 / 6227020800.0))))));
+}
+
+/* asin(h) / h, of z = h^2 <= sin^2(SERIES_MAX_ANGLE / 2): the Taylor series, sum of
+ * (2n)! / (4^n n!^2 (2n + 1)) z^n. */
+static double asin_over_h(double z)
+{
+    static const double c[] = {1.0,
+                               1.0 / 6.0,
+                               3.0 / 40.0,
+                               15.0 / 336.0,
+                               105.0 / 3456.0,
+                               945.0 / 42240.0,
+                               10395.0 / 599040.0,
+                               135135.0 / 9676800.0,
+                               2027025.0 / 175472640.0,
+                               34459425.0 / 3530096640.0};
+    double sum = 0.0;
+    for (int n = (int)(sizeof c / sizeof c[0]) - 1; n >= 0; --n) sum = sum * z + c[n];
+    return sum;
+}
+
+/* cos(x), of y = x^2 <= SERIES_MAX_ANGLE^2: the Taylor series, sum of (-y)^n / (2n)!. */
+static double cos_series(double y)
+{
+    return 1.0 +
+           y * (-1.0 / 2.0 +
+                y * (1.0 / 24.0 + y * (-1.0 / 720.0 + y * (1.0 / 40320.0 + y * (-1.0 / 3628800.0 +
+                                                                                y * (1.0 / 479001600.0))))));
+}
+
+mm_quat mm__quat_exp_series(mm_vec3 v)
+{
+    double d[3] = {v.x, v.y, v.z}, q[4];
+    double angle2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], h2 = 0.25 * angle2; /* h = angle / 2 */
+    if (!(h2 < SERIES_MAX_ANGLE * SERIES_MAX_ANGLE)) return mm_quat_exp(v);
+    double scale = 0.5 * sin_over_x(h2); /* sin(h) / angle */
+    for (int c = 0; c < 3; c++) q[c] = d[c] * scale;
+    q[3] = cos_series(h2);
+    return dq_to_quat(q);
+}
+
+mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t)
+{
+    double qa[4], qb[4], out[4];
+    dq_from_quat(a, qa);
+    dq_from_quat(b, qb);
+    dq_normalize(qa);
+    dq_normalize(qb);
+    double dot = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
+    if (dot < 0.0) /* q and -q are the same rotation: take the shorter arc */
+        for (int c = 0; c < 4; c++) qb[c] = -qb[c];
+    /* the angle theta from the half chord h = sin(theta / 2) = |qa - qb| / 2 */
+    double d2 = 0.0;
+    for (int c = 0; c < 4; c++) d2 += (qa[c] - qb[c]) * (qa[c] - qb[c]);
+    double h2 = 0.25 * d2, half = asin_over_h(h2), theta2 = 4.0 * h2 * half * half;
+    if (!(theta2 < SERIES_MAX_ANGLE * SERIES_MAX_ANGLE)) return mm_quat_slerp(a, b, t);
+    double td = t, wa, wb;
+    if (theta2 < 1e-8) { /* as mm_quat_slerp: linear under 1e-4 rad */
+        wa = 1.0 - td;
+        wb = td;
+    } else { /* sin(k theta) / sin(theta) = k sinc(k theta) / sinc(theta) */
+        double s = sin_over_x(theta2), ua = 1.0 - td;
+        wa = ua * sin_over_x(ua * ua * theta2) / s;
+        wb = td * sin_over_x(td * td * theta2) / s;
     }
     for (int c = 0; c < 4; c++) out[c] = wa * qa[c] + wb * qb[c];
     dq_normalize(out);

@@ -34,4 +34,14 @@ static inline float wrap_angle(float a) { return remainderf(a, (float)(2.0 * MM_
 /* Are all three coordinates finite? */
 static inline bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
+/* mm_quat_slerp without its sines, for rotations close together (neighbouring frames of a clip):
+ * under 0.3 rad apart as unit quaternions the angle and the weights come from their Taylor series,
+ * exact to double rounding (the result differs from mm_quat_slerp's by at most a float rounding);
+ * mm_quat_slerp itself beyond. */
+mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t);
+
+/* mm_quat_exp without its sine and cosine, for small rotations (offsets decaying to none): under
+ * 0.6 rad from the Taylor series, exact to double rounding; mm_quat_exp itself beyond. */
+mm_quat mm__quat_exp_series(mm_vec3 v);
+
 #endif /* MM_MATH_PRIVATE_H */

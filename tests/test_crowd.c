@@ -2,8 +2,9 @@
  * serial parallel-for, mm's pool of 1, 2 and 3 threads, a parallel-for that runs the items in
  * reverse, one that runs them shuffled in uneven pieces, one on threads of its own) gives the same
  * bits; each character of a crowd moves exactly as one character run alone over its input
- * (mm_run_script), on flat ground and in a scene with moves; a tick allocates nothing; bad
- * arguments are errors with messages. */
+ * (mm_run_script), on flat ground and in a scene with moves; spread searches even out the searches
+ * per tick, each character then moving as one alone with its search phase; a tick allocates
+ * nothing; bad arguments are errors with messages. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdarg.h>
 #include <stddef.h>
@@ -19,6 +20,7 @@
 #include <mm/run.h>
 #include <mm/scene_json.h>
 
+#include "runtime/character/state.h"
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -278,6 +280,90 @@ static void test_crowd_moves_in_a_scene(void **state)
 }
 
 static long allocations;
+/* The most characters that searched on one tick after the first, over `ticks` ticks of a crowd of
+ * count on inputs (spread: with spread searches, on mm's pool of two threads); world and frames as
+ * run_crowd's, and each character's search phase into phases. */
+static int most_searches_in_a_tick(bool spread, const mm_input *inputs, int count, int ticks, mm_xform *world,
+                                   float *phases)
+{
+    mm_crowd_desc d;
+    memset(&d, 0, sizeof d);
+    d.count = count;
+    d.threads = spread ? 2 : 0;
+    d.spread_searches = spread;
+    mm_crowd crowd;
+    assert_int_equal(mm_crowd_init(&crowd, &db, NULL, &d, NULL), MM_OK);
+    int n = db.joint_count, most = 0;
+    for (int f = 0; f < ticks; ++f) {
+        int before = 0, after = 0;
+        for (int i = 0; i < count; ++i) before += crowd.characters[i].searches;
+        mm_crowd_update(&crowd, inputs + (size_t)f * (size_t)count, (float)(1.0 / CROWD_FPS));
+        for (int i = 0; i < count; ++i) after += crowd.characters[i].searches;
+        if (f > 0 && after - before > most) most = after - before;
+        for (int i = 0; i < count; ++i)
+            memcpy(world + ((size_t)f * (size_t)count + (size_t)i) * (size_t)n, crowd.characters[i].global,
+                   sizeof(mm_xform) * (size_t)n);
+    }
+    for (int i = 0; i < count; ++i) phases[i] = crowd.characters[i].state->matching.search_phase;
+    mm_crowd_free(&crowd);
+    return most;
+}
+
+static void test_crowd_spreads_searches(void **state)
+{
+    (void)state;
+    enum { COUNT = 30, TICKS = 120 };
+    mm_input_script scripts[COUNT];
+    random_scripts(scripts, COUNT, (float)(TICKS / CROWD_FPS));
+    mm_input *inputs = make_inputs(scripts, COUNT, TICKS);
+    int n = db.joint_count;
+    size_t cells = (size_t)TICKS * COUNT * (size_t)n;
+    mm_xform *world = malloc(sizeof(mm_xform) * cells);
+    float phases[COUNT];
+    assert_non_null(world);
+    /* together: every character searches on the same ticks (the search interval's), most at once */
+    int together = most_searches_in_a_tick(false, inputs, COUNT, TICKS, world, phases);
+    for (int i = 0; i < COUNT; ++i) assert_true(phases[i] == 0.0f);
+    assert_true(together >= COUNT * 3 / 4);
+    /* spread: the phases fill [0, 1) (no gap wider than 3 characters' share), and a tick has about
+     * the average of searches (search_interval / dt ticks between a character's searches, and the
+     * searches on turns and idle changes) */
+    int spread = most_searches_in_a_tick(true, inputs, COUNT, TICKS, world, phases);
+    float sorted[COUNT];
+    memcpy(sorted, phases, sizeof sorted);
+    for (int i = 1; i < COUNT; ++i) /* insertion sort */
+        for (int k = i; k > 0 && sorted[k] < sorted[k - 1]; --k) {
+            float t = sorted[k];
+            sorted[k] = sorted[k - 1], sorted[k - 1] = t;
+        }
+    assert_true(sorted[0] >= 0.0f && sorted[COUNT - 1] < 1.0f);
+    for (int i = 1; i <= COUNT; ++i) {
+        float gap = i < COUNT ? sorted[i] - sorted[i - 1] : 1.0f + sorted[0] - sorted[COUNT - 1];
+        assert_true(gap > 0.0f && gap < 3.0f / COUNT);
+    }
+    assert_true(spread <= COUNT / 2);
+    /* each character of the spread crowd (on two threads) moves as one alone with its phase */
+    mm_searcher searcher;
+    mm_character_desc desc;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    assert_int_equal(mm_character_desc_from_database(&desc, &db, NULL), MM_OK);
+    for (int i = 0; i < COUNT; ++i) {
+        mm_character c;
+        assert_int_equal(mm_character_init(&c, &db, &searcher, &desc, NULL), MM_OK);
+        mm_character_set_search_phase(&c, phases[i]);
+        for (int f = 0; f < TICKS; ++f) {
+            mm_character_update(&c, &inputs[(size_t)f * COUNT + (size_t)i], (float)(1.0 / CROWD_FPS));
+            assert_memory_equal(c.global, world + ((size_t)f * COUNT + (size_t)i) * (size_t)n,
+                                sizeof(mm_xform) * (size_t)n);
+        }
+        mm_character_free(&c);
+    }
+    mm_searcher_free(&searcher);
+    free(world);
+    free(inputs);
+    for (int i = 0; i < COUNT; ++i) mm_input_script_free(&scripts[i]);
+}
+
 static void *counting_alloc(size_t size, void *user)
 {
     (void)user;
@@ -404,6 +490,7 @@ int main(void)
         cmocka_unit_test(test_crowd_same_bits_whatever_the_schedule),
         cmocka_unit_test(test_crowd_is_characters_alone),
         cmocka_unit_test(test_crowd_moves_in_a_scene),
+        cmocka_unit_test(test_crowd_spreads_searches),
         cmocka_unit_test(test_crowd_allocates_nothing_per_tick),
         cmocka_unit_test(test_crowd_without_input),
         cmocka_unit_test(test_crowd_arguments),

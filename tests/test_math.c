@@ -15,6 +15,8 @@
 
 #include <mm/math.h>
 
+#include "math_private.h"
+
 #define PI      MM_PI
 #define HALF_PI (0.5 * MM_PI)
 
@@ -704,6 +706,48 @@ static void test_slerp_path(void **state)
     }
 }
 
+/* The series form of slerp (neighbouring frames): on the great arc as the reference rotation puts
+ * it, and within a float rounding of mm_quat_slerp, from nearly parallel to past its series' reach
+ * (0.3 rad between the quaternions: 0.6 rad of rotation), either sign. */
+static void test_slerp_series(void **state)
+{
+    (void)state;
+    rng_seed(19);
+    for (int n = 0; n < 4000; n++) {
+        mm_quat a = rnd_quat();
+        mm_vec3 axis = rnd_unit_vec3();
+        double theta = pow(10.0, rnd(-6.0, 0.0)); /* rotation angle from a to b: 1e-6 to 1 rad */
+        mm_quat b = mm_quat_mul(a, ref_quat(axis, theta));
+        if (n & 1) b = mm_quat_make(-b.x, -b.y, -b.z, -b.w);
+        float t = (float)rnd(0.0, 1.0);
+        mm_quat s = mm__quat_slerp_series(a, b, t), exact = mm_quat_slerp(a, b, t);
+        ASSERT_SAME_ROT(s, mm_quat_mul(a, ref_quat(axis, t * theta)), 2e-6);
+        ASSERT_NEAR(s.x, exact.x, 1.2e-7);
+        ASSERT_NEAR(s.y, exact.y, 1.2e-7);
+        ASSERT_NEAR(s.z, exact.z, 1.2e-7);
+        ASSERT_NEAR(s.w, exact.w, 1.2e-7);
+    }
+}
+
+/* The series form of exp (small offsets): the reference rotation about the axis, and within a float
+ * rounding of mm_quat_exp, from 1e-7 rad to past its series' reach (0.6 rad). */
+static void test_exp_series(void **state)
+{
+    (void)state;
+    rng_seed(20);
+    for (int n = 0; n < 4000; n++) {
+        mm_vec3 axis = rnd_unit_vec3();
+        double angle = pow(10.0, rnd(-7.0, 0.5));
+        mm_vec3 v = mm_vec3_make((float)(axis.x * angle), (float)(axis.y * angle), (float)(axis.z * angle));
+        mm_quat s = mm__quat_exp_series(v), exact = mm_quat_exp(v);
+        ASSERT_SAME_ROT(s, ref_quat(axis, angle), 2e-6);
+        ASSERT_NEAR(s.x, exact.x, 1.2e-7);
+        ASSERT_NEAR(s.y, exact.y, 1.2e-7);
+        ASSERT_NEAR(s.z, exact.z, 1.2e-7);
+        ASSERT_NEAR(s.w, exact.w, 1.2e-7);
+    }
+}
+
 static void test_slerp_shortest_path(void **state)
 {
     (void)state;
@@ -1006,6 +1050,8 @@ int main(void)
         cmocka_unit_test(test_slerp_endpoints),
         cmocka_unit_test(test_slerp_path),
         cmocka_unit_test(test_slerp_shortest_path),
+        cmocka_unit_test(test_slerp_series),
+        cmocka_unit_test(test_exp_series),
         cmocka_unit_test(test_slerp_nearly_parallel),
         cmocka_unit_test(test_nlerp),
         cmocka_unit_test(test_angle_between),

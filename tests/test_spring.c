@@ -125,6 +125,49 @@ static void test_quat_spring(void **state)
     assert_near(mm_vec3_length(w), 0.0, 1e-3);
 }
 
+/* A step made once for many springs: the same bits as each spring's own update, with a fixed or a
+ * moving target, for half-lives and dts of every kind (none: no spring; dt 0: no step). */
+static void test_shared_step(void **state)
+{
+    (void)state;
+    const float halflives[] = {0.05f, 0.1f, 0.37f, 2.0f, 0.0f, -1.0f};
+    const float dts[] = {1.0f / 60.0f, 1.0f / 30.0f, 0.25f, 0.0f, -0.1f};
+    unsigned seed = 7u;
+    for (size_t h = 0; h < sizeof halflives / sizeof halflives[0]; ++h)
+        for (size_t k = 0; k < sizeof dts / sizeof dts[0]; ++k) {
+            mm_spring_step step = mm_spring_step_make(halflives[h], dts[k]);
+            for (int trial = 0; trial < 50; ++trial) {
+                float r[9];
+                for (int i = 0; i < 9; ++i) {
+                    seed = seed * 1664525u + 1013904223u;
+                    r[i] = (float)(seed >> 8) / (float)(1u << 24) * 4.0f - 2.0f;
+                }
+                mm_vec3 x0 = mm_vec3_make(r[0], r[1], r[2]), v0 = mm_vec3_make(r[3], r[4], r[5]);
+                mm_vec3 target = mm_vec3_make(r[6], r[7], r[8]);
+                mm_vec3 xa = x0, va = v0, xb = x0, vb = v0;
+                mm_spring_decay_vec3(&xa, &va, halflives[h], dts[k]);
+                mm_spring_decay_vec3_step(&xb, &vb, &step);
+                assert_memory_equal(&xa, &xb, sizeof xa);
+                assert_memory_equal(&va, &vb, sizeof va);
+                xa = xb = x0, va = vb = v0;
+                mm_spring_update_vec3(&xa, &va, target, halflives[h], dts[k]);
+                mm_spring_update_vec3_step(&xb, &vb, target, &step);
+                assert_memory_equal(&xa, &xb, sizeof xa);
+                assert_memory_equal(&va, &vb, sizeof va);
+                /* and each coordinate as the scalar spring moves it */
+                float x = x0.y, v = v0.y;
+                mm_spring_update(&x, &v, target.y, halflives[h], dts[k]);
+                assert_memory_equal(&x, &xb.y, sizeof x);
+                assert_memory_equal(&v, &vb.y, sizeof v);
+            }
+        }
+    /* and they move: a spring of 0.1 s over 0.1 s from rest leaves half of the way (the half-life) */
+    mm_spring_step step = mm_spring_step_make(0.1f, 0.1f);
+    mm_vec3 x = mm_vec3_make(1, 0, 0), v = mm_vec3_make(0, 0, 0);
+    mm_spring_decay_vec3_step(&x, &v, &step);
+    assert_float_equal(x.x, 0.5f, 1e-5f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -133,6 +176,7 @@ int main(void)
         cmocka_unit_test(test_tick_rate_independent),
         cmocka_unit_test(test_velocity_spring),
         cmocka_unit_test(test_quat_spring),
+        cmocka_unit_test(test_shared_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

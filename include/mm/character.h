@@ -56,6 +56,7 @@
  *            mm_character_teleport_simulation mm_character_push_simulation mm_character_halt_simulation
  *            mm_character_set_future mm_character_future_times mm_character_set_scene
  *            mm_character_set_walls mm_character_set_wall_pass mm_character_place_in_scene
+ *            mm_character_set_search_phase
  *
  * Terrain: mm_character_set_scene gives the character the scene it walks on (mm/scene.h). Its
  * root and simulated trajectory then follow the height of the ground under them
@@ -350,6 +351,13 @@ void mm_character_translate(mm_character *c, mm_vec3 delta);
 void mm_character_teleport_simulation(mm_character *c, mm_vec3 position, mm_quat facing);
 void mm_character_push_simulation(mm_character *c, mm_vec3 position);
 void mm_character_halt_simulation(mm_character *c);
+
+/* Shifts the character's search schedule by phase (in [0, 1)) of its search interval: the search
+ * after its next one comes that share of the interval sooner, and the schedule runs on from there.
+ * Characters ticked together with phases spread over [0, 1) search on different ticks, so that a
+ * tick's searches are as many as the average (mm_crowd_desc.spread_searches). 0, the default: the
+ * schedule as mm simulate runs it. Out of range or not finite: ignored. */
+void mm_character_set_search_phase(mm_character *c, float phase);
 
 /* The scene the character walks on from the next update (not copied: it must stay valid while
  * set; it may change between ticks). NULL: the plane y = 0 and no walls. Its ground: a flat scene

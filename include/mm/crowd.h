@@ -66,6 +66,11 @@ typedef struct mm_crowd_desc {
     int threads;                        /* mm's pool without parallel_for: 0 or 1 the calling
                                            thread alone, at most MM_SEARCH_MAX_THREADS */
     const mm_allocator *allocator;      /* NULL: malloc */
+    bool spread_searches;               /* each character's search schedule shifted by a phase of its
+                                           own (mm_character_set_search_phase, spread evenly by its
+                                           index), so that every tick has about the same searches;
+                                           false: all search on the same ticks, each character as
+                                           mm simulate moves one */
 } mm_crowd_desc;
 
 typedef struct mm_crowd_state mm_crowd_state; /* private */

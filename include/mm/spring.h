@@ -11,10 +11,13 @@
  *   x(t) = target + (j0 + j1 t) e^(-y t),  j0 = x0 - target, j1 = v0 + j0 y
  *
  * Functions: mm_spring_damping mm_spring_update mm_spring_update_vec3 mm_spring_decay_vec3
+ *            mm_spring_step_make mm_spring_update_vec3_step mm_spring_decay_vec3_step
  *            mm_spring_update_quat mm_spring_velocity_update
  */
 #ifndef MM_SPRING_H
 #define MM_SPRING_H
+
+#include <stdbool.h>
 
 #include "math.h"
 
@@ -31,6 +34,19 @@ void mm_spring_update(float *x, float *v, float target, float halflife, float dt
 void mm_spring_update_vec3(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, float halflife, float dt);
 /* An offset decaying to zero (inertialization): the spring with target 0. */
 void mm_spring_decay_vec3(mm_vec3 *x, mm_vec3 *v, float halflife, float dt);
+
+/* One step of dt seconds at one half-life, for many springs that share both: the exponential
+ * e^(-y dt), the costly part of an update, computed once. The _step updates give the same bits as
+ * the updates above with the same half-life and dt. */
+typedef struct mm_spring_step {
+    double damping; /* y (mm_spring_damping) */
+    double dt;      /* s */
+    double decay;   /* e^(-y dt) */
+    bool moves;     /* dt > 0 (no step otherwise) */
+} mm_spring_step;
+mm_spring_step mm_spring_step_make(float halflife, float dt);
+void mm_spring_update_vec3_step(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, const mm_spring_step *step);
+void mm_spring_decay_vec3_step(mm_vec3 *x, mm_vec3 *v, const mm_spring_step *step);
 
 /* A rotation q with angular velocity w (rad/s, world axes) moves toward target, along the
  * shortest way: the spring acts on the rotation vector log(q target^-1). */

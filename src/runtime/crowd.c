@@ -7,6 +7,9 @@
 
 #include "search/pool.h"
 
+/* bytes: a cache line */
+#define CACHE_LINE 64
+
 struct mm_crowd_state {
     mm_searcher own_searcher; /* when the crowd was given none */
     bool owns_searcher;
@@ -16,9 +19,23 @@ struct mm_crowd_state {
     /* this tick's work, read by every thread */
     const mm_input *inputs;
     float dt;
-    atomic_int next; /* mm's pool: the first character no thread has taken yet */
+    /* mm's pool: the first character no thread has taken yet, alone on its cache line (each thread
+     * writes it per batch; the fields above are read per batch by every thread) */
+    char before_next[CACHE_LINE];
+    atomic_int next;
+    char after_next[CACHE_LINE];
     mm_allocator allocator;
 };
+
+/* The search phase of character i with spread searches: the fractional parts of i times the golden
+ * ratio, which fill [0, 1) evenly for any number of characters and any search interval. */
+#define PHASE_STEP 0.6180339887498949
+
+static float search_phase(int i)
+{
+    float phase = (float)fmod((double)i * PHASE_STEP, 1.0);
+    return phase < 1.0f ? phase : 0.0f;
+}
 
 /* No input: the stick at rest, walking (what a character stands still on). */
 static const mm_input NO_INPUT;
@@ -143,6 +160,7 @@ mm_result mm_crowd_init(mm_crowd *crowd, const mm_database *db, const mm_searche
         r = mm_character_init(&crowd->characters[i], db, searcher, &cd, err);
         if (r != MM_OK) goto fail;
         crowd->count = i + 1; /* what mm_crowd_free frees */
+        if (d->spread_searches) mm_character_set_search_phase(&crowd->characters[i], search_phase(i));
         if (crowd->moves && (r = mm_moves_init(&crowd->moves[i], db, d->scene, &md, err)) != MM_OK) goto fail;
     }
     crowd->count = d->count;

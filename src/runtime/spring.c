@@ -11,33 +11,59 @@ double mm_spring_damping(float halflife)
     return HALFLIFE_ROOT / (double)halflife;
 }
 
-/* One coordinate, in double: the closed form over dt. */
-static void step(double *x, double *v, double target, double y, double dt)
+mm_spring_step mm_spring_step_make(float halflife, float dt)
 {
-    if (!isfinite(y)) {
+    mm_spring_step s = {mm_spring_damping(halflife), dt, 0.0, dt > 0.0f};
+    if (s.moves && isfinite(s.damping)) s.decay = exp(-s.damping * s.dt);
+    return s;
+}
+
+/* One coordinate, in double: the closed form over the step's dt. */
+static void step(double *x, double *v, double target, const mm_spring_step *s)
+{
+    if (!isfinite(s->damping)) {
         *x = target;
         *v = 0.0;
         return;
     }
-    double j0 = *x - target, j1 = *v + j0 * y, e = exp(-y * dt);
+    double y = s->damping, dt = s->dt, e = s->decay;
+    double j0 = *x - target, j1 = *v + j0 * y;
     *x = target + (j0 + j1 * dt) * e;
     *v = (*v - j1 * y * dt) * e;
+}
+
+static void update_with(float *x, float *v, float target, const mm_spring_step *s)
+{
+    if (!s->moves) return;
+    double xd = *x, vd = *v;
+    step(&xd, &vd, target, s);
+    *x = (float)xd;
+    *v = (float)vd;
 }
 
 void mm_spring_update(float *x, float *v, float target, float halflife, float dt)
 {
     if (!(dt > 0.0f)) return;
-    double xd = *x, vd = *v;
-    step(&xd, &vd, target, mm_spring_damping(halflife), dt);
-    *x = (float)xd;
-    *v = (float)vd;
+    mm_spring_step s = mm_spring_step_make(halflife, dt);
+    update_with(x, v, target, &s);
+}
+
+void mm_spring_update_vec3_step(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, const mm_spring_step *s)
+{
+    update_with(&x->x, &v->x, target.x, s);
+    update_with(&x->y, &v->y, target.y, s);
+    update_with(&x->z, &v->z, target.z, s);
 }
 
 void mm_spring_update_vec3(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, float halflife, float dt)
 {
-    mm_spring_update(&x->x, &v->x, target.x, halflife, dt);
-    mm_spring_update(&x->y, &v->y, target.y, halflife, dt);
-    mm_spring_update(&x->z, &v->z, target.z, halflife, dt);
+    mm_spring_step s = mm_spring_step_make(halflife, dt);
+    mm_spring_update_vec3_step(x, v, target, &s);
+}
+
+void mm_spring_decay_vec3_step(mm_vec3 *x, mm_vec3 *v, const mm_spring_step *s)
+{
+    mm_spring_update_vec3_step(x, v, mm_vec3_make(0, 0, 0), s);
 }
 
 void mm_spring_decay_vec3(mm_vec3 *x, mm_vec3 *v, float halflife, float dt)

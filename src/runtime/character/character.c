@@ -604,6 +604,13 @@ void mm_character_halt_simulation(mm_character *c)
     c->state->trajectory.velocity = mm_vec3_make(0, 0, 0);
 }
 
+void mm_character_set_search_phase(mm_character *c, float phase)
+{
+    if (!c || !c->state || !(phase >= 0.0f && phase < 1.0f)) return;
+    c->state->matching.search_phase = phase;
+    c->state->matching.phase_pending = true;
+}
+
 void mm_character_set_walls(mm_character *c, const mm_scene *scene)
 {
     if (!c || !c->state) return;

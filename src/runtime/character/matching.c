@@ -128,7 +128,9 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     int found = mm_searcher_search(searcher, m->query, &p, d->method, results, k);
     if (d->clock) m->last_search_us = (float)(1e6 * (d->clock() - start));
     ++m->searches;
-    m->since_search = 0.0f;
+    /* a phase set: the search after this one comes search_phase of the interval sooner */
+    m->since_search = m->phase_pending ? m->search_phase * d->search_interval : 0.0f;
+    m->phase_pending = false;
     mm_search_result best = results[0];
     m->last_result = best;
     m->candidate_count = found;

@@ -13,6 +13,8 @@
 
 typedef struct mm_matching {
     float since_search;                /* s */
+    float search_phase;                /* share of the search interval by which the schedule shifts */
+    bool phase_pending;                /* the next search shifts it (mm_character_set_search_phase) */
     float last_direction;              /* rad: desired direction at the last search */
     bool idle;                         /* asking for idle */
     bool has_idle;                     /* the database has idle clips */

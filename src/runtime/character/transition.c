@@ -7,6 +7,8 @@
 #include <mm/pose.h>
 #include <mm/spring.h>
 
+#include "math_private.h"
+
 /* Frames `frame` and `next` read into tr's frame arrays: their local transforms. */
 static mm_frame_pair read_frames(mm_transition *tr, const mm_database *db, int frame, int next)
 {
@@ -27,7 +29,7 @@ static void pose_at(mm_transition *tr, const mm_database *db, int frame, float f
     const mm_quat *r0 = pair.rotations0, *r1 = pair.rotations1;
     const mm_vec3 *p0 = pair.positions0, *p1 = pair.positions1;
     for (int j = 0; j < db->joint_count; ++j) {
-        rot[j] = mm_quat_slerp(r0[j], r1[j], fraction);
+        rot[j] = mm__quat_slerp_series(r0[j], r1[j], fraction); /* neighbouring frames: close together */
         pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
     }
 }
@@ -198,11 +200,12 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
 
 void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt)
 {
+    mm_spring_step step = mm_spring_step_make(halflife, dt); /* every joint's offsets decay alike */
     for (int j = 1; j < joint_count; ++j) {
-        mm_spring_decay_vec3(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], halflife, dt);
-        mm_spring_decay_vec3(&tr->position_offset[j], &tr->position_offset_velocity[j], halflife, dt);
+        mm_spring_decay_vec3_step(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], &step);
+        mm_spring_decay_vec3_step(&tr->position_offset[j], &tr->position_offset_velocity[j], &step);
         tr->rotations[j] =
-            mm_quat_normalize(mm_quat_mul(mm_quat_exp(tr->rotation_offset[j]), tr->rotations[j]));
+            mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(tr->rotation_offset[j]), tr->rotations[j]));
         tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
     }
 }

@@ -120,7 +120,11 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
             mm_quat_inv_rotate(pose->global[joints[pelvis].parent].rotation, mm_vec3_make(0.0f, -drop, 0.0f));
         pose->local_positions[pelvis] = mm_vec3_add(pose->local_positions[pelvis], down);
     }
-    mm_rig_forward(rig, pelvis, pose);
+    /* what the legs are set from below: the pelvis as lowered and the hips' rotations (which the drop
+     * leaves); every other joint follows in the forward kinematics at the end */
+    pose->global[pelvis] =
+        mm_xform_mul(pose->global[joints[pelvis].parent],
+                     mm_xform_make(pose->local_rotations[pelvis], pose->local_positions[pelvis]));
     for (int k = 0; k < 2; ++k) {
         int hip = rig->hip[k], knee = rig->knee[k], ankle = rig->ankle[k];
         mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out[k].thigh, pose->global[hip].rotation));
