@@ -292,6 +292,106 @@ static void test_walk_up_a_ramp(void **state)
     mm_searcher_free(&searcher);
 }
 
+/* Heights of the planted feet over ticks 60 to 600 walking forward on s: for each tick and locked
+ * foot, its ankle's and its toe's distance above the ground under each along the ground's normal
+ * (height above it times cos slope); the means of each, the largest foot's gap (the lower of its
+ * ankle's and its toe's heights, less the mean of that joint on level ground: flat_ankle and
+ * flat_toe, when given) and the deepest either went below the ground. */
+typedef struct planted_feet {
+    double ankle, toe, worst_gap, deepest;
+    int count, across; /* locked feet, and those whose ankle and toe are over different ground */
+} planted_feet;
+
+static planted_feet walk_planted(const mm_searcher *searcher, const mm_scene *s, float slope,
+                                 const planted_feet *flat)
+{
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, searcher, NULL, NULL), MM_OK);
+    mm_character_set_scene(&c, s);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    planted_feet out = {0.0, 0.0, 0.0, 0.0, 0, 0};
+    for (int i = 0; i < 600; ++i) {
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        if (i < 60) continue;
+        for (int k = 0; k < 2; ++k) {
+            assert_true(c.toe_joint[k] >= 0);
+            mm_vec3 a = c.global[c.foot_joint[k]].translation, t = c.global[c.toe_joint[k]].translation;
+            float under_ankle = mm_scene_ground_height(s, a.x, a.z, NULL),
+                  under_toe = mm_scene_ground_height(s, t.x, t.z, NULL);
+            double ha = (a.y - under_ankle) * cos(slope), ht = (t.y - under_toe) * cos(slope);
+            out.deepest = fmax(out.deepest, fmax(-ha, -ht));
+            if (!c.foot_locked[k]) continue;
+            out.ankle += ha, out.toe += ht;
+            ++out.count;
+            out.across += slope == 0.0f && fabsf(under_ankle - under_toe) > 0.01f;
+            if (flat) out.worst_gap = fmax(out.worst_gap, fmin(ha - flat->ankle, ht - flat->toe));
+        }
+    }
+    assert_true(c.root.translation.z > 8.0f);
+    mm_character_free(&c);
+    if (out.count) out.ankle /= out.count, out.toe /= out.count;
+    return out;
+}
+
+/* Walking up a 20-degree ramp (an angle the shipped scenes do not have): the planted feet turned to
+ * the slope, heel and toe each, on average, as high above it along its normal as on level ground
+ * (a plane raised 0.25 m), within 1 cm; none below it. */
+static void test_feet_on_a_20_degree_slope(void **state)
+{
+    (void)state;
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    float slope = 20.0f * (float)MM_DEG_TO_RAD;
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(
+        mm_scene_add_ramp(&scene, mm_vec3_make(0, 0, 19), mm_vec3_make(20, 40 * tanf(slope), 40), 0.0f),
+        MM_OK);
+    mm_scene_init(&again, 0.25f);
+    planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
+    planted_feet ramp = walk_planted(&searcher, &scene, slope, &flat);
+    assert_true(flat.count > 200 && ramp.count > 200);
+    assert_float_equal(ramp.ankle, flat.ankle, 0.01);
+    assert_float_equal(ramp.toe, flat.toe, 0.01);
+    assert_true(ramp.deepest < 0.005);
+    mm_searcher_free(&searcher);
+}
+
+/* Walking up stairs of risers and runs the shipped scenes do not have (0.15 m over 0.28 m, 50
+ * steps; the treads' heights checked by hand: a step's count times the riser): the planted feet
+ * stand on one tread, their ankle and toe over the same tread on at least 90% of the planted ticks
+ * (a foot planted where the data puts it lands across an edge on more than half of them), the
+ * ankles on average as high above the tread as on level ground within 2.5 cm (a foot held at the
+ * higher tread's height over the lower one floats), none below the tread; every planted foot has
+ * its heel or its toe within 15 cm of its height on level ground. */
+static void test_feet_on_stairs(void **state)
+{
+    (void)state;
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    const int steps = 50;
+    const float riser = 0.15f, run_length = 0.28f, start = 1.0f;
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
+                                         mm_vec3_make(4, steps * riser, steps * run_length), 0.0f, steps),
+                     MM_OK);
+    /* the ground by hand on the stairs' middle line */
+    for (int i = 0; i < steps; ++i) {
+        float z = start + ((float)i + 0.5f) * run_length;
+        assert_float_equal(mm_scene_ground_height(&scene, 0.0f, z, NULL), (float)(i + 1) * riser, 1e-4f);
+    }
+    mm_scene_init(&again, 0.25f);
+    planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
+    planted_feet stairs = walk_planted(&searcher, &scene, 0.0f, &flat);
+    assert_true(flat.count > 200 && stairs.count > 200);
+    assert_true(stairs.across < stairs.count / 10);
+    assert_float_equal(stairs.ankle, flat.ankle, 0.025);
+    assert_true(stairs.deepest < 0.005);
+    assert_true(stairs.worst_gap < 0.15);
+    mm_searcher_free(&searcher);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -315,6 +415,8 @@ int main(void)
         cmocka_unit_test(test_mesh),
         cmocka_unit_test(test_flat_scene_is_no_scene),
         cmocka_unit_test(test_walk_up_a_ramp),
+        cmocka_unit_test(test_feet_on_a_20_degree_slope),
+        cmocka_unit_test(test_feet_on_stairs),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

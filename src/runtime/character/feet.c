@@ -49,6 +49,24 @@
 /* s: half-life of the spring an animated foot's shift to the ground under it follows with (a
  * step's edge passing under the foot comes in over a few ticks) */
 #define GROUND_SHIFT_HALFLIFE 0.04f
+/* m: how far the sole reaches behind the ankle and ahead of the toe joint, the part of the foot
+ * that must stand on one tread */
+#define SOLE_BEHIND_ANKLE 0.05f
+#define SOLE_AHEAD_OF_TOE 0.04f
+/* m: a rise of the ground between two neighbouring points along the sole larger than this is a
+ * step's edge (a slope of 21 degrees rises 0.6 cm between them) */
+#define TREAD_EDGE_RISE 0.03f
+/* points the ground along the sole is read at, to find a step's edge under a landing foot */
+#define TREAD_SAMPLES 24
+/* m/s: the fastest a landing foot is moved onto one tread */
+#define TREAD_SPEED 1.5f
+/* m: a free foot this little above where it would stand is moved onto one tread */
+#define TREAD_NEAR 0.06f
+/* m/s: the fastest a landing foot is brought down to the ground beyond its own fall */
+#define LANDING_FALL_SPEED 2.0f
+/* m: how far past a step's edge the sole's end is moved (the leg's reach may leave the ankle a
+ * little short of its target) */
+#define TREAD_MARGIN 0.02f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -134,6 +152,79 @@ static float toe_floor(float y, float floor)
     return below <= 0.0f ? floor - s : floor - s + below * below / (4.0f * s);
 }
 
+/* On terrain: the step, on the ground plane, that moves a free foot coming down (its ankle at
+ * most TREAD_NEAR above where it would stand, planted above the highest ground under its sole)
+ * whose sole (ankle at heel, toe joint at heel + along, SOLE_BEHIND_ANKLE and SOLE_AHEAD_OF_TOE
+ * beyond) lies across a step's edge toward standing on one tread: forward past the edge or back
+ * behind it, TREAD_MARGIN beyond, whichever is shorter, at most TREAD_SPEED over dt. Zero where the
+ * ground under the sole has no edge, or the foot is higher. A
+ * foot planted across an edge would stand on the tread under its heel or under its toe with the
+ * other end in the air or in the riser, and its heel and toe locks would read the ground of
+ * different treads. */
+static mm_vec3 tread_step(const mm_scene *scene, mm_vec3 heel, mm_vec3 along, float planted, float dt)
+{
+    mm_vec3 none = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    float length = sqrtf(along.x * along.x + along.z * along.z);
+    if (!scene || !(length > MIN_FOOT_LENGTH)) return none;
+    float ux = along.x / length, uz = along.z / length;
+    float sole = SOLE_BEHIND_ANKLE + length + SOLE_AHEAD_OF_TOE, spacing = sole / (float)(TREAD_SAMPLES - 1);
+    float back_x = heel.x - ux * SOLE_BEHIND_ANKLE, back_z = heel.z - uz * SOLE_BEHIND_ANKLE;
+    float previous = mm_scene_ground_height(scene, back_x, back_z, NULL), edge = -1.0f, biggest = 0.0f;
+    float highest = previous;
+    for (int i = 1; i < TREAD_SAMPLES; ++i) {
+        float s = spacing * (float)i,
+              h = mm_scene_ground_height(scene, back_x + ux * s, back_z + uz * s, NULL);
+        float rise = fabsf(h - previous);
+        if (rise > TREAD_EDGE_RISE && rise > biggest) biggest = rise, edge = s - 0.5f * spacing;
+        previous = h, highest = fmaxf(highest, h);
+    }
+    if (edge < 0.0f || heel.y - planted - highest > TREAD_NEAR) return none;
+    float forward = edge + TREAD_MARGIN, backward = sole - edge + TREAD_MARGIN;
+    float move = forward <= backward ? forward : -backward;
+    float most = TREAD_SPEED * dt;
+    move = fminf(fmaxf(move, -most), most);
+    return mm_vec3_make(ux * move, 0.0f, uz * move);
+}
+
+/* On terrain: the ground a foot whose ankle is over heel stands on, its toe at heel + along before
+ * it is turned by tilt to the ground: the higher of the ground under its ankle and the ground under
+ * its toe less the rise the turn gives the toe (on a slope both read the ground under the ankle; a
+ * foot across a step's edge stands on the higher tread). Read where the foot is (held, or animated
+ * and carried by its offset), not where it is animated: a landing foot moved onto one tread stands
+ * on that tread. */
+static float foot_ground(const mm_scene *scene, mm_vec3 heel, mm_vec3 along, mm_quat tilt)
+{
+    float rise = mm_quat_rotate(tilt, along).y - along.y;
+    return fmaxf(mm_scene_ground_height(scene, heel.x, heel.z, NULL),
+                 mm_scene_ground_height(scene, heel.x + along.x, heel.z + along.z, NULL) - rise);
+}
+
+/* On terrain: the height at which foot k's ankle, at ankle (its toe at ankle + along), stands on
+ * the ground under it: the highest of its ankle's, its toe's and its sole's back end's (where the
+ * ankle or the toe is at its planted height). */
+static float sole_stand(const mm_feet_ground *ground, const mm_rig *rig, int k, mm_vec3 ankle, mm_vec3 along)
+{
+    float length = sqrtf(along.x * along.x + along.z * along.z);
+    float back = length > MIN_FOOT_LENGTH ? SOLE_BEHIND_ANKLE / length : 0.0f;
+    float stand =
+        fmaxf(stand_height(ground, ankle.x, ankle.z, rig->planted_ankle[k]),
+              stand_height(ground, ankle.x + along.x, ankle.z + along.z, rig->planted_toe[k]) - along.y);
+    /* the heel's end too: a foot landing just past a step's edge is held on the higher tread until
+     * it is planted (the leg's reach, short of a lower tread, would leave the heel in the edge) */
+    return fmaxf(stand, stand_height(ground, ankle.x - back * along.x, ankle.z - back * along.z,
+                                     rig->planted_ankle[k]));
+}
+
+/* On terrain: the height of a landing foot's ankle w of the way (the landing's share) from its
+ * height down to where it stands (sole_stand): a foot is planted on the ground, not where its
+ * label finds it (early, over a lower tread or down a slope) to come down as the offset fades.
+ * Never raised. */
+static float landing_height(const mm_feet_ground *ground, const mm_rig *rig, int k, mm_vec3 ankle,
+                            mm_vec3 along, float w)
+{
+    return ankle.y - w * fmaxf(ankle.y - sole_stand(ground, rig, k, ankle, along), 0.0f);
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -145,8 +236,8 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
     mm_quat animated = pose->global[ankle].rotation;
     if (tilt) { /* on terrain: the animated foot moved from the root's ground to the ground under it */
-        float h = fmaxf(mm_scene_ground_height(ground->scene, a.x, a.z, NULL),
-                        mm_scene_ground_height(ground->scene, t.x, t.z, NULL));
+        mm_vec3 at = !f->placed ? a : f->locked[k] ? f->lock[k] : mm_vec3_add(a, f->offset[k]);
+        float h = foot_ground(ground->scene, at, mm_vec3_sub(t, a), *tilt);
         if (!f->placed) f->ground_shift[k] = h - ground->height, f->ground_shift_velocity[k] = 0.0f;
         mm_spring_update(&f->ground_shift[k], &f->ground_shift_velocity[k], h - ground->height,
                          GROUND_SHIFT_HALFLIFE, dt);
@@ -205,6 +296,13 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     }
     mm_vec3 out = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
     mm_vec3 velocity = mm_vec3_add(source_velocity(f, k, a, t, dt), f->offset_velocity[k]);
+    mm_vec3 onto_tread = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    if (tilt && f->placed && !was_locked) {
+        /* a free foot coming down across a step's edge: moved onto one tread (by its offset) */
+        onto_tread = tread_step(ground->scene, out, mm_vec3_sub(t, a), rig->planted_ankle[k], dt);
+        out = mm_vec3_add(out, onto_tread);
+        f->offset[k] = mm_vec3_add(f->offset[k], onto_tread);
+    }
     bool wait = false;
     if (d->plant_time > 0.0f && f->placed && !was_locked) {
         /* landing: the foot's step on the ground plane shrinks to nothing as its contact comes (w:
@@ -226,9 +324,15 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         f->landed[k] = on && !wait ? 0.0f : w;
         if (w > 0.0f) {
             mm_vec3 from = f->lock[k];
+            from = mm_vec3_add(from, onto_tread);
             out.x = from.x + (1.0f - w) * (out.x - from.x);
             out.z = from.z + (1.0f - w) * (out.z - from.z);
             velocity.x *= 1.0f - w, velocity.z *= 1.0f - w;
+            if (tilt) {
+                /* brought down no faster than LANDING_FALL_SPEED beyond what the animation does */
+                float lowered = landing_height(ground, rig, k, out, mm_vec3_sub(t, a), w);
+                out.y = fmaxf(lowered, fminf(out.y, from.y - LANDING_FALL_SPEED * dt));
+            }
             f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
             f->offset_velocity[k] = mm_vec3_sub(velocity, source_velocity(f, k, a, t, dt));
         }
