@@ -356,6 +356,46 @@ static void test_transition_inertialize_keeps_pose_and_velocity(void **state)
     assert_float_equal(out.yaw_rate, 0.2f, 1e-5f);
 }
 
+/* A joint swinging about +Y at w under a fixed tilt of 0.8 rad about +X (the old clip: the tilt
+ * from the parent's side), jumping to a clip swinging about +Y untilted: the offset (about +X, or
+ * near it) does not commute with the new swing. Over the first tick after the jump the output goes
+ * on as the old clip would have, to second order in dt: a rate of offset w_out - w_new would turn
+ * it by |R(offset) w - w| dt (0.08 rad here) off that. Truth: the old motion continued. */
+static mm_quat tilted_swing(float tilt, float a0, float w, float t)
+{
+    return mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), tilt), turning(a0, w, t));
+}
+
+static void test_transition_inertialize_keeps_velocity_across_axes(void **state)
+{
+    (void)state;
+    enum { N = 2 };
+    mm_quat rot[N], prev[N], r0[N], r1[N];
+    mm_vec3 pos[N], prev_pos[N], p0[N], p1[N];
+    mm_vec3 ro[N], rov[N], po[N], pov[N];
+    mm_transition tr;
+    memset(&tr, 0, sizeof tr);
+    tr.rotations = rot, tr.previous_rotations = prev, tr.positions = pos, tr.previous_positions = prev_pos;
+    tr.rotation_offset = ro, tr.rotation_offset_velocity = rov, tr.position_offset = po,
+    tr.position_offset_velocity = pov;
+    /* a long half-life: the spring's own pull over one tick (y^2 x dt^2) is negligible here */
+    float dt = 1.0f / 60.0f, interval = 1.0f / 60.0f, w = 6.0f, tilt = 0.8f, h = 10.0f;
+    prev[1] = tilted_swing(tilt, 0.2f, w, -dt), rot[1] = tilted_swing(tilt, 0.2f, w, 0.0f);
+    prev_pos[1] = pos[1] = p0[1] = p1[1] = mm_vec3_make(0, 0, 0);
+    /* the new clip at this tick (the jump lands on its frame): untilted, 0.5 rad further round */
+    r0[1] = turning(0.7f, w, dt), r1[1] = turning(0.7f, w, dt + interval);
+    mm_frame_pair to = {r0, r1, p0, p1};
+    mm_transition_inertialize(&tr, N, &to, 0.0f, 1.0f / interval, dt);
+    rot[1] = r0[1]; /* this tick's pose as played, then the offsets on it */
+    mm_transition_decay(&tr, N, h, dt);
+    float off = mm_quat_angle_between(rot[1], tilted_swing(tilt, 0.2f, w, dt));
+    assert_true(off < 2e-3f);
+    /* and one more tick: still on the old motion to second order */
+    rot[1] = r1[1];
+    mm_transition_decay(&tr, N, h, dt);
+    assert_true(mm_quat_angle_between(rot[1], tilted_swing(tilt, 0.2f, w, 2.0f * dt)) < 4e-3f);
+}
+
 /* ---- 5. root motion ---- */
 
 static void test_root_motion_pull_and_clamps(void **state)
@@ -676,6 +716,80 @@ static void test_feet_release_keeps_velocity(void **state)
     assert_true(worst < 0.4f * v * dt);
 }
 
+/* A lock pulled further than unlock_radius on the tick its label turns off is let go as any other:
+ * the ankle keeps its place and its velocity (0, held) and its offset (x0 = P - a, the animated
+ * ankle a moving at v, velocity -v) decays on the spring of foot_halflife: p(t) = a(t) + (x0 +
+ * (-v + y x0) t) e^(-y t). Starting it from rest instead would start the foot at v at once. */
+static void test_feet_far_release_keeps_velocity(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.unlock_radius = 0.1f;
+    float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife);
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    body_at(&b, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    mm_vec3 P = f.heel_lock[0];
+    int n = 0;
+    mm_vec3 last[3] = {P, P, P};
+    float worst = 0.0f;
+    /* held while the body walks off at v; the label goes off on the first tick past unlock_radius */
+    for (n = 1; (float)n * v * dt <= d.unlock_radius; ++n) {
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+    }
+    float x0 = -v * (float)n * dt;
+    for (int i = 0; i <= 20; ++i, ++n) {
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_false(f.locked[0]);
+        float t = (float)i * dt, x = (x0 + (-v + y * x0) * t) * expf(-y * t);
+        assert_vec3_near(f.lock[0], mm_vec3_add(P, mm_vec3_make(0, 0, v * (float)n * dt + x)), 1e-4f);
+        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
+    }
+    assert_true(worst < 0.6f * v * dt);
+}
+
+/* A foot held 8 cm above the animated one by its offset (a transition's, or a released lock's) when
+ * its label turns on: the lock goes where the animated foot is and the offset carries the height,
+ * fading (no drop in a tick; the ankle's target moves by less than 1 cm of second difference), and
+ * the foot comes down onto the animated one. */
+static void test_feet_plant_above_the_animated_foot(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    f.offset[0] = mm_vec3_make(0, 0.08f, 0), f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
+    mm_vec3 last[3] = {f.lock[0], f.lock[0], f.lock[0]};
+    float worst = 0.0f;
+    for (int n = 0; n < 60; ++n) {
+        bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, n < 3 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        if (n >= 2) worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
+        if (n == 3) assert_float_equal(f.heel_lock[0].y, 0.06f, 1e-4f);
+    }
+    assert_true(f.heel_locked[0]);
+    assert_true(worst < 0.01f);
+    assert_float_equal(b.global[L_FOOT].translation.y, 0.06f, 1e-3f);
+}
+
 /* A contact that comes without warning (the label on where it was not foreseen: a jump onto a frame
  * whose label is on) is waited for over plant_time: with plant_time two ticks, a foot moving at v
  * steps v dt / 2 on the tick its label turns on and is planted, at rest, on the next, where it is:
@@ -812,11 +926,14 @@ int main(void)
         cmocka_unit_test(test_playback_distance_matching_on_a_cycle),
         cmocka_unit_test(test_matching_due),
         cmocka_unit_test(test_transition_inertialize_keeps_pose_and_velocity),
+        cmocka_unit_test(test_transition_inertialize_keeps_velocity_across_axes),
         cmocka_unit_test(test_root_motion_pull_and_clamps),
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
+        cmocka_unit_test(test_feet_far_release_keeps_velocity),
+        cmocka_unit_test(test_feet_plant_above_the_animated_foot),
         cmocka_unit_test(test_feet_land_without_warning),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),

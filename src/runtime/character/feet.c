@@ -197,9 +197,10 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 kept = mm_vec3_sub(before_velocity, source_velocity(f, k, a, t, dt));
     kept.y = 0.0f;
     if (!toe_held) f->offset_velocity[k] = mm_vec3_add(f->offset_velocity[k], kept);
-    if (far) {
+    if (far && (heel_on || toe_on)) {
         /* pulled too far from the animation: released, and planted again below where the foot now
-         * is, one spring step from rest toward the animation (the foot creeps after it) */
+         * is, one spring step from rest toward the animation (the foot creeps after it). A foot
+         * whose labels are off is let go as any other, keeping its velocity */
         f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
         mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
     }
@@ -234,11 +235,14 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         }
     }
     /* planted where the foot is, at rest, never lower than the data plants it; a heel or a toe
-     * planted while the other holds takes its place on the foot as it is held */
+     * planted while the other holds takes its place on the foot as it is held. Not above the
+     * animated foot: a lock comes down to it at once (above), and the height it is planted above
+     * it (an offset holding the foot up) is carried by the offset, fading, not dropped in a tick */
     bool held_heel = f->heel_locked[k], held_toe = f->toe_locked[k];
     int planted = 0;
     if (heel_on && !held_heel && !wait) {
         f->heel_lock[k] = held_toe ? foot_source(f, k, a, t) : out;
+        f->heel_lock[k].y = fminf(f->heel_lock[k].y, a.y);
         f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], f->heel_lock[k]);
         f->heel_locked[k] = true;
         planted = 1;
@@ -246,6 +250,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (toe_on && !held_toe && !wait) {
         f->toe_lock[k] = mm_vec3_add(held_heel ? f->heel_lock[k] : out,
                                      mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
+        f->toe_lock[k].y = fminf(f->toe_lock[k].y, t.y);
         f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k]);
         f->toe_locked[k] = true;
         planted = 1;
