@@ -790,6 +790,71 @@ static void test_feet_plant_above_the_animated_foot(void **state)
     assert_float_equal(b.global[L_FOOT].translation.y, 0.06f, 1e-3f);
 }
 
+/* A fast foot (8 m/s on the ground plane: a transition's offsets carrying a swing) whose label comes
+ * on without warning lands evenly, its step shrinking by the same amount each tick, at most feet.c's
+ * LANDING_DECELERATION (150 m/s^2) times dt^2 (10% more: the offset's spring pulls the foot on as it
+ * lags the body), over ceil(v / (150 dt)) ticks instead of plant_time's two, where its step would
+ * halve and then stop (second differences of v dt / 2, 6.7 cm). */
+static void test_feet_fast_landing(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    float dt = 1.0f / 60.0f, v = 8.0f, deceleration = 150.0f;
+    d.plant_time = 2.0f * dt;
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}}, heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    mm_vec3 p[16];
+    int landed_at = -1, ticks = (int)ceilf(v / (deceleration * dt));
+    for (int n = 0; n < 16; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        p[n] = f.lock[0];
+        if (f.heel_locked[0] && landed_at < 0) landed_at = n;
+        if (n >= 2) assert_true(second_difference(p[n - 2], p[n - 1], p[n]) < 1.1f * deceleration * dt * dt);
+    }
+    /* planted on the tick its share reaches 1, where the landing's last step left it */
+    assert_int_equal(landed_at, 4 + ticks);
+    assert_vec3_near(p[landed_at], p[landed_at - 1], 1e-6f);
+    /* and every step of the landing shorter than the one before */
+    for (int n = 5; n < landed_at; ++n) assert_true(p[n].z - p[n - 1].z < p[n - 1].z - p[n - 2].z);
+}
+
+/* A foot held on its toe, pitched toe-up as animated so that its toe floats above its lock (the ankle
+ * kept at its planted height), then planted on its heel too: the foot turns down onto the toe's lock
+ * over the turn's fading offset (foot_halflife), not in the one tick (the toe's second difference
+ * stays under 1 cm), and ends with the toe on its lock (to the toe's soft floor). */
+static void test_feet_heel_planted_under_a_held_toe(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}},
+                     both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    mm_vec3 last[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    float worst = 0.0f, floated = 0.0f;
+    for (int n = 0; n < 90; ++n) {
+        float pitch = -0.4f * fminf((float)n / 20.0f, 1.0f); /* toe up, over a third of a second */
+        bent_left_leg(&b, 0.3f, pitch, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, n < 30 ? &toe : &both, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        if (n == 29) floated = b.global[L_TOE].translation.y - f.toe_lock[0].y;
+        last[0] = last[1], last[1] = last[2], last[2] = b.global[L_TOE].translation;
+        if (n >= 2) worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
+    }
+    assert_true(f.heel_locked[0] && f.toe_locked[0]);
+    assert_true(floated > 0.02f); /* what the heel's plant had to bring down */
+    assert_true(worst < 0.01f);
+    assert_vec3_near(b.global[L_TOE].translation, f.toe_lock[0], 0.01f); /* TOE_SINK's soft floor */
+}
+
 /* A contact that comes without warning (the label on where it was not foreseen: a jump onto a frame
  * whose label is on) is waited for over plant_time: with plant_time two ticks, a foot moving at v
  * steps v dt / 2 on the tick its label turns on and is planted, at rest, on the next, where it is:
@@ -935,6 +1000,8 @@ int main(void)
         cmocka_unit_test(test_feet_far_release_keeps_velocity),
         cmocka_unit_test(test_feet_plant_above_the_animated_foot),
         cmocka_unit_test(test_feet_land_without_warning),
+        cmocka_unit_test(test_feet_fast_landing),
+        cmocka_unit_test(test_feet_heel_planted_under_a_held_toe),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
         cmocka_unit_test(test_feet_roll_onto_the_toe),

@@ -26,6 +26,10 @@
 #define MIN_FOOT_LENGTH 1e-6f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
+/* m/s^2: the most a landing slows a foot on the ground plane: a foot faster than this times
+ * plant_time (a transition's offsets still carrying a swing onto a frame whose label is on) lands
+ * over longer, as its speed asks */
+#define LANDING_DECELERATION 150.0f
 /* rad: on terrain, the most a foot is turned to the ground's slope (about 26 degrees) */
 #define MAX_FOOT_TILT 0.45f
 /* m: a free foot this far above where it would stand is not turned to the ground at all (fully
@@ -215,21 +219,30 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * the lock would stop it dead from there. The share grows by at most a tick's worth each
          * tick: a contact seen late (less than plant_time ahead, or on already: a jump onto a frame
          * whose label is on) is planted once the landing has run its plant_time, waited for. A
-         * contact no longer coming ends the landing. */
+         * contact no longer coming ends the landing. The step is (1 - w) of the one the landing
+         * began with (the foot slows evenly), over plant_time or, for a fast foot, over as long
+         * as LANDING_DECELERATION needs to stop it. */
         bool on = heel_on || toe_on;
-        float left = contacts->until_label[k], w = 0.0f;
+        float left = contacts->until_label[k], w = 0.0f, w_before = f->landed[k];
         if (on || left >= 0.0f) {
-            float due = on ? 1.0f : fmaxf(1.0f - left / d->plant_time, 0.0f);
-            w = fmaxf(f->landed[k], fminf(f->landed[k] + dt / d->plant_time, due));
+            if (!(w_before > 0.0f)) { /* a landing begins: its length from the foot's speed now */
+                float speed = sqrtf(velocity.x * velocity.x + velocity.z * velocity.z);
+                f->landing_time[k] = fmaxf(d->plant_time, speed / LANDING_DECELERATION);
+            }
+            float landing = fmaxf(f->landing_time[k], d->plant_time);
+            float due = on ? 1.0f : fmaxf(1.0f - left / landing, 0.0f);
+            w = fmaxf(w_before, fminf(w_before + dt / landing, due));
             wait = on && w < 1.0f - LANDING_DONE;
             if (w > 1.0f) w = 1.0f;
         }
         f->landed[k] = on && !wait ? 0.0f : w;
         if (w > 0.0f) {
             mm_vec3 from = f->lock[k];
-            out.x = from.x + (1.0f - w) * (out.x - from.x);
-            out.z = from.z + (1.0f - w) * (out.z - from.z);
-            velocity.x *= 1.0f - w, velocity.z *= 1.0f - w;
+            /* the step so far is (1 - w_before) of the landing's first */
+            float keep = w_before < 1.0f - LANDING_DONE ? (1.0f - w) / (1.0f - w_before) : 0.0f;
+            out.x = from.x + keep * (out.x - from.x);
+            out.z = from.z + keep * (out.z - from.z);
+            velocity.x *= keep, velocity.z *= keep;
             f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
             f->offset_velocity[k] = mm_vec3_sub(velocity, source_velocity(f, k, a, t, dt));
         }
@@ -272,6 +285,14 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
             f->toe_lock[k] =
                 mm_vec3_add(f->heel_lock[k], mm_quat_rotate(mm_quat_exp(turn), mm_vec3_sub(t, a)));
         }
+        /* the turn the foot had carried over as an offset when both locks begin, fading */
+        if (heel_was_locked && toe_was_locked) {
+            mm_spring_decay_vec3(&f->turn_offset[k], &f->turn_offset_velocity[k], d->foot_halflife, dt);
+        } else {
+            f->turn_offset[k] = mm_vec3_sub(f->turn[k], turn);
+            f->turn_offset_velocity[k] = f->turn_velocity[k];
+        }
+        turn = mm_vec3_add(turn, f->turn_offset[k]);
         f->turn_velocity[k] = mm_vec3_scale(mm_vec3_sub(turn, f->turn[k]), 1.0f / dt);
         f->turn[k] = turn;
     } else {
