@@ -227,7 +227,8 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         if (on || left >= 0.0f) {
             if (!(w_before > 0.0f)) { /* a landing begins: its length from the foot's speed now */
                 float speed = sqrtf(velocity.x * velocity.x + velocity.z * velocity.z);
-                f->landing_time[k] = fmaxf(d->plant_time, speed / LANDING_DECELERATION);
+                f->landing_time[k] =
+                    fmaxf(d->plant_time, fminf(speed / LANDING_DECELERATION, MM_FEET_LANDING_MAX_TIME));
             }
             float landing = fmaxf(f->landing_time[k], d->plant_time);
             float due = on ? 1.0f : fmaxf(1.0f - left / landing, 0.0f);

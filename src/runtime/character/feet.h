@@ -35,10 +35,15 @@ typedef struct mm_feet {
     mm_vec3 raw_contacts[4]; /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
 
+/* s: the longest landing (a fast foot slowed to rest before its contact, see feet.c): how far ahead
+ * the contacts coming are looked for, when longer than plant_time */
+#define MM_FEET_LANDING_MAX_TIME 0.1f
+
 /* What the clip playing says of the feet this tick. */
 typedef struct mm_feet_contacts {
     unsigned label;       /* mm_contact_bits of the frame playing */
-    float until_label[2]; /* s until foot k's label turns on, when within plant_time; -1 otherwise */
+    float until_label[2]; /* s until foot k's label turns on, when within the landing's look-ahead
+                           * (plant_time, at least MM_FEET_LANDING_MAX_TIME); -1 otherwise */
 } mm_feet_contacts;
 
 /* The ground a foot stands on: its height (scene NULL: the plane at that height; else the scene's
