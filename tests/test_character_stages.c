@@ -716,17 +716,19 @@ static void test_feet_release_keeps_velocity(void **state)
     assert_true(worst < 0.4f * v * dt);
 }
 
-/* A lock pulled further than unlock_radius on the tick its label turns off is let go as any other:
- * the ankle keeps its place and its velocity (0, held) and its offset (x0 = P - a, the animated
- * ankle a moving at v, velocity -v) decays on the spring of foot_halflife: p(t) = a(t) + (x0 +
- * (-v + y x0) t) e^(-y t). Starting it from rest instead would start the foot at v at once. */
+/* A lock pulled further than unlock_radius on the tick its label turns off is let go as any other,
+ * after that tick's creep (a spring step from rest toward the animation, scaled by how far past the
+ * radius it is over feet.c's UNLOCK_RAMP, 5 cm): the ankle keeps its place and its velocity (0,
+ * held), and its offset (x0 = P' - a, the animated ankle a moving at v, velocity -v) decays on the
+ * spring of foot_halflife: p(t) = a(t) + (x0 + (-v + y x0) t) e^(-y t). Starting it from rest
+ * instead would start the foot at v at once. */
 static void test_feet_far_release_keeps_velocity(void **state)
 {
     (void)state;
     mm_character_desc d = defaults();
     d.plant_time = 0.0f;
-    d.unlock_radius = 0.1f;
-    float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife);
+    d.unlock_radius = 0.095f;
+    float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
     mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
@@ -742,9 +744,12 @@ static void test_feet_far_release_keeps_velocity(void **state)
         body_at(&b, v * (float)n * dt);
         mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         assert_true(f.heel_locked[0]);
+        assert_vec3_near(f.heel_lock[0], P, 1e-6f); /* within the radius: no creep */
         last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
     }
-    float x0 = -v * (float)n * dt;
+    float gap = v * (float)n * dt, step = 1.0f - (1.0f + y * dt) * expf(-y * dt);
+    float crept = fminf((gap - d.unlock_radius) / ramp, 1.0f) * step * gap;
+    float x0 = crept - gap;
     for (int i = 0; i <= 20; ++i, ++n) {
         body_at(&b, v * (float)n * dt);
         mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
@@ -755,6 +760,35 @@ static void test_feet_far_release_keeps_velocity(void **state)
         worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
     }
     assert_true(worst < 0.6f * v * dt);
+}
+
+/* A lock the animation pulls past unlock_radius creeps after it continuously: each tick it moves
+ * by a spring step from rest toward the animated ankle times min((gap - radius) / UNLOCK_RAMP, 1)
+ * (feet.c, 5 cm): nothing at the radius, so two characters whose bodies differ by a rounding
+ * error move their locks by as little. */
+static void test_feet_lock_creeps_after_the_animation(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    float dt = 1.0f / 60.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
+    float step = 1.0f - (1.0f + y * dt) * expf(-y * dt);
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    float past[4] = {-1e-4f, 1e-4f, 0.02f, 0.1f};
+    for (int i = 0; i < 4; ++i) {
+        mm_feet f;
+        memset(&f, 0, sizeof f);
+        body b;
+        body_at(&b, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        mm_vec3 P = f.heel_lock[0];
+        float gap = d.unlock_radius + past[i];
+        body_at(&b, gap);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        float share = past[i] > 0.0f ? fminf(past[i] / ramp, 1.0f) * step : 0.0f;
+        assert_float_equal(f.heel_lock[0].z - P.z, share * gap, 1e-6f);
+    }
 }
 
 /* A foot held 8 cm above the animated one by its offset (a transition's, or a released lock's) when
@@ -1014,6 +1048,7 @@ int main(void)
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
         cmocka_unit_test(test_feet_far_release_keeps_velocity),
+        cmocka_unit_test(test_feet_lock_creeps_after_the_animation),
         cmocka_unit_test(test_feet_plant_above_the_animated_foot),
         cmocka_unit_test(test_feet_land_without_warning),
         cmocka_unit_test(test_feet_fast_landing),

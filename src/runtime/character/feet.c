@@ -26,6 +26,9 @@
 #define MIN_FOOT_LENGTH 1e-6f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
+/* m: past unlock_radius, how far the creep of a lock after the animation grows from nothing to a
+ * whole spring step a tick (a threshold would move the lock by a whole step at once) */
+#define UNLOCK_RAMP 0.05f
 /* m/s^2: the most a landing slows a foot on the ground plane: a foot faster than this times
  * plant_time (a transition's offsets still carrying a swing onto a frame whose label is on) lands
  * over longer, as its speed asks */
@@ -173,12 +176,27 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         mm_vec3 lowered = mm_vec3_make(f->toe_lock[k].x, fminf(f->toe_lock[k].y, t.y), f->toe_lock[k].z);
         f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], lowered);
     }
+    /* a lock the animation has pulled more than unlock_radius away creeps after it: its locks move
+     * toward the animated foot by a spring step from rest each tick (foot_halflife), in full from
+     * UNLOCK_RAMP past the radius and in proportion before */
+    if (f->heel_locked[k] || f->toe_locked[k]) {
+        mm_vec3 held = foot_source(f, k, a, t);
+        float gap = mm_vec3_distance(held, a);
+        if (gap > d->unlock_radius) {
+            double y = mm_spring_damping(d->foot_halflife);
+            float step = isfinite(y) ? (float)(1.0 - (1.0 + y * dt) * exp(-y * dt)) : 1.0f;
+            float share = fminf((gap - d->unlock_radius) / UNLOCK_RAMP, 1.0f) * step;
+            mm_vec3 delta = mm_vec3_scale(mm_vec3_sub(a, held), share);
+            f->heel_lock[k] = mm_vec3_add(f->heel_lock[k], delta);
+            f->toe_lock[k] = mm_vec3_add(f->toe_lock[k], delta);
+            f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], f->heel_lock[k]);
+            f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k]);
+        }
+    }
     mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
     mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
-    bool far = was_locked && mm_vec3_distance(before, a) > d->unlock_radius;
-    if (far) f->heel_locked[k] = f->toe_locked[k] = false;
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
     /* the heel lifts off while the toe holds: the ankle keeps its place, the foot turned about the
@@ -201,13 +219,6 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 kept = mm_vec3_sub(before_velocity, source_velocity(f, k, a, t, dt));
     kept.y = 0.0f;
     if (!toe_held) f->offset_velocity[k] = mm_vec3_add(f->offset_velocity[k], kept);
-    if (far && (heel_on || toe_on)) {
-        /* pulled too far from the animation: released, and planted again below where the foot now
-         * is, one spring step from rest toward the animation (the foot creeps after it). A foot
-         * whose labels are off is let go as any other, keeping its velocity */
-        f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
-        mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
-    }
     mm_vec3 out = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
     mm_vec3 velocity = mm_vec3_add(source_velocity(f, k, a, t, dt), f->offset_velocity[k]);
     bool wait = false;
