@@ -72,7 +72,6 @@ typedef struct known_miss {
 static const known_miss known_misses[] = {
     {"builtin", "straight_run", T_POP},
     {"builtin", "stop_and_go", T_POP},
-    {"builtin", "turn_90", T_POP},
     {"builtin", "turn_180", T_SLIDE | T_POP},
     {"builtin", "zigzag", T_SLIDE},
     {"builtin", "strafe", T_SLIDE | T_POP},
