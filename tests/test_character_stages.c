@@ -356,6 +356,46 @@ static void test_transition_inertialize_keeps_pose_and_velocity(void **state)
     assert_float_equal(out.yaw_rate, 0.2f, 1e-5f);
 }
 
+/* A joint swinging about +Y at w under a fixed tilt of 0.8 rad about +X (the old clip: the tilt
+ * from the parent's side), jumping to a clip swinging about +Y untilted: the offset (about +X, or
+ * near it) does not commute with the new swing. Over the first tick after the jump the output goes
+ * on as the old clip would have, to second order in dt: a rate of offset w_out - w_new would turn
+ * it by |R(offset) w - w| dt (0.08 rad here) off that. Truth: the old motion continued. */
+static mm_quat tilted_swing(float tilt, float a0, float w, float t)
+{
+    return mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), tilt), turning(a0, w, t));
+}
+
+static void test_transition_inertialize_keeps_velocity_across_axes(void **state)
+{
+    (void)state;
+    enum { N = 2 };
+    mm_quat rot[N], prev[N], r0[N], r1[N];
+    mm_vec3 pos[N], prev_pos[N], p0[N], p1[N];
+    mm_vec3 ro[N], rov[N], po[N], pov[N];
+    mm_transition tr;
+    memset(&tr, 0, sizeof tr);
+    tr.rotations = rot, tr.previous_rotations = prev, tr.positions = pos, tr.previous_positions = prev_pos;
+    tr.rotation_offset = ro, tr.rotation_offset_velocity = rov, tr.position_offset = po,
+    tr.position_offset_velocity = pov;
+    /* a long half-life: the spring's own pull over one tick (y^2 x dt^2) is negligible here */
+    float dt = 1.0f / 60.0f, interval = 1.0f / 60.0f, w = 6.0f, tilt = 0.8f, h = 10.0f;
+    prev[1] = tilted_swing(tilt, 0.2f, w, -dt), rot[1] = tilted_swing(tilt, 0.2f, w, 0.0f);
+    prev_pos[1] = pos[1] = p0[1] = p1[1] = mm_vec3_make(0, 0, 0);
+    /* the new clip at this tick (the jump lands on its frame): untilted, 0.5 rad further round */
+    r0[1] = turning(0.7f, w, dt), r1[1] = turning(0.7f, w, dt + interval);
+    mm_frame_pair to = {r0, r1, p0, p1};
+    mm_transition_inertialize(&tr, N, &to, 0.0f, 1.0f / interval, dt);
+    rot[1] = r0[1]; /* this tick's pose as played, then the offsets on it */
+    mm_transition_decay(&tr, N, h, dt);
+    float off = mm_quat_angle_between(rot[1], tilted_swing(tilt, 0.2f, w, dt));
+    assert_true(off < 2e-3f);
+    /* and one more tick: still on the old motion to second order */
+    rot[1] = r1[1];
+    mm_transition_decay(&tr, N, h, dt);
+    assert_true(mm_quat_angle_between(rot[1], tilted_swing(tilt, 0.2f, w, 2.0f * dt)) < 4e-3f);
+}
+
 /* ---- 5. root motion ---- */
 
 static void test_root_motion_pull_and_clamps(void **state)
@@ -676,6 +716,195 @@ static void test_feet_release_keeps_velocity(void **state)
     assert_true(worst < 0.4f * v * dt);
 }
 
+/* A lock pulled further than unlock_radius on the tick its label turns off is let go as any other,
+ * after that tick's creep (a spring step from rest toward the animation, scaled by how far past the
+ * radius it is over feet.c's UNLOCK_RAMP, 5 cm): the ankle keeps its place and its velocity (0,
+ * held), and its offset (x0 = P' - a, the animated ankle a moving at v, velocity -v) decays on the
+ * spring of foot_halflife: p(t) = a(t) + (x0 + (-v + y x0) t) e^(-y t). Starting it from rest
+ * instead would start the foot at v at once. */
+static void test_feet_far_release_keeps_velocity(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.unlock_radius = 0.095f;
+    float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    body_at(&b, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    mm_vec3 P = f.heel_lock[0];
+    int n = 0;
+    mm_vec3 last[3] = {P, P, P};
+    float worst = 0.0f;
+    /* held while the body walks off at v; the label goes off on the first tick past unlock_radius */
+    for (n = 1; (float)n * v * dt <= d.unlock_radius; ++n) {
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        assert_vec3_near(f.heel_lock[0], P, 1e-6f); /* within the radius: no creep */
+        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+    }
+    float gap = v * (float)n * dt, step = 1.0f - (1.0f + y * dt) * expf(-y * dt);
+    float crept = fminf((gap - d.unlock_radius) / ramp, 1.0f) * step * gap;
+    float x0 = crept - gap;
+    for (int i = 0; i <= 20; ++i, ++n) {
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_false(f.locked[0]);
+        float t = (float)i * dt, x = (x0 + (-v + y * x0) * t) * expf(-y * t);
+        assert_vec3_near(f.lock[0], mm_vec3_add(P, mm_vec3_make(0, 0, v * (float)n * dt + x)), 1e-4f);
+        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
+    }
+    assert_true(worst < 0.6f * v * dt);
+}
+
+/* A lock the animation pulls past unlock_radius creeps after it continuously: each tick it moves
+ * by a spring step from rest toward the animated ankle times min((gap - radius) / UNLOCK_RAMP, 1)
+ * (feet.c, 5 cm): nothing at the radius, so two characters whose bodies differ by a rounding
+ * error move their locks by as little. */
+static void test_feet_lock_creeps_after_the_animation(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    float dt = 1.0f / 60.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
+    float step = 1.0f - (1.0f + y * dt) * expf(-y * dt);
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    float past[4] = {-1e-4f, 1e-4f, 0.02f, 0.1f};
+    for (int i = 0; i < 4; ++i) {
+        mm_feet f;
+        memset(&f, 0, sizeof f);
+        body b;
+        body_at(&b, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        mm_vec3 P = f.heel_lock[0];
+        float gap = d.unlock_radius + past[i];
+        body_at(&b, gap);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        float share = past[i] > 0.0f ? fminf(past[i] / ramp, 1.0f) * step : 0.0f;
+        assert_float_equal(f.heel_lock[0].z - P.z, share * gap, 1e-6f);
+    }
+}
+
+/* A foot held 8 cm above the animated one by its offset (a transition's, or a released lock's) when
+ * its label turns on: the lock goes where the animated foot is and the offset carries the height,
+ * fading (no drop in a tick; the ankle's target moves by less than 1 cm of second difference), and
+ * the foot comes down onto the animated one. */
+static void test_feet_plant_above_the_animated_foot(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    f.offset[0] = mm_vec3_make(0, 0.08f, 0), f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
+    mm_vec3 last[3] = {f.lock[0], f.lock[0], f.lock[0]};
+    float worst = 0.0f;
+    for (int n = 0; n < 60; ++n) {
+        bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, n < 3 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        if (n >= 2) worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
+        if (n == 3) assert_float_equal(f.heel_lock[0].y, 0.06f, 1e-4f);
+    }
+    assert_true(f.heel_locked[0]);
+    assert_true(worst < 0.01f);
+    assert_float_equal(b.global[L_FOOT].translation.y, 0.06f, 1e-3f);
+}
+
+/* A fast foot (8 m/s on the ground plane: a transition's offsets carrying a swing) whose label comes
+ * on without warning lands evenly, its step shrinking by the same amount each tick, at most feet.c's
+ * LANDING_DECELERATION (150 m/s^2) times dt^2 (20% more: the offset's spring pulls the foot on as it
+ * lags the body), over ceil(v / (150 dt)) ticks instead of plant_time's two, where its step would
+ * halve and then stop (second differences of v dt / 2, 6.7 cm). Foreseen, it lands as slowly before
+ * its label. */
+static void test_feet_fast_landing(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    float dt = 1.0f / 60.0f, v = 8.0f, deceleration = 150.0f;
+    d.plant_time = 2.0f * dt;
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}}, heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    mm_vec3 p[16];
+    int landed_at = -1, ticks = (int)ceilf(v / (deceleration * dt));
+    for (int n = 0; n < 16; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        p[n] = f.lock[0];
+        if (f.heel_locked[0] && landed_at < 0) landed_at = n;
+        if (n >= 2) assert_true(second_difference(p[n - 2], p[n - 1], p[n]) < 1.2f * deceleration * dt * dt);
+    }
+    /* planted on the tick its share reaches 1, where the landing's last step left it */
+    assert_int_equal(landed_at, 4 + ticks);
+    assert_vec3_near(p[landed_at], p[landed_at - 1], 1e-6f);
+    /* and every step of the landing shorter than the one before */
+    for (int n = 5; n < landed_at; ++n) assert_true(p[n].z - p[n - 1].z < p[n - 1].z - p[n - 2].z);
+    /* foreseen (the label's coming seen up to MM_FEET_LANDING_MAX_TIME ahead), the landing runs
+     * before the label: planted on the label's tick, as slowly */
+    memset(&f, 0, sizeof f);
+    landed_at = -1;
+    for (int n = 0; n < 8; ++n) {
+        float left = (float)(5 - n) * dt;
+        mm_feet_contacts coming = {0, {left <= MM_FEET_LANDING_MAX_TIME ? left : -1.0f, -1.0f}};
+        body_at(&b, v * (float)n * dt);
+        mm_feet_update(&f, &d, &b.rig, n < 5 ? &coming : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        p[n] = f.lock[0];
+        if (f.heel_locked[0] && landed_at < 0) landed_at = n;
+        if (n >= 2) assert_true(second_difference(p[n - 2], p[n - 1], p[n]) < 1.2f * deceleration * dt * dt);
+    }
+    assert_int_equal(landed_at, 5);
+}
+
+/* A foot held on its toe, pitched toe-up as animated so that its toe floats above its lock (the ankle
+ * kept at its planted height), then planted on its heel too: the foot turns down onto the toe's lock
+ * over the turn's fading offset (foot_halflife), not in the one tick (the toe's second difference
+ * stays under 1 cm), and ends with the toe on its lock (to the toe's soft floor). */
+static void test_feet_heel_planted_under_a_held_toe(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}},
+                     both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    mm_vec3 last[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    float worst = 0.0f, floated = 0.0f;
+    for (int n = 0; n < 90; ++n) {
+        float pitch = -0.4f * fminf((float)n / 20.0f, 1.0f); /* toe up, over a third of a second */
+        bent_left_leg(&b, 0.3f, pitch, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, n < 30 ? &toe : &both, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        if (n == 29) floated = b.global[L_TOE].translation.y - f.toe_lock[0].y;
+        last[0] = last[1], last[1] = last[2], last[2] = b.global[L_TOE].translation;
+        if (n >= 2) worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
+    }
+    assert_true(f.heel_locked[0] && f.toe_locked[0]);
+    assert_true(floated > 0.02f); /* what the heel's plant had to bring down */
+    assert_true(worst < 0.01f);
+    assert_vec3_near(b.global[L_TOE].translation, f.toe_lock[0], 0.01f); /* TOE_SINK's soft floor */
+}
+
 /* A contact that comes without warning (the label on where it was not foreseen: a jump onto a frame
  * whose label is on) is waited for over plant_time: with plant_time two ticks, a foot moving at v
  * steps v dt / 2 on the tick its label turns on and is planted, at rest, on the next, where it is:
@@ -812,12 +1041,18 @@ int main(void)
         cmocka_unit_test(test_playback_distance_matching_on_a_cycle),
         cmocka_unit_test(test_matching_due),
         cmocka_unit_test(test_transition_inertialize_keeps_pose_and_velocity),
+        cmocka_unit_test(test_transition_inertialize_keeps_velocity_across_axes),
         cmocka_unit_test(test_root_motion_pull_and_clamps),
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
+        cmocka_unit_test(test_feet_far_release_keeps_velocity),
+        cmocka_unit_test(test_feet_lock_creeps_after_the_animation),
+        cmocka_unit_test(test_feet_plant_above_the_animated_foot),
         cmocka_unit_test(test_feet_land_without_warning),
+        cmocka_unit_test(test_feet_fast_landing),
+        cmocka_unit_test(test_feet_heel_planted_under_a_held_toe),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
         cmocka_unit_test(test_feet_roll_onto_the_toe),

@@ -170,8 +170,8 @@ typedef struct mm_character_desc {
      * label is on, the ankle is held where it was planted; while only the toe label is on, the
      * toe is held and the ankle rolls about it as animated; with both, the foot turns (at most
      * 0.8 rad from its animated orientation) so that the toe stays on its lock too. A lock the
-     * animation pulls more than unlock_radius away is planted again where the foot is (it creeps
-     * after the animation); released, the difference in place and velocity fades with
+     * animation pulls more than unlock_radius away moves toward the foot a spring step a tick (it
+     * creeps after the animation); released, the difference in place and velocity fades with
      * foot_halflife. The hips come down (at most max_hip_drop, through a spring) where the legs
      * cannot reach their targets, and an ankle is raised where its toe would go below the
      * ground. The legs reach them by the leg IK (mm/leg_ik.h), the knee bending about its hinge,

@@ -393,14 +393,15 @@ static void choose_play_rate(mm_character_state *s, const mm_database *db, const
 }
 
 /* What the clip playing says of the feet this tick: its contact label, and how soon each foot's
- * turns on (within plant_time). */
+ * turns on (within plant_time, or the longest landing when longer). */
 static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *p, float plant_time)
 {
     mm_feet_contacts fc;
     fc.label = db->contacts[p->frame];
+    float ahead = fmaxf(plant_time, MM_FEET_LANDING_MAX_TIME);
     for (int k = 0; k < 2; ++k)
         fc.until_label[k] = plant_time > 0.0f ? mm_playback_time_to_contact(p, db->frame_next, db->contacts,
-                                                                            db->interval, k, plant_time)
+                                                                            db->interval, k, ahead)
                                               : -1.0f;
     return fc;
 }

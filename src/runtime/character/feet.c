@@ -26,6 +26,13 @@
 #define MIN_FOOT_LENGTH 1e-6f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
+/* m: past unlock_radius, how far the creep of a lock after the animation grows from nothing to a
+ * whole spring step a tick (a threshold would move the lock by a whole step at once) */
+#define UNLOCK_RAMP 0.05f
+/* m/s^2: the most a landing slows a foot on the ground plane: a foot faster than this times
+ * plant_time (a transition's offsets still carrying a swing onto a frame whose label is on) lands
+ * over longer, as its speed asks */
+#define LANDING_DECELERATION 150.0f
 /* rad: on terrain, the most a foot is turned to the ground's slope (about 26 degrees) */
 #define MAX_FOOT_TILT 0.45f
 /* m: a free foot this far above where it would stand is not turned to the ground at all (fully
@@ -260,12 +267,27 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         mm_vec3 lowered = mm_vec3_make(f->toe_lock[k].x, fminf(f->toe_lock[k].y, t.y), f->toe_lock[k].z);
         f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], lowered);
     }
+    /* a lock the animation has pulled more than unlock_radius away creeps after it: its locks move
+     * toward the animated foot by a spring step from rest each tick (foot_halflife), in full from
+     * UNLOCK_RAMP past the radius and in proportion before */
+    if (f->heel_locked[k] || f->toe_locked[k]) {
+        mm_vec3 held = foot_source(f, k, a, t);
+        float gap = mm_vec3_distance(held, a);
+        if (gap > d->unlock_radius) {
+            double y = mm_spring_damping(d->foot_halflife);
+            float step = isfinite(y) ? (float)(1.0 - (1.0 + y * dt) * exp(-y * dt)) : 1.0f;
+            float share = fminf((gap - d->unlock_radius) / UNLOCK_RAMP, 1.0f) * step;
+            mm_vec3 delta = mm_vec3_scale(mm_vec3_sub(a, held), share);
+            f->heel_lock[k] = mm_vec3_add(f->heel_lock[k], delta);
+            f->toe_lock[k] = mm_vec3_add(f->toe_lock[k], delta);
+            f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], f->heel_lock[k]);
+            f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k]);
+        }
+    }
     mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
     mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
-    bool far = was_locked && mm_vec3_distance(before, a) > d->unlock_radius;
-    if (far) f->heel_locked[k] = f->toe_locked[k] = false;
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
     /* the heel lifts off while the toe holds: the ankle keeps its place, the foot turned about the
@@ -288,12 +310,6 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 kept = mm_vec3_sub(before_velocity, source_velocity(f, k, a, t, dt));
     kept.y = 0.0f;
     if (!toe_held) f->offset_velocity[k] = mm_vec3_add(f->offset_velocity[k], kept);
-    if (far) {
-        /* pulled too far from the animation: released, and planted again below where the foot now
-         * is, one spring step from rest toward the animation (the foot creeps after it) */
-        f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
-        mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
-    }
     mm_vec3 out = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
     mm_vec3 velocity = mm_vec3_add(source_velocity(f, k, a, t, dt), f->offset_velocity[k]);
     mm_vec3 onto_tread = mm_vec3_make(0.0f, 0.0f, 0.0f);
@@ -312,12 +328,20 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * the lock would stop it dead from there. The share grows by at most a tick's worth each
          * tick: a contact seen late (less than plant_time ahead, or on already: a jump onto a frame
          * whose label is on) is planted once the landing has run its plant_time, waited for. A
-         * contact no longer coming ends the landing. */
+         * contact no longer coming ends the landing. The step is (1 - w) of the one the landing
+         * began with (the foot slows evenly), over plant_time or, for a fast foot, over as long
+         * as LANDING_DECELERATION needs to stop it. */
         bool on = heel_on || toe_on;
-        float left = contacts->until_label[k], w = 0.0f;
+        float left = contacts->until_label[k], w = 0.0f, w_before = f->landed[k];
         if (on || left >= 0.0f) {
-            float due = on ? 1.0f : fmaxf(1.0f - left / d->plant_time, 0.0f);
-            w = fmaxf(f->landed[k], fminf(f->landed[k] + dt / d->plant_time, due));
+            if (!(w_before > 0.0f)) { /* a landing begins: its length from the foot's speed now */
+                float speed = sqrtf(velocity.x * velocity.x + velocity.z * velocity.z);
+                f->landing_time[k] =
+                    fmaxf(d->plant_time, fminf(speed / LANDING_DECELERATION, MM_FEET_LANDING_MAX_TIME));
+            }
+            float landing = fmaxf(f->landing_time[k], d->plant_time);
+            float due = on ? 1.0f : fmaxf(1.0f - left / landing, 0.0f);
+            w = fmaxf(w_before, fminf(w_before + dt / landing, due));
             wait = on && w < 1.0f - LANDING_DONE;
             if (w > 1.0f) w = 1.0f;
         }
@@ -325,9 +349,11 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         if (w > 0.0f) {
             mm_vec3 from = f->lock[k];
             from = mm_vec3_add(from, onto_tread);
-            out.x = from.x + (1.0f - w) * (out.x - from.x);
-            out.z = from.z + (1.0f - w) * (out.z - from.z);
-            velocity.x *= 1.0f - w, velocity.z *= 1.0f - w;
+            /* the step so far is (1 - w_before) of the landing's first */
+            float keep = w_before < 1.0f - LANDING_DONE ? (1.0f - w) / (1.0f - w_before) : 0.0f;
+            out.x = from.x + keep * (out.x - from.x);
+            out.z = from.z + keep * (out.z - from.z);
+            velocity.x *= keep, velocity.z *= keep;
             if (tilt) {
                 /* brought down no faster than LANDING_FALL_SPEED beyond what the animation does */
                 float lowered = landing_height(ground, rig, k, out, mm_vec3_sub(t, a), w);
@@ -338,11 +364,14 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         }
     }
     /* planted where the foot is, at rest, never lower than the data plants it; a heel or a toe
-     * planted while the other holds takes its place on the foot as it is held */
+     * planted while the other holds takes its place on the foot as it is held. Not above the
+     * animated foot: a lock comes down to it at once (above), and the height it is planted above
+     * it (an offset holding the foot up) is carried by the offset, fading, not dropped in a tick */
     bool held_heel = f->heel_locked[k], held_toe = f->toe_locked[k];
     int planted = 0;
     if (heel_on && !held_heel && !wait) {
         f->heel_lock[k] = held_toe ? foot_source(f, k, a, t) : out;
+        f->heel_lock[k].y = fminf(f->heel_lock[k].y, a.y);
         f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], f->heel_lock[k]);
         f->heel_locked[k] = true;
         planted = 1;
@@ -350,6 +379,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (toe_on && !held_toe && !wait) {
         f->toe_lock[k] = mm_vec3_add(held_heel ? f->heel_lock[k] : out,
                                      mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
+        f->toe_lock[k].y = fminf(f->toe_lock[k].y, t.y);
         f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k]);
         f->toe_locked[k] = true;
         planted = 1;
@@ -371,6 +401,14 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
             f->toe_lock[k] =
                 mm_vec3_add(f->heel_lock[k], mm_quat_rotate(mm_quat_exp(turn), mm_vec3_sub(t, a)));
         }
+        /* the turn the foot had carried over as an offset when both locks begin, fading */
+        if (heel_was_locked && toe_was_locked) {
+            mm_spring_decay_vec3(&f->turn_offset[k], &f->turn_offset_velocity[k], d->foot_halflife, dt);
+        } else {
+            f->turn_offset[k] = mm_vec3_sub(f->turn[k], turn);
+            f->turn_offset_velocity[k] = f->turn_velocity[k];
+        }
+        turn = mm_vec3_add(turn, f->turn_offset[k]);
         f->turn_velocity[k] = mm_vec3_scale(mm_vec3_sub(turn, f->turn[k]), 1.0f / dt);
         f->turn[k] = turn;
     } else {

@@ -20,9 +20,13 @@ typedef struct mm_feet {
     mm_vec3 lock[2]; /* where the ankle is held this tick (its IK target) */
     mm_vec3 heel_lock[2], toe_lock[2], offset[2], offset_velocity[2];
     mm_vec3 turn[2], turn_velocity[2];
+    /* planted on heel and toe: what the turn has yet to go to hold the toe on its lock (it fades,
+     * so that a foot whose second lock begins turns onto it as a transition does, not in a tick) */
+    mm_vec3 turn_offset[2], turn_offset_velocity[2];
     bool placed;                        /* lock holds last tick's ankle targets (landing eases from them) */
     mm_vec3 last_ankle[2], last_toe[2]; /* last tick's animated ankles and toes (when placed) */
-    float landed[2]; /* how far a free foot whose contact is coming has landed (share of plant_time) */
+    float landed[2];       /* how far a free foot whose contact is coming has landed (share of plant_time) */
+    float landing_time[2]; /* s: how long that landing takes (plant_time, or longer for a fast foot) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     mm_vec3 tilt_normal[2];            /* on terrain: the ground's normal each foot was last turned to */
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
@@ -31,10 +35,15 @@ typedef struct mm_feet {
     mm_vec3 raw_contacts[4]; /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
 
+/* s: the longest landing (a fast foot slowed to rest before its contact, see feet.c): how far ahead
+ * the contacts coming are looked for, when longer than plant_time */
+#define MM_FEET_LANDING_MAX_TIME 0.1f
+
 /* What the clip playing says of the feet this tick. */
 typedef struct mm_feet_contacts {
     unsigned label;       /* mm_contact_bits of the frame playing */
-    float until_label[2]; /* s until foot k's label turns on, when within plant_time; -1 otherwise */
+    float until_label[2]; /* s until foot k's label turns on, when within the landing's look-ahead
+                           * (plant_time, at least MM_FEET_LANDING_MAX_TIME); -1 otherwise */
 } mm_feet_contacts;
 
 /* The ground a foot stands on: its height (scene NULL: the plane at that height; else the scene's

@@ -132,6 +132,23 @@ static void crossfade_to(mm_transition *tr, const mm_database *db, int to, bool 
     ++tr->transitions;
 }
 
+/* The rate of a rotation offset x (a rotation vector, turning the new clip's rotation from the
+ * parent's side: output = exp(x) r) that gives the output the angular velocity w_out (rad/s, parent
+ * axes) while r turns at w_new: the output turns at J(x) x' + R(x) w_new, where R(x) is the offset's
+ * rotation and J(x) the left Jacobian of the exponential map, so x' = J(x)^-1 (w_out - R(x) w_new).
+ * Taking x' = w_out - w_new instead holds only for an offset about the axis of w_new: a leg swinging
+ * under an offset turned about another axis would change its velocity at once. */
+static mm_vec3 rotation_offset_rate(mm_vec3 x, mm_vec3 w_out, mm_vec3 w_new)
+{
+    mm_vec3 u = mm_vec3_sub(w_out, mm_quat_rotate(mm_quat_exp(x), w_new));
+    double angle = mm_vec3_length(x);
+    /* J^-1 = I - [x]/2 + c [x]^2, c = 1 / angle^2 - cot(angle / 2) / (2 angle) (1/12 near 0) */
+    double c = angle < 1e-3 ? 1.0 / 12.0 + angle * angle / 720.0
+                            : 1.0 / (angle * angle) - 1.0 / (2.0 * angle * tan(0.5 * angle));
+    mm_vec3 xu = mm_vec3_cross(x, u), xxu = mm_vec3_cross(x, xu);
+    return mm_vec3_add(mm_vec3_sub(u, mm_vec3_scale(xu, 0.5f)), mm_vec3_scale(xxu, (float)c));
+}
+
 void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_frame_pair *to, float fraction,
                                float frame_rate, float dt)
 {
@@ -152,7 +169,7 @@ void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_fram
         mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm_quat_exp(mm_vec3_scale(w_dst, -dt)), r));
         mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
         tr->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
-        tr->rotation_offset_velocity[j] = mm_vec3_sub(w_out, w_dst);
+        tr->rotation_offset_velocity[j] = rotation_offset_rate(tr->rotation_offset[j], w_out, w_dst);
         mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
         tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
         tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
