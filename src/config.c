@@ -33,6 +33,7 @@ void mm_config_defaults(mm_config *c)
     c->contact_height = 0.05f;
     c->contact_speed = 0.6f;
     c->contact_min_time = 0.1f;
+    c->contact_planted_tolerance = 0.01f;
     c->postures_detect = true;
     c->standing_make = true;
     c->postures_pad = 0.25f;
@@ -205,6 +206,8 @@ mm_result mm_config_validate(const mm_config *c, mm_error *err)
     if (!finite_positive(c->contact_height)) FAIL("contacts.height: %g must be positive", c->contact_height);
     if (!finite_positive(c->contact_speed)) FAIL("contacts.speed: %g must be positive", c->contact_speed);
     if (!finite_nonneg(c->contact_min_time)) FAIL("contacts.min_time: %g must be >= 0", c->contact_min_time);
+    if (!finite_nonneg(c->contact_planted_tolerance))
+        FAIL("contacts.planted_tolerance: %g must be >= 0", c->contact_planted_tolerance);
     if (!finite_nonneg(c->postures_pad) || c->postures_pad > 10.0f)
         FAIL("postures.pad: %g must be in [0, 10] seconds", c->postures_pad);
     if (!(isfinite(c->forward_axis.x) && isfinite(c->forward_axis.y) && isfinite(c->forward_axis.z)) ||

@@ -668,12 +668,92 @@ static float second_difference(mm_vec3 p0, mm_vec3 p1, mm_vec3 p2)
     return mm_vec3_length(mm_vec3_add(mm_vec3_sub(p2, mm_vec3_scale(p1, 2.0f)), p0));
 }
 
+/* A lock above its animated foot (planted while an offset held the foot up) comes down to it
+ * gradually: with the animated foot still, its height h above it halves every feet.c's
+ * LOCK_SETTLE_HALFLIFE (0.1 s), h 2^(-n dt / 0.1) after n ticks, and the ankle's largest second
+ * difference is the first tick's, h (1 - 2^(-dt / 0.1)) = 0.11 h, where put down at once it moved h
+ * in a tick. */
+static void test_feet_lock_settles_gradually(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    float dt = 1.0f / 60.0f, h = 0.1f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    assert_true(f.heel_locked[0]);
+    f.heel_lock[0].y += h; /* planted h above the animated ankle */
+    mm_vec3 p[3];
+    float worst = 0.0f;
+    for (int n = 0; n <= 30; ++n) {
+        bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        p[2] = b.global[L_FOOT].translation;
+        if (n == 0) p[0] = p[1] = mm_vec3_make(p[2].x, 0.06f + h, p[2].z);
+        assert_float_equal(p[2].y, 0.06f + h * exp2f(-(float)(n + 1) * dt / 0.1f), 1e-3f);
+        worst = fmaxf(worst, second_difference(p[0], p[1], p[2]));
+        p[0] = p[1], p[1] = p[2];
+    }
+    assert_float_equal(worst, h * (1.0f - exp2f(-dt / 0.1f)), 1e-3f);
+}
+
+/* A foot whose label turns on while it is held up more than feet.c's PLANT_MAX_HEIGHT (4 cm) above
+ * where it stands is not planted there: held on the ground plane by the landing (plant_time, two
+ * ticks) and not rising (its animation lifted 2 cm more on one tick), it comes down with the
+ * animated foot and is planted on the first tick it is within 4 cm (the ankle 0.06 m + 4 cm). */
+static void test_feet_wait_aloft(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    float dt = 1.0f / 60.0f;
+    d.plant_time = 2.0f * dt;
+    d.max_hip_drop = 0.0f;
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}}, heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    const float lift[] = {0.08f, 0.08f, 0.10f, 0.09f, 0.07f, 0.05f, 0.03f, 0.02f, 0.01f};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    float last_y = 1.0f, held_z = 0.0f;
+    int first = -1;
+    for (int n = 0; n < 9 && first < 0; ++n) { /* free on tick 0, the label on from tick 1 */
+        bent_left_leg(&b, 0.3f, 0.0f, lift[n]);
+        b.positions[HIPS].z = 0.5f * (float)n * dt; /* the body moving on */
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, n == 0 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        if (n == 0) continue;
+        assert_true(f.lock[0].y <= last_y + 1e-6f); /* not rising */
+        if (n == 2) held_z = f.lock[0].z;           /* the landing has run its two ticks */
+        if (n > 2) assert_float_equal(f.lock[0].z, held_z, 1e-5f);
+        if (f.heel_locked[0]) {
+            first = n;
+            assert_true(f.heel_lock[0].y < 0.06f + 0.04f);
+        } else if (n >= 2) {
+            assert_true(f.lock[0].y > 0.06f + 0.04f - 1e-5f); /* waiting: aloft */
+        }
+        last_y = f.lock[0].y;
+    }
+    assert_true(first > 2);
+}
+
 /* The body at z along +Z (everything moved with its hips and root). */
 static void body_at(body *b, float z)
 {
     make_body(b);
     b->positions[HIPS].z = z;
     mm_rig_forward(&b->rig, 1, &b->pose);
+}
+
+/* The rig's planted heights those of make_body's feet (ankles 0.06 m, toes 0.02 m above the ground):
+ * its feet stand on the ground. */
+static void on_the_ground(body *b)
+{
+    for (int k = 0; k < 2; ++k) b->rig.planted_ankle[k] = 0.06f, b->rig.planted_toe[k] = 0.02f;
 }
 
 /* A foot let go keeps its velocity: the left heel held at P while the body stands, the body moving
@@ -844,6 +924,7 @@ static void test_feet_fast_landing(void **state)
     int landed_at = -1, ticks = (int)ceilf(v / (deceleration * dt));
     for (int n = 0; n < 16; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
         body_at(&b, v * (float)n * dt);
+        on_the_ground(&b);
         mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
                        &b.pose);
         p[n] = f.lock[0];
@@ -863,6 +944,7 @@ static void test_feet_fast_landing(void **state)
         float left = (float)(5 - n) * dt;
         mm_feet_contacts coming = {0, {left <= MM_FEET_LANDING_MAX_TIME ? left : -1.0f, -1.0f}};
         body_at(&b, v * (float)n * dt);
+        on_the_ground(&b);
         mm_feet_update(&f, &d, &b.rig, n < 5 ? &coming : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
                        &b.pose);
         p[n] = f.lock[0];
@@ -923,6 +1005,7 @@ static void test_feet_land_without_warning(void **state)
     mm_vec3 p[8];
     for (int n = 0; n < 8; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
         body_at(&b, v * (float)n * dt);
+        on_the_ground(&b);
         mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
                        &b.pose);
         p[n] = f.lock[0];
@@ -941,6 +1024,7 @@ static void test_feet_land_without_warning(void **state)
     mm_feet_contacts coming = {0, {dt, -1.0f}};
     for (int n = 0; n < 7; ++n) {
         body_at(&b, v * (float)n * dt);
+        on_the_ground(&b);
         mm_feet_update(&f, &d, &b.rig,
                        n < 4    ? &none
                        : n == 4 ? &coming
@@ -1057,6 +1141,8 @@ int main(void)
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
         cmocka_unit_test(test_feet_roll_onto_the_toe),
         cmocka_unit_test(test_feet_lock_comes_down),
+        cmocka_unit_test(test_feet_lock_settles_gradually),
+        cmocka_unit_test(test_feet_wait_aloft),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -768,6 +768,7 @@ static void test_save_json(void **state)
     snprintf(c.hips, MM_NAME_MAX, "pelvis");
     c.forward_axis = mm_vec3_make(0, 1, 0);
     c.contact_speed = 0.3f;
+    c.contact_planted_tolerance = 0.02f;
     c.postures_pad = 0.5f;
     c.traj_count = 2;
     c.traj_times[0] = -0.3f;
@@ -816,6 +817,7 @@ static void test_save_json(void **state)
     assert_string_equal(back.hips, "pelvis");
     assert_float_equal(back.forward_axis.y, 1.0f, 0.0);
     assert_float_equal(back.contact_speed, 0.3f, 0.0);
+    assert_float_equal(back.contact_planted_tolerance, 0.02f, 0.0);
     assert_float_equal(back.postures_pad, 0.5f, 0.0);
     assert_int_equal(back.traj_count, 2);
     assert_float_equal(back.traj_times[0], -0.3f, 0.0);

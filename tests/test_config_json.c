@@ -13,7 +13,7 @@ static const char full[] =
     "            \"forward_axis\": [0, 1, 0], \"left_foot\": \"LF\", \"right_foot\": \"RF\", \"left_toe\": "
     "\"LT\",\n"
     "            \"right_toe\": \"RT\", \"left_hand\": \"LH\", \"right_hand\": \"RH\", \"head\": \"H\"},\n"
-    "  \"contacts\": {\"height\": 0.04, \"speed\": 0.5, \"min_time\": 0.05},\n"
+    "  \"contacts\": {\"height\": 0.04, \"speed\": 0.5, \"min_time\": 0.05, \"planted_tolerance\": 0.015},\n"
     "  \"features\": {\"bones\": [{\"name\": \"LF\", \"position_weight\": 2, \"velocity_weight\": 0.5},\n"
     "                           {\"name\": \"Pelvis\", \"position\": false}],\n"
     "               \"trajectory_times\": [-0.33, 0.5, 1.0], \"root_velocity\": true,\n"
@@ -49,6 +49,7 @@ static void test_every_field(void **state)
     assert_string_equal(c.head, "H");
     assert_near(c.contact_height, 0.04, 1e-8);
     assert_near(c.contact_min_time, 0.05, 1e-8);
+    assert_near(c.contact_planted_tolerance, 0.015, 1e-8);
     assert_int_equal(c.bone_count, 2);
     assert_int_equal(c.bones[0].features, MM_MATCH_POSITION | MM_MATCH_VELOCITY);
     assert_near(c.bones[0].position_weight, 2, 0);
@@ -107,6 +108,8 @@ static void test_errors_name_the_field(void **state)
     expect_error("\"interval\": 0.02", "\"interval\": \"fast\"", MM_ERR_BAD_NUMBER,
                  "interval must be a finite number");
     expect_error("\"interval\": 0.02", "\"interval\": 1e999", MM_ERR_BAD_NUMBER, "interval");
+    expect_error("\"planted_tolerance\": 0.015", "\"planted_tolerance\": -0.01", MM_ERR_OUT_OF_RANGE,
+                 "contacts.planted_tolerance");
     expect_error("\"interval\": 0.02", "\"intervall\": 0.02", MM_ERR_UNKNOWN_KEYWORD,
                  "intervall: unknown field");
     expect_error("\"hips\": \"Pelvis\"", "\"hip\": \"Pelvis\"", MM_ERR_UNKNOWN_KEYWORD,

@@ -254,6 +254,86 @@ static void test_contacts(void **state)
     mm_clip_free(&clip);
 }
 
+/* A foot coming down and stopping: contact from the frame it is within contacts.planted_tolerance
+ * of where it rests, not from the first slow frame under contacts.height. The left foot (and its
+ * toe, which hangs from it) rests for frames 0-29, is lifted 20 cm for frames 30-39, comes down
+ * from 4.5 cm at 0.6 cm a frame (45, 39, 33, 27, 21, 15, 9, 3 mm at frames 40-47) and rests from
+ * frame 48; it never moves horizontally. Its floor and planted height are its resting height.
+ * Tolerance 10 mm: 9 mm at frame 46 is the first within it (15 mm at 45 is not); tolerance 20 mm:
+ * 15 mm at frame 45 (21 mm at 44 is not). Under the old rule (any slow frame under 5 cm) the
+ * contact began at frame 40. */
+static void test_contacts_settle(void **state)
+{
+    (void)state;
+    const float tolerance[2] = {0.01f, 0.02f};
+    const int first_on[2] = {46, 45};
+    for (int t = 0; t < 2; ++t) {
+        mm_clip clip;
+        make_motion(&clip, 120, 60.0f, 0.0, 0.0); /* standing still */
+        for (int f = 0; f < 120; ++f) {
+            float lift = f >= 30 && f < 40   ? 0.2f
+                         : f >= 40 && f < 48 ? 0.045f - 0.006f * (float)(f - 40)
+                                             : 0.0f;
+            mm_clip_positions(&clip, f)[2] = mm_vec3_make(0.1f, -0.9f + lift, 0);
+        }
+        mm_config cfg;
+        test_config(&cfg, 1);
+        cfg.contact_planted_tolerance = tolerance[t];
+        mm_database db;
+        assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, NULL), MM_OK);
+        for (int f = 0; f < 120; ++f) {
+            int expect = f < 30 || f >= first_on[t];
+            assert_int_equal((db.contacts[f] & MM_CONTACT_LEFT_HEEL) != 0, expect);
+            assert_int_equal((db.contacts[f] & MM_CONTACT_LEFT_TOE) != 0, expect);
+            assert_true(db.contacts[f] & MM_CONTACT_RIGHT_HEEL);
+        }
+        mm_database_free(&db);
+        mm_config_free(&cfg);
+        mm_clip_free(&clip);
+    }
+}
+
+/* Floors over the take: one source cut into three clips. Frames 0-119 both feet rest on the
+ * floor; 120-239 the left foot is held 20 cm up while the right stands (a raised foot: not in
+ * contact, though it is the clip's lowest and slow); 240-359 both feet stand 30 cm up (on a box:
+ * that clip's own floors, both in contact). */
+static void test_contacts_take_floor(void **state)
+{
+    (void)state;
+    mm_clip clip;
+    make_motion(&clip, 360, 60.0f, 0.0, 0.0);
+    for (int f = 0; f < 360; ++f) {
+        float left = f < 120 ? 0.0f : f < 240 ? 0.2f : 0.3f, right = f < 240 ? 0.0f : 0.3f;
+        mm_clip_positions(&clip, f)[2] = mm_vec3_make(0.1f, -0.9f + left, 0);
+        mm_clip_positions(&clip, f)[4] = mm_vec3_make(-0.1f, -0.9f + right, 0);
+    }
+    mm_config cfg;
+    test_config(&cfg, 1);
+    cfg.clips[0].range_count = 3;
+    cfg.clips[0].ranges = calloc(3, sizeof(mm_config_range));
+    for (int r = 0; r < 3; ++r) cfg.clips[0].ranges[r] = (mm_config_range){120 * r, 120 * (r + 1)};
+    mm_database db;
+    assert_int_equal(mm_database_build(&cfg, &clip, NULL, &db, NULL), MM_OK);
+    int seen = 0;
+    for (int c = 0; c < db.clip_count; ++c) {
+        const mm_db_clip *k = &db.clips[c];
+        if (k->source != 0 || k->type != MM_CLIP_LOCOMOTION) continue;
+        int piece = (int)lroundf(k->source_start * 60.0f) / 120;
+        assert_true(piece >= 0 && piece < 3);
+        seen |= 1 << piece;
+        for (int f = k->first_frame; f < k->first_frame + k->frame_count; ++f) {
+            assert_int_equal((db.contacts[f] & MM_CONTACT_LEFT_HEEL) != 0, piece != 1);
+            assert_int_equal((db.contacts[f] & MM_CONTACT_LEFT_TOE) != 0, piece != 1);
+            assert_true(db.contacts[f] & MM_CONTACT_RIGHT_HEEL);
+            assert_true(db.contacts[f] & MM_CONTACT_RIGHT_TOE);
+        }
+    }
+    assert_int_equal(seen, 7);
+    mm_database_free(&db);
+    mm_config_free(&cfg);
+    mm_clip_free(&clip);
+}
+
 /* A skeleton whose hips frame has its left-right axis along local z: its rest pose is symmetric
  * across z = 0, so every joint mirrors with the half-turn about y (M times that reflection),
  * also the legs below, whose single child straight down would fit the identity as well. Then a
@@ -941,6 +1021,8 @@ int main(void)
         cmocka_unit_test(test_loop_wraps),
         cmocka_unit_test(test_normalisation_and_bounds),
         cmocka_unit_test(test_contacts),
+        cmocka_unit_test(test_contacts_settle),
+        cmocka_unit_test(test_contacts_take_floor),
         cmocka_unit_test(test_mirror),
         cmocka_unit_test(test_mirror_chain),
         cmocka_unit_test(test_blend_speed),

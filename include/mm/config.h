@@ -123,9 +123,11 @@ typedef struct mm_config {
                              facing; default 0.1; 0 disables */
 
     /* Contacts */
-    float contact_height;   /* metres above the ground under which a foot/toe may be in contact */
-    float contact_speed;    /* metres/second under which it may be in contact */
-    float contact_min_time; /* seconds: shorter runs of on or off are flicker and removed */
+    float contact_height;            /* metres above the ground under which a foot/toe may be in contact */
+    float contact_speed;             /* metres/second under which it may be in contact */
+    float contact_min_time;          /* seconds: shorter runs of on or off are flicker and removed */
+    float contact_planted_tolerance; /* metres above its planted height under which it may be in
+                                        contact (docs/database.md, "Contacts"); default 0.01 */
 
     /* Postures (mm/posture.h): locomotion and idle clips lose their calibration and lying frames,
      * and their crouched and bent-over frames are tagged Crouch (docs/database.md, "Postures") */

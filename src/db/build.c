@@ -328,7 +328,8 @@ static mm_result add_standing(builder *b, float head_height, mm_db_standing_repo
     const mm_clip **candidates = (const mm_clip **)calloc((size_t)b->count, sizeof(mm_clip *));
     uint8_t **usable = (uint8_t **)calloc((size_t)b->count, sizeof(uint8_t *));
     int *index = (int *)malloc(sizeof(int) * (size_t)b->count), count = 0;
-    mm_result r = candidates && usable && index ? MM_OK : MM_ERR_OUT_OF_MEMORY;
+    int *take = (int *)malloc(sizeof(int) * (size_t)b->count); /* as the contacts' (contact_grounds) */
+    mm_result r = candidates && usable && index && take ? MM_OK : MM_ERR_OUT_OF_MEMORY;
     for (int i = 0; i < b->count && r == MM_OK; ++i) {
         const built *c = &b->clips[i];
         if (c->blend >= 0 || c->meta.mirrored || c->meta.type != MM_CLIP_LOCOMOTION) continue;
@@ -341,18 +342,20 @@ static mm_result add_standing(builder *b, float head_height, mm_db_standing_repo
             usable[count][f] =
                 !(tags_at(b, c->config_clip, c->meta.source_start + (float)f * cfg->interval) & skip);
         candidates[count] = &c->clip;
+        take[count] = 2 * c->meta.source;
         index[count++] = i;
     }
     mm__standing_pick picks[MM__STANDING_POSES];
     int found = 0;
     if (r == MM_OK)
-        r = mm__standing_find(cfg, candidates, (const uint8_t *const *)usable, count, head_height,
+        r = mm__standing_find(cfg, candidates, (const uint8_t *const *)usable, take, count, head_height,
                               MM__STANDING_POSES, picks, &found, &said.standing_frames);
     for (int k = 0; k < found; ++k) picks[k].clip = index[picks[k].clip]; /* now a builder clip */
     for (int i = 0; usable && i < count; ++i) free(usable[i]);
     free(usable);
     free(candidates);
     free(index);
+    free(take);
     if (r != MM_OK) return mm_error_set(b->err, r, 0, 0, "standing: out of memory");
     for (int k = 0; k < found; ++k) {
         const built *src = &b->clips[picks[k].clip];
@@ -619,6 +622,8 @@ typedef struct clip_job {
     distance_arrays *dist;
     const int *first; /* [clip count] first database frame */
     const int *heel_toe;
+    mm__contact_track *const *tracks;  /* [clip count] each clip's heel and toe tracks */
+    const mm__contact_ground *grounds; /* [clip count] */
     int group_count, dims_padded, longest;
     mm_xform *globals;   /* [workers x longest x joints] */
     mm_vec3 *root_paths; /* [workers x longest] */
@@ -655,12 +660,43 @@ static void clip_unit(void *ctx, int i, int worker)
     }
     memcpy(x->rotations + (size_t)first * nj, c->rotations, (size_t)n * nj * sizeof(mm_quat));
     memcpy(x->positions + (size_t)first * nj, c->positions, (size_t)n * nj * sizeof(mm_vec3));
-    mm__detect_contacts(c, globals, j->heel_toe, cfg, x->contacts + first);
+    mm__label_contacts(j->tracks[i], n, c->fps, &j->grounds[i], cfg, x->contacts + first);
     mm__root_motion(c, x->root_velocity + first, x->root_yaw_rate + first);
     mm__clip_features(c, bc->meta.loop, globals, x->root_velocity + first, x->groups, j->group_count,
                       cfg->interval, x->features + (size_t)first * nd, j->dims_padded);
     j->results[i] = clip_distance(j->b, i, first, j->root_paths + (size_t)worker * (size_t)j->longest,
                                   j->dist, &j->errors[i]);
+}
+
+/* Stage 2a: each database clip's heel and toe tracks, for the contacts' floors over whole takes. */
+static void tracks_unit(void *ctx, int i, int worker)
+{
+    clip_job *j = (clip_job *)ctx;
+    const mm_clip *c = &j->b->clips[i].clip;
+    size_t nj = (size_t)c->skeleton.joint_count;
+    mm_xform *globals = j->globals + (size_t)worker * (size_t)j->longest * nj;
+    for (int f = 0; f < c->frame_count; ++f) mm_clip_fk(c, f, globals + (size_t)f * nj);
+    mm__contact_tracks(c, globals, j->heel_toe, j->tracks[i]);
+}
+
+/* The contacts' grounds of every database clip: a take is a config clip's frames, mirrored apart
+ * (a mirrored clip's left heel is the source's right); a blend is a take of its own. */
+static mm_result contact_grounds(const builder *b, mm__contact_track *const *tracks, mm__contact_ground *out)
+{
+    int *take = (int *)malloc(sizeof(int) * (size_t)b->count);
+    int *frames = (int *)malloc(sizeof(int) * (size_t)b->count);
+    mm_result r = take && frames ? MM_OK : MM_ERR_OUT_OF_MEMORY;
+    for (int i = 0; i < b->count && r == MM_OK; ++i) {
+        const built *c = &b->clips[i];
+        take[i] = c->blend >= 0 ? -1 : 2 * c->meta.source + (c->meta.mirrored ? 1 : 0);
+        frames[i] = c->clip.frame_count;
+    }
+    if (r == MM_OK)
+        r = mm__contact_grounds(b->count, take, frames, (const mm__contact_track *const *)tracks, b->cfg,
+                                out);
+    free(take);
+    free(frames);
+    return r;
 }
 
 /* Stage 3: normalisation: per-dimension mean; per-group scale = mean standard deviation of its
@@ -893,11 +929,17 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     cj.root_paths = (mm_vec3 *)malloc(sizeof(mm_vec3) * (size_t)workers * (size_t)longest);
     cj.errors = (mm_error *)calloc((size_t)b.count, sizeof(mm_error));
     cj.results = (mm_result *)calloc((size_t)b.count, sizeof(mm_result));
+    mm__contact_track **tracks = (mm__contact_track **)calloc((size_t)b.count, sizeof *tracks);
+    mm__contact_ground *grounds = (mm__contact_ground *)calloc((size_t)b.count, sizeof *grounds);
+    mm__contact_track *track_frames = (mm__contact_track *)malloc(sizeof(mm__contact_track) * 4 * nf);
+    if (tracks && track_frames)
+        for (int i = 0, f = 0; i < b.count; f += b.clips[i++].clip.frame_count)
+            tracks[i] = track_frames + (size_t)f * 4;
     if (!dist.clips || !dist.curves || !dist.travelled || !dist.distance || !cj.root_paths || !x.joints ||
         !x.clips || !x.tag_names || !x.frame_clip || !x.frame_next || !x.frame_tags || !x.contacts ||
         !x.root_velocity || !x.root_yaw_rate || !x.rotations || !x.positions || !x.features || !x.mean ||
         !x.scale || !x.small_min || !x.small_max || !x.large_min || !x.large_max || !cj.globals || !first ||
-        !cj.errors || !cj.results)
+        !cj.errors || !cj.results || !tracks || !grounds || !track_frames)
         r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for %d frames", frames);
     if (r == MM_OK) {
         memcpy(x.joints, skel->joints, nj * sizeof(mm_joint));
@@ -913,6 +955,13 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
         cj.group_count = group_count;
         cj.dims_padded = dims_padded;
         cj.longest = longest;
+        cj.tracks = tracks;
+        cj.grounds = grounds;
+        par_for(pool, b.count, tracks_unit, &cj);
+        if (contact_grounds(&b, tracks, grounds) != MM_OK)
+            r = mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory for the contacts' floors");
+    }
+    if (r == MM_OK) {
         par_for(pool, b.count, clip_unit, &cj);
         for (int i = 0; i < b.count && r == MM_OK; ++i)
             if (cj.results[i] != MM_OK) r = pass_error(err, &cj.errors[i], cj.results[i]);
@@ -921,6 +970,9 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     free(cj.root_paths);
     free(cj.errors);
     free(cj.results);
+    free(tracks);
+    free(grounds);
+    free(track_frames);
     free(first);
     if (r == MM_OK) r = join_segments(&dist, b.count, err);
     if (r == MM_OK) r = normalise(&x, frames, dims, dims_padded, group_count, pool, err);

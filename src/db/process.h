@@ -13,7 +13,9 @@
  *   mm__clip_blend        blends two clips on a common (normalised) time base
  * and the analysis used by the build:
  *   mm__root_motion       per-frame root velocity and yaw rate, in the root's frame
- *   mm__detect_contacts   heel/toe contact flags from height and speed, without flicker
+ *   mm__contact_tracks, mm__contact_grounds, mm__label_contacts
+ *                         heel/toe contact flags from height and speed over each take, without
+ *                         flicker (mm__detect_contacts: one clip on its own)
  *   mm__remove_short_runs, mm__quantile   helpers shared with the move detector
  */
 #ifndef MM_DB_PROCESS_H
@@ -66,8 +68,36 @@ void mm__mirror_map(const mm_skeleton *s, const mm_config *cfg, int *partner);
  * backward differences, forward at frame 0 (the runtime measures its own motion the same way). */
 void mm__root_motion(const mm_clip *clip, mm_vec3 *velocity, float *yaw_rate);
 
-/* Contact flags (mm_contact_bits) for each frame of a clip whose globals are given
- * ([frames x joints]). heel/toe: joint indices (-1: never in contact). */
+/* One heel or toe joint at one frame: its height (m; NAN for a missing joint) and horizontal
+ * speed (m/s, backward difference; forward at frame 0). */
+typedef struct mm__contact_track {
+    float height, speed;
+} mm__contact_track;
+/* Where a clip's heel and toe joints stand: each one's floor (height; NAN: never in contact) and
+ * its planted height above the floor (where it comes to rest). */
+typedef struct mm__contact_ground {
+    float floor[4], planted[4];
+} mm__contact_ground;
+
+/* The tracks of the joints heel_toe[0..3] (-1: missing) of a clip whose globals are given
+ * ([frames x joints]): out[frame * 4 + k]. */
+void mm__contact_tracks(const mm_clip *clip, const mm_xform *globals, const int heel_toe[4],
+                        mm__contact_track *out);
+/* The grounds of clip_count clips (frames[i] frames, tracks[i] from mm__contact_tracks): clips
+ * with the same take (>= 0; -1: a take of its own) share floors, the 5th percentile of each
+ * joint's height over the take, but a clip whose joints all stay at least contact_height above
+ * them keeps its own; planted heights are the take's median height above the floor of its low,
+ * slow frames (contacts.height, contacts.speed). MM_ERR_OUT_OF_MEMORY when out of memory. */
+mm_result mm__contact_grounds(int clip_count, const int *take, const int *frames,
+                              const mm__contact_track *const *tracks, const mm_config *cfg,
+                              mm__contact_ground *out);
+/* Contact flags (mm_contact_bits) of n frames at fps: a joint is in contact when under
+ * contact_height above its floor, at most contact_planted_tolerance above its planted height and
+ * slower than contact_speed; flicker (runs shorter than contact_min_time) removed. */
+void mm__label_contacts(const mm__contact_track *tracks, int n, float fps, const mm__contact_ground *ground,
+                        const mm_config *cfg, uint8_t *out);
+/* Contact flags of one clip on its own: floors from the clip alone, any height under
+ * contact_height (no planted height). heel/toe: joint indices (-1: never in contact). */
 void mm__detect_contacts(const mm_clip *clip, const mm_xform *globals, const int heel_toe[4],
                          const mm_config *cfg, uint8_t *out);
 /* Flips the runs of value v (0 or 1) shorter than min_len frames that have the other value on

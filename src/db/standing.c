@@ -19,11 +19,21 @@ static float ground_distance(mm_vec3 a, mm_vec3 b)
 /* Per-frame measures of one clip. */
 typedef struct frame_measure {
     float root_speed, joint_speed, stride, offset;
-    int standing; /* upright with both feet down */
+    int standing; /* upright with both feet flat */
 } frame_measure;
 
-/* The measures of every frame of clip c (globals, world, contacts: scratch for its frames). */
-static void measure_clip(const mm_config *cfg, const mm_clip *c, float head_height, mm_xform *globals,
+static void heel_toe_of(const mm_skeleton *s, const mm_config *cfg, int heel_toe[4])
+{
+    heel_toe[0] = mm_skeleton_find(s, cfg->left_foot);
+    heel_toe[1] = mm_skeleton_find(s, cfg->left_toe);
+    heel_toe[2] = mm_skeleton_find(s, cfg->right_foot);
+    heel_toe[3] = mm_skeleton_find(s, cfg->right_toe);
+}
+
+/* The measures of every frame of clip c (globals, world, contacts: scratch for its frames), its
+ * contacts labelled as the build labels them: tracks and ground from mm__contact_grounds. */
+static void measure_clip(const mm_config *cfg, const mm_clip *c, const mm__contact_track *tracks,
+                         const mm__contact_ground *contact_ground, float head_height, mm_xform *globals,
                          mm_vec3 *world, uint8_t *contacts, float *heights, frame_measure *m)
 {
     const mm_skeleton *s = &c->skeleton;
@@ -34,9 +44,9 @@ static void measure_clip(const mm_config *cfg, const mm_clip *c, float head_heig
         for (int j = 0; j < jc; ++j)
             world[(size_t)f * nj + (size_t)j] = globals[(size_t)f * nj + (size_t)j].translation;
     }
-    int heel_toe[4] = {mm_skeleton_find(s, cfg->left_foot), mm_skeleton_find(s, cfg->left_toe),
-                       mm_skeleton_find(s, cfg->right_foot), mm_skeleton_find(s, cfg->right_toe)};
-    mm__detect_contacts(c, globals, heel_toe, cfg, contacts);
+    int heel_toe[4];
+    heel_toe_of(s, cfg, heel_toe);
+    mm__label_contacts(tracks, n, c->fps, contact_ground, cfg, contacts);
     mm_posture_joints pj = {mm_skeleton_find(s, cfg->hips), mm_skeleton_find(s, cfg->head),
                             mm_skeleton_find(s, cfg->left_hand), mm_skeleton_find(s, cfg->right_hand)};
     /* the ground: the median over frames of the lowest joint (joint 0, the simulation bone, aside) */
@@ -61,7 +71,9 @@ static void measure_clip(const mm_config *cfg, const mm_clip *c, float head_heig
         for (int j = 1; j < jc; ++j) sum += mm_vec3_distance(w[j], prev[j]);
         x->joint_speed = jc > 1 ? sum / (float)(jc - 1) * c->fps : 0.0f;
         uint8_t k = contacts[f];
-        int left = (k & 3u) != 0, right = (k & 12u) != 0;
+        /* flat: heel and toe (a toe the skeleton lacks aside) */
+        int left = (k & 1u) && ((k & 2u) || heel_toe[1] < 0),
+            right = (k & 4u) && ((k & 8u) || heel_toe[3] < 0);
         int upright =
             pj.hips < 0 || pj.head < 0 || mm_posture_classify(w, &pj, ground, &ref) == MM_POSTURE_UPRIGHT;
         x->standing = upright && left && right && lf >= 0 && rf >= 0;
@@ -90,8 +102,8 @@ static void insert_pick(mm__standing_pick *picks, int *n, int max, const mm__sta
 }
 
 mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, const uint8_t *const *usable,
-                            int count, float head_height, int max, mm__standing_pick *picks, int *found,
-                            int *standing_frames)
+                            const int *take, int count, float head_height, int max, mm__standing_pick *picks,
+                            int *found, int *standing_frames)
 {
     *found = 0;
     *standing_frames = 0;
@@ -107,19 +119,49 @@ mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, c
     uint8_t *contacts = (uint8_t *)malloc((size_t)longest);
     float *heights = (float *)malloc(sizeof(float) * (size_t)longest);
     frame_measure *m = (frame_measure *)malloc(sizeof(frame_measure) * (size_t)longest);
-    if (!globals || !world || !contacts || !heights || !m) {
+    /* the contacts' floors over the takes: every clip's heel and toe tracks first */
+    size_t total = 0;
+    for (int i = 0; i < count; ++i) total += (size_t)clips[i]->frame_count;
+    mm__contact_track *track_frames = (mm__contact_track *)malloc(sizeof(mm__contact_track) * 4 * total);
+    mm__contact_track **tracks = (mm__contact_track **)calloc((size_t)count, sizeof *tracks);
+    mm__contact_ground *grounds = (mm__contact_ground *)calloc((size_t)count, sizeof *grounds);
+    int *frames = (int *)malloc(sizeof(int) * (size_t)count),
+        *own = (int *)malloc(sizeof(int) * (size_t)count);
+    mm_result r =
+        globals && world && contacts && heights && m && track_frames && tracks && grounds && frames && own
+            ? MM_OK
+            : MM_ERR_OUT_OF_MEMORY;
+    for (int i = 0, at = 0; i < count && r == MM_OK; at += clips[i++]->frame_count) {
+        const mm_clip *c = clips[i];
+        int heel_toe[4];
+        heel_toe_of(&c->skeleton, cfg, heel_toe);
+        for (int f = 0; f < c->frame_count; ++f)
+            mm_clip_fk(c, f, globals + (size_t)f * (size_t)c->skeleton.joint_count);
+        tracks[i] = track_frames + (size_t)at * 4;
+        mm__contact_tracks(c, globals, heel_toe, tracks[i]);
+        frames[i] = c->frame_count;
+        own[i] = take ? take[i] : -1;
+    }
+    if (r == MM_OK)
+        r = mm__contact_grounds(count, own, frames, (const mm__contact_track *const *)tracks, cfg, grounds);
+    free(frames);
+    free(own);
+    if (r != MM_OK) {
         free(globals);
         free(world);
         free(contacts);
         free(heights);
         free(m);
+        free(track_frames);
+        free(tracks);
+        free(grounds);
         return MM_ERR_OUT_OF_MEMORY;
     }
     for (int i = 0; i < count; ++i) {
         const mm_clip *c = clips[i];
         int n = c->frame_count;
         if (n < 3) continue;
-        measure_clip(cfg, c, head_height, globals, world, contacts, heights, m);
+        measure_clip(cfg, c, tracks[i], &grounds[i], head_height, globals, world, contacts, heights, m);
         if (usable[i])
             for (int f = 0; f < n; ++f) m[f].standing &= usable[i][f] != 0;
         for (int f = 0; f < n; ++f) *standing_frames += m[f].standing;
@@ -164,6 +206,9 @@ mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, c
     free(contacts);
     free(heights);
     free(m);
+    free(track_frames);
+    free(tracks);
+    free(grounds);
     return MM_OK;
 }
 

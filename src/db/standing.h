@@ -47,11 +47,13 @@ typedef struct mm__standing_pick {
  * usable[i][f] is nonzero (usable[i] NULL: all of clip i's), and keeps the stillest of them and
  * those within MM__STANDING_COST_MARGIN of it, at most max, stillest first: picks[0..*found).
  * Several poses let a stop settle on the one nearest its own feet. head_height: the upright head
- * height postures are judged by (0: measured from each clip). standing_frames receives how many
- * frames were upright with both feet down. MM_ERR_OUT_OF_MEMORY only; none found is *found 0. */
+ * height postures are judged by (0: measured from each clip). take[i]: clip i's take for the
+ * contacts' floors (mm__contact_grounds; NULL: each clip its own). standing_frames receives how
+ * many frames were upright with both feet flat (heels and toes in contact). MM_ERR_OUT_OF_MEMORY
+ * only; none found is *found 0. */
 mm_result mm__standing_find(const mm_config *cfg, const mm_clip *const *clips, const uint8_t *const *usable,
-                            int count, float head_height, int max, mm__standing_pick *picks, int *found,
-                            int *standing_frames);
+                            const int *take, int count, float head_height, int max, mm__standing_pick *picks,
+                            int *found, int *standing_frames);
 
 /* A clip of MM__STANDING_SECONDS holding src's frame (as many frames as a loop of that length has
  * at src->fps). */

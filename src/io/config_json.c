@@ -68,11 +68,14 @@ static const mm_config_field_doc docs[] = {
      "0 disables smoothing."},
     {"contacts.height", "number", "m", "0.05",
      "A heel or toe can be in contact when it is less than this above its floor (its own lowest steady "
-     "height "
-     "in the clip)."},
+     "height over the take: every clip of the same source file; a clip whose heels and toes all stay this "
+     "much above it has its own)."},
     {"contacts.speed", "number", "m/s", "0.6", "... and moves horizontally slower than this."},
     {"contacts.min_time", "number", "s", "0.1",
      "Contact or lift-off runs shorter than this are flicker and are removed."},
+    {"contacts.planted_tolerance", "number", "m", "0.01",
+     "... and is at most this above its planted height: the median height above its floor of its low, slow "
+     "frames over the take, where it comes to rest (a foot still coming down is not yet in contact)."},
     {"postures.detect", "bool", "", "true",
      "Judge the posture of every frame of the locomotion and idle clips (docs/database.md, \"Postures\"): "
      "calibration poses (arms straight out) and lying frames are left out, with postures.pad around them; "
@@ -604,11 +607,14 @@ static mm_result parse_root(ctx *c, const cJSON *root)
     if (roles && (r = parse_roles(c, roles)) != MM_OK) return r;
     const cJSON *contacts = cJSON_GetObjectItemCaseSensitive(root, "contacts");
     if (contacts) {
-        static const char *const ckeys[] = {"height", "speed", "min_time", NULL};
+        static const char *const ckeys[] = {"height", "speed", "min_time", "planted_tolerance", NULL};
         if ((r = check_keys(c, contacts, "contacts", ckeys)) != MM_OK) return r;
         if ((r = get_number(c, contacts, "height", "contacts", &cfg->contact_height)) != MM_OK) return r;
         if ((r = get_number(c, contacts, "speed", "contacts", &cfg->contact_speed)) != MM_OK) return r;
         if ((r = get_number(c, contacts, "min_time", "contacts", &cfg->contact_min_time)) != MM_OK) return r;
+        if ((r = get_number(c, contacts, "planted_tolerance", "contacts", &cfg->contact_planted_tolerance)) !=
+            MM_OK)
+            return r;
     }
     const cJSON *postures = cJSON_GetObjectItemCaseSensitive(root, "postures");
     if (postures) {

@@ -680,13 +680,16 @@ mm_result mm_config_save_json(const char *path, const mm_config *c, mm_error *er
     if (ok && c->root_smoothing != d.root_smoothing)
         ok = add(root, "root_smoothing", number(c->root_smoothing));
     if (ok && (c->contact_height != d.contact_height || c->contact_speed != d.contact_speed ||
-               c->contact_min_time != d.contact_min_time)) {
+               c->contact_min_time != d.contact_min_time ||
+               c->contact_planted_tolerance != d.contact_planted_tolerance)) {
         cJSON *o = cJSON_CreateObject();
         ok = o != NULL;
         if (ok && c->contact_height != d.contact_height) ok = add(o, "height", number(c->contact_height));
         if (ok && c->contact_speed != d.contact_speed) ok = add(o, "speed", number(c->contact_speed));
         if (ok && c->contact_min_time != d.contact_min_time)
             ok = add(o, "min_time", number(c->contact_min_time));
+        if (ok && c->contact_planted_tolerance != d.contact_planted_tolerance)
+            ok = add(o, "planted_tolerance", number(c->contact_planted_tolerance));
         if (ok)
             ok = add(root, "contacts", o);
         else

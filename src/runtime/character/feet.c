@@ -24,6 +24,11 @@
 #define TOE_LIFT_MARGIN 0.002f
 /* m: an ankle-to-toe vector shorter than this has no direction to turn the foot by */
 #define MIN_FOOT_LENGTH 1e-6f
+/* s: a lock above its animated joint halves its height above it at least this often (settle) */
+#define LOCK_SETTLE_HALFLIFE 0.1f
+/* m: a foot whose labelled joints are all further than this above where they stand waits to be
+ * planted (aloft) */
+#define PLANT_MAX_HEIGHT 0.04f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
 /* m: past unlock_radius, how far the creep of a lock after the animation grows from nothing to a
@@ -149,6 +154,26 @@ static float above_ground(const mm_feet_ground *ground, float planted, mm_vec3 p
     return p.y < floor || ground->scene ? floor : p.y;
 }
 
+/* The height of a lock at p whose joint is animated at height animated, having come down by fall
+ * (m) over the last tick. A lock is planted where the foot is, at times above the animated foot (an
+ * offset holding the foot up: a transition's, or its own after a release); it comes down to the
+ * animated joint (not below the ground it stands on), at the faster of the animated joint's descent
+ * and halving its height above it every LOCK_SETTLE_HALFLIFE: gradually, where a lock put there at
+ * once would snap the foot down (and a held toe turn the foot at once). A foot planted while still
+ * settling thus follows the animated foot down instead of hovering where it was planted. On terrain
+ * a lock is on the ground from the start (its offset takes the foot down); in a move (no ground
+ * held) it comes down with the animated joint. */
+static float settle(const mm_feet_ground *ground, float planted, mm_vec3 p, float animated, float fall,
+                    float dt)
+{
+    if (!ground->hold) return fminf(p.y, animated);
+    float floor = stand_height(ground, p.x, p.z, planted), rest = fmaxf(floor, animated);
+    if (ground->scene) return floor;
+    if (!(p.y > rest)) return fmaxf(p.y, floor);
+    float eased = rest + (p.y - rest) * exp2f(-dt / LOCK_SETTLE_HALFLIFE);
+    return fmaxf(rest, fminf(p.y - fmaxf(fall, 0.0f), eased));
+}
+
 /* An ankle's height y kept so that its toe is at most TOE_SINK below floor (the ankle height at which
  * the toe is at its planted height): unchanged from floor up, floor - TOE_SINK from 2 TOE_SINK below,
  * a parabola between (continuous in value and slope, so that a foot coming down slows smoothly). */
@@ -232,6 +257,21 @@ static float landing_height(const mm_feet_ground *ground, const mm_rig *rig, int
     return ankle.y - w * fmaxf(ankle.y - sole_stand(ground, rig, k, ankle, along), 0.0f);
 }
 
+/* Whether foot k, its ankle going to ankle and its toe toe_above higher, is too far above the ground
+ * to plant on the labels that are on (heel_on, toe_on): each labelled joint more than
+ * PLANT_MAX_HEIGHT above where it stands. A transition's offset can hold a foot up while its clip's
+ * label is on; planted there, it would be held in the air (and let go again as the label turns
+ * off), so it waits for the foot to come down, held on the ground plane by the landing. */
+static bool aloft(const mm_feet_ground *ground, const mm_rig *rig, int k, int heel_on, int toe_on,
+                  mm_vec3 ankle, float toe_above)
+{
+    if (!ground->hold || ground->scene) return false;
+    bool heel_up = ankle.y - stand_height(ground, ankle.x, ankle.z, rig->planted_ankle[k]) > PLANT_MAX_HEIGHT;
+    bool toe_up =
+        ankle.y + toe_above - stand_height(ground, ankle.x, ankle.z, rig->planted_toe[k]) > PLANT_MAX_HEIGHT;
+    return (heel_on || toe_on) && (!heel_on || heel_up) && (!toe_on || toe_up);
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -257,15 +297,14 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     }
     int heel_on = (contacts->label >> (2 * k)) & 1u, toe_on = (contacts->label >> (2 * k + 1)) & 1u;
     if (toe < 0) heel_on |= toe_on, toe_on = 0; /* no toe: the ankle holds for both */
-    /* a lock comes down with the animated foot (never below the ground): planted as its label
-     * turns on, a foot is often still settling, and a lock held at that height leaves it hovering */
+    /* a lock planted above the ground comes down onto it (settle) */
     if (f->heel_locked[k]) {
-        mm_vec3 lowered = mm_vec3_make(f->heel_lock[k].x, fminf(f->heel_lock[k].y, a.y), f->heel_lock[k].z);
-        f->heel_lock[k].y = above_ground(ground, rig->planted_ankle[k], lowered);
+        float fall = f->placed ? f->last_ankle[k].y - a.y : 0.0f;
+        f->heel_lock[k].y = settle(ground, rig->planted_ankle[k], f->heel_lock[k], a.y, fall, dt);
     }
     if (f->toe_locked[k]) {
-        mm_vec3 lowered = mm_vec3_make(f->toe_lock[k].x, fminf(f->toe_lock[k].y, t.y), f->toe_lock[k].z);
-        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], lowered);
+        float fall = f->placed ? f->last_toe[k].y - t.y : 0.0f;
+        f->toe_lock[k].y = settle(ground, rig->planted_toe[k], f->toe_lock[k], t.y, fall, dt);
     }
     /* a lock the animation has pulled more than unlock_radius away creeps after it: its locks move
      * toward the animated foot by a spring step from rest each tick (foot_halflife), in full from
@@ -331,7 +370,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * contact no longer coming ends the landing. The step is (1 - w) of the one the landing
          * began with (the foot slows evenly), over plant_time or, for a fast foot, over as long
          * as LANDING_DECELERATION needs to stop it. */
-        bool on = heel_on || toe_on;
+        bool on = heel_on || toe_on, up = false;
         float left = contacts->until_label[k], w = 0.0f, w_before = f->landed[k];
         if (on || left >= 0.0f) {
             if (!(w_before > 0.0f)) { /* a landing begins: its length from the foot's speed now */
@@ -342,7 +381,8 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
             float landing = fmaxf(f->landing_time[k], d->plant_time);
             float due = on ? 1.0f : fmaxf(1.0f - left / landing, 0.0f);
             w = fmaxf(w_before, fminf(w_before + dt / landing, due));
-            wait = on && w < 1.0f - LANDING_DONE;
+            up = on && aloft(ground, rig, k, heel_on, toe_on, out, t.y - a.y);
+            wait = on && (w < 1.0f - LANDING_DONE || up);
             if (w > 1.0f) w = 1.0f;
         }
         f->landed[k] = on && !wait ? 0.0f : w;
@@ -359,6 +399,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
                 float lowered = landing_height(ground, rig, k, out, mm_vec3_sub(t, a), w);
                 out.y = fmaxf(lowered, fminf(out.y, from.y - LANDING_FALL_SPEED * dt));
             }
+            if (up) out.y = fminf(out.y, from.y); /* aloft: held on the ground plane, not rising */
             f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
             f->offset_velocity[k] = mm_vec3_sub(velocity, source_velocity(f, k, a, t, dt));
         }
