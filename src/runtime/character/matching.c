@@ -1,3 +1,4 @@
+#include <stdlib.h>
 /* Stage 3: when to search, the query, the search and the winner. */
 #include "matching.h"
 
@@ -52,6 +53,16 @@ static void build_query(const mm_matching *m, const mm_database *db, int frame, 
         pd.traj_positions[i] = mm_xform_apply_point(inverse, positions[i]);
         pd.traj_directions[i] =
             mm_quat_inv_rotate(root.rotation, mm_quat_rotate(facings[i], mm_vec3_make(0, 0, 1)));
+    }
+    if (getenv("MMX_qlock")) {
+        int lf = mm_database_role_joint(db, MM_ROLE_LEFT_FOOT), rf = mm_database_role_joint(db, MM_ROLE_RIGHT_FOOT);
+        for (int b = 0; b < pd.bone_count; ++b) {
+            int k = pd.bones[b] == lf ? 0 : pd.bones[b] == rf ? 1 : -1;
+            if (k >= 0 && m->x_locked[k]) {
+                mm_vec3 local = mm_xform_apply_point(inverse, m->x_lock[k]);
+                pd.bone_positions[b].x = local.x, pd.bone_positions[b].z = local.z;
+            }
+        }
     }
     mm_search_query_from_pose(db, &pd, m->query);
 }
@@ -120,7 +131,16 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
      * gait than the one asked for are left out */
     for (int g = 0; g < MM_GAIT_COUNT; ++g)
         if (g != (int)intent->gait) p.excluded_tags |= m->gait_tags[g];
+    float ratio_before = p.pose_trajectory_ratio;
     velocity_change_weights(d, t, intent, &p);
+    if (getenv("MMX_feetkeep") && p.pose_trajectory_ratio < 1.0f && p.pose_trajectory_ratio > ratio_before) {
+        float keep = (1.0f - ratio_before) / (1.0f - p.pose_trajectory_ratio) * (float)atof(getenv("MMX_feetkeep"));
+        mm_pose_data pd;
+        mm_database_pose(db, 0, &pd);
+        int lf = mm_database_role_joint(db, MM_ROLE_LEFT_FOOT), rf = mm_database_role_joint(db, MM_ROLE_RIGHT_FOOT);
+        for (int b = 0; b < pd.bone_count; ++b)
+            if (pd.bones[b] == lf || pd.bones[b] == rf) p.joint_position_weights[b] *= keep;
+    }
     /* the best candidates when a debugger asked for them (the winner is the same whatever k) */
     mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
     int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
@@ -130,6 +150,19 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     ++m->searches;
     m->since_search = 0.0f;
     mm_search_result best = results[0];
+    if (getenv("MMX_ctol") && m->candidate_capacity == 0) {
+        mm_search_result many[16];
+        int n = mm_searcher_search(searcher, m->query, &p, d->method, many, 16);
+        float tol = (float)atof(getenv("MMX_ctol"));
+        unsigned now = db->contacts[pb->frame];
+        int feet_now = ((now & 3u) ? 1 : 0) | ((now & 12u) ? 2 : 0);
+        for (int i = 0; i < n; ++i) {
+            if (many[i].frame < 0 || many[i].cost > best.cost * (1.0f + tol) + 1e-6f) break;
+            unsigned c = db->contacts[many[i].frame];
+            int feet = ((c & 3u) ? 1 : 0) | ((c & 12u) ? 2 : 0);
+            if (getenv("MMX_full") ? c == now : feet == feet_now) { best = many[i]; break; }
+        }
+    }
     m->last_result = best;
     m->candidate_count = found;
     m->last_params = p;

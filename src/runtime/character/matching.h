@@ -12,6 +12,8 @@
 #include "playback.h"
 
 typedef struct mm_matching {
+    bool x_locked[2]; /* EXPERIMENT */
+    mm_vec3 x_lock[2];
     float since_search;                /* s */
     float last_direction;              /* rad: desired direction at the last search */
     bool idle;                         /* asking for idle */
