@@ -1,4 +1,3 @@
-#include <stdlib.h>
 /* Stage 3: when to search, the query, the search and the winner. */
 #include "matching.h"
 
@@ -14,6 +13,9 @@
 /* m/s: under this simulated speed the velocity-change weights come in with the speed (a start is
  * the pose's to choose: with the trajectory alone a standing pose went into the run-up of a jump) */
 #define VELOCITY_CHANGE_FROM_SPEED 0.5f
+/* the four mm_contact_bits: the pattern the search's contact favour compares */
+#define MATCHING_CONTACT_BITS                                                                                \
+    (MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE | MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE)
 
 void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
 {
@@ -32,9 +34,11 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
 }
 
 /* The query: the pose of the frame playing (from the database) and the simulated trajectory in
- * the character's frame. */
+ * the character's frame; the held feet where they are held (x, z of their heel locks in the
+ * character's frame), not where the frame playing has them: a transition then goes to a frame
+ * whose feet are planted where the character's are, not to one that drags them elsewhere. */
 static void build_query(const mm_matching *m, const mm_database *db, int frame, const mm_trajectory *t,
-                        const mm_input *in, mm_xform root)
+                        const mm_input *in, mm_xform root, const mm_matching_feet *feet)
 {
     mm_pose_data pd;
     mm_database_pose(db, frame, &pd);
@@ -54,15 +58,14 @@ static void build_query(const mm_matching *m, const mm_database *db, int frame, 
         pd.traj_directions[i] =
             mm_quat_inv_rotate(root.rotation, mm_quat_rotate(facings[i], mm_vec3_make(0, 0, 1)));
     }
-    if (getenv("MMX_qlock")) {
-        int lf = mm_database_role_joint(db, MM_ROLE_LEFT_FOOT), rf = mm_database_role_joint(db, MM_ROLE_RIGHT_FOOT);
-        for (int b = 0; b < pd.bone_count; ++b) {
-            int k = pd.bones[b] == lf ? 0 : pd.bones[b] == rf ? 1 : -1;
-            if (k >= 0 && m->x_locked[k]) {
-                mm_vec3 local = mm_xform_apply_point(inverse, m->x_lock[k]);
-                pd.bone_positions[b].x = local.x, pd.bone_positions[b].z = local.z;
+    for (int k = 0; k < 2; ++k) {
+        if (!feet->held[k] || feet->ankle[k] < 0) continue;
+        mm_vec3 local = mm_xform_apply_point(inverse, feet->position[k]);
+        for (int b = 0; b < pd.bone_count; ++b)
+            if (pd.bones[b] == feet->ankle[k]) {
+                pd.bone_positions[b].x = local.x; /* the height stays the frame's */
+                pd.bone_positions[b].z = local.z;
             }
-        }
     }
     mm_search_query_from_pose(db, &pd, m->query);
 }
@@ -119,28 +122,23 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
 
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
-                        const mm_intent *intent, mm_xform root, const mm_playback *pb, mm_jump *jump)
+                        const mm_intent *intent, mm_xform root, const mm_playback *pb,
+                        const mm_matching_feet *feet, mm_jump *jump)
 {
     jump->frame = -1;
     float speed, direction = desired_direction(intent, &speed);
-    build_query(m, db, pb->frame, t, in, root);
+    build_query(m, db, pb->frame, t, in, root, feet);
     mm_search_params p = d->params;
     p.current_frame = pb->frame;
+    /* frames whose feet are in other contacts than the frame playing's cost contact_mismatch_favour
+     * times more (the desc's; 1: off) */
+    p.contact_pattern = (int)(db->contacts[pb->frame] & MATCHING_CONTACT_BITS);
     p.type = !m->has_idle ? MM_SEARCH_ANY : m->idle ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION;
     /* the gait influences matching through tags named after the gaits: frames tagged with another
      * gait than the one asked for are left out */
     for (int g = 0; g < MM_GAIT_COUNT; ++g)
         if (g != (int)intent->gait) p.excluded_tags |= m->gait_tags[g];
-    float ratio_before = p.pose_trajectory_ratio;
     velocity_change_weights(d, t, intent, &p);
-    if (getenv("MMX_feetkeep") && p.pose_trajectory_ratio < 1.0f && p.pose_trajectory_ratio > ratio_before) {
-        float keep = (1.0f - ratio_before) / (1.0f - p.pose_trajectory_ratio) * (float)atof(getenv("MMX_feetkeep"));
-        mm_pose_data pd;
-        mm_database_pose(db, 0, &pd);
-        int lf = mm_database_role_joint(db, MM_ROLE_LEFT_FOOT), rf = mm_database_role_joint(db, MM_ROLE_RIGHT_FOOT);
-        for (int b = 0; b < pd.bone_count; ++b)
-            if (pd.bones[b] == lf || pd.bones[b] == rf) p.joint_position_weights[b] *= keep;
-    }
     /* the best candidates when a debugger asked for them (the winner is the same whatever k) */
     mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
     int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
@@ -150,19 +148,6 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     ++m->searches;
     m->since_search = 0.0f;
     mm_search_result best = results[0];
-    if (getenv("MMX_ctol") && m->candidate_capacity == 0) {
-        mm_search_result many[16];
-        int n = mm_searcher_search(searcher, m->query, &p, d->method, many, 16);
-        float tol = (float)atof(getenv("MMX_ctol"));
-        unsigned now = db->contacts[pb->frame];
-        int feet_now = ((now & 3u) ? 1 : 0) | ((now & 12u) ? 2 : 0);
-        for (int i = 0; i < n; ++i) {
-            if (many[i].frame < 0 || many[i].cost > best.cost * (1.0f + tol) + 1e-6f) break;
-            unsigned c = db->contacts[many[i].frame];
-            int feet = ((c & 3u) ? 1 : 0) | ((c & 12u) ? 2 : 0);
-            if (getenv("MMX_full") ? c == now : feet == feet_now) { best = many[i]; break; }
-        }
-    }
     m->last_result = best;
     m->candidate_count = found;
     m->last_params = p;
