@@ -34,9 +34,9 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
 }
 
 /* The query: the pose of the frame playing (from the database) and the simulated trajectory in
- * the character's frame; the held feet where they are held (x, z of their heel locks in the
- * character's frame), not where the frame playing has them: a transition then goes to a frame
- * whose feet are planted where the character's are, not to one that drags them elsewhere. */
+ * the character's frame; the held feet (feet; NULL: none) where they are held (x, z of their heel
+ * locks in the character's frame), not where the frame playing has them: a transition then goes to
+ * a frame whose feet are planted where the character's are, not to one that drags them elsewhere. */
 static void build_query(const mm_matching *m, const mm_database *db, int frame, const mm_trajectory *t,
                         const mm_input *in, mm_xform root, const mm_matching_feet *feet)
 {
@@ -58,7 +58,7 @@ static void build_query(const mm_matching *m, const mm_database *db, int frame, 
         pd.traj_directions[i] =
             mm_quat_inv_rotate(root.rotation, mm_quat_rotate(facings[i], mm_vec3_make(0, 0, 1)));
     }
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < 2 && feet; ++k) {
         if (!feet->held[k] || feet->ankle[k] < 0) continue;
         mm_vec3 local = mm_xform_apply_point(inverse, feet->position[k]);
         for (int b = 0; b < pd.bone_count; ++b)
@@ -127,12 +127,13 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
 {
     jump->frame = -1;
     float speed, direction = desired_direction(intent, &speed);
-    build_query(m, db, pb->frame, t, in, root, feet);
+    bool keep_contacts = mm_intent_ground_speed(t) >= KEEP_CONTACTS_FROM_SPEED;
+    build_query(m, db, pb->frame, t, in, root, keep_contacts ? feet : NULL);
     mm_search_params p = d->params;
     p.current_frame = pb->frame;
     /* frames whose feet are in other contacts than the frame playing's cost contact_mismatch_favour
      * times more (the desc's; 1: off) */
-    p.contact_pattern = (int)(db->contacts[pb->frame] & MATCHING_CONTACT_BITS);
+    p.contact_pattern = keep_contacts ? (int)(db->contacts[pb->frame] & MATCHING_CONTACT_BITS) : -1;
     p.type = !m->has_idle ? MM_SEARCH_ANY : m->idle ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION;
     /* the gait influences matching through tags named after the gaits: frames tagged with another
      * gait than the one asked for are left out */
