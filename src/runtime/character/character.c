@@ -438,11 +438,8 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     if (play_moves(&s->move, db, &s->playback, ended, &jump)) s->matching.since_search = INFINITY;
     if (mm_matching_due(&s->matching, d, &s->intent, mm_intent_ground_speed(&s->trajectory),
                         mm_vec3_length(s->root_motion.played.velocity), ended, s->move.playing, dt)) {
-        mm_matching_feet feet = {{s->rig.ankle[0], s->rig.ankle[1]},
-                                 {s->feet.heel_locked[0], s->feet.heel_locked[1]},
-                                 {s->feet.heel_lock[0], s->feet.heel_lock[1]}};
         mm_matching_search(&s->matching, d, db, c->searcher, &s->trajectory, in, &s->intent,
-                           s->root_motion.root, &s->playback, &feet, &found);
+                           s->root_motion.root, &s->playback, &found);
     }
     if (found.frame >= 0) jump = found;
     s->matching.future_count = 0; /* the game's future is given for one tick */

@@ -34,11 +34,9 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
 }
 
 /* The query: the pose of the frame playing (from the database) and the simulated trajectory in
- * the character's frame; the held feet (feet; NULL: none) where they are held (x, z of their heel
- * locks in the character's frame), not where the frame playing has them: a transition then goes to
- * a frame whose feet are planted where the character's are, not to one that drags them elsewhere. */
+ * the character's frame. */
 static void build_query(const mm_matching *m, const mm_database *db, int frame, const mm_trajectory *t,
-                        const mm_input *in, mm_xform root, const mm_matching_feet *feet)
+                        const mm_input *in, mm_xform root)
 {
     mm_pose_data pd;
     mm_database_pose(db, frame, &pd);
@@ -57,15 +55,6 @@ static void build_query(const mm_matching *m, const mm_database *db, int frame, 
         pd.traj_positions[i] = mm_xform_apply_point(inverse, positions[i]);
         pd.traj_directions[i] =
             mm_quat_inv_rotate(root.rotation, mm_quat_rotate(facings[i], mm_vec3_make(0, 0, 1)));
-    }
-    for (int k = 0; k < 2 && feet; ++k) {
-        if (!feet->held[k] || feet->ankle[k] < 0) continue;
-        mm_vec3 local = mm_xform_apply_point(inverse, feet->position[k]);
-        for (int b = 0; b < pd.bone_count; ++b)
-            if (pd.bones[b] == feet->ankle[k]) {
-                pd.bone_positions[b].x = local.x; /* the height stays the frame's */
-                pd.bone_positions[b].z = local.z;
-            }
     }
     mm_search_query_from_pose(db, &pd, m->query);
 }
@@ -122,13 +111,12 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
 
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
-                        const mm_intent *intent, mm_xform root, const mm_playback *pb,
-                        const mm_matching_feet *feet, mm_jump *jump)
+                        const mm_intent *intent, mm_xform root, const mm_playback *pb, mm_jump *jump)
 {
     jump->frame = -1;
     float speed, direction = desired_direction(intent, &speed);
     bool keep_contacts = mm_intent_ground_speed(t) >= KEEP_CONTACTS_FROM_SPEED;
-    build_query(m, db, pb->frame, t, in, root, keep_contacts ? feet : NULL);
+    build_query(m, db, pb->frame, t, in, root);
     mm_search_params p = d->params;
     p.current_frame = pb->frame;
     /* frames whose feet are in other contacts than the frame playing's cost contact_mismatch_favour

@@ -33,18 +33,10 @@ typedef struct mm_matching {
     mm_quat future_facings[MM_MAX_TRAJ_SAMPLES];
 } mm_matching;
 
-/* m/s: under this simulated speed (standing, starting, stopping) the search neither holds the feet
- * where they stand nor favours the frame playing's contacts: a stance held since the last stop is
- * no guide to how to start (docs/metrics.md, "Transitions that keep the contacts") */
+/* m/s: under this simulated speed (standing, starting, stopping) the search does not favour the
+ * frame playing's contacts: a stance held since the last stop is no guide to how to start (docs/metrics.md,
+ * "Transitions that keep the contacts") */
 #define KEEP_CONTACTS_FROM_SPEED 0.3f
-
-/* Where the character's feet stand (stage 7's heel locks, from the last tick): per leg (0 left,
- * 1 right) its ankle joint (-1: none), whether its heel is held, and where (world). */
-typedef struct mm_matching_feet {
-    int ankle[2];
-    bool held[2];
-    mm_vec3 position[2];
-} mm_matching_feet;
 
 /* A jump of the playhead asked for: to frame at fraction (-1: none); uncancellable: the crossfade
  * mixer may not drop it. */
@@ -64,14 +56,12 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query);
 bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent *intent,
                      float simulated_speed, float root_speed, bool ended, bool move_playing, float dt);
 
-/* Searches with the pose of the frame playing, the held feet where they are held (feet) and t's
- * future in the frame of root (in: the input that future is sampled under; m's future instead,
- * when given); frames in other contacts than the frame playing's get the desc's
- * contact_mismatch_favour. Under KEEP_CONTACTS_FROM_SPEED of simulated speed neither the held feet
- * nor the favour. *jump: where to go (frame -1 when playback goes on where it is). */
+/* Searches with the pose of the frame playing and t's future in the frame of root (in: the input
+ * that future is sampled under; m's future instead, when given); frames in other contacts than the
+ * frame playing's get the desc's contact_mismatch_favour, from KEEP_CONTACTS_FROM_SPEED of
+ * simulated speed on. *jump: where to go (frame -1 when playback goes on where it is). */
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
-                        const mm_intent *intent, mm_xform root, const mm_playback *p,
-                        const mm_matching_feet *feet, mm_jump *jump);
+                        const mm_intent *intent, mm_xform root, const mm_playback *p, mm_jump *jump);
 
 #endif
