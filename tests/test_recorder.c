@@ -24,6 +24,7 @@ static mm_input inputs[TICKS];
 static void make_desc(mm_character_desc *d, int variant)
 {
     assert_int_equal(mm_character_desc_from_database(d, &db, NULL), MM_OK);
+    d->params.contact_mismatch_favour = 2.0f; /* the contact favour in play (off by default) */
     if (variant == 1) {
         d->transition_mode = MM_TRANSITION_CROSSFADE;
         d->distance_matching = true;
