@@ -151,6 +151,8 @@ static mm_result validate_runtime(const mm_runtime_config *rt, mm_error *err)
         FAIL("runtime.next_pose_favour: %g must be positive", rt->next_pose_favour);
     if ((s & MM_RUNTIME_LOOP_ANIM_FAVOUR) && !finite_positive(rt->loop_anim_favour))
         FAIL("runtime.loop_anim_favour: %g must be positive", rt->loop_anim_favour);
+    if ((s & MM_RUNTIME_CONTACT_FAVOUR) && !(isfinite(rt->contact_favour) && rt->contact_favour >= 1.0f))
+        FAIL("runtime.contact_favour: %g must be at least 1", rt->contact_favour);
     if ((s & MM_RUNTIME_CONTINUING_BIAS) && !finite_nonneg(rt->continuing_bias))
         FAIL("runtime.continuing_bias: %g must be >= 0", rt->continuing_bias);
     if ((s & MM_RUNTIME_SEARCH_INTERVAL) &&

@@ -1130,6 +1130,33 @@ static void test_crossfade(void **state)
     free(b);
 }
 
+/* The query's feet are where the character's feet are held: at every search on a walk that
+ * turns, a foot whose heel was held (its lock from the tick before) has the x and z of its lock
+ * in the frame of the root the search used in the query's position feature, and its height from
+ * the frame playing; a free foot has the frame playing's position. */
+static void test_contact_favour_while_moving(void **state)
+{
+    (void)state;
+    mm_character c;
+    make_character(&c, NULL);
+    int moving_checks = 0, slow_checks = 0;
+    for (int i = 0; i < 600; ++i) {
+        mm_input in = i < 400 ? stick_input(i / 90 % 2 ? 0.8f : -0.8f, 0.6f) : stick_input(0.0f, 0.0f);
+        int searches = c.searches;
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        if (c.searches == searches) continue;
+        /* standing, starting or stopping: no contact favour; moving: the frame playing's four bits */
+        bool moving = mm_intent_ground_speed(&c.state->trajectory) >= KEEP_CONTACTS_FROM_SPEED;
+        assert_int_equal(c.last_params.contact_pattern,
+                         moving ? (int)(db.contacts[c.last_params.current_frame] & 0xfu) : -1);
+        moving_checks += moving;
+        slow_checks += !moving;
+    }
+    print_message("%d searches moving, %d slow\n", moving_checks, slow_checks);
+    assert_true(moving_checks > 20 && slow_checks > 1);
+    mm_character_free(&c);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -1191,6 +1218,7 @@ int main(void)
         cmocka_unit_test(test_transition_velocity_continuous),
         cmocka_unit_test(test_crossfade),
         cmocka_unit_test(test_knee_hinges),
+        cmocka_unit_test(test_contact_favour_while_moving),
         cmocka_unit_test(test_playhead_exact),
         cmocka_unit_test(test_robust),
         cmocka_unit_test(test_gait_tags),

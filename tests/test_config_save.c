@@ -131,6 +131,8 @@ static void test_parse_runtime(void **state)
         {"{\"runtime\": {\"next_pose_favour\": 0}}", "runtime.next_pose_favour", MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"loop_anim_favour\": -1}}", "runtime.loop_anim_favour", MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"continuing_bias\": -1}}", "runtime.continuing_bias", MM_ERR_OUT_OF_RANGE},
+        {"{\"runtime\": {\"contact_favour\": 0.9}}", "runtime.contact_favour: 0.9 must be at least 1",
+         MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"search_interval\": 0}}", "runtime.search_interval", MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"transition_halflife\": 0}}", "runtime.transition_halflife", MM_ERR_OUT_OF_RANGE},
         {"{\"runtime\": {\"idle_speed\": -0.1}}", "runtime.idle_speed", MM_ERR_OUT_OF_RANGE},
@@ -304,6 +306,11 @@ static void test_apply_defaults_bit_identical(void **state)
     simulate(&d, b, &tb);
     assert_true(memcmp(a, b, n * sizeof(mm_xform)) != 0);
     assert_true(tb < ta);
+    /* and the contact favour: on (2; off, 1, by default), the run differs from the default's */
+    desc_from_text("{\"runtime\": {\"contact_favour\": 2}}", &d);
+    assert_true(d.params.contact_mismatch_favour == 2.0f);
+    simulate(&d, b, NULL);
+    assert_true(memcmp(a, b, n * sizeof(mm_xform)) != 0);
     free(a);
     free(b);
 }
@@ -366,6 +373,7 @@ static void test_save_tuning_round_trip(void **state)
     d.params.next_pose_favour = 0.45f;
     d.params.loop_anim_favour = 0.9f;
     d.params.continuing_bias = 0.02f;
+    d.params.contact_mismatch_favour = 1.75f;
     d.params.joint_position_weights[0] = 1.25f; /* LeftFoot */
     d.params.joint_velocity_weights[2] = 0.3f;  /* Hips */
     d.params.position_multiplier = 1.1f;
@@ -388,7 +396,8 @@ static void test_save_tuning_round_trip(void **state)
     load(path, &after);
     assert_same_except_tuning(&before, &after);
     const mm_runtime_config *rt = &after.runtime;
-    assert_int_equal(rt->set, 0x3ff);
+    assert_int_equal(rt->set, MM_RUNTIME_FIELDS_ALL);
+    assert_true(rt->contact_favour == 1.75f);
     assert_true(rt->distance_matching && !rt->warping);
     assert_int_equal(rt->walk.set & rt->run.set & rt->crouch.set, 0x1f);
     assert_true(rt->pose_trajectory_ratio == 0.65f && rt->next_pose_favour == 0.45f);

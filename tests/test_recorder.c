@@ -24,6 +24,7 @@ static mm_input inputs[TICKS];
 static void make_desc(mm_character_desc *d, int variant)
 {
     assert_int_equal(mm_character_desc_from_database(d, &db, NULL), MM_OK);
+    d->params.contact_mismatch_favour = 2.0f; /* the contact favour in play (off by default) */
     if (variant == 1) {
         d->transition_mode = MM_TRANSITION_CROSSFADE;
         d->distance_matching = true;
@@ -172,7 +173,7 @@ static void test_candidates_and_terms(void **state)
     recording r;
     make_character(&r.c, 0);
     assert_int_equal(mm_character_set_candidates(&r.c, TOP_K, NULL), MM_OK);
-    int searched = 0, with_next = 0;
+    int searched = 0, with_next = 0, with_contact = 0;
     for (int f = 0; f < TICKS; ++f) {
         int before = r.c.searches;
         mm_character_update(&r.c, &inputs[f], TICK_DT);
@@ -194,8 +195,14 @@ static void test_candidates_and_terms(void **state)
             float five =
                 t->pose_position + t->pose_velocity + t->root_velocity + t->traj_position + t->traj_direction;
             assert_float_equal(five, got[i].base, 1e-4f * (1.0f + got[i].base));
-            float total = got[i].base + got[i].loop_favour + got[i].next_pose_favour + got[i].continuing_bias;
+            float total = got[i].base + got[i].loop_favour + got[i].contact_favour + got[i].next_pose_favour +
+                          got[i].continuing_bias;
             assert_float_equal(total, got[i].cost, 1e-5f * (1.0f + fabsf(got[i].cost)));
+            /* the contact favour: exactly on the frames in other contacts than the frame playing's */
+            int pattern = r.c.last_params.contact_pattern; /* -1: no favour (standing) */
+            bool other = pattern >= 0 && (int)db.contacts[got[i].frame] != pattern;
+            assert_true(other == (got[i].contact_favour != 0.0f));
+            with_contact += other;
             if (got[i].next_pose_favour != 0.0f) {
                 ++with_next;
                 assert_int_equal(got[i].frame, db.frame_next[r.c.last_params.current_frame]);
@@ -205,7 +212,8 @@ static void test_candidates_and_terms(void **state)
         assert_true(got[0].cost <= got[1].cost + 1e-5f * fabsf(got[1].cost));
     }
     assert_true(searched > 20);
-    assert_true(with_next > 0); /* the favour of carrying on was seen at work */
+    assert_true(with_next > 0);    /* the favour of carrying on was seen at work */
+    assert_true(with_contact > 0); /* and the contact favour */
     mm_character_free(&r.c);
 }
 

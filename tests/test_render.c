@@ -808,8 +808,8 @@ static void test_tuning_steps_select_and_clamp(void **state)
     mm_view_tuning_init(&t, &fx.ch);
     /* only what the database uses: the ratio, a weight per feature group kind it has (root velocity,
      * trajectory positions, directions), a weight per bone feature, the favours (loop_anim_favour
-     * with loop clips), bias, search interval, transition half-life, idle speed, sync half-life, and 5
-     * per gait for walk and run (no crouch tag) */
+     * with loop clips, contact_favour), bias, search interval, transition half-life, idle speed, sync
+     * half-life, and 5 per gait for walk and run (no crouch tag) */
     int kinds[5] = {0, 0, 0, 0, 0};
     for (int g = 0; g < fx.db.group_count; ++g) ++kinds[fx.db.groups[g].kind];
     int loops = 0;
@@ -818,7 +818,7 @@ static void test_tuning_steps_select_and_clamp(void **state)
     assert_int_equal(t.count, 1 + (kinds[MM_FEATURE_ROOT_VELOCITY] > 0) +
                                   (kinds[MM_FEATURE_TRAJ_POSITION] > 0) +
                                   (kinds[MM_FEATURE_TRAJ_DIRECTION] > 0) + kinds[MM_FEATURE_BONE_POSITION] +
-                                  kinds[MM_FEATURE_BONE_VELOCITY] + 1 + loops + 1 + 4 + 10);
+                                  kinds[MM_FEATURE_BONE_VELOCITY] + 1 + loops + 1 + 1 + 4 + 10);
     /* a bone's weight is there only where a feature uses the bone */
     for (int i = 0; i < t.count; ++i) {
         if (!t.entries[i].bone[0]) continue;

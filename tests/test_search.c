@@ -29,6 +29,16 @@ static double normal(test_rng *r)
     return sqrt(-2.0 * log(u)) * cos(2.0 * MM_PI * v);
 }
 
+/* The contact favour on three queries of four (i: the query's number, a: a frame whose contacts
+ * the pattern is, mostly): factors from 1 to 4, a few below 1 (favoured contacts; the bounds
+ * hold for those too), and patterns no frame has. */
+static void with_contact_favour(const mm_database *db, int i, int a, mm_search_params *p)
+{
+    if (i % 4 == 3) return;
+    p->contact_pattern = i % 10 == 1 ? i % 16 : (int)db->contacts[a];
+    p->contact_mismatch_favour = i % 13 == 0 ? 0.6f : 1.0f + 0.5f * (float)(i % 7);
+}
+
 /* Queries of the three kinds, with parameters that vary everything the search reads. */
 static void make_case(const mm_database *db, test_rng *r, int i, float *q, mm_search_params *p)
 {
@@ -59,6 +69,7 @@ static void make_case(const mm_database *db, test_rng *r, int i, float *q, mm_se
     if (db->tag_count > 0 && i % 11 == 7) p->excluded_tags = 1;
     p->joint_position_weights[0] = (float)test_rng_uniform(r, 0, 2);
     p->angle_multiplier = (float)test_rng_uniform(r, 0, 3);
+    with_contact_favour(db, i, a, p);
 }
 
 static void test_exact_equals_brute(void **state)
@@ -228,6 +239,8 @@ static int best_of(const float *q, const mm_search_params *p)
 
 static int clip_of(int f) { return f < 0 ? -1 : crafted.frame_clip[f]; }
 
+#define METHODS_TESTED 3 /* brute, fast, facing */
+
 static void test_filters(void **state)
 {
     (void)state;
@@ -286,6 +299,8 @@ static void test_filters(void **state)
     p.end_margin = 0;
 }
 
+static void check_tree(const mm_searcher *s);
+
 static void test_favours_and_ratio(void **state)
 {
     (void)state;
@@ -339,6 +354,55 @@ static void test_favours_and_ratio(void **state)
     assert_int_equal(clip_of(best_of(q, &p)), 1);
     p.loop_anim_favour = 1.0f;
 
+    /* The contact favour: the frames of clip 2 (all tagged Fast) get contacts of their own, the
+     * pattern of the frame playing; a query a little closer to clip 1 is won there, at base bw
+     * (the best frame without the tag), against bm (the best with it). A factor on the others
+     * just over bm / bw gives the win to clip 2, just under it does not; pattern -1 turns it off. */
+    mm_database hand = crafted; /* shares everything but the contacts */
+    uint8_t *contacts = calloc((size_t)db->frame_count, 1);
+    for (int k = 0; k < db->clips[2].frame_count; ++k)
+        contacts[db->clips[2].first_frame + k] = MM_CONTACT_LEFT_HEEL | MM_CONTACT_RIGHT_TOE;
+    hand.contacts = contacts;
+    mm_searcher hs;
+    assert_int_equal(mm_searcher_init(&hs, &hand, NULL, NULL), MM_OK);
+    check_tree(&hs);
+    for (int d = 0; d < db->dims_padded; ++d) q[d] = 0.45f * a[d] + 0.55f * b[d];
+    p.current_frame = -1;
+    mm_search_result w, m, got[METHODS_TESTED];
+    p.excluded_tags = 1;
+    mm_searcher_search(&hs, q, &p, MM_SEARCH_BRUTE, &w, 1);
+    p.excluded_tags = 0;
+    p.required_tags = 1;
+    mm_searcher_search(&hs, q, &p, MM_SEARCH_BRUTE, &m, 1);
+    p.required_tags = 0;
+    assert_int_equal(clip_of(m.frame), 2);
+    assert_true(w.frame >= 0 && clip_of(w.frame) != 2 && m.base > w.base);
+    const mm_search_method methods[METHODS_TESTED] = {MM_SEARCH_BRUTE, MM_SEARCH_FAST, MM_SEARCH_FACING};
+    p.facing_threshold = 3.3f; /* the pre-filter leaves every frame of these walks in */
+    const float factors[3] = {0.99f * m.base / w.base, 1.01f * m.base / w.base, 100.0f};
+    const int pattern[3] = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_RIGHT_TOE,
+                            MM_CONTACT_LEFT_HEEL | MM_CONTACT_RIGHT_TOE, -1};
+    const int winner[3] = {w.frame, m.frame, w.frame};
+    for (int k = 0; k < 3; ++k) {
+        p.contact_pattern = pattern[k];
+        p.contact_mismatch_favour = factors[k];
+        for (int j = 0; j < METHODS_TESTED; ++j) {
+            mm_searcher_search(&hs, q, &p, methods[j], &got[j], 1);
+            assert_int_equal(got[j].frame, winner[k]);
+        }
+        /* the cost: the base, times the factor where the contacts differ */
+        float expect = winner[k] == w.frame && pattern[k] >= 0 ? w.base * factors[k] : got[0].base;
+        assert_true(got[0].cost == expect);
+        mm_search_result batch;
+        mm_searcher_batch(&hs, q, &p, 0, MM_SEARCH_FAST, &batch, 1);
+        assert_int_equal(batch.frame, winner[k]);
+    }
+    p.contact_pattern = -1;
+    p.contact_mismatch_favour = 1.0f;
+    p.facing_threshold = 1.0f;
+    mm_searcher_free(&hs);
+    free(contacts);
+
     /* PoseTrajectoryRatio: 1 matches the trajectory only, 0 the pose only. */
     int pose_frame = db->clips[3].first_frame + 10, traj_frame = db->clips[2].first_frame + 70;
     mm_search_query_from_frames(db, pose_frame, traj_frame, q);
@@ -367,8 +431,10 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
     assert_true(node->begin[l] < node->end[l]);
     const float *lo = s->boxes + (size_t)n * 2 * td * MM_SEARCH_WIDTH;
     const float *hi = lo + (size_t)td * MM_SEARCH_WIDTH;
+    unsigned patterns = 0; /* the contact patterns of the lane's frames */
     for (int p = node->begin[l]; p < node->end[l]; ++p) {
         int f = s->order[p];
+        patterns |= 1u << db->contacts[f];
         assert_true(f >= node->min_frame[l]);
         assert_int_equal(s->order_tags[p], db->frame_tags[f]);
         assert_int_equal(s->order_clip[p], db->frame_clip[f]);
@@ -389,6 +455,7 @@ static int check_lane(const mm_searcher *s, int n, int l, int depth)
             assert_true(z >= lo[j * MM_SEARCH_WIDTH + l] && z <= hi[j * MM_SEARCH_WIDTH + l]);
         }
     }
+    assert_int_equal(node->contacts[l], patterns);
     if (node->child[l] < 0) {
         assert_true(node->end[l] - node->begin[l] <= MM_SEARCH_LEAF);
         return node->end[l] - node->begin[l];
@@ -631,6 +698,7 @@ static void test_kinds_equal_brute(void **state)
         for (int i = 0; i < n; ++i) {
             mm_search_params p;
             make_kind(db, &r, kind, q, &p);
+            with_contact_favour(db, i, p.current_frame, &p);
             check_query(&s, q, &p, names[kind], i);
         }
     /* recorded: characters on random input; each search's query and parameters, and the answer the
@@ -757,6 +825,7 @@ static void test_ties_every_kind(void **state)
                 p.current_frame = -1;
             }
             if (i % 2) p.pose_trajectory_ratio = (float)test_rng_uniform(&r, 0, 1);
+            with_contact_favour(&coarse, i + kind, i, &p);
             ties += check_query(&s, q, &p, "coarse grid", i);
         }
     print_message("coarse-grid database: %d queries, %d with ties: fast = brute force\n", 4 * n, ties);

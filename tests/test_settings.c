@@ -37,6 +37,7 @@ static void assert_same_params(const mm_search_params *a, const mm_search_params
     SAME(next_pose_favour);
     SAME(loop_anim_favour);
     SAME(continuing_bias);
+    SAME(contact_mismatch_favour);
     SAME(current_frame);
     SAME(exclude_window);
     SAME(end_margin);

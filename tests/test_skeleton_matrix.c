@@ -26,6 +26,7 @@
 #include <mm/search.h>
 #include <mm/synth.h>
 
+#include "runtime/character/state.h"
 #include "skeleton_variants.h"
 #include "test_util.h"
 
@@ -37,6 +38,7 @@
 #define SAME_VELOCITY     1e-3  /* m/s, rad/s: the simulation bone's velocities */
 #define PLAYHEAD_SAME     1e-4  /* frames: two playheads that agree to rounding */
 #define NEAR_TIE          1e-3  /* relative difference of two winners' costs that is a tie */
+#define LABELS_AHEAD      60    /* frames: the contact labels ahead of the playhead the feet look at */
 
 /* The runtime targets (issue 21) */
 #define TARGET_SLIDE_CM_S 2.0  /* foot_slide_cm_s below this */
@@ -479,14 +481,59 @@ static db_diff compare_databases(const variant_set *a, const variant_set *b)
  *     neighbouring frames, or a fraction's drift): a playhead that lands on a whole frame (play
  *     rate 1, or the distance-matching limit) advances or not by the last bit of its fraction, and
  *     the play rates of distance matching carry the rounding of the database on; or
- *   - both searched and chose frames apart whose costs are within NEAR_TIE (a near tie).
- * Anything else (another choice, or joints apart while the playheads agree) fails. */
-typedef enum parting_kind { PART_NONE, PART_NEAR_TIE, PART_PLAYHEAD, PART_OTHER } parting_kind;
-static const char *const parting_names[4] = {"", "near tie", "playheads a frame apart", "NOT A TIE"};
+ *   - both searched and chose frames apart whose costs are within NEAR_TIE (a near tie); or
+ *   - before it (or before the joints part, when the playheads never do) the frame playing or one
+ *     of the LABELS_AHEAD after it had different contact labels in the two databases (the labels
+ *     are thresholds that rounding flips on a frame that sits on one, and the feet's locks, their
+ *     time to the next contact and the search's contact favour follow them): reported with the
+ *     tick and the frame; or
+ *   - before it (or before the joints part) a heel lock was released in one run and not in the
+ *     other where it was unlock_radius from its animated ankle, within NEAR_TIE (unlock_tie); or
+ *   - the playheads never part but were, before the joints parted, either side of a whole frame
+ *     (322 + 0.99999 and 323 + 0): the labels of two frames.
+ * Anything else (another choice, or joints apart while the playheads and labels agree) fails. */
+typedef enum parting_kind {
+    PART_NONE,
+    PART_NEAR_TIE,
+    PART_PLAYHEAD,
+    PART_LABELS,
+    PART_UNLOCK,
+    PART_OTHER
+} parting_kind;
+static const char *const parting_names[6] = {"",
+                                             "near tie",
+                                             "playheads a frame apart",
+                                             "contact labels ahead differ",
+                                             "a foot's lock at unlock_radius",
+                                             "NOT A TIE"};
+
+/* Whether the heel locks of the characters c moved apart this tick where a lock (held: each
+ * character's heel locks before the tick, NaN where not held) was as far from its animated ankle as
+ * the feet's unlock_radius, within NEAR_TIE of it: released in one run and not in the other by the
+ * last bit of that distance. */
+static int unlock_tie(const mm_character c[2], mm_vec3 held[2][2])
+{
+    for (int k = 0; k < 2; ++k) {
+        if (mm_vec3_distance(c[0].state->feet.heel_lock[k], c[1].state->feet.heel_lock[k]) < SAME_JOINTS_M)
+            continue;
+        for (int i = 0; i < 2; ++i) {
+            float radius = c[i].state->desc.unlock_radius;
+            float gap = mm_vec3_distance(held[i][k], c[i].state->feet.raw_contacts[2 * k]);
+            if (fabsf(gap - radius) <= NEAR_TIE * radius) return 1; /* NaN: not held */
+        }
+    }
+    return 0;
+}
 
 typedef struct parting {
-    int apart; /* the first tick at which world joints are SAME_CHARACTER_M apart */
-    int tick;  /* the first tick at which the playheads differ by PLAYHEAD_SAME */
+    int apart;  /* the first tick at which world joints are SAME_CHARACTER_M apart */
+    int tick;   /* the first tick at which the playheads differ by PLAYHEAD_SAME */
+    int labels; /* the first tick at which the frames playing have different contact labels */
+    int label_frame;
+    int unlock; /* the first tick at which the feet's locks part at unlock_radius (unlock_tie) */
+    int whole;  /* the first tick at which playheads that agree are on two frames (either side of a
+                   whole frame) */
+    unsigned label_bits[2]; /* that frame's labels in each database */
     parting_kind kind;
     char state[256];
 } parting;
@@ -509,24 +556,45 @@ static double run_characters(const variant_set *a, const variant_set *b, const c
     for (int j = 0; j < a->db.joint_count; ++j) match[j] = match_joint(a, b, j);
     double worst = 0.0;
     memset(parted, 0, sizeof *parted);
-    parted->tick = parted->apart = -1;
+    parted->tick = parted->apart = parted->labels = parted->whole = parted->unlock = -1;
     for (int t = 0; t < (int)(CHARACTER_SECONDS * 60.0f); ++t) {
         mm_input input;
         mm_input_script_sample(&in, (float)t / 60.0f, &input);
         int searches[2] = {c[0].searches, c[1].searches};
+        mm_vec3 held[2][2]; /* the heel locks before the tick */
+        for (int i = 0; i < 2; ++i)
+            for (int k = 0; k < 2; ++k)
+                held[i][k] = c[i].state->feet.heel_locked[k] ? c[i].state->feet.heel_lock[k]
+                                                             : mm_vec3_make(NAN, NAN, NAN);
         for (int i = 0; i < 2; ++i) mm_character_update(&c[i], &input, 1.0f / 60.0f);
+        if (parted->unlock < 0) parted->unlock = unlock_tie(c, held) ? t : -1;
         double now = 0.0;
         for (int j = 0; j < a->db.joint_count; ++j)
             if (match[j] >= 0)
                 now = fmax(now,
                            mm_vec3_distance(c[0].global[j].translation, c[1].global[match[j]].translation));
         double x[2] = {c[0].frame + c[0].frame_fraction, c[1].frame + c[1].frame_fraction};
+        for (int i = 0; i < 2 && parted->labels < 0; ++i) /* the labels the feet look at */
+            for (int f = c[i].frame, n = 0; f >= 0 && n <= LABELS_AHEAD; f = a->db.frame_next[f], ++n)
+                if (a->db.contacts[f] != b->db.contacts[f]) {
+                    parted->labels = t;
+                    parted->label_frame = f;
+                    parted->label_bits[0] = a->db.contacts[f];
+                    parted->label_bits[1] = b->db.contacts[f];
+                    break;
+                }
+        if (parted->whole < 0 && c[0].frame != c[1].frame && fabs(x[0] - x[1]) <= PLAYHEAD_SAME)
+            parted->whole = t; /* e.g. 322 + 0.99999 and 323 + 0: the labels of two frames */
         if (parted->tick < 0 && fabs(x[0] - x[1]) > PLAYHEAD_SAME) {
             int searched[2] = {c[0].searches > searches[0], c[1].searches > searches[1]};
             float cost[2] = {c[0].last_result.cost, c[1].last_result.cost};
             parted->tick = t;
             if (fabs(x[0] - x[1]) <= 1.0 + PLAYHEAD_SAME)
                 parted->kind = PART_PLAYHEAD;
+            else if (parted->labels >= 0)
+                parted->kind = PART_LABELS;
+            else if (parted->unlock >= 0)
+                parted->kind = PART_UNLOCK;
             else if (searched[0] && searched[1])
                 parted->kind = fabsf(cost[0] - cost[1]) <= NEAR_TIE * fmaxf(fabsf(cost[0]), fabsf(cost[1]))
                                    ? PART_NEAR_TIE
@@ -542,8 +610,24 @@ static double run_characters(const variant_set *a, const variant_set *b, const c
         worst = fmax(worst, now);
     }
     if (parted->apart >= 0 && parted->tick < 0) { /* the playheads agree: something else moved */
-        parted->kind = PART_OTHER;
-        snprintf(parted->state, sizeof parted->state, "the playheads never part");
+        parted->kind = parted->labels >= 0 && parted->labels <= parted->apart   ? PART_LABELS
+                       : parted->unlock >= 0 && parted->unlock <= parted->apart ? PART_UNLOCK
+                       : parted->whole >= 0 && parted->whole <= parted->apart   ? PART_PLAYHEAD
+                                                                                : PART_OTHER;
+        snprintf(parted->state, sizeof parted->state, "the playheads never part; joints apart at tick %d%s",
+                 parted->apart,
+                 parted->kind == PART_PLAYHEAD ? ", playheads either side of a whole frame before" : "");
+    }
+    if (parted->kind == PART_UNLOCK) {
+        size_t used = strlen(parted->state);
+        snprintf(parted->state + used, sizeof parted->state - used, "; a lock released at tick %d",
+                 parted->unlock);
+    }
+    if (parted->kind == PART_LABELS) {
+        size_t used = strlen(parted->state);
+        snprintf(parted->state + used, sizeof parted->state - used,
+                 "; labels differ from tick %d (frame %d: %u, %u)", parted->labels, parted->label_frame,
+                 parted->label_bits[0], parted->label_bits[1]);
     }
     free(match);
     mm_input_script_free(&in);

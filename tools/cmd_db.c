@@ -277,6 +277,9 @@ static void print_settings(const mm_database *db, int json)
         if (s->set & switch_bits[k])
             printf(json ? "%s\"%s\": %s" : "%s%s %s", fields++ ? (json ? ", " : " ") : " ", switch_names[k],
                    switches[k] ? "true" : "false");
+    if (s->set & MM_RUNTIME_CONTACT_FAVOUR)
+        printf(json ? "%s\"%s\": %.9g" : "%s%s %g", fields++ ? (json ? ", " : " ") : " ", "contact_favour",
+               (double)s->contact_favour);
     for (int g = 0; g < 3; ++g) {
         const mm_runtime_gait *a = gaits[g];
         const float v[5] = {a->forward_speed, a->side_speed, a->backward_speed, a->velocity_halflife,

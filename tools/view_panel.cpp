@@ -179,6 +179,7 @@ static void status_window(view_ui *ui)
         ImGui::Text("  traj positions   %.4f", (double)w->terms.traj_position);
         ImGui::Text("  traj directions  %.4f", (double)w->terms.traj_direction);
         ImGui::Text("  loop favour      %+.4f", (double)w->loop_favour);
+        ImGui::Text("  contact favour   %+.4f", (double)w->contact_favour);
         ImGui::Text("  next pose favour %+.4f", (double)w->next_pose_favour);
         ImGui::Text("  continuing bias  %+.4f", (double)w->continuing_bias);
         ImGui::Text("  ratio %.3f", (double)c->last_params.pose_trajectory_ratio);
@@ -257,15 +258,15 @@ static void candidates_window(view_ui *ui)
     if (ui->note) ImGui::TextWrapped("%s", ui->note);
     ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_Borders | ImGuiTableFlags_ScrollX |
                             ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit;
-    enum { COLUMNS = 12 };
+    enum { COLUMNS = 13 };
     // as tall as its rows, so that the picked frame's line shows below it
     float height = ImGui::GetFrameHeightWithSpacing() * (float)(ui->candidate_count + 1) +
                    ImGui::GetStyle().ScrollbarSize;
     if (ImGui::BeginTable("candidates", COLUMNS, flags, ImVec2(0.0f, height))) {
         // the cost and its terms first (the five weighted distances, what favours and bias add), then
         // which frame: clip names can be long
-        static const char *const heads[COLUMNS] = {"#",   "cost", "pose", "vel",  "root",  "traj",
-                                                   "dir", "loop", "next", "bias", "frame", "clip"};
+        static const char *const heads[COLUMNS] = {"#",    "cost", "pose", "vel",  "root",  "traj", "dir",
+                                                   "loop", "feet", "next", "bias", "frame", "clip"};
         ImGui::TableSetupScrollFreeze(1, 1);
         for (int k = 0; k < COLUMNS; ++k) ImGui::TableSetupColumn(heads[k]);
         ImGui::TableHeadersRow();
@@ -280,22 +281,23 @@ static void candidates_window(view_ui *ui)
                 *ui->selected = *ui->selected == i ? -1 : i;
                 ui->select_changed = true;
             }
-            const float terms[9] = {v->cost,
-                                    v->terms.pose_position,
-                                    v->terms.pose_velocity,
-                                    v->terms.root_velocity,
-                                    v->terms.traj_position,
-                                    v->terms.traj_direction,
-                                    v->loop_favour,
-                                    v->next_pose_favour,
-                                    v->continuing_bias};
-            for (int k = 0; k < 9; ++k) {
+            const float terms[10] = {v->cost,
+                                     v->terms.pose_position,
+                                     v->terms.pose_velocity,
+                                     v->terms.root_velocity,
+                                     v->terms.traj_position,
+                                     v->terms.traj_direction,
+                                     v->loop_favour,
+                                     v->contact_favour,
+                                     v->next_pose_favour,
+                                     v->continuing_bias};
+            for (int k = 0; k < 10; ++k) {
                 ImGui::TableSetColumnIndex(1 + k);
                 ImGui::Text("%.4f", (double)terms[k]);
             }
-            ImGui::TableSetColumnIndex(10);
-            ImGui::Text("%d", v->frame - db->clips[v->clip].first_frame);
             ImGui::TableSetColumnIndex(11);
+            ImGui::Text("%d", v->frame - db->clips[v->clip].first_frame);
+            ImGui::TableSetColumnIndex(12);
             ImGui::TextUnformatted(db->clips[v->clip].name);
         }
         ImGui::EndTable();

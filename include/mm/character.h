@@ -122,6 +122,7 @@ typedef enum mm_transition_mode {
 #define MM_CHARACTER_ORIENTATION_SPEED     10.0f   /* 1/s */
 #define MM_CHARACTER_ORIENTATION_MAX       1.5708f /* rad: 90 degrees */
 #define MM_CHARACTER_NEXT_POSE_FAVOUR      0.6f
+#define MM_CHARACTER_CONTACT_FAVOUR        1.0f  /* factor on frames in other contacts (1: off) */
 #define MM_CHARACTER_END_MARGIN            0.25f /* s */
 
 typedef struct mm_character_desc {
@@ -154,7 +155,8 @@ typedef struct mm_character_desc {
     float velocity_change_speed; /* m/s */
     mm_search_method method;     /* MM_SEARCH_FAST (0) */
     /* The search's parameters, field by field: a zero field takes mm_character_default_params'
-     * (the database's weights, next_pose_favour MM_CHARACTER_NEXT_POSE_FAVOUR, the frames tagged
+     * (the database's weights, next_pose_favour MM_CHARACTER_NEXT_POSE_FAVOUR,
+     * contact_mismatch_favour MM_CHARACTER_CONTACT_FAVOUR (MM_OFF: 1, off), the frames tagged
      * "DoNotUse", "Jump", "VaultLow", "VaultHigh", "Climb" or "Drop" (moves the locomotion search
      * must not pick) and the last MM_CHARACTER_END_MARGIN s of one-shot clips excluded); MM_OFF
      * makes a weight, pose_trajectory_ratio or end_margin 0; excluded_tags add to the defaults'.
@@ -397,14 +399,16 @@ int mm_character_future_times(const mm_character *c, float *times);
  * frame and its clip, the cost the decision weighed (favours and bias in), the weighted distance
  * before them (base) and every term of the cost: the five weighted distances (mm_search_cost_terms,
  * summing to base up to float rounding) and what the favours and the bias added, so that
- * base + loop_favour + next_pose_favour + continuing_bias = cost (up to rounding). */
+ * base + loop_favour + contact_favour + next_pose_favour + continuing_bias = cost (up to rounding). */
 typedef struct mm_candidate {
     int frame, clip;
     float cost, base;
     mm_search_terms terms;
     float loop_favour;      /* base x (loop_anim_favour - 1) for frames of loop clips, else 0 */
-    float next_pose_favour; /* (base + loop_favour) x (next_pose_favour - 1) for the frame after the
-                               one playing, else 0 */
+    float contact_favour;   /* (base + loop_favour) x (contact_mismatch_favour - 1) for frames whose
+                               contact bits differ from the frame playing's, else 0 */
+    float next_pose_favour; /* (base + loop_favour + contact_favour) x (next_pose_favour - 1) for
+                               the frame after the one playing, else 0 */
     float continuing_bias;  /* -continuing_bias for the frame after the one playing, else 0 */
 } mm_candidate;
 

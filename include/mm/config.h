@@ -95,6 +95,7 @@ typedef struct mm_runtime_config {
     bool distance_matching;      /* mm_character_desc's switches (mm/character.h) */
     bool warping;
     mm_runtime_gait walk, run, crouch;
+    float contact_favour; /* >= 1 (mm_search_params.contact_mismatch_favour) */
 } mm_runtime_config;
 
 typedef struct mm_config {

@@ -58,7 +58,7 @@
 extern "C" {
 #endif
 
-#define MM_DB_VERSION     4
+#define MM_DB_VERSION     5
 #define MM_DB_ALIGN       64  /* every array starts at a multiple of this in the buffer */
 #define MM_DB_SIMD_WIDTH  8   /* dims_padded is a multiple of this */
 #define MM_DB_SMALL_BLOCK 16  /* frames per small bounding box */
@@ -194,9 +194,10 @@ enum mm_runtime_field {
     MM_RUNTIME_IDLE_SPEED = 1u << 6,
     MM_RUNTIME_SYNC_HALFLIFE = 1u << 7,
     MM_RUNTIME_DISTANCE_MATCHING = 1u << 8,
-    MM_RUNTIME_WARPING = 1u << 9
+    MM_RUNTIME_WARPING = 1u << 9,
+    MM_RUNTIME_CONTACT_FAVOUR = 1u << 10
 };
-#define MM_RUNTIME_FIELDS_ALL 0x3ffu
+#define MM_RUNTIME_FIELDS_ALL 0x7ffu
 enum mm_runtime_gait_field {
     MM_RUNTIME_FORWARD_SPEED = 1u << 0,
     MM_RUNTIME_SIDE_SPEED = 1u << 1,
@@ -238,7 +239,7 @@ typedef enum mm_role {
     MM_ROLE_COUNT = 8
 } mm_role;
 
-/* The runtime tuning a database carries (its settings section, 300 bytes stored as they are;
+/* The runtime tuning a database carries (its settings section, 304 bytes stored as they are;
  * docs/format.md). Written by mm_database_build from the config: what
  * mm_character_desc_apply_config would take from it, resolved against this database. Loading
  * checks every value: set bits known, values finite and in their ranges, zero where not set. */
@@ -270,6 +271,7 @@ typedef struct mm_database_settings {
     mm_runtime_gait walk, run, crouch;
     /* Bone roles: joint indices (mm_role order), -1 where the config names no joint */
     int32_t roles[MM_ROLE_COUNT];
+    float contact_favour; /* >= 1 (the runtime object's, after the roles: added in version 5) */
 } mm_database_settings;
 
 /* The seed's PoseData of one frame, assembled by mm_database_pose. Positions and directions are

@@ -6,8 +6,10 @@
  *
  *   base = 2 (1 - r) (pose_position + pose_velocity + root_velocity)
  *        + 2 r (traj_position + traj_direction),        r = pose_trajectory_ratio
- *   cost = base x loop_anim_favour (frames of loop clips) x next_pose_favour (the frame after the
- *          current one) - continuing_bias (the frame after the current one)
+ *   cost = base x loop_anim_favour (frames of loop clips)
+ *               x contact_mismatch_favour (frames whose contact bits differ from contact_pattern)
+ *               x next_pose_favour (the frame after the current one)
+ *          - continuing_bias (the frame after the current one)
  *
  * Candidates must have every required tag, no excluded tag, the requested type, must not be
  * within exclude_window frames of the current frame in its clip (the current frame itself never
@@ -88,6 +90,11 @@ typedef struct mm_search_params {
     float next_pose_favour; /* the frame after current_frame; default 0.95 */
     float loop_anim_favour; /* frames of loop clips; default 1 */
     float continuing_bias;  /* subtracted from the cost of the frame after current_frame; default 0 */
+    /* Contacts: frames whose four mm_contact_bits differ from contact_pattern (those of the frame
+     * playing, 0..15) cost contact_mismatch_favour times more (>= 1 disfavours them; 1 = off).
+     * contact_pattern -1 (the default): no contact favour. */
+    int contact_pattern;
+    float contact_mismatch_favour; /* default 1 */
 
     /* Candidates */
     int current_frame;      /* the frame playing now (excluded, and the favours refer to it); -1: none */
@@ -150,8 +157,9 @@ typedef struct mm_search_node {
     int32_t min_frame[MM_SEARCH_WIDTH];                            /* lowest frame index below */
     uint64_t tags_any[MM_SEARCH_WIDTH], tags_all[MM_SEARCH_WIDTH]; /* tags set in some / every frame */
     uint8_t types[MM_SEARCH_WIDTH];                                /* type bits (1 locomotion, 2 idle) */
-    uint8_t loop[MM_SEARCH_WIDTH]; /* bit 0: some frame loops, bit 1: all frames loop */
-    int32_t count;                 /* lanes used */
+    uint8_t loop[MM_SEARCH_WIDTH];      /* bit 0: some frame loops, bit 1: all frames loop */
+    uint16_t contacts[MM_SEARCH_WIDTH]; /* bit c: some frame has the contact bits c (0..15) */
+    int32_t count;                      /* lanes used */
 } mm_search_node;
 
 typedef struct mm_searcher {

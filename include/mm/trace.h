@@ -43,7 +43,7 @@ extern "C" {
 #define MM_TRACE_DEFAULT_K  5  /* candidates per search line */
 #define MM_TRACE_MAX_K      64 /* the most a trace keeps */
 #define MM_TRACE_MAX_PATH   4096
-#define MM_TRACE_TERM_COUNT 8 /* the cost terms of a candidate, in mm_trace_term_names order */
+#define MM_TRACE_TERM_COUNT 9 /* the cost terms of a candidate, in mm_trace_term_names order */
 
 /* How a run was made: what its header says and a replay needs. */
 typedef struct mm_trace_run {
@@ -76,7 +76,8 @@ void mm_trace_run_defaults(mm_trace_run *run);
 uint64_t mm_trace_db_checksum(const mm_database *db);
 
 /* The names of a candidate's terms ("pose_position", "pose_velocity", "root_velocity",
- * "traj_position", "traj_direction", "loop_favour", "next_pose_favour", "continuing_bias"). */
+ * "traj_position", "traj_direction", "loop_favour", "contact_favour", "next_pose_favour",
+ * "continuing_bias"). */
 extern const char *const mm_trace_term_names[MM_TRACE_TERM_COUNT];
 
 /* The script file a run reads (--input): its name and its text, verbatim, into run (which then

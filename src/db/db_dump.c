@@ -52,7 +52,10 @@ static void dump_settings(const mm_database *db, FILE *out)
         fprintf(out, " %s", names[k]);
         num(out, values[k]);
     }
-    fprintf(out, " distance_matching %u warping %u\n", (unsigned)s->distance_matching, (unsigned)s->warping);
+    fprintf(out, " distance_matching %u warping %u contact_favour", (unsigned)s->distance_matching,
+            (unsigned)s->warping);
+    num(out, s->contact_favour);
+    fputc('\n', out);
     const mm_runtime_gait *gaits[3] = {&s->walk, &s->run, &s->crouch};
     const char *gait_names[3] = {"walk", "run", "crouch"};
     for (int g = 0; g < 3; ++g) {

@@ -62,7 +62,7 @@ _Static_assert(sizeof(mm_feature_group) == 92, "mm_feature_group layout changed:
 _Static_assert(sizeof(mm_db_distance_clip) == 16, "mm_db_distance_clip layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_distance_segment) == 20, "mm_distance_segment layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_runtime_gait) == 24, "mm_runtime_gait layout changed: bump MM_DB_VERSION");
-_Static_assert(sizeof(mm_database_settings) == 300,
+_Static_assert(sizeof(mm_database_settings) == 304,
                "mm_database_settings layout changed: bump MM_DB_VERSION");
 _Static_assert(offsetof(mm_database_settings, walk) == 196 && offsetof(mm_database_settings, roles) == 268,
                "mm_database_settings layout changed: bump MM_DB_VERSION");
@@ -598,6 +598,7 @@ static const settings_rule runtime_rules[] = {
     RULE(MM_RUNTIME_TRANSITION_HALFLIFE, transition_halflife, " s", 0.0f, 60.0f, 1),
     RULE(MM_RUNTIME_IDLE_SPEED, idle_speed, " m/s", 0.0f, 50.0f, 0),
     RULE(MM_RUNTIME_SYNC_HALFLIFE, sync_halflife, " s", 0.0f, 60.0f, 0),
+    RULE(MM_RUNTIME_CONTACT_FAVOUR, contact_favour, "", 1.0f, FLT_MAX, 0),
 };
 static const settings_rule weight_rules[] = {
     RULE(MM_SETTINGS_BODY_VELOCITY_WEIGHT, body_velocity_weight, "", 0.0f, FLT_MAX, 0),

@@ -56,6 +56,7 @@ mm_result mm__db_settings_resolve(const mm_config *cfg, const mm_database *db, m
     if (rt->set & MM_RUNTIME_SYNC_HALFLIFE) out->sync_halflife = rt->sync_halflife;
     if (rt->set & MM_RUNTIME_DISTANCE_MATCHING) out->distance_matching = rt->distance_matching ? 1u : 0u;
     if (rt->set & MM_RUNTIME_WARPING) out->warping = rt->warping ? 1u : 0u;
+    if (rt->set & MM_RUNTIME_CONTACT_FAVOUR) out->contact_favour = rt->contact_favour;
     const mm_runtime_gait *from[3] = {&rt->walk, &rt->run, &rt->crouch};
     mm_runtime_gait *to[3] = {&out->walk, &out->run, &out->crouch};
     for (int g = 0; g < 3; ++g) {

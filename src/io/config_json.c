@@ -158,6 +158,9 @@ static const mm_config_field_doc docs[] = {
     {"runtime.next_pose_favour", "number", "", "0.6",
      "The seed's NextPoseFavour, above 0: factor on the cost of the frame after the one playing; lower keeps "
      "playing."},
+    {"runtime.contact_favour", "number", "", "1",
+     "At least 1: factor on the cost of frames whose feet are in other contacts than the frame playing's "
+     "(a planted foot in the air, or the other way round); 1 is off."},
     {"runtime.loop_anim_favour", "number", "", "1",
      "The seed's LoopAnimFavour, above 0: factor on the cost of frames of loop clips; lower prefers loops."},
     {"runtime.continuing_bias", "number", "", "0",
@@ -541,6 +544,7 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
                                        "walk",
                                        "run",
                                        "crouch",
+                                       "contact_favour",
                                        NULL};
     static const char *const gkeys[] = {"forward_speed",     "side_speed",        "backward_speed",
                                         "velocity_halflife", "rotation_halflife", NULL};
@@ -556,6 +560,9 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
         !(o->sync_halflife >= 0.0f && o->sync_halflife <= 60.0f))
         r = FAIL(MM_ERR_OUT_OF_RANGE, "runtime.sync_halflife: %g s is out of range (0 to 60 s)",
                  o->sync_halflife);
+    if (r == MM_OK)
+        r = get_set_number(c, rt, keys[13], "runtime", &o->contact_favour, &o->set,
+                           MM_RUNTIME_CONTACT_FAVOUR);
     bool *switches[2] = {&o->distance_matching, &o->warping};
     for (int i = 0; i < 2 && r == MM_OK; ++i)
         if (cJSON_GetObjectItemCaseSensitive(rt, keys[8 + i])) {

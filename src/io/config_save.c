@@ -593,6 +593,8 @@ static cJSON *runtime_object(const mm_runtime_config *rt)
     if (ok && (rt->set & MM_RUNTIME_DISTANCE_MATCHING))
         ok = add(o, "distance_matching", cJSON_CreateBool(rt->distance_matching));
     if (ok && (rt->set & MM_RUNTIME_WARPING)) ok = add(o, "warping", cJSON_CreateBool(rt->warping));
+    if (ok && (rt->set & MM_RUNTIME_CONTACT_FAVOUR))
+        ok = add(o, "contact_favour", number(rt->contact_favour));
     const mm_runtime_gait *gaits[3] = {&rt->walk, &rt->run, &rt->crouch};
     static const char *const names[3] = {"walk", "run", "crouch"};
     for (int g = 0; ok && g < 3; ++g)

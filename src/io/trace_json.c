@@ -18,16 +18,17 @@
 #include "io/json_parse.h"
 #include "io/text.h"
 
-#define TRACE_FORMAT      "mm-trace"
-#define FLOAT_DIGITS      9  /* a float's shortest round trip */
-#define DOUBLE_DIGITS     17 /* a double's */
-#define TRACE_LINE_ROOM   4096
-#define TRACE_MAX_LINES   100000000L /* lines a trace may have */
-#define TRACE_INITIAL_CAP 64
+#define TRACE_FORMAT       "mm-trace"
+#define FLOAT_DIGITS       9  /* a float's shortest round trip */
+#define DOUBLE_DIGITS      17 /* a double's */
+#define TRACE_LINE_ROOM    4096
+#define TRACE_MAX_LINES    100000000L /* lines a trace may have */
+#define TRACE_INITIAL_CAP  64
+#define TRACE_CONTACT_TERM 6 /* "contact_favour" in mm_trace_term_names */
 
 const char *const mm_trace_term_names[MM_TRACE_TERM_COUNT] = {
-    "pose_position",  "pose_velocity", "root_velocity",    "traj_position",
-    "traj_direction", "loop_favour",   "next_pose_favour", "continuing_bias"};
+    "pose_position", "pose_velocity",  "root_velocity",    "traj_position",  "traj_direction",
+    "loop_favour",   "contact_favour", "next_pose_favour", "continuing_bias"};
 
 void mm_trace_run_defaults(mm_trace_run *run)
 {
@@ -215,8 +216,9 @@ mm_result mm_trace_write_header(FILE *out, const mm_trace_run *run, const mm_dat
 static void candidate_terms(const mm_candidate *k, float terms[MM_TRACE_TERM_COUNT])
 {
     const float all[MM_TRACE_TERM_COUNT] = {
-        k->terms.pose_position,  k->terms.pose_velocity, k->terms.root_velocity, k->terms.traj_position,
-        k->terms.traj_direction, k->loop_favour,         k->next_pose_favour,    k->continuing_bias};
+        k->terms.pose_position, k->terms.pose_velocity,  k->terms.root_velocity,
+        k->terms.traj_position, k->terms.traj_direction, k->loop_favour,
+        k->contact_favour,      k->next_pose_favour,     k->continuing_bias};
     memcpy(terms, all, sizeof all);
 }
 
@@ -523,6 +525,11 @@ static mm_result read_search(const reader *rd, const cJSON *o, const char *text,
             r = bad(rd, "candidates[%d].terms: missing or not an object", i);
         for (int j = 0; r == MM_OK && j < MM_TRACE_TERM_COUNT; ++j) {
             double v = 0;
+            /* traces written before the contact favour have no such term: it was 0 */
+            if (j == TRACE_CONTACT_TERM && !cJSON_GetObjectItemCaseSensitive(terms, mm_trace_term_names[j])) {
+                c->terms[j] = 0.0f;
+                continue;
+            }
             number(rd, terms, mm_trace_term_names[j], &v, &r);
             c->terms[j] = (float)v;
         }

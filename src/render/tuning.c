@@ -100,6 +100,8 @@ void mm_view_tuning_init(mm_view_tuning *t, mm_character *c)
         add(t, "loop_anim_favour", "runtime.loop_anim_favour", &p->loop_anim_favour, RATIO_STEP, false,
             RATIO_STEP, 1.0f);
     add(t, "continuing_bias", "runtime.continuing_bias", &p->continuing_bias, RATIO_STEP, false, 0.0f, 10.0f);
+    add(t, "contact_favour", "runtime.contact_favour", &p->contact_mismatch_favour, RATIO_STEP, false, 1.0f,
+        10.0f);
     add(t, "search_interval", "runtime.search_interval", &t->desc.search_interval, TIME_STEP, false, TIME_MIN,
         TIME_MAX);
     if (t->layers.crossfade) /* no config key: the crossfade is a viewer's experiment */

@@ -30,6 +30,7 @@ void mm_character_desc_apply_settings(mm_character_desc *d, const mm_database_se
     if (s->set & MM_RUNTIME_NEXT_POSE_FAVOUR) p->next_pose_favour = kept(s->next_pose_favour);
     if (s->set & MM_RUNTIME_LOOP_ANIM_FAVOUR) p->loop_anim_favour = kept(s->loop_anim_favour);
     if (s->set & MM_RUNTIME_CONTINUING_BIAS) p->continuing_bias = kept(s->continuing_bias);
+    if (s->set & MM_RUNTIME_CONTACT_FAVOUR) p->contact_mismatch_favour = s->contact_favour; /* >= 1 */
     if (s->set & MM_RUNTIME_SEARCH_INTERVAL) d->search_interval = kept(s->search_interval);
     if (s->set & MM_RUNTIME_TRANSITION_HALFLIFE) d->transition_halflife = kept(s->transition_halflife);
     if (s->set & MM_RUNTIME_IDLE_SPEED) d->idle_speed = kept(s->idle_speed);

@@ -19,8 +19,9 @@
 #include <emmintrin.h>
 #endif
 
-#define LANES         8
-#define TIE_TOLERANCE 1e-6f
+#define LANES                 8
+#define TIE_TOLERANCE         1e-6f
+#define CONTACT_PATTERNS_MASK 0xfu /* the four mm_contact_bits */
 /* slots of the tree's coordinates, at most: the axes of both blocks, each padded to a multiple of 4 */
 #define SEARCH_MAX_SLOTS (MM_SEARCH_MAX_DIMS + 8)
 #define PREFETCH_STRIDE  64 /* bytes: a cache line */
@@ -105,6 +106,8 @@ void mm_search_params_defaults(const mm_database *db, mm_search_params *p)
     p->next_pose_favour = 0.95f;
     p->loop_anim_favour = 1.0f;
     p->continuing_bias = 0.0f;
+    p->contact_pattern = -1;
+    p->contact_mismatch_favour = 1.0f;
     p->current_frame = -1;
     p->type = MM_SEARCH_ANY;
     p->facing_threshold = 1.0f;
@@ -368,6 +371,8 @@ typedef struct query_ctx {
     uint8_t types;                     /* accepted type bits */
     int current, next;                 /* -1 when none */
     float loop_lo;                     /* the smallest factor a frame of a loop clip can get */
+    int contact_pattern;               /* the contact bits the favour compares with; -1: no favour */
+    float contact_lo;                  /* the smallest factor a frame of other contacts can get */
     float query_facing[2], facing_cos; /* unit (x, z) of the query's furthest facing; cos(threshold) */
     float zq_lanes[SEARCH_MAX_SLOTS * MM_SEARCH_WIDTH]; /* the query in the tree's coordinates, each
                                                          * slot repeated per lane */
@@ -416,6 +421,17 @@ static int accepted(const query_ctx *c, int f)
     return accepted_with(c, f, c->db->frame_clip[f], c->db->frame_tags[f]);
 }
 
+/* base after the favours of every frame (loop clips, contacts), in that order of products: frame f
+ * of clip clip. */
+static inline float favoured(const query_ctx *c, int f, int clip, float base)
+{
+    float cost = c->db->clips[clip].loop ? base * c->p->loop_anim_favour : base;
+    if (c->contact_pattern >= 0 &&
+        (c->db->contacts[f] & CONTACT_PATTERNS_MASK) != (unsigned)c->contact_pattern)
+        cost *= c->contact_lo;
+    return cost;
+}
+
 /* Cost after favours and bias of an accepted frame whose features are at x. */
 static inline float frame_cost(query_ctx *c, int f, const float *x, float *base)
 {
@@ -423,19 +439,31 @@ static inline float frame_cost(query_ctx *c, int f, const float *x, float *base)
     ++c->evaluated;
     float b = distance(c->q, x, c->w, db->dims_padded);
     *base = b;
-    float cost = b;
-    if (db->clips[db->frame_clip[f]].loop) cost *= c->p->loop_anim_favour;
+    float cost = favoured(c, f, db->frame_clip[f], b);
     if (f == c->next) cost = cost * c->p->next_pose_favour - c->p->continuing_bias;
     return cost;
 }
 
-/* Factor bounding from below what favours can do to the frames of a node (the next frame is
- * handled on its own). flags: bit 0 some frame loops, bit 1 every frame loops. */
+static float at_most_one(float x) { return x < 1.0f ? x : 1.0f; }
+
+/* Factor bounding from below what the loop favour can do to the frames of a node (the next frame
+ * is handled on its own). flags: bit 0 some frame loops, bit 1 every frame loops. */
 static float node_factor(const query_ctx *c, uint8_t flags)
 {
     if (flags & 2) return c->loop_lo;
-    if (flags & 1) return c->loop_lo < 1.0f ? c->loop_lo : 1.0f;
+    if (flags & 1) return at_most_one(c->loop_lo);
     return 1.0f;
+}
+
+/* The same for the contact favour: patterns, bit p set when some frame of the node has contact
+ * bits p. */
+static float node_contact_factor(const query_ctx *c, uint16_t patterns)
+{
+    if (c->contact_pattern < 0) return 1.0f;
+    unsigned same = 1u << c->contact_pattern;
+    if (patterns == same) return 1.0f;            /* every frame has the pattern */
+    if (!(patterns & same)) return c->contact_lo; /* none has it */
+    return at_most_one(c->contact_lo);
 }
 
 static float tie_limit(float lowest) { return lowest + TIE_TOLERANCE * fabsf(lowest); }
@@ -513,6 +541,12 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
     c->next = c->current >= 0 ? db->frame_next[c->current] : -1;
     c->loop_lo = p->loop_anim_favour;
     if (!(c->loop_lo >= 0.0f)) c->loop_lo = 0.0f; /* a negative or NaN favour gives no bound */
+    c->contact_pattern = p->contact_pattern >= 0 && p->contact_pattern <= (int)CONTACT_PATTERNS_MASK &&
+                                 p->contact_mismatch_favour != 1.0f
+                             ? p->contact_pattern
+                             : -1; /* a factor of 1 changes no cost */
+    c->contact_lo = p->contact_mismatch_favour;
+    if (!(c->contact_lo >= 0.0f)) c->contact_lo = 0.0f; /* as the loop favour */
     c->use_facing = 0;
     c->evaluated = c->boxes = c->bounded = c->touched = 0;
     c->sorted_budget = INT32_MAX; /* work units of a thread: nearest first throughout */
@@ -656,15 +690,16 @@ static void run_distances(const query_ctx *c, const float *x, int count, float *
 /* Row at (of the tree order, or of the database when order is NULL) with distance base: taken if
  * it is a candidate whose cost can enter the list or the ties. */
 static inline void consider(query_ctx *c, const int32_t *order, const int32_t *clips, const uint64_t *tags,
-                            int at, float base, float least, scan_state *st)
+                            int at, float base, float least_loop, float least_contact, scan_state *st)
 {
     const mm_database *db = c->db;
     float limit = state_limit(st);
-    if (base * least > limit) return; /* cannot enter the list nor the ties */
+    /* the factors in the order of favoured: the product rounds below the cost */
+    if (base * least_loop * least_contact > limit) return; /* cannot enter the list nor the ties */
     int f = order ? order[at] : at;
     int clip = clips ? clips[at] : db->frame_clip[f];
     if (f == c->next || !accepted_with(c, f, clip, tags ? tags[at] : db->frame_tags[f])) return;
-    float cost = db->clips[clip].loop ? base * c->p->loop_anim_favour : base;
+    float cost = favoured(c, f, clip, base);
     if (cost > limit && !st->find_first) return;
     take(st, f, cost, base);
 }
@@ -675,14 +710,17 @@ static void scan_rows(query_ctx *c, const float *features, const int32_t *order,
 {
     const mm_database *db = c->db;
     int dims = db->dims_padded;
-    /* no frame but the next one (handled apart) can cost less than its base times this */
-    float least = c->loop_lo < 1.0f ? c->loop_lo : 1.0f;
+    /* no frame but the next one (handled apart) can cost less than its base times these (applied
+     * in the order of favoured: the product rounds below the cost) */
+    float least_loop = at_most_one(c->loop_lo),
+          least_contact = c->contact_pattern >= 0 ? at_most_one(c->contact_lo) : 1.0f;
     float base[RUN];
     for (int p = p0; p < p1; p += RUN) {
         int n = p1 - p < RUN ? p1 - p : RUN;
         run_distances(c, features + (size_t)p * dims, n, base);
         c->evaluated += n;
-        for (int i = 0; i < n; ++i) consider(c, order, clips, tags, p + i, base[i], least, st);
+        for (int i = 0; i < n; ++i)
+            consider(c, order, clips, tags, p + i, base[i], least_loop, least_contact, st);
     }
 }
 
@@ -715,7 +753,9 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
         return;
     }
     int dims = c->db->dims_padded;
-    float least = c->loop_lo < 1.0f ? c->loop_lo : 1.0f;
+    float least_loop = at_most_one(c->loop_lo),
+          least_contact = c->contact_pattern >= 0 ? at_most_one(c->contact_lo) : 1.0f;
+    float least = least_loop * least_contact; /* the threshold keeps a margin for its rounding */
     c->bounded += p1 - p0;
     float limit = state_limit(st);
     uint16_t thr = quant_threshold(c, limit, least);
@@ -736,7 +776,7 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
             mask &= mask - 1u;
             ++c->evaluated;
             float base = distance(c->q, s->features + (size_t)at * dims, c->w, dims);
-            consider(c, s->order, s->order_clip, s->order_tags, at, base, least, st);
+            consider(c, s->order, s->order_clip, s->order_tags, at, base, least_loop, least_contact, st);
         }
     }
 }
@@ -756,7 +796,8 @@ static inline void node_bounds(query_ctx *c, int n, float *out)
     const float *lo = node_boxes(s, n), *hi = lo + (size_t)s->tree_dims * MM_SEARCH_WIDTH;
     lane_bounds(c->zq_lanes, lo, hi, s->pose_dims, s->tree_dims, c->bound_scale, out);
     c->boxes += node->count;
-    for (int l = 0; l < MM_SEARCH_WIDTH; ++l) out[l] *= node_factor(c, node->loop[l]);
+    for (int l = 0; l < MM_SEARCH_WIDTH; ++l)
+        out[l] = out[l] * node_factor(c, node->loop[l]) * node_contact_factor(c, node->contacts[l]);
 }
 
 static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st);
@@ -1096,6 +1137,7 @@ void mm_searcher_batch(const mm_searcher *s, const float *queries, const mm_sear
 typedef struct bin_node {
     int32_t begin, end, left, right, min_frame, depth, height;
     uint8_t types, loop;
+    uint16_t contacts; /* bit p: some frame has contact bits p */
     uint64_t tags_any, tags_all;
 } bin_node;
 
@@ -1172,6 +1214,7 @@ static int build_node(builder *b, int begin, int end, int depth)
         node->tags_any |= db->frame_tags[f];
         node->tags_all &= db->frame_tags[f];
         node->loop = (uint8_t)(clip->loop ? (node->loop | 1) : (node->loop & 1));
+        node->contacts |= (uint16_t)(1u << (db->contacts[f] & CONTACT_PATTERNS_MASK));
         if (f < node->min_frame) node->min_frame = f;
     }
     for (int d = 0; d < dims; ++d) {
@@ -1263,6 +1306,7 @@ static int make_wide(builder *b, int n, int in_unit)
         node->tags_all[l] = x->tags_all;
         node->types[l] = x->types;
         node->loop[l] = x->loop;
+        node->contacts[l] = x->contacts;
         for (int d = 0; d < dims; ++d) {
             lo[d * MM_SEARCH_WIDTH + l] = b->bin_min[(size_t)lanes[l] * b->dims + d];
             hi[d * MM_SEARCH_WIDTH + l] = b->bin_max[(size_t)lanes[l] * b->dims + d];

@@ -68,6 +68,7 @@ mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, 
                        &run.sync_halflife};
     for (size_t k = 0; k < sizeof zeroed / sizeof zeroed[0]; ++k)
         if (*zeroed[k] < 0.0f) *zeroed[k] = 0.0f;
+    if (params.contact_mismatch_favour < 1.0f) params.contact_mismatch_favour = 1.0f; /* MM_OFF: off */
     for (int b = 0; b < MM_MAX_MATCH_BONES; ++b) {
         if (params.joint_position_weights[b] < 0.0f) params.joint_position_weights[b] = 0.0f;
         if (params.joint_velocity_weights[b] < 0.0f) params.joint_velocity_weights[b] = 0.0f;
@@ -120,6 +121,7 @@ mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, 
     if (!rt || !mm__json_set_number(rt, "pose_trajectory_ratio", params.pose_trajectory_ratio) ||
         !mm__json_set_number(rt, "next_pose_favour", params.next_pose_favour) ||
         !mm__json_set_number(rt, "loop_anim_favour", params.loop_anim_favour) ||
+        !mm__json_set_number(rt, "contact_favour", params.contact_mismatch_favour) ||
         !mm__json_set_number(rt, "continuing_bias", params.continuing_bias) ||
         !mm__json_set_number(rt, "search_interval", d->search_interval) ||
         !mm__json_set_number(rt, "transition_halflife", d->transition_halflife) ||

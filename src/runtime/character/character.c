@@ -96,6 +96,7 @@ static void write_params(const mm_database *db, const mm_search_params *given, m
     p.next_pose_favour = written(given->next_pose_favour, p.next_pose_favour);
     p.loop_anim_favour = written(given->loop_anim_favour, p.loop_anim_favour);
     p.continuing_bias = written(given->continuing_bias, p.continuing_bias);
+    p.contact_mismatch_favour = written(given->contact_mismatch_favour, p.contact_mismatch_favour);
     p.exclude_window = given->exclude_window != 0 ? given->exclude_window : p.exclude_window;
     p.end_margin = given->end_margin != 0 ? given->end_margin : p.end_margin;
     p.required_tags |= given->required_tags;
@@ -154,6 +155,8 @@ static void effective_desc(const mm_character_desc *in, mm_character_desc *out)
         ZERO(params.joint_velocity_weights[b])
     }
 #undef ZERO
+    if (r.params.contact_mismatch_favour < 0.0f)
+        r.params.contact_mismatch_favour = 1.0f; /* MM_OFF: a factor of 1 */
     if (r.skip_frames < 0) r.skip_frames = 0;
     if (r.params.exclude_window < 0) r.params.exclude_window = 0;
     if (r.params.end_margin < 0) r.params.end_margin = 0;
@@ -165,6 +168,9 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p)
     mm_search_params_defaults(db, p);
     /* keep playing unless a frame is clearly better (docs/runtime.md, "Why the defaults") */
     p->next_pose_favour = MM_CHARACTER_NEXT_POSE_FAVOUR;
+    /* transitions into other contacts than the frame playing's slide the planted feet
+     * (docs/metrics.md, "Transitions that keep the contacts") */
+    p->contact_mismatch_favour = MM_CHARACTER_CONTACT_FAVOUR;
     /* the moves (mm/moves.h) play their clips themselves: never a place for locomotion to go */
     p->excluded_tags = mm_search_tag_mask(db, "DoNotUse") | mm_search_tag_mask(db, "Jump") |
                        mm_search_tag_mask(db, "VaultLow") | mm_search_tag_mask(db, "VaultHigh") |
@@ -432,9 +438,10 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_jump jump, found = {-1, 0.0, false};
     if (play_moves(&s->move, db, &s->playback, ended, &jump)) s->matching.since_search = INFINITY;
     if (mm_matching_due(&s->matching, d, &s->intent, mm_intent_ground_speed(&s->trajectory),
-                        mm_vec3_length(s->root_motion.played.velocity), ended, s->move.playing, dt))
+                        mm_vec3_length(s->root_motion.played.velocity), ended, s->move.playing, dt)) {
         mm_matching_search(&s->matching, d, db, c->searcher, &s->trajectory, in, &s->intent,
                            s->root_motion.root, &s->playback, &found);
+    }
     if (found.frame >= 0) jump = found;
     s->matching.future_count = 0; /* the game's future is given for one tick */
 
@@ -718,11 +725,17 @@ int mm_character_candidates(const mm_character *c, mm_candidate *out, int max)
         o->base = found[i].base;
         mm_search_cost_terms(db, m->query, p, o->frame, &o->terms);
         /* the favours as the search applies them (mm/search.h): a factor on the base for loops,
-         * then a factor and a bias for the frame after the one playing */
+         * one for other contacts than the frame playing's, then a factor and a bias for the frame
+         * after the one playing */
         float cost = o->base;
         if (db->clips[o->clip].loop) {
             o->loop_favour = cost * (p->loop_anim_favour - 1.0f);
             cost *= p->loop_anim_favour;
+        }
+        if (p->contact_pattern >= 0 && (int)db->contacts[o->frame] != p->contact_pattern) {
+            float f = p->contact_mismatch_favour >= 0.0f ? p->contact_mismatch_favour : 0.0f;
+            o->contact_favour = cost * (f - 1.0f);
+            cost *= f;
         }
         if (o->frame == next) {
             o->next_pose_favour = cost * (p->next_pose_favour - 1.0f);

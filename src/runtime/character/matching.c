@@ -13,6 +13,9 @@
 /* m/s: under this simulated speed the velocity-change weights come in with the speed (a start is
  * the pose's to choose: with the trajectory alone a standing pose went into the run-up of a jump) */
 #define VELOCITY_CHANGE_FROM_SPEED 0.5f
+/* the four mm_contact_bits: the pattern the search's contact favour compares */
+#define MATCHING_CONTACT_BITS                                                                                \
+    (MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE | MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE)
 
 void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
 {
@@ -112,9 +115,13 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
 {
     jump->frame = -1;
     float speed, direction = desired_direction(intent, &speed);
+    bool keep_contacts = mm_intent_ground_speed(t) >= KEEP_CONTACTS_FROM_SPEED;
     build_query(m, db, pb->frame, t, in, root);
     mm_search_params p = d->params;
     p.current_frame = pb->frame;
+    /* frames whose feet are in other contacts than the frame playing's cost contact_mismatch_favour
+     * times more (the desc's; 1: off) */
+    p.contact_pattern = keep_contacts ? (int)(db->contacts[pb->frame] & MATCHING_CONTACT_BITS) : -1;
     p.type = !m->has_idle ? MM_SEARCH_ANY : m->idle ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION;
     /* the gait influences matching through tags named after the gaits: frames tagged with another
      * gait than the one asked for are left out */

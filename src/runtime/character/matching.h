@@ -35,6 +35,11 @@ typedef struct mm_matching {
     mm_quat future_facings[MM_MAX_TRAJ_SAMPLES];
 } mm_matching;
 
+/* m/s: under this simulated speed (standing, starting, stopping) the search does not favour the
+ * frame playing's contacts: a stance held since the last stop is no guide to how to start (docs/metrics.md,
+ * "Transitions that keep the contacts") */
+#define KEEP_CONTACTS_FROM_SPEED 0.3f
+
 /* A jump of the playhead asked for: to frame at fraction (-1: none); uncancellable: the crossfade
  * mixer may not drop it. */
 typedef struct mm_jump {
@@ -54,8 +59,9 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
                      float simulated_speed, float root_speed, bool ended, bool move_playing, float dt);
 
 /* Searches with the pose of the frame playing and t's future in the frame of root (in: the input
- * that future is sampled under; m's future instead, when given). *jump: where to go (frame -1 when playback
- * goes on where it is). */
+ * that future is sampled under; m's future instead, when given); frames in other contacts than the
+ * frame playing's get the desc's contact_mismatch_favour, from KEEP_CONTACTS_FROM_SPEED of
+ * simulated speed on. *jump: where to go (frame -1 when playback goes on where it is). */
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
                         const mm_intent *intent, mm_xform root, const mm_playback *p, mm_jump *jump);
