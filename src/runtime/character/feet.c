@@ -186,16 +186,20 @@ static float toe_floor(float y, float floor)
 
 /* On terrain: the step, on the ground plane, that moves a free foot coming down (its ankle at
  * most TREAD_NEAR above where it would stand, planted above the highest ground under its sole)
- * whose sole (ankle at heel, toe joint at heel + along, SOLE_BEHIND_ANKLE and SOLE_AHEAD_OF_TOE
- * beyond) lies across a step's edge toward standing on one tread: forward past the edge or back
- * behind it, TREAD_MARGIN beyond, whichever is shorter, at most TREAD_SPEED over dt. Zero where the
- * ground under the sole has no edge, or the foot is higher. A
- * foot planted across an edge would stand on the tread under its heel or under its toe with the
- * other end in the air or in the riser, and its heel and toe locks would read the ground of
- * different treads. */
-static mm_vec3 tread_step(const mm_scene *scene, mm_vec3 heel, mm_vec3 along, float planted, float dt)
+ * whose sole (ankle at heel + ahead, toe joint at heel + ahead + along, SOLE_BEHIND_ANKLE and
+ * SOLE_AHEAD_OF_TOE beyond) lies across a step's edge toward standing on one tread: forward past
+ * the edge or back behind it, TREAD_MARGIN beyond, whichever is shorter, at most TREAD_SPEED over
+ * dt. Zero where the ground under the sole has no edge, or the foot is higher. `ahead` (on the
+ * ground plane) is how far a landing foot has yet to go before it stops: the edge that matters is
+ * the one under the sole where it will be planted (judged where it is, a foot still sliding over
+ * edges is sent forward and back in turn and planted wherever the landing ends). A foot planted
+ * across an edge would stand on the tread under its heel or under its toe with the other end in
+ * the air or in the riser, and its heel and toe locks would read the ground of different treads. */
+static mm_vec3 tread_step(const mm_scene *scene, mm_vec3 heel, mm_vec3 ahead, mm_vec3 along, float planted,
+                          float dt)
 {
     mm_vec3 none = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    heel.x += ahead.x, heel.z += ahead.z;
     float length = sqrtf(along.x * along.x + along.z * along.z);
     if (!scene || !(length > MIN_FOOT_LENGTH)) return none;
     float ux = along.x / length, uz = along.z / length;
@@ -353,8 +357,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 velocity = mm_vec3_add(source_velocity(f, k, a, t, dt), f->offset_velocity[k]);
     mm_vec3 onto_tread = mm_vec3_make(0.0f, 0.0f, 0.0f);
     if (tilt && f->placed && !was_locked) {
-        /* a free foot coming down across a step's edge: moved onto one tread (by its offset) */
-        onto_tread = tread_step(ground->scene, out, mm_vec3_sub(t, a), rig->planted_ankle[k], dt);
+        /* a free foot coming down across a step's edge: moved onto one tread (by its offset). A
+         * contact coming in `left`: the landing slows the foot evenly to rest by then, so it stops
+         * velocity * left / 2 further on */
+        float left = heel_on || toe_on ? 0.0f : fmaxf(contacts->until_label[k], 0.0f);
+        mm_vec3 ahead = mm_vec3_make(velocity.x * 0.5f * left, 0.0f, velocity.z * 0.5f * left);
+        onto_tread = tread_step(ground->scene, out, ahead, mm_vec3_sub(t, a), rig->planted_ankle[k], dt);
         out = mm_vec3_add(out, onto_tread);
         f->offset[k] = mm_vec3_add(f->offset[k], onto_tread);
     }
