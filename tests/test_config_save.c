@@ -306,9 +306,9 @@ static void test_apply_defaults_bit_identical(void **state)
     simulate(&d, b, &tb);
     assert_true(memcmp(a, b, n * sizeof(mm_xform)) != 0);
     assert_true(tb < ta);
-    /* and the contact favour: on (2; off, 1, by default), the run differs from the default's */
-    desc_from_text("{\"runtime\": {\"contact_favour\": 2}}", &d);
-    assert_true(d.params.contact_mismatch_favour == 2.0f);
+    /* and the contact favour: off (1; on, 2, by default), the run differs from the default's */
+    desc_from_text("{\"runtime\": {\"contact_favour\": 1}}", &d);
+    assert_true(d.params.contact_mismatch_favour == 1.0f);
     simulate(&d, b, NULL);
     assert_true(memcmp(a, b, n * sizeof(mm_xform)) != 0);
     free(a);

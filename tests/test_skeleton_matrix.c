@@ -74,6 +74,7 @@ typedef struct known_miss {
 static const known_miss known_misses[] = {
     {"builtin", "straight_run", T_POP},
     {"builtin", "stop_and_go", T_POP},
+    {"builtin", "turn_90", T_SLIDE},
     {"builtin", "turn_180", T_SLIDE | T_POP},
     {"builtin", "zigzag", T_SLIDE},
     {"builtin", "strafe", T_SLIDE | T_POP},
@@ -82,8 +83,8 @@ static const known_miss known_misses[] = {
     {"builtin", "random_1", T_SLIDE | T_POP},
     {"builtin", "random_2", T_SLIDE | T_POP},
     {"lafan1", "straight_walk", T_POP},
-    {"lafan1", "straight_run", T_POP},
-    {"lafan1", "stop_and_go", T_POP},
+    {"lafan1", "straight_run", T_SLIDE | T_POP},
+    {"lafan1", "stop_and_go", T_SLIDE | T_POP},
     {"lafan1", "turn_90", T_SLIDE | T_POP},
     {"lafan1", "turn_180", T_SLIDE | T_POP},
     {"lafan1", "circle", T_POP},

@@ -122,7 +122,7 @@ typedef enum mm_transition_mode {
 #define MM_CHARACTER_ORIENTATION_SPEED     10.0f   /* 1/s */
 #define MM_CHARACTER_ORIENTATION_MAX       1.5708f /* rad: 90 degrees */
 #define MM_CHARACTER_NEXT_POSE_FAVOUR      0.6f
-#define MM_CHARACTER_CONTACT_FAVOUR        1.0f  /* factor on frames in other contacts (1: off) */
+#define MM_CHARACTER_CONTACT_FAVOUR        2.0f  /* factor on frames in other contacts (1: off) */
 #define MM_CHARACTER_END_MARGIN            0.25f /* s */
 
 typedef struct mm_character_desc {
