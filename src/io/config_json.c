@@ -158,7 +158,7 @@ static const mm_config_field_doc docs[] = {
     {"runtime.next_pose_favour", "number", "", "0.6",
      "The seed's NextPoseFavour, above 0: factor on the cost of the frame after the one playing; lower keeps "
      "playing."},
-    {"runtime.contact_favour", "number", "", "1",
+    {"runtime.contact_favour", "number", "", "2",
      "At least 1: factor on the cost of frames whose feet are in other contacts than the frame playing's "
      "(a planted foot in the air, or the other way round); 1 is off."},
     {"runtime.loop_anim_favour", "number", "", "1",
