@@ -414,8 +414,9 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     }
     /* planted where the foot is, at rest, never lower than the data plants it; a heel or a toe
      * planted while the other holds takes its place on the foot as it is held. Not above the
-     * animated foot: a lock comes down to it at once (above), and the height it is planted above
-     * it (an offset holding the foot up) is carried by the offset, fading, not dropped in a tick */
+     * animated foot: the height the foot is held above it (an offset holding it up) is carried by
+     * the offset, fading, not dropped in a tick; a lock the animated foot later sinks below comes
+     * down after it (settle, above) */
     bool held_heel = f->heel_locked[k], held_toe = f->toe_locked[k];
     int planted = 0;
     if (heel_on && !held_heel && !wait) {
