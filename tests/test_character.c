@@ -210,6 +210,45 @@ static void test_gait_tags(void **state)
     mm_character_free(&c);
 }
 
+/* A character starts on the first idle frame an input asking for the walk could play: with the
+ * first idle clip's first five frames tagged Run (a gait the walk leaves out, as it leaves out
+ * crouched and bent-over idles), on its sixth frame; untagged, and with every idle frame so tagged,
+ * on the first idle frame. */
+static void test_starts_on_a_walkable_idle(void **state)
+{
+    (void)state;
+    uint64_t run = mm_search_tag_mask(&db, "Run");
+    assert_true(run != 0);
+    const mm_db_clip *first = NULL;
+    for (int k = 0; k < db.clip_count && !first; ++k)
+        if (db.clips[k].type == MM_CLIP_IDLE) first = &db.clips[k];
+    assert_true(first && first->frame_count > 5);
+    uint64_t *tags = malloc((size_t)db.frame_count * sizeof *tags);
+    assert_non_null(tags);
+    memcpy(tags, db.frame_tags, (size_t)db.frame_count * sizeof *tags);
+    mm_database tagged = db;
+    tagged.frame_tags = tags;
+    mm_searcher own; /* a searcher belongs to its database */
+    assert_int_equal(mm_searcher_init(&own, &tagged, NULL, NULL), MM_OK);
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &tagged, &own, NULL, NULL), MM_OK);
+    assert_int_equal(c.frame, first->first_frame);
+    mm_character_free(&c);
+    for (int f = first->first_frame; f < first->first_frame + 5; ++f) tags[f] |= run;
+    assert_int_equal(mm_character_init(&c, &tagged, &own, NULL, NULL), MM_OK);
+    assert_int_equal(c.frame, first->first_frame + 5);
+    mm_character_free(&c);
+    for (int k = 0; k < db.clip_count; ++k)
+        if (db.clips[k].type == MM_CLIP_IDLE)
+            for (int f = db.clips[k].first_frame; f < db.clips[k].first_frame + db.clips[k].frame_count; ++f)
+                tags[f] |= run;
+    assert_int_equal(mm_character_init(&c, &tagged, &own, NULL, NULL), MM_OK);
+    assert_int_equal(c.frame, first->first_frame);
+    mm_character_free(&c);
+    mm_searcher_free(&own);
+    free(tags);
+}
+
 /* Angle correction at full speed: a character facing 0.2 rad off the walking direction turns
  * toward it at angle_revise_speed at most (0.5 rad/s: 0.125 rad in 0.25 s); with 0 it does not.
  * Both runs are the same up to the 0.2 rad turn (the correction is switched on after it), so the
@@ -1222,6 +1261,7 @@ int main(void)
         cmocka_unit_test(test_playhead_exact),
         cmocka_unit_test(test_robust),
         cmocka_unit_test(test_gait_tags),
+        cmocka_unit_test(test_starts_on_a_walkable_idle),
         cmocka_unit_test(test_angle_correction),
         cmocka_unit_test(test_feet_hold),
         cmocka_unit_test(test_feet_hold_under_pull),

@@ -284,6 +284,26 @@ static void apply_tuning(mm_character *c, const mm_character_desc *given)
     pp->idle_speed = d->idle_speed;
 }
 
+/* The frame a character starts on: the first idle frame that an input asking for the walk (the
+ * default gait) could play, not one tagged for another gait (a crouched or bent-over idle, which the
+ * search leaves out while walking, would otherwise be the first pose shown); the first idle frame
+ * where every idle frame is so tagged, frame 0 where there is no idle clip. */
+static int start_frame(const mm_database *db, const mm_matching *m)
+{
+    uint64_t other_gaits = 0;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g)
+        if (g != MM_GAIT_WALK) other_gaits |= m->gait_tags[g];
+    int first_idle = -1;
+    for (int k = 0; k < db->clip_count; ++k) {
+        const mm_db_clip *clip = &db->clips[k];
+        if (clip->type != MM_CLIP_IDLE || clip->frame_count <= 0) continue;
+        if (first_idle < 0) first_idle = clip->first_frame;
+        for (int f = clip->first_frame; f < clip->first_frame + clip->frame_count; ++f)
+            if (!db->frame_tags || !(db->frame_tags[f] & other_gaits)) return f;
+    }
+    return first_idle >= 0 ? first_idle : 0;
+}
+
 mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_searcher *searcher,
                             const mm_character_desc *desc, mm_error *err)
 {
@@ -329,12 +349,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     s->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");
     float *query = s->matching.query;
     mm_matching_init(&s->matching, db, query);
-    s->playback.frame = 0; /* the first idle frame, or frame 0 */
-    for (int k = 0; k < db->clip_count; ++k)
-        if (db->clips[k].type == MM_CLIP_IDLE) {
-            s->playback.frame = db->clips[k].first_frame;
-            break;
-        }
+    s->playback.frame = start_frame(db, &s->matching);
     mm_playback_by_clock(&s->playback);
     s->root_motion.root = mm_xform_identity();
     mm_transition_init(&s->transition, db, d->transition_mode, &s->playback);
