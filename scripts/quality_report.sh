@@ -1,7 +1,7 @@
 #!/bin/sh
 # A quality report of one database over many inputs: mm simulate on every shipped input script
-# (scripts/input/*.json; the moves_* scripts without their scenes, as scripts/metrics_table.sh
-# runs them) and on random input (--random SEED, seeds 1 to 20), SECONDS each, then a contact
+# (scripts/input/*.json; a script named for a scene, like stairs_up_down_walk, in that scene; the
+# moves_* scripts without their scenes, as scripts/metrics_table.sh runs them) and on random input (--random SEED, seeds 1 to 20), SECONDS each, then a contact
 # sheet of each run (mm render --contact-sheet). Writes to OUTDIR:
 #   report.md    a table of the main metrics per run, then each metric's mean and worst over the
 #                seeds and over the scripts, and the wall-clock timings in a table of their own
@@ -80,15 +80,31 @@ runs=$(wc -l <"$list")
 [ "$runs" -gt 0 ] || { echo "quality_report: nothing to run" >&2; exit 2; }
 [ "$jobs" -le "$runs" ] || jobs=$runs
 
+# the scene a script crosses: scenes/S.json for the longest S that the script's name starts with
+# followed by "_" (stairs_up_down_walk: stairs_up_down); none for the moves_* scripts (above)
+scene_of() { # NAME
+    best=
+    case $1 in moves_*) return 0 ;; esac
+    for f in "$root"/scenes/*.json; do
+        s=$(basename "$f" .json)
+        case $1 in "$s"_*) [ ${#s} -gt ${#best} ] && best=$s ;; esac
+    done
+    [ -z "$best" ] || echo "$root/scenes/$best.json"
+}
+
 # one run: the simulation, its metrics and its contact sheet; a failure leaves NAME.failed
 run_one() { # NAME KIND ARGUMENT
     base=$out/runs/$1
     rm -f "$base.failed"
+    scene=
+    [ "$2" = script ] && scene=$(scene_of "$1")
     if [ "$2" = script ]; then set -- "$1" --input "$3"; else set -- "$1" --random "$3"; fi
-    if ! "$mm" simulate "$db" "$2" "$3" --seconds "$seconds" -o "$base.bvh" --metrics "$base.json" \
-        </dev/null >/dev/null 2>"$base.log"; then
+    if [ -n "$scene" ]; then set -- "$@" --scene "$scene"; fi
+    if ! "$mm" simulate "$db" "$2" "$3" ${scene:+"$4"} ${scene:+"$5"} --seconds "$seconds" -o "$base.bvh" \
+        --metrics "$base.json" </dev/null >/dev/null 2>"$base.log"; then
         echo "mm simulate failed" >"$base.failed"
-    elif ! "$mm" render "$base.bvh" --contact-sheet "$out/sheets/$1.png" </dev/null >/dev/null 2>>"$base.log"; then
+    elif ! "$mm" render "$base.bvh" ${scene:+--scene} ${scene:+"$scene"} --contact-sheet "$out/sheets/$1.png" \
+        </dev/null >/dev/null 2>>"$base.log"; then
         echo "mm render --contact-sheet failed" >"$base.failed"
     fi
 }
