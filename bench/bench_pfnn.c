@@ -14,15 +14,6 @@
 
 #include "bench_common.h"
 
-static uint64_t rng = 0x9E3779B97F4A7C15ull;
-static double uniform(void)
-{
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-
 /* Median over 5 rounds of the mean microseconds per evaluation. random: 0 the phase advances by 0.1
  * rad per evaluation (a fast walk), 1 random phases, 2 always the same phase (weights stay in cache). */
 static double time_evals(const mm_pfnn_network *net, mm_pfnn_mode mode, const float *x, int evals, int random)

@@ -20,15 +20,6 @@
 
 #define NOISE 0.05 /* standard deviation of the noise on the near queries (normalised units) */
 
-static uint64_t rng = 0x9E3779B97F4A7C15ull;
-static double uniform(void)
-{
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-
 /* An allocator that counts the bytes a character takes (mm_character_desc.allocator). */
 static void *count_alloc(size_t size, void *user)
 {

@@ -46,20 +46,6 @@
 static const char *const KIND_NAMES[KINDS] = {"near", "recorded", "transition", "random"};
 static const char *const CACHE_NAMES[CACHES] = {"warm", "cold"};
 
-static uint64_t rng = 0x9E3779B97F4A7C15ull;
-static double uniform(void)
-{
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-static double normal(void)
-{
-    double u = uniform() + 1e-12, v = uniform();
-    return sqrt(-2.0 * log(u)) * cos(2.0 * MM_PI * v);
-}
-
 /* Reads (and writes) every cache line of the sweep buffer: what a game's frame does to the caches
  * between two searches. */
 static unsigned char *sweep_buffer;

@@ -21,26 +21,13 @@
 #include <mm/search.h>
 
 #include "../tests/test_databases.h"
+#include "bench_common.h"
 
 #define NEAR_NOISE   0.1 /* per normalised dimension, as bench_search */
 #define KINDS        3
 #define HOLDING_SPAN 1.5f
 
 static const char *const KIND_NAMES[KINDS] = {"near", "transition", "random"};
-
-static uint64_t rng = 0x9E3779B97F4A7C15ull;
-static double uniform(void)
-{
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-static double normal(void)
-{
-    double u = uniform() + 1e-12, v = uniform();
-    return sqrt(-2.0 * log(u)) * cos(2.0 * MM_PI * v);
-}
 
 static void make_query(const mm_database *db, int kind, float *q, mm_search_params *p)
 {

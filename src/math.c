@@ -143,17 +143,23 @@ static double dq_sphere_angle(const double a[4], const double b[4])
     return 2.0 * atan2(sqrt(d2), sqrt(s2));
 }
 
-mm_quat mm_quat_slerp(mm_quat a, mm_quat b, float t)
+/* a and b as unit quaternions in double, b on a's side of the sphere (q and -q are the same
+ * rotation: an interpolation between them takes the shorter arc) */
+static void dq_shorter_arc(mm_quat a, mm_quat b, double qa[4], double qb[4])
 {
-    double qa[4], qb[4], out[4];
     dq_from_quat(a, qa);
     dq_from_quat(b, qb);
     dq_normalize(qa);
     dq_normalize(qb);
     double dot = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
-    if (dot < 0.0) { /* q and -q are the same rotation: take the shorter arc */
+    if (dot < 0.0)
         for (int c = 0; c < 4; c++) qb[c] = -qb[c];
-    }
+}
+
+mm_quat mm_quat_slerp(mm_quat a, mm_quat b, float t)
+{
+    double qa[4], qb[4], out[4];
+    dq_shorter_arc(a, b, qa, qb);
     double theta = dq_sphere_angle(qa, qb); /* in [0, pi/2] */
     double td = t, wa, wb;
     if (theta < 1e-4) {
@@ -226,13 +232,7 @@ mm_quat mm__quat_exp_series(mm_vec3 v)
 mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t)
 {
     double qa[4], qb[4], out[4];
-    dq_from_quat(a, qa);
-    dq_from_quat(b, qb);
-    dq_normalize(qa);
-    dq_normalize(qb);
-    double dot = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
-    if (dot < 0.0) /* q and -q are the same rotation: take the shorter arc */
-        for (int c = 0; c < 4; c++) qb[c] = -qb[c];
+    dq_shorter_arc(a, b, qa, qb);
     /* the angle theta from the half chord h = sin(theta / 2) = |qa - qb| / 2 */
     double d2 = 0.0;
     for (int c = 0; c < 4; c++) d2 += (qa[c] - qb[c]) * (qa[c] - qb[c]);

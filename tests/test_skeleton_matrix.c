@@ -27,6 +27,8 @@
 #include <mm/synth.h>
 
 #include "runtime/character/state.h"
+
+#include "feet_ties.h"
 #include "skeleton_variants.h"
 #include "test_util.h"
 
@@ -489,7 +491,8 @@ static db_diff compare_databases(const variant_set *a, const variant_set *b)
  *     time to the next contact and the search's contact favour follow them): reported with the
  *     tick and the frame; or
  *   - before it (or before the joints part) a heel lock was released in one run and not in the
- *     other where it was unlock_radius from its animated ankle, within NEAR_TIE (unlock_tie); or
+ *     other where it was unlock_radius from its animated ankle, within FEET_TIE (feet_unlock_tie,
+ * tests/feet_ties.h); or
  *   - the playheads never part but were, before the joints parted, either side of a whole frame
  *     (322 + 0.99999 and 323 + 0): the labels of two frames.
  * Anything else (another choice, or joints apart while the playheads and labels agree) fails. */
@@ -508,30 +511,12 @@ static const char *const parting_names[6] = {"",
                                              "a foot's lock at unlock_radius",
                                              "NOT A TIE"};
 
-/* Whether the heel locks of the characters c moved apart this tick where a lock (held: each
- * character's heel locks before the tick, NaN where not held) was as far from its animated ankle as
- * the feet's unlock_radius, within NEAR_TIE of it: released in one run and not in the other by the
- * last bit of that distance. */
-static int unlock_tie(const mm_character c[2], mm_vec3 held[2][2])
-{
-    for (int k = 0; k < 2; ++k) {
-        if (mm_vec3_distance(c[0].state->feet.heel_lock[k], c[1].state->feet.heel_lock[k]) < SAME_JOINTS_M)
-            continue;
-        for (int i = 0; i < 2; ++i) {
-            float radius = c[i].state->desc.unlock_radius;
-            float gap = mm_vec3_distance(held[i][k], c[i].state->feet.raw_contacts[2 * k]);
-            if (fabsf(gap - radius) <= NEAR_TIE * radius) return 1; /* NaN: not held */
-        }
-    }
-    return 0;
-}
-
 typedef struct parting {
     int apart;  /* the first tick at which world joints are SAME_CHARACTER_M apart */
     int tick;   /* the first tick at which the playheads differ by PLAYHEAD_SAME */
     int labels; /* the first tick at which the frames playing have different contact labels */
     int label_frame;
-    int unlock; /* the first tick at which the feet's locks part at unlock_radius (unlock_tie) */
+    int unlock; /* the first tick at which the feet's locks part at unlock_radius (feet_unlock_tie) */
     int whole;  /* the first tick at which playheads that agree are on two frames (either side of a
                    whole frame) */
     unsigned label_bits[2]; /* that frame's labels in each database */
@@ -563,12 +548,9 @@ static double run_characters(const variant_set *a, const variant_set *b, const c
         mm_input_script_sample(&in, (float)t / 60.0f, &input);
         int searches[2] = {c[0].searches, c[1].searches};
         mm_vec3 held[2][2]; /* the heel locks before the tick */
-        for (int i = 0; i < 2; ++i)
-            for (int k = 0; k < 2; ++k)
-                held[i][k] = c[i].state->feet.heel_locked[k] ? c[i].state->feet.heel_lock[k]
-                                                             : mm_vec3_make(NAN, NAN, NAN);
+        feet_ties_before(c, held);
         for (int i = 0; i < 2; ++i) mm_character_update(&c[i], &input, 1.0f / 60.0f);
-        if (parted->unlock < 0) parted->unlock = unlock_tie(c, held) ? t : -1;
+        if (parted->unlock < 0) parted->unlock = feet_unlock_tie(c, held) ? t : -1;
         double now = 0.0;
         for (int j = 0; j < a->db.joint_count; ++j)
             if (match[j] >= 0)

@@ -267,6 +267,16 @@ static double planted_height(const mm_searcher *searcher, const mm_scene *s, flo
     return *count ? sum / *count : NAN;
 }
 
+/* The scene: a ramp 20 m wide rising at slope (rad) from z = -1 to z = 39, its low end behind
+ * the character's start. */
+static void long_ramp(float slope)
+{
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(
+        mm_scene_add_ramp(&scene, mm_vec3_make(0, 0, 19), mm_vec3_make(20, 40 * tanf(slope), 40), 0.0f),
+        MM_OK);
+}
+
 /* Walking up a long 15-degree ramp: the root at the ramp's height (within 2 cm), the planted ankles
  * as high above it, along its normal, as on level terrain (a plane raised 0.25 m; within 2 cm, the
  * bound docs/scene.md gives). */
@@ -276,11 +286,7 @@ static void test_walk_up_a_ramp(void **state)
     mm_searcher searcher;
     assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
     float slope = 15.0f * (float)MM_DEG_TO_RAD;
-    mm_scene_init(&scene, 0.0f);
-    /* from z = -1 to z = 39: its low end behind the start */
-    assert_int_equal(
-        mm_scene_add_ramp(&scene, mm_vec3_make(0, 0, 19), mm_vec3_make(20, 40 * tanf(slope), 40), 0.0f),
-        MM_OK);
+    long_ramp(slope);
     int on_ramp = 0, on_flat = 0;
     double root_error = 0.0, flat_error = 0.0;
     double ramp = planted_height(&searcher, &scene, slope, &root_error, &on_ramp);
@@ -344,10 +350,7 @@ static void test_feet_on_a_20_degree_slope(void **state)
     mm_searcher searcher;
     assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
     float slope = 20.0f * (float)MM_DEG_TO_RAD;
-    mm_scene_init(&scene, 0.0f);
-    assert_int_equal(
-        mm_scene_add_ramp(&scene, mm_vec3_make(0, 0, 19), mm_vec3_make(20, 40 * tanf(slope), 40), 0.0f),
-        MM_OK);
+    long_ramp(slope);
     mm_scene_init(&again, 0.25f);
     planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
     planted_feet ramp = walk_planted(&searcher, &scene, slope, &flat);
