@@ -127,6 +127,31 @@ static void test_calibration(void **state)
     free(world);
 }
 
+static void test_hand_raised(void **state)
+{
+    (void)state;
+    /* walking with the hands by the hips for 0.5 s, then 1 s with the right hand on the head (1.55
+     * m: 0.97 of the head's 1.6), then 0.1 s of a hand at the chin (1.5 m) between hanging hands,
+     * shorter than a posture run: 1 s of a hand raised, nothing else */
+    motion_metrics m;
+    start(&m, 130);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.gait = MM_GAIT_WALK;
+    for (int f = 0; f < 130; ++f) {
+        mm_vec3 w[N];
+        stand(w, 0.0f, 0);
+        if ((f >= 30 && f < 90) || f == 110) w[RHAND] = mm_vec3_make(0.1f, f == 110 ? 1.5f : 1.55f, 0.05f);
+        motion_metrics_input(&m, (double)m.frames / FPS, &in, mm_vec3_make(0, 0, 0));
+        frame(&m, w, 0);
+    }
+    motion_metrics_seen s = summary(&m);
+    assert_near(s.hand_raised_s, 1.0, 1e-9);
+    assert_near(s.arms_spread_s + s.calibration_s + s.crouched_s + s.bent_s + s.lying_s, 0.0, 0.0);
+    assert_near(s.arms_out_s, 0.0, 0.0);
+    motion_metrics_free(&m);
+}
+
 static void test_pop(void **state)
 {
     (void)state;
@@ -215,16 +240,18 @@ static void test_slide_height(void **state)
     /* each contact joint moves along x at its own speed and height above its planted height h
      * (H = 2.5 cm): the left heel at h = 0 at 100 cm/s (w = 1), the left toe at h = H / 2 at 50 cm/s
      * (w = 2 - 2^0.5), the right heel at h = 3 cm at 1000 cm/s (w = 0: not counted), the right toe
-     * 1 cm below its planted height at 20 cm/s (w = 1) */
+     * 1 cm below its planted height at 20 cm/s (w = 1); except that the right heel swings through
+     * its planted height on frames 12-17 (6 frames, 0.1 s: MOTION_METRICS_SLIDE_DWELL), too briefly
+     * to be planted. Each bone counts from its seventh frame near the ground on. */
     const double speed[4] = {1.0, 0.5, 10.0, 0.2}, h[4] = {0.0, 0.0125, 0.03, -0.01};
     motion_metrics m;
-    start(&m, 11);
+    start(&m, 24);
     mm_vec3 w[N];
-    for (int f = 0; f < 11; ++f) {
+    for (int f = 0; f < 24; ++f) {
         stand(w, 0.0f, 0);
         for (int k = 0; k < 4; ++k) {
             w[CONTACT[k]].x = (float)(speed[k] * f / FPS);
-            w[CONTACT[k]].y = (float)(PLANTED[k] + h[k]);
+            w[CONTACT[k]].y = (float)(PLANTED[k] + (k == 2 && f >= 12 && f < 18 ? 0.0 : h[k]));
         }
         frame(&m, w, 0xf); /* the labels do not matter */
     }
@@ -297,6 +324,9 @@ static void test_database(void **state)
     assert_int_equal(test_build_synth_database(&db), 0);
     motion_metrics_db d;
     assert_int_equal(motion_metrics_database(&db, FPS, &d), 0);
+    /* its feet stand where they are planted: the height-weighted slide of its own clips is under
+     * the 4 cm/s the output is held to (the swing's passes near the ground are not counted) */
+    assert_true(d.foot_slide_height_cm_s >= 0.0 && d.foot_slide_height_cm_s < 4.0);
     assert_true(d.reference > 1.4f && d.reference < 1.8f);
     /* the heels' and toes' planted heights: both above the ground, the toes lower */
     for (int side = 0; side < 2; ++side) {
@@ -343,13 +373,10 @@ static void test_database(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_below_ground),
-        cmocka_unit_test(test_calibration),
-        cmocka_unit_test(test_pop),
-        cmocka_unit_test(test_pop_p99),
-        cmocka_unit_test(test_contact_share),
-        cmocka_unit_test(test_slide_height),
-        cmocka_unit_test(test_posture_seconds),
+        cmocka_unit_test(test_below_ground), cmocka_unit_test(test_calibration),
+        cmocka_unit_test(test_hand_raised),  cmocka_unit_test(test_pop),
+        cmocka_unit_test(test_pop_p99),      cmocka_unit_test(test_contact_share),
+        cmocka_unit_test(test_slide_height), cmocka_unit_test(test_posture_seconds),
         cmocka_unit_test(test_database),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

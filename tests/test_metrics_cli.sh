@@ -21,9 +21,9 @@ expect_key() {
     fi
 }
 
-# A body in unit U (1: metres, 100: centimetres), five frames at 30 fps: the hips 1 m up, the head
-# 0.6 m above them, the left toe 2 cm under the floor (1 - 0.95 - 0.07); on frame 2 the whole body
-# is 5 cm to the side: second differences 5, -10, 5 cm on frames 2, 3, 4.
+# A body in unit U (1: metres, 100: centimetres), nine frames at 30 fps: the hips 1 m up, the head
+# 0.6 m above them, the left toe 2 cm under the floor (1 - 0.95 - 0.07); on frame 6 the whole body
+# is 5 cm to the side: second differences 0, 0, 0, 0, 5, -10, 5 cm on frames 2 to 8.
 body() {
     awk -v u="$1" 'function p(x) { return x * u }
     BEGIN {
@@ -38,9 +38,9 @@ body() {
         print "  JOINT RightFoot\n  {\n    OFFSET " p(0.1) " " p(-0.92) " 0\n    CHANNELS 3 Zrotation Yrotation Xrotation"
         print "    JOINT RightToe\n    {\n      OFFSET 0 " p(-0.05) " " p(0.1) "\n      CHANNELS 3 Zrotation Yrotation Xrotation"
         print "      End Site\n      {\n        OFFSET 0 0 " p(0.05) "\n      }\n    }\n  }\n}"
-        print "MOTION\nFrames: 5\nFrame Time: 0.0333333333"
-        for (f = 0; f < 5; ++f) {
-            line = p(f == 2 ? 0.05 : 0) " " p(1) " 0 0 0 0"
+        print "MOTION\nFrames: 9\nFrame Time: 0.0333333333"
+        for (f = 0; f < 9; ++f) {
+            line = p(f == 6 ? 0.05 : 0) " " p(1) " 0 0 0 0"
             for (j = 0; j < 5; ++j) line = line " 0 0 0"
             print line
         }
@@ -52,21 +52,22 @@ body 100 >"$tmp/cm.bvh"
 expect_exit 0 "$mm" metrics "$tmp/m.bvh" --scale 1
 cp "$tmp/out" "$tmp/m.json"
 expect_key "$tmp/m.json" max_pop_cm 10
-expect_key "$tmp/m.json" pop_p99_cm 5 # the middle of 5, 10, 5 (rank floor(0.99 x 2) = 1)
+expect_key "$tmp/m.json" pop_p99_cm 5 # of 0, 0, 0, 0, 5, 5, 10: rank floor(0.99 x 6) = 5
 expect_key "$tmp/m.json" below_ground_cm 2
 expect_key "$tmp/m.json" head_p2_cm 160
 expect_key "$tmp/m.json" head_p50_cm 160
 expect_key "$tmp/m.json" nan_frames 0
-# every foot and toe stays at its own 5th percentile height (h = 0, w = 1) and moves 5 cm in a
-# 1/30 s frame on two of the four frame steps: 75 cm/s
-expect_key "$tmp/m.json" foot_slide_height_cm_s 75
+# every foot and toe stays at its own 5th percentile height (h = 0, w = 1), counted from its fourth
+# step near the ground (after 0.1 s: steps 4 to 8), and moves 5 cm in a 1/30 s frame on two of
+# those five steps: 60 cm/s
+expect_key "$tmp/m.json" foot_slide_height_cm_s 60
 # against its own head height (no database): upright throughout; no hands, no arms measures
-for key in crouched_s bent_s lying_s calibration_s arms_spread_s; do expect_key "$tmp/m.json" $key 0; done
+for key in crouched_s bent_s lying_s calibration_s arms_spread_s hand_raised_s; do expect_key "$tmp/m.json" $key 0; done
 for key in arms_out_s hands_apart_max_cm; do expect_key "$tmp/m.json" $key null; done
 # no controller, no labels, no database, no scene: null
 for key in foot_slide_cm_s foot_slide_raw_cm_s traj_err_cm heading_err_deg response_s db_max_pop_cm searches \
     transitions_per_s search_median_us search_p99_us frame_median_us memory_mb penetration_max_cm \
-    contact_height_err_cm contact_share db_pop_p99_cm db_head_p5_cm db_head_p50_cm; do
+    contact_height_err_cm contact_share db_pop_p99_cm db_head_p5_cm db_head_p50_cm db_foot_slide_height_cm_s; do
     expect_key "$tmp/m.json" $key null
 done
 expect_grep '"moves": \[\]' "$tmp/m.json"

@@ -60,6 +60,20 @@ static void test_poses(void **state)
     w[2].x = -0.65f;
     w[3].x = 0.65f;
     assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    /* a hand at the head's height (walking, the other hanging): a hand raised; at 0.85 of the
+     * reference, 0.15 of it below the head, still walking, as running's arms pump it there */
+    body(w, 0.95f, 0.0f, 0);
+    w[3] = mm_vec3_make(0.1f, 1.6f, 0.1f);
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_HAND_RAISED);
+    w[3].y = 0.85f * 1.6f;
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    /* the same on ground 1 m up, or with the ground unknown (the floor below): judged against the
+     * head */
+    for (int j = 0; j < 4; ++j) w[j].y += 1.0f;
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 1.0f, &REF), MM_POSTURE_UPRIGHT);
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    w[3].y = 2.55f;
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 1.0f, &REF), MM_POSTURE_HAND_RAISED);
     /* without hands never a calibration pose; without a reference or a head always upright */
     body(w, 0.95f, 0.0f, 1);
     mm_posture_joints no_hands = {0, 1, -1, -1}, no_head = {0, -1, 2, 3};
@@ -73,6 +87,7 @@ static void test_poses(void **state)
     assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
     assert_string_equal(mm_posture_name(MM_POSTURE_CALIBRATION), "calibration");
     assert_string_equal(mm_posture_name(MM_POSTURE_ARMS_SPREAD), "arms_spread");
+    assert_string_equal(mm_posture_name(MM_POSTURE_HAND_RAISED), "hand_raised");
     assert_null(mm_posture_name(MM_POSTURE_COUNT));
 }
 

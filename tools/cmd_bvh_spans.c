@@ -267,9 +267,9 @@ int mm_cmd_bvh_spans(int argc, char **argv)
                 printf("null");
         }
         printf("},\n  \"upright_head_height\": %.4f,\n  \"postures\": {\n", spans.upright_head_height);
-        static const int order[] = {MM_POSTURE_CALIBRATION, MM_SPAN_A_POSE,     MM_POSTURE_LYING,
-                                    MM_SPAN_GETTING_UP,     MM_SPAN_DOWN,       MM_POSTURE_ARMS_SPREAD,
-                                    MM_POSTURE_BENT,        MM_POSTURE_CROUCHED};
+        static const int order[] = {MM_POSTURE_CALIBRATION, MM_SPAN_A_POSE,  MM_POSTURE_LYING,
+                                    MM_SPAN_GETTING_UP,     MM_SPAN_DOWN,    MM_POSTURE_ARMS_SPREAD,
+                                    MM_POSTURE_HAND_RAISED, MM_POSTURE_BENT, MM_POSTURE_CROUCHED};
         const int kinds = (int)(sizeof order / sizeof order[0]);
         for (int k = 0; k < kinds; ++k) {
             for (int f = 0; f < n; ++f) in[f] = spans.kinds[f] == order[k];

@@ -128,12 +128,13 @@ int mm_cmd_metrics(int argc, char **argv)
         status = 1;
         goto done;
     }
-    motion_metrics_extra x = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+    motion_metrics_extra x = {NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN};
     if (db_path) {
         x.db_max_pop_cm = dbm.max_pop_cm;
         x.db_pop_p99_cm = dbm.pop_p99_cm;
         x.db_head_p5_cm = dbm.head_p5_cm;
         x.db_head_p50_cm = dbm.head_p50_cm;
+        x.db_foot_slide_height_cm_s = dbm.foot_slide_height_cm_s;
     }
     motion_metrics_write_json(&mx, f, &x);
     if (out) status = cli_commit(f, tmp, out, 0);

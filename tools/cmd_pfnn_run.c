@@ -270,7 +270,7 @@ int mm_cmd_pfnn_run(int argc, char **argv)
     }
     if (m) {
         motion_metrics_extra x = {NAN, NAN, NAN, (double)mm_pfnn_network_bytes(net, mode) / (1024.0 * 1024.0),
-                                  NAN, NAN, NAN};
+                                  NAN, NAN, NAN, NAN};
         motion_metrics_write_json(&mx, m, &x);
         status = cli_commit(m, tmp, metrics, 0);
         if (status != 0) remove(out); /* the motion without its metrics: nothing */

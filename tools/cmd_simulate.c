@@ -390,7 +390,8 @@ int mm_cmd_simulate(int argc, char **argv)
                                   .memory_mb = (double)(db.size + searcher.memory) / (1024.0 * 1024.0),
                                   .db_pop_p99_cm = dbm.pop_p99_cm,
                                   .db_head_p5_cm = dbm.head_p5_cm,
-                                  .db_head_p50_cm = dbm.head_p50_cm};
+                                  .db_head_p50_cm = dbm.head_p50_cm,
+                                  .db_foot_slide_height_cm_s = dbm.foot_slide_height_cm_s};
         motion_metrics_write_json(&mx, m, &x);
     }
     /* close the temporary files, finish the video, and only then rename: a failure at any step

@@ -183,21 +183,35 @@ static void pose_frame(motion_metrics *m, long f, const mm_vec3 *world)
         double apart = mm_vec3_length(mm_vec3_sub(now[pj->left_hand], now[pj->right_hand]));
         if (apart > m->hands_apart_max) m->hands_apart_max = apart;
     }
-    /* the height-weighted slide: a foot or toe within MOTION_METRICS_SLIDE_HEIGHT of its planted
-     * height counts its ground speed with weight 2 - 2^(max(h, 0) / H), whatever the labels say */
     if (f >= 1)
         for (int k = 0; k < 4; ++k) {
             int j = m->contact_joint[k];
             if (j < 0 || !isfinite(m->planted[k])) continue;
-            double h = height_above(m, now[j]) - m->planted[k];
-            if (!(h < MOTION_METRICS_SLIDE_HEIGHT)) continue;
-            double w = 2.0 - pow(2.0, fmax(h, 0.0) / MOTION_METRICS_SLIDE_HEIGHT);
-            double dx = (double)now[j].x - before[j].x, dz = (double)now[j].z - before[j].z;
-            double v = 100.0 * sqrt(dx * dx + dz * dz) * m->fps;
-            if (!isfinite(v)) continue;
-            m->slide_height_sum += w * v;
-            m->slide_height_weight += w;
+            motion_metrics_slide_add(&m->slide_height, k, height_above(m, now[j]) - m->planted[k],
+                                     (double)now[j].x - before[j].x, (double)now[j].z - before[j].z, m->fps);
         }
+}
+
+/* A foot or toe within MOTION_METRICS_SLIDE_HEIGHT of its planted height for longer than
+ * MOTION_METRICS_SLIDE_DWELL counts its ground speed with weight 2 - 2^(max(h, 0) / H), whatever
+ * the labels say. */
+void motion_metrics_slide_add(motion_metrics_slide *s, int k, double h, double dx, double dz, double fps)
+{
+    if (!(h < MOTION_METRICS_SLIDE_HEIGHT)) {
+        s->near[k] = 0;
+        return;
+    }
+    if (++s->near[k] <= lround(MOTION_METRICS_SLIDE_DWELL * fps)) return;
+    double w = 2.0 - pow(2.0, fmax(h, 0.0) / MOTION_METRICS_SLIDE_HEIGHT);
+    double v = 100.0 * sqrt(dx * dx + dz * dz) * fps;
+    if (!isfinite(v)) return;
+    s->sum += w * v;
+    s->weight += w;
+}
+
+double motion_metrics_slide_value(const motion_metrics_slide *s)
+{
+    return s->weight > 0 ? s->sum / s->weight : NAN;
 }
 
 void motion_metrics_pose(motion_metrics *m, const mm_vec3 *world)
@@ -349,14 +363,14 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
         labels && m->contact_err_count > 0 ? 100.0 * m->contact_err_sum / m->contact_err_count : NAN;
     out->foot_float_cm = labels && m->foot_float_frames > 0 ? 100.0 * m->foot_float : NAN;
     out->contact_share = labels && m->contact_pairs > 0 ? m->contact_on / m->contact_pairs : NAN;
-    out->foot_slide_height_cm_s =
-        m->slide_height_weight > 0 ? m->slide_height_sum / m->slide_height_weight : NAN;
+    out->foot_slide_height_cm_s = motion_metrics_slide_value(&m->slide_height);
     out->max_pop_cm = m->max_pop;
     out->pop_p99_cm = 100.0 * motion_metrics_percentile(m->pop, frames - 2, 0.99);
     out->head_p2_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.02);
     out->head_p5_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.05);
     out->head_p50_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.5);
-    out->crouched_s = out->bent_s = out->lying_s = out->calibration_s = out->arms_spread_s = NAN;
+    out->crouched_s = out->bent_s = out->lying_s = out->calibration_s = out->arms_spread_s =
+        out->hand_raised_s = NAN;
     out->arms_out_s = m->reference.head_height > 0 && hands ? m->arms_out_frames / m->fps : NAN;
     out->hands_apart_max_cm = hands ? 100.0 * m->hands_apart_max : NAN;
     if (posture) {
@@ -374,6 +388,7 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
         out->lying_s = count[MM_POSTURE_LYING] / m->fps;
         out->calibration_s = count[MM_POSTURE_CALIBRATION] / m->fps;
         out->arms_spread_s = count[MM_POSTURE_ARMS_SPREAD] / m->fps;
+        out->hand_raised_s = count[MM_POSTURE_HAND_RAISED] / m->fps;
     }
     return 0;
 }
@@ -388,7 +403,7 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     double n = m->frames && controller ? (double)m->frames : NAN;
     motion_metrics_seen s;
     motion_metrics_summary(m, &s); /* out of memory: the posture's seconds are null */
-    const motion_metrics_extra none = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+    const motion_metrics_extra none = {NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN};
     if (!x) x = &none;
     fprintf(f, "{\n");
     json_number(f, "foot_slide_cm_s", motion_metrics_foot_slide(m), 0);
@@ -413,6 +428,7 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "foot_slide_height_cm_s", s.foot_slide_height_cm_s, 0);
     json_number(f, "pop_p99_cm", s.pop_p99_cm, 0);
     json_number(f, "db_pop_p99_cm", x->db_pop_p99_cm, 0);
+    json_number(f, "db_foot_slide_height_cm_s", x->db_foot_slide_height_cm_s, 0);
     json_number(f, "head_p2_cm", s.head_p2_cm, 0);
     json_number(f, "head_p5_cm", s.head_p5_cm, 0);
     json_number(f, "head_p50_cm", s.head_p50_cm, 0);
@@ -423,6 +439,7 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "lying_s", s.lying_s, 0);
     json_number(f, "calibration_s", s.calibration_s, 0);
     json_number(f, "arms_spread_s", s.arms_spread_s, 0);
+    json_number(f, "hand_raised_s", s.hand_raised_s, 0);
     json_number(f, "arms_out_s", s.arms_out_s, 0);
     json_number(f, "hands_apart_max_cm", s.hands_apart_max_cm, 0);
     fprintf(f, "  \"moves\": [");
@@ -492,10 +509,12 @@ static int other_gait_tag(const char *name)
     return 0;
 }
 
-/* The largest second difference over joints of every sample of the database's clips played in
- * order at fps (from each clip's third sample on), in pops[] (m); returns their count, -1 when out of
- * memory. */
-static long database_pops(const mm_database *db, const mm_skeleton *s, double fps, float **pops)
+/* The database's clips played in order at fps: the largest second difference over joints of every
+ * sample (from each clip's third sample on), in pops[] (m), and the height-weighted slide of the
+ * contact joints on their planted heights (each clip from its second sample on); returns the
+ * pops' count, -1 when out of memory. */
+static long database_playback(const mm_database *db, const mm_skeleton *s, double fps, const int contact[4],
+                              const double planted[4], float **pops, motion_metrics_slide *slide)
 {
     int n = db->joint_count;
     long total = 0;
@@ -533,6 +552,14 @@ static long database_pops(const mm_database *db, const mm_skeleton *s, double fp
                 }
                 mm_fk(s, rot, pos, g);
                 for (int j = 0; j < n; ++j) w[i % 3][j] = g[j].translation;
+                for (int k = 0; k < 4; ++k) {
+                    int j = contact[k];
+                    if (i == 0) slide->near[k] = 0;
+                    if (i == 0 || j < 0 || !isfinite(planted[k])) continue;
+                    mm_vec3 now = w[i % 3][j], before = w[(i + 2) % 3][j];
+                    motion_metrics_slide_add(slide, k, now.y - planted[k], (double)now.x - before.x,
+                                             (double)now.z - before.z, fps);
+                }
                 if (i >= 2)
                     (*pops)[count++] =
                         (float)motion_metrics_frame_pop(w[i % 3], w[(i + 2) % 3], w[(i + 1) % 3], n);
@@ -548,7 +575,8 @@ static long database_pops(const mm_database *db, const mm_skeleton *s, double fp
 
 int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db *out)
 {
-    out->max_pop_cm = out->pop_p99_cm = out->head_p5_cm = out->head_p50_cm = NAN;
+    out->max_pop_cm = out->pop_p99_cm = out->head_p5_cm = out->head_p50_cm = out->foot_slide_height_cm_s =
+        NAN;
     out->reference = 0.0f;
     for (int k = 0; k < 4; ++k) out->planted[k] = NAN;
     int n = db->joint_count, contact[4];
@@ -557,8 +585,6 @@ int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db
     mm_skeleton s;
     if (mm_skeleton_init(&s, n, NULL) != MM_OK) return -1;
     memcpy(s.joints, db->joints, sizeof(mm_joint) * (size_t)n);
-    float *pops = NULL;
-    long pop_count = database_pops(db, &s, fps, &pops);
     /* the frames: heights above the ground (joint 0, the simulation root, is on it at y = 0) */
     size_t frames = (size_t)(db->frame_count > 0 ? db->frame_count : 1);
     mm_xform *g = malloc(sizeof(mm_xform) * (size_t)n);
@@ -567,7 +593,8 @@ int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db
     float *all = malloc(sizeof(float) * frames), *upright = malloc(sizeof(float) * frames);
     float *planted[4];
     for (int k = 0; k < 4; ++k) planted[k] = malloc(sizeof(float) * frames);
-    int ok = pop_count >= 0 && g && all && upright && planted[0] && planted[1] && planted[2] && planted[3];
+    int ok = g && all && upright && planted[0] && planted[1] && planted[2] && planted[3];
+    float *pops = NULL;
     if (ok) {
         uint64_t other = 0; /* tags of the gaits that are not upright locomotion */
         for (int t = 0; t < db->tag_count && t < MM_MAX_TAGS; ++t)
@@ -586,14 +613,20 @@ int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db
                 if (contact[k] >= 0 && (db->contacts[f] & (1u << k)))
                     planted[k][planted_count[k]++] = g[contact[k]].translation.y;
         }
-        out->max_pop_cm = 0.0;
-        for (long i = 0; i < pop_count; ++i) out->max_pop_cm = fmax(out->max_pop_cm, 100.0 * pops[i]);
-        out->pop_p99_cm = 100.0 * motion_metrics_percentile(pops, pop_count, 0.99);
+        for (int k = 0; k < 4; ++k)
+            out->planted[k] = motion_metrics_percentile(planted[k], planted_count[k], 0.5);
+        motion_metrics_slide slide = {0};
+        long pop_count = database_playback(db, &s, fps, contact, out->planted, &pops, &slide);
+        ok = pop_count >= 0;
+        out->foot_slide_height_cm_s = motion_metrics_slide_value(&slide);
+        if (ok) {
+            out->max_pop_cm = 0.0;
+            for (long i = 0; i < pop_count; ++i) out->max_pop_cm = fmax(out->max_pop_cm, 100.0 * pops[i]);
+            out->pop_p99_cm = 100.0 * motion_metrics_percentile(pops, pop_count, 0.99);
+        }
         out->head_p5_cm = 100.0 * motion_metrics_percentile(upright, upright_count, 0.05);
         out->head_p50_cm = 100.0 * motion_metrics_percentile(upright, upright_count, 0.5);
         out->reference = all_count > 0 ? fmaxf(mm_posture_reference_height(all, (int)all_count), 0.0f) : 0.0f;
-        for (int k = 0; k < 4; ++k)
-            out->planted[k] = motion_metrics_percentile(planted[k], planted_count[k], 0.5);
     }
     free(pops);
     free(g);

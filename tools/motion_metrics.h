@@ -17,6 +17,18 @@
 #define MOTION_METRICS_MAX_MOVES 1024
 /* m: foot_slide_height_cm_s counts a foot while it is less than this above its planted height */
 #define MOTION_METRICS_SLIDE_HEIGHT 0.025
+/* s: and has been for longer than this (a foot swinging past the ground is not planted) */
+#define MOTION_METRICS_SLIDE_DWELL 0.1
+
+/* The height-weighted slide of the contact bones (foot_slide_height_cm_s) as it accumulates. */
+typedef struct motion_metrics_slide {
+    double sum, weight;
+    long near[4]; /* frames each bone has been within MOTION_METRICS_SLIDE_HEIGHT */
+} motion_metrics_slide;
+/* Contact bone k at h (m) above its planted height moved (dx, dz) (m) since the frame before, at fps. */
+void motion_metrics_slide_add(motion_metrics_slide *s, int k, double h, double dx, double dz, double fps);
+/* cm/s; NAN when no frame counted. */
+double motion_metrics_slide_value(const motion_metrics_slide *s);
 /* m: with a scene, a box top at most this far above a joint is the ground under it (the joint sank
  * into it); a higher top is a wall the joint is inside (penetration_max_cm), not ground */
 #define MOTION_METRICS_STEP_HEIGHT 0.3f
@@ -60,7 +72,7 @@ typedef struct motion_metrics {
                                of ankle and toe, each above its planted height) */
     long foot_float_frames; /* frames with a labelled foot measured */
     double contact_err_sum, contact_err_count, contact_on, contact_pairs;
-    double slide_height_sum, slide_height_weight;
+    motion_metrics_slide slide_height;
     double hands_apart_max; /* m */
     long arms_out_frames;
     /* per frame (frame_capacity of each): the head's height above the ground (m; NAN: none), the
@@ -127,6 +139,7 @@ void motion_metrics_roles_by_name(const mm_skeleton *s, int contact[4], mm_postu
 /* What a database gives the metrics (docs/metrics.md). */
 typedef struct motion_metrics_db {
     double max_pop_cm, pop_p99_cm;  /* over its clips played in order at the output rate */
+    double foot_slide_height_cm_s;  /* the same, on the planted heights below */
     double head_p5_cm, head_p50_cm; /* the head's height over its upright locomotion (NAN: none) */
     float reference;                /* m: the upright head height (0: no head) */
     double planted[4];              /* m: each contact joint's planted height (NAN: none) */
@@ -137,7 +150,7 @@ int motion_metrics_database(const mm_database *db, double fps, motion_metrics_db
 
 typedef struct motion_metrics_extra { /* what only the caller knows; NAN: null */
     double db_max_pop_cm, searches, transitions_per_s, memory_mb;
-    double db_pop_p99_cm, db_head_p5_cm, db_head_p50_cm;
+    double db_pop_p99_cm, db_head_p5_cm, db_head_p50_cm, db_foot_slide_height_cm_s;
 } motion_metrics_extra;
 
 /* The measures of the pose (NAN: null), as motion_metrics_write_json writes them. 0 on success,
@@ -145,7 +158,8 @@ typedef struct motion_metrics_extra { /* what only the caller knows; NAN: null *
 typedef struct motion_metrics_seen {
     double below_ground_cm, contact_height_err_cm, contact_share, foot_slide_height_cm_s, foot_float_cm;
     double max_pop_cm, pop_p99_cm, head_p2_cm, head_p5_cm, head_p50_cm;
-    double crouched_s, bent_s, lying_s, calibration_s, arms_spread_s, arms_out_s, hands_apart_max_cm;
+    double crouched_s, bent_s, lying_s, calibration_s, arms_spread_s, hand_raised_s, arms_out_s,
+        hands_apart_max_cm;
 } motion_metrics_seen;
 int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out);
 

@@ -40,6 +40,7 @@ typedef enum mm_posture {
     MM_POSTURE_LYING,       /* the head near the ground */
     MM_POSTURE_CALIBRATION, /* upright with both arms straight out (a T pose) */
     MM_POSTURE_ARMS_SPREAD, /* the hands wide apart otherwise: a gesture, not a walk */
+    MM_POSTURE_HAND_RAISED, /* a hand at the shoulders or above: reaching, waving, a hand to the head */
     MM_POSTURE_COUNT
 } mm_posture;
 
@@ -48,15 +49,20 @@ typedef enum mm_posture {
  * 0.92-1.0 of the reference, the stooped walk at 0.77-0.87; the hips-to-head line leans 2-30
  * degrees in upright motion and 40-65 in the stoop; a T pose holds the hands 0.8 of the stature
  * apart at 0.9 of the head's height, walking at most 0.6. */
-#define MM_POSTURE_CROUCHED_HEIGHT    0.88f /* head below this x reference: crouched */
-#define MM_POSTURE_LYING_HEIGHT       0.5f  /* head below this x reference: lying */
-#define MM_POSTURE_BENT_DEGREES       40.0f /* hips-to-head line farther from vertical: bent over */
-#define MM_POSTURE_HEAD_TO_STATURE    0.92f /* the head joint's height as a fraction of the stature */
-#define MM_POSTURE_ARMS_OUT           0.6f  /* hands farther apart than this x stature: arms out */
-#define MM_POSTURE_CALIBRATION_ARMS   0.75f /* a calibration pose: hands farther apart than this x stature */
-#define MM_POSTURE_CALIBRATION_HANDS  0.75f /* and both above this x reference */
-#define MM_POSTURE_REFERENCE_QUANTILE 0.9f  /* the reference: this quantile of the head's heights */
-#define MM_POSTURE_MIN_SECONDS        0.25f /* shorter runs of a posture are flicker */
+#define MM_POSTURE_CROUCHED_HEIGHT   0.88f /* head below this x reference: crouched */
+#define MM_POSTURE_LYING_HEIGHT      0.5f  /* head below this x reference: lying */
+#define MM_POSTURE_BENT_DEGREES      40.0f /* hips-to-head line farther from vertical: bent over */
+#define MM_POSTURE_HEAD_TO_STATURE   0.92f /* the head joint's height as a fraction of the stature */
+#define MM_POSTURE_ARMS_OUT          0.6f  /* hands farther apart than this x stature: arms out */
+#define MM_POSTURE_CALIBRATION_ARMS  0.75f /* a calibration pose: hands farther apart than this x stature */
+#define MM_POSTURE_CALIBRATION_HANDS 0.75f /* and both above this x reference */
+/* Running pumps the hands up to 0.80-0.86 of the reference for a frame or two (LAFAN1, p99 of
+ * frames above 2 m/s, the head then at about 0.97); a hand waved overhead or put to the head is
+ * at 0.9-1.2 for a second. Judged against the head, not the ground, so that a body up a step whose
+ * ground is not yet known does not raise its hands. */
+#define MM_POSTURE_HAND_RAISED_BELOW_HEAD 0.1f  /* a hand less than this x reference under the head */
+#define MM_POSTURE_REFERENCE_QUANTILE     0.9f  /* the reference: this quantile of the head's heights */
+#define MM_POSTURE_MIN_SECONDS            0.25f /* shorter runs of a posture are flicker */
 /* The A pose. A calibration A pose holds the arms 30-50 degrees below the shoulders; walking swings
  * them 70-90 degrees down, standing hangs them at 80-90, a T pose holds them within 15 of level. */
 #define MM_POSTURE_A_POSE_MIN_DEGREES 15.0f /* each arm at least this far below level */
@@ -83,7 +89,8 @@ typedef struct mm_posture_reference {
     float head_height; /* m above the ground: the head's height when upright, > 0 */
 } mm_posture_reference;
 
-/* "upright", "crouched", "bent", "lying", "calibration", "arms_spread"; NULL if out of range. */
+/* "upright", "crouched", "bent", "lying", "calibration", "arms_spread", "hand_raised"; NULL if out of
+ * range. */
 const char *mm_posture_name(mm_posture p);
 
 /* The reference head height from the head's heights above the ground over many frames of a body's
@@ -95,8 +102,8 @@ float mm_posture_reference_height(float *heights, int n);
 float mm_posture_stature(const mm_posture_reference *ref);
 
 /* The posture of one pose: world joint positions (metres, +Y up) over ground at height ground_y.
- * Calibration wins over the others, then lying, arms spread, bent, crouched. Upright when a needed joint is
- * missing, a position is not finite, or the reference is not positive. */
+ * Calibration wins over the others, then lying, arms spread, hand raised, bent, crouched. Upright when a
+ * needed joint is missing, a position is not finite, or the reference is not positive. */
 mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *joints, float ground_y,
                                const mm_posture_reference *ref);
 

@@ -12,7 +12,7 @@
 static int removed(uint8_t posture)
 {
     return posture == MM_POSTURE_CALIBRATION || posture == MM_POSTURE_LYING ||
-           posture == MM_POSTURE_ARMS_SPREAD;
+           posture == MM_POSTURE_ARMS_SPREAD || posture == MM_POSTURE_HAND_RAISED;
 }
 
 static int crouched(uint8_t posture) { return posture == MM_POSTURE_CROUCHED || posture == MM_POSTURE_BENT; }

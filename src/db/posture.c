@@ -6,8 +6,8 @@
 
 #include "db/process.h"
 
-static const char *const posture_names[MM_POSTURE_COUNT] = {"upright", "crouched",    "bent",
-                                                            "lying",   "calibration", "arms_spread"};
+static const char *const posture_names[MM_POSTURE_COUNT] = {
+    "upright", "crouched", "bent", "lying", "calibration", "arms_spread", "hand_raised"};
 
 const char *mm_posture_name(mm_posture p) { return (unsigned)p < MM_POSTURE_COUNT ? posture_names[p] : NULL; }
 
@@ -56,6 +56,7 @@ mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *jo
             return MM_POSTURE_CALIBRATION;
         if (head_height < MM_POSTURE_LYING_HEIGHT * h) return MM_POSTURE_LYING;
         if (apart > MM_POSTURE_CALIBRATION_ARMS * mm_posture_stature(ref)) return MM_POSTURE_ARMS_SPREAD;
+        if (fmaxf(l.y, r.y) > head.y - MM_POSTURE_HAND_RAISED_BELOW_HEAD * h) return MM_POSTURE_HAND_RAISED;
     }
     if (head_height < MM_POSTURE_LYING_HEIGHT * h) return MM_POSTURE_LYING;
     if (lean > MM_POSTURE_BENT_DEGREES) return MM_POSTURE_BENT;
