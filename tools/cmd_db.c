@@ -46,6 +46,18 @@ static void print_standing(const mm_db_standing_report *s)
         printf("standing:   no idle clip, none made: no locomotion frame is upright with both feet down\n");
 }
 
+/* The loop clips the build made of the idle clips (docs/database.md, "Idle that loops"). */
+static void print_idle_loops(const mm_db_idle_loop_report *s)
+{
+    if (!s->make)
+        printf("idle loops: none made (idle_loop.make is false)\n");
+    else if (s->idle_clips > 0)
+        printf(
+            "idle loops: %d of %d idle clips made to loop (%.1f s in all, seams within %.1f cm before "
+            "their blend); %d without a still stretch of a loop's length, %d without a seam close enough\n",
+            s->made, s->idle_clips, s->seconds, 100.0f * s->worst_error, s->no_still, s->no_match);
+}
+
 /* What the database lacks (mm/diagnose.h): its height, the gait speeds against the data, the
  * warnings; as text, or as JSON members (json). Returns 0, or 1 after printing an error. */
 static int print_diagnosis(const mm_database *db, const mm_db_build_report *report, int json)
@@ -194,6 +206,7 @@ static int cmd_build(int argc, char **argv)
     print_poses(&db);
     print_postures(&report);
     print_standing(&report.standing);
+    print_idle_loops(&report.idle_loops);
     status = print_diagnosis(&db, &report, 0);
     mm_database_free(&db);
     return status;
