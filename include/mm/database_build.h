@@ -56,6 +56,10 @@ typedef struct mm_db_standing_report {
     int standing_frames;           /* locomotion frames judged upright with both feet down */
 } mm_db_standing_report;
 
+/* The name of an idle loop clip: its idle clip's, then this ("<clip>_loop", its mirror
+ * "<clip>_loop_mirror"). */
+#define MM_IDLE_LOOP_SUFFIX "_loop"
+
 /* The idle loops a build made (config idle_loop.make; docs/database.md, "Idle that loops"): of the
  * idle clips that do not loop already (mirrors aside), how many got a loop clip "<clip>_loop" and
  * why the others did not. */

@@ -436,8 +436,8 @@ static mm_result add_idle_loops(builder *b, mm_db_idle_loop_report *report)
         }
         built x;
         memset(&x, 0, sizeof x);
-        snprintf(x.meta.name, MM_NAME_MAX, "%.*s" MM__IDLE_LOOP_SUFFIX,
-                 (int)(MM_NAME_MAX - sizeof MM__IDLE_LOOP_SUFFIX - sizeof "_mirror" + 1), src->meta.name);
+        snprintf(x.meta.name, MM_NAME_MAX, "%.*s" MM_IDLE_LOOP_SUFFIX,
+                 (int)(MM_NAME_MAX - sizeof MM_IDLE_LOOP_SUFFIX - sizeof "_mirror" + 1), src->meta.name);
         x.meta.type = MM_CLIP_IDLE;
         x.meta.loop = 1;
         x.meta.source = src->meta.source;

@@ -10,13 +10,13 @@
  * grows from nothing to the seam's difference (a cubic in time: position and velocity), so that
  * the frame after the last is the first, continuous in pose and in velocity (C1). The loop is an
  * idle clip of its own (loop 1: playback wraps; the search has no end margin in it) named
- * "<clip>" MM__IDLE_LOOP_SUFFIX, mirrored when its clip is. */
+ * "<clip>" MM_IDLE_LOOP_SUFFIX, mirrored when its clip is. */
 #ifndef MM_DB_IDLE_LOOP_H
 #define MM_DB_IDLE_LOOP_H
 
 #include <mm/clip.h>
+#include <mm/database_build.h>
 
-#define MM__IDLE_LOOP_SUFFIX "_loop"
 /* m/s: a frame is still when the simulation bone moves slower than this on the ground... */
 #define MM__IDLE_LOOP_STILL_ROOT_SPEED 0.1f
 /* m/s: ...and the joints' mean speed relative to it is below this */
