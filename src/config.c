@@ -36,6 +36,7 @@ void mm_config_defaults(mm_config *c)
     c->contact_planted_tolerance = 0.01f;
     c->postures_detect = true;
     c->standing_make = true;
+    c->idle_loop_make = true;
     c->postures_pad = 0.25f;
     c->bone_count = 3;
     set_name(c->bones[0].name, c->left_foot);

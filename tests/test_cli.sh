@@ -226,7 +226,9 @@ has "{\"name\":\"standing_idle\",\"file\":\"$set_dir/idle.bvh\",\"ranges\":[[0,4
 if grep -q '"name":"standing"' "$tmp/spans.flat"; then bad "a take without locomotion got a locomotion clip"; else ok; fi
 expect_exit 0 "$mm" db build "$tmp/spans.json" --data "$set_dir" -o "$tmp/spans.mmdb"
 expect_exit 0 "$mm" db info "$tmp/spans.mmdb"
-expect_grep "^clips: *9 (5 idle, 0 loop, 4 mirrored" "$tmp/out"
+# the 9 clips of the spans and the loops the build made of two idle clips' still stretches (one mirrored)
+expect_grep "^clips: *12 (8 idle, 3 loop, 5 mirrored" "$tmp/out"
+expect_grep "^idle loops: 2 made" "$tmp/out"
 # a walk alone: no idle clip, no stop, no start, and the walk's other speeds and the run uncovered
 printf '{"clips": [{"file": "walk_1.40.bvh", "loop": true}]}\n' >"$tmp/walk_only.json"
 expect_exit 0 "$mm" db build "$tmp/walk_only.json" --data "$set_dir" -o "$tmp/walk_only.mmdb"

@@ -47,6 +47,28 @@ static void print_standing(const mm_db_standing_report *s)
         printf("standing:   no idle clip, none made: no locomotion frame is upright with both feet down\n");
 }
 
+/* Whether a clip is an idle loop the build made (idle_loop.make): an idle loop clip named
+ * "<clip>_loop" or "<clip>_loop_mirror". */
+static int is_idle_loop(const mm_db_clip *c)
+{
+    if (c->type != MM_CLIP_IDLE || !c->loop) return 0;
+    size_t n = strlen(c->name), s = strlen(MM_IDLE_LOOP_SUFFIX), m = strlen("_mirror");
+    if (c->mirrored && n > m && strcmp(c->name + n - m, "_mirror") == 0) n -= m;
+    return n > s && strncmp(c->name + n - s, MM_IDLE_LOOP_SUFFIX, s) == 0;
+}
+
+/* The loop clips the build made of the idle clips (docs/database.md, "Idle that loops"). */
+static void print_idle_loops(const mm_db_idle_loop_report *s)
+{
+    if (!s->make)
+        printf("idle loops: none made (idle_loop.make is false)\n");
+    else if (s->idle_clips > 0)
+        printf(
+            "idle loops: %d of %d idle clips made to loop (%.1f s in all, seams within %.1f cm before "
+            "their blend); %d without a still stretch of a loop's length, %d without a seam close enough\n",
+            s->made, s->idle_clips, s->seconds, 100.0f * s->worst_error, s->no_still, s->no_match);
+}
+
 /* What the database lacks (mm/diagnose.h): its height, the gait speeds against the data, the
  * warnings; as text, or as JSON members (json). Returns 0, or 1 after printing an error. */
 static int print_diagnosis(const mm_database *db, const mm_db_build_report *report, int json)
@@ -195,6 +217,7 @@ static int cmd_build(int argc, char **argv)
     print_poses(&db);
     print_postures(&report);
     print_standing(&report.standing);
+    print_idle_loops(&report.idle_loops);
     status = print_diagnosis(&db, &report, 0);
     mm_database_free(&db);
     return status;
@@ -350,7 +373,8 @@ static int cmd_info(int argc, char **argv)
     if (!path) return cli_usage_error("db info", "usage: mm db info FILE [--json]");
     mm_database db;
     if (load(path, &db)) return 1;
-    int idle = 0, loops = 0, mirrored = 0, blends = 0;
+    int idle = 0, loops = 0, mirrored = 0, blends = 0, idle_loops = 0;
+    float idle_loop_seconds = 0.0f;
     distance_summary dist = {0, 0, 0, 0, 0};
     mm_speed_summary speeds[MM_SPEED_SUMMARY_MAX];
     int speed_count = 0;
@@ -365,6 +389,10 @@ static int cmd_info(int argc, char **argv)
         loops += db.clips[c].loop != 0;
         mirrored += db.clips[c].mirrored != 0;
         blends += db.clips[c].blend_left >= 0;
+        if (is_idle_loop(&db.clips[c]) && !db.clips[c].mirrored) {
+            ++idle_loops;
+            idle_loop_seconds += (float)db.clips[c].frame_count * db.interval;
+        }
     }
     if (json) {
         printf("{\"file\": ");
@@ -397,10 +425,12 @@ static int cmd_info(int argc, char **argv)
                    mm_feature_kind_name((mm_feature_kind)db.groups[g].kind), db.groups[g].offset,
                    db.groups[g].dims, db.groups[g].weight, db.groups[g].scale);
         }
-        printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"mirrored_clips\": %d, \"blend_clips\": %d, "
+        printf("], \"idle_clips\": %d, \"loop_clips\": %d, \"idle_loop_clips\": %d, \"mirrored_clips\": %d, "
+               "\"blend_clips\": %d, "
                "\"distance\": {\"segments\": %d, \"stops\": %d, \"pivots\": %d, \"no_stop\": %d, "
                "\"starts\": %d}, \"speeds\": [",
-               idle, loops, mirrored, blends, dist.segments, dist.stops, dist.pivots, dist.none, dist.starts);
+               idle, loops, idle_loops, mirrored, blends, dist.segments, dist.stops, dist.pivots, dist.none,
+               dist.starts);
         for (int k = 0; k < speed_count; ++k) {
             printf("%s{\"name\": ", k ? ", " : "");
             cli_json_string(stdout, speeds[k].name);
@@ -421,6 +451,11 @@ static int cmd_info(int argc, char **argv)
         printf("joints:     %d (joint 0: %s)\n", db.joint_count, db.joints[0].name);
         printf("clips:      %d (%d idle, %d loop, %d mirrored, %d blend)\n", db.clip_count, idle, loops,
                mirrored, blends);
+        if (idle_loops)
+            printf("idle loops: %d made by the build of its idle clips' still stretches (%.1f s; mirrors "
+                   "aside): "
+                   "the clips named *%s\n",
+                   idle_loops, idle_loop_seconds, MM_IDLE_LOOP_SUFFIX);
         print_poses(&db);
         printf("features:   %d dims (%d padded)\n", db.dims, db.dims_padded);
         for (int g = 0; g < db.group_count; ++g)

@@ -114,8 +114,9 @@ static const help_entry entries[] = {
     {"db build", "build a motion database from a config; warnings about what it lacks",
      "usage: mm db build CONFIG -o OUT.mmdb [--data DIR] [--threads N] [--compress [--compress-error MM]]\n"
      "Builds a motion database (docs/database.md) and prints what it found: the postures, the\n"
-     "standing poses it made when no clip is an idle clip (standing.make), the runtime's gait speeds\n"
-     "against the data, and warnings about what the database lacks (docs/database.md, \"Diagnostics\").\n"
+     "standing poses it made when no clip is an idle clip (standing.make), the idle clips it made to\n"
+     "loop (idle_loop.make), the runtime's gait speeds against the data, and warnings about what the\n"
+     "database lacks (docs/database.md, \"Diagnostics\").\n"
      "  CONFIG             the database config (JSON); clip files are looked for beside it, in DIR,\n"
      "                     then in $MM_DATA_DIR\n"
      "  -o, --output FILE  the database to write (required)\n"
@@ -139,9 +140,10 @@ static const help_entry entries[] = {
      "                     same for any count\n"},
     {"db info", "what a database holds: clips, features, speeds, settings, warnings",
      "usage: mm db info FILE [--json]\n"
-     "What a database holds: frames, joints, clips, feature groups, distance curves, settings, root\n"
-     "speeds per kind of motion, the runtime's gait speeds against them, tags, every clip, and the\n"
-     "warnings of docs/database.md, \"Diagnostics\" (JSON: \"warnings\", each with a code and message).\n"
+     "What a database holds: frames, joints, clips (and the idle loops the build made), feature\n"
+     "groups, distance curves, settings, root speeds per kind of motion, the runtime's gait speeds\n"
+     "against them, tags, every clip, and the warnings of docs/database.md, \"Diagnostics\" (JSON:\n"
+     "\"warnings\", each with a code and message).\n"
      "  FILE               a database (.mmdb)\n"
      "  --json             print JSON (default: text)\n"},
     {"db dump", "everything in a database as deterministic text",

@@ -139,6 +139,10 @@ typedef struct mm_config {
      * standing frame, held (docs/database.md, "A standing pose when the takes have no idle") */
     bool standing_make; /* default true */
 
+    /* Idle loops: each idle clip with a still stretch gets a loop clip made of it, seamless, that
+     * a character standing still plays without end (docs/database.md, "Idle that loops") */
+    bool idle_loop_make; /* default true */
+
     /* Features */
     int bone_count;
     mm_config_bone bones[MM_MAX_MATCH_BONES]; /* the seed's Bones */

@@ -56,6 +56,23 @@ typedef struct mm_db_standing_report {
     int standing_frames;           /* locomotion frames judged upright with both feet down */
 } mm_db_standing_report;
 
+/* The name of an idle loop clip: its idle clip's, then this ("<clip>_loop", its mirror
+ * "<clip>_loop_mirror"). */
+#define MM_IDLE_LOOP_SUFFIX "_loop"
+
+/* The idle loops a build made (config idle_loop.make; docs/database.md, "Idle that loops"): of the
+ * idle clips that do not loop already (mirrors aside), how many got a loop clip "<clip>_loop" and
+ * why the others did not. */
+typedef struct mm_db_idle_loop_report {
+    bool make;         /* idle_loop.make: false, none looked for */
+    int idle_clips;    /* idle clips looked at */
+    int made;          /* loop clips made (their mirrors aside) */
+    int no_still;      /* clips without a still stretch of a loop's length */
+    int no_match;      /* clips whose best seam was farther than the build accepts */
+    float seconds;     /* s: the loops' total length */
+    float worst_error; /* m: the largest seam distance (RMS over joints) of the loops made */
+} mm_db_idle_loop_report;
+
 /* What a build found in its sources (mm_db_build_desc.report). */
 typedef struct mm_db_build_report {
     float reference_head_height;         /* m: the upright head height postures are judged by (0: none) */
@@ -63,6 +80,7 @@ typedef struct mm_db_build_report {
                                             hold each posture (mm/posture.h): calibration and lying
                                             ones are left out, crouched and bent ones tagged Crouch */
     mm_db_standing_report standing;      /* the standing clip made when no clip is an idle clip */
+    mm_db_idle_loop_report idle_loops;   /* the loop clips made of the idle clips */
 } mm_db_build_report;
 
 /* Compressing the local transforms (mm_database_compress; mm_db_build_desc.compress). */

@@ -22,6 +22,7 @@
 #include "db/build_postures.h"
 #include "db/db_file.h"
 #include "db/features.h"
+#include "db/idle_loop.h"
 #include "db/process.h"
 #include "db/settings_build.h"
 #include "db/standing.h"
@@ -396,6 +397,68 @@ static mm_result add_standing(builder *b, float head_height, mm_db_standing_repo
             built m = b->clips[b->count - 1];
             if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a)) != MM_OK)
                 return mm_error_set(b->err, r, 0, 0, "standing (%s): cannot mirror", x.meta.name);
+            size_t len = strlen(m.meta.name);
+            snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
+            m.meta.mirrored = 1;
+            if ((r = push(b, &m)) != MM_OK) {
+                mm_clip_free(&m.clip);
+                return r;
+            }
+        }
+    }
+    if (report) *report = said;
+    return MM_OK;
+}
+
+/* With idle_loop.make, each idle clip that does not loop gets a loop clip made of its last still
+ * stretch (db/idle_loop.h), mirrored when its clip is; says so in report. */
+static mm_result add_idle_loops(builder *b, mm_db_idle_loop_report *report)
+{
+    const mm_config *cfg = b->cfg;
+    mm_db_idle_loop_report said;
+    memset(&said, 0, sizeof said);
+    said.make = cfg->idle_loop_make;
+    int count = b->count; /* the clips made so far: not the loops added below */
+    for (int i = 0; i < count && said.make; ++i) {
+        const built *src = &b->clips[i];
+        if (src->meta.type != MM_CLIP_IDLE || src->meta.loop || src->meta.mirrored || src->blend >= 0)
+            continue;
+        ++said.idle_clips;
+        mm__idle_loop loop;
+        if (mm__idle_loop_find(&src->clip, &loop) != MM_OK)
+            return mm_error_set(b->err, MM_ERR_OUT_OF_MEMORY, 0, 0, "idle loops: out of memory");
+        if (!loop.found) {
+            if (loop.still_end > loop.still_begin)
+                ++said.no_match;
+            else
+                ++said.no_still;
+            continue;
+        }
+        built x;
+        memset(&x, 0, sizeof x);
+        snprintf(x.meta.name, MM_NAME_MAX, "%.*s" MM_IDLE_LOOP_SUFFIX,
+                 (int)(MM_NAME_MAX - sizeof MM_IDLE_LOOP_SUFFIX - sizeof "_mirror" + 1), src->meta.name);
+        x.meta.type = MM_CLIP_IDLE;
+        x.meta.loop = 1;
+        x.meta.source = src->meta.source;
+        x.meta.blend_left = x.meta.blend_right = -1;
+        x.meta.source_start = src->meta.source_start + (float)loop.begin * cfg->interval;
+        x.config_clip = src->config_clip; /* the tags of the frames it is made of */
+        x.blend = -1;
+        int mirror = src->config_clip >= 0 && cfg->clips[src->config_clip].mirror;
+        mm_result r = mm__idle_loop_make(&src->clip, &loop, &x.clip, b->a);
+        if (r != MM_OK) return mm_error_set(b->err, r, 0, 0, "idle loop (%s): out of memory", x.meta.name);
+        ++said.made;
+        said.seconds += (float)x.clip.frame_count * cfg->interval;
+        said.worst_error = fmaxf(said.worst_error, loop.error);
+        if ((r = push(b, &x)) != MM_OK) { /* src may move from here on */
+            mm_clip_free(&x.clip);
+            return r;
+        }
+        if (mirror) {
+            built m = b->clips[b->count - 1];
+            if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a)) != MM_OK)
+                return mm_error_set(b->err, r, 0, 0, "idle loop (%s): cannot mirror", x.meta.name);
             size_t len = strlen(m.meta.name);
             snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
             m.meta.mirrored = 1;
@@ -868,6 +931,7 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     if (r == MM_OK)
         r = add_standing(&b, postures.reference_head_height,
                          desc && desc->report ? &desc->report->standing : NULL);
+    if (r == MM_OK) r = add_idle_loops(&b, desc && desc->report ? &desc->report->idle_loops : NULL);
     if (r != MM_OK) {
         mm__pool_destroy(pool);
         free_builder(&b);

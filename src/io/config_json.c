@@ -90,6 +90,13 @@ static const mm_config_field_doc docs[] = {
      "standing_from_<clip>_<frame> (mirrored too when its clip is), so that a character told to stop stands "
      "still instead of sliding on walking frames (docs/database.md, \"A standing pose when the takes have no "
      "idle\"). mm db build says which frames it took; false: none."},
+    {"idle_loop.make", "bool", "", "true",
+     "Give every idle clip that has a still stretch (root and joints slow, at least 1 s) a loop clip made of "
+     "it: the stretch cut where its end pose meets an earlier pose best (joint positions and velocities), "
+     "the seam's difference spread over the loop's last 0.3 s so that pose and velocity run on across it, "
+     "an idle clip named <clip>_loop (mirrored too when its clip is) that playback wraps, so that a "
+     "character standing still plays on instead of jumping back from the end of its clip (docs/database.md, "
+     "\"Idle that loops\"). mm db build says how many it made; false: none."},
     {"features.bones", "[object]", "", "LeftFoot, RightFoot (position and velocity), Hips (velocity)",
      "The bones whose position and velocity, relative to the character, are matched (the seed's Bones)."},
     {"features.bones[].name", "string", "", "", "Joint name."},
@@ -599,8 +606,9 @@ static float whole_rate_interval(float interval)
 static mm_result parse_root(ctx *c, const cJSON *root)
 {
     static const char *const keys[] = {
-        "interval",     "scale", "axes",  "roles",       "root_smoothing", "contacts", "postures", "features",
-        "mirror_pairs", "tags",  "clips", "blend_clips", "runtime",        "extends",  "standing", NULL};
+        "interval", "scale",        "axes", "roles", "root_smoothing", "contacts", "postures",
+        "features", "mirror_pairs", "tags", "clips", "blend_clips",    "runtime",  "extends",
+        "standing", "idle_loop",    NULL};
     mm_config *cfg = c->cfg;
     mm_result r = check_keys(c, root, "", keys);
     if (r == MM_OK) r = get_number(c, root, "interval", "", &cfg->interval);
@@ -635,6 +643,12 @@ static mm_result parse_root(ctx *c, const cJSON *root)
         static const char *const skeys[] = {"make", NULL};
         if ((r = check_keys(c, standing, "standing", skeys)) != MM_OK) return r;
         if ((r = get_bool(c, standing, "make", "standing", &cfg->standing_make)) != MM_OK) return r;
+    }
+    const cJSON *idle_loop = cJSON_GetObjectItemCaseSensitive(root, "idle_loop");
+    if (idle_loop) {
+        static const char *const ikeys[] = {"make", NULL};
+        if ((r = check_keys(c, idle_loop, "idle_loop", ikeys)) != MM_OK) return r;
+        if ((r = get_bool(c, idle_loop, "make", "idle_loop", &cfg->idle_loop_make)) != MM_OK) return r;
     }
     const cJSON *features = cJSON_GetObjectItemCaseSensitive(root, "features");
     if (features && (r = parse_features(c, features)) != MM_OK) return r;

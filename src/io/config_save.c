@@ -716,6 +716,14 @@ mm_result mm_config_save_json(const char *path, const mm_config *c, mm_error *er
         else
             cJSON_Delete(o);
     }
+    if (ok && c->idle_loop_make != d.idle_loop_make) {
+        cJSON *o = cJSON_CreateObject();
+        ok = o != NULL && add(o, "make", cJSON_CreateBool(c->idle_loop_make));
+        if (ok)
+            ok = add(root, "idle_loop", o);
+        else
+            cJSON_Delete(o);
+    }
     ok = ok && add(root, "features", features_object(c, &d));
     int same_pairs = c->mirror_pair_count == d.mirror_pair_count;
     for (int i = 0; same_pairs && i < c->mirror_pair_count; ++i)
