@@ -276,6 +276,29 @@ static bool aloft(const mm_feet_ground *ground, const mm_rig *rig, int k, int he
     return (heel_on || toe_on) && (!heel_on || heel_up) && (!toe_on || toe_up);
 }
 
+/* On terrain: a swinging foot k (free, its contact coming in `left`) is moved toward the ground it
+ * will land on, so that it arrives there by its contact: its shift from the root's ground to the
+ * ground under it goes toward the ground at its landing place over the time left, evenly (a share
+ * dt / left of the way each tick). The landing place is where the foot is (at, on the ground plane)
+ * plus its velocity times left over two (it slows to rest by then); read again each tick, it grows
+ * more exact as the contact nears. Followed only as the ground under the foot, it would still be
+ * at the tread it left when its label turns on over a lower one (and held up by its offset after). */
+static void plan_swing(mm_feet *f, int k, const mm_feet_ground *ground, float planted, mm_vec3 ankle,
+                       mm_vec3 at, mm_vec3 along, mm_quat tilt, float left, float dt)
+{
+    float vx = (ankle.x - f->last_ankle[k].x) / dt + f->offset_velocity[k].x,
+          vz = (ankle.z - f->last_ankle[k].z) / dt + f->offset_velocity[k].z;
+    mm_vec3 landing = mm_vec3_make(at.x + vx * 0.5f * left, at.y, at.z + vz * 0.5f * left);
+    float goal = foot_ground(ground->scene, landing, along, tilt) - ground->height;
+    float before = f->ground_shift[k], shift = before + (goal - before) * fminf(dt / left, 1.0f);
+    /* not down through the ground under the ankle (the tread it is still over): held on it, the
+     * rest of the way is gone once the edge has passed, in the time then left (kept here, not
+     * only in the ankle's target, so that the foot does not drop the riser at once) */
+    shift = fmaxf(shift, stand_height(ground, at.x, at.z, planted) - (ankle.y + f->offset[k].y));
+    f->ground_shift[k] = shift;
+    f->ground_shift_velocity[k] = (shift - before) / dt;
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -290,8 +313,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         mm_vec3 at = !f->placed ? a : f->locked[k] ? f->lock[k] : mm_vec3_add(a, f->offset[k]);
         float h = foot_ground(ground->scene, at, mm_vec3_sub(t, a), *tilt);
         if (!f->placed) f->ground_shift[k] = h - ground->height, f->ground_shift_velocity[k] = 0.0f;
-        mm_spring_update(&f->ground_shift[k], &f->ground_shift_velocity[k], h - ground->height,
-                         GROUND_SHIFT_HALFLIFE, dt);
+        float left = contacts->until_contact[k];
+        if (f->placed && !f->locked[k] && left > 0.0f)
+            plan_swing(f, k, ground, rig->planted_ankle[k], a, at, mm_vec3_sub(t, a), *tilt, left, dt);
+        else
+            mm_spring_update(&f->ground_shift[k], &f->ground_shift_velocity[k], h - ground->height,
+                             GROUND_SHIFT_HALFLIFE, dt);
         a.y += f->ground_shift[k];
         t.y += f->ground_shift[k];
     }

@@ -38,12 +38,17 @@ typedef struct mm_feet {
 /* s: the longest landing (a fast foot slowed to rest before its contact, see feet.c): how far ahead
  * the contacts coming are looked for, when longer than plant_time */
 #define MM_FEET_LANDING_MAX_TIME 0.1f
+/* s: how far ahead a free foot's coming contact is looked for, to plan its swing onto the ground it
+ * will land on (about a walking swing) */
+#define MM_FEET_SWING_AHEAD 0.5f
 
 /* What the clip playing says of the feet this tick. */
 typedef struct mm_feet_contacts {
-    unsigned label;       /* mm_contact_bits of the frame playing */
-    float until_label[2]; /* s until foot k's label turns on, when within the landing's look-ahead
-                           * (plant_time, at least MM_FEET_LANDING_MAX_TIME); -1 otherwise */
+    unsigned label;         /* mm_contact_bits of the frame playing */
+    float until_label[2];   /* s until foot k's label turns on, when within the landing's look-ahead
+                             * (plant_time, at least MM_FEET_LANDING_MAX_TIME); -1 otherwise */
+    float until_contact[2]; /* s until foot k's label turns on, within MM_FEET_SWING_AHEAD; 0 or less:
+                             * none coming */
 } mm_feet_contacts;
 
 /* The ground a foot stands on: its height (scene NULL: the plane at that height; else the scene's
