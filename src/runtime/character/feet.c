@@ -46,6 +46,9 @@
 /* s: half-life over which the normal a foot is turned to follows the ground's (an edge of a ramp
  * passes under the foot over a few ticks, not at once) */
 #define TILT_HALFLIFE 0.05f
+/* m/s: on terrain, the fastest growth of the hips' drop that the spring aims ahead of (a need that
+ * jumps, a lock placed, is followed through the spring alone) */
+#define HIP_LEAD_MAX_RATE 1.5f
 /* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
  * step below) */
 #define TERRAIN_HIP_DROP 0.2f
@@ -517,9 +520,9 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
 }
 
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
- * rising back through a spring), at most max_hip_drop. */
-static void lower_hips(mm_feet *f, float max_hip_drop, const mm_rig *rig, const mm_vec3 *target, float dt,
-                       mm_rig_pose *pose)
+ * rising back through a spring), at most max_hip_drop; on terrain ahead of a growing need. */
+static void lower_hips(mm_feet *f, float max_hip_drop, bool terrain, const mm_rig *rig, const mm_vec3 *target,
+                       float dt, mm_rig_pose *pose)
 {
     int pelvis = rig->pelvis;
     float need = 0.0f;
@@ -532,6 +535,14 @@ static void lower_hips(mm_feet *f, float max_hip_drop, const mm_rig *rig, const 
         need = fmaxf(need, down);
     }
     need = fminf(need, max_hip_drop);
+    if (terrain) {
+        /* on terrain the need grows as the body climbs away from a trailing foot or a swinging foot
+         * is planned down to a lower tread: the spring aims ahead of it by the lag a critically
+         * damped spring has behind a steady rise (2 v / y), so that the leg reaches as it goes */
+        float rate = f->placed ? fminf(fmaxf((need - f->hip_need) / dt, 0.0f), HIP_LEAD_MAX_RATE) : 0.0f;
+        f->hip_need = need;
+        need = fminf(need + (float)(2.0 / mm_spring_damping(HIP_DROP_HALFLIFE)) * rate, max_hip_drop);
+    }
     /* through a spring both ways (a drop followed at once would move the body as fast as the need
      * changes, which grows without bound as a target nears the leg's reach across), never past
      * [0, max_hip_drop] */
@@ -636,7 +647,8 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         f->lock[k] = target[k];
     }
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f)
-        lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, rig, target, dt, pose);
+        lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, terrain, rig, target,
+                   dt, pose);
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
         /* a target far out of the leg's reach (a lock the hips moved away from, or the offset a

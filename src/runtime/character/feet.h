@@ -28,6 +28,7 @@ typedef struct mm_feet {
     float landed[2];       /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float landing_time[2]; /* s: how long that landing takes (plant_time, or longer for a fast foot) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
+    float hip_need;                    /* m: on terrain, how far the legs needed it lowered last tick */
     mm_vec3 tilt_normal[2];            /* on terrain: the ground's normal each foot was last turned to */
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
      * root's ground (a spring's state) */
