@@ -51,7 +51,7 @@
 #define HIP_LEAD_MAX_RATE 1.5f
 /* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
  * step below) */
-#define TERRAIN_HIP_DROP 0.2f
+#define TERRAIN_HIP_DROP 0.25f
 /* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
  * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
  * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
