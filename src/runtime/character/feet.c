@@ -249,9 +249,14 @@ static float sole_stand(const mm_feet_ground *ground, const mm_rig *rig, int k, 
         fmaxf(stand_height(ground, ankle.x, ankle.z, rig->planted_ankle[k]),
               stand_height(ground, ankle.x + along.x, ankle.z + along.z, rig->planted_toe[k]) - along.y);
     /* the heel's end too: a foot landing just past a step's edge is held on the higher tread until
-     * it is planted (the leg's reach, short of a lower tread, would leave the heel in the edge) */
-    return fmaxf(stand, stand_height(ground, ankle.x - back * along.x, ankle.z - back * along.z,
-                                     rig->planted_ankle[k]));
+     * it is planted (the leg's reach, short of a lower tread, would leave the heel in the edge). Only
+     * an edge's rise: down a slope the heel's end is uphill of the ankle by what the foot turned to
+     * the slope already gives it, and the ankle is planted over its own ground */
+    float heel_end =
+        stand_height(ground, ankle.x - back * along.x, ankle.z - back * along.z, rig->planted_ankle[k]);
+    return heel_end - stand_height(ground, ankle.x, ankle.z, rig->planted_ankle[k]) > TREAD_EDGE_RISE
+               ? fmaxf(stand, heel_end)
+               : stand;
 }
 
 /* On terrain: the height of a landing foot's ankle w of the way (the landing's share) from its
@@ -262,6 +267,14 @@ static float landing_height(const mm_feet_ground *ground, const mm_rig *rig, int
                             mm_vec3 along, float w)
 {
     return ankle.y - w * fmaxf(ankle.y - sole_stand(ground, rig, k, ankle, along), 0.0f);
+}
+
+/* On terrain: how long foot k's ankle, at ankle (its toe at ankle + along), takes to come down to
+ * where it stands at LANDING_FALL_SPEED. */
+static float landing_fall_time(const mm_feet_ground *ground, const mm_rig *rig, int k, mm_vec3 ankle,
+                               mm_vec3 along)
+{
+    return fmaxf(ankle.y - sole_stand(ground, rig, k, ankle, along), 0.0f) / LANDING_FALL_SPEED;
 }
 
 /* Whether foot k, its ankle going to ankle and its toe toe_above higher, is too far above the ground
@@ -413,8 +426,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         if (on || left >= 0.0f) {
             if (!(w_before > 0.0f)) { /* a landing begins: its length from the foot's speed now */
                 float speed = sqrtf(velocity.x * velocity.x + velocity.z * velocity.z);
-                f->landing_time[k] =
-                    fmaxf(d->plant_time, fminf(speed / LANDING_DECELERATION, MM_FEET_LANDING_MAX_TIME));
+                /* on terrain, and from its height above where it stands: a foot held up (a
+                 * transition's offsets) comes down by a contact seen coming at LANDING_FALL_SPEED
+                 * (one on already is planted once it is down, as soon as it can) */
+                float fall = tilt && !on ? landing_fall_time(ground, rig, k, out, mm_vec3_sub(t, a)) : 0.0f;
+                f->landing_time[k] = fmaxf(d->plant_time, fminf(fmaxf(speed / LANDING_DECELERATION, fall),
+                                                                MM_FEET_LANDING_MAX_TIME));
             }
             float landing = fmaxf(f->landing_time[k], d->plant_time);
             float due = on ? 1.0f : fmaxf(1.0f - left / landing, 0.0f);
