@@ -482,7 +482,15 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         planted = 1;
     }
     if (planted) { /* held exactly from here (a lock raised to the ground: once the offset has faded) */
-        f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
+        mm_vec3 source = foot_source(f, k, a, t);
+        f->offset[k] = mm_vec3_sub(out, source);
+        /* on terrain, a foot planted on its toe whose ankle would come below where the ankle
+         * stands (the foot turned less than the slope it lands on) is held there by the ankle's
+         * floor: the offset carries only the height above that, so that the toe, aimed at its lock
+         * lifted by the offset's height, comes onto it */
+        if (tilt)
+            f->offset[k].y =
+                out.y - fmaxf(source.y, stand_height(ground, source.x, source.z, rig->planted_ankle[k]));
         f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
     }
     if (f->heel_locked[k] && f->toe_locked[k]) {
