@@ -545,9 +545,11 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
 }
 
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
- * rising back through a spring), at most max_hip_drop; on terrain ahead of a growing need. */
+ * rising back through a spring), at most max_hip_drop, and to reach a swinging foot's landing
+ * height (landing: the targets lowered to it; the targets themselves elsewhere); on terrain ahead
+ * of a growing need. */
 static void lower_hips(mm_feet *f, float max_hip_drop, bool terrain, const mm_rig *rig, const mm_vec3 *target,
-                       float dt, mm_rig_pose *pose)
+                       const mm_vec3 *landing, float dt, mm_rig_pose *pose)
 {
     int pelvis = rig->pelvis;
     float need = 0.0f;
@@ -555,8 +557,8 @@ static void lower_hips(mm_feet *f, float max_hip_drop, bool terrain, const mm_ri
         mm_vec3 h = pose->global[rig->hip[k]].translation;
         float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
         float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
-        float down =
-            across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : max_hip_drop;
+        float low = fminf(target[k].y, landing[k].y);
+        float down = across < reach * reach ? h.y - low - sqrtf(reach * reach - across) : max_hip_drop;
         need = fmaxf(need, down);
     }
     need = fminf(need, max_hip_drop);
@@ -639,7 +641,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                     const mm_feet_contacts *contacts, const mm_feet_ground *ground, float dt,
                     mm_rig_pose *pose)
 {
-    mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}};
+    mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}}, landing[2] = {{0, 0, 0}, {0, 0, 0}};
     mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
     bool terrain = ground->scene && ground->hold;
     for (int k = 0; k < 2; ++k) {
@@ -669,11 +671,20 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             }
             target[k].y = toe_floor(target[k].y, toe_y - v.y);
         }
+        /* a swinging foot on terrain is reached for at the height it will land at too (the hips
+         * come down during the swing toward a lower tread, not once the foot is planted there) */
+        landing[k] = target[k];
+        float left = contacts->until_contact[k];
+        if (terrain && !f->locked[k] && f->placed && left > 0.0f) {
+            float x = target[k].x + 0.5f * left * (target[k].x - f->lock[k].x) / dt,
+                  z = target[k].z + 0.5f * left * (target[k].z - f->lock[k].z) / dt;
+            landing[k].y = fminf(target[k].y, stand_height(ground, x, z, rig->planted_ankle[k]));
+        }
         f->lock[k] = target[k];
     }
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f)
         lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, terrain, rig, target,
-                   dt, pose);
+                   landing, dt, pose);
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
         /* a target far out of the leg's reach (a lock the hips moved away from, or the offset a
