@@ -528,7 +528,7 @@ static void test_feet_lock_holds_and_releases(void **state)
     body b;
     mm_feet f;
     memset(&f, 0, sizeof f);
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     float dt = 1.0f / 60.0f;
     /* planted where the ankle is */
     make_body(&b);
@@ -551,7 +551,7 @@ static void test_feet_lock_holds_and_releases(void **state)
     assert_vec3_near(b.global[R_FOOT].translation, mm_vec3_make(-0.1f, 0.06f, 0.05f), 1e-3f);
     /* the label off: released where it is held (the ankle keeps its place and velocity on that
      * tick), then the difference fades with foot_halflife (half of it one half-life later) */
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}};
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     int ticks = (int)lroundf(d.foot_halflife / dt);
     make_body(&b);
     b.positions[HIPS].z = 0.05f;
@@ -622,8 +622,8 @@ static void test_feet_roll_onto_the_toe(void **state)
     mm_feet f;
     memset(&f, 0, sizeof f);
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
-    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
     mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     assert_true(f.heel_locked[0] && f.toe_locked[0]);
@@ -651,7 +651,7 @@ static void test_feet_lock_comes_down(void **state)
     mm_feet f;
     memset(&f, 0, sizeof f);
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     for (int i = 0; i <= 10; ++i) {
         bent_left_leg(&b, 0.3f, 0.0f, 0.03f * (1.0f - (float)i / 10.0f));
         float animated = b.global[L_FOOT].translation.y;
@@ -683,7 +683,7 @@ static void test_feet_lock_settles_gradually(void **state)
     mm_feet f;
     memset(&f, 0, sizeof f);
     float dt = 1.0f / 60.0f, h = 0.1f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
     mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     assert_true(f.heel_locked[0]);
@@ -713,7 +713,8 @@ static void test_feet_wait_aloft(void **state)
     float dt = 1.0f / 60.0f;
     d.plant_time = 2.0f * dt;
     d.max_hip_drop = 0.0f;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}}, heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     const float lift[] = {0.08f, 0.08f, 0.10f, 0.09f, 0.07f, 0.05f, 0.03f, 0.02f, 0.01f};
     mm_feet f;
     memset(&f, 0, sizeof f);
@@ -768,7 +769,8 @@ static void test_feet_release_keeps_velocity(void **state)
     mm_character_desc d = defaults();
     d.plant_time = 0.0f;
     float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife);
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -809,7 +811,8 @@ static void test_feet_far_release_keeps_velocity(void **state)
     d.plant_time = 0.0f;
     d.unlock_radius = 0.095f;
     float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -853,7 +856,7 @@ static void test_feet_lock_creeps_after_the_animation(void **state)
     d.plant_time = 0.0f;
     float dt = 1.0f / 60.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
     float step = 1.0f - (1.0f + y * dt) * expf(-y * dt);
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     float past[4] = {-1e-4f, 1e-4f, 0.02f, 0.1f};
     for (int i = 0; i < 4; ++i) {
         mm_feet f;
@@ -882,7 +885,8 @@ static void test_feet_plant_above_the_animated_foot(void **state)
     d.plant_time = 0.0f;
     d.max_hip_drop = 0.0f;
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -916,7 +920,8 @@ static void test_feet_fast_landing(void **state)
     mm_character_desc d = defaults();
     float dt = 1.0f / 60.0f, v = 8.0f, deceleration = 150.0f;
     d.plant_time = 2.0f * dt;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}}, heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -942,7 +947,8 @@ static void test_feet_fast_landing(void **state)
     landed_at = -1;
     for (int n = 0; n < 8; ++n) {
         float left = (float)(5 - n) * dt;
-        mm_feet_contacts coming = {0, {left <= MM_FEET_LANDING_MAX_TIME ? left : -1.0f, -1.0f}};
+        mm_feet_contacts coming = {
+            0, {left <= MM_FEET_LANDING_MAX_TIME ? left : -1.0f, -1.0f}, {-1.0f, -1.0f}};
         body_at(&b, v * (float)n * dt);
         on_the_ground(&b);
         mm_feet_update(&f, &d, &b.rig, n < 5 ? &coming : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
@@ -965,8 +971,8 @@ static void test_feet_heel_planted_under_a_held_toe(void **state)
     d.plant_time = 0.0f;
     d.max_hip_drop = 0.0f;
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}},
-                     both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -998,7 +1004,8 @@ static void test_feet_land_without_warning(void **state)
     mm_character_desc d = defaults();
     float dt = 1.0f / 60.0f, v = 1.2f;
     d.plant_time = 2.0f * dt;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}}, heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -1021,7 +1028,7 @@ static void test_feet_land_without_warning(void **state)
         assert_true(second_difference(p[n - 2], p[n - 1], p[n]) < 0.5f * v * dt + 1e-5f);
     /* foreseen: the tick before the label, its step halves; on the label's tick it is planted */
     memset(&f, 0, sizeof f);
-    mm_feet_contacts coming = {0, {dt, -1.0f}};
+    mm_feet_contacts coming = {0, {dt, -1.0f}, {-1.0f, -1.0f}};
     for (int n = 0; n < 7; ++n) {
         body_at(&b, v * (float)n * dt);
         on_the_ground(&b);
@@ -1048,7 +1055,7 @@ static void test_feet_hips_come_down_smoothly(void **state)
     mm_character_desc d = defaults();
     d.plant_time = 0.0f;
     float dt = 1.0f / 60.0f, D = 0.84f - 0.95f * 0.84f, y = (float)mm_spring_damping(0.05f);
-    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_RIGHT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_RIGHT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -1078,7 +1085,7 @@ static void test_feet_toe_floor_and_far_targets(void **state)
     d.plant_time = 0.0f;
     d.max_hip_drop = MM_OFF;
     float dt = 1.0f / 60.0f, h = 0.04f, s = 0.01f;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}};
+    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     float heights[] = {0.06f, h, h - 0.005f, h - s, h - 0.015f, h - 2.0f * s, 0.0f};
     for (int i = 0; i < (int)(sizeof heights / sizeof heights[0]); ++i) {
         mm_feet f;

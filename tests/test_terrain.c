@@ -1,7 +1,7 @@
 /* Terrain: the ground's height and normal under a point (hand-computed on a ramp, stairs and a
  * height field), ray casts agreeing with it, scene JSON with terrain read and written back, the
  * terrain's triangles, and a character on terrain: bit for bit as without a scene on a flat one,
- * its root on a ramp's height, its planted feet on the ground. */
+ * its root on a ramp's height, its planted feet on the ground, up and down stairs. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -395,6 +395,42 @@ static void test_feet_on_stairs(void **state)
     mm_searcher_free(&searcher);
 }
 
+/* Walking down stairs (0.15 m over 0.28 m, 12 steps, from a plateau of their height; the treads'
+ * heights checked by hand): every planted foot has its heel or its toe within 3 cm of its height on
+ * level ground (a swinging foot whose shift to the ground followed only the ground under it, and
+ * hips lowered no sooner than the leg needed, stood 8.7 cm above the lower tread as it was
+ * planted), the feet over one tread on at least 90% of the planted ticks, no ankle or toe more than
+ * 3 cm below the ground under it (a heel landing just past an edge with the hips at their lowest
+ * reaches 2.5 cm short of it, over the edge, for a tick). */
+static void test_feet_down_stairs(void **state)
+{
+    (void)state;
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    const int steps = 12;
+    const float riser = 0.15f, run_length = 0.28f, start = 2.0f, height = steps * riser;
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(
+        mm_scene_add_box(&scene, mm_vec3_make(0, 0, start - 2.5f), mm_vec3_make(4, height, 5), 0.0f), MM_OK);
+    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
+                                         mm_vec3_make(4, height, steps * run_length), (float)MM_PI, steps),
+                     MM_OK);
+    /* the ground by hand on the stairs' middle line: the plateau, then a riser lower each run */
+    assert_float_equal(mm_scene_ground_height(&scene, 0.0f, start - 0.1f, NULL), height, 1e-4f);
+    for (int i = 0; i < steps; ++i) {
+        float z = start + ((float)i + 0.5f) * run_length;
+        assert_float_equal(mm_scene_ground_height(&scene, 0.0f, z, NULL), (float)(steps - i) * riser, 1e-4f);
+    }
+    mm_scene_init(&again, 0.25f);
+    planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
+    planted_feet down = walk_planted(&searcher, &scene, 0.0f, &flat);
+    assert_true(flat.count > 200 && down.count > 200);
+    assert_true(down.across < down.count / 10);
+    assert_true(down.deepest < 0.03);
+    assert_true(down.worst_gap < 0.03);
+    mm_searcher_free(&searcher);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -420,6 +456,7 @@ int main(void)
         cmocka_unit_test(test_walk_up_a_ramp),
         cmocka_unit_test(test_feet_on_a_20_degree_slope),
         cmocka_unit_test(test_feet_on_stairs),
+        cmocka_unit_test(test_feet_down_stairs),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

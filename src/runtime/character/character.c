@@ -414,7 +414,7 @@ static void choose_play_rate(mm_character_state *s, const mm_database *db, const
 }
 
 /* What the clip playing says of the feet this tick: its contact label, and how soon each foot's
- * turns on (within plant_time, or the longest landing when longer). */
+ * turns on (within plant_time, or the longest landing when longer; and within a swing, for its plan). */
 static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *p, float plant_time)
 {
     mm_feet_contacts fc;
@@ -424,6 +424,9 @@ static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *
         fc.until_label[k] = plant_time > 0.0f ? mm_playback_time_to_contact(p, db->frame_next, db->contacts,
                                                                             db->interval, k, ahead)
                                               : -1.0f;
+    for (int k = 0; k < 2; ++k)
+        fc.until_contact[k] = mm_playback_time_to_contact(p, db->frame_next, db->contacts, db->interval, k,
+                                                          MM_FEET_SWING_AHEAD);
     return fc;
 }
 

@@ -46,9 +46,12 @@
 /* s: half-life over which the normal a foot is turned to follows the ground's (an edge of a ramp
  * passes under the foot over a few ticks, not at once) */
 #define TILT_HALFLIFE 0.05f
+/* m/s: on terrain, the fastest growth of the hips' drop that the spring aims ahead of (a need that
+ * jumps, a lock placed, is followed through the spring alone) */
+#define HIP_LEAD_MAX_RATE 1.5f
 /* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
  * step below) */
-#define TERRAIN_HIP_DROP 0.2f
+#define TERRAIN_HIP_DROP 0.25f
 /* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
  * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
  * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
@@ -246,9 +249,14 @@ static float sole_stand(const mm_feet_ground *ground, const mm_rig *rig, int k, 
         fmaxf(stand_height(ground, ankle.x, ankle.z, rig->planted_ankle[k]),
               stand_height(ground, ankle.x + along.x, ankle.z + along.z, rig->planted_toe[k]) - along.y);
     /* the heel's end too: a foot landing just past a step's edge is held on the higher tread until
-     * it is planted (the leg's reach, short of a lower tread, would leave the heel in the edge) */
-    return fmaxf(stand, stand_height(ground, ankle.x - back * along.x, ankle.z - back * along.z,
-                                     rig->planted_ankle[k]));
+     * it is planted (the leg's reach, short of a lower tread, would leave the heel in the edge). Only
+     * an edge's rise: down a slope the heel's end is uphill of the ankle by what the foot turned to
+     * the slope already gives it, and the ankle is planted over its own ground */
+    float heel_end =
+        stand_height(ground, ankle.x - back * along.x, ankle.z - back * along.z, rig->planted_ankle[k]);
+    return heel_end - stand_height(ground, ankle.x, ankle.z, rig->planted_ankle[k]) > TREAD_EDGE_RISE
+               ? fmaxf(stand, heel_end)
+               : stand;
 }
 
 /* On terrain: the height of a landing foot's ankle w of the way (the landing's share) from its
@@ -259,6 +267,14 @@ static float landing_height(const mm_feet_ground *ground, const mm_rig *rig, int
                             mm_vec3 along, float w)
 {
     return ankle.y - w * fmaxf(ankle.y - sole_stand(ground, rig, k, ankle, along), 0.0f);
+}
+
+/* On terrain: how long foot k's ankle, at ankle (its toe at ankle + along), takes to come down to
+ * where it stands at LANDING_FALL_SPEED. */
+static float landing_fall_time(const mm_feet_ground *ground, const mm_rig *rig, int k, mm_vec3 ankle,
+                               mm_vec3 along)
+{
+    return fmaxf(ankle.y - sole_stand(ground, rig, k, ankle, along), 0.0f) / LANDING_FALL_SPEED;
 }
 
 /* Whether foot k, its ankle going to ankle and its toe toe_above higher, is too far above the ground
@@ -276,6 +292,29 @@ static bool aloft(const mm_feet_ground *ground, const mm_rig *rig, int k, int he
     return (heel_on || toe_on) && (!heel_on || heel_up) && (!toe_on || toe_up);
 }
 
+/* On terrain: a swinging foot k (free, its contact coming in `left`) is moved toward the ground it
+ * will land on, so that it arrives there by its contact: its shift from the root's ground to the
+ * ground under it goes toward the ground at its landing place over the time left, evenly (a share
+ * dt / left of the way each tick). The landing place is where the foot is (at, on the ground plane)
+ * plus its velocity times left over two (it slows to rest by then); read again each tick, it grows
+ * more exact as the contact nears. Followed only as the ground under the foot, it would still be
+ * at the tread it left when its label turns on over a lower one (and held up by its offset after). */
+static void plan_swing(mm_feet *f, int k, const mm_feet_ground *ground, float planted, mm_vec3 ankle,
+                       mm_vec3 at, mm_vec3 along, mm_quat tilt, float left, float dt)
+{
+    float vx = (ankle.x - f->last_ankle[k].x) / dt + f->offset_velocity[k].x,
+          vz = (ankle.z - f->last_ankle[k].z) / dt + f->offset_velocity[k].z;
+    mm_vec3 landing = mm_vec3_make(at.x + vx * 0.5f * left, at.y, at.z + vz * 0.5f * left);
+    float goal = foot_ground(ground->scene, landing, along, tilt) - ground->height;
+    float before = f->ground_shift[k], shift = before + (goal - before) * fminf(dt / left, 1.0f);
+    /* not down through the ground under the ankle (the tread it is still over): held on it, the
+     * rest of the way is gone once the edge has passed, in the time then left (kept here, not
+     * only in the ankle's target, so that the foot does not drop the riser at once) */
+    shift = fmaxf(shift, stand_height(ground, at.x, at.z, planted) - (ankle.y + f->offset[k].y));
+    f->ground_shift[k] = shift;
+    f->ground_shift_velocity[k] = (shift - before) / dt;
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -290,8 +329,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         mm_vec3 at = !f->placed ? a : f->locked[k] ? f->lock[k] : mm_vec3_add(a, f->offset[k]);
         float h = foot_ground(ground->scene, at, mm_vec3_sub(t, a), *tilt);
         if (!f->placed) f->ground_shift[k] = h - ground->height, f->ground_shift_velocity[k] = 0.0f;
-        mm_spring_update(&f->ground_shift[k], &f->ground_shift_velocity[k], h - ground->height,
-                         GROUND_SHIFT_HALFLIFE, dt);
+        float left = contacts->until_contact[k];
+        if (f->placed && !f->locked[k] && left > 0.0f)
+            plan_swing(f, k, ground, rig->planted_ankle[k], a, at, mm_vec3_sub(t, a), *tilt, left, dt);
+        else
+            mm_spring_update(&f->ground_shift[k], &f->ground_shift_velocity[k], h - ground->height,
+                             GROUND_SHIFT_HALFLIFE, dt);
         a.y += f->ground_shift[k];
         t.y += f->ground_shift[k];
     }
@@ -383,8 +426,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         if (on || left >= 0.0f) {
             if (!(w_before > 0.0f)) { /* a landing begins: its length from the foot's speed now */
                 float speed = sqrtf(velocity.x * velocity.x + velocity.z * velocity.z);
-                f->landing_time[k] =
-                    fmaxf(d->plant_time, fminf(speed / LANDING_DECELERATION, MM_FEET_LANDING_MAX_TIME));
+                /* on terrain, and from its height above where it stands: a foot held up (a
+                 * transition's offsets) comes down by a contact seen coming at LANDING_FALL_SPEED
+                 * (one on already is planted once it is down, as soon as it can) */
+                float fall = tilt && !on ? landing_fall_time(ground, rig, k, out, mm_vec3_sub(t, a)) : 0.0f;
+                f->landing_time[k] = fmaxf(d->plant_time, fminf(fmaxf(speed / LANDING_DECELERATION, fall),
+                                                                MM_FEET_LANDING_MAX_TIME));
             }
             float landing = fmaxf(f->landing_time[k], d->plant_time);
             float due = on ? 1.0f : fmaxf(1.0f - left / landing, 0.0f);
@@ -435,7 +482,15 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         planted = 1;
     }
     if (planted) { /* held exactly from here (a lock raised to the ground: once the offset has faded) */
-        f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
+        mm_vec3 source = foot_source(f, k, a, t);
+        f->offset[k] = mm_vec3_sub(out, source);
+        /* on terrain, a foot planted on its toe whose ankle would come below where the ankle
+         * stands (the foot turned less than the slope it lands on) is held there by the ankle's
+         * floor: the offset carries only the height above that, so that the toe, aimed at its lock
+         * lifted by the offset's height, comes onto it */
+        if (tilt)
+            f->offset[k].y =
+                out.y - fmaxf(source.y, stand_height(ground, source.x, source.z, rig->planted_ankle[k]));
         f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
     }
     if (f->heel_locked[k] && f->toe_locked[k]) {
@@ -490,9 +545,11 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
 }
 
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
- * rising back through a spring), at most max_hip_drop. */
-static void lower_hips(mm_feet *f, float max_hip_drop, const mm_rig *rig, const mm_vec3 *target, float dt,
-                       mm_rig_pose *pose)
+ * rising back through a spring), at most max_hip_drop, and to reach a swinging foot's landing
+ * height (landing: the targets lowered to it; the targets themselves elsewhere); on terrain ahead
+ * of a growing need. */
+static void lower_hips(mm_feet *f, float max_hip_drop, bool terrain, const mm_rig *rig, const mm_vec3 *target,
+                       const mm_vec3 *landing, float dt, mm_rig_pose *pose)
 {
     int pelvis = rig->pelvis;
     float need = 0.0f;
@@ -500,11 +557,19 @@ static void lower_hips(mm_feet *f, float max_hip_drop, const mm_rig *rig, const 
         mm_vec3 h = pose->global[rig->hip[k]].translation;
         float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
         float dx = target[k].x - h.x, dz = target[k].z - h.z, across = dx * dx + dz * dz;
-        float down =
-            across < reach * reach ? h.y - target[k].y - sqrtf(reach * reach - across) : max_hip_drop;
+        float low = fminf(target[k].y, landing[k].y);
+        float down = across < reach * reach ? h.y - low - sqrtf(reach * reach - across) : max_hip_drop;
         need = fmaxf(need, down);
     }
     need = fminf(need, max_hip_drop);
+    if (terrain) {
+        /* on terrain the need grows as the body climbs away from a trailing foot or a swinging foot
+         * is planned down to a lower tread: the spring aims ahead of it by the lag a critically
+         * damped spring has behind a steady rise (2 v / y), so that the leg reaches as it goes */
+        float rate = f->placed ? fminf(fmaxf((need - f->hip_need) / dt, 0.0f), HIP_LEAD_MAX_RATE) : 0.0f;
+        f->hip_need = need;
+        need = fminf(need + (float)(2.0 / mm_spring_damping(HIP_DROP_HALFLIFE)) * rate, max_hip_drop);
+    }
     /* through a spring both ways (a drop followed at once would move the body as fast as the need
      * changes, which grows without bound as a target nears the leg's reach across), never past
      * [0, max_hip_drop] */
@@ -576,7 +641,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                     const mm_feet_contacts *contacts, const mm_feet_ground *ground, float dt,
                     mm_rig_pose *pose)
 {
-    mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}};
+    mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}}, landing[2] = {{0, 0, 0}, {0, 0, 0}};
     mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
     bool terrain = ground->scene && ground->hold;
     for (int k = 0; k < 2; ++k) {
@@ -606,10 +671,20 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             }
             target[k].y = toe_floor(target[k].y, toe_y - v.y);
         }
+        /* a swinging foot on terrain is reached for at the height it will land at too (the hips
+         * come down during the swing toward a lower tread, not once the foot is planted there) */
+        landing[k] = target[k];
+        float left = contacts->until_contact[k];
+        if (terrain && !f->locked[k] && f->placed && left > 0.0f) {
+            float x = target[k].x + 0.5f * left * (target[k].x - f->lock[k].x) / dt,
+                  z = target[k].z + 0.5f * left * (target[k].z - f->lock[k].z) / dt;
+            landing[k].y = fminf(target[k].y, stand_height(ground, x, z, rig->planted_ankle[k]));
+        }
         f->lock[k] = target[k];
     }
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f)
-        lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, rig, target, dt, pose);
+        lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, terrain, rig, target,
+                   landing, dt, pose);
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
         /* a target far out of the leg's reach (a lock the hips moved away from, or the offset a

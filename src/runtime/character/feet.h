@@ -28,6 +28,7 @@ typedef struct mm_feet {
     float landed[2];       /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float landing_time[2]; /* s: how long that landing takes (plant_time, or longer for a fast foot) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
+    float hip_need;                    /* m: on terrain, how far the legs needed it lowered last tick */
     mm_vec3 tilt_normal[2];            /* on terrain: the ground's normal each foot was last turned to */
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
      * root's ground (a spring's state) */
@@ -38,12 +39,17 @@ typedef struct mm_feet {
 /* s: the longest landing (a fast foot slowed to rest before its contact, see feet.c): how far ahead
  * the contacts coming are looked for, when longer than plant_time */
 #define MM_FEET_LANDING_MAX_TIME 0.1f
+/* s: how far ahead a free foot's coming contact is looked for, to plan its swing onto the ground it
+ * will land on (about a walking swing) */
+#define MM_FEET_SWING_AHEAD 0.5f
 
 /* What the clip playing says of the feet this tick. */
 typedef struct mm_feet_contacts {
-    unsigned label;       /* mm_contact_bits of the frame playing */
-    float until_label[2]; /* s until foot k's label turns on, when within the landing's look-ahead
-                           * (plant_time, at least MM_FEET_LANDING_MAX_TIME); -1 otherwise */
+    unsigned label;         /* mm_contact_bits of the frame playing */
+    float until_label[2];   /* s until foot k's label turns on, when within the landing's look-ahead
+                             * (plant_time, at least MM_FEET_LANDING_MAX_TIME); -1 otherwise */
+    float until_contact[2]; /* s until foot k's label turns on, within MM_FEET_SWING_AHEAD; 0 or less:
+                             * none coming */
 } mm_feet_contacts;
 
 /* The ground a foot stands on: its height (scene NULL: the plane at that height; else the scene's
