@@ -40,7 +40,7 @@
 #define QUANT_TAIL       0.0005
 #define QUANT_BINS       4096
 #define QUANT_WEIGHT_MAX 32767
-#define QUANT_CHECK      8 /* slots between the checks whether a block's bounds all exceed the limit */
+#define QUANT_CHECK      4 /* slots between the checks whether a block's bounds all exceed the limit */
 #define QUANT_HEAD       8 /* slots stored apart (the widest): all a far block's bound usually reads */
 
 const char *mm_search_method_name(mm_search_method m)
