@@ -40,7 +40,7 @@
 #define QUANT_TAIL       0.0005
 #define QUANT_BINS       4096
 #define QUANT_WEIGHT_MAX 32767
-#define QUANT_CHECK      4 /* slots between the checks whether a block's bounds all exceed the limit */
+#define QUANT_CHECK      8 /* slots between the checks whether a block's bounds all exceed the limit */
 #define QUANT_HEAD       8 /* slots stored apart (the widest): all a far block's bound usually reads */
 
 const char *mm_search_method_name(mm_search_method m)
@@ -309,11 +309,10 @@ static inline void lane_bounds(const float *q, const float *lo, const float *hi,
  * saturating (a saturated sum is still a lower bound). head: the block's codes of the first
  * head_slots slots, tail: those of the others (slot by slot, QUANT_BLOCK codes side by side); query
  * and weight: per slot, repeated per lane. Returns the mask of the positions whose sum is at most
- * thr, stopping early when none can be (sums: the positions' sums, complete when the mask is not 0). */
+ * thr, stopping early when none can be. */
 #if defined(__SSE2__) && QUANT_BLOCK == 16
 static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
-                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr,
-                                        uint16_t *sums)
+                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
 {
     const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi8(1), t = _mm_set1_epi16((short)thr);
     __m128i sum_lo = zero, sum_hi = zero;
@@ -335,15 +334,12 @@ static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail
         sum_lo = _mm_adds_epu16(sum_lo, _mm_mulhi_epu16(_mm_mullo_epi16(lo, lo), w));
         sum_hi = _mm_adds_epu16(sum_hi, _mm_mulhi_epu16(_mm_mullo_epi16(hi, hi), w));
     }
-    _mm_storeu_si128((__m128i *)sums, sum_lo);
-    _mm_storeu_si128((__m128i *)(sums + 8), sum_hi);
     return (unsigned)_mm_movemask_epi8(_mm_packs_epi16(_mm_cmpeq_epi16(_mm_subs_epu16(sum_lo, t), zero),
                                                        _mm_cmpeq_epi16(_mm_subs_epu16(sum_hi, t), zero)));
 }
 #else
 static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
-                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr,
-                                        uint16_t *sums)
+                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
 {
     unsigned mask = 0;
     for (int i = 0; i < QUANT_BLOCK; ++i) {
@@ -357,7 +353,6 @@ static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail
             sum += ((uint32_t)(g * g) * weight[j * 8]) >> 16;
             if (sum > 0xFFFF) sum = 0xFFFF;
         }
-        sums[i] = (uint16_t)sum;
         if (sum <= thr) mask |= 1u << i;
     }
     return mask;
@@ -484,29 +479,16 @@ static inline int lane_possible(const query_ctx *c, const mm_search_node *n, int
  * for each slot in the order of the components). */
 static void rotate(const mm_searcher *s, const float *x, double *z)
 {
-    int dims = s->db->dims_padded, slots = s->tree_dims, used = 0;
-    double y[MM_SEARCH_MAX_DIMS];
-    int component[MM_SEARCH_MAX_DIMS];
+    int dims = s->db->dims_padded, slots = s->tree_dims;
+    double sum[SEARCH_MAX_SLOTS]; /* local: the loop vectorises (z might alias the basis) */
+    for (int j = 0; j < slots; ++j) sum[j] = 0.0;
     for (int k = 0; k < dims; ++k) {
-        double v = s->sqrt_w0[k] * (double)x[k] - s->center[k];
-        if (v == 0.0) continue; /* padding: adds nothing */
-        y[used] = v;
-        component[used++] = k;
+        double y = s->sqrt_w0[k] * (double)x[k] - s->center[k];
+        if (y == 0.0) continue; /* padding: adds nothing */
+        const double *axis = s->basis + (size_t)k * slots;
+        for (int j = 0; j < slots; ++j) sum[j] += axis[j] * y;
     }
-    for (int j = 0; j < slots; j += 4) { /* four slots at a time, their sums in registers */
-        double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
-        for (int i = 0; i < used; ++i) {
-            const double *axis = s->basis + (size_t)component[i] * slots + j;
-            a0 += axis[0] * y[i];
-            a1 += axis[1] * y[i];
-            a2 += axis[2] * y[i];
-            a3 += axis[3] * y[i];
-        }
-        z[j] = a0;
-        z[j + 1] = a1;
-        z[j + 2] = a2;
-        z[j + 3] = a3;
-    }
+    memcpy(z, sum, sizeof(double) * (size_t)slots);
 }
 
 /* The query on the quantized grid, and its weights as integers. With g the gap in steps between
@@ -759,17 +741,6 @@ static uint16_t quant_threshold(const query_ctx *c, float limit, float least)
     return t < 0.0 ? 0 : (uint16_t)t;
 }
 
-/* The position of mask (not 0) whose sum is least (the first of equals). */
-static inline int least_sum(const uint16_t *sums, unsigned mask)
-{
-    int best = __builtin_ctz(mask);
-    for (unsigned m = mask & (mask - 1u); m; m &= m - 1u) {
-        int i = __builtin_ctz(m);
-        if (sums[i] < sums[best]) best = i;
-    }
-    return best;
-}
-
 /* Rows [p0, p1) of the tree order: the bounds of their blocks from the quantized copy first, the
  * exact cost only for the frames whose bound can reach the limit (the limit only falls, so the one
  * at the start of a block is safe for the block). */
@@ -795,27 +766,17 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
             thr = quant_threshold(c, limit, least);
         }
         int head = s->quant_head;
-        uint16_t sums[QUANT_BLOCK];
         unsigned mask =
             quant_block_mask(s->quantized + (size_t)block * head * QUANT_BLOCK, quant_tail(s, block),
-                             c->quant_query, c->quant_weight, head, s->quant_slots, thr, sums);
+                             c->quant_query, c->quant_weight, head, s->quant_slots, thr);
         if (first < p0) mask &= ~0u << (p0 - first);
         if (p1 - first < QUANT_BLOCK) mask &= (1u << (p1 - first)) - 1u;
-        /* the frames of the least bound first: the limit falls soonest, and the others are dropped
-         * as soon as their bound exceeds it (each exact cost is a read of a row from memory) */
         while (mask) {
-            int i = least_sum(sums, mask);
-            mask &= ~(1u << i);
+            int at = first + __builtin_ctz(mask);
+            mask &= mask - 1u;
             ++c->evaluated;
-            int at = first + i;
             float base = distance(c->q, s->features + (size_t)at * dims, c->w, dims);
             consider(c, s->order, s->order_clip, s->order_tags, at, base, least_loop, least_contact, st);
-            if (mask && state_limit(st) != limit) {
-                limit = state_limit(st);
-                thr = quant_threshold(c, limit, least);
-                for (unsigned m = mask; m; m &= m - 1u)
-                    if (sums[__builtin_ctz(m)] > thr) mask &= ~(1u << __builtin_ctz(m));
-            }
         }
     }
 }
