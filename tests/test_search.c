@@ -158,6 +158,44 @@ static void test_exact_equals_brute(void **state)
     mm_searcher_free(&three);
 }
 
+/* The built-in set whatever the real database is (with MM_DATA_DIR set, the test above runs on
+ * LAFAN1): the exact method (k 1 and 5) against brute force on the three query kinds, with the
+ * ratio, the favours (loop, contact, next frame), the filters and the weights varied. */
+static void test_builtin_set_exact(void **state)
+{
+    (void)state;
+    mm_database db;
+    assert_int_equal(test_build_synth_database(&db), 0);
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, &db, NULL, NULL), MM_OK);
+    test_rng r = {0x5eed2};
+    int n = getenv("MM_TEST_SEARCH_QUERIES") ? atoi(getenv("MM_TEST_SEARCH_QUERIES")) : 1500;
+    if (n < 30) n = 30;
+    float q[MM_SEARCH_MAX_DIMS];
+    int found = 0;
+    for (int i = 0; i < n; ++i) {
+        mm_search_params p;
+        make_case(&db, &r, i, q, &p);
+        mm_search_result brute, fast, tb[5], tf[5];
+        mm_searcher_search(&s, q, &p, MM_SEARCH_BRUTE, &brute, 1);
+        mm_searcher_search(&s, q, &p, MM_SEARCH_FAST, &fast, 1);
+        if (fast.frame != brute.frame)
+            print_error("built-in set query %d: brute %d (%.9g), fast %d (%.9g)\n", i, brute.frame,
+                        brute.cost, fast.frame, fast.cost);
+        assert_int_equal(fast.frame, brute.frame);
+        assert_true(fast.frame < 0 || fast.cost == brute.cost);
+        found += brute.frame >= 0;
+        int nb = mm_searcher_search(&s, q, &p, MM_SEARCH_BRUTE, tb, 5);
+        int nf = mm_searcher_search(&s, q, &p, MM_SEARCH_FAST, tf, 5);
+        assert_int_equal(nb, nf);
+        for (int k = 0; k < nb; ++k) assert_int_equal(tb[k].frame, tf[k].frame);
+    }
+    assert_true(found > n / 3);
+    print_message("built-in set: %d frames, %d queries: fast = brute force\n", db.frame_count, n);
+    mm_searcher_free(&s);
+    mm_database_free(&db);
+}
+
 /* ---- crafted databases -------------------------------------------------------------------- */
 
 static void make_skeleton(mm_skeleton *s)
@@ -845,6 +883,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_exact_equals_brute),
+        cmocka_unit_test(test_builtin_set_exact),
         cmocka_unit_test(test_filters),
         cmocka_unit_test(test_favours_and_ratio),
         cmocka_unit_test(test_query_from_pose),
