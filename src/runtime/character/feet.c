@@ -489,6 +489,45 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
     return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
 }
 
+/* m: the furthest the pelvis is moved on the ground plane toward planted feet out of reach */
+#define MAX_PELVIS_SHIFT 0.12f
+/* s: half-life of the spring the pelvis is moved through (and back) */
+#define PELVIS_SHIFT_HALFLIFE 0.08f
+
+/* The pelvis moves on the ground plane, in the pose only (the simulated root stays), as far as the
+ * locked feet need to come within their legs' softened reach from the hips lowered as they are:
+ * each locked foot out of reach asks for its excess toward it, the sum at most MAX_PELVIS_SHIFT,
+ * followed through a spring both ways (back to none while the feet do not keep to the ground). A locked foot
+ * the hips were carried away from (a transition's root motion, the simulation's pull) stays on its lock
+ * instead of being dragged by its straight leg, or crept after the animation. */
+static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, bool hold, float dt,
+                         mm_rig_pose *pose)
+{
+    int pelvis = rig->pelvis;
+    mm_vec3 need = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    for (int k = 0; k < 2; ++k) {
+        if (!hold || rig->ankle[k] < 0 || !f->locked[k]) continue;
+        mm_vec3 h = pose->global[rig->hip[k]].translation;
+        float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
+        float dx = target[k].x - h.x, dz = target[k].z - h.z, across = sqrtf(dx * dx + dz * dz);
+        float down = h.y - f->hip_drop - target[k].y, side = sqrtf(fmaxf(reach * reach - down * down, 0.0f));
+        if (across > side && across > 1e-6f) {
+            float excess = (across - side) / across;
+            need.x += dx * excess, need.z += dz * excess;
+        }
+    }
+    float length = mm_vec3_length(need);
+    if (length > MAX_PELVIS_SHIFT) need = mm_vec3_scale(need, MAX_PELVIS_SHIFT / length);
+    if (!f->placed) f->pelvis_shift = need, f->pelvis_shift_velocity = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    mm_spring_update_vec3(&f->pelvis_shift, &f->pelvis_shift_velocity, need, PELVIS_SHIFT_HALFLIFE, dt);
+    if (mm_vec3_length(f->pelvis_shift) > 1e-7f) {
+        mm_vec3 along =
+            mm_quat_inv_rotate(pose->global[rig->joints[pelvis].parent].rotation, f->pelvis_shift);
+        pose->local_positions[pelvis] = mm_vec3_add(pose->local_positions[pelvis], along);
+        mm_rig_forward(rig, pelvis, pose);
+    }
+}
+
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
  * rising back through a spring), at most max_hip_drop. */
 static void lower_hips(mm_feet *f, float max_hip_drop, const mm_rig *rig, const mm_vec3 *target, float dt,
@@ -608,6 +647,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         }
         f->lock[k] = target[k];
     }
+    if (rig->pelvis >= 0) shift_pelvis(f, rig, target, ground->hold, dt, pose);
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f)
         lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, rig, target, dt, pose);
     for (int k = 0; k < 2; ++k) {

@@ -28,7 +28,10 @@ typedef struct mm_feet {
     float landed[2];       /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float landing_time[2]; /* s: how long that landing takes (plant_time, or longer for a fast foot) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
-    mm_vec3 tilt_normal[2];            /* on terrain: the ground's normal each foot was last turned to */
+    /* m: how far the pelvis is moved on the ground plane toward planted feet out of their legs'
+     * reach (in the pose only, not the simulated root) */
+    mm_vec3 pelvis_shift, pelvis_shift_velocity;
+    mm_vec3 tilt_normal[2]; /* on terrain: the ground's normal each foot was last turned to */
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
      * root's ground (a spring's state) */
     float ground_shift[2], ground_shift_velocity[2];
