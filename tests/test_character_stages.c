@@ -1068,10 +1068,12 @@ static void test_feet_hips_come_down_smoothly(void **state)
 
 /* A planted foot the hips are carried away from is kept in reach by moving the pelvis toward it on
  * the ground plane (in the pose only): the left heel planted at (0.1, 0.06, 0), then the hips held
- * 0.2 m lower (0.7 m, straight legs of 0.84 m) and moved forward. Its leg reaches 0.95 x 0.84 m
- * before the IK softens; from 0.64 m above the lock that is 0.4767 m on the ground plane, so hips
- * 0.55 m ahead come back 0.0733 m (and the ankle is on its lock), hips 0.8 m ahead at most 0.12 m
- * (feet.c's MAX_PELVIS_SHIFT); with the label off, or the ground not held, it goes back to none. */
+ * 0.2 m lower (0.7 m, straight legs of 0.84 m) and moved 0.55 m forward. The leg reaches
+ * R = 0.95 x 0.84 m before the IK softens; the hip is L = |(0.64, 0.55)| from the lock, and the
+ * pelvis comes back by the first-order move that shortens the leg by L - R: (L - R) L / 0.55 (the
+ * ankle then within a millimetre of its lock, where 0.55 - sqrt(R^2 - 0.64^2) = 7.3 cm short without
+ * it). Hips 0.8 m ahead: at most 0.12 m (feet.c's MAX_PELVIS_SHIFT); with the label off, or the
+ * ground not held, back to none. */
 static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
 {
     (void)state;
@@ -1080,7 +1082,7 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
     d.max_hip_drop = 0.0f;  /* the reach is the shift's alone */
     d.unlock_radius = 2.0f; /* the lock holds */
     float dt = 1.0f / 60.0f, reach = 0.95f * 0.84f, down = 0.7f - 0.06f;
-    float side = sqrtf(reach * reach - down * down);
+    float L = sqrtf(down * down + 0.55f * 0.55f), move = (L - reach) * L / 0.55f;
     mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
@@ -1101,8 +1103,8 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
         p[0] = p[1], p[1] = p[2], p[2] = f.pelvis_shift;
         worst = fmaxf(worst, second_difference(p[0], p[1], p[2]));
     }
-    assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, side - 0.55f), 1e-4f);
-    assert_vec3_near(b.global[HIPS].translation, mm_vec3_make(0.0f, 0.7f, side), 1e-4f);
+    assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, -move), 1e-4f);
+    assert_vec3_near(b.global[HIPS].translation, mm_vec3_make(0.0f, 0.7f, 0.55f - move), 1e-4f);
     assert_vec3_near(b.global[L_FOOT].translation, f.heel_lock[0], 1e-3f);
     /* through a critically damped spring (half-life 0.08 s) from rest: no second difference larger
      * than its first step toward the most it moves */

@@ -493,6 +493,9 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
 #define MAX_PELVIS_SHIFT 0.12f
 /* s: half-life of the spring the pelvis is moved through (and back) */
 #define PELVIS_SHIFT_HALFLIFE 0.08f
+/* the most the pelvis's move asks for per unit of a leg's excess over its reach, for a foot
+ * nearly under its hip (see shift_pelvis) */
+#define SHIFT_GAIN 3.0f
 
 /* The pelvis moves on the ground plane, in the pose only (the simulated root stays), as far as the
  * locked feet need to come within their legs' softened reach from the hips lowered as they are:
@@ -509,15 +512,18 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
         if (!hold || rig->ankle[k] < 0 || !f->locked[k]) continue;
         mm_vec3 h = pose->global[rig->hip[k]].translation;
         float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
-        float dx = target[k].x - h.x, dz = target[k].z - h.z, across = sqrtf(dx * dx + dz * dz);
-        float down = h.y - f->hip_drop - target[k].y, side = sqrtf(fmaxf(reach * reach - down * down, 0.0f));
-        if (across > side && across > 1e-6f) {
-            float excess = (across - side) / across;
-            need.x += dx * excess, need.z += dz * excess;
-        }
+        mm_vec3 r = mm_vec3_sub(target[k], mm_vec3_make(h.x, h.y - f->hip_drop, h.z));
+        float length = mm_vec3_length(r), across = sqrtf(r.x * r.x + r.z * r.z);
+        if (!(length > reach)) continue;
+        /* the move on the ground plane that shortens the leg by its excess, to first order; a foot
+         * nearly under the hip asks for less (at most SHIFT_GAIN times the excess per unit of the
+         * leg's lean), where the exact move would grow without bound */
+        float lean = fmaxf(across, length / SHIFT_GAIN);
+        float move = (length - reach) * length / (lean * lean);
+        need.x += r.x * move, need.z += r.z * move;
     }
-    float length = mm_vec3_length(need);
-    if (length > MAX_PELVIS_SHIFT) need = mm_vec3_scale(need, MAX_PELVIS_SHIFT / length);
+    float size = mm_vec3_length(need);
+    if (size > MAX_PELVIS_SHIFT) need = mm_vec3_scale(need, MAX_PELVIS_SHIFT / size);
     if (!f->placed) f->pelvis_shift = need, f->pelvis_shift_velocity = mm_vec3_make(0.0f, 0.0f, 0.0f);
     mm_spring_update_vec3(&f->pelvis_shift, &f->pelvis_shift_velocity, need, PELVIS_SHIFT_HALFLIFE, dt);
     if (mm_vec3_length(f->pelvis_shift) > 1e-7f) {
