@@ -1140,6 +1140,47 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
     assert_float_equal(mm_vec3_length(f.pelvis_shift), 0.0f, 1e-4f);
 }
 
+/* A lock its leg cannot reach, even with the pelvis moved its most, creeps after the animation
+ * however far inside unlock_radius the animated foot is: the left heel planted at (0.1, 0.06, 0),
+ * the hips then 0.7 m up and 1 m ahead (0.64 m above the lock, straight legs of 0.84 m). The lock
+ * comes forward until the leg leaves its ankle at most feet.c's REACH_SLACK (2 cm) short, and stays
+ * planted there (far short of the animated ankle 1 m ahead). */
+static void test_feet_unreachable_lock_creeps(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    d.unlock_radius = 2.0f; /* the animation's pull alone would never move it */
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    make_body(&b);
+    on_the_ground(&b);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    float z[2] = {0.0f, 0.0f};
+    for (int n = 0; n < 600; ++n) {
+        make_body(&b);
+        on_the_ground(&b);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 1.0f);
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        z[n % 2] = f.heel_lock[0].z;
+    }
+    assert_true(f.reach_miss[0] <= 0.02f + 1e-4f);
+    assert_float_equal(z[0], z[1], 1e-6f); /* at rest */
+    /* come up to where the straight leg from the hip (the pelvis moved back its most, 0.12 m, to
+     * 0.88 m ahead) reaches it, give or take the slack: 0.84 to 0.86 m from the hip */
+    assert_float_equal(f.pelvis_shift.z, -0.12f, 1e-4f);
+    float near = 0.88f - sqrtf(0.84f * 0.84f - 0.64f * 0.64f),
+          far = 0.88f - sqrtf(0.86f * 0.86f - 0.64f * 0.64f);
+    assert_true(f.heel_lock[0].z >= far - 1e-3f && f.heel_lock[0].z <= near + 1e-3f);
+    assert_vec3_near(b.global[L_FOOT].translation, f.lock[0], 0.02f + 1e-4f);
+}
+
 /* A free foot pitched toe down is raised by its ankle so that the toe stays at most 1 cm (feet.c's
  * TOE_SINK) below its planted height (0 on this rig), smoothly: with the toe h below the ankle and the
  * ankle at y, it is at y from h on, at h - 1 cm from h - 2 cm down, and on the parabola h - 1 cm +
@@ -1213,6 +1254,7 @@ int main(void)
         cmocka_unit_test(test_feet_heel_planted_under_a_held_toe),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
         cmocka_unit_test(test_feet_pelvis_shifts_toward_a_planted_foot),
+        cmocka_unit_test(test_feet_unreachable_lock_creeps),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
         cmocka_unit_test(test_feet_roll_onto_the_toe),
         cmocka_unit_test(test_feet_lock_comes_down),

@@ -34,6 +34,9 @@
 /* m: past unlock_radius, how far the creep of a lock after the animation grows from nothing to a
  * whole spring step a tick (a threshold would move the lock by a whole step at once) */
 #define UNLOCK_RAMP 0.05f
+/* m: how far short of its target a leg may leave its ankle before the lock creeps after the
+ * animation (the IK's softened reach leaves a straightening leg a little short) */
+#define REACH_SLACK 0.02f
 /* m/s^2: the most a landing slows a foot on the ground plane: a foot faster than this times
  * plant_time (a transition's offsets still carrying a swing onto a frame whose label is on) lands
  * over longer, as its speed asks */
@@ -310,16 +313,19 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         float fall = f->placed ? f->last_toe[k].y - t.y : 0.0f;
         f->toe_lock[k].y = settle(ground, rig->planted_toe[k], f->toe_lock[k], t.y, fall, dt);
     }
-    /* a lock the animation has pulled more than unlock_radius away creeps after it: its locks move
-     * toward the animated foot by a spring step from rest each tick (foot_halflife), in full from
-     * UNLOCK_RAMP past the radius and in proportion before */
+    /* a lock the animation has pulled more than unlock_radius away, or that its leg did not reach
+     * last tick by more than REACH_SLACK (the pelvis's move and the hips' drop spent), creeps after
+     * the animation: its locks move toward the animated foot by a spring step from rest each tick
+     * (foot_halflife), in full from UNLOCK_RAMP past the radius or the slack and in proportion
+     * before */
     if (f->heel_locked[k] || f->toe_locked[k]) {
         mm_vec3 held = foot_source(f, k, a, t);
         float gap = mm_vec3_distance(held, a);
-        if (gap > d->unlock_radius) {
+        float past = fmaxf(gap - d->unlock_radius, f->placed ? f->reach_miss[k] - REACH_SLACK : 0.0f);
+        if (past > 0.0f) {
             double y = mm_spring_damping(d->foot_halflife);
             float step = isfinite(y) ? (float)(1.0 - (1.0 + y * dt) * exp(-y * dt)) : 1.0f;
-            float share = fminf((gap - d->unlock_radius) / UNLOCK_RAMP, 1.0f) * step;
+            float share = fminf(past / UNLOCK_RAMP, 1.0f) * step;
             mm_vec3 delta = mm_vec3_scale(mm_vec3_sub(a, held), share);
             f->heel_lock[k] = mm_vec3_add(f->heel_lock[k], delta);
             f->toe_lock[k] = mm_vec3_add(f->toe_lock[k], delta);
@@ -676,6 +682,10 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             f->lock[k] = onto;
         }
         solve_leg(rig, k, target[k], orientation[k], pose);
+        int ankle = rig->ankle[k], knee = rig->knee[k]; /* the ankle where the solved leg puts it */
+        mm_xform reached = mm_xform_mul(
+            pose->global[knee], mm_xform_make(pose->local_rotations[ankle], pose->local_positions[ankle]));
+        f->reach_miss[k] = mm_vec3_distance(reached.translation, target[k]);
     }
     f->placed = true;
     mm_rig_forward(rig, 1, pose); /* below the ankles */

@@ -31,6 +31,8 @@ typedef struct mm_feet {
     /* m: how far the pelvis is moved on the ground plane toward planted feet out of their legs'
      * reach (in the pose only, not the simulated root) */
     mm_vec3 pelvis_shift, pelvis_shift_velocity;
+    /* m: how far each ankle was left short of its target last tick (out of its leg's reach) */
+    float reach_miss[2];
     mm_vec3 tilt_normal[2]; /* on terrain: the ground's normal each foot was last turned to */
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
      * root's ground (a spring's state) */
