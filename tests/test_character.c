@@ -756,7 +756,7 @@ static float second_difference(const mm_vec3 *a, const mm_vec3 *b, const mm_vec3
 }
 
 /* The knees stay continuous when the IK targets pass out of the legs' reach and back: standing
- * with the feet locked, the simulation is moved 45 cm to the side (the pull carries the hips away
+ * with the feet locked, the simulation is moved 70 cm to the side (the pull carries the hips away
  * from the planted feet, further than a leg reaches) and after a second back. The hips move as a
  * spring does; the knees must not jump more than they do where the
  * leg straightens or bends again (square-root motion near full extension: soft reach), the hips
@@ -780,7 +780,7 @@ static void test_knee_continuous_out_of_reach(void **state)
     for (int i = 0; i < 180; ++i) {
         if (i == 0 || i == 90)
             mm_trajectory_reset(&c.state->trajectory,
-                                mm_vec3_add(start, mm_vec3_make(i == 0 ? 0.45f : 0.0f, 0, 0)),
+                                mm_vec3_add(start, mm_vec3_make(i == 0 ? 0.7f : 0.0f, 0, 0)),
                                 c.root.rotation);
         mm_character_update(&c, &in, 1.0f / 60.0f);
         mm_vec3 *now = p + (size_t)(i % 3) * (size_t)n;

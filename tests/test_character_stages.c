@@ -1073,6 +1073,121 @@ static void test_feet_hips_come_down_smoothly(void **state)
     assert_float_equal(f.hip_drop, D, 1e-3f);
 }
 
+/* A planted foot the hips are carried away from is kept in reach by moving the pelvis toward it on
+ * the ground plane (in the pose only): the left heel planted at (0.1, 0.06, 0), then the hips held
+ * 0.2 m lower (0.7 m, straight legs of 0.84 m) and moved 0.55 m forward. The leg reaches
+ * R = 0.95 x 0.84 m before the IK softens; the hip is L = |(0.64, 0.55)| from the lock, and the
+ * pelvis comes back by the first-order move that shortens the leg by L - R: (L - R) L / 0.55 (the
+ * ankle then within a millimetre of its lock, where 0.55 - sqrt(R^2 - 0.64^2) = 7.3 cm short without
+ * it). Hips 0.8 m ahead: at most 0.12 m (feet.c's MAX_PELVIS_SHIFT); with the label off, or the
+ * ground not held, back to none. */
+static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;  /* the reach is the shift's alone */
+    d.unlock_radius = 2.0f; /* the lock holds */
+    float dt = 1.0f / 60.0f, reach = 0.95f * 0.84f, down = 0.7f - 0.06f;
+    float L = sqrtf(down * down + 0.55f * 0.55f), move = (L - reach) * L / 0.55f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    make_body(&b);
+    on_the_ground(&b);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    assert_vec3_near(f.heel_lock[0], mm_vec3_make(0.1f, 0.06f, 0.0f), 1e-5f);
+    assert_float_equal(mm_vec3_length(f.pelvis_shift), 0.0f, 1e-6f); /* in reach: no shift */
+    mm_vec3 p[3] = {f.pelvis_shift, f.pelvis_shift, f.pelvis_shift};
+    float worst = 0.0f;
+    for (int n = 0; n < 120; ++n) {
+        make_body(&b);
+        on_the_ground(&b);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.55f);
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        p[0] = p[1], p[1] = p[2], p[2] = f.pelvis_shift;
+        worst = fmaxf(worst, second_difference(p[0], p[1], p[2]));
+    }
+    assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, -move), 1e-4f);
+    assert_vec3_near(b.global[HIPS].translation, mm_vec3_make(0.0f, 0.7f, 0.55f - move), 1e-4f);
+    assert_vec3_near(b.global[L_FOOT].translation, f.heel_lock[0], 1e-3f);
+    /* through a critically damped spring (half-life 0.08 s) from rest: no second difference larger
+     * than its first step toward the most it moves */
+    float y = (float)mm_spring_damping(0.08f);
+    assert_true(worst > 0.0f && worst <= 0.12f * (1.0f - (1.0f + y * dt) * expf(-y * dt)) + 1e-6f);
+    /* further than the most it moves: MAX_PELVIS_SHIFT toward the lock */
+    for (int n = 0; n < 120; ++n) {
+        make_body(&b);
+        on_the_ground(&b);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.8f);
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    }
+    assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, -0.12f), 1e-4f);
+    /* the label off: back to none */
+    for (int n = 0; n < 120; ++n) {
+        make_body(&b);
+        on_the_ground(&b);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.8f);
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    }
+    assert_float_equal(mm_vec3_length(f.pelvis_shift), 0.0f, 1e-4f);
+    assert_vec3_near(b.global[HIPS].translation, mm_vec3_make(0.0f, 0.7f, 0.8f), 1e-4f);
+    /* planted again, but the ground not held (a move): none */
+    for (int n = 0; n < 120; ++n) {
+        make_body(&b);
+        on_the_ground(&b);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.8f);
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, false, NULL}, dt, &b.pose);
+    }
+    assert_float_equal(mm_vec3_length(f.pelvis_shift), 0.0f, 1e-4f);
+}
+
+/* A lock its leg cannot reach, even with the pelvis moved its most, creeps after the animation
+ * however far inside unlock_radius the animated foot is: the left heel planted at (0.1, 0.06, 0),
+ * the hips then 0.7 m up and 1 m ahead (0.64 m above the lock, straight legs of 0.84 m). The lock
+ * comes forward until the leg leaves its ankle at most feet.c's REACH_SLACK (2 cm) short, and stays
+ * planted there (far short of the animated ankle 1 m ahead). */
+static void test_feet_unreachable_lock_creeps(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    d.unlock_radius = 2.0f; /* the animation's pull alone would never move it */
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    make_body(&b);
+    on_the_ground(&b);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    float z[2] = {0.0f, 0.0f};
+    for (int n = 0; n < 600; ++n) {
+        make_body(&b);
+        on_the_ground(&b);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 1.0f);
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        z[n % 2] = f.heel_lock[0].z;
+    }
+    assert_true(f.reach_miss[0] <= 0.02f + 1e-4f);
+    assert_float_equal(z[0], z[1], 1e-6f); /* at rest */
+    /* come up to where the straight leg from the hip (the pelvis moved back its most, 0.12 m, to
+     * 0.88 m ahead) reaches it, give or take the slack: 0.84 to 0.86 m from the hip */
+    assert_float_equal(f.pelvis_shift.z, -0.12f, 1e-4f);
+    float near = 0.88f - sqrtf(0.84f * 0.84f - 0.64f * 0.64f),
+          far = 0.88f - sqrtf(0.86f * 0.86f - 0.64f * 0.64f);
+    assert_true(f.heel_lock[0].z >= far - 1e-3f && f.heel_lock[0].z <= near + 1e-3f);
+    assert_vec3_near(b.global[L_FOOT].translation, f.lock[0], 0.02f + 1e-4f);
+}
+
 /* A free foot pitched toe down is raised by its ankle so that the toe stays at most 1 cm (feet.c's
  * TOE_SINK) below its planted height (0 on this rig), smoothly: with the toe h below the ankle and the
  * ankle at y, it is at y from h on, at h - 1 cm from h - 2 cm down, and on the parabola h - 1 cm +
@@ -1145,6 +1260,8 @@ int main(void)
         cmocka_unit_test(test_feet_fast_landing),
         cmocka_unit_test(test_feet_heel_planted_under_a_held_toe),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
+        cmocka_unit_test(test_feet_pelvis_shifts_toward_a_planted_foot),
+        cmocka_unit_test(test_feet_unreachable_lock_creeps),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
         cmocka_unit_test(test_feet_roll_onto_the_toe),
         cmocka_unit_test(test_feet_lock_comes_down),

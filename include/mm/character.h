@@ -112,7 +112,7 @@ typedef enum mm_transition_mode {
 #define MM_CHARACTER_VELOCITY_CHANGE_RATIO 0.9f
 #define MM_CHARACTER_VELOCITY_CHANGE_SPEED 2.0f   /* m/s */
 #define MM_CHARACTER_PLANT_TIME            0.033f /* s */
-#define MM_CHARACTER_UNLOCK_RADIUS         0.4f   /* m */
+#define MM_CHARACTER_UNLOCK_RADIUS         0.8f   /* m */
 #define MM_CHARACTER_FOOT_HALFLIFE         0.15f  /* s */
 #define MM_CHARACTER_MAX_HIP_DROP          0.1f   /* m */
 #define MM_CHARACTER_RATE_MIN              0.75f
@@ -172,12 +172,14 @@ typedef struct mm_character_desc {
      * label is on, the ankle is held where it was planted; while only the toe label is on, the
      * toe is held and the ankle rolls about it as animated; with both, the foot turns (at most
      * 0.8 rad from its animated orientation) so that the toe stays on its lock too. A lock the
-     * animation pulls more than unlock_radius away moves toward the foot a spring step a tick (it
-     * creeps after the animation); released, the difference in place and velocity fades with
-     * foot_halflife. The hips come down (at most max_hip_drop, through a spring) where the legs
-     * cannot reach their targets, and an ankle is raised where its toe would go below the
-     * ground. The legs reach them by the leg IK (mm/leg_ik.h), the knee bending about its hinge,
-     * the foot keeping its animated orientation (turned by the foot's turn). */
+     * animation pulls more than unlock_radius away, or that its leg cannot reach, moves toward the
+     * foot a spring step a tick (it creeps after the animation); released, the difference in place and
+     * velocity fades with foot_halflife. The pelvis moves on the ground plane toward planted feet out of
+     * their legs' reach (in the pose only, at most 12 cm, through a spring), the hips come down (at most
+     * max_hip_drop, through a spring) where the legs still cannot reach their targets, and an
+     * ankle is raised where its toe would go below the ground. The legs reach them by the leg IK
+     * (mm/leg_ik.h), the knee bending about its hinge, the foot keeping its animated orientation (turned by
+     * the foot's turn). */
     bool no_foot_ik;                    /* turn foot locking and IK off */
     float plant_time;                   /* s: over this time before a free foot's contact label
                                            turns on in the clip playing, its step on the ground

@@ -34,6 +34,9 @@
 /* m: past unlock_radius, how far the creep of a lock after the animation grows from nothing to a
  * whole spring step a tick (a threshold would move the lock by a whole step at once) */
 #define UNLOCK_RAMP 0.05f
+/* m: how far short of its target a leg may leave its ankle before the lock creeps after the
+ * animation (the IK's softened reach leaves a straightening leg a little short) */
+#define REACH_SLACK 0.02f
 /* m/s^2: the most a landing slows a foot on the ground plane: a foot faster than this times
  * plant_time (a transition's offsets still carrying a swing onto a frame whose label is on) lands
  * over longer, as its speed asks */
@@ -353,16 +356,19 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         float fall = f->placed ? f->last_toe[k].y - t.y : 0.0f;
         f->toe_lock[k].y = settle(ground, rig->planted_toe[k], f->toe_lock[k], t.y, fall, dt);
     }
-    /* a lock the animation has pulled more than unlock_radius away creeps after it: its locks move
-     * toward the animated foot by a spring step from rest each tick (foot_halflife), in full from
-     * UNLOCK_RAMP past the radius and in proportion before */
+    /* a lock the animation has pulled more than unlock_radius away, or that its leg did not reach
+     * last tick by more than REACH_SLACK (the pelvis's move and the hips' drop spent), creeps after
+     * the animation: its locks move toward the animated foot by a spring step from rest each tick
+     * (foot_halflife), in full from UNLOCK_RAMP past the radius or the slack and in proportion
+     * before */
     if (f->heel_locked[k] || f->toe_locked[k]) {
         mm_vec3 held = foot_source(f, k, a, t);
         float gap = mm_vec3_distance(held, a);
-        if (gap > d->unlock_radius) {
+        float past = fmaxf(gap - d->unlock_radius, f->placed ? f->reach_miss[k] - REACH_SLACK : 0.0f);
+        if (past > 0.0f) {
             double y = mm_spring_damping(d->foot_halflife);
             float step = isfinite(y) ? (float)(1.0 - (1.0 + y * dt) * exp(-y * dt)) : 1.0f;
-            float share = fminf((gap - d->unlock_radius) / UNLOCK_RAMP, 1.0f) * step;
+            float share = fminf(past / UNLOCK_RAMP, 1.0f) * step;
             mm_vec3 delta = mm_vec3_scale(mm_vec3_sub(a, held), share);
             f->heel_lock[k] = mm_vec3_add(f->heel_lock[k], delta);
             f->toe_lock[k] = mm_vec3_add(f->toe_lock[k], delta);
@@ -544,6 +550,51 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
     return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
 }
 
+/* m: the furthest the pelvis is moved on the ground plane toward planted feet out of reach */
+#define MAX_PELVIS_SHIFT 0.12f
+/* s: half-life of the spring the pelvis is moved through (and back) */
+#define PELVIS_SHIFT_HALFLIFE 0.08f
+/* the most the pelvis's move asks for per unit of a leg's excess over its reach, for a foot
+ * nearly under its hip (see shift_pelvis) */
+#define SHIFT_GAIN 3.0f
+
+/* The pelvis moves on the ground plane, in the pose only (the simulated root stays), as far as the
+ * locked feet need to come within their legs' softened reach from the hips lowered as they are:
+ * each locked foot out of reach asks for its excess toward it, the sum at most MAX_PELVIS_SHIFT,
+ * followed through a spring both ways (back to none while the feet do not keep to the ground). A locked foot
+ * the hips were carried away from (a transition's root motion, the simulation's pull) stays on its lock
+ * instead of being dragged by its straight leg, or crept after the animation. */
+static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, bool hold, float dt,
+                         mm_rig_pose *pose)
+{
+    int pelvis = rig->pelvis;
+    mm_vec3 need = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    for (int k = 0; k < 2; ++k) {
+        if (!hold || rig->ankle[k] < 0 || !f->locked[k]) continue;
+        mm_vec3 h = pose->global[rig->hip[k]].translation;
+        float reach = (1.0f - SOFT_REACH) * leg_length(rig, k, pose);
+        mm_vec3 r = mm_vec3_sub(target[k], mm_vec3_make(h.x, h.y - f->hip_drop, h.z));
+        float length = mm_vec3_length(r), across = sqrtf(r.x * r.x + r.z * r.z);
+        if (!(length > reach)) continue;
+        /* the move on the ground plane that shortens the leg by its excess, to first order; a foot
+         * nearly under the hip asks for less (at most SHIFT_GAIN times the excess per unit of the
+         * leg's lean), where the exact move would grow without bound */
+        float lean = fmaxf(across, length / SHIFT_GAIN);
+        float move = (length - reach) * length / (lean * lean);
+        need.x += r.x * move, need.z += r.z * move;
+    }
+    float size = mm_vec3_length(need);
+    if (size > MAX_PELVIS_SHIFT) need = mm_vec3_scale(need, MAX_PELVIS_SHIFT / size);
+    if (!f->placed) f->pelvis_shift = need, f->pelvis_shift_velocity = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    mm_spring_update_vec3(&f->pelvis_shift, &f->pelvis_shift_velocity, need, PELVIS_SHIFT_HALFLIFE, dt);
+    if (mm_vec3_length(f->pelvis_shift) > 1e-7f) {
+        mm_vec3 along =
+            mm_quat_inv_rotate(pose->global[rig->joints[pelvis].parent].rotation, f->pelvis_shift);
+        pose->local_positions[pelvis] = mm_vec3_add(pose->local_positions[pelvis], along);
+        mm_rig_forward(rig, pelvis, pose);
+    }
+}
+
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
  * rising back through a spring), at most max_hip_drop, and to reach a swinging foot's landing
  * height (landing: the targets lowered to it; the targets themselves elsewhere); on terrain ahead
@@ -682,6 +733,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         }
         f->lock[k] = target[k];
     }
+    if (rig->pelvis >= 0) shift_pelvis(f, rig, target, ground->hold, dt, pose);
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f)
         lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, terrain, rig, target,
                    landing, dt, pose);
@@ -705,6 +757,10 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             f->lock[k] = onto;
         }
         solve_leg(rig, k, target[k], orientation[k], pose);
+        int ankle = rig->ankle[k], knee = rig->knee[k]; /* the ankle where the solved leg puts it */
+        mm_xform reached = mm_xform_mul(
+            pose->global[knee], mm_xform_make(pose->local_rotations[ankle], pose->local_positions[ankle]));
+        f->reach_miss[k] = mm_vec3_distance(reached.translation, target[k]);
     }
     f->placed = true;
     mm_rig_forward(rig, 1, pose); /* below the ankles */

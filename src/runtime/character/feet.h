@@ -29,7 +29,12 @@ typedef struct mm_feet {
     float landing_time[2]; /* s: how long that landing takes (plant_time, or longer for a fast foot) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     float hip_need;                    /* m: on terrain, how far the legs needed it lowered last tick */
-    mm_vec3 tilt_normal[2];            /* on terrain: the ground's normal each foot was last turned to */
+    /* m: how far the pelvis is moved on the ground plane toward planted feet out of their legs'
+     * reach (in the pose only, not the simulated root) */
+    mm_vec3 pelvis_shift, pelvis_shift_velocity;
+    /* m: how far each ankle was left short of its target last tick (out of its leg's reach) */
+    float reach_miss[2];
+    mm_vec3 tilt_normal[2]; /* on terrain: the ground's normal each foot was last turned to */
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
      * root's ground (a spring's state) */
     float ground_shift[2], ground_shift_velocity[2];
