@@ -1090,7 +1090,8 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
     d.unlock_radius = 2.0f; /* the lock holds */
     float dt = 1.0f / 60.0f, reach = 0.95f * 0.84f, down = 0.7f - 0.06f;
     float L = sqrtf(down * down + 0.55f * 0.55f), move = (L - reach) * L / 0.55f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}}, none = {0, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
@@ -1160,7 +1161,7 @@ static void test_feet_unreachable_lock_creeps(void **state)
     d.max_hip_drop = 0.0f;
     d.unlock_radius = 2.0f; /* the animation's pull alone would never move it */
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}};
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
