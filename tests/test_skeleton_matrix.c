@@ -78,7 +78,6 @@ static const known_miss known_misses[] = {
     {"builtin", "stop_and_go", T_POP},
     {"builtin", "turn_90", T_SLIDE},
     {"builtin", "turn_180", T_SLIDE | T_POP},
-    {"builtin", "zigzag", T_SLIDE},
     {"builtin", "strafe", T_SLIDE | T_POP},
     {"builtin", "walk_run", T_POP},
     {"builtin", "demo", T_SLIDE | T_POP},
@@ -99,9 +98,6 @@ static const known_miss known_misses[] = {
     {"games105", "turn_90", T_SLIDE | T_POP},
     {"games105", "random_1", T_SLIDE | T_POP},
     {"games105", "random_2", T_SLIDE | T_POP},
-    /* the PFNN take paces a small room: its one long straight walk is a 0.45 m/s amble, and its
-     * turns slide 2.2-2.4 cm/s (docs/skeletons.md) */
-    {"pfnn", "turn_90", T_SLIDE},
     {"pfnn", "random_1", T_SLIDE},
     {"pfnn", "random_2", T_SLIDE},
 };
