@@ -639,6 +639,41 @@ static void test_feet_roll_onto_the_toe(void **state)
     assert_true(b.global[L_FOOT].translation.y > 0.06f + 0.03f);
 }
 
+/* Planted on heel and toe with the toe's lock 1 cm further along the foot than the foot reaches (two
+ * locks placed and settled apart): the toe is shown on the foot, short of its lock; when the heel
+ * lifts, the toe stays where it was shown (within 1 mm on the ground plane) instead of moving onto
+ * its lock in that tick, and stays there as the foot rolls about it. */
+static void test_feet_heel_lifts_where_shown(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    assert_true(f.heel_locked[0] && f.toe_locked[0]);
+    mm_vec3 along = mm_vec3_sub(f.toe_lock[0], f.heel_lock[0]);
+    along.y = 0.0f;
+    f.toe_lock[0] = mm_vec3_add(f.toe_lock[0], mm_vec3_scale(mm_vec3_normalize(along), 0.01f));
+    bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+    mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    mm_vec3 shown = b.global[L_TOE].translation, off = mm_vec3_sub(f.toe_lock[0], shown);
+    assert_true(sqrtf(off.x * off.x + off.z * off.z) > 0.008f); /* short of its lock */
+    for (int i = 1; i <= 10; ++i) {
+        bent_left_leg(&b, 0.3f, 0.02f * (float)i, 0.0f); /* the heel rising */
+        mm_feet_update(&f, &d, &b.rig, &toe, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.toe_locked[0] && !f.heel_locked[0]);
+        mm_vec3 moved = mm_vec3_sub(b.global[L_TOE].translation, shown);
+        assert_true(sqrtf(moved.x * moved.x + moved.z * moved.z) < 1e-3f);
+    }
+}
+
 /* A foot planted while still settling (its label on 3 cm above where it comes to rest) follows the
  * animated foot down to the ground instead of hovering at the height it was planted at. */
 static void test_feet_lock_comes_down(void **state)
@@ -1265,6 +1300,7 @@ int main(void)
         cmocka_unit_test(test_feet_unreachable_lock_creeps),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
         cmocka_unit_test(test_feet_roll_onto_the_toe),
+        cmocka_unit_test(test_feet_heel_lifts_where_shown),
         cmocka_unit_test(test_feet_lock_comes_down),
         cmocka_unit_test(test_feet_lock_settles_gradually),
         cmocka_unit_test(test_feet_wait_aloft),

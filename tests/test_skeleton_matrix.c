@@ -78,15 +78,14 @@ static const known_miss known_misses[] = {
     {"builtin", "stop_and_go", T_POP},
     {"builtin", "turn_90", T_SLIDE},
     {"builtin", "turn_180", T_SLIDE | T_POP},
-    {"builtin", "zigzag", T_SLIDE},
-    {"builtin", "strafe", T_SLIDE | T_POP},
+    {"builtin", "strafe", T_SLIDE},
     {"builtin", "walk_run", T_POP},
     {"builtin", "demo", T_SLIDE | T_POP},
     {"builtin", "random_1", T_SLIDE | T_POP},
     {"builtin", "random_2", T_SLIDE | T_POP},
     {"lafan1", "straight_walk", T_POP},
-    {"lafan1", "straight_run", T_SLIDE | T_POP},
-    {"lafan1", "stop_and_go", T_SLIDE | T_POP},
+    {"lafan1", "straight_run", T_POP},
+    {"lafan1", "stop_and_go", T_POP},
     {"lafan1", "turn_90", T_SLIDE | T_POP},
     {"lafan1", "turn_180", T_SLIDE | T_POP},
     {"lafan1", "circle", T_POP},
@@ -99,9 +98,6 @@ static const known_miss known_misses[] = {
     {"games105", "turn_90", T_SLIDE | T_POP},
     {"games105", "random_1", T_SLIDE | T_POP},
     {"games105", "random_2", T_SLIDE | T_POP},
-    /* the PFNN take paces a small room: its one long straight walk is a 0.45 m/s amble, and its
-     * turns slide 2.2-2.4 cm/s (docs/skeletons.md) */
-    {"pfnn", "turn_90", T_SLIDE},
     {"pfnn", "random_1", T_SLIDE},
     {"pfnn", "random_2", T_SLIDE},
 };
@@ -164,6 +160,22 @@ static char whole_names[MAX_TAKES][MM_NAME_MAX];
 static double file_unit; /* metres per unit of the dataset's files */
 static char out_dir[1024];
 static const char *mm_bin;
+/* MM_MATRIX_INPUTS, a comma list of inputs (scripts' names, random_1, random_2): the runtime targets
+ * on those alone and the database comparison left out (a quick look at one miss); NULL: everything */
+static const char *only_inputs;
+
+/* Whether the input named tag runs (only_inputs). */
+static int input_wanted(const char *tag)
+{
+    if (!only_inputs) return 1;
+    size_t n = strlen(tag);
+    for (const char *p = only_inputs; *p;) {
+        size_t len = strcspn(p, ",");
+        if (len == n && strncmp(p, tag, n) == 0) return 1;
+        p += len + (p[len] == ',');
+    }
+    return 0;
+}
 
 /* ---- loading ---------------------------------------------------------------------------------- */
 
@@ -672,6 +684,7 @@ static int is_known(const char *variant, char level, const char *script)
 static void test_same_database(void **state)
 {
     (void)state;
+    if (only_inputs) skip();
     variant_set *ref = calloc(1, sizeof *ref), *vs = calloc(1, sizeof *vs);
     write_variant(F_ORIGINAL, 0, 0, ref, NULL, 0);
     build_variant(ref);
@@ -864,6 +877,7 @@ static int cli_targets(family f, int which)
             snprintf(input, sizeof input, "--random %d", k - 11);
             snprintf(tag, sizeof tag, "random_%d", k - 11);
         }
+        if (!input_wanted(tag)) continue;
         char line[512], missed[128], met[128];
         unsigned failed = simulate(vs->dir, input, tag, line, sizeof line),
                  expected = known_missed(ds->name, tag);
@@ -981,6 +995,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(name, "builtin") != 0) TEST_SKIP_WITHOUT_DATA_DIR();
     mm_bin = getenv("MM_BIN");
+    only_inputs = getenv("MM_MATRIX_INPUTS");
+    if (only_inputs && !only_inputs[0]) only_inputs = NULL;
     snprintf(out_dir, sizeof out_dir, "%s/skeleton_matrix", MM_TEST_OUT);
     mkdir(out_dir, 0777);
     snprintf(out_dir, sizeof out_dir, "%s/skeleton_matrix/%s", MM_TEST_OUT, name);

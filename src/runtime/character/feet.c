@@ -382,19 +382,27 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
-    /* the heel lifts off while the toe holds: the ankle keeps its place, the foot turned about the
-     * toe's lock to meet it (the roll goes on from there as the turn fades) */
+    /* the heel lifts off while the toe holds: the foot stays as it was shown, its ankle at last
+     * tick's target and its toe that far along the foot as shown (the toe's lock moves there), turned
+     * to match; the roll goes on from there as the turn fades. Both planted, the toe is shown off its
+     * lock by the fading turn offset, the heel's and the toe's locks settle apart, and the leg may
+     * fall short of the heel's: turning the foot onto the toe's lock moved the toe a centimetre or
+     * two in the tick the heel lifted */
     bool toe_held = toe_was_locked && f->toe_locked[k];
-    if (toe_held && heel_was_locked && !f->heel_locked[k]) {
-        mm_vec3 want = mm_vec3_sub(f->toe_lock[k], before), have = mm_vec3_sub(t, a);
-        if (mm_vec3_length(want) > MIN_FOOT_LENGTH && mm_vec3_length(have) > MIN_FOOT_LENGTH) {
-            mm_vec3 turn = mm_quat_log(mm_quat_between(have, want));
+    if (toe_held && heel_was_locked && !f->heel_locked[k] && f->placed) {
+        mm_vec3 shown = f->shown_foot[k], have = mm_vec3_sub(t, a);
+        f->toe_lock[k] = mm_vec3_add(f->lock[k], shown);
+        f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k]);
+        if (mm_vec3_length(shown) > MIN_FOOT_LENGTH && mm_vec3_length(have) > MIN_FOOT_LENGTH) {
+            mm_vec3 turn = mm_quat_log(mm_quat_between(have, shown));
             float angle = mm_vec3_length(turn);
             f->turn[k] = angle > MAX_FOOT_TURN ? mm_vec3_scale(turn, MAX_FOOT_TURN / angle) : turn;
             f->turn_velocity[k] = mm_vec3_make(0, 0, 0);
         }
+        f->offset[k] = mm_vec3_sub(f->lock[k], foot_source(f, k, a, t)); /* the ankle where it was held */
+    } else {
+        f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(before, foot_source(f, k, a, t)));
     }
-    f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(before, foot_source(f, k, a, t)));
     /* the velocity on the ground plane only: upward the foot takes what it follows at once (let
      * go, it lifts off as animated instead of dragging along the ground while its offset fades).
      * Not while the toe holds through the tick: the foot rolls about it as animated (keeping the
@@ -775,4 +783,8 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         }
         if (lifted) mm_rig_forward(rig, 1, pose);
     }
+    for (int k = 0; k < 2; ++k)
+        if (rig->ankle[k] >= 0 && rig->toe[k] >= 0)
+            f->shown_foot[k] =
+                mm_vec3_sub(pose->global[rig->toe[k]].translation, pose->global[rig->ankle[k]].translation);
 }

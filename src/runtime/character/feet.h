@@ -25,6 +25,7 @@ typedef struct mm_feet {
     mm_vec3 turn_offset[2], turn_offset_velocity[2];
     bool placed;                        /* lock holds last tick's ankle targets (landing eases from them) */
     mm_vec3 last_ankle[2], last_toe[2]; /* last tick's animated ankles and toes (when placed) */
+    mm_vec3 shown_foot[2];              /* last tick's ankle-to-toe vectors as shown (after the IK) */
     float landed[2];       /* how far a free foot whose contact is coming has landed (share of plant_time) */
     float landing_time[2]; /* s: how long that landing takes (plant_time, or longer for a fast foot) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
