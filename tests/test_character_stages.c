@@ -653,8 +653,8 @@ static void test_feet_heel_lifts_where_shown(void **state)
     mm_feet f;
     memset(&f, 0, sizeof f);
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
-    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}};
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
     mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     assert_true(f.heel_locked[0] && f.toe_locked[0]);
