@@ -632,7 +632,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         solve_leg(rig, k, target[k], orientation[k], pose);
     }
     f->placed = true;
-    mm_rig_forward(rig, 1, pose); /* below the ankles */
+    mm_rig_forward_legs(rig, pose); /* below the ankles: the legs alone changed */
     if (ground->hold) {
         int lifted = 0;
         for (int k = 0; k < 2; ++k) {
@@ -642,6 +642,6 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             float floor = stand_height(ground, p.x, p.z, rig->planted_toe[k]);
             lifted |= lift_toe(rig, k, floor - TOE_SINK - TOE_LIFT_MARGIN, pose);
         }
-        if (lifted) mm_rig_forward(rig, 1, pose);
+        if (lifted) mm_rig_forward_legs(rig, pose);
     }
 }
