@@ -66,6 +66,30 @@ void mm_spring_decay_vec3_step(mm_vec3 *x, mm_vec3 *v, const mm_spring_step *s)
     mm_spring_update_vec3_step(x, v, mm_vec3_make(0, 0, 0), s);
 }
 
+/* One coordinate decaying to 0: step() with target 0, written out so that the coordinates of many
+ * springs go side by side. */
+static inline void decay_coordinate(float *x, float *v, double y, double dt, double e)
+{
+    double j0 = (double)*x - 0.0, vd = *v, j1 = vd + j0 * y;
+    *x = (float)(0.0 + (j0 + j1 * dt) * e);
+    *v = (float)((vd - j1 * y * dt) * e);
+}
+
+void mm_spring_decay_vec3_steps(mm_vec3 *x, mm_vec3 *v, int count, const mm_spring_step *s)
+{
+    if (!s->moves) return;
+    if (!isfinite(s->damping)) {
+        for (int i = 0; i < count; ++i) x[i] = v[i] = mm_vec3_make(0.0f, 0.0f, 0.0f);
+        return;
+    }
+    const double y = s->damping, dt = s->dt, e = s->decay;
+    for (int i = 0; i < count; ++i) {
+        decay_coordinate(&x[i].x, &v[i].x, y, dt, e);
+        decay_coordinate(&x[i].y, &v[i].y, y, dt, e);
+        decay_coordinate(&x[i].z, &v[i].z, y, dt, e);
+    }
+}
+
 void mm_spring_decay_vec3(mm_vec3 *x, mm_vec3 *v, float halflife, float dt)
 {
     mm_spring_update_vec3(x, v, mm_vec3_make(0, 0, 0), halflife, dt);

@@ -218,9 +218,11 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
 void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt)
 {
     mm_spring_step step = mm_spring_step_make(halflife, dt); /* every joint's offsets decay alike */
+    if (joint_count < 2) return;
+    int n = joint_count - 1;
+    mm_spring_decay_vec3_steps(tr->rotation_offset + 1, tr->rotation_offset_velocity + 1, n, &step);
+    mm_spring_decay_vec3_steps(tr->position_offset + 1, tr->position_offset_velocity + 1, n, &step);
     for (int j = 1; j < joint_count; ++j) {
-        mm_spring_decay_vec3_step(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], &step);
-        mm_spring_decay_vec3_step(&tr->position_offset[j], &tr->position_offset_velocity[j], &step);
         tr->rotations[j] =
             mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(tr->rotation_offset[j]), tr->rotations[j]));
         tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
