@@ -127,6 +127,7 @@ void mm_spring_velocity_update(mm_vec3 *position, mm_vec3 *velocity, mm_vec3 *ac
     float *v[3] = {&velocity->x, &velocity->y, &velocity->z};
     float *a[3] = {&acceleration->x, &acceleration->y, &acceleration->z};
     const float g[3] = {target_velocity.x, target_velocity.y, target_velocity.z};
+    const double e = isfinite(y) ? exp(-y * dt) : 0.0; /* the same for the three coordinates */
     for (int i = 0; i < 3; ++i) {
         if (!isfinite(y)) { /* no spring: the velocity is the target at once */
             *p[i] = (float)(*p[i] + (double)g[i] * dt);
@@ -135,7 +136,7 @@ void mm_spring_velocity_update(mm_vec3 *position, mm_vec3 *velocity, mm_vec3 *ac
             continue;
         }
         /* v(t) = g + (j0 + j1 t) e^(-y t); x integrates it; a differentiates it */
-        double j0 = (double)*v[i] - g[i], j1 = (double)*a[i] + j0 * y, e = exp(-y * dt);
+        double j0 = (double)*v[i] - g[i], j1 = (double)*a[i] + j0 * y;
         double x = *p[i] + g[i] * dt + j0 * (1.0 - e) / y + j1 * ((1.0 - e) / (y * y) - dt * e / y);
         *p[i] = (float)x;
         *v[i] = (float)(g[i] + (j0 + j1 * dt) * e);
