@@ -28,10 +28,9 @@ static void pose_at(mm_transition *tr, const mm_database *db, int frame, float f
     mm_frame_pair pair = read_frames(tr, db, frame, next);
     const mm_quat *r0 = pair.rotations0, *r1 = pair.rotations1;
     const mm_vec3 *p0 = pair.positions0, *p1 = pair.positions1;
-    for (int j = 0; j < db->joint_count; ++j) {
-        rot[j] = mm__quat_slerp_series(r0[j], r1[j], fraction); /* neighbouring frames: close together */
-        pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
-    }
+    /* neighbouring frames: close together */
+    mm__quat_slerp_series_n(r0, r1, fraction, db->joint_count, rot);
+    for (int j = 0; j < db->joint_count; ++j) pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
 }
 
 /* The database's root motion at the playhead: that of the frame interval it is in (the root
