@@ -360,6 +360,43 @@ static int slerp_series2(mm_quat a0, mm_quat a1, mm_quat b0, mm_quat b1, float t
     return ~_mm_movemask_pd(ok) & 3;
 }
 
+static __m128d cos_series2(__m128d y)
+{
+    static const double k[] = {1.0 / 479001600.0, -1.0 / 3628800.0, 1.0 / 40320.0,
+                               -1.0 / 720.0,      1.0 / 24.0,       -1.0 / 2.0};
+    __m128d r = _mm_mul_pd(y, _mm_set1_pd(k[0]));
+    for (int i = 1; i < 6; ++i) r = _mm_mul_pd(y, _mm_add_pd(_mm_set1_pd(k[i]), r));
+    return _mm_add_pd(_mm_set1_pd(1.0), r);
+}
+
+/* Two exps; returns the lanes (bit 0: the first, bit 1: the second) the scalar code must redo. */
+static int exp_series2(mm_vec3 v0, mm_vec3 v1, mm_quat *out0, mm_quat *out1)
+{
+    __m128d d[3] = {_mm_set_pd(v1.x, v0.x), _mm_set_pd(v1.y, v0.y), _mm_set_pd(v1.z, v0.z)};
+    __m128d angle2 =
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], d[0]), _mm_mul_pd(d[1], d[1])), _mm_mul_pd(d[2], d[2]));
+    __m128d h2 = _mm_mul_pd(_mm_set1_pd(0.25), angle2);
+    __m128d ok = _mm_cmplt_pd(h2, _mm_set1_pd(SERIES_MAX_ANGLE * SERIES_MAX_ANGLE));
+    __m128d scale = _mm_mul_pd(_mm_set1_pd(0.5), sin_over_x2(h2));
+    __m128 x = _mm_cvtpd_ps(_mm_mul_pd(d[0], scale)), y = _mm_cvtpd_ps(_mm_mul_pd(d[1], scale)),
+           z = _mm_cvtpd_ps(_mm_mul_pd(d[2], scale)), w = _mm_cvtpd_ps(cos_series2(h2));
+    __m128 xy = _mm_unpacklo_ps(x, y), zw = _mm_unpacklo_ps(z, w); /* x0 y0 x1 y1, z0 w0 z1 w1 */
+    _mm_storeu_ps(&out0->x, _mm_movelh_ps(xy, zw));
+    _mm_storeu_ps(&out1->x, _mm_movehl_ps(zw, xy));
+    return ~_mm_movemask_pd(ok) & 3;
+}
+
+void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
+{
+    int i = 0;
+    for (; i + 1 < count; i += 2) {
+        int redo = exp_series2(v[i], v[i + 1], &out[i], &out[i + 1]);
+        if (redo & 1) out[i] = mm__quat_exp_series(v[i]);
+        if (redo & 2) out[i + 1] = mm__quat_exp_series(v[i + 1]);
+    }
+    for (; i < count; ++i) out[i] = mm__quat_exp_series(v[i]);
+}
+
 void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out)
 {
     int i = 0;
@@ -371,6 +408,11 @@ void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int co
     for (; i < count; ++i) out[i] = mm__quat_slerp_series(a[i], b[i], t);
 }
 #else
+void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
+{
+    for (int i = 0; i < count; ++i) out[i] = mm__quat_exp_series(v[i]);
+}
+
 void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out)
 {
     for (int i = 0; i < count; ++i) out[i] = mm__quat_slerp_series(a[i], b[i], t);

@@ -46,5 +46,8 @@ void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int co
 /* mm_quat_exp without its sine and cosine, for small rotations (offsets decaying to none): under
  * 0.6 rad from the Taylor series, exact to double rounding; mm_quat_exp itself beyond. */
 mm_quat mm__quat_exp_series(mm_vec3 v);
+/* out[i] = mm__quat_exp_series(v[i]) for i in [0, count): the same bits, two at a time where the
+ * machine has the lanes for it. */
+void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out);
 
 #endif /* MM_MATH_PRIVATE_H */

@@ -778,6 +778,32 @@ static void test_exp_series(void **state)
     }
 }
 
+/* Many series exps at once (mm__quat_exp_series_n): the bits of one mm__quat_exp_series each, from
+ * zero (either sign) through the series' reach and past it, NaN among them, counts odd and even. */
+static void test_exp_series_n(void **state)
+{
+    (void)state;
+    rng_seed(24);
+    enum { OFFSETS = 29 };
+    mm_vec3 v[OFFSETS];
+    mm_quat many[OFFSETS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < OFFSETS; ++i) {
+            mm_vec3 axis = rnd_unit_vec3();
+            double angle = pow(10.0, rnd(-9.0, 0.5));
+            v[i] = mm_vec3_make((float)(axis.x * angle), (float)(axis.y * angle), (float)(axis.z * angle));
+        }
+        v[n % OFFSETS] = mm_vec3_make(0.0f, -0.0f, 0.0f);
+        if (n % 10 == 3) v[5] = mm_vec3_make(NAN, 0.0f, 0.0f);
+        int count = OFFSETS - n % 2;
+        mm__quat_exp_series_n(v, count, many);
+        for (int i = 0; i < count; ++i) {
+            mm_quat one = mm__quat_exp_series(v[i]);
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
+    }
+}
+
 static void test_slerp_shortest_path(void **state)
 {
     (void)state;
@@ -1083,6 +1109,7 @@ int main(void)
         cmocka_unit_test(test_slerp_series),
         cmocka_unit_test(test_slerp_series_n),
         cmocka_unit_test(test_exp_series),
+        cmocka_unit_test(test_exp_series_n),
         cmocka_unit_test(test_slerp_nearly_parallel),
         cmocka_unit_test(test_nlerp),
         cmocka_unit_test(test_angle_between),

@@ -214,6 +214,9 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
         inertialize_to(tr, db, jump->frame, jump->fraction, current, p, dt);
 }
 
+/* joints whose rotation offsets are turned into quaternions together (on the stack) */
+#define DECAY_CHUNK 32
+
 void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt)
 {
     mm_spring_step step = mm_spring_step_make(halflife, dt); /* every joint's offsets decay alike */
@@ -221,10 +224,15 @@ void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, flo
     int n = joint_count - 1;
     mm_spring_decay_vec3_steps(tr->rotation_offset + 1, tr->rotation_offset_velocity + 1, n, &step);
     mm_spring_decay_vec3_steps(tr->position_offset + 1, tr->position_offset_velocity + 1, n, &step);
-    for (int j = 1; j < joint_count; ++j) {
-        tr->rotations[j] =
-            mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(tr->rotation_offset[j]), tr->rotations[j]));
-        tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
+    for (int first = 1; first < joint_count; first += DECAY_CHUNK) {
+        int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
+        mm_quat offset[DECAY_CHUNK];
+        mm__quat_exp_series_n(tr->rotation_offset + first, count, offset);
+        for (int i = 0; i < count; ++i) {
+            int j = first + i;
+            tr->rotations[j] = mm_quat_normalize(mm_quat_mul(offset[i], tr->rotations[j]));
+            tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
+        }
     }
 }
 
