@@ -11,6 +11,9 @@
 #include "math_private.h"
 
 #include <stddef.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 /* ---- internal double-precision helpers -------------------------------------------------- */
 
@@ -251,6 +254,170 @@ mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t)
     dq_normalize(out);
     return dq_to_quat(out);
 }
+
+#if defined(__SSE2__)
+/* mm__quat_slerp_series for two pairs at once: each lane of a packed double does what the scalar
+ * code does, operation for operation and in its order, so the same bits. Lanes off the series'
+ * common path (a zero quaternion, rotations 0.3 rad or more apart, NaN) are done again by the
+ * scalar code. */
+
+typedef struct dq2 {
+    __m128d c[4]; /* x, y, z, w: each the two lanes */
+} dq2;
+
+static dq2 dq2_from_quats(mm_quat q0, mm_quat q1)
+{
+    __m128 a = _mm_loadu_ps(&q0.x), b = _mm_loadu_ps(&q1.x);
+    __m128 xy = _mm_unpacklo_ps(a, b), zw = _mm_unpackhi_ps(a, b); /* x0 x1 y0 y1, z0 z1 w0 w1 */
+    dq2 r = {{_mm_cvtps_pd(xy), _mm_cvtps_pd(_mm_movehl_ps(xy, xy)), _mm_cvtps_pd(zw),
+              _mm_cvtps_pd(_mm_movehl_ps(zw, zw))}};
+    return r;
+}
+
+/* the sum of the squares, in dq_norm's order, and its square root */
+static __m128d dq2_norm(const dq2 *q)
+{
+    __m128d n = _mm_mul_pd(q->c[0], q->c[0]);
+    for (int c = 1; c < 4; ++c) n = _mm_add_pd(n, _mm_mul_pd(q->c[c], q->c[c]));
+    return _mm_sqrt_pd(n);
+}
+
+/* lanes where n >= 1e-300 (dq_normalize divides there; the rest are left to the scalar code) */
+static __m128d dq2_divide(dq2 *q, __m128d n)
+{
+    for (int c = 0; c < 4; ++c) q->c[c] = _mm_div_pd(q->c[c], n);
+    return _mm_cmpge_pd(n, _mm_set1_pd(1e-300));
+}
+
+static __m128d sin_over_x2(__m128d y)
+{
+    static const double k[] = {1.0 / 6227020800.0, -1.0 / 39916800.0, 1.0 / 362880.0,
+                               -1.0 / 5040.0,      1.0 / 120.0,       -1.0 / 6.0};
+    /* 1 + y (-1/6 + y (1/120 + ... + y (1/6227020800)))) from the inside out */
+    __m128d r = _mm_mul_pd(y, _mm_set1_pd(k[0]));
+    for (int i = 1; i < 6; ++i) r = _mm_mul_pd(y, _mm_add_pd(_mm_set1_pd(k[i]), r));
+    return _mm_add_pd(_mm_set1_pd(1.0), r);
+}
+
+static __m128d asin_over_h2(__m128d z)
+{
+    static const double c[] = {1.0,
+                               1.0 / 6.0,
+                               3.0 / 40.0,
+                               15.0 / 336.0,
+                               105.0 / 3456.0,
+                               945.0 / 42240.0,
+                               10395.0 / 599040.0,
+                               135135.0 / 9676800.0,
+                               2027025.0 / 175472640.0,
+                               34459425.0 / 3530096640.0};
+    __m128d sum = _mm_setzero_pd();
+    for (int n = (int)(sizeof c / sizeof c[0]) - 1; n >= 0; --n)
+        sum = _mm_add_pd(_mm_mul_pd(sum, z), _mm_set1_pd(c[n]));
+    return sum;
+}
+
+static __m128d blend2(__m128d mask, __m128d yes, __m128d no)
+{
+    return _mm_or_pd(_mm_and_pd(mask, yes), _mm_andnot_pd(mask, no));
+}
+
+/* Two slerps; returns the lanes (bit 0: the first, bit 1: the second) the scalar code must redo. */
+static int slerp_series2(mm_quat a0, mm_quat a1, mm_quat b0, mm_quat b1, float t, mm_quat *out0,
+                         mm_quat *out1)
+{
+    dq2 qa = dq2_from_quats(a0, a1), qb = dq2_from_quats(b0, b1);
+    __m128d ok = _mm_and_pd(dq2_divide(&qa, dq2_norm(&qa)), dq2_divide(&qb, dq2_norm(&qb)));
+    /* the shorter arc */
+    __m128d dot = _mm_mul_pd(qa.c[0], qb.c[0]);
+    for (int c = 1; c < 4; ++c) dot = _mm_add_pd(dot, _mm_mul_pd(qa.c[c], qb.c[c]));
+    __m128d flip = _mm_and_pd(_mm_cmplt_pd(dot, _mm_setzero_pd()), _mm_set1_pd(-0.0));
+    for (int c = 0; c < 4; ++c) qb.c[c] = _mm_xor_pd(qb.c[c], flip);
+    /* the angle from the half chord */
+    __m128d d2 = _mm_setzero_pd();
+    for (int c = 0; c < 4; ++c) {
+        __m128d e = _mm_sub_pd(qa.c[c], qb.c[c]);
+        d2 = _mm_add_pd(d2, _mm_mul_pd(e, e));
+    }
+    __m128d h2 = _mm_mul_pd(_mm_set1_pd(0.25), d2), half = asin_over_h2(h2);
+    __m128d theta2 = _mm_mul_pd(_mm_mul_pd(_mm_mul_pd(_mm_set1_pd(4.0), h2), half), half);
+    ok = _mm_and_pd(ok, _mm_cmplt_pd(theta2, _mm_set1_pd(SERIES_MAX_ANGLE * SERIES_MAX_ANGLE)));
+    __m128d td = _mm_set1_pd((double)t), ua = _mm_sub_pd(_mm_set1_pd(1.0), td);
+    __m128d s = sin_over_x2(theta2);
+    __m128d wa = _mm_div_pd(_mm_mul_pd(ua, sin_over_x2(_mm_mul_pd(_mm_mul_pd(ua, ua), theta2))), s);
+    __m128d wb = _mm_div_pd(_mm_mul_pd(td, sin_over_x2(_mm_mul_pd(_mm_mul_pd(td, td), theta2))), s);
+    __m128d linear = _mm_cmplt_pd(theta2, _mm_set1_pd(1e-8)); /* as mm_quat_slerp: linear under 1e-4 rad */
+    wa = blend2(linear, ua, wa);
+    wb = blend2(linear, td, wb);
+    dq2 r;
+    for (int c = 0; c < 4; ++c) r.c[c] = _mm_add_pd(_mm_mul_pd(wa, qa.c[c]), _mm_mul_pd(wb, qb.c[c]));
+    ok = _mm_and_pd(ok, dq2_divide(&r, dq2_norm(&r)));
+    __m128 x = _mm_cvtpd_ps(r.c[0]), y = _mm_cvtpd_ps(r.c[1]), z = _mm_cvtpd_ps(r.c[2]),
+           w = _mm_cvtpd_ps(r.c[3]);
+    __m128 xy = _mm_unpacklo_ps(x, y), zw = _mm_unpacklo_ps(z, w); /* x0 y0 x1 y1, z0 w0 z1 w1 */
+    _mm_storeu_ps(&out0->x, _mm_movelh_ps(xy, zw));
+    _mm_storeu_ps(&out1->x, _mm_movehl_ps(zw, xy));
+    return ~_mm_movemask_pd(ok) & 3;
+}
+
+static __m128d cos_series2(__m128d y)
+{
+    static const double k[] = {1.0 / 479001600.0, -1.0 / 3628800.0, 1.0 / 40320.0,
+                               -1.0 / 720.0,      1.0 / 24.0,       -1.0 / 2.0};
+    __m128d r = _mm_mul_pd(y, _mm_set1_pd(k[0]));
+    for (int i = 1; i < 6; ++i) r = _mm_mul_pd(y, _mm_add_pd(_mm_set1_pd(k[i]), r));
+    return _mm_add_pd(_mm_set1_pd(1.0), r);
+}
+
+/* Two exps; returns the lanes (bit 0: the first, bit 1: the second) the scalar code must redo. */
+static int exp_series2(mm_vec3 v0, mm_vec3 v1, mm_quat *out0, mm_quat *out1)
+{
+    __m128d d[3] = {_mm_set_pd(v1.x, v0.x), _mm_set_pd(v1.y, v0.y), _mm_set_pd(v1.z, v0.z)};
+    __m128d angle2 =
+        _mm_add_pd(_mm_add_pd(_mm_mul_pd(d[0], d[0]), _mm_mul_pd(d[1], d[1])), _mm_mul_pd(d[2], d[2]));
+    __m128d h2 = _mm_mul_pd(_mm_set1_pd(0.25), angle2);
+    __m128d ok = _mm_cmplt_pd(h2, _mm_set1_pd(SERIES_MAX_ANGLE * SERIES_MAX_ANGLE));
+    __m128d scale = _mm_mul_pd(_mm_set1_pd(0.5), sin_over_x2(h2));
+    __m128 x = _mm_cvtpd_ps(_mm_mul_pd(d[0], scale)), y = _mm_cvtpd_ps(_mm_mul_pd(d[1], scale)),
+           z = _mm_cvtpd_ps(_mm_mul_pd(d[2], scale)), w = _mm_cvtpd_ps(cos_series2(h2));
+    __m128 xy = _mm_unpacklo_ps(x, y), zw = _mm_unpacklo_ps(z, w); /* x0 y0 x1 y1, z0 w0 z1 w1 */
+    _mm_storeu_ps(&out0->x, _mm_movelh_ps(xy, zw));
+    _mm_storeu_ps(&out1->x, _mm_movehl_ps(zw, xy));
+    return ~_mm_movemask_pd(ok) & 3;
+}
+
+void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
+{
+    int i = 0;
+    for (; i + 1 < count; i += 2) {
+        int redo = exp_series2(v[i], v[i + 1], &out[i], &out[i + 1]);
+        if (redo & 1) out[i] = mm__quat_exp_series(v[i]);
+        if (redo & 2) out[i + 1] = mm__quat_exp_series(v[i + 1]);
+    }
+    for (; i < count; ++i) out[i] = mm__quat_exp_series(v[i]);
+}
+
+void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out)
+{
+    int i = 0;
+    for (; i + 1 < count; i += 2) {
+        int redo = slerp_series2(a[i], a[i + 1], b[i], b[i + 1], t, &out[i], &out[i + 1]);
+        if (redo & 1) out[i] = mm__quat_slerp_series(a[i], b[i], t);
+        if (redo & 2) out[i + 1] = mm__quat_slerp_series(a[i + 1], b[i + 1], t);
+    }
+    for (; i < count; ++i) out[i] = mm__quat_slerp_series(a[i], b[i], t);
+}
+#else
+void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
+{
+    for (int i = 0; i < count; ++i) out[i] = mm__quat_exp_series(v[i]);
+}
+
+void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out)
+{
+    for (int i = 0; i < count; ++i) out[i] = mm__quat_slerp_series(a[i], b[i], t);
+}
+#endif
 
 float mm_quat_angle_between(mm_quat a, mm_quat b)
 {

@@ -729,6 +729,36 @@ static void test_slerp_series(void **state)
     }
 }
 
+/* Many series slerps at once (mm__quat_slerp_series_n, two at a time in packed doubles): the bits of
+ * one mm__quat_slerp_series each, for pairs nearly parallel (the linear weights), close, past the
+ * series' reach, of either sign, zero quaternions and NaN among them, and counts odd and even. */
+static void test_slerp_series_n(void **state)
+{
+    (void)state;
+    rng_seed(23);
+    enum { PAIRS = 37 };
+    mm_quat a[PAIRS], b[PAIRS], many[PAIRS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < PAIRS; ++i) {
+            a[i] = rnd_quat();
+            mm_vec3 axis = rnd_unit_vec3();
+            double theta = pow(10.0, rnd(-9.0, 0.3)); /* 1e-9 to 2 rad */
+            b[i] = mm_quat_mul(a[i], ref_quat(axis, theta));
+            if ((n + i) & 1) b[i] = mm_quat_make(-b[i].x, -b[i].y, -b[i].z, -b[i].w);
+            if (i % 5 == 0) b[i] = a[i]; /* the same rotation */
+        }
+        if (n % 10 == 1) a[3] = mm_quat_make(0, 0, 0, 0);
+        if (n % 10 == 2) b[8] = mm_quat_make(NAN, 0, 0, 1);
+        float t = n % 7 == 0 ? 0.0f : n % 7 == 1 ? 1.0f : (float)rnd(0.0, 1.0);
+        int count = PAIRS - n % 2;
+        mm__quat_slerp_series_n(a, b, t, count, many);
+        for (int i = 0; i < count; ++i) {
+            mm_quat one = mm__quat_slerp_series(a[i], b[i], t);
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
+    }
+}
+
 /* The series form of exp (small offsets): the reference rotation about the axis, and within a float
  * rounding of mm_quat_exp, from 1e-7 rad to past its series' reach (0.6 rad). */
 static void test_exp_series(void **state)
@@ -745,6 +775,32 @@ static void test_exp_series(void **state)
         ASSERT_NEAR(s.y, exact.y, 1.2e-7);
         ASSERT_NEAR(s.z, exact.z, 1.2e-7);
         ASSERT_NEAR(s.w, exact.w, 1.2e-7);
+    }
+}
+
+/* Many series exps at once (mm__quat_exp_series_n): the bits of one mm__quat_exp_series each, from
+ * zero (either sign) through the series' reach and past it, NaN among them, counts odd and even. */
+static void test_exp_series_n(void **state)
+{
+    (void)state;
+    rng_seed(24);
+    enum { OFFSETS = 29 };
+    mm_vec3 v[OFFSETS];
+    mm_quat many[OFFSETS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < OFFSETS; ++i) {
+            mm_vec3 axis = rnd_unit_vec3();
+            double angle = pow(10.0, rnd(-9.0, 0.5));
+            v[i] = mm_vec3_make((float)(axis.x * angle), (float)(axis.y * angle), (float)(axis.z * angle));
+        }
+        v[n % OFFSETS] = mm_vec3_make(0.0f, -0.0f, 0.0f);
+        if (n % 10 == 3) v[5] = mm_vec3_make(NAN, 0.0f, 0.0f);
+        int count = OFFSETS - n % 2;
+        mm__quat_exp_series_n(v, count, many);
+        for (int i = 0; i < count; ++i) {
+            mm_quat one = mm__quat_exp_series(v[i]);
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
     }
 }
 
@@ -1051,7 +1107,9 @@ int main(void)
         cmocka_unit_test(test_slerp_path),
         cmocka_unit_test(test_slerp_shortest_path),
         cmocka_unit_test(test_slerp_series),
+        cmocka_unit_test(test_slerp_series_n),
         cmocka_unit_test(test_exp_series),
+        cmocka_unit_test(test_exp_series_n),
         cmocka_unit_test(test_slerp_nearly_parallel),
         cmocka_unit_test(test_nlerp),
         cmocka_unit_test(test_angle_between),

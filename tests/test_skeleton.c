@@ -134,10 +134,37 @@ static void test_partial_same_floats(void **state)
     assert_memory_equal(global, expected, sizeof global);
 }
 
+/* Many random poses, some rotations about a coordinate axis (exact zeros in them): the same floats
+ * as mm_xform_mul joint by joint. */
+static void test_many_poses_same_floats(void **state)
+{
+    (void)state;
+    test_rng rng = {4242};
+    mm_joint joints[JOINTS];
+    mm_quat rot[JOINTS];
+    mm_vec3 pos[JOINTS];
+    mm_xform root, expected[JOINTS], global[JOINTS];
+    for (int trial = 0; trial < 2000; ++trial) {
+        random_pose(&rng, joints, rot, pos, &root);
+        for (int j = 0; j < JOINTS; j += 3) {
+            float angle = (float)test_rng_uniform(&rng, -3.0, 3.0);
+            mm_vec3 axis = j % 2 ? mm_vec3_make(0, 1, 0) : mm_vec3_make(-0.0f, 0, 1);
+            rot[j] = mm_quat_from_axis_angle(axis, angle);
+            if (j % 6 == 0) pos[j] = mm_vec3_make(0.0f, -0.0f, 0.25f);
+        }
+        expected[0] = global[0] = root;
+        for (int j = 1; j < JOINTS; ++j)
+            expected[j] = mm_xform_mul(expected[joints[j].parent], mm_xform_make(rot[j], pos[j]));
+        mm_skeleton_global_from(joints, JOINTS, 1, rot, pos, global);
+        assert_memory_equal(global, expected, sizeof global);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_against_double),
+        cmocka_unit_test(test_many_poses_same_floats),
         cmocka_unit_test(test_partial_same_floats),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -161,6 +161,28 @@ static void test_shared_step(void **state)
                 assert_memory_equal(&v, &vb.y, sizeof v);
             }
         }
+    /* many springs side by side (mm_spring_decay_vec3_steps): the bits of one step each, signed
+     * zeros and springs at rest included */
+    for (size_t h = 0; h < sizeof halflives / sizeof halflives[0]; ++h)
+        for (size_t k = 0; k < sizeof dts / sizeof dts[0]; ++k) {
+            mm_spring_step step = mm_spring_step_make(halflives[h], dts[k]);
+            enum { SPRINGS = 41 };
+            mm_vec3 xa[SPRINGS], va[SPRINGS], xb[SPRINGS], vb[SPRINGS];
+            for (int i = 0; i < SPRINGS; ++i) {
+                float r[6];
+                for (int c = 0; c < 6; ++c) {
+                    seed = seed * 1664525u + 1013904223u;
+                    r[c] = (float)(seed >> 8) / (float)(1u << 24) * 4.0f - 2.0f;
+                    if (seed % 7u == 0u) r[c] = seed % 2u ? 0.0f : -0.0f;
+                }
+                xa[i] = xb[i] = mm_vec3_make(r[0], r[1], r[2]);
+                va[i] = vb[i] = mm_vec3_make(r[3], r[4], r[5]);
+            }
+            for (int i = 0; i < SPRINGS; ++i) mm_spring_decay_vec3_step(&xa[i], &va[i], &step);
+            mm_spring_decay_vec3_steps(xb, vb, SPRINGS, &step);
+            assert_memory_equal(xa, xb, sizeof xa);
+            assert_memory_equal(va, vb, sizeof va);
+        }
     /* and they move: a spring of 0.1 s over 0.1 s from rest leaves half of the way (the half-life) */
     mm_spring_step step = mm_spring_step_make(0.1f, 0.1f);
     mm_vec3 x = mm_vec3_make(1, 0, 0), v = mm_vec3_make(0, 0, 0);

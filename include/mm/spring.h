@@ -12,6 +12,7 @@
  *
  * Functions: mm_spring_damping mm_spring_update mm_spring_update_vec3 mm_spring_decay_vec3
  *            mm_spring_step_make mm_spring_update_vec3_step mm_spring_decay_vec3_step
+ *            mm_spring_decay_vec3_steps
  *            mm_spring_update_quat mm_spring_velocity_update
  */
 #ifndef MM_SPRING_H
@@ -47,6 +48,9 @@ typedef struct mm_spring_step {
 mm_spring_step mm_spring_step_make(float halflife, float dt);
 void mm_spring_update_vec3_step(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, const mm_spring_step *step);
 void mm_spring_decay_vec3_step(mm_vec3 *x, mm_vec3 *v, const mm_spring_step *step);
+/* mm_spring_decay_vec3_step on x[i], v[i] for every i in [0, count): the same bits, for less work
+ * (the springs side by side). */
+void mm_spring_decay_vec3_steps(mm_vec3 *x, mm_vec3 *v, int count, const mm_spring_step *step);
 
 /* A rotation q with angular velocity w (rad/s, world axes) moves toward target, along the
  * shortest way: the spring acts on the rotation vector log(q target^-1). */

@@ -66,6 +66,30 @@ void mm_spring_decay_vec3_step(mm_vec3 *x, mm_vec3 *v, const mm_spring_step *s)
     mm_spring_update_vec3_step(x, v, mm_vec3_make(0, 0, 0), s);
 }
 
+/* One coordinate decaying to 0: step() with target 0, written out so that the coordinates of many
+ * springs go side by side. */
+static inline void decay_coordinate(float *x, float *v, double y, double dt, double e)
+{
+    double j0 = (double)*x - 0.0, vd = *v, j1 = vd + j0 * y;
+    *x = (float)(0.0 + (j0 + j1 * dt) * e);
+    *v = (float)((vd - j1 * y * dt) * e);
+}
+
+void mm_spring_decay_vec3_steps(mm_vec3 *x, mm_vec3 *v, int count, const mm_spring_step *s)
+{
+    if (!s->moves) return;
+    if (!isfinite(s->damping)) {
+        for (int i = 0; i < count; ++i) x[i] = v[i] = mm_vec3_make(0.0f, 0.0f, 0.0f);
+        return;
+    }
+    const double y = s->damping, dt = s->dt, e = s->decay;
+    for (int i = 0; i < count; ++i) {
+        decay_coordinate(&x[i].x, &v[i].x, y, dt, e);
+        decay_coordinate(&x[i].y, &v[i].y, y, dt, e);
+        decay_coordinate(&x[i].z, &v[i].z, y, dt, e);
+    }
+}
+
 void mm_spring_decay_vec3(mm_vec3 *x, mm_vec3 *v, float halflife, float dt)
 {
     mm_spring_update_vec3(x, v, mm_vec3_make(0, 0, 0), halflife, dt);
@@ -103,6 +127,7 @@ void mm_spring_velocity_update(mm_vec3 *position, mm_vec3 *velocity, mm_vec3 *ac
     float *v[3] = {&velocity->x, &velocity->y, &velocity->z};
     float *a[3] = {&acceleration->x, &acceleration->y, &acceleration->z};
     const float g[3] = {target_velocity.x, target_velocity.y, target_velocity.z};
+    const double e = isfinite(y) ? exp(-y * dt) : 0.0; /* the same for the three coordinates */
     for (int i = 0; i < 3; ++i) {
         if (!isfinite(y)) { /* no spring: the velocity is the target at once */
             *p[i] = (float)(*p[i] + (double)g[i] * dt);
@@ -111,7 +136,7 @@ void mm_spring_velocity_update(mm_vec3 *position, mm_vec3 *velocity, mm_vec3 *ac
             continue;
         }
         /* v(t) = g + (j0 + j1 t) e^(-y t); x integrates it; a differentiates it */
-        double j0 = (double)*v[i] - g[i], j1 = (double)*a[i] + j0 * y, e = exp(-y * dt);
+        double j0 = (double)*v[i] - g[i], j1 = (double)*a[i] + j0 * y;
         double x = *p[i] + g[i] * dt + j0 * (1.0 - e) / y + j1 * ((1.0 - e) / (y * y) - dt * e / y);
         *p[i] = (float)x;
         *v[i] = (float)(g[i] + (j0 + j1 * dt) * e);

@@ -8,49 +8,102 @@
 #include <mm/spring.h>
 
 #include "runtime/leg_ik_private.h"
+#include "runtime/warp_private.h"
 
-mm_result mm_warp_stride(const mm_leg_pose *legs, int leg_count, mm_vec3 direction, float scale,
-                         float max_extension, mm_leg_warp *out, float *pelvis_drop)
+/* The first half of stride warping: each leg's foot target (into targets, the unit direction on the
+ * ground into *dir) and how far the pelvis comes down for every leg to reach (*drop). Returns
+ * MM_OK with *drop = 0 and the feet as targets where there is no direction. */
+static mm_result stride_targets(const mm_leg_pose *legs, int leg_count, mm_vec3 direction, float scale,
+                                double ext, dvec *targets, dvec *dir, double *drop)
 {
-    if (pelvis_drop) *pelvis_drop = 0.0f;
-    if (!legs || !out || leg_count < 1 || leg_count > MM_WARP_MAX_LEGS) return MM_ERR_INVALID_ARGUMENT;
-    int ok = finite3(direction) && isfinite(scale) && scale > 0.0f && !bad_extension(max_extension);
-    for (int i = 0; i < leg_count; ++i) {
-        leg_identity(&legs[i], &out[i]);
-        ok = ok && finite_leg(&legs[i]);
-    }
-    if (!ok) return MM_ERR_INVALID_ARGUMENT;
-    double ext = max_extension > 0.0f ? max_extension : MM_LEG_IK_MAX_EXTENSION_DEFAULT;
-    dvec dir = {direction.x, 0.0, direction.z};
-    double dl = dlen(dir);
+    *drop = 0.0;
+    for (int i = 0; i < leg_count; ++i) targets[i] = dv(legs[i].foot);
+    *dir = (dvec){direction.x, 0.0, direction.z};
+    double dl = dlen(*dir);
     if (dl < 1e-6) return MM_OK; /* no direction: nothing to scale */
-    dir = dscale(dir, 1.0 / dl);
-    dvec targets[MM_WARP_MAX_LEGS];
-    double drop = 0.0;
+    *dir = dscale(*dir, 1.0 / dl);
     for (int i = 0; i < leg_count; ++i) {
         dvec hip = dv(legs[i].hip), knee = dv(legs[i].knee), foot = dv(legs[i].foot);
-        double along = ddot(dsub(foot, hip), dir);
-        targets[i] = dadd(foot, dscale(dir, (scale - 1.0) * along));
+        double along = ddot(dsub(foot, hip), *dir);
+        targets[i] = dadd(foot, dscale(*dir, (scale - 1.0) * along));
         /* how far the hip must come down for |target - hip| <= reach */
         double l1 = dlen(dsub(knee, hip)), l2 = dlen(dsub(foot, knee)), now = dlen(dsub(foot, hip));
         if (l1 < 1e-6 || l2 < 1e-6) return MM_ERR_INVALID_ARGUMENT;
         double r = leg_reach(l1, l2, now, ext);
         double hx = targets[i].x - hip.x, hz = targets[i].z - hip.z, side = r * r - (hx * hx + hz * hz);
         double need = side > 0.0 ? hip.y - targets[i].y - sqrt(side) : hip.y - targets[i].y;
-        if (need > drop) drop = need;
+        if (need > *drop) *drop = need;
     }
-    if (!isfinite((float)drop)) return MM_ERR_OUT_OF_RANGE;
+    if (!isfinite((float)*drop)) return MM_ERR_OUT_OF_RANGE;
+    return MM_OK;
+}
+
+/* Leg i lowered by drop (in floats, as the legs are solved). */
+static mm_leg_pose lowered_leg(const mm_leg_pose *leg, double drop)
+{
+    mm_leg_pose lowered = *leg;
+    lowered.hip.y = (float)(lowered.hip.y - drop);
+    lowered.knee.y = (float)(lowered.knee.y - drop);
+    lowered.foot.y = (float)(lowered.foot.y - drop);
+    return lowered;
+}
+
+static int valid_stride_call(const mm_leg_pose *legs, int leg_count, mm_vec3 direction, float scale,
+                             float max_extension, const void *out)
+{
+    if (!legs || !out || leg_count < 1 || leg_count > MM_WARP_MAX_LEGS) return 0;
+    int ok = finite3(direction) && isfinite(scale) && scale > 0.0f && !bad_extension(max_extension);
+    for (int i = 0; i < leg_count; ++i) ok = ok && finite_leg(&legs[i]);
+    return ok;
+}
+
+mm_result mm_warp_stride(const mm_leg_pose *legs, int leg_count, mm_vec3 direction, float scale,
+                         float max_extension, mm_leg_warp *out, float *pelvis_drop)
+{
+    if (pelvis_drop) *pelvis_drop = 0.0f;
+    if (!legs || !out || leg_count < 1 || leg_count > MM_WARP_MAX_LEGS) return MM_ERR_INVALID_ARGUMENT;
+    for (int i = 0; i < leg_count; ++i) leg_identity(&legs[i], &out[i]);
+    if (!valid_stride_call(legs, leg_count, direction, scale, max_extension, out))
+        return MM_ERR_INVALID_ARGUMENT;
+    double ext = max_extension > 0.0f ? max_extension : MM_LEG_IK_MAX_EXTENSION_DEFAULT;
+    dvec targets[MM_WARP_MAX_LEGS], dir;
+    double drop;
+    mm_result r = stride_targets(legs, leg_count, direction, scale, ext, targets, &dir, &drop);
+    if (r != MM_OK) return r;
+    if (dlen(dir) < 1e-6) return MM_OK; /* no direction: the legs as they are */
     for (int i = 0; i < leg_count; ++i) {
-        mm_leg_pose lowered = legs[i];
-        lowered.hip.y = (float)(lowered.hip.y - drop);
-        lowered.knee.y = (float)(lowered.knee.y - drop);
-        lowered.foot.y = (float)(lowered.foot.y - drop);
+        mm_leg_pose lowered = lowered_leg(&legs[i], drop);
         mm_leg_ik_params params = {(float)ext, 0.0f};
-        mm_result r = mm_leg_ik_solve(&lowered, fv(targets[i]), fv(dir), &params, &out[i]);
+        r = mm_leg_ik_solve(&lowered, fv(targets[i]), fv(dir), &params, &out[i]);
         if (r != MM_OK) {
             for (int k = 0; k < leg_count; ++k) leg_identity(&legs[k], &out[k]);
             return r;
         }
+    }
+    if (pelvis_drop) *pelvis_drop = (float)drop;
+    return MM_OK;
+}
+
+mm_result mm__warp_stride_targets(const mm_leg_pose *legs, int leg_count, mm_vec3 direction, float scale,
+                                  float max_extension, mm_vec3 *targets, float *pelvis_drop)
+{
+    if (pelvis_drop) *pelvis_drop = 0.0f;
+    if (!valid_stride_call(legs, leg_count, direction, scale, max_extension, targets))
+        return MM_ERR_INVALID_ARGUMENT;
+    double ext = max_extension > 0.0f ? max_extension : MM_LEG_IK_MAX_EXTENSION_DEFAULT;
+    dvec t[MM_WARP_MAX_LEGS], dir;
+    double drop;
+    mm_result r = stride_targets(legs, leg_count, direction, scale, ext, t, &dir, &drop);
+    if (r != MM_OK) return r;
+    for (int i = 0; i < leg_count; ++i) targets[i] = fv(t[i]);
+    if (dlen(dir) < 1e-6) return MM_OK;
+    /* the legs mm_warp_stride would solve: the solve's own refusals (mm_leg_ik_solve) */
+    for (int i = 0; i < leg_count; ++i) {
+        mm_leg_pose lowered = lowered_leg(&legs[i], drop);
+        dvec hip = dv(lowered.hip), knee = dv(lowered.knee), foot = dv(lowered.foot);
+        if (!finite_leg(&lowered) || !finite3(targets[i]) || !finite3(fv(dir)) ||
+            dlen(dsub(knee, hip)) < 1e-6 || dlen(dsub(foot, knee)) < 1e-6 || dlen(dsub(foot, hip)) < 1e-9)
+            return MM_ERR_INVALID_ARGUMENT;
     }
     if (pelvis_drop) *pelvis_drop = (float)drop;
     return MM_OK;

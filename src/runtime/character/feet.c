@@ -323,7 +323,8 @@ static void plan_swing(mm_feet *f, int k, const mm_feet_ground *ground, float pl
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
 static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                          const mm_feet_contacts *contacts, int k, const mm_feet_ground *ground,
-                         const mm_quat *tilt, float dt, const mm_rig_pose *pose, mm_quat *orientation)
+                         const mm_quat *tilt, float dt, const mm_spring_step *foot_step,
+                         const mm_rig_pose *pose, mm_quat *orientation)
 {
     int ankle = rig->ankle[k], toe = rig->toe[k];
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
@@ -379,7 +380,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
-    mm_spring_decay_vec3(&f->offset[k], &f->offset_velocity[k], d->foot_halflife, dt);
+    mm_spring_decay_vec3_step(&f->offset[k], &f->offset_velocity[k], foot_step);
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
     /* the heel lifts off while the toe holds: the foot stays as it was shown, its ankle at last
@@ -522,7 +523,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         }
         /* the turn the foot had carried over as an offset when both locks begin, fading */
         if (heel_was_locked && toe_was_locked) {
-            mm_spring_decay_vec3(&f->turn_offset[k], &f->turn_offset_velocity[k], d->foot_halflife, dt);
+            mm_spring_decay_vec3_step(&f->turn_offset[k], &f->turn_offset_velocity[k], foot_step);
         } else {
             f->turn_offset[k] = mm_vec3_sub(f->turn[k], turn);
             f->turn_offset_velocity[k] = f->turn_velocity[k];
@@ -531,7 +532,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         f->turn_velocity[k] = mm_vec3_scale(mm_vec3_sub(turn, f->turn[k]), 1.0f / dt);
         f->turn[k] = turn;
     } else {
-        mm_spring_decay_vec3(&f->turn[k], &f->turn_velocity[k], d->foot_halflife, dt);
+        mm_spring_decay_vec3_step(&f->turn[k], &f->turn_velocity[k], foot_step);
     }
     f->last_ankle[k] = a, f->last_toe[k] = t;
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
@@ -703,11 +704,13 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
     mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}}, landing[2] = {{0, 0, 0}, {0, 0, 0}};
     mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
     bool terrain = ground->scene && ground->hold;
+    /* the springs of both feet's offsets and turns share a half-life and dt */
+    mm_spring_step foot_step = mm_spring_step_make(d->foot_halflife, dt);
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
         mm_quat tilt = terrain ? foot_tilt(f, rig, k, ground, dt, pose) : mm_quat_identity();
-        target[k] =
-            lock_foot(f, d, rig, contacts, k, ground, terrain ? &tilt : NULL, dt, pose, &orientation[k]);
+        target[k] = lock_foot(f, d, rig, contacts, k, ground, terrain ? &tilt : NULL, dt, &foot_step, pose,
+                              &orientation[k]);
         /* never lower than the data puts a planted ankle above the ground (the root's height in
          * locomotion: it stands on the ground, which a scene may put anywhere) */
         float floor = stand_height(ground, target[k].x, target[k].z, rig->planted_ankle[k]);
@@ -771,7 +774,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         f->reach_miss[k] = mm_vec3_distance(reached.translation, target[k]);
     }
     f->placed = true;
-    mm_rig_forward(rig, 1, pose); /* below the ankles */
+    mm_rig_forward_legs(rig, pose); /* below the ankles: the legs alone changed */
     if (ground->hold) {
         int lifted = 0;
         for (int k = 0; k < 2; ++k) {
@@ -781,7 +784,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             float floor = stand_height(ground, p.x, p.z, rig->planted_toe[k]);
             lifted |= lift_toe(rig, k, floor - TOE_SINK - TOE_LIFT_MARGIN, pose);
         }
-        if (lifted) mm_rig_forward(rig, 1, pose);
+        if (lifted) mm_rig_forward_legs(rig, pose);
     }
     for (int k = 0; k < 2; ++k)
         if (rig->ankle[k] >= 0 && rig->toe[k] >= 0)

@@ -1,8 +1,29 @@
 /* The character's rig: legs, pelvis and spine found from the ankles by parentage. */
 #include "rig.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* Whether joint j hangs from joint a (or is a). */
+static bool hangs_from(const mm_joint *joints, int j, int a)
+{
+    for (; j > a; j = joints[j].parent) {
+    }
+    return j == a;
+}
+
+/* The end (exclusive) of the run of joints from hip that hang from it, when no joint after the
+ * run does; -1 otherwise or without a hip. */
+static int leg_end(const mm_joint *joints, int joint_count, int hip)
+{
+    if (hip < 1) return -1;
+    int end = hip + 1;
+    while (end < joint_count && hangs_from(joints, end, hip)) ++end;
+    for (int j = end; j < joint_count; ++j)
+        if (hangs_from(joints, j, hip)) return -1;
+    return end;
+}
 
 void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, int left_ankle, int right_ankle)
 {
@@ -22,6 +43,7 @@ void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, int left_
         for (int j = ankle + 1; ankle >= 0 && j < joint_count && rig->toe[k] < 0; ++j)
             if (joints[j].parent == ankle) rig->toe[k] = j;
     }
+    for (int k = 0; k < 2; ++k) rig->leg_end[k] = leg_end(joints, joint_count, rig->hip[k]);
     if (rig->ankle[0] >= 0 && rig->ankle[1] >= 0) {
         int left = joints[rig->hip[0]].parent, right = joints[rig->hip[1]].parent;
         if (left == right && left >= 1) rig->pelvis = left;
@@ -47,6 +69,17 @@ void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose)
 {
     mm_skeleton_global_from(rig->joints, rig->joint_count, first, pose->local_rotations,
                             pose->local_positions, pose->global);
+}
+
+void mm_rig_forward_legs(const mm_rig *rig, mm_rig_pose *pose)
+{
+    if (rig->leg_end[0] < 0 || rig->leg_end[1] < 0) {
+        mm_rig_forward(rig, 1, pose);
+        return;
+    }
+    for (int k = 0; k < 2; ++k)
+        mm_skeleton_global_from(rig->joints, rig->leg_end[k], rig->hip[k], pose->local_rotations,
+                                pose->local_positions, pose->global);
 }
 
 mm_vec3 mm_rig_pelvis_forward(const mm_rig *rig, const mm_rig_pose *pose)

@@ -14,6 +14,10 @@ typedef struct mm_rig {
      * character sets the toe role instead where it hangs from the ankle); -1 when the leg is
      * missing or does not hang two joints below the root */
     int ankle[2], knee[2], hip[2], toe[2];
+    /* per leg: the end (exclusive) of the joints that hang from its hip, which follow the hip in
+     * the skeleton's order (hip .. leg_end - 1); -1 when they do not (mm_rig_forward_legs then runs
+     * the whole skeleton's forward kinematics) */
+    int leg_end[2];
     int pelvis;                  /* the joint both legs hang from, -1 */
     int spine[MM_RIG_MAX_SPINE]; /* from the pelvis up: its child that no leg hangs from, then
                                     single children up to where the chain branches */
@@ -57,5 +61,10 @@ mm_vec3 mm_rig_pelvis_forward(const mm_rig *rig, const mm_rig_pose *pose);
 /* The global transforms of joints first .. joint_count - 1 (>= 1) from their local ones; those of
  * the joints before `first` are taken as they are (mm_skeleton_global_from on the pose). */
 void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose);
+
+/* The global transforms of both legs' joints (each hip and every joint that hangs from it) from
+ * their local ones, the rest taken as they are: after a stage that turned or moved only joints of
+ * the legs, the same transforms as mm_rig_forward from joint 1 for less work. */
+void mm_rig_forward_legs(const mm_rig *rig, mm_rig_pose *pose);
 
 #endif

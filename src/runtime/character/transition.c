@@ -28,10 +28,9 @@ static void pose_at(mm_transition *tr, const mm_database *db, int frame, float f
     mm_frame_pair pair = read_frames(tr, db, frame, next);
     const mm_quat *r0 = pair.rotations0, *r1 = pair.rotations1;
     const mm_vec3 *p0 = pair.positions0, *p1 = pair.positions1;
-    for (int j = 0; j < db->joint_count; ++j) {
-        rot[j] = mm__quat_slerp_series(r0[j], r1[j], fraction); /* neighbouring frames: close together */
-        pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
-    }
+    /* neighbouring frames: close together */
+    mm__quat_slerp_series_n(r0, r1, fraction, db->joint_count, rot);
+    for (int j = 0; j < db->joint_count; ++j) pos[j] = mm_vec3_lerp(p0[j], p1[j], fraction);
 }
 
 /* The database's root motion at the playhead: that of the frame interval it is in (the root
@@ -215,15 +214,25 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
         inertialize_to(tr, db, jump->frame, jump->fraction, current, p, dt);
 }
 
+/* joints whose rotation offsets are turned into quaternions together (on the stack) */
+#define DECAY_CHUNK 32
+
 void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt)
 {
     mm_spring_step step = mm_spring_step_make(halflife, dt); /* every joint's offsets decay alike */
-    for (int j = 1; j < joint_count; ++j) {
-        mm_spring_decay_vec3_step(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], &step);
-        mm_spring_decay_vec3_step(&tr->position_offset[j], &tr->position_offset_velocity[j], &step);
-        tr->rotations[j] =
-            mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(tr->rotation_offset[j]), tr->rotations[j]));
-        tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
+    if (joint_count < 2) return;
+    int n = joint_count - 1;
+    mm_spring_decay_vec3_steps(tr->rotation_offset + 1, tr->rotation_offset_velocity + 1, n, &step);
+    mm_spring_decay_vec3_steps(tr->position_offset + 1, tr->position_offset_velocity + 1, n, &step);
+    for (int first = 1; first < joint_count; first += DECAY_CHUNK) {
+        int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
+        mm_quat offset[DECAY_CHUNK];
+        mm__quat_exp_series_n(tr->rotation_offset + first, count, offset);
+        for (int i = 0; i < count; ++i) {
+            int j = first + i;
+            tr->rotations[j] = mm_quat_normalize(mm_quat_mul(offset[i], tr->rotations[j]));
+            tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
+        }
     }
 }
 

@@ -7,6 +7,8 @@
 #include <mm/leg_ik.h>
 #include <mm/warp.h>
 
+#include "runtime/warp_private.h"
+
 /* m/s: a clip's root moving at least this fast along its facing counts as forward (or backward)
  * locomotion, within ORIENTATION_CLIP_CONE of it */
 #define ORIENTATION_CLIP_MIN_SPEED 0.2f
@@ -88,9 +90,12 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
         legs[k].knee = pose->global[rig->knee[k]].translation;
         legs[k].foot = pose->global[rig->ankle[k]].translation;
     }
+    /* the feet's targets and the drop stride warping asks for; the legs are solved below, from the
+     * pelvis where it is (mm_warp_stride would solve them first from the drop) */
+    mm_vec3 target[2];
     mm_leg_warp out[2];
     float drop = 0.0f;
-    if (mm_warp_stride(legs, 2, direction, stride_scale, 0.0f, out, &drop) != MM_OK) return;
+    if (mm__warp_stride_targets(legs, 2, direction, stride_scale, 0.0f, target, &drop) != MM_OK) return;
     if (!(drop >= 0.0f) || drop > 1.0f) return;
     /* the pelvis follows the drop the legs need on a spring-like filter, not at once; the legs are
      * then solved again from the pelvis where it is, reaching as far as they can */
@@ -104,7 +109,7 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
         lowered.hip.y -= eased;
         lowered.knee.y -= eased;
         lowered.foot.y -= eased;
-        if (mm_leg_ik_solve(&lowered, out[k].target, mm_rig_knee_pole(rig, pose, k), NULL, &out[k]) != MM_OK)
+        if (mm_leg_ik_solve(&lowered, target[k], mm_rig_knee_pole(rig, pose, k), NULL, &out[k]) != MM_OK)
             return;
     }
     drop = eased;
@@ -141,5 +146,9 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
         pose->local_rotations[ankle] =
             mm_quat_normalize(mm_quat_mul(mm_quat_conj(pose->global[knee].rotation), ankle_world[k]));
     }
-    mm_rig_forward(rig, 1, pose);
+    /* a lowered pelvis moves everything that hangs from it; else only the legs changed */
+    if (drop > 0.0f)
+        mm_rig_forward(rig, 1, pose);
+    else
+        mm_rig_forward_legs(rig, pose);
 }
