@@ -178,6 +178,11 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p)
     p->end_margin = (int)ceilf(MM_CHARACTER_END_MARGIN / db->interval);
 }
 
+/* The legs' and the root motion's transition offsets (what carries the planted feet) fade with
+ * this share of transition_halflife; a move's all with its own (docs/runtime.md, "The legs'
+ * half-life") */
+#define LEGS_HALFLIFE_SHARE 0.6f
+
 /* bytes: every array of the character's one block starts on a multiple of this (what malloc gives) */
 #define BLOCK_ALIGN 16
 
@@ -208,6 +213,7 @@ static mm_character_state *lay_out(char *block, size_t joints, size_t dims, size
     tr->rotation_offset_velocity = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
     tr->position_offset = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
     tr->position_offset_velocity = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->legs = (unsigned char *)carve(block, &at, joints);
     tr->slot_rotations = (mm_quat *)carve(block, &at, (MM_MIXER_SLOTS + 1) * joints * sizeof(mm_quat));
     tr->slot_positions = (mm_vec3 *)carve(block, &at, MM_MIXER_SLOTS * joints * sizeof(mm_vec3));
     tr->frame_rotations = (mm_quat *)carve(block, &at, 2 * joints * sizeof(mm_quat));
@@ -353,6 +359,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     mm_playback_by_clock(&s->playback);
     s->root_motion.root = mm_xform_identity();
     mm_transition_init(&s->transition, db, d->transition_mode, &s->playback);
+    mm_transition_mark_legs(&s->transition, db->joints, db->joint_count, s->rig.hip);
     pose_from_animation(s, db->joint_count);
     publish(c);
     return MM_OK;
@@ -463,8 +470,9 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     /* 4. transition: the jump hidden, and the animated pose of this tick */
     mm_transition_jump(&s->transition, db, &jump, d->crossfade_time, s->root_motion.played, &s->playback, dt);
     float halflife = s->move.playing && s->move.halflife > 0.0f ? s->move.halflife : d->transition_halflife;
+    float legs_halflife = s->move.playing ? halflife : halflife * LEGS_HALFLIFE_SHARE;
     mm_root_played played;
-    mm_transition_pose(&s->transition, db, &s->playback, halflife, dt, &played);
+    mm_transition_pose(&s->transition, db, &s->playback, halflife, legs_halflife, dt, &played);
 
     /* 5. root motion: played, pulled toward the simulation and clamped (a move's is its clip's) */
     mm_root_motion_update(&s->root_motion, d, &s->trajectory, &s->intent, played, s->move.playing, dt);
@@ -800,6 +808,7 @@ static void state_without_pointers(mm_character_state *s)
     tr->positions = tr->previous_positions = NULL;
     tr->rotation_offset = tr->rotation_offset_velocity = NULL;
     tr->position_offset = tr->position_offset_velocity = NULL;
+    tr->legs = NULL;
     tr->slot_rotations = NULL;
     tr->slot_positions = NULL;
     tr->frame_rotations = NULL;

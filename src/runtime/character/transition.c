@@ -215,12 +215,22 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
         inertialize_to(tr, db, jump->frame, jump->fraction, current, p, dt);
 }
 
-void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt)
+void mm_transition_mark_legs(mm_transition *tr, const mm_joint *skeleton, int joint_count, const int hips[2])
 {
-    mm_spring_step step = mm_spring_step_make(halflife, dt); /* every joint's offsets decay alike */
+    for (int j = 0; j < joint_count; ++j) {
+        int parent = skeleton[j].parent;
+        tr->legs[j] = j == hips[0] || j == hips[1] || (parent >= 0 && parent < j && tr->legs[parent]);
+    }
+}
+
+void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float legs_halflife, float dt)
+{
+    /* the body's joints' offsets decay alike, the legs' alike */
+    mm_spring_step body = mm_spring_step_make(halflife, dt), legs = mm_spring_step_make(legs_halflife, dt);
     for (int j = 1; j < joint_count; ++j) {
-        mm_spring_decay_vec3_step(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], &step);
-        mm_spring_decay_vec3_step(&tr->position_offset[j], &tr->position_offset_velocity[j], &step);
+        const mm_spring_step *step = tr->legs && tr->legs[j] ? &legs : &body;
+        mm_spring_decay_vec3_step(&tr->rotation_offset[j], &tr->rotation_offset_velocity[j], step);
+        mm_spring_decay_vec3_step(&tr->position_offset[j], &tr->position_offset_velocity[j], step);
         tr->rotations[j] =
             mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(tr->rotation_offset[j]), tr->rotations[j]));
         tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
@@ -237,12 +247,12 @@ mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played
 }
 
 void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, float halflife,
-                        float dt, mm_root_played *root)
+                        float legs_halflife, float dt, mm_root_played *root)
 {
     size_t n = (size_t)db->joint_count;
     memcpy(tr->previous_rotations, tr->rotations, sizeof(mm_quat) * n);
     memcpy(tr->previous_positions, tr->positions, sizeof(mm_vec3) * n);
     mm_root_played played = play_pose(tr, db, p, tr->rotations, tr->positions);
-    mm_transition_decay(tr, db->joint_count, halflife, dt);
-    *root = mm_transition_decay_root(tr, played, halflife, dt);
+    mm_transition_decay(tr, db->joint_count, halflife, legs_halflife, dt);
+    *root = mm_transition_decay_root(tr, played, legs_halflife, dt);
 }
