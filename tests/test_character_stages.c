@@ -420,6 +420,41 @@ static void test_transition_legs_fade_with_their_halflife(void **state)
     assert_true(ro[3].y < 0.1f); /* the legs' further on */
 }
 
+/* The contact favour keeps a foot planted only until the character has travelled stance_reach
+ * from where it stood when the foot's label (as played, across jumps) turned on: the pattern
+ * then has that foot lifted; the other foot's bits stay; a new stance starts from where it begins. */
+static void test_matching_stance_ends_after_its_reach(void **state)
+{
+    (void)state;
+    mm_matching m;
+    memset(&m, 0, sizeof m);
+    m.stance_reach = 0.95f;
+    const unsigned left = MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, right = MM_CONTACT_RIGHT_HEEL;
+    mm_xform at = mm_xform_identity();
+    mm_matching_track_stances(&m, left, at.translation); /* the left foot planted at the origin */
+    for (int k = 1; k <= 10; ++k) { /* walking along +X over it, the label held (0.1 m a tick) */
+        at.translation = mm_vec3_make(0.1f * (float)k, 0.0f, 0.0f);
+        unsigned label = k >= 5 ? left | right : left; /* the right foot comes down at 0.5 m */
+        mm_matching_track_stances(&m, label, at.translation);
+        int pattern = mm_matching_contact_pattern(&m, label, at);
+        if (k <= 9) /* within reach (0.9 m of 0.95) */
+            assert_int_equal(pattern, (int)label);
+        else /* past it: the left foot counts as lifted, the right (planted 0.5 m back) kept */
+            assert_int_equal(pattern, (int)right);
+    }
+    /* both labels go off and on again: new stances, from here */
+    mm_matching_track_stances(&m, 0u, at.translation);
+    mm_matching_track_stances(&m, left | right, at.translation);
+    at.translation.x += 0.5f;
+    assert_int_equal(mm_matching_contact_pattern(&m, left | right, at), (int)(left | right));
+    /* a label without a tracked stance (a tick not yet tracked) is kept as it is */
+    assert_int_equal(mm_matching_contact_pattern(&m, MM_CONTACT_RIGHT_TOE, at), MM_CONTACT_RIGHT_TOE);
+    /* no reach (0): never */
+    m.stance_reach = 0.0f;
+    at.translation.x += 10.0f;
+    assert_int_equal(mm_matching_contact_pattern(&m, left | right, at), (int)(left | right));
+}
+
 static void test_transition_inertialize_keeps_velocity_across_axes(void **state)
 {
     (void)state;
@@ -1181,6 +1216,7 @@ int main(void)
         cmocka_unit_test(test_transition_inertialize_keeps_pose_and_velocity),
         cmocka_unit_test(test_transition_inertialize_keeps_velocity_across_axes),
         cmocka_unit_test(test_transition_legs_fade_with_their_halflife),
+        cmocka_unit_test(test_matching_stance_ends_after_its_reach),
         cmocka_unit_test(test_root_motion_pull_and_clamps),
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),

@@ -310,6 +310,17 @@ static int start_frame(const mm_database *db, const mm_matching *m)
     return first_idle >= 0 ? first_idle : 0;
 }
 
+/* m: the longer leg at rest, hip to knee to ankle (0 without legs) */
+static float leg_length(const mm_rig *rig)
+{
+    float longest = 0.0f;
+    for (int k = 0; k < 2; ++k)
+        if (rig->ankle[k] >= 0 && rig->knee[k] >= 0)
+            longest = fmaxf(longest, mm_vec3_length(rig->joints[rig->knee[k]].offset) +
+                                         mm_vec3_length(rig->joints[rig->ankle[k]].offset));
+    return longest;
+}
+
 mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_searcher *searcher,
                             const mm_character_desc *desc, mm_error *err)
 {
@@ -354,7 +365,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     const mm_character_desc *d = &s->desc;
     s->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");
     float *query = s->matching.query;
-    mm_matching_init(&s->matching, db, query);
+    mm_matching_init(&s->matching, db, query, leg_length(&s->rig));
     s->playback.frame = start_frame(db, &s->matching);
     mm_playback_by_clock(&s->playback);
     s->root_motion.root = mm_xform_identity();
@@ -477,6 +488,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     /* 5. root motion: played, pulled toward the simulation and clamped (a move's is its clip's) */
     mm_root_motion_update(&s->root_motion, d, &s->trajectory, &s->intent, played, s->move.playing, dt);
     mm_root_motion_follow_ground(&s->root_motion, s->move.playing ? NULL : terrain, dt);
+    mm_matching_track_stances(&s->matching, db->contacts[s->playback.frame], s->root_motion.root.translation);
     pose_from_animation(s, db->joint_count);
 
     /* 6. warping: the legs turned toward the movement and stretched along it */
