@@ -39,7 +39,7 @@
 #define SAME_CHARACTER_M  2e-3  /* m: two characters' world joints */
 #define SAME_VELOCITY     1e-3  /* m/s, rad/s: the simulation bone's velocities */
 #define PLAYHEAD_SAME     1e-4  /* frames: two playheads that agree to rounding */
-#define NEAR_TIE          1e-3  /* relative difference of two winners' costs that is a tie */
+#define NEAR_TIE          5e-3  /* relative difference of two winners' costs that is a tie */
 #define LABELS_AHEAD      60    /* frames: the contact labels ahead of the playhead the feet look at */
 
 /* The runtime targets (issue 21) */

@@ -16,7 +16,7 @@
 /* leg lengths (hip to knee to ankle, at rest) the character may travel over a planted foot before
  * the contact favour stops keeping that foot planted: the favour chains frames in the same
  * contacts across jumps, and a stance carried on that long while moving leaves the planted foot
- * out of the leg's reach (docs/metrics.md, "Stances that end") */
+ * out of the leg's reach (docs/runtime.md, "Why the defaults") */
 #define STANCE_REACH_LEGS 1.0f
 /* the contact bits of foot k (heel and toe) */
 #define FOOT_CONTACT_BITS(k) (3u << (2 * (k)))
