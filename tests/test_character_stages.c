@@ -339,7 +339,7 @@ static void test_transition_inertialize_keeps_pose_and_velocity(void **state)
     float h = 0.2f;
     for (int k = 0; k < 12; ++k) { /* 0.2 s in 12 ticks, the pose held where the new clip is */
         rot[1] = r0[1], pos[1] = p0[1];
-        mm_transition_decay(&tr, N, h, h / 12.0f);
+        mm_transition_decay(&tr, N, h, h, h / 12.0f);
     }
     assert_float_equal(ro[1].y, 0.5f * offset, 1e-5f);
     /* and the pose carries it: the rotation played turned by the offset */
@@ -366,6 +366,95 @@ static mm_quat tilted_swing(float tilt, float a0, float w, float t)
     return mm_quat_mul(mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), tilt), turning(a0, w, t));
 }
 
+/* The legs' joints (each hip and what hangs from it) are marked, and their offsets fade with the
+ * legs' half-life while the body's fade with its own: a critically damped spring from rest keeps
+ * half its offset after one half-life (mm/spring.h), each at its own. */
+static void test_transition_legs_fade_with_their_halflife(void **state)
+{
+    (void)state;
+    enum { N = 6 };
+    /* 0 root, 1 spine, 2 left hip, 3 left knee (under 2), 4 right hip, 5 right knee (under 4) */
+    mm_joint skeleton[N];
+    memset(skeleton, 0, sizeof skeleton);
+    const int parents[N] = {-1, 0, 0, 2, 0, 4};
+    for (int j = 0; j < N; ++j) skeleton[j].parent = parents[j];
+    mm_quat rot[N];
+    mm_vec3 pos[N], ro[N], rov[N], po[N], pov[N];
+    unsigned char legs[N];
+    mm_transition tr;
+    memset(&tr, 0, sizeof tr);
+    tr.rotations = rot, tr.positions = pos, tr.rotation_offset = ro, tr.rotation_offset_velocity = rov,
+    tr.position_offset = po, tr.position_offset_velocity = pov, tr.legs = legs;
+    const int hips[2] = {2, 4};
+    mm_transition_mark_legs(&tr, skeleton, N, hips);
+    const unsigned char want[N] = {0, 0, 1, 1, 1, 1};
+    for (int j = 0; j < N; ++j) assert_int_equal(legs[j], want[j]);
+    const int one_hip[2] = {-1, 4}; /* a missing leg: the other alone */
+    mm_transition_mark_legs(&tr, skeleton, N, one_hip);
+    const unsigned char want_one[N] = {0, 0, 0, 0, 1, 1};
+    for (int j = 0; j < N; ++j) assert_int_equal(legs[j], want_one[j]);
+    mm_transition_mark_legs(&tr, skeleton, N, hips);
+    for (int j = 0; j < N; ++j) {
+        ro[j] = mm_vec3_make(0, 0.4f, 0), po[j] = mm_vec3_make(0.1f, 0, 0);
+        rov[j] = pov[j] = mm_vec3_make(0, 0, 0);
+    }
+    float torso = 0.2f, leg = 0.1f, dt = leg / 24.0f, leg_at_half = 0.0f;
+    for (int k = 1; k <= 48; ++k) { /* 0.2 s: two half-lives of the legs', one of the body's */
+        for (int j = 0; j < N; ++j) rot[j] = mm_quat_identity(), pos[j] = mm_vec3_make(0, 0, 0);
+        mm_transition_decay(&tr, N, torso, leg, dt);
+        if (k == 12) leg_at_half = ro[3].y; /* half the legs' half-life */
+        if (k == 24) { /* the legs' half-life: half left on every leg joint; the pose carries it */
+            for (int j = 1; j < N; ++j)
+                if (legs[j]) {
+                    assert_float_equal(ro[j].y, 0.2f, 1e-5f);
+                    assert_float_equal(po[j].x, 0.05f, 1e-6f);
+                    assert_float_equal(pos[j].x, 0.05f, 1e-6f);
+                }
+            /* the body's at half its own half-life: where the legs' were at half theirs */
+            assert_float_equal(ro[1].y, leg_at_half, 1e-5f);
+            assert_true(ro[1].y > 0.3f);
+        }
+    }
+    assert_float_equal(ro[1].y, 0.2f, 1e-5f); /* the body's half-life */
+    assert_float_equal(po[1].x, 0.05f, 1e-6f);
+    assert_true(ro[3].y < 0.1f); /* the legs' further on */
+}
+
+/* The contact favour keeps a foot planted only until the character has travelled stance_reach
+ * from where it stood when the foot's label (as played, across jumps) turned on: the pattern
+ * then has that foot lifted; the other foot's bits stay; a new stance starts from where it begins. */
+static void test_matching_stance_ends_after_its_reach(void **state)
+{
+    (void)state;
+    mm_matching m;
+    memset(&m, 0, sizeof m);
+    m.stance_reach = 0.95f;
+    const unsigned left = MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, right = MM_CONTACT_RIGHT_HEEL;
+    mm_xform at = mm_xform_identity();
+    mm_matching_track_stances(&m, left, at.translation); /* the left foot planted at the origin */
+    for (int k = 1; k <= 10; ++k) { /* walking along +X over it, the label held (0.1 m a tick) */
+        at.translation = mm_vec3_make(0.1f * (float)k, 0.0f, 0.0f);
+        unsigned label = k >= 5 ? left | right : left; /* the right foot comes down at 0.5 m */
+        mm_matching_track_stances(&m, label, at.translation);
+        int pattern = mm_matching_contact_pattern(&m, label, at);
+        if (k <= 9) /* within reach (0.9 m of 0.95) */
+            assert_int_equal(pattern, (int)label);
+        else /* past it: the left foot counts as lifted, the right (planted 0.5 m back) kept */
+            assert_int_equal(pattern, (int)right);
+    }
+    /* both labels go off and on again: new stances, from here */
+    mm_matching_track_stances(&m, 0u, at.translation);
+    mm_matching_track_stances(&m, left | right, at.translation);
+    at.translation.x += 0.5f;
+    assert_int_equal(mm_matching_contact_pattern(&m, left | right, at), (int)(left | right));
+    /* a label without a tracked stance (a tick not yet tracked) is kept as it is */
+    assert_int_equal(mm_matching_contact_pattern(&m, MM_CONTACT_RIGHT_TOE, at), MM_CONTACT_RIGHT_TOE);
+    /* no reach (0): never */
+    m.stance_reach = 0.0f;
+    at.translation.x += 10.0f;
+    assert_int_equal(mm_matching_contact_pattern(&m, left | right, at), (int)(left | right));
+}
+
 static void test_transition_inertialize_keeps_velocity_across_axes(void **state)
 {
     (void)state;
@@ -387,12 +476,12 @@ static void test_transition_inertialize_keeps_velocity_across_axes(void **state)
     mm_frame_pair to = {r0, r1, p0, p1};
     mm_transition_inertialize(&tr, N, &to, 0.0f, 1.0f / interval, dt);
     rot[1] = r0[1]; /* this tick's pose as played, then the offsets on it */
-    mm_transition_decay(&tr, N, h, dt);
+    mm_transition_decay(&tr, N, h, h, dt);
     float off = mm_quat_angle_between(rot[1], tilted_swing(tilt, 0.2f, w, dt));
     assert_true(off < 2e-3f);
     /* and one more tick: still on the old motion to second order */
     rot[1] = r1[1];
-    mm_transition_decay(&tr, N, h, dt);
+    mm_transition_decay(&tr, N, h, h, dt);
     assert_true(mm_quat_angle_between(rot[1], tilted_swing(tilt, 0.2f, w, 2.0f * dt)) < 4e-3f);
 }
 
@@ -1284,6 +1373,8 @@ int main(void)
         cmocka_unit_test(test_matching_due),
         cmocka_unit_test(test_transition_inertialize_keeps_pose_and_velocity),
         cmocka_unit_test(test_transition_inertialize_keeps_velocity_across_axes),
+        cmocka_unit_test(test_transition_legs_fade_with_their_halflife),
+        cmocka_unit_test(test_matching_stance_ends_after_its_reach),
         cmocka_unit_test(test_root_motion_pull_and_clamps),
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),

@@ -178,6 +178,11 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p)
     p->end_margin = (int)ceilf(MM_CHARACTER_END_MARGIN / db->interval);
 }
 
+/* The legs' and the root motion's transition offsets (what carries the planted feet) fade with
+ * this share of transition_halflife; a move's all with its own (docs/runtime.md, "The legs'
+ * half-life") */
+#define LEGS_HALFLIFE_SHARE 0.6f
+
 /* bytes: every array of the character's one block starts on a multiple of this (what malloc gives) */
 #define BLOCK_ALIGN 16
 
@@ -208,6 +213,7 @@ static mm_character_state *lay_out(char *block, size_t joints, size_t dims, size
     tr->rotation_offset_velocity = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
     tr->position_offset = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
     tr->position_offset_velocity = (mm_vec3 *)carve(block, &at, joints * sizeof(mm_vec3));
+    tr->legs = (unsigned char *)carve(block, &at, joints);
     tr->slot_rotations = (mm_quat *)carve(block, &at, (MM_MIXER_SLOTS + 1) * joints * sizeof(mm_quat));
     tr->slot_positions = (mm_vec3 *)carve(block, &at, MM_MIXER_SLOTS * joints * sizeof(mm_vec3));
     tr->frame_rotations = (mm_quat *)carve(block, &at, 2 * joints * sizeof(mm_quat));
@@ -304,6 +310,17 @@ static int start_frame(const mm_database *db, const mm_matching *m)
     return first_idle >= 0 ? first_idle : 0;
 }
 
+/* m: the longer leg at rest, hip to knee to ankle (0 without legs) */
+static float leg_length(const mm_rig *rig)
+{
+    float longest = 0.0f;
+    for (int k = 0; k < 2; ++k)
+        if (rig->ankle[k] >= 0 && rig->knee[k] >= 0)
+            longest = fmaxf(longest, mm_vec3_length(rig->joints[rig->knee[k]].offset) +
+                                         mm_vec3_length(rig->joints[rig->ankle[k]].offset));
+    return longest;
+}
+
 mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_searcher *searcher,
                             const mm_character_desc *desc, mm_error *err)
 {
@@ -348,11 +365,12 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     const mm_character_desc *d = &s->desc;
     s->no_distance_tag = mm_search_tag_mask(db, "NoDistanceMatching");
     float *query = s->matching.query;
-    mm_matching_init(&s->matching, db, query);
+    mm_matching_init(&s->matching, db, query, leg_length(&s->rig));
     s->playback.frame = start_frame(db, &s->matching);
     mm_playback_by_clock(&s->playback);
     s->root_motion.root = mm_xform_identity();
     mm_transition_init(&s->transition, db, d->transition_mode, &s->playback);
+    mm_transition_mark_legs(&s->transition, db->joints, db->joint_count, s->rig.hip);
     pose_from_animation(s, db->joint_count);
     publish(c);
     return MM_OK;
@@ -466,12 +484,14 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     /* 4. transition: the jump hidden, and the animated pose of this tick */
     mm_transition_jump(&s->transition, db, &jump, d->crossfade_time, s->root_motion.played, &s->playback, dt);
     float halflife = s->move.playing && s->move.halflife > 0.0f ? s->move.halflife : d->transition_halflife;
+    float legs_halflife = s->move.playing ? halflife : halflife * LEGS_HALFLIFE_SHARE;
     mm_root_played played;
-    mm_transition_pose(&s->transition, db, &s->playback, halflife, dt, &played);
+    mm_transition_pose(&s->transition, db, &s->playback, halflife, legs_halflife, dt, &played);
 
     /* 5. root motion: played, pulled toward the simulation and clamped (a move's is its clip's) */
     mm_root_motion_update(&s->root_motion, d, &s->trajectory, &s->intent, played, s->move.playing, dt);
     mm_root_motion_follow_ground(&s->root_motion, s->move.playing ? NULL : terrain, dt);
+    mm_matching_track_stances(&s->matching, db->contacts[s->playback.frame], s->root_motion.root.translation);
     pose_from_animation(s, db->joint_count);
 
     /* 6. warping: the legs turned toward the movement and stretched along it */
@@ -803,6 +823,7 @@ static void state_without_pointers(mm_character_state *s)
     tr->positions = tr->previous_positions = NULL;
     tr->rotation_offset = tr->rotation_offset_velocity = NULL;
     tr->position_offset = tr->position_offset_velocity = NULL;
+    tr->legs = NULL;
     tr->slot_rotations = NULL;
     tr->slot_positions = NULL;
     tr->frame_rotations = NULL;

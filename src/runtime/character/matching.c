@@ -13,11 +13,18 @@
 /* m/s: under this simulated speed the velocity-change weights come in with the speed (a start is
  * the pose's to choose: with the trajectory alone a standing pose went into the run-up of a jump) */
 #define VELOCITY_CHANGE_FROM_SPEED 0.5f
+/* leg lengths (hip to knee to ankle, at rest) the character may travel over a planted foot before
+ * the contact favour stops keeping that foot planted: the favour chains frames in the same
+ * contacts across jumps, and a stance carried on that long while moving leaves the planted foot
+ * out of the leg's reach (docs/runtime.md, "Why the defaults") */
+#define STANCE_REACH_LEGS 1.0f
+/* the contact bits of foot k (heel and toe) */
+#define FOOT_CONTACT_BITS(k) (3u << (2 * (k)))
 /* the four mm_contact_bits: the pattern the search's contact favour compares */
 #define MATCHING_CONTACT_BITS                                                                                \
     (MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE | MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE)
 
-void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
+void mm_matching_init(mm_matching *m, const mm_database *db, float *query, float leg_length)
 {
     memset(m, 0, sizeof *m);
     m->query = query;
@@ -31,6 +38,28 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query)
     m->idle = true;
     m->since_search = INFINITY; /* search on the first tick */
     m->last_result.frame = -1;
+    m->stance_reach = leg_length > 0.0f ? STANCE_REACH_LEGS * leg_length : 0.0f;
+}
+
+void mm_matching_track_stances(mm_matching *m, unsigned label, mm_vec3 root)
+{
+    for (int k = 0; k < 2; ++k) {
+        bool on = (label & FOOT_CONTACT_BITS(k)) != 0;
+        if (on && !m->in_stance[k]) m->stance_from[k] = root;
+        m->in_stance[k] = on;
+    }
+}
+
+int mm_matching_contact_pattern(const mm_matching *m, unsigned label, mm_xform root)
+{
+    unsigned pattern = label & MATCHING_CONTACT_BITS;
+    for (int k = 0; k < 2 && m->stance_reach > 0.0f; ++k) {
+        float dx = root.translation.x - m->stance_from[k].x, dz = root.translation.z - m->stance_from[k].z;
+        if (m->in_stance[k] && (pattern & FOOT_CONTACT_BITS(k)) &&
+            dx * dx + dz * dz > m->stance_reach * m->stance_reach)
+            pattern &= ~FOOT_CONTACT_BITS(k);
+    }
+    return (int)pattern;
 }
 
 /* The query: the pose of the frame playing (from the database) and the simulated trajectory in
@@ -121,7 +150,7 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     p.current_frame = pb->frame;
     /* frames whose feet are in other contacts than the frame playing's cost contact_mismatch_favour
      * times more (the desc's; 1: off) */
-    p.contact_pattern = keep_contacts ? (int)(db->contacts[pb->frame] & MATCHING_CONTACT_BITS) : -1;
+    p.contact_pattern = keep_contacts ? mm_matching_contact_pattern(m, db->contacts[pb->frame], root) : -1;
     p.type = !m->has_idle ? MM_SEARCH_ANY : m->idle ? MM_SEARCH_IDLE : MM_SEARCH_LOCOMOTION;
     /* the gait influences matching through tags named after the gaits: frames tagged with another
      * gait than the one asked for are left out */

@@ -33,6 +33,13 @@ typedef struct mm_matching {
     int future_count;
     mm_vec3 future_positions[MM_MAX_TRAJ_SAMPLES];
     mm_quat future_facings[MM_MAX_TRAJ_SAMPLES];
+    /* the stances as played, per foot: whether its contact label (of the frames played, across
+     * jumps) is on, and where the character stood when it turned on */
+    bool in_stance[2];
+    mm_vec3 stance_from[2];
+    /* m: a foot whose stance the character has travelled this far from is no longer kept planted
+     * by the contact favour (a leg's length, mm_matching_init); 0: never */
+    float stance_reach;
 } mm_matching;
 
 /* m/s: under this simulated speed (standing, starting, stopping) the search does not favour the
@@ -48,8 +55,14 @@ typedef struct mm_jump {
     bool uncancellable;
 } mm_jump;
 
-/* The tags and the idle clips of db; idle, searching on the first tick. */
-void mm_matching_init(mm_matching *m, const mm_database *db, float *query);
+/* The tags and the idle clips of db; idle, searching on the first tick. leg_length (m): how far
+ * the character may travel over a planted foot before the search stops keeping it planted
+ * (STANCE_REACH_LEGS of it; 0: no such limit). */
+void mm_matching_init(mm_matching *m, const mm_database *db, float *query, float leg_length);
+
+/* Each tick, once the character has moved: the feet's stances as played (label: the contact bits
+ * of the frame playing; root: where the character stands). */
+void mm_matching_track_stances(mm_matching *m, unsigned label, mm_vec3 root);
 
 /* When to search, each tick: updates idle (from the intent, the simulation's ground speed and
  * root_speed, the speed of the root motion played last tick) and the time since the last search;
@@ -58,10 +71,17 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query);
 bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent *intent,
                      float simulated_speed, float root_speed, bool ended, bool move_playing, float dt);
 
+/* The contact pattern the search favours (the four mm_contact_bits): label's (the frame
+ * playing's), less the bits of the feet the character (at root) has travelled stance_reach from
+ * since they were planted. */
+int mm_matching_contact_pattern(const mm_matching *m, unsigned label, mm_xform root);
+
 /* Searches with the pose of the frame playing and t's future in the frame of root (in: the input
  * that future is sampled under; m's future instead, when given); frames in other contacts than the
  * frame playing's get the desc's contact_mismatch_favour, from KEEP_CONTACTS_FROM_SPEED of
- * simulated speed on. *jump: where to go (frame -1 when playback goes on where it is). */
+ * simulated speed on; a foot the character has travelled stance_reach from since it was planted
+ * counts as lifted in that pattern (frames that lift it are favoured). *jump: where to go (frame
+ * -1 when playback goes on where it is). */
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
                         const mm_intent *intent, mm_xform root, const mm_playback *p, mm_jump *jump);

@@ -217,13 +217,29 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
 /* joints whose rotation offsets are turned into quaternions together (on the stack) */
 #define DECAY_CHUNK 32
 
-void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt)
+void mm_transition_mark_legs(mm_transition *tr, const mm_joint *skeleton, int joint_count, const int hips[2])
 {
-    mm_spring_step step = mm_spring_step_make(halflife, dt); /* every joint's offsets decay alike */
-    if (joint_count < 2) return;
-    int n = joint_count - 1;
-    mm_spring_decay_vec3_steps(tr->rotation_offset + 1, tr->rotation_offset_velocity + 1, n, &step);
-    mm_spring_decay_vec3_steps(tr->position_offset + 1, tr->position_offset_velocity + 1, n, &step);
+    for (int j = 0; j < joint_count; ++j) {
+        int parent = skeleton[j].parent;
+        tr->legs[j] = j == hips[0] || j == hips[1] || (parent >= 0 && parent < j && tr->legs[parent]);
+    }
+}
+
+void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float legs_halflife, float dt)
+{
+    /* the body's joints' offsets decay alike, the legs' alike: each run of joints of one kind (a
+     * leg's joints come one after another) in one call */
+    mm_spring_step body = mm_spring_step_make(halflife, dt), legs = mm_spring_step_make(legs_halflife, dt);
+    for (int first = 1; first < joint_count;) {
+        int leg = tr->legs && tr->legs[first], end = first + 1;
+        while (end < joint_count && (tr->legs && tr->legs[end]) == leg) ++end;
+        const mm_spring_step *step = leg ? &legs : &body;
+        mm_spring_decay_vec3_steps(tr->rotation_offset + first, tr->rotation_offset_velocity + first,
+                                   end - first, step);
+        mm_spring_decay_vec3_steps(tr->position_offset + first, tr->position_offset_velocity + first,
+                                   end - first, step);
+        first = end;
+    }
     for (int first = 1; first < joint_count; first += DECAY_CHUNK) {
         int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
         mm_quat offset[DECAY_CHUNK];
@@ -246,12 +262,12 @@ mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played
 }
 
 void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, float halflife,
-                        float dt, mm_root_played *root)
+                        float legs_halflife, float dt, mm_root_played *root)
 {
     size_t n = (size_t)db->joint_count;
     memcpy(tr->previous_rotations, tr->rotations, sizeof(mm_quat) * n);
     memcpy(tr->previous_positions, tr->positions, sizeof(mm_vec3) * n);
     mm_root_played played = play_pose(tr, db, p, tr->rotations, tr->positions);
-    mm_transition_decay(tr, db->joint_count, halflife, dt);
-    *root = mm_transition_decay_root(tr, played, halflife, dt);
+    mm_transition_decay(tr, db->joint_count, halflife, legs_halflife, dt);
+    *root = mm_transition_decay_root(tr, played, legs_halflife, dt);
 }

@@ -20,6 +20,9 @@ typedef struct mm_transition {
     /* inertialization: per joint, offsets and their velocities (rotation vectors, rad and rad/s) */
     mm_vec3 *rotation_offset, *rotation_offset_velocity;
     mm_vec3 *position_offset, *position_offset_velocity;
+    /* per joint, 1 for the legs' joints (each hip and what hangs from it), whose offsets decay with
+     * the legs' half-life (mm_transition_decay); NULL: every joint with the body's */
+    unsigned char *legs;
     /* the root motion's offsets (velocity in the character's frame, m/s; yaw rate, rad/s) */
     mm_vec3 root_velocity_offset, root_velocity_offset_rate;
     float root_yaw_rate_offset, root_yaw_rate_offset_rate;
@@ -72,14 +75,21 @@ void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_fram
 /* The root motion's offsets for a jump: what played (current) continues into `to`'s. */
 void mm_transition_inertialize_root(mm_transition *tr, mm_root_played current, mm_root_played to);
 
-/* The offsets decayed by halflife over dt and added to the animated pose (tr->rotations,
- * tr->positions, as played); the root motion played with its decayed offset. */
-void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float dt);
+/* Marks the legs' joints (tr->legs): each of hips[0] and hips[1] (-1: none) and the joints that
+ * hang from them in skeleton (parents before children). */
+void mm_transition_mark_legs(mm_transition *tr, const mm_joint *skeleton, int joint_count, const int hips[2]);
+
+/* The offsets decayed over dt, by halflife, the legs' (tr->legs) by legs_halflife, and added to
+ * the animated pose (tr->rotations, tr->positions, as played); the root motion played with its
+ * decayed offset. */
+void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float legs_halflife, float dt);
 mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played, float halflife, float dt);
 
 /* The animated pose of this tick at the playhead (the last one kept as previous) with the offsets
- * decayed by halflife over dt; *root: the root motion played with its offset. */
+ * decayed over dt, by halflife, the legs' and the root motion's by legs_halflife (what carries
+ * the planted feet: docs/runtime.md, "The legs' half-life"); *root: the root motion played with
+ * its offset. */
 void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, float halflife,
-                        float dt, mm_root_played *root);
+                        float legs_halflife, float dt, mm_root_played *root);
 
 #endif
