@@ -152,6 +152,29 @@ static void test_hand_raised(void **state)
     motion_metrics_free(&m);
 }
 
+static void test_foot_float(void **state)
+{
+    (void)state;
+    /* the left foot labelled from frame 0 on: 30 cm up for its first 6 frames (0.1 s at 60 fps:
+     * MOTION_METRICS_FLOAT_LANDING, a foot shown landing), then 4 cm up for 4 frames, then down:
+     * 4 cm. The right foot's label off throughout, 50 cm up: not counted. */
+    for (int late = 0; late < 2; ++late) {
+        motion_metrics m;
+        start(&m, 20);
+        for (int f = 0; f < 20; ++f) {
+            mm_vec3 w[N];
+            stand(w, 0.0f, 0);
+            /* late: the 30 cm lasts one frame longer, past the landing */
+            float up = f < 6 + late ? 0.3f : f < 10 ? 0.04f : 0.0f;
+            w[LFOOT].y += up, w[LTOE].y += up;
+            w[RFOOT].y += 0.5f, w[RTOE].y += 0.5f;
+            frame(&m, w, 0x3u);
+        }
+        assert_near(summary(&m).foot_float_cm, late ? 30.0 : 4.0, 1e-4);
+        motion_metrics_free(&m);
+    }
+}
+
 static void test_pop(void **state)
 {
     (void)state;
@@ -377,7 +400,7 @@ int main(void)
         cmocka_unit_test(test_hand_raised),  cmocka_unit_test(test_pop),
         cmocka_unit_test(test_pop_p99),      cmocka_unit_test(test_contact_share),
         cmocka_unit_test(test_slide_height), cmocka_unit_test(test_posture_seconds),
-        cmocka_unit_test(test_database),
+        cmocka_unit_test(test_database),     cmocka_unit_test(test_foot_float),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

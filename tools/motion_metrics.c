@@ -241,9 +241,15 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
         }
     }
     /* a foot whose heel or toe label is on floats by the lower gap of its ankle and toe above their
-     * planted heights over the ground under each (one of them on the ground: the foot stands) */
+     * planted heights over the ground under each (one of them on the ground: the foot stands), once
+     * its label has been on for MOTION_METRICS_FLOAT_LANDING: before, a foot shown in the air is
+     * landing (a transition to a frame whose foot is down brings it down over that time) */
     for (int foot = 0; foot < 2; ++foot) {
-        if (!(contacts & (3u << (2 * foot)))) continue;
+        if (!(contacts & (3u << (2 * foot)))) {
+            m->labelled_frames[foot] = 0;
+            continue;
+        }
+        if (++m->labelled_frames[foot] <= lround(MOTION_METRICS_FLOAT_LANDING * m->fps)) continue;
         double gap = INFINITY;
         for (int k = 2 * foot; k < 2 * foot + 2; ++k) {
             int j = m->contact_joint[k];

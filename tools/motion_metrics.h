@@ -19,6 +19,9 @@
 #define MOTION_METRICS_SLIDE_HEIGHT 0.025
 /* s: and has been for longer than this (a foot swinging past the ground is not planted) */
 #define MOTION_METRICS_SLIDE_DWELL 0.1
+/* s: foot_float_cm counts a foot once its label has been on this long (the feet stage's longest
+ * landing, MM_FEET_LANDING_MAX_TIME) */
+#define MOTION_METRICS_FLOAT_LANDING 0.1
 
 /* The height-weighted slide of the contact bones (foot_slide_height_cm_s) as it accumulates. */
 typedef struct motion_metrics_slide {
@@ -66,11 +69,12 @@ typedef struct motion_metrics {
     mm_posture_reference reference;
     double planted[4];
     int pose_only;
-    int crouch_input;       /* the input of the coming frame asks for the crouch gait */
-    double below_ground;    /* m: the deepest any joint but joint 0 went below the ground under it */
-    double foot_float;      /* m: the largest gap under a foot whose contact label is on (its lower
-                               of ankle and toe, each above its planted height) */
-    long foot_float_frames; /* frames with a labelled foot measured */
+    int crouch_input;        /* the input of the coming frame asks for the crouch gait */
+    double below_ground;     /* m: the deepest any joint but joint 0 went below the ground under it */
+    double foot_float;       /* m: the largest gap under a foot whose contact label is on (its lower
+                                of ankle and toe, each above its planted height) */
+    long foot_float_frames;  /* frames with a labelled foot measured */
+    long labelled_frames[2]; /* frames each foot's heel or toe label has been on */
     double contact_err_sum, contact_err_count, contact_on, contact_pairs;
     motion_metrics_slide slide_height;
     double hands_apart_max; /* m */

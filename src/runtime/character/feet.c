@@ -314,6 +314,9 @@ static void plan_swing(mm_feet *f, int k, const mm_feet_ground *ground, float pl
      * rest of the way is gone once the edge has passed, in the time then left (kept here, not
      * only in the ankle's target, so that the foot does not drop the riser at once) */
     shift = fmaxf(shift, stand_height(ground, at.x, at.z, planted) - (ankle.y + f->offset[k].y));
+    /* and never faster down than LANDING_FALL_SPEED: a foot that passes the edge just before its
+     * contact comes down the riser over ticks (and lands late) instead of dropping it in one */
+    shift = fmaxf(shift, before - LANDING_FALL_SPEED * dt);
     f->ground_shift[k] = shift;
     f->ground_shift_velocity[k] = (shift - before) / dt;
 }
