@@ -181,7 +181,7 @@ void mm_character_default_params(const mm_database *db, mm_search_params *p)
 /* The legs' and the root motion's transition offsets (what carries the planted feet) fade with
  * this share of transition_halflife; a move's all with its own (docs/runtime.md, "The legs'
  * half-life") */
-#define LEGS_HALFLIFE_SHARE 1.0f
+#define LEGS_HALFLIFE_SHARE 0.6f
 
 /* bytes: every array of the character's one block starts on a multiple of this (what malloc gives) */
 #define BLOCK_ALIGN 16

@@ -54,7 +54,7 @@
 #define HIP_LEAD_MAX_RATE 1.5f
 /* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
  * step below) */
-#define TERRAIN_HIP_DROP 0.25f
+#define TERRAIN_HIP_DROP 0.15f
 /* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
  * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
  * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
@@ -609,10 +609,10 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
 
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
  * rising back through a spring), at most max_hip_drop, and to reach a swinging foot's landing
- * height (landing: the targets lowered to it; the targets themselves elsewhere); on terrain ahead
- * of a growing need. */
-static void lower_hips(mm_feet *f, float max_hip_drop, bool terrain, const mm_rig *rig, const mm_vec3 *target,
-                       const mm_vec3 *landing, float dt, mm_rig_pose *pose)
+ * height (landing: the targets lowered to it; the targets themselves elsewhere); stepping (a foot
+ * on terrain below the root's ground), ahead of a growing need. */
+static void lower_hips(mm_feet *f, float max_hip_drop, bool stepping, const mm_rig *rig,
+                       const mm_vec3 *target, const mm_vec3 *landing, float dt, mm_rig_pose *pose)
 {
     int pelvis = rig->pelvis;
     float need = 0.0f;
@@ -625,7 +625,8 @@ static void lower_hips(mm_feet *f, float max_hip_drop, bool terrain, const mm_ri
         need = fmaxf(need, down);
     }
     need = fminf(need, max_hip_drop);
-    if (terrain) {
+    if (!stepping) f->hip_need = need;
+    if (stepping) {
         /* on terrain the need grows as the body climbs away from a trailing foot or a swinging foot
          * is planned down to a lower tread: the spring aims ahead of it by the lag a critically
          * damped spring has behind a steady rise (2 v / y), so that the leg reaches as it goes */
@@ -748,9 +749,18 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         f->lock[k] = target[k];
     }
     if (rig->pelvis >= 0) shift_pelvis(f, rig, target, ground->hold, dt, pose);
-    if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f)
-        lower_hips(f, terrain ? d->max_hip_drop + TERRAIN_HIP_DROP : d->max_hip_drop, terrain, rig, target,
-                   landing, dt, pose);
+    if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) {
+        /* on terrain the hips may come down further by as much as a foot's target or landing is
+         * below where it would stand on the root's ground (a step down, a trailing foot on the
+         * tread below), at most TERRAIN_HIP_DROP: on flat ground, raised or not, as without terrain */
+        float step_down = 0.0f;
+        for (int k = 0; terrain && k < 2; ++k)
+            if (rig->ankle[k] >= 0)
+                step_down = fmaxf(step_down,
+                                  ground->height + rig->planted_ankle[k] - fminf(target[k].y, landing[k].y));
+        lower_hips(f, d->max_hip_drop + fminf(step_down, TERRAIN_HIP_DROP), terrain && step_down > 0.0f, rig,
+                   target, landing, dt, pose);
+    }
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
         /* a target far out of the leg's reach (a lock the hips moved away from, or the offset a
