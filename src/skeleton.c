@@ -85,12 +85,14 @@ mm_result mm_skeleton_validate(const mm_skeleton *s, mm_error *err)
 
 static inline __m128 load_vec3(const mm_vec3 *v)
 {
-    return _mm_movelh_ps(_mm_castpd_ps(_mm_load_sd((const double *)(const void *)v)), _mm_load_ss(&v->z));
+    /* x and y as one unaligned 64-bit load (a vec3 is only 4-byte aligned), z alone */
+    return _mm_movelh_ps(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)(const void *)v)),
+                         _mm_load_ss(&v->z));
 }
 
 static inline void store_vec3(mm_vec3 *v, __m128 r)
 {
-    _mm_store_sd((double *)(void *)v, _mm_castps_pd(r));
+    _mm_storel_epi64((__m128i *)(void *)v, _mm_castps_si128(r)); /* x and y, unaligned */
     _mm_store_ss(&v->z, _mm_movehl_ps(r, r));
 }
 
