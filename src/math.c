@@ -194,21 +194,23 @@ static double sin_over_x(double y)
 }
 
 /* asin(h) / h, of z = h^2 <= sin^2(SERIES_MAX_ANGLE / 2): the Taylor series, sum of
- * (2n)! / (4^n n!^2 (2n + 1)) z^n. */
+ * (2n)! / (4^n n!^2 (2n + 1)) z^n, these its coefficients. */
+static const double ASIN_OVER_H[] = {1.0,
+                                     1.0 / 6.0,
+                                     3.0 / 40.0,
+                                     15.0 / 336.0,
+                                     105.0 / 3456.0,
+                                     945.0 / 42240.0,
+                                     10395.0 / 599040.0,
+                                     135135.0 / 9676800.0,
+                                     2027025.0 / 175472640.0,
+                                     34459425.0 / 3530096640.0};
+
 static double asin_over_h(double z)
 {
-    static const double c[] = {1.0,
-                               1.0 / 6.0,
-                               3.0 / 40.0,
-                               15.0 / 336.0,
-                               105.0 / 3456.0,
-                               945.0 / 42240.0,
-                               10395.0 / 599040.0,
-                               135135.0 / 9676800.0,
-                               2027025.0 / 175472640.0,
-                               34459425.0 / 3530096640.0};
     double sum = 0.0;
-    for (int n = (int)(sizeof c / sizeof c[0]) - 1; n >= 0; --n) sum = sum * z + c[n];
+    for (int n = (int)(sizeof ASIN_OVER_H / sizeof ASIN_OVER_H[0]) - 1; n >= 0; --n)
+        sum = sum * z + ASIN_OVER_H[n];
     return sum;
 }
 
@@ -301,19 +303,9 @@ static __m128d sin_over_x2(__m128d y)
 
 static __m128d asin_over_h2(__m128d z)
 {
-    static const double c[] = {1.0,
-                               1.0 / 6.0,
-                               3.0 / 40.0,
-                               15.0 / 336.0,
-                               105.0 / 3456.0,
-                               945.0 / 42240.0,
-                               10395.0 / 599040.0,
-                               135135.0 / 9676800.0,
-                               2027025.0 / 175472640.0,
-                               34459425.0 / 3530096640.0};
     __m128d sum = _mm_setzero_pd();
-    for (int n = (int)(sizeof c / sizeof c[0]) - 1; n >= 0; --n)
-        sum = _mm_add_pd(_mm_mul_pd(sum, z), _mm_set1_pd(c[n]));
+    for (int n = (int)(sizeof ASIN_OVER_H / sizeof ASIN_OVER_H[0]) - 1; n >= 0; --n)
+        sum = _mm_add_pd(_mm_mul_pd(sum, z), _mm_set1_pd(ASIN_OVER_H[n]));
     return sum;
 }
 

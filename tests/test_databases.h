@@ -12,6 +12,26 @@
 #include <mm/database_build.h>
 #include <mm/synth.h>
 
+/* The built-in set's clips (mm_synth_generate) for cfg's clips, matched by name, in an array of
+ * cfg->clip_count (free with mm_config_free_sources); NULL when the set cannot be made. */
+static inline mm_clip *test_synth_sources(const mm_config *cfg)
+{
+    mm_error err;
+    memset(&err, 0, sizeof err);
+    mm_synth_desc sd;
+    memset(&sd, 0, sizeof sd);
+    mm_synth_set set;
+    if (mm_synth_generate(&sd, &set, &err) != MM_OK) return NULL;
+    mm_clip *sources =
+        (mm_clip *)calloc((size_t)(cfg->clip_count > 0 ? cfg->clip_count : 1), sizeof(mm_clip));
+    for (int i = 0; sources && i < cfg->clip_count; ++i)
+        for (int k = 0; k < set.clip_count; ++k)
+            if (strcmp(set.clips[k].name, cfg->clips[i].name) == 0)
+                mm_clip_copy(&sources[i], &set.clips[k].clip, NULL);
+    mm_synth_set_free(&set);
+    return sources;
+}
+
 /* Builds the config at path; with synth, its clips come from mm_synth_generate (no files read).
  * report: the build's report, or NULL. */
 static inline int test_build_database_report(const char *path, int synth, mm_database *db,
@@ -28,16 +48,11 @@ static inline int test_build_database_report(const char *path, int synth, mm_dat
     }
     mm_clip *sources = NULL;
     if (synth) {
-        mm_synth_desc sd;
-        memset(&sd, 0, sizeof sd);
-        mm_synth_set set;
-        if (mm_synth_generate(&sd, &set, &err) != MM_OK) return -1;
-        sources = (mm_clip *)calloc((size_t)cfg.clip_count, sizeof(mm_clip));
-        for (int i = 0; i < cfg.clip_count; ++i)
-            for (int k = 0; k < set.clip_count; ++k)
-                if (strcmp(set.clips[k].name, cfg.clips[i].name) == 0)
-                    mm_clip_copy(&sources[i], &set.clips[k].clip, NULL);
-        mm_synth_set_free(&set);
+        if (!(sources = test_synth_sources(&cfg))) {
+            mm_config_free(&cfg);
+            free(text);
+            return -1;
+        }
     } else if (mm_config_load_sources(&cfg, &sources, &err) != MM_OK) {
         mm_config_free(&cfg);
         free(text);

@@ -12,6 +12,7 @@
 #include <mm/database_build.h>
 #include <mm/synth.h>
 
+#include "test_databases.h"
 #include "test_util.h"
 
 #define TICK           (1.0f / 60.0f)
@@ -69,26 +70,16 @@ static void build(idle_kind kind, bool make, mm_database *db, mm_db_build_report
     char *text = NULL;
     assert_int_equal(mm_config_load_json(MM_SOURCE_DIR "/configs/synth.json", &cfg, &text, &err), MM_OK);
     cfg.idle_loop_make = make;
-    mm_synth_desc sd;
-    memset(&sd, 0, sizeof sd);
-    mm_synth_set set;
-    assert_int_equal(mm_synth_generate(&sd, &set, &err), MM_OK);
-    mm_clip *sources = (mm_clip *)calloc((size_t)cfg.clip_count, sizeof(mm_clip));
+    mm_clip *sources = test_synth_sources(&cfg);
     assert_non_null(sources);
     int idle = -1;
     for (int i = 0; i < cfg.clip_count; ++i)
-        for (int k = 0; k < set.clip_count; ++k)
-            if (strcmp(set.clips[k].name, cfg.clips[i].name) == 0) {
-                if (cfg.clips[i].type == MM_CLIP_IDLE) {
-                    idle = i;
-                    hand_made_idle(&set.clips[k].clip, kind, &sources[i]);
-                } else {
-                    assert_int_equal(mm_clip_copy(&sources[i], &set.clips[k].clip, NULL), MM_OK);
-                }
-            }
+        if (cfg.clips[i].type == MM_CLIP_IDLE) idle = i;
     assert_true(idle >= 0);
+    mm_clip synth_idle = sources[idle];
+    hand_made_idle(&synth_idle, kind, &sources[idle]);
+    mm_clip_free(&synth_idle);
     cfg.clips[idle].loop = false;
-    mm_synth_set_free(&set);
     mm_db_build_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.report = report;

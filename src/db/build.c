@@ -299,6 +299,26 @@ static int same_name_any_case(const char *a, const char *b)
     return *a == *b;
 }
 
+/* Pushes x, a clip the build made (its clip freed on failure), and with mirror its mirror named
+ * <name>_mirror after it; what names the step in errors. */
+static mm_result push_made(builder *b, built *x, int mirror, const char *what)
+{
+    mm_result r = push(b, x);
+    if (r != MM_OK) {
+        mm_clip_free(&x->clip);
+        return r;
+    }
+    if (!mirror) return MM_OK;
+    built m = b->clips[b->count - 1];
+    if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, b->cfg, &m.clip, b->a)) != MM_OK)
+        return mm_error_set(b->err, r, 0, 0, "%s (%s): cannot mirror", what, m.meta.name);
+    size_t len = strlen(m.meta.name);
+    snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
+    m.meta.mirrored = 1;
+    if ((r = push(b, &m)) != MM_OK) mm_clip_free(&m.clip);
+    return r;
+}
+
 /* With no idle clip (and standing.make), the stillest standing frames of the locomotion clips, held,
  * as idle loops (db/standing.h), each mirrored when its clip is; says so in report. */
 static mm_result add_standing(builder *b, float head_height, mm_db_standing_report *report)
@@ -389,22 +409,7 @@ static mm_result add_standing(builder *b, float head_height, mm_db_standing_repo
         ++said.poses;
         if ((r = mm__standing_hold(&src->clip, picks[k].frame, &x.clip, b->a)) != MM_OK)
             return mm_error_set(b->err, r, 0, 0, "standing: out of memory");
-        if ((r = push(b, &x)) != MM_OK) {
-            mm_clip_free(&x.clip);
-            return r;
-        }
-        if (mirror) {
-            built m = b->clips[b->count - 1];
-            if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a)) != MM_OK)
-                return mm_error_set(b->err, r, 0, 0, "standing (%s): cannot mirror", x.meta.name);
-            size_t len = strlen(m.meta.name);
-            snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
-            m.meta.mirrored = 1;
-            if ((r = push(b, &m)) != MM_OK) {
-                mm_clip_free(&m.clip);
-                return r;
-            }
-        }
+        if ((r = push_made(b, &x, mirror, "standing")) != MM_OK) return r;
     }
     if (report) *report = said;
     return MM_OK;
@@ -451,22 +456,7 @@ static mm_result add_idle_loops(builder *b, mm_db_idle_loop_report *report)
         ++said.made;
         said.seconds += (float)x.clip.frame_count * cfg->interval;
         said.worst_error = fmaxf(said.worst_error, loop.error);
-        if ((r = push(b, &x)) != MM_OK) { /* src may move from here on */
-            mm_clip_free(&x.clip);
-            return r;
-        }
-        if (mirror) {
-            built m = b->clips[b->count - 1];
-            if ((r = mm__clip_mirror(&b->clips[b->count - 1].clip, cfg, &m.clip, b->a)) != MM_OK)
-                return mm_error_set(b->err, r, 0, 0, "idle loop (%s): cannot mirror", x.meta.name);
-            size_t len = strlen(m.meta.name);
-            snprintf(m.meta.name + (len > MM_NAME_MAX - 8 ? MM_NAME_MAX - 8 : len), 8, "_mirror");
-            m.meta.mirrored = 1;
-            if ((r = push(b, &m)) != MM_OK) {
-                mm_clip_free(&m.clip);
-                return r;
-            }
-        }
+        if ((r = push_made(b, &x, mirror, "idle loop")) != MM_OK) return r; /* src may move from here on */
     }
     if (report) *report = said;
     return MM_OK;

@@ -90,7 +90,7 @@ mm_result mm_leg_ik_solve(const mm_leg_pose *leg, mm_vec3 target, mm_vec3 pole,
     double ext = max_extension > 0.0f ? max_extension : MM_LEG_IK_MAX_EXTENSION_DEFAULT;
     dvec hip = dv(leg->hip), knee = dv(leg->knee), foot = dv(leg->foot), tg = dv(target);
     double l1 = dlen(dsub(knee, hip)), l2 = dlen(dsub(foot, knee)), now = dlen(dsub(foot, hip));
-    if (l1 < 1e-6 || l2 < 1e-6 || now < 1e-9) return MM_ERR_INVALID_ARGUMENT;
+    if (!leg_solvable(l1, l2, now)) return MM_ERR_INVALID_ARGUMENT;
     double rmax = leg_reach(l1, l2, now, ext), rmin = fabs(l1 - l2);
     if (now < rmin) rmin = now;
     dvec d = dsub(tg, hip), ac = dscale(dsub(foot, hip), 1.0 / now);

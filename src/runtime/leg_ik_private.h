@@ -77,4 +77,12 @@ static inline int bad_extension(float e)
     return !isfinite(e) || e < 0.0f || e > 1.0f || (e > 0.0f && e < 0.1f);
 }
 
+/* A leg of bones l1 (hip to knee), l2 (knee to foot) and hip-to-foot span now (m) can be solved:
+ * mm_leg_ik_solve refuses the others, and stride warping asks the same before it leaves a solve
+ * to the feet. */
+static inline int leg_solvable(double l1, double l2, double now)
+{
+    return l1 >= 1e-6 && l2 >= 1e-6 && now >= 1e-9;
+}
+
 #endif /* MM_RUNTIME_LEG_IK_PRIVATE_H */

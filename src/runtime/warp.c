@@ -102,7 +102,7 @@ mm_result mm__warp_stride_targets(const mm_leg_pose *legs, int leg_count, mm_vec
         mm_leg_pose lowered = lowered_leg(&legs[i], drop);
         dvec hip = dv(lowered.hip), knee = dv(lowered.knee), foot = dv(lowered.foot);
         if (!finite_leg(&lowered) || !finite3(targets[i]) || !finite3(fv(dir)) ||
-            dlen(dsub(knee, hip)) < 1e-6 || dlen(dsub(foot, knee)) < 1e-6 || dlen(dsub(foot, hip)) < 1e-9)
+            !leg_solvable(dlen(dsub(knee, hip)), dlen(dsub(foot, knee)), dlen(dsub(foot, hip))))
             return MM_ERR_INVALID_ARGUMENT;
     }
     if (pelvis_drop) *pelvis_drop = (float)drop;
