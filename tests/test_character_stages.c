@@ -969,6 +969,47 @@ static void test_feet_far_release_keeps_velocity(void **state)
     assert_true(worst < 0.6f * v * dt);
 }
 
+/* A lock let go while the animated ankle is above it (the body rose 8 cm over the stance, the
+ * locked ankle held on the ground by the leg's IK): the foot comes up to the animation on the
+ * spring of feet.c's LIFT_HALFLIFE (0.05 s), not foot_halflife's 0.15 s: its height's offset
+ * -h decays as -h (1 + y t) e^(-y t) from the tick after the release, and the foot stays over
+ * where it was held (x, z) since the animation does not move along the ground. */
+static void test_feet_release_lifts_off_as_animated(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f, lift = 0.08f, y = (float)mm_spring_damping(0.05f);
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    for (int n = 0; n <= 30; ++n) { /* planted, then the body rises by lift while it is held */
+        bent_left_leg(&b, 0.6f, 0.0f, lift * (float)n / 30.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    }
+    for (int n = 0; n < 30; ++n) {
+        bent_left_leg(&b, 0.6f, 0.0f, lift);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    }
+    mm_vec3 held = f.heel_lock[0], animated = b.global[L_FOOT].translation;
+    assert_float_equal(held.y, 0.06f, 1e-4f);
+    assert_vec3_near(b.global[L_FOOT].translation, held, 1e-3f); /* the IK reaches it */
+    bent_left_leg(&b, 0.6f, 0.0f, lift);
+    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    assert_false(f.locked[0]);
+    animated = mm_vec3_make(held.x, held.y + lift, held.z);
+    for (int i = 1; i <= 12; ++i) {
+        bent_left_leg(&b, 0.6f, 0.0f, lift);
+        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        float t = (float)i * dt, below = -lift * (1.0f + y * t) * expf(-y * t);
+        assert_vec3_near(f.lock[0], mm_vec3_add(animated, mm_vec3_make(0, below, 0)), 1e-4f);
+    }
+    assert_true(animated.y - f.lock[0].y < 0.005f); /* at foot_halflife, still 3.6 cm below */
+}
+
 /* A lock the animation pulls past unlock_radius creeps after it continuously: each tick it moves
  * by a spring step from rest toward the animated ankle times min((gap - radius) / UNLOCK_RAMP, 1)
  * (feet.c, 5 cm): nothing at the radius, so two characters whose bodies differ by a rounding
@@ -1381,6 +1422,7 @@ int main(void)
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
         cmocka_unit_test(test_feet_far_release_keeps_velocity),
+        cmocka_unit_test(test_feet_release_lifts_off_as_animated),
         cmocka_unit_test(test_feet_lock_creeps_after_the_animation),
         cmocka_unit_test(test_feet_plant_above_the_animated_foot),
         cmocka_unit_test(test_feet_land_without_warning),

@@ -85,6 +85,10 @@
 /* m: how far past a step's edge the sole's end is moved (the leg's reach may leave the ankle a
  * little short of its target) */
 #define TREAD_MARGIN 0.02f
+/* s: a free foot held below the animated one by its offset (the height of a lock just let go)
+ * comes up with this half-life, at most foot_halflife: at foot_halflife it skated along the ground
+ * while its offset on the ground plane faded (docs/metrics.md, "The independent slide") */
+#define LIFT_HALFLIFE 0.05f
 
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
@@ -327,7 +331,7 @@ static void plan_swing(mm_feet *f, int k, const mm_feet_ground *ground, float pl
 static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                          const mm_feet_contacts *contacts, int k, const mm_feet_ground *ground,
                          const mm_quat *tilt, float dt, const mm_spring_step *foot_step,
-                         const mm_rig_pose *pose, mm_quat *orientation)
+                         const mm_spring_step *lift_step, const mm_rig_pose *pose, mm_quat *orientation)
 {
     int ankle = rig->ankle[k], toe = rig->toe[k];
     mm_vec3 a = pose->global[ankle].translation, t = toe >= 0 ? pose->global[toe].translation : a;
@@ -383,7 +387,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 before = foot_source(f, k, a, t), before_velocity = source_velocity(f, k, a, t, dt);
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
+    mm_vec3 below = {f->offset[k].y, 0, 0}, below_velocity = {f->offset_velocity[k].y, 0, 0};
     mm_spring_decay_vec3_step(&f->offset[k], &f->offset_velocity[k], foot_step);
+    if (!was_locked && below.x < 0.0f) { /* free and held down: lifts off as animated */
+        mm_spring_decay_vec3_step(&below, &below_velocity, lift_step);
+        f->offset[k].y = below.x, f->offset_velocity[k].y = below_velocity.x;
+    }
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
     /* the heel lifts off while the toe holds: the foot stays as it was shown, its ankle at last
@@ -710,11 +719,12 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
     bool terrain = ground->scene && ground->hold;
     /* the springs of both feet's offsets and turns share a half-life and dt */
     mm_spring_step foot_step = mm_spring_step_make(d->foot_halflife, dt);
+    mm_spring_step lift_step = mm_spring_step_make(fminf(LIFT_HALFLIFE, d->foot_halflife), dt);
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
         mm_quat tilt = terrain ? foot_tilt(f, rig, k, ground, dt, pose) : mm_quat_identity();
-        target[k] = lock_foot(f, d, rig, contacts, k, ground, terrain ? &tilt : NULL, dt, &foot_step, pose,
-                              &orientation[k]);
+        target[k] = lock_foot(f, d, rig, contacts, k, ground, terrain ? &tilt : NULL, dt, &foot_step,
+                              &lift_step, pose, &orientation[k]);
         /* never lower than the data puts a planted ankle above the ground (the root's height in
          * locomotion: it stands on the ground, which a scene may put anywhere) */
         float floor = stand_height(ground, target[k].x, target[k].z, rig->planted_ankle[k]);
