@@ -139,6 +139,12 @@ static mm_result judge(const mm_config *cfg, const mm_clip *sources, mm__posture
             for (int f = 0; f < c->frame_count; ++f)
                 post[f] = (uint8_t)mm_posture_classify(w + (size_t)f * (size_t)jc, &j, ground, &ref);
             mm_posture_remove_flicker(post, c->frame_count, (int)lroundf(MM_POSTURE_MIN_SECONDS * c->fps));
+            /* the hands spread wide are seen however briefly (an arm flung out in a hop): those
+             * frames stay out, flicker or not */
+            for (int f = 0; f < c->frame_count; ++f)
+                if (mm_posture_classify(w + (size_t)f * (size_t)jc, &j, ground, &ref) ==
+                    MM_POSTURE_ARMS_SPREAD)
+                    post[f] = MM_POSTURE_ARMS_SPREAD;
             p->frames[ci] = post;
         }
         free(w);
