@@ -63,9 +63,10 @@ typedef enum mm_posture {
  * at 0.9-1.2 for a second. Judged against the head, not the ground, so that a body up a step whose
  * ground is not yet known does not raise its hands. */
 #define MM_POSTURE_HAND_RAISED_BELOW_HEAD 0.1f /* a hand less than this x reference under the head */
-/* A knee raised: the sine of a thigh's elevation (hip to knee) above this. A stylised high-knee
- * step lifts the thigh to level; walking and running swing it forward well below (docs/database.md,
- * "Postures", has the figures). Judged on the thigh's own direction, so any size of body works. */
+/* A knee raised: the sine of a thigh's elevation (its top to the knee) above this, a thigh within
+ * 0.2 of level. A stylised high-knee step lifts the thigh to level or above; running swings it
+ * forward to 15-30 degrees below level at most (docs/database.md, "A knee raised"). Judged on the
+ * thigh's own direction, so that any size of body works. */
 #define MM_POSTURE_KNEE_RAISED_SINE   -0.2f
 #define MM_POSTURE_REFERENCE_QUANTILE 0.9f  /* the reference: this quantile of the head's heights */
 #define MM_POSTURE_MIN_SECONDS        0.25f /* shorter runs of a posture are flicker */
