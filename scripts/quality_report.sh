@@ -23,7 +23,7 @@ usage="usage: scripts/quality_report.sh DB.mmdb [SECONDS] [OUTDIR] [--scripts al
 larger_is_better="head_p2_cm head_p5_cm head_p50_cm contact_share"
 # the columns of the per-run table, those that some run has, in this order
 main_keys="foot_slide_cm_s traj_err_cm response_s max_pop_cm pop_p99_cm below_ground_cm contact_height_err_cm \
-head_p5_cm head_p50_cm crouched_s bent_s lying_s calibration_s arms_out_s hand_raised_s contact_share transitions_per_s \
+head_p5_cm head_p50_cm crouched_s bent_s lying_s calibration_s arms_out_s hand_raised_s knee_raised_s contact_share transitions_per_s \
 nan_frames"
 
 scripts=all

@@ -281,7 +281,7 @@ expect_exit 0 "$mm" simulate "$tmp/synth.mmdb" --input "$script_dir/turn_90.json
 if cmp -s "$tmp/sim1.bvh" "$tmp/sim2.bvh"; then ok; else bad "two simulations of one script differ"; fi
 for key in foot_slide_cm_s foot_slide_raw_cm_s traj_err_cm heading_err_deg response_s max_pop_cm db_max_pop_cm searches transitions_per_s nan_frames search_median_us search_p99_us \
     below_ground_cm contact_height_err_cm contact_share foot_slide_height_cm_s db_foot_slide_height_cm_s pop_p99_cm db_pop_p99_cm head_p2_cm \
-    head_p5_cm head_p50_cm db_head_p5_cm db_head_p50_cm crouched_s bent_s lying_s calibration_s arms_spread_s hand_raised_s arms_out_s \
+    head_p5_cm head_p50_cm db_head_p5_cm db_head_p50_cm crouched_s bent_s lying_s calibration_s arms_spread_s hand_raised_s knee_raised_s arms_out_s \
     hands_apart_max_cm; do
     expect_grep "\"$key\": " "$tmp/sim1.json"
 done

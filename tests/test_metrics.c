@@ -7,10 +7,11 @@
 #include "test_util.h"
 
 /* The body: 0 the simulation root, 1 hips, 2 head, 3 left hand, 4 right hand, 5 left foot (ankle),
- * 6 left toe, 7 right foot, 8 right toe. */
-enum { ROOT, HIPS, HEAD, LHAND, RHAND, LFOOT, LTOE, RFOOT, RTOE, N };
+ * 6 left toe, 7 right foot, 8 right toe, 9 and 10 the left and right thigh's top, 11 and 12 the
+ * left and right knee. */
+enum { ROOT, HIPS, HEAD, LHAND, RHAND, LFOOT, LTOE, RFOOT, RTOE, LTHIGH, RTHIGH, LKNEE, RKNEE, N };
 static const int CONTACT[4] = {LFOOT, LTOE, RFOOT, RTOE};
-static const mm_posture_joints JOINTS = {HIPS, HEAD, LHAND, RHAND};
+static const mm_posture_joints JOINTS = {HIPS, HEAD, LHAND, RHAND, {LKNEE, RKNEE}, {LTHIGH, RTHIGH}};
 static const double PLANTED[4] = {0.08, 0.03, 0.08, 0.03};
 #define FPS 60.0
 
@@ -27,6 +28,10 @@ static void stand(mm_vec3 *w, float crouch, int arms_out)
     w[LTOE] = mm_vec3_make(-0.1f, 0.03f, 0.15f);
     w[RFOOT] = mm_vec3_make(0.1f, 0.08f, 0);
     w[RTOE] = mm_vec3_make(0.1f, 0.03f, 0.15f);
+    w[LTHIGH] = mm_vec3_make(-0.1f, 0.9f - crouch, 0);
+    w[RTHIGH] = mm_vec3_make(0.1f, 0.9f - crouch, 0);
+    w[LKNEE] = mm_vec3_make(-0.1f, 0.48f - 0.5f * crouch, 0.6f * crouch); /* forward in a crouch */
+    w[RKNEE] = mm_vec3_make(0.1f, 0.48f - 0.5f * crouch, 0.6f * crouch);
 }
 
 /* Metrics for frames frames of the body against its own reference (head 1.6 m, the feet's
@@ -149,6 +154,36 @@ static void test_hand_raised(void **state)
     assert_near(s.hand_raised_s, 1.0, 1e-9);
     assert_near(s.arms_spread_s + s.calibration_s + s.crouched_s + s.bent_s + s.lying_s, 0.0, 0.0);
     assert_near(s.arms_out_s, 0.0, 0.0);
+    motion_metrics_free(&m);
+}
+
+static void test_knee_raised(void **state)
+{
+    (void)state;
+    /* walking for 0.5 s, then 0.5 s of running strides (a thigh swung to 30 degrees below level),
+     * 1 s with the left thigh level (a high-knee step), 0.1 s of the right thigh level between
+     * hanging legs (shorter than a posture run), and 0.5 s of a crouch asked for whose knees come
+     * level: 1 s of a knee raised, nothing else but the crouch asked for */
+    motion_metrics m;
+    start(&m, 220);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    for (int f = 0; f < 220; ++f) {
+        mm_vec3 w[N];
+        in.gait = f < 30 ? MM_GAIT_WALK : f < 60 ? MM_GAIT_RUN : f < 190 ? MM_GAIT_WALK : MM_GAIT_CROUCH;
+        stand(w, f < 190 ? 0.0f : 0.32f, 0);
+        if (f >= 30 && f < 60) w[LKNEE] = mm_vec3_add(w[LTHIGH], mm_vec3_make(0, -0.21f, 0.3637f));
+        if (f >= 60 && f < 120) w[LKNEE] = mm_vec3_add(w[LTHIGH], mm_vec3_make(0, 0, 0.42f));
+        if (f == 150) w[RKNEE] = mm_vec3_add(w[RTHIGH], mm_vec3_make(0, 0, 0.42f));
+        if (f >= 190) w[RKNEE] = mm_vec3_add(w[RTHIGH], mm_vec3_make(0, 0, 0.42f));
+        motion_metrics_input(&m, (double)m.frames / FPS, &in, mm_vec3_make(0, 0, 0));
+        frame(&m, w, 0);
+    }
+    motion_metrics_seen s = summary(&m);
+    assert_near(s.knee_raised_s, 1.0, 1e-9);
+    assert_near(s.hand_raised_s + s.arms_spread_s + s.calibration_s + s.bent_s + s.lying_s, 0.0, 0.0);
+    /* the crouch is asked for: not counted */
+    assert_near(s.crouched_s, 0.0, 0.0);
     motion_metrics_free(&m);
 }
 
@@ -396,11 +431,17 @@ static void test_database(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_below_ground), cmocka_unit_test(test_calibration),
-        cmocka_unit_test(test_hand_raised),  cmocka_unit_test(test_pop),
-        cmocka_unit_test(test_pop_p99),      cmocka_unit_test(test_contact_share),
-        cmocka_unit_test(test_slide_height), cmocka_unit_test(test_posture_seconds),
-        cmocka_unit_test(test_database),     cmocka_unit_test(test_foot_float),
+        cmocka_unit_test(test_below_ground),
+        cmocka_unit_test(test_calibration),
+        cmocka_unit_test(test_hand_raised),
+        cmocka_unit_test(test_knee_raised),
+        cmocka_unit_test(test_pop),
+        cmocka_unit_test(test_pop_p99),
+        cmocka_unit_test(test_contact_share),
+        cmocka_unit_test(test_slide_height),
+        cmocka_unit_test(test_posture_seconds),
+        cmocka_unit_test(test_database),
+        cmocka_unit_test(test_foot_float),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

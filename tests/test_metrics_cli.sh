@@ -62,7 +62,7 @@ expect_key "$tmp/m.json" nan_frames 0
 # those five steps: 60 cm/s
 expect_key "$tmp/m.json" foot_slide_height_cm_s 60
 # against its own head height (no database): upright throughout; no hands, no arms measures
-for key in crouched_s bent_s lying_s calibration_s arms_spread_s hand_raised_s; do expect_key "$tmp/m.json" $key 0; done
+for key in crouched_s bent_s lying_s calibration_s arms_spread_s hand_raised_s knee_raised_s; do expect_key "$tmp/m.json" $key 0; done
 for key in arms_out_s hands_apart_max_cm; do expect_key "$tmp/m.json" $key null; done
 # no controller, no labels, no database, no scene: null
 for key in foot_slide_cm_s foot_slide_raw_cm_s traj_err_cm heading_err_deg response_s db_max_pop_cm searches \

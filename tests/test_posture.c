@@ -6,8 +6,10 @@
 
 #include "test_util.h"
 
-/* joints: 0 hips, 1 head, 2 left hand, 3 right hand */
-static const mm_posture_joints JOINTS = {0, 1, 2, 3};
+/* joints: 0 hips, 1 head, 2 left hand, 3 right hand; with legs 4, 5 the left and right thigh's top,
+ * 6, 7 the left and right knee */
+static const mm_posture_joints JOINTS = {0, 1, 2, 3, {-1, -1}, {-1, -1}};
+static const mm_posture_joints WITH_LEGS = {0, 1, 2, 3, {6, 7}, {4, 5}};
 static const mm_posture_reference REF = {1.6f};
 
 /* A body: the hips at height hips_y, the trunk (hips to head, 0.65 m) leaning lean degrees toward
@@ -76,7 +78,8 @@ static void test_poses(void **state)
     assert_int_equal(mm_posture_classify(w, &JOINTS, 1.0f, &REF), MM_POSTURE_HAND_RAISED);
     /* without hands never a calibration pose; without a reference or a head always upright */
     body(w, 0.95f, 0.0f, 1);
-    mm_posture_joints no_hands = {0, 1, -1, -1}, no_head = {0, -1, 2, 3};
+    mm_posture_joints no_hands = {0, 1, -1, -1, {-1, -1}, {-1, -1}},
+                      no_head = {0, -1, 2, 3, {-1, -1}, {-1, -1}};
     assert_int_equal(mm_posture_classify(w, &no_hands, 0.0f, &REF), MM_POSTURE_UPRIGHT);
     assert_false(mm_posture_arms_out(w, &no_hands, &REF));
     body(w, 0.15f, 90.0f, 0);
@@ -88,7 +91,91 @@ static void test_poses(void **state)
     assert_string_equal(mm_posture_name(MM_POSTURE_CALIBRATION), "calibration");
     assert_string_equal(mm_posture_name(MM_POSTURE_ARMS_SPREAD), "arms_spread");
     assert_string_equal(mm_posture_name(MM_POSTURE_HAND_RAISED), "hand_raised");
+    assert_string_equal(mm_posture_name(MM_POSTURE_KNEE_RAISED), "knee_raised");
     assert_null(mm_posture_name(MM_POSTURE_COUNT));
+}
+
+/* The body of body() with legs: each thigh 0.45 m from its top (0.1 m to the side of the hips, 5 cm
+ * under them) to the knee, the left thigh elevation_deg above level (-90: hanging), forward (+Z),
+ * the right hanging. */
+static void body_with_legs(mm_vec3 *w, float hips_y, float elevation_deg)
+{
+    body(w, hips_y, 0.0f, 0);
+    float a = elevation_deg * (float)MM_DEG_TO_RAD;
+    w[4] = mm_vec3_make(-0.1f, hips_y - 0.05f, 0.0f);
+    w[5] = mm_vec3_make(0.1f, hips_y - 0.05f, 0.0f);
+    w[6] = mm_vec3_add(w[4], mm_vec3_make(0.0f, 0.45f * sinf(a), 0.45f * cosf(a)));
+    w[7] = mm_vec3_add(w[5], mm_vec3_make(0.0f, -0.45f, 0.0f));
+}
+
+static void test_knee_raised(void **state)
+{
+    (void)state;
+    mm_vec3 w[8];
+    /* standing: both thighs hang, sine -1 */
+    body_with_legs(w, 0.95f, -90.0f);
+    assert_near(mm_posture_thigh_sine(w, &WITH_LEGS, 0), -1.0, 1e-6);
+    assert_int_equal(mm_posture_classify(w, &WITH_LEGS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    /* a running stride swings the thigh forward to 30 degrees below level (sine -0.5): upright */
+    body_with_legs(w, 0.95f, -30.0f);
+    assert_near(mm_posture_thigh_sine(w, &WITH_LEGS, 0), -0.5, 1e-6);
+    assert_int_equal(mm_posture_classify(w, &WITH_LEGS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    /* 14.5 degrees below level (sine -0.25) is still a stride; 8.6 (sine -0.15) and level are a
+     * knee raised, on either leg */
+    body_with_legs(w, 0.95f, -14.48f);
+    assert_int_equal(mm_posture_classify(w, &WITH_LEGS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    body_with_legs(w, 0.95f, -8.63f);
+    assert_near(mm_posture_thigh_sine(w, &WITH_LEGS, 0), -0.15, 1e-4);
+    assert_int_equal(mm_posture_classify(w, &WITH_LEGS, 0.0f, &REF), MM_POSTURE_KNEE_RAISED);
+    body_with_legs(w, 0.95f, 0.0f);
+    assert_int_equal(mm_posture_classify(w, &WITH_LEGS, 0.0f, &REF), MM_POSTURE_KNEE_RAISED);
+    const mm_posture_joints swapped = {0, 1, 2, 3, {7, 6}, {5, 4}};
+    assert_near(mm_posture_thigh_sine(w, &swapped, 1), 0.0, 1e-6);
+    assert_int_equal(mm_posture_classify(w, &swapped, 0.0f, &REF), MM_POSTURE_KNEE_RAISED);
+    /* without the legs' joints, never */
+    assert_int_equal(mm_posture_classify(w, &JOINTS, 0.0f, &REF), MM_POSTURE_UPRIGHT);
+    assert_true(isnan(mm_posture_thigh_sine(w, &JOINTS, 0)));
+    /* a hand raised wins; so does a crouch (the head at 0.8 of the reference: the thigh comes level
+     * in a squat) */
+    w[3] = mm_vec3_make(0.1f, 1.6f, 0.1f);
+    assert_int_equal(mm_posture_classify(w, &WITH_LEGS, 0.0f, &REF), MM_POSTURE_HAND_RAISED);
+    body_with_legs(w, 0.63f, 0.0f);
+    assert_int_equal(mm_posture_classify(w, &WITH_LEGS, 0.0f, &REF), MM_POSTURE_CROUCHED);
+}
+
+/* A skeleton of the legs (metres): 0 hips; the left leg 1 thigh's top, 2 knee, 3 foot, 4 toe; the
+ * right 5 thigh's top, 6 a twist joint 0.2 m down the thigh, 7 knee, 8 foot; 9 a stub under the
+ * hips. */
+static void test_find_legs(void **state)
+{
+    (void)state;
+    static const int parents[10] = {-1, 0, 1, 2, 3, 0, 5, 6, 7, 0};
+    static const float offsets[10][3] = {
+        {0, 0.95f, 0},     {-0.1f, -0.05f, 0}, {0, -0.45f, 0}, {0, -0.42f, 0}, {0, -0.05f, 0.12f},
+        {0.1f, -0.05f, 0}, {0, -0.2f, 0},      {0, -0.25f, 0}, {0, -0.42f, 0}, {0, -0.1f, 0}};
+    mm_skeleton s;
+    assert_int_equal(mm_skeleton_init(&s, 10, NULL), MM_OK);
+    for (int j = 0; j < 10; ++j) {
+        s.joints[j].parent = parents[j];
+        s.joints[j].offset = mm_vec3_make(offsets[j][0], offsets[j][1], offsets[j][2]);
+    }
+    mm_posture_joints pj = JOINTS;
+    assert_int_equal(mm_posture_find_legs(&s, 3, 8, &pj), 2);
+    assert_int_equal(pj.knee[0], 2);
+    assert_int_equal(pj.thigh[0], 1);
+    assert_int_equal(pj.knee[1], 7);
+    assert_int_equal(pj.thigh[1], 6); /* the twist joint, on the thigh's line */
+    /* the toe as the foot: 0.13 m to the ankle is too short a bone, the knee is found past it */
+    assert_int_equal(mm_posture_find_legs(&s, 4, -1, &pj), 1);
+    assert_int_equal(pj.knee[0], 2);
+    assert_int_equal(pj.thigh[0], 1);
+    assert_int_equal(pj.knee[1], -1);
+    assert_int_equal(pj.thigh[1], -1);
+    /* a chain too short (the stub: the hips, then nothing), or out of range: not found */
+    assert_int_equal(mm_posture_find_legs(&s, 9, 10, &pj), 0);
+    assert_int_equal(pj.knee[0], -1);
+    assert_int_equal(pj.thigh[0], -1);
+    mm_skeleton_free(&s);
 }
 
 static void test_reference_height(void **state)
@@ -146,8 +233,8 @@ static void test_flicker(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_poses),
-        cmocka_unit_test(test_reference_height),
+        cmocka_unit_test(test_poses),     cmocka_unit_test(test_knee_raised),
+        cmocka_unit_test(test_find_legs), cmocka_unit_test(test_reference_height),
         cmocka_unit_test(test_flicker),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

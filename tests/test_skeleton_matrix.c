@@ -90,7 +90,8 @@ static const known_miss known_misses[] = {
     {"lafan1", "turn_180", T_SLIDE | T_POP},
     {"lafan1", "circle", T_POP},
     {"lafan1", "zigzag", T_SLIDE | T_POP},
-    {"lafan1", "strafe", T_SLIDE | T_POP},
+    /* the trajectory at the 5 cm edge over the rates (docs/skeletons.md) */
+    {"lafan1", "strafe", T_SLIDE | T_POP | T_TRAJ},
     {"lafan1", "walk_run", T_POP},
     {"lafan1", "demo", T_SLIDE | T_POP},
     {"lafan1", "random_1", T_SLIDE | T_POP},

@@ -156,8 +156,12 @@ static void check_made_clip(const mm_database *db, const mm_db_build_report *rep
     /* upright by the build's reference, both feet at the ground, side by side */
     mm_vec3 w[MM_MAX_JOINTS];
     world_of(db, k->first_frame, w);
-    mm_posture_joints pj = {joint(db, "Hips"), joint(db, "Head"), joint(db, "LeftHand"),
-                            joint(db, "RightHand")};
+    mm_posture_joints pj = {joint(db, "Hips"),
+                            joint(db, "Head"),
+                            joint(db, "LeftHand"),
+                            joint(db, "RightHand"),
+                            {joint(db, "LeftLeg"), joint(db, "RightLeg")},
+                            {joint(db, "LeftUpLeg"), joint(db, "RightUpLeg")}};
     mm_posture_reference ref = {report->reference_head_height};
     assert_int_equal(mm_posture_classify(w, &pj, w[0].y, &ref), MM_POSTURE_UPRIGHT);
     int lf = joint(db, "LeftFoot"), rf = joint(db, "RightFoot");
@@ -198,8 +202,12 @@ static void check_made_clip(const mm_database *db, const mm_db_build_report *rep
 static int check_every_made_clip(const mm_database *db, const mm_db_build_report *report)
 {
     int made = 0, first = -1, jc = db->joint_count;
-    mm_posture_joints pj = {joint(db, "Hips"), joint(db, "Head"), joint(db, "LeftHand"),
-                            joint(db, "RightHand")};
+    mm_posture_joints pj = {joint(db, "Hips"),
+                            joint(db, "Head"),
+                            joint(db, "LeftHand"),
+                            joint(db, "RightHand"),
+                            {joint(db, "LeftLeg"), joint(db, "RightLeg")},
+                            {joint(db, "LeftUpLeg"), joint(db, "RightUpLeg")}};
     mm_posture_reference ref = {report->reference_head_height};
     mm_vec3 w[MM_MAX_JOINTS];
     for (int c = 0; c < db->clip_count; ++c) {

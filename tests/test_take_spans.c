@@ -120,7 +120,7 @@ static void set_frame(mm_clip *c, int f, const pose *p)
     }
 }
 
-static const mm_posture_joints POSTURE_JOINTS = {HIPS, HEAD, L_HAND, R_HAND};
+static const mm_posture_joints POSTURE_JOINTS = {HIPS, HEAD, L_HAND, R_HAND, {-1, -1}, {-1, -1}};
 static const mm_posture_reference REF = {1.62f};
 
 static int a_shape(const pose *p, const mm_posture_arms *arms)

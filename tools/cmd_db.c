@@ -23,11 +23,11 @@ static void print_postures(const mm_db_build_report *report)
         return;
     }
     printf("postures: upright head height %.2f m; source frames upright %d, left out: calibration %d, lying "
-           "%d, arms spread %d, hand raised %d; "
+           "%d, arms spread %d, hand raised %d, knee raised %d; "
            "tagged Crouch: crouched %d, bent %d\n",
            report->reference_head_height, n[MM_POSTURE_UPRIGHT], n[MM_POSTURE_CALIBRATION],
-           n[MM_POSTURE_LYING], n[MM_POSTURE_ARMS_SPREAD], n[MM_POSTURE_HAND_RAISED], n[MM_POSTURE_CROUCHED],
-           n[MM_POSTURE_BENT]);
+           n[MM_POSTURE_LYING], n[MM_POSTURE_ARMS_SPREAD], n[MM_POSTURE_HAND_RAISED],
+           n[MM_POSTURE_KNEE_RAISED], n[MM_POSTURE_CROUCHED], n[MM_POSTURE_BENT]);
 }
 
 /* The standing clip the build made when no clip is an idle clip (docs/database.md, "A standing pose

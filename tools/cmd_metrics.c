@@ -108,6 +108,7 @@ int mm_cmd_metrics(int argc, char **argv)
         motion_metrics_roles_by_name(&clip.skeleton, contact, &joints);
     }
     if (status) goto done;
+    mm_posture_find_legs(&clip.skeleton, contact[0], contact[2], &joints); /* the knees from the feet */
     if (!global || !world || motion_metrics_init(&mx, n, contact, fps, frames) != 0 ||
         (db_path && motion_metrics_database(&db, fps, &dbm) != 0)) {
         fprintf(stderr, "mm: out of memory for %d frames of %d joints\n", frames, n);

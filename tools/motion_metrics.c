@@ -69,7 +69,7 @@ void motion_metrics_input(motion_metrics *m, double t, const mm_input *in, mm_ve
 void motion_metrics_reference(motion_metrics *m, const mm_posture_joints *joints, float head_height,
                               const double planted[4])
 {
-    mm_posture_joints none = {-1, -1, -1, -1};
+    mm_posture_joints none = {-1, -1, -1, -1, {-1, -1}, {-1, -1}};
     m->posture_joints = joints ? *joints : none;
     m->reference.head_height = head_height > 0 ? head_height : 0.0f;
     for (int k = 0; k < 4; ++k) m->planted[k] = planted ? planted[k] : NAN;
@@ -376,7 +376,7 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
     out->head_p5_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.05);
     out->head_p50_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.5);
     out->crouched_s = out->bent_s = out->lying_s = out->calibration_s = out->arms_spread_s =
-        out->hand_raised_s = NAN;
+        out->hand_raised_s = out->knee_raised_s = NAN;
     out->arms_out_s = m->reference.head_height > 0 && hands ? m->arms_out_frames / m->fps : NAN;
     out->hands_apart_max_cm = hands ? 100.0 * m->hands_apart_max : NAN;
     if (posture) {
@@ -395,6 +395,7 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
         out->calibration_s = count[MM_POSTURE_CALIBRATION] / m->fps;
         out->arms_spread_s = count[MM_POSTURE_ARMS_SPREAD] / m->fps;
         out->hand_raised_s = count[MM_POSTURE_HAND_RAISED] / m->fps;
+        out->knee_raised_s = count[MM_POSTURE_KNEE_RAISED] / m->fps;
     }
     return 0;
 }
@@ -446,6 +447,7 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "calibration_s", s.calibration_s, 0);
     json_number(f, "arms_spread_s", s.arms_spread_s, 0);
     json_number(f, "hand_raised_s", s.hand_raised_s, 0);
+    json_number(f, "knee_raised_s", s.knee_raised_s, 0);
     json_number(f, "arms_out_s", s.arms_out_s, 0);
     json_number(f, "hands_apart_max_cm", s.hands_apart_max_cm, 0);
     fprintf(f, "  \"moves\": [");
@@ -478,6 +480,8 @@ void motion_metrics_roles_of_database(const mm_database *db, int contact[4], mm_
     joints->head = mm_database_role_joint(db, MM_ROLE_HEAD);
     joints->left_hand = mm_database_role_joint(db, MM_ROLE_LEFT_HAND);
     joints->right_hand = mm_database_role_joint(db, MM_ROLE_RIGHT_HAND);
+    const mm_skeleton view = {.joint_count = db->joint_count, .joints = (mm_joint *)db->joints};
+    mm_posture_find_legs(&view, contact[0], contact[2], joints);
 }
 
 /* The joint of a role by its default name; a toe also as the default name with "Base" after it
@@ -501,6 +505,7 @@ void motion_metrics_roles_by_name(const mm_skeleton *s, int contact[4], mm_postu
     joints->head = find_by_default_name(s, MM_ROLE_HEAD);
     joints->left_hand = find_by_default_name(s, MM_ROLE_LEFT_HAND);
     joints->right_hand = find_by_default_name(s, MM_ROLE_RIGHT_HAND);
+    mm_posture_find_legs(s, contact[0], contact[2], joints);
 }
 
 /* A tag that names a gait other than walk and run (crouch, jump), in any case. */

@@ -162,8 +162,8 @@ typedef struct motion_metrics_extra { /* what only the caller knows; NAN: null *
 typedef struct motion_metrics_seen {
     double below_ground_cm, contact_height_err_cm, contact_share, foot_slide_height_cm_s, foot_float_cm;
     double max_pop_cm, pop_p99_cm, head_p2_cm, head_p5_cm, head_p50_cm;
-    double crouched_s, bent_s, lying_s, calibration_s, arms_spread_s, hand_raised_s, arms_out_s,
-        hands_apart_max_cm;
+    double crouched_s, bent_s, lying_s, calibration_s, arms_spread_s, hand_raised_s, knee_raised_s,
+        arms_out_s, hands_apart_max_cm;
 } motion_metrics_seen;
 int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out);
 

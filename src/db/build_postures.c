@@ -12,7 +12,8 @@
 static int removed(uint8_t posture)
 {
     return posture == MM_POSTURE_CALIBRATION || posture == MM_POSTURE_LYING ||
-           posture == MM_POSTURE_ARMS_SPREAD || posture == MM_POSTURE_HAND_RAISED;
+           posture == MM_POSTURE_ARMS_SPREAD || posture == MM_POSTURE_HAND_RAISED ||
+           posture == MM_POSTURE_KNEE_RAISED;
 }
 
 static int crouched(uint8_t posture) { return posture == MM_POSTURE_CROUCHED || posture == MM_POSTURE_BENT; }
@@ -102,8 +103,13 @@ static mm_vec3 *world_positions(const mm_clip *c, int hips, float *ground)
 
 static mm_posture_joints joints_of(const mm_config *cfg, const mm_skeleton *s)
 {
-    mm_posture_joints j = {mm_skeleton_find(s, cfg->hips), mm_skeleton_find(s, cfg->head),
-                           mm_skeleton_find(s, cfg->left_hand), mm_skeleton_find(s, cfg->right_hand)};
+    mm_posture_joints j = {mm_skeleton_find(s, cfg->hips),
+                           mm_skeleton_find(s, cfg->head),
+                           mm_skeleton_find(s, cfg->left_hand),
+                           mm_skeleton_find(s, cfg->right_hand),
+                           {-1, -1},
+                           {-1, -1}};
+    mm_posture_find_legs(s, mm_skeleton_find(s, cfg->left_foot), mm_skeleton_find(s, cfg->right_foot), &j);
     return j;
 }
 
@@ -133,6 +139,12 @@ static mm_result judge(const mm_config *cfg, const mm_clip *sources, mm__posture
             for (int f = 0; f < c->frame_count; ++f)
                 post[f] = (uint8_t)mm_posture_classify(w + (size_t)f * (size_t)jc, &j, ground, &ref);
             mm_posture_remove_flicker(post, c->frame_count, (int)lroundf(MM_POSTURE_MIN_SECONDS * c->fps));
+            /* the hands spread wide are seen however briefly (an arm flung out in a hop): those
+             * frames stay out, flicker or not */
+            for (int f = 0; f < c->frame_count; ++f)
+                if (mm_posture_classify(w + (size_t)f * (size_t)jc, &j, ground, &ref) ==
+                    MM_POSTURE_ARMS_SPREAD)
+                    post[f] = MM_POSTURE_ARMS_SPREAD;
             p->frames[ci] = post;
         }
         free(w);

@@ -1,7 +1,7 @@
 /* build_postures.h (private) - the postures of the source frames a database is built from
  * (mm/posture.h), and what the build does with them: locomotion and idle clips lose their
- * calibration and lying frames (with a margin), and their crouched and bent-over frames carry the
- * crouch gait's tag. */
+ * calibration, lying, arms-spread (however briefly), hand-raised and knee-raised frames (with a
+ * margin), and their crouched and bent-over frames carry the crouch gait's tag. */
 #ifndef MM_DB_BUILD_POSTURES_H
 #define MM_DB_BUILD_POSTURES_H
 

@@ -274,17 +274,18 @@ mm_result mm_database_diagnose(const mm_database *db, const mm_db_build_report *
         for (int p = 0; p < MM_POSTURE_COUNT; ++p) judged += n[p];
         if (judged > 0) {
             int left = n[MM_POSTURE_CALIBRATION] + n[MM_POSTURE_LYING] + n[MM_POSTURE_ARMS_SPREAD] +
-                       n[MM_POSTURE_HAND_RAISED],
+                       n[MM_POSTURE_HAND_RAISED] + n[MM_POSTURE_KNEE_RAISED],
                 tagged = n[MM_POSTURE_CROUCHED] + n[MM_POSTURE_BENT];
             out->posture_share[0] = (float)left / (float)judged;
             out->posture_share[1] = (float)tagged / (float)judged;
             if (out->posture_share[0] > MM_DIAGNOSE_POSTURE_SHARE)
                 add(out, MM_DIAG_POSTURES_LEFT_OUT,
                     "postures left out %.0f%% of the locomotion and idle frames (calibration %d, lying %d, "
-                    "arms spread %d, hand raised %d of %d): check the head and hands roles and the scale, "
+                    "arms spread %d, hand raised %d, knee raised %d of %d): check the head and hands roles "
+                    "and the scale, "
                     "or leave those spans out of the clips (mm bvh spans), or set postures.detect to false",
                     100.0 * out->posture_share[0], n[MM_POSTURE_CALIBRATION], n[MM_POSTURE_LYING],
-                    n[MM_POSTURE_ARMS_SPREAD], n[MM_POSTURE_HAND_RAISED], judged);
+                    n[MM_POSTURE_ARMS_SPREAD], n[MM_POSTURE_HAND_RAISED], n[MM_POSTURE_KNEE_RAISED], judged);
             if (out->posture_share[1] > MM_DIAGNOSE_POSTURE_SHARE)
                 add(out, MM_DIAG_POSTURES_TAGGED,
                     "postures tagged %.0f%% of the locomotion and idle frames Crouch (crouched %d, bent %d "

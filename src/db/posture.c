@@ -7,7 +7,7 @@
 #include "db/process.h"
 
 static const char *const posture_names[MM_POSTURE_COUNT] = {
-    "upright", "crouched", "bent", "lying", "calibration", "arms_spread", "hand_raised"};
+    "upright", "crouched", "bent", "lying", "calibration", "arms_spread", "hand_raised", "knee_raised"};
 
 const char *mm_posture_name(mm_posture p) { return (unsigned)p < MM_POSTURE_COUNT ? posture_names[p] : NULL; }
 
@@ -36,6 +36,22 @@ bool mm_posture_arms_out(const mm_vec3 *world, const mm_posture_joints *joints,
     return apart > MM_POSTURE_ARMS_OUT * mm_posture_stature(ref);
 }
 
+float mm_posture_thigh_sine(const mm_vec3 *world, const mm_posture_joints *joints, int side)
+{
+    if (side < 0 || side > 1 || !joint_ok(world, joints->knee[side]) || !joint_ok(world, joints->thigh[side]))
+        return NAN;
+    mm_vec3 thigh = mm_vec3_sub(world[joints->knee[side]], world[joints->thigh[side]]);
+    float length = mm_vec3_length(thigh);
+    return length > 1e-6f ? thigh.y / length : NAN;
+}
+
+/* A thigh near level: NAN (no leg) compares false */
+static bool knee_raised(const mm_vec3 *world, const mm_posture_joints *joints)
+{
+    return mm_posture_thigh_sine(world, joints, 0) > MM_POSTURE_KNEE_RAISED_SINE ||
+           mm_posture_thigh_sine(world, joints, 1) > MM_POSTURE_KNEE_RAISED_SINE;
+}
+
 mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *joints, float ground_y,
                                const mm_posture_reference *ref)
 {
@@ -61,6 +77,7 @@ mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *jo
     if (head_height < MM_POSTURE_LYING_HEIGHT * h) return MM_POSTURE_LYING;
     if (lean > MM_POSTURE_BENT_DEGREES) return MM_POSTURE_BENT;
     if (head_height < MM_POSTURE_CROUCHED_HEIGHT * h) return MM_POSTURE_CROUCHED;
+    if (knee_raised(world, joints)) return MM_POSTURE_KNEE_RAISED;
     return MM_POSTURE_UPRIGHT;
 }
 
@@ -83,6 +100,39 @@ void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames)
     }
 }
 
+/* The two joints up a limb from its end joint j: up[0] the first ancestor at least bone_min from j
+ * at rest, up[1] the first at least that far from up[0] (-1: not found). */
+static void limb_up(const mm_skeleton *s, int j, float bone_min, int up[2])
+{
+    up[0] = up[1] = -1;
+    if (j < 0 || j >= s->joint_count) return;
+    /* up the chain, the rest position of each ancestor relative to the end's start */
+    int step = 0;
+    mm_vec3 from = mm_vec3_make(0, 0, 0), at = from;
+    for (int k = j; s->joints[k].parent >= 0 && step < 2; k = s->joints[k].parent) {
+        at = mm_vec3_sub(at, s->joints[k].offset); /* the parent's place, in rest axes summed */
+        if (mm_vec3_length(mm_vec3_sub(at, from)) >= bone_min) {
+            up[step++] = s->joints[k].parent;
+            from = at;
+        }
+    }
+}
+
+int mm_posture_find_legs(const mm_skeleton *s, int left_foot, int right_foot, mm_posture_joints *joints)
+{
+    const int feet[2] = {left_foot, right_foot};
+    int found = 0;
+    for (int side = 0; side < 2; ++side) {
+        int up[2];
+        limb_up(s, feet[side], MM_POSTURE_LEG_BONE_MIN, up);
+        if (up[1] < 0) up[0] = -1;
+        joints->knee[side] = up[0];
+        joints->thigh[side] = up[1];
+        found += up[1] >= 0;
+    }
+    return found;
+}
+
 bool mm_posture_find_arms(const mm_skeleton *s, int left_hand, int right_hand, mm_posture_arms *out)
 {
     const int hands[2] = {left_hand, right_hand};
@@ -95,19 +145,11 @@ bool mm_posture_find_arms(const mm_skeleton *s, int left_hand, int right_hand, m
             continue;
         }
         out->hand[side] = j;
-        /* up the chain, the rest position of each ancestor relative to the hand's start */
-        int found_at[2] = {-1, -1}, step = 0;
-        mm_vec3 from = mm_vec3_make(0, 0, 0), at = from;
-        for (int k = j; s->joints[k].parent >= 0 && step < 2; k = s->joints[k].parent) {
-            at = mm_vec3_sub(at, s->joints[k].offset); /* the parent's place, in rest axes summed */
-            if (mm_vec3_length(mm_vec3_sub(at, from)) >= MM_POSTURE_ARM_BONE_MIN) {
-                found_at[step++] = s->joints[k].parent;
-                from = at;
-            }
-        }
-        out->elbow[side] = found_at[0];
-        out->shoulder[side] = found_at[1];
-        if (found_at[1] < 0) found = false;
+        int up[2];
+        limb_up(s, j, MM_POSTURE_ARM_BONE_MIN, up);
+        out->elbow[side] = up[0];
+        out->shoulder[side] = up[1];
+        if (up[1] < 0) found = false;
     }
     if (!found) out->elbow[0] = out->elbow[1] = out->shoulder[0] = out->shoulder[1] = -1;
     return found;

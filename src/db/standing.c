@@ -47,8 +47,13 @@ static void measure_clip(const mm_config *cfg, const mm_clip *c, const mm__conta
     int heel_toe[4];
     heel_toe_of(s, cfg, heel_toe);
     mm__label_contacts(tracks, n, c->fps, contact_ground, cfg, contacts);
-    mm_posture_joints pj = {mm_skeleton_find(s, cfg->hips), mm_skeleton_find(s, cfg->head),
-                            mm_skeleton_find(s, cfg->left_hand), mm_skeleton_find(s, cfg->right_hand)};
+    mm_posture_joints pj = {mm_skeleton_find(s, cfg->hips),
+                            mm_skeleton_find(s, cfg->head),
+                            mm_skeleton_find(s, cfg->left_hand),
+                            mm_skeleton_find(s, cfg->right_hand),
+                            {-1, -1},
+                            {-1, -1}};
+    mm_posture_find_legs(s, mm_skeleton_find(s, cfg->left_foot), mm_skeleton_find(s, cfg->right_foot), &pj);
     /* the ground: the median over frames of the lowest joint (joint 0, the simulation bone, aside) */
     for (int f = 0; f < n; ++f) {
         float lowest = INFINITY;

@@ -102,7 +102,8 @@ static int judge(const mm_clip *clip, const mm_vec3 *w, const mm_take_joints *jt
     for (int f = 0; f < n; ++f) v[f] = head[(size_t)f * (size_t)jc].y - fmaxf(lowest[f], floor);
     mm_posture_reference ref = {mm_posture_reference_height(v, n)};
     out->upright_head_height = ref.head_height;
-    mm_posture_joints joints = {jt->hips, jt->head, jt->left_hand, jt->right_hand};
+    /* the knees are not judged here: a knee raised stays in the spans, the database build cuts it */
+    mm_posture_joints joints = {jt->hips, jt->head, jt->left_hand, jt->right_hand, {-1, -1}, {-1, -1}};
     for (int f = 0; f < n; ++f)
         kind[f] = (uint8_t)mm_posture_classify(w + (size_t)f * (size_t)jc, &joints, ground[f], &ref);
     mm_posture_remove_flicker(kind, n, (int)lroundf(MM_POSTURE_MIN_SECONDS * fps));
