@@ -494,7 +494,10 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_matching_track_stances(&s->matching, db->contacts[s->playback.frame], s->root_motion.root.translation);
     pose_from_animation(s, db->joint_count);
 
-    /* 6. warping: the legs turned toward the movement and stretched along it */
+    /* 6. warping: the legs turned toward the movement and stretched along it. Through the feet
+     * (7) only the legs' global transforms are read: the rest of the body's wait until the pelvis
+     * has moved for the last time (mm_rig_forward_pelvis) */
+    s->pose.defer_body = true;
     if (d->warping) {
         mm_warping_clip clip = {db->root_velocity[s->playback.frame],
                                 db->clips[db->frame_clip[s->playback.frame]].type == MM_CLIP_IDLE};
@@ -511,6 +514,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
         mm_feet_ground ground = {s->root_motion.root.translation.y, !s->move.playing, terrain};
         mm_feet_update(&s->feet, d, &s->rig, &contacts, &ground, dt, &s->pose);
     }
+    mm_rig_forward_finish(&s->rig, &s->pose);
 
     /* 8. walls: in a scene, the body out of them (not during a move: the move layer has it) */
     if (!s->move.playing && !s->move.pending) {

@@ -68,7 +68,7 @@ void mm_warping_orientation(mm_warping *w, const mm_character_desc *d, const mm_
                                  &pose->local_rotations[pelvis], spine_local) != MM_OK)
         return;
     for (int i = 0; i < rig->spine_count; ++i) pose->local_rotations[rig->spine[i]] = spine_local[i];
-    mm_rig_forward(rig, pelvis, pose);
+    mm_rig_forward_pelvis(rig, pose);
 }
 
 void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 velocity, float stride_scale,
@@ -148,7 +148,7 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
     }
     /* a lowered pelvis moves everything that hangs from it; else only the legs changed */
     if (drop > 0.0f)
-        mm_rig_forward(rig, 1, pose);
+        mm_rig_forward_pelvis(rig, pose);
     else
         mm_rig_forward_legs(rig, pose);
 }
