@@ -51,6 +51,11 @@ void mm_spring_update(float *x, float *v, float target, float halflife, float dt
     update_with(x, v, target, &s);
 }
 
+void mm_spring_update_step(float *x, float *v, float target, const mm_spring_step *s)
+{
+    update_with(x, v, target, s);
+}
+
 void mm_spring_update_vec3_step(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, const mm_spring_step *s)
 {
     update_with(&x->x, &v->x, target.x, s);

@@ -100,6 +100,11 @@ void mm_rig_forward_pelvis(const mm_rig *rig, mm_rig_pose *pose)
 void mm_rig_forward_finish(const mm_rig *rig, mm_rig_pose *pose)
 {
     pose->defer_body = false;
+    mm_rig_forward_rest(rig, pose);
+}
+
+void mm_rig_forward_rest(const mm_rig *rig, mm_rig_pose *pose)
+{
     if (!pose->body_stale) return;
     pose->body_stale = false;
     /* the joints past the pelvis outside the legs, in runs between them: none of them hangs from

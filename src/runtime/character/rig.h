@@ -82,4 +82,8 @@ void mm_rig_forward_pelvis(const mm_rig *rig, mm_rig_pose *pose);
  * deferral (pose->defer_body false). */
 void mm_rig_forward_finish(const mm_rig *rig, mm_rig_pose *pose);
 
+/* The rest of the body's global transforms where mm_rig_forward_pelvis left them, the deferral
+ * kept (for a stage that reads them). */
+void mm_rig_forward_rest(const mm_rig *rig, mm_rig_pose *pose);
+
 #endif

@@ -61,6 +61,7 @@ void mm_warping_orientation(mm_warping *w, const mm_character_desc *d, const mm_
     w->orientation_angle = r.angle;
     w->orientation_velocity = r.velocity;
     if (r.angle == 0.0f) return;
+    mm_rig_forward_rest(rig, pose); /* the spine's global transforms, where they wait */
     mm_quat spine_world[MM_RIG_MAX_SPINE], spine_local[MM_RIG_MAX_SPINE];
     for (int i = 0; i < rig->spine_count; ++i) spine_world[i] = pose->global[rig->spine[i]].rotation;
     if (mm_warp_orientation_pose(&r, pose->global[rig->joints[pelvis].parent].rotation,
