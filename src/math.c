@@ -399,7 +399,50 @@ void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int co
     }
     for (; i < count; ++i) out[i] = mm__quat_slerp_series(a[i], b[i], t);
 }
+
+/* The product of four pairs of quaternions, one joint a lane (a's and b's coordinates transposed
+ * into x y z w vectors), normalized: each lane mm_quat_mul's and mm_quat_normalize's operations in
+ * their order, so the same bits. */
+static void mul_normalize4(const mm_quat *a, mm_quat *b)
+{
+    __m128 ax = _mm_loadu_ps(&a[0].x), ay = _mm_loadu_ps(&a[1].x), az = _mm_loadu_ps(&a[2].x),
+           aw = _mm_loadu_ps(&a[3].x);
+    __m128 bx = _mm_loadu_ps(&b[0].x), by = _mm_loadu_ps(&b[1].x), bz = _mm_loadu_ps(&b[2].x),
+           bw = _mm_loadu_ps(&b[3].x);
+    _MM_TRANSPOSE4_PS(ax, ay, az, aw);
+    _MM_TRANSPOSE4_PS(bx, by, bz, bw);
+#define MUL _mm_mul_ps
+    __m128 x = _mm_sub_ps(_mm_add_ps(_mm_add_ps(MUL(aw, bx), MUL(ax, bw)), MUL(ay, bz)), MUL(az, by));
+    __m128 y = _mm_add_ps(_mm_add_ps(_mm_sub_ps(MUL(aw, by), MUL(ax, bz)), MUL(ay, bw)), MUL(az, bx));
+    __m128 z = _mm_add_ps(_mm_sub_ps(_mm_add_ps(MUL(aw, bz), MUL(ax, by)), MUL(ay, bx)), MUL(az, bw));
+    __m128 w = _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(MUL(aw, bw), MUL(ax, bx)), MUL(ay, by)), MUL(az, bz));
+    __m128 len = _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_add_ps(MUL(x, x), MUL(y, y)), MUL(z, z)), MUL(w, w)));
+    __m128 s = _mm_div_ps(_mm_set1_ps(1.0f), len);
+    __m128 zero = _mm_cmplt_ps(len, _mm_set1_ps(1e-12f)); /* mm_quat_normalize's identity */
+    x = _mm_andnot_ps(zero, MUL(x, s));
+    y = _mm_andnot_ps(zero, MUL(y, s));
+    z = _mm_andnot_ps(zero, MUL(z, s));
+    w = _mm_or_ps(_mm_andnot_ps(zero, MUL(w, s)), _mm_and_ps(zero, _mm_set1_ps(1.0f)));
+#undef MUL
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    _mm_storeu_ps(&b[0].x, x);
+    _mm_storeu_ps(&b[1].x, y);
+    _mm_storeu_ps(&b[2].x, z);
+    _mm_storeu_ps(&b[3].x, w);
+}
+
+void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
+{
+    int i = 0;
+    for (; i + 4 <= count; i += 4) mul_normalize4(a + i, b + i);
+    for (; i < count; ++i) b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i]));
+}
 #else
+void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
+{
+    for (int i = 0; i < count; ++i) b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i]));
+}
+
 void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
 {
     for (int i = 0; i < count; ++i) out[i] = mm__quat_exp_series(v[i]);

@@ -50,4 +50,8 @@ mm_quat mm__quat_exp_series(mm_vec3 v);
  * machine has the lanes for it. */
 void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out);
 
+/* b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i])) for i in [0, count): the same bits, four at
+ * a time where the machine has the lanes for it. */
+void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count);
+
 #endif /* MM_MATH_PRIVATE_H */

@@ -118,6 +118,45 @@ static void test_rig_finds_legs_pelvis_and_spine(void **state)
 
 /* ---- 1. intent ---- */
 
+/* The rest of the body's forward kinematics deferred (mm_rig_forward_pelvis with defer_body, then
+ * mm_rig_forward_finish): the pelvis and the legs current after each move, and at the end every
+ * joint the bits of mm_rig_forward from joint 1 after each move; without the deferral, the whole
+ * body at once. */
+static void test_rig_deferred_body(void **state)
+{
+    (void)state;
+    body eager, lazy, direct;
+    make_body(&eager);
+    make_body(&lazy);
+    make_body(&direct);
+    lazy.pose.defer_body = true;
+    for (int step = 0; step < 3; ++step) {
+        body *all[3] = {&eager, &lazy, &direct};
+        for (int i = 0; i < 3; ++i) { /* the pelvis moved and turned, a hip and the chest turned */
+            body *b = all[i];
+            b->positions[HIPS] =
+                mm_vec3_add(b->positions[HIPS], mm_vec3_make(0.01f * (float)step, -0.02f, 0.005f));
+            b->rotations[HIPS] = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.1f * (float)(step + 1));
+            b->rotations[L_UPLEG] = mm_quat_from_axis_angle(mm_vec3_make(1, 0, 0), -0.2f * (float)step);
+            b->rotations[CHEST] = mm_quat_from_axis_angle(mm_vec3_make(0, 0, 1), 0.3f * (float)step);
+        }
+        mm_rig_forward(&eager.rig, 1, &eager.pose);
+        mm_rig_forward_pelvis(&lazy.rig, &lazy.pose);
+        mm_rig_forward_pelvis(&direct.rig, &direct.pose);
+        assert_true(lazy.pose.body_stale);
+        assert_false(direct.pose.body_stale);
+        assert_memory_equal(direct.global, eager.global, sizeof eager.global);
+        for (int j = HIPS; j <= R_TOE; ++j)
+            assert_memory_equal(&lazy.global[j], &eager.global[j], sizeof(mm_xform));
+    }
+    /* the chest waits: where it stood before the moves */
+    assert_true(mm_vec3_distance(lazy.global[CHEST].translation, eager.global[CHEST].translation) > 0.01f);
+    mm_rig_forward_finish(&lazy.rig, &lazy.pose);
+    assert_false(lazy.pose.defer_body);
+    assert_false(lazy.pose.body_stale);
+    assert_memory_equal(lazy.global, eager.global, sizeof eager.global);
+}
+
 static void test_intent_from_input(void **state)
 {
     (void)state;
@@ -1407,6 +1446,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rig_finds_legs_pelvis_and_spine),
+        cmocka_unit_test(test_rig_deferred_body),
         cmocka_unit_test(test_intent_from_input),
         cmocka_unit_test(test_playback_advance_by_clock_and_rate),
         cmocka_unit_test(test_playback_time_to_contact),

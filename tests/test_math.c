@@ -804,6 +804,34 @@ static void test_exp_series_n(void **state)
     }
 }
 
+/* Many products normalized at once (mm__quat_mul_normalize_n, four at a time): the bits of
+ * mm_quat_normalize(mm_quat_mul(a, b)) each, unit and not, zero and tiny products (the identity),
+ * signed zeros and NaN among them, every count's remainder. */
+static void test_mul_normalize_n(void **state)
+{
+    (void)state;
+    rng_seed(25);
+    enum { PAIRS = 23 };
+    mm_quat a[PAIRS], b[PAIRS], many[PAIRS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < PAIRS; ++i) {
+            a[i] = rnd_quat();
+            b[i] = rnd_quat();
+            if (i % 3 == 1) b[i] = mm_quat_make(b[i].x * 3.0f, b[i].y * 3.0f, b[i].z * 3.0f, b[i].w * 3.0f);
+        }
+        a[n % PAIRS] = mm_quat_make(0.0f, -0.0f, 0.0f, 0.0f);
+        b[(n + 5) % PAIRS] = mm_quat_make(1e-20f, 0.0f, -1e-21f, 0.0f);
+        if (n % 10 == 3) b[7] = mm_quat_make(NAN, 0.0f, 0.0f, 1.0f);
+        int count = PAIRS - n % 4;
+        for (int i = 0; i < PAIRS; ++i) many[i] = b[i];
+        mm__quat_mul_normalize_n(a, many, count);
+        for (int i = 0; i < PAIRS; ++i) {
+            mm_quat one = i < count ? mm_quat_normalize(mm_quat_mul(a[i], b[i])) : b[i];
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
+    }
+}
+
 static void test_slerp_shortest_path(void **state)
 {
     (void)state;
@@ -1110,6 +1138,7 @@ int main(void)
         cmocka_unit_test(test_slerp_series_n),
         cmocka_unit_test(test_exp_series),
         cmocka_unit_test(test_exp_series_n),
+        cmocka_unit_test(test_mul_normalize_n),
         cmocka_unit_test(test_slerp_nearly_parallel),
         cmocka_unit_test(test_nlerp),
         cmocka_unit_test(test_angle_between),

@@ -159,6 +159,10 @@ static void test_shared_step(void **state)
                 mm_spring_update(&x, &v, target.y, halflives[h], dts[k]);
                 assert_memory_equal(&x, &xb.y, sizeof x);
                 assert_memory_equal(&v, &vb.y, sizeof v);
+                float xs = x0.y, vs = v0.y; /* and the scalar spring's step */
+                mm_spring_update_step(&xs, &vs, target.y, &step);
+                assert_memory_equal(&xs, &x, sizeof x);
+                assert_memory_equal(&vs, &v, sizeof v);
             }
         }
     /* many springs side by side (mm_spring_decay_vec3_steps): the bits of one step each, signed

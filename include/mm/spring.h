@@ -11,7 +11,7 @@
  *   x(t) = target + (j0 + j1 t) e^(-y t),  j0 = x0 - target, j1 = v0 + j0 y
  *
  * Functions: mm_spring_damping mm_spring_update mm_spring_update_vec3 mm_spring_decay_vec3
- *            mm_spring_step_make mm_spring_update_vec3_step mm_spring_decay_vec3_step
+ *            mm_spring_step_make mm_spring_update_step mm_spring_update_vec3_step mm_spring_decay_vec3_step
  *            mm_spring_decay_vec3_steps
  *            mm_spring_update_quat mm_spring_velocity_update
  */
@@ -46,6 +46,7 @@ typedef struct mm_spring_step {
     bool moves;     /* dt > 0 (no step otherwise) */
 } mm_spring_step;
 mm_spring_step mm_spring_step_make(float halflife, float dt);
+void mm_spring_update_step(float *x, float *v, float target, const mm_spring_step *step);
 void mm_spring_update_vec3_step(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, const mm_spring_step *step);
 void mm_spring_decay_vec3_step(mm_vec3 *x, mm_vec3 *v, const mm_spring_step *step);
 /* mm_spring_decay_vec3_step on x[i], v[i] for every i in [0, count): the same bits, for less work

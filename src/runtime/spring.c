@@ -1,6 +1,9 @@
 #include <mm/spring.h>
 
 #include <math.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 /* exp(-y h) (1 + y h) = 1/2 */
 #define HALFLIFE_ROOT 1.6783469900166603
@@ -48,6 +51,11 @@ void mm_spring_update(float *x, float *v, float target, float halflife, float dt
     update_with(x, v, target, &s);
 }
 
+void mm_spring_update_step(float *x, float *v, float target, const mm_spring_step *s)
+{
+    update_with(x, v, target, s);
+}
+
 void mm_spring_update_vec3_step(mm_vec3 *x, mm_vec3 *v, mm_vec3 target, const mm_spring_step *s)
 {
     update_with(&x->x, &v->x, target.x, s);
@@ -83,11 +91,24 @@ void mm_spring_decay_vec3_steps(mm_vec3 *x, mm_vec3 *v, int count, const mm_spri
         return;
     }
     const double y = s->damping, dt = s->dt, e = s->decay;
-    for (int i = 0; i < count; ++i) {
-        decay_coordinate(&x[i].x, &v[i].x, y, dt, e);
-        decay_coordinate(&x[i].y, &v[i].y, y, dt, e);
-        decay_coordinate(&x[i].z, &v[i].z, y, dt, e);
+    /* the coordinates of all the springs, one after another */
+    float *xs = &x[0].x, *vs = &v[0].x;
+    int n = 3 * count, i = 0;
+#if defined(__SSE2__)
+    /* two coordinates at a time in packed doubles, each lane decay_coordinate's operations in its
+     * order (the same bits) */
+    const __m128d yy = _mm_set1_pd(y), tt = _mm_set1_pd(dt), ee = _mm_set1_pd(e), zero = _mm_setzero_pd();
+    for (; i + 2 <= n; i += 2) {
+        __m128d j0 = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)(const void *)(xs + i))));
+        __m128d vd = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)(const void *)(vs + i))));
+        __m128d j1 = _mm_add_pd(vd, _mm_mul_pd(j0, yy));
+        __m128d xn = _mm_add_pd(zero, _mm_mul_pd(_mm_add_pd(j0, _mm_mul_pd(j1, tt)), ee));
+        __m128d vn = _mm_mul_pd(_mm_sub_pd(vd, _mm_mul_pd(_mm_mul_pd(j1, yy), tt)), ee);
+        _mm_storel_epi64((__m128i *)(void *)(xs + i), _mm_castps_si128(_mm_cvtpd_ps(xn)));
+        _mm_storel_epi64((__m128i *)(void *)(vs + i), _mm_castps_si128(_mm_cvtpd_ps(vn)));
     }
+#endif
+    for (; i < n; ++i) decay_coordinate(&xs[i], &vs[i], y, dt, e);
 }
 
 void mm_spring_decay_vec3(mm_vec3 *x, mm_vec3 *v, float halflife, float dt)

@@ -355,9 +355,10 @@ void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
     t->angular_velocity = s.angular_velocity;
     t->target_facing = facing;
     int g = (int)mm_input_gait(in);
+    mm_spring_step gait_step =
+        mm_spring_step_make(t->desc.gait_halflife, dt); /* the gaits' springs share it */
     for (int i = 0; i < MM_GAIT_COUNT; ++i)
-        mm_spring_update(&t->gait_weights[i], &t->gait_rates[i], i == g ? 1.0f : 0.0f, t->desc.gait_halflife,
-                         dt);
+        mm_spring_update_step(&t->gait_weights[i], &t->gait_rates[i], i == g ? 1.0f : 0.0f, &gait_step);
     t->time = end;
 }
 

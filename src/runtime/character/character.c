@@ -263,7 +263,7 @@ static void pose_from_animation(mm_character_state *s, int joint_count)
     s->pose.local_rotations[0] = s->root_motion.root.rotation;
     s->pose.local_positions[0] = s->root_motion.root.translation;
     s->pose.global[0] = s->root_motion.root;
-    mm_rig_forward(&s->rig, 1, &s->pose);
+    mm_rig_forward_pelvis(&s->rig, &s->pose);
 }
 
 /* A new tuning: the desc resolved (as at init; what init laid out kept), and the copies of its
@@ -492,6 +492,10 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     mm_root_motion_update(&s->root_motion, d, &s->trajectory, &s->intent, played, s->move.playing, dt);
     mm_root_motion_follow_ground(&s->root_motion, s->move.playing ? NULL : terrain, dt);
     mm_matching_track_stances(&s->matching, db->contacts[s->playback.frame], s->root_motion.root.translation);
+    /* through the warping (6) and the feet (7) only the legs' global transforms are read (and the
+     * spine's by an orientation warp, which asks for them): the rest of the body's wait until the
+     * pelvis has moved for the last time (mm_rig_forward_pelvis) */
+    s->pose.defer_body = true;
     pose_from_animation(s, db->joint_count);
 
     /* 6. warping: the legs turned toward the movement and stretched along it */
@@ -511,6 +515,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
         mm_feet_ground ground = {s->root_motion.root.translation.y, !s->move.playing, terrain};
         mm_feet_update(&s->feet, d, &s->rig, &contacts, &ground, dt, &s->pose);
     }
+    mm_rig_forward_finish(&s->rig, &s->pose);
 
     /* 8. walls: in a scene, the body out of them (not during a move: the move layer has it) */
     if (!s->move.playing && !s->move.pending) {

@@ -612,7 +612,7 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
         mm_vec3 along =
             mm_quat_inv_rotate(pose->global[rig->joints[pelvis].parent].rotation, f->pelvis_shift);
         pose->local_positions[pelvis] = mm_vec3_add(pose->local_positions[pelvis], along);
-        mm_rig_forward(rig, pelvis, pose);
+        mm_rig_forward_pelvis(rig, pose);
     }
 }
 
@@ -655,7 +655,7 @@ static void lower_hips(mm_feet *f, float max_hip_drop, bool stepping, const mm_r
         mm_vec3 down = mm_quat_inv_rotate(pose->global[rig->joints[pelvis].parent].rotation,
                                           mm_vec3_make(0.0f, -f->hip_drop, 0.0f));
         pose->local_positions[pelvis] = mm_vec3_add(pose->local_positions[pelvis], down);
-        mm_rig_forward(rig, pelvis, pose);
+        mm_rig_forward_pelvis(rig, pose);
     }
 }
 

@@ -67,8 +67,55 @@ void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, int left_
 
 void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose)
 {
+    if (pose->body_stale) { /* the joints past the pelvis read current parents from here on */
+        if (first > rig->pelvis) first = rig->pelvis;
+        pose->body_stale = false;
+    }
     mm_skeleton_global_from(rig->joints, rig->joint_count, first, pose->local_rotations,
                             pose->local_positions, pose->global);
+}
+
+/* Whether the legs' joints follow their hips in the skeleton's order (mm_rig.leg_end) below a
+ * pelvis: the body past the pelvis is then the legs and the rest. */
+static bool legs_apart(const mm_rig *rig)
+{
+    return rig->pelvis >= 1 && rig->leg_end[0] >= 0 && rig->leg_end[1] >= 0;
+}
+
+void mm_rig_forward_pelvis(const mm_rig *rig, mm_rig_pose *pose)
+{
+    if (!pose->defer_body || !legs_apart(rig)) {
+        mm_rig_forward(rig, 1, pose);
+        return;
+    }
+    /* the joints up to the pelvis (those before it are unchanged: the same transforms again) */
+    mm_skeleton_global_from(rig->joints, rig->pelvis + 1, 1, pose->local_rotations, pose->local_positions,
+                            pose->global);
+    for (int k = 0; k < 2; ++k)
+        mm_skeleton_global_from(rig->joints, rig->leg_end[k], rig->hip[k], pose->local_rotations,
+                                pose->local_positions, pose->global);
+    pose->body_stale = true;
+}
+
+void mm_rig_forward_finish(const mm_rig *rig, mm_rig_pose *pose)
+{
+    pose->defer_body = false;
+    mm_rig_forward_rest(rig, pose);
+}
+
+void mm_rig_forward_rest(const mm_rig *rig, mm_rig_pose *pose)
+{
+    if (!pose->body_stale) return;
+    pose->body_stale = false;
+    /* the joints past the pelvis outside the legs, in runs between them: none of them hangs from
+     * a leg (mm_rig.leg_end), so each reads parents already current */
+    int first = rig->hip[0] < rig->hip[1] ? 0 : 1;
+    int begin[3] = {rig->pelvis + 1, rig->leg_end[first], rig->leg_end[1 - first]},
+        end[3] = {rig->hip[first], rig->hip[1 - first], rig->joint_count};
+    for (int r = 0; r < 3; ++r)
+        if (begin[r] < end[r])
+            mm_skeleton_global_from(rig->joints, end[r], begin[r], pose->local_rotations,
+                                    pose->local_positions, pose->global);
 }
 
 void mm_rig_forward_legs(const mm_rig *rig, mm_rig_pose *pose)

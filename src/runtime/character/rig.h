@@ -43,6 +43,10 @@ typedef struct mm_rig_pose {
     mm_quat *local_rotations;
     mm_vec3 *local_positions;
     mm_xform *global;
+    /* set (by the character, over the stages that read only the legs): mm_rig_forward_pelvis
+     * leaves the global transforms of the rest of the body to mm_rig_forward_finish */
+    bool defer_body;
+    bool body_stale; /* the rest of the body's global transforms are waiting */
 } mm_rig_pose;
 
 /* Finds the legs of the ankle joints left_ankle and right_ankle (-1: that leg is missing; the
@@ -66,5 +70,20 @@ void mm_rig_forward(const mm_rig *rig, int first, mm_rig_pose *pose);
  * their local ones, the rest taken as they are: after a stage that turned or moved only joints of
  * the legs, the same transforms as mm_rig_forward from joint 1 for less work. */
 void mm_rig_forward_legs(const mm_rig *rig, mm_rig_pose *pose);
+
+/* After a stage moved or turned the pelvis (and perhaps joints that hang from it): the global
+ * transforms of joints 1 .. joint_count - 1, as mm_rig_forward from joint 1. With
+ * pose->defer_body, only those of the joints up to the pelvis and of the legs: the rest of the body
+ * waits for mm_rig_forward_finish (the same transforms, computed once however often the pelvis
+ * moved; the stages in between read only the legs). */
+void mm_rig_forward_pelvis(const mm_rig *rig, mm_rig_pose *pose);
+
+/* The rest of the body's global transforms where mm_rig_forward_pelvis left them; ends the
+ * deferral (pose->defer_body false). */
+void mm_rig_forward_finish(const mm_rig *rig, mm_rig_pose *pose);
+
+/* The rest of the body's global transforms where mm_rig_forward_pelvis left them, the deferral
+ * kept (for a stage that reads them). */
+void mm_rig_forward_rest(const mm_rig *rig, mm_rig_pose *pose);
 
 #endif

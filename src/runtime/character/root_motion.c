@@ -28,7 +28,8 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
     mm_vec3 gap = mm_vec3_sub(t->position, position);
     gap.y = 0.0f;
     position = mm_vec3_add(position, mm_vec3_scale(gap, pull));
-    yaw += wrap_angle(yaw_of(t->facing) - yaw) * pull;
+    float simulated_yaw = yaw_of(t->facing);
+    yaw += wrap_angle(simulated_yaw - yaw) * pull;
     mm_vec3 off = mm_vec3_sub(position, t->position);
     off.y = 0.0f;
     float dist = mm_vec3_length(off);
@@ -44,9 +45,9 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
         float step = d->angle_revise_speed * dt;
         yaw += error > step ? step : error < -step ? -step : error;
     }
-    float angle = wrap_angle(yaw - yaw_of(t->facing));
+    float angle = wrap_angle(yaw - simulated_yaw);
     if (!free_root && fabsf(angle) > d->sync_max_angle)
-        yaw = yaw_of(t->facing) + (angle > 0 ? d->sync_max_angle : -d->sync_max_angle);
+        yaw = simulated_yaw + (angle > 0 ? d->sync_max_angle : -d->sync_max_angle);
     /* in a scene, the root is the simulation's capsule too: out of the walls, as it is */
     if (!free_root) mm_trajectory_collide(t, &position, NULL, 0);
     /* the height is kept: 0 on flat ground, or where the move layer put the character */

@@ -244,11 +244,9 @@ void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, flo
         int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
         mm_quat offset[DECAY_CHUNK];
         mm__quat_exp_series_n(tr->rotation_offset + first, count, offset);
-        for (int i = 0; i < count; ++i) {
-            int j = first + i;
-            tr->rotations[j] = mm_quat_normalize(mm_quat_mul(offset[i], tr->rotations[j]));
+        mm__quat_mul_normalize_n(offset, tr->rotations + first, count);
+        for (int j = first; j < first + count; ++j)
             tr->positions[j] = mm_vec3_add(tr->positions[j], tr->position_offset[j]);
-        }
     }
 }
 

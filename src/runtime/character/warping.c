@@ -61,6 +61,7 @@ void mm_warping_orientation(mm_warping *w, const mm_character_desc *d, const mm_
     w->orientation_angle = r.angle;
     w->orientation_velocity = r.velocity;
     if (r.angle == 0.0f) return;
+    mm_rig_forward_rest(rig, pose); /* the spine's global transforms, where they wait */
     mm_quat spine_world[MM_RIG_MAX_SPINE], spine_local[MM_RIG_MAX_SPINE];
     for (int i = 0; i < rig->spine_count; ++i) spine_world[i] = pose->global[rig->spine[i]].rotation;
     if (mm_warp_orientation_pose(&r, pose->global[rig->joints[pelvis].parent].rotation,
@@ -68,7 +69,7 @@ void mm_warping_orientation(mm_warping *w, const mm_character_desc *d, const mm_
                                  &pose->local_rotations[pelvis], spine_local) != MM_OK)
         return;
     for (int i = 0; i < rig->spine_count; ++i) pose->local_rotations[rig->spine[i]] = spine_local[i];
-    mm_rig_forward(rig, pelvis, pose);
+    mm_rig_forward_pelvis(rig, pose);
 }
 
 void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 velocity, float stride_scale,
@@ -148,7 +149,7 @@ void mm_warping_stride(mm_warping *w, const mm_rig *rig, mm_xform root, mm_vec3 
     }
     /* a lowered pelvis moves everything that hangs from it; else only the legs changed */
     if (drop > 0.0f)
-        mm_rig_forward(rig, 1, pose);
+        mm_rig_forward_pelvis(rig, pose);
     else
         mm_rig_forward_legs(rig, pose);
 }
