@@ -55,6 +55,10 @@
 /* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
  * step below) */
 #define TERRAIN_HIP_DROP 0.15f
+/* m: and for a planted foot behind its hip (the body climbing away from a trailing foot on a
+ * lower tread): the other leg's foot is ahead and above, its knee bends up toward the step it
+ * stands on, not down into the edge behind it as a trailing leg's does going down */
+#define TERRAIN_TRAILING_HIP_DROP 0.25f
 /* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
  * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
  * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
@@ -752,14 +756,24 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) {
         /* on terrain the hips may come down further by as much as a foot's target or landing is
          * below where it would stand on the root's ground (a step down, a trailing foot on the
-         * tread below), at most TERRAIN_HIP_DROP: on flat ground, raised or not, as without terrain */
+         * tread below), or the ground the foot stands on is below the root's (its ground shift: a
+         * trailing foot rolled up onto its toe has its ankle raised above where it would stand, the
+         * ground under it is still lower), at most TERRAIN_HIP_DROP (TERRAIN_TRAILING_HIP_DROP for
+         * a planted foot behind its hip): on flat ground, raised or not, as without terrain */
         float step_down = 0.0f;
-        for (int k = 0; terrain && k < 2; ++k)
-            if (rig->ankle[k] >= 0)
-                step_down = fmaxf(step_down,
-                                  ground->height + rig->planted_ankle[k] - fminf(target[k].y, landing[k].y));
-        lower_hips(f, d->max_hip_drop + fminf(step_down, TERRAIN_HIP_DROP), terrain && step_down > 0.0f, rig,
-                   target, landing, dt, pose);
+        mm_vec3 forward = terrain ? mm_rig_pelvis_forward(rig, pose) : mm_vec3_make(0.0f, 0.0f, 0.0f);
+        for (int k = 0; terrain && k < 2; ++k) {
+            if (rig->ankle[k] < 0) continue;
+            float below = fmaxf(ground->height + rig->planted_ankle[k] - fminf(target[k].y, landing[k].y),
+                                -f->ground_shift[k]);
+            mm_vec3 h = pose->global[rig->hip[k]].translation;
+            bool trailing =
+                f->locked[k] && (target[k].x - h.x) * forward.x + (target[k].z - h.z) * forward.z < 0.0f;
+            step_down =
+                fmaxf(step_down, fminf(below, trailing ? TERRAIN_TRAILING_HIP_DROP : TERRAIN_HIP_DROP));
+        }
+        lower_hips(f, d->max_hip_drop + step_down, terrain && step_down > 0.0f, rig, target, landing, dt,
+                   pose);
     }
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
