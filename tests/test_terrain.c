@@ -431,6 +431,36 @@ static void test_feet_down_stairs(void **state)
     mm_searcher_free(&searcher);
 }
 
+/* Walking up stairs of the shipped scenes' risers and runs (0.17 m over 0.30 m, 60 steps): the
+ * walk takes about two treads a step, so a trailing foot still on its toe is a riser or two below
+ * the root's ground. Every planted foot has its heel or its toe within 2 cm of its height on level
+ * ground (hips lowered no further than 0.15 m below max_hip_drop, and by how far its rolled-up
+ * ankle, not the ground under it, was below the root's ground, left the trailing toe 8.8 cm in
+ * the air before it let go); none below the tread. */
+static void test_trailing_foot_reached_up_stairs(void **state)
+{
+    (void)state;
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    const int steps = 60;
+    const float riser = 0.17f, run_length = 0.30f, start = 2.0f;
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
+                                         mm_vec3_make(4, steps * riser, steps * run_length), 0.0f, steps),
+                     MM_OK);
+    for (int i = 0; i < steps; ++i) {
+        float z = start + ((float)i + 0.5f) * run_length;
+        assert_float_equal(mm_scene_ground_height(&scene, 0.0f, z, NULL), (float)(i + 1) * riser, 1e-4f);
+    }
+    mm_scene_init(&again, 0.25f);
+    planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
+    planted_feet up = walk_planted(&searcher, &scene, 0.0f, &flat);
+    assert_true(flat.count > 200 && up.count > 200);
+    assert_true(up.deepest < 0.005);
+    assert_true(up.worst_gap < 0.02);
+    mm_searcher_free(&searcher);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -457,6 +487,7 @@ int main(void)
         cmocka_unit_test(test_feet_on_a_20_degree_slope),
         cmocka_unit_test(test_feet_on_stairs),
         cmocka_unit_test(test_feet_down_stairs),
+        cmocka_unit_test(test_trailing_foot_reached_up_stairs),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

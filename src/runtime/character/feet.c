@@ -58,7 +58,7 @@
 /* m: and for a planted foot behind its hip (the body climbing away from a trailing foot on a
  * lower tread): the other leg's foot is ahead and above, its knee bends up toward the step it
  * stands on, not down into the edge behind it as a trailing leg's does going down */
-#define TERRAIN_TRAILING_HIP_DROP 0.25f
+#define TERRAIN_TRAILING_HIP_DROP 0.3f
 /* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
  * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
  * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
