@@ -66,6 +66,8 @@
 #define CLEAR_SLOPE 0.6f
 /* points the ground ahead of a free foot is read at */
 #define CLEAR_SAMPLES 8
+/* m/s: the fastest the ground ahead raises a free foot above its target and last tick's height */
+#define CLEAR_RISE_SPEED 2.0f
 /* m/s: a free foot slower than this looks nowhere ahead */
 #define CLEAR_MIN_SPEED 0.2f
 /* s: half-life of the spring an animated foot's shift to the ground under it follows with (a
@@ -640,10 +642,13 @@ static void lower_hips(mm_feet *f, float max_hip_drop, bool stepping, const mm_r
     }
     /* through a spring both ways (a drop followed at once would move the body as fast as the need
      * changes, which grows without bound as a target nears the leg's reach across), never past
-     * [0, max_hip_drop] */
+     * [0, max_hip_drop]; on terrain max_hip_drop falls as a foot lower than the root's ground lets
+     * go: a drop above it comes back up through the spring (held there at once, the whole body
+     * jumped up by the difference in a tick), never further down */
+    float before = f->hip_drop, most = fmaxf(max_hip_drop, before);
     mm_spring_update(&f->hip_drop, &f->hip_drop_velocity, need, HIP_DROP_HALFLIFE, dt);
-    if (f->hip_drop > max_hip_drop || f->hip_drop < 0.0f) {
-        f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), max_hip_drop);
+    if (f->hip_drop > most || f->hip_drop < 0.0f) {
+        f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), most);
         f->hip_drop_velocity = 0.0f;
     }
     if (f->hip_drop > 0.0f) {
@@ -726,6 +731,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         if (ground->hold && rig->toe[k] >= 0) { /* and high enough for the toe as the foot is turned */
             mm_vec3 v = mm_quat_rotate(orientation[k], pose->local_positions[rig->toe[k]]);
             float toe_y = stand_height(ground, target[k].x + v.x, target[k].z + v.z, rig->planted_toe[k]);
+            float unlifted = toe_floor(target[k].y, toe_y - v.y), most = INFINITY;
             if (terrain && !f->locked[k] && f->placed) {
                 /* a free foot: above the ground ahead of its toe too, along a slope (a step's edge
                  * is cleared) */
@@ -738,8 +744,11 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                     toe_y =
                         fmaxf(toe_y, stand_height(ground, x, z, rig->planted_toe[k]) - CLEAR_SLOPE * ahead);
                 }
+                /* raising the foot no faster than CLEAR_RISE_SPEED from where it was last tick: a
+                 * foot let go just short of a riser would otherwise jump onto the clearance at once */
+                most = fmaxf(unlifted, f->lock[k].y + CLEAR_RISE_SPEED * dt);
             }
-            target[k].y = toe_floor(target[k].y, toe_y - v.y);
+            target[k].y = fminf(toe_floor(target[k].y, toe_y - v.y), most);
         }
         /* a swinging foot on terrain is reached for at the height it will land at too (the hips
          * come down during the swing toward a lower tread, not once the foot is planted there) */
