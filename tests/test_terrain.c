@@ -343,7 +343,9 @@ static planted_feet walk_planted(const mm_searcher *searcher, const mm_scene *s,
 
 /* Walking up a 20-degree ramp (an angle the shipped scenes do not have): the planted feet turned to
  * the slope, heel and toe each, on average, as high above it along its normal as on level ground
- * (a plane raised 0.25 m), within 1 cm; none below it. */
+ * (a plane raised 0.25 m), within 1 cm; none below it; every planted foot has its heel or its toe
+ * within 1.5 cm of its height on level ground (a trailing foot rolled onto its toe, its ankle
+ * raised, did not count as below the root's ground for the hips' drop: 2.5 cm). */
 static void test_feet_on_a_20_degree_slope(void **state)
 {
     (void)state;
@@ -358,6 +360,7 @@ static void test_feet_on_a_20_degree_slope(void **state)
     assert_float_equal(ramp.ankle, flat.ankle, 0.01);
     assert_float_equal(ramp.toe, flat.toe, 0.01);
     assert_true(ramp.deepest < 0.005);
+    assert_true(ramp.worst_gap < 0.015);
     mm_searcher_free(&searcher);
 }
 
@@ -431,6 +434,96 @@ static void test_feet_down_stairs(void **state)
     mm_searcher_free(&searcher);
 }
 
+/* Walking up stairs of the shipped scenes' risers and runs (0.17 m over 0.30 m, 60 steps): the
+ * walk takes about two treads a step, so a trailing foot still on its toe is a riser or two below
+ * the root's ground. Every planted foot has its heel or its toe within 2 cm of its height on level
+ * ground (hips lowered no further than 0.15 m below max_hip_drop, and by how far its rolled-up
+ * ankle, not the ground under it, was below the root's ground, left the trailing toe 8.8 cm in
+ * the air before it let go); none below the tread. */
+static void test_trailing_foot_reached_up_stairs(void **state)
+{
+    (void)state;
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    const int steps = 60;
+    const float riser = 0.17f, run_length = 0.30f, start = 2.0f;
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
+                                         mm_vec3_make(4, steps * riser, steps * run_length), 0.0f, steps),
+                     MM_OK);
+    for (int i = 0; i < steps; ++i) {
+        float z = start + ((float)i + 0.5f) * run_length;
+        assert_float_equal(mm_scene_ground_height(&scene, 0.0f, z, NULL), (float)(i + 1) * riser, 1e-4f);
+    }
+    mm_scene_init(&again, 0.25f);
+    planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
+    planted_feet up = walk_planted(&searcher, &scene, 0.0f, &flat);
+    assert_true(flat.count > 200 && up.count > 200);
+    assert_true(up.deepest < 0.005);
+    assert_true(up.worst_gap < 0.02);
+    mm_searcher_free(&searcher);
+}
+
+/* The largest change of velocity of any joint but the root in a tick (the metrics' pop, m) over
+ * 7 s walking forward on s. */
+static double largest_pop(const mm_searcher *searcher, const mm_scene *s)
+{
+    mm_character c;
+    assert_int_equal(mm_character_init(&c, &db, searcher, NULL, NULL), MM_OK);
+    mm_character_set_scene(&c, s);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    in.stick[1] = 1.0f;
+    int n = db.joint_count;
+    mm_vec3 *p = malloc(sizeof(mm_vec3) * (size_t)n * 3);
+    assert_non_null(p);
+    double worst = 0.0;
+    for (int i = 0; i < 420; ++i) {
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        mm_vec3 *now = p + (i % 3) * n, *one = p + ((i + 2) % 3) * n, *two = p + ((i + 1) % 3) * n;
+        for (int j = 0; j < n; ++j) now[j] = c.global[j].translation;
+        for (int j = 1; i >= 2 && j < n; ++j) {
+            double x = now[j].x - 2.0 * one[j].x + two[j].x, y = now[j].y - 2.0 * one[j].y + two[j].y,
+                   z = now[j].z - 2.0 * one[j].z + two[j].z;
+            worst = fmax(worst, sqrt(x * x + y * y + z * z));
+        }
+    }
+    free(p);
+    mm_character_free(&c);
+    return worst;
+}
+
+/* Walking up a flight of the shipped scenes' stairs (6 steps of 0.17 m over 0.30 m) onto a plateau
+ * of their height: no joint's velocity changes by more than 9.5 cm a tick in a tick (3.3 on level
+ * ground, a plane raised 1.02 m: the swinging feet cleared over the risers and landed on the
+ * treads make the rest). A trailing foot letting go takes back the extra drop the hips were allowed
+ * for it: held to the new bound at once, the whole body jumped up by the difference in a tick
+ * (12.1 cm a tick squared); a foot let go just short of a riser jumped onto the clearance above
+ * it. */
+static void test_smooth_up_stairs(void **state)
+{
+    (void)state;
+    mm_searcher searcher;
+    assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
+    const int steps = 6;
+    const float riser = 0.17f, run_length = 0.30f, start = 2.0f, height = steps * riser;
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
+                                         mm_vec3_make(4, height, steps * run_length), 0.0f, steps),
+                     MM_OK);
+    float plateau = start + steps * run_length;
+    assert_int_equal(
+        mm_scene_add_box(&scene, mm_vec3_make(0, 0, plateau + 5.0f), mm_vec3_make(4, height, 10), 0.0f),
+        MM_OK);
+    assert_float_equal(mm_scene_ground_height(&scene, 0.0f, start + 0.15f, NULL), riser, 1e-4f);
+    assert_float_equal(mm_scene_ground_height(&scene, 0.0f, plateau + 1.0f, NULL), height, 1e-4f);
+    mm_scene_init(&again, height);
+    double flat = largest_pop(&searcher, &again), up = largest_pop(&searcher, &scene);
+    assert_true(flat < 0.05);
+    assert_true(up < 0.095);
+    mm_searcher_free(&searcher);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -457,6 +550,8 @@ int main(void)
         cmocka_unit_test(test_feet_on_a_20_degree_slope),
         cmocka_unit_test(test_feet_on_stairs),
         cmocka_unit_test(test_feet_down_stairs),
+        cmocka_unit_test(test_trailing_foot_reached_up_stairs),
+        cmocka_unit_test(test_smooth_up_stairs),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -55,6 +55,10 @@
 /* m: on terrain, how much further than max_hip_drop the hips may come down (a leg reaching the
  * step below) */
 #define TERRAIN_HIP_DROP 0.15f
+/* m: and for a planted foot behind its hip (the body climbing away from a trailing foot on a
+ * lower tread): the other leg's foot is ahead and above, its knee bends up toward the step it
+ * stands on, not down into the edge behind it as a trailing leg's does going down */
+#define TERRAIN_TRAILING_HIP_DROP 0.3f
 /* m: a free foot moving over terrain is kept above the ground this far ahead of its toe, less
  * CLEAR_SLOPE per metre ahead: it rises toward a step's edge along a slope before it gets there
  * (a floor continuous in the foot's place, not one that jumps a riser as the edge passes) */
@@ -62,6 +66,8 @@
 #define CLEAR_SLOPE 0.6f
 /* points the ground ahead of a free foot is read at */
 #define CLEAR_SAMPLES 8
+/* m/s: the fastest the ground ahead raises a free foot above its target and last tick's height */
+#define CLEAR_RISE_SPEED 2.0f
 /* m/s: a free foot slower than this looks nowhere ahead */
 #define CLEAR_MIN_SPEED 0.2f
 /* s: half-life of the spring an animated foot's shift to the ground under it follows with (a
@@ -645,10 +651,13 @@ static void lower_hips(mm_feet *f, float max_hip_drop, bool stepping, const mm_r
     }
     /* through a spring both ways (a drop followed at once would move the body as fast as the need
      * changes, which grows without bound as a target nears the leg's reach across), never past
-     * [0, max_hip_drop] */
+     * [0, max_hip_drop]; on terrain max_hip_drop falls as a foot lower than the root's ground lets
+     * go: a drop above it comes back up through the spring (held there at once, the whole body
+     * jumped up by the difference in a tick), never further down */
+    float before = f->hip_drop, most = fmaxf(max_hip_drop, before);
     mm_spring_update(&f->hip_drop, &f->hip_drop_velocity, need, HIP_DROP_HALFLIFE, dt);
-    if (f->hip_drop > max_hip_drop || f->hip_drop < 0.0f) {
-        f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), max_hip_drop);
+    if (f->hip_drop > most || f->hip_drop < 0.0f) {
+        f->hip_drop = fminf(fmaxf(f->hip_drop, 0.0f), most);
         f->hip_drop_velocity = 0.0f;
     }
     if (f->hip_drop > 0.0f) {
@@ -732,6 +741,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         if (ground->hold && rig->toe[k] >= 0) { /* and high enough for the toe as the foot is turned */
             mm_vec3 v = mm_quat_rotate(orientation[k], pose->local_positions[rig->toe[k]]);
             float toe_y = stand_height(ground, target[k].x + v.x, target[k].z + v.z, rig->planted_toe[k]);
+            float unlifted = toe_floor(target[k].y, toe_y - v.y), most = INFINITY;
             if (terrain && !f->locked[k] && f->placed) {
                 /* a free foot: above the ground ahead of its toe too, along a slope (a step's edge
                  * is cleared) */
@@ -744,8 +754,11 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                     toe_y =
                         fmaxf(toe_y, stand_height(ground, x, z, rig->planted_toe[k]) - CLEAR_SLOPE * ahead);
                 }
+                /* raising the foot no faster than CLEAR_RISE_SPEED from where it was last tick: a
+                 * foot let go just short of a riser would otherwise jump onto the clearance at once */
+                most = fmaxf(unlifted, f->lock[k].y + CLEAR_RISE_SPEED * dt);
             }
-            target[k].y = toe_floor(target[k].y, toe_y - v.y);
+            target[k].y = fminf(toe_floor(target[k].y, toe_y - v.y), most);
         }
         /* a swinging foot on terrain is reached for at the height it will land at too (the hips
          * come down during the swing toward a lower tread, not once the foot is planted there) */
@@ -762,14 +775,24 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
     if (rig->pelvis >= 0 && d->max_hip_drop > 0.0f) {
         /* on terrain the hips may come down further by as much as a foot's target or landing is
          * below where it would stand on the root's ground (a step down, a trailing foot on the
-         * tread below), at most TERRAIN_HIP_DROP: on flat ground, raised or not, as without terrain */
+         * tread below), or the ground the foot stands on is below the root's (its ground shift: a
+         * trailing foot rolled up onto its toe has its ankle raised above where it would stand, the
+         * ground under it is still lower), at most TERRAIN_HIP_DROP (TERRAIN_TRAILING_HIP_DROP for
+         * a planted foot behind its hip): on flat ground, raised or not, as without terrain */
         float step_down = 0.0f;
-        for (int k = 0; terrain && k < 2; ++k)
-            if (rig->ankle[k] >= 0)
-                step_down = fmaxf(step_down,
-                                  ground->height + rig->planted_ankle[k] - fminf(target[k].y, landing[k].y));
-        lower_hips(f, d->max_hip_drop + fminf(step_down, TERRAIN_HIP_DROP), terrain && step_down > 0.0f, rig,
-                   target, landing, dt, pose);
+        mm_vec3 forward = terrain ? mm_rig_pelvis_forward(rig, pose) : mm_vec3_make(0.0f, 0.0f, 0.0f);
+        for (int k = 0; terrain && k < 2; ++k) {
+            if (rig->ankle[k] < 0) continue;
+            float below = fmaxf(ground->height + rig->planted_ankle[k] - fminf(target[k].y, landing[k].y),
+                                -f->ground_shift[k]);
+            mm_vec3 h = pose->global[rig->hip[k]].translation;
+            bool trailing =
+                f->locked[k] && (target[k].x - h.x) * forward.x + (target[k].z - h.z) * forward.z < 0.0f;
+            step_down =
+                fmaxf(step_down, fminf(below, trailing ? TERRAIN_TRAILING_HIP_DROP : TERRAIN_HIP_DROP));
+        }
+        lower_hips(f, d->max_hip_drop + step_down, terrain && step_down > 0.0f, rig, target, landing, dt,
+                   pose);
     }
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
