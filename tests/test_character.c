@@ -959,6 +959,38 @@ static void test_playhead_exact(void **state)
  * planted feet dragged along while the character still moves): idle is asked for once the
  * simulated character has slowed under idle_speed + idle_hysteresis and the root motion played
  * under idle_root_speed (or the simulation has stopped), and then it is. */
+/* A jump back within the playing clip goes back more than matching.c's MIN_REPLAY (0.5 s): a
+ * stretch replayed every other search is seen as a stutter (a standing clip jumped back 12 frames
+ * every 0.2 s). Watched on every tick of random input, idles included. */
+static void test_no_short_replay(void **state)
+{
+    (void)state;
+    const float min_replay = 0.5f;
+    int backward = 0;
+    for (uint64_t seed = 1; seed <= 4; ++seed) {
+        mm_character c;
+        make_character(&c, NULL);
+        mm_input_script script;
+        mm_input_random_desc rd = {60.0f, 0, 0, 0, 0, NULL};
+        assert_int_equal(mm_input_script_random(&script, seed, &rd), MM_OK);
+        mm_input in;
+        for (int i = 0; i < 60 * 60; ++i) {
+            int before = c.state->playback.frame;
+            mm_input_script_sample(&script, i / 60.0f, &in);
+            mm_character_update(&c, &in, 1.0f / 60.0f);
+            int after = c.state->playback.frame;
+            if (after < before && db.frame_clip[after] == db.frame_clip[before]) {
+                ++backward;
+                if (!((float)(before - after) * db.interval > min_replay))
+                    fail_msg("seed %d tick %d: back from frame %d to %d", (int)seed, i, before, after);
+            }
+        }
+        mm_input_script_free(&script);
+        mm_character_free(&c);
+    }
+    print_message("%d jumps back within a clip\n", backward);
+}
+
 static void test_idle_after_stop(void **state)
 {
     (void)state;
@@ -1291,6 +1323,7 @@ int main(void)
         cmocka_unit_test(test_feet_land),
         cmocka_unit_test(test_knee_continuous_out_of_reach),
         cmocka_unit_test(test_idle_after_stop),
+        cmocka_unit_test(test_no_short_replay),
         cmocka_unit_test(test_run_stop),
         cmocka_unit_test(test_run_stop_lafan1),
         cmocka_unit_test(test_distance_matching_cycle),

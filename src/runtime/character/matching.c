@@ -18,6 +18,10 @@
  * contacts across jumps, and a stance carried on that long while moving leaves the planted foot
  * out of the leg's reach (docs/runtime.md, "Why the defaults") */
 #define STANCE_REACH_LEGS 1.0f
+/* s: a jump back within the playing clip shorter than this (or than the search interval) is not
+ * taken: a stretch replayed every other search is seen as a stutter (a standing clip that would
+ * go on into a start jumped back 12 frames every 0.2 s) */
+#define MIN_REPLAY 0.5f
 /* the contact bits of foot k (heel and toe) */
 #define FOOT_CONTACT_BITS(k) (3u << (2 * (k)))
 /* the four mm_contact_bits: the pattern the search's contact favour compares */
@@ -173,11 +177,11 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     m->last_params = p;
     if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
     if (!found || best.frame < 0) return;
-    /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor a few frames
-     * back in the same clip: jumping back by about what played since the last search would replay
+    /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor back in the
+     * same clip by less than MIN_REPLAY or what played since the last search: that would replay
      * the same stretch over and over (an idle frozen in a loop of a few frames) */
     int ahead = best.frame - pb->frame;
-    int behind = d->skip_frames + (int)ceilf(d->search_interval / db->interval);
+    int behind = d->skip_frames + (int)ceilf(fmaxf(d->search_interval, MIN_REPLAY) / db->interval);
     if (db->frame_clip[best.frame] == db->frame_clip[pb->frame] && ahead >= -behind &&
         ahead <= d->skip_frames)
         return;
