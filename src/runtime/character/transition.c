@@ -105,6 +105,7 @@ void mm_transition_init(mm_transition *tr, const mm_database *db, mm_transition_
     play_pose(tr, db, p, tr->rotations, tr->positions);
     memcpy(tr->previous_rotations, tr->rotations, n * sizeof(mm_quat));
     memcpy(tr->previous_positions, tr->positions, n * sizeof(mm_vec3));
+    tr->played_rate = p->play_rate;
 }
 
 void mm_transition_advance(mm_transition *tr, const mm_database *db, const mm_playback *p, float dt)
@@ -198,6 +199,7 @@ static void inertialize_to(mm_transition *tr, const mm_database *db, int to, dou
     float rate = isfinite(p->play_rate) && p->play_rate >= 0.0f ? p->play_rate : 1.0f;
     float frame_rate = next >= 0 ? rate / db->interval : 0.0f;
     mm_transition_inertialize(tr, db->joint_count, &pair, (float)p->fraction, frame_rate, dt);
+    tr->played_rate = p->play_rate; /* the offsets are taken at this rate: nothing left to hold */
     /* the root's motion too: the velocity and yaw rate played continue and blend into the new
      * frame's (a jump in root velocity would move every joint at once) */
     mm_transition_inertialize_root(tr, current, play_root(tr, db, p));
@@ -259,12 +261,40 @@ mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played
     return out;
 }
 
+void mm_transition_hold_velocity(mm_transition *tr, int joint_count, const mm_frame_pair *at,
+                                 float frame_rate, float rate_before, float rate_now)
+{
+    float change = (rate_now - rate_before) * frame_rate;
+    if (change == 0.0f || !isfinite(change)) return;
+    for (int j = 1; j < joint_count; ++j) {
+        /* the clip's velocity per frame interval at the playhead, times the change of rate */
+        mm_vec3 w = mm_vec3_scale(
+            mm_quat_log(mm_quat_abs(mm_quat_mul(at->rotations1[j], mm_quat_inverse(at->rotations0[j])))),
+            change);
+        mm_vec3 v = mm_vec3_scale(mm_vec3_sub(at->positions1[j], at->positions0[j]), change);
+        /* the offset's rate that keeps the output's velocity while the clip turns w faster */
+        tr->rotation_offset_velocity[j] =
+            mm_vec3_add(tr->rotation_offset_velocity[j],
+                        rotation_offset_rate(tr->rotation_offset[j], mm_vec3_make(0, 0, 0), w));
+        tr->position_offset_velocity[j] = mm_vec3_sub(tr->position_offset_velocity[j], v);
+    }
+}
+
 void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playback *p, float halflife,
                         float legs_halflife, float dt, mm_root_played *root)
 {
     size_t n = (size_t)db->joint_count;
     memcpy(tr->previous_rotations, tr->rotations, sizeof(mm_quat) * n);
     memcpy(tr->previous_positions, tr->positions, sizeof(mm_vec3) * n);
+    if (tr->mode != MM_TRANSITION_CROSSFADE && tr->played_rate != p->play_rate) {
+        int next = db->frame_next[p->frame];
+        if (next >= 0) {
+            mm_frame_pair pair = read_frames(tr, db, p->frame, next);
+            mm_transition_hold_velocity(tr, db->joint_count, &pair, 1.0f / db->interval, tr->played_rate,
+                                        p->play_rate);
+        }
+    }
+    tr->played_rate = p->play_rate;
     mm_root_played played = play_pose(tr, db, p, tr->rotations, tr->positions);
     mm_transition_decay(tr, db->joint_count, halflife, legs_halflife, dt);
     *root = mm_transition_decay_root(tr, played, legs_halflife, dt);

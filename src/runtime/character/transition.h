@@ -26,6 +26,9 @@ typedef struct mm_transition {
     /* the root motion's offsets (velocity in the character's frame, m/s; yaw rate, rad/s) */
     mm_vec3 root_velocity_offset, root_velocity_offset_rate;
     float root_yaw_rate_offset, root_yaw_rate_offset_rate;
+    /* the play rate the animated pose was last played at (a change of rate is taken up by the
+     * offsets: mm_transition_pose) */
+    float played_rate;
     /* crossfade: the mixer (its slot 0 is the playhead), the slots' poses ([MM_MIXER_SLOTS *
      * joint_count]; rotations one pose more, the blend's reference), the frames whose transitions
      * are never cancelled ("Jump", "Uncancellable") and the winners the mixer cancelled */
@@ -72,6 +75,10 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
  * position and velocity across the jump. Joint 0 (the root) is left out. */
 void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_frame_pair *to, float fraction,
                                float frame_rate, float dt);
+/* The offsets' velocities changed so that the output keeps its velocity while the clip's, at the
+ * frames `at` (frame_rate frames per second at rate 1), goes from rate_before to rate_now times it. */
+void mm_transition_hold_velocity(mm_transition *tr, int joint_count, const mm_frame_pair *at,
+                                 float frame_rate, float rate_before, float rate_now);
 /* The root motion's offsets for a jump: what played (current) continues into `to`'s. */
 void mm_transition_inertialize_root(mm_transition *tr, mm_root_played current, mm_root_played to);
 
