@@ -124,10 +124,9 @@ static int print_diagnosis(const mm_database *db, const mm_db_build_report *repo
             printf("  data %.2f %.2f %.2f (%d)", c->p10, c->p50, c->p90, c->frames);
         else
             printf("  data    -    -    - (0)");
-        printf("  near %d (%.1f s)  %s", c->near, c->near * db->interval,
-               c->covered ? "covered" : "NOT COVERED");
+        printf("  near %d (%.1f s)", c->near, c->near * db->interval);
         if (isfinite(c->envelope)) printf("  envelope %.2f", c->envelope);
-        printf("\n");
+        printf("  %s\n", c->covered ? "covered" : "NOT COVERED");
     }
     printf("envelope:   the speed each gait's locomotion covers (m/s) by direction of travel, forward, then "
            "every %.1f degrees toward the left; %s\n",
