@@ -562,17 +562,19 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
     return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
 }
 
-/* m: the furthest the pelvis is moved on the ground plane toward planted feet out of reach */
-#define MAX_PELVIS_SHIFT 0.12f
+/* the furthest the pelvis is moved on the ground plane toward planted feet out of reach, in leg
+ * lengths (hip to knee to ankle): as far as a body leans back over a planted foot while the root
+ * goes on ahead (a transition's root motion, the pull toward the simulation) */
+#define MAX_PELVIS_SHIFT_LEGS 0.35f
 /* s: half-life of the spring the pelvis is moved through (and back) */
-#define PELVIS_SHIFT_HALFLIFE 0.08f
+#define PELVIS_SHIFT_HALFLIFE 0.05f
 /* the most the pelvis's move asks for per unit of a leg's excess over its reach, for a foot
  * nearly under its hip (see shift_pelvis) */
 #define SHIFT_GAIN 3.0f
 
 /* The pelvis moves on the ground plane, in the pose only (the simulated root stays), as far as the
  * locked feet need to come within their legs' softened reach from the hips lowered as they are:
- * each locked foot out of reach asks for its excess toward it, the sum at most MAX_PELVIS_SHIFT,
+ * each locked foot out of reach asks for its excess toward it, the sum at most MAX_PELVIS_SHIFT_LEGS,
  * followed through a spring both ways (back to none while the feet do not keep to the ground). A locked foot
  * the hips were carried away from (a transition's root motion, the simulation's pull) stays on its lock
  * instead of being dragged by its straight leg, or crept after the animation. */
@@ -581,6 +583,9 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
 {
     int pelvis = rig->pelvis;
     mm_vec3 need = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    float most = 0.0f;
+    for (int k = 0; k < 2; ++k)
+        if (rig->ankle[k] >= 0) most = fmaxf(most, MAX_PELVIS_SHIFT_LEGS * leg_length(rig, k, pose));
     for (int k = 0; k < 2; ++k) {
         if (!hold || rig->ankle[k] < 0 || !f->locked[k]) continue;
         mm_vec3 h = pose->global[rig->hip[k]].translation;
@@ -596,7 +601,7 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
         need.x += r.x * move, need.z += r.z * move;
     }
     float size = mm_vec3_length(need);
-    if (size > MAX_PELVIS_SHIFT) need = mm_vec3_scale(need, MAX_PELVIS_SHIFT / size);
+    if (size > most) need = mm_vec3_scale(need, most / size);
     if (!f->placed) f->pelvis_shift = need, f->pelvis_shift_velocity = mm_vec3_make(0.0f, 0.0f, 0.0f);
     mm_spring_update_vec3(&f->pelvis_shift, &f->pelvis_shift_velocity, need, PELVIS_SHIFT_HALFLIFE, dt);
     if (mm_vec3_length(f->pelvis_shift) > 1e-7f) {
