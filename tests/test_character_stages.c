@@ -881,12 +881,60 @@ static void on_the_ground(body *b)
     for (int k = 0; k < 2; ++k) b->rig.planted_ankle[k] = 0.06f, b->rig.planted_toe[k] = 0.02f;
 }
 
+/* A foot let go behind its animated place steps there instead of skating over the ground: the left
+ * heel planted at P while the body stands, the body then 0.3 m ahead (within unlock_radius: held),
+ * the label off with the body still. The ankle's target catches up 0.3 m along +Z as its offset
+ * fades and rises meanwhile by STEP_LIFT_SHARE (0.25) of the way left, at most STEP_LIFT_MAX (4
+ * cm), through a 0.15 s spring (feet.c): from the ground on the tick it is let go (under 2 mm up),
+ * over 2 cm up on its way (the offset fades over foot_halflife, faster than the lift's spring),
+ * and back on the animated height once there. A
+ * contact coming (its label on within the landing's look-ahead): no lift. Before, the foot stayed
+ * at the animated height (6 cm, on the ground) all the way. */
+static void test_feet_released_foot_steps(void **state)
+{
+    (void)state;
+    for (int coming = 0; coming < 2; ++coming) {
+        mm_character_desc d = defaults();
+        d.plant_time = 0.0f;
+        float dt = 1.0f / 60.0f;
+        mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                         off = {0, {coming ? 0.05f : -1.0f, -1.0f}, {-1.0f, -1.0f}};
+        mm_feet f;
+        memset(&f, 0, sizeof f);
+        body b;
+        body_at(&b, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        mm_vec3 P = f.heel_lock[0];
+        body_at(&b, 0.3f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_vec3_near(f.heel_lock[0], P, 1e-6f);
+        float highest = 0.0f, first = -1.0f;
+        for (int n = 0; n < 120; ++n) {
+            body_at(&b, 0.3f);
+            mm_feet_update(&f, &d, &b.rig, &off, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+            float lift = f.lock[0].y - P.y;
+            if (first < 0.0f) first = lift;
+            highest = fmaxf(highest, lift);
+            assert_true(lift <= 0.04f + 1e-5f && lift <= 0.25f * 0.3f);
+        }
+        assert_float_equal(f.lock[0].z, P.z + 0.3f, 1e-3f); /* there */
+        if (coming) {
+            assert_float_equal(highest, 0.0f, 1e-6f);
+        } else {
+            assert_true(first >= 0.0f && first < 0.002f);
+            assert_true(highest > 0.02f); /* 2.77 cm */
+            assert_float_equal(f.lock[0].y, P.y, 1e-3f);
+        }
+    }
+}
+
 /* A foot let go keeps its velocity: the left heel held at P while the body stands, the body moving
  * at v along +Z from the tick before the label turns off (its ankle at P on that tick). The ankle's
  * target then follows the animation plus an offset that starts at 0 with velocity -v (what the foot
  * had less what it follows) and decays on a critically damped spring: x(t) = -v t e^(-y t), y the
  * damping of foot_halflife, so p(n) = P + v n dt (1 - e^(-y n dt)). Its largest second difference,
- * 2 v dt (e^(-y dt) - e^(-2 y dt)) = 0.37 v dt, is where a jump to the animation's velocity gave v dt. */
+ * 2 v dt (e^(-y dt) - e^(-2 y dt)) = 0.37 v dt, is where a jump to the animation's velocity gave v dt.
+ * On the ground plane: the foot also rises as it catches up (test_feet_released_foot_steps). */
 static void test_feet_release_keeps_velocity(void **state)
 {
     (void)state;
@@ -912,8 +960,9 @@ static void test_feet_release_keeps_velocity(void **state)
         mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         float t = (float)n * dt;
         mm_vec3 expected = mm_vec3_add(P, mm_vec3_make(0, 0, v * t * (1.0f - expf(-y * t))));
-        assert_vec3_near(f.lock[0], expected, 1e-4f);
-        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        mm_vec3 flat = mm_vec3_make(f.lock[0].x, P.y, f.lock[0].z); /* the step's lift aside */
+        assert_vec3_near(flat, expected, 1e-4f);
+        last[0] = last[1], last[1] = last[2], last[2] = flat;
         worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
     }
     assert_false(f.locked[0]);
@@ -962,8 +1011,9 @@ static void test_feet_far_release_keeps_velocity(void **state)
         mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         assert_false(f.locked[0]);
         float t = (float)i * dt, x = (x0 + (-v + y * x0) * t) * expf(-y * t);
-        assert_vec3_near(f.lock[0], mm_vec3_add(P, mm_vec3_make(0, 0, v * (float)n * dt + x)), 1e-4f);
-        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        mm_vec3 flat = mm_vec3_make(f.lock[0].x, P.y, f.lock[0].z); /* the step's lift aside */
+        assert_vec3_near(flat, mm_vec3_add(P, mm_vec3_make(0, 0, v * (float)n * dt + x)), 1e-4f);
+        last[0] = last[1], last[1] = last[2], last[2] = flat;
         worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
     }
     assert_true(worst < 0.6f * v * dt);
@@ -1417,6 +1467,7 @@ int main(void)
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
+        cmocka_unit_test(test_feet_released_foot_steps),
         cmocka_unit_test(test_feet_far_release_keeps_velocity),
         cmocka_unit_test(test_feet_lock_creeps_after_the_animation),
         cmocka_unit_test(test_feet_plant_above_the_animated_foot),

@@ -31,6 +31,13 @@
 #define PLANT_MAX_HEIGHT 0.04f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
+/* a free foot catching up with its animated place along the ground plane (the offset a lock let go
+ * of leaves, a transition's) is lifted by this share of the way left, at most STEP_LIFT_MAX: it
+ * steps there instead of skating over the ground; no lift while a contact is on or coming */
+#define STEP_LIFT_SHARE 0.25f
+#define STEP_LIFT_MAX   0.04f
+/* s: half-life of the spring the lift follows with (up, and down before a landing) */
+#define STEP_LIFT_HALFLIFE 0.15f
 /* m: past unlock_radius, how far the creep of a lock after the animation grows from nothing to a
  * whole spring step a tick (a threshold would move the lock by a whole step at once) */
 #define UNLOCK_RAMP 0.05f
@@ -321,6 +328,22 @@ static void plan_swing(mm_feet *f, int k, const mm_feet_ground *ground, float pl
     f->ground_shift_velocity[k] = (shift - before) / dt;
 }
 
+/* How far free foot k is lifted this tick as it catches up with its animated place: STEP_LIFT_SHARE
+ * of its offset left on the ground plane, at most STEP_LIFT_MAX, followed through a spring (from
+ * nothing as a lock lets go: the foot rises as it moves off); none while the foot is locked, and
+ * down toward none while a contact is on or coming (`free` false) or the ground is not held. */
+static float step_lift(mm_feet *f, int k, bool free, float dt)
+{
+    if (f->locked[k]) {
+        f->step_lift[k] = f->step_lift_velocity[k] = 0.0f;
+        return 0.0f;
+    }
+    float left = sqrtf(f->offset[k].x * f->offset[k].x + f->offset[k].z * f->offset[k].z);
+    float want = free ? fminf(STEP_LIFT_SHARE * left, STEP_LIFT_MAX) : 0.0f;
+    mm_spring_update(&f->step_lift[k], &f->step_lift_velocity[k], want, STEP_LIFT_HALFLIFE, dt);
+    return f->step_lift[k];
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -541,6 +564,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
     mm_vec3 target = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    target.y += step_lift(f, k, ground->hold && !heel_on && !toe_on && contacts->until_label[k] < 0.0f, dt);
     if (tilt && f->toe_locked[k]) {
         /* on terrain the locks stand at the data's planted heights over the ground, not where the
          * foot was: a held toe stays over its lock while the ankle's offset fades (the foot turns
