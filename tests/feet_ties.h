@@ -39,4 +39,14 @@ static inline int feet_unlock_tie(const mm_character c[2], mm_vec3 held[2][2])
     return 0;
 }
 
+/* After the tick: whether a foot is held in one character and not in the other (a landing or a
+ * release a tick apart, decided by the last bits of its threshold: the landing's share, a foot
+ * still aloft). */
+static inline int feet_lock_tie(const mm_character c[2])
+{
+    for (int k = 0; k < 2; ++k)
+        if (c[0].state->feet.locked[k] != c[1].state->feet.locked[k]) return 1;
+    return 0;
+}
+
 #endif
