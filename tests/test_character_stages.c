@@ -920,12 +920,60 @@ static void on_the_ground(body *b)
     for (int k = 0; k < 2; ++k) b->rig.planted_ankle[k] = 0.06f, b->rig.planted_toe[k] = 0.02f;
 }
 
+/* A foot let go behind its animated place steps there instead of skating over the ground: the left
+ * heel planted at P while the body stands, the body then 0.3 m ahead (within unlock_radius: held),
+ * the label off with the body still. The ankle's target catches up 0.3 m along +Z as its offset
+ * fades and rises meanwhile by STEP_LIFT_SHARE (0.25) of the way left, at most STEP_LIFT_MAX (4
+ * cm), through a 0.15 s spring (feet.c): from the ground on the tick it is let go (under 2 mm up),
+ * over 2 cm up on its way (the offset fades over foot_halflife, faster than the lift's spring),
+ * and back on the animated height once there. A
+ * contact coming (its label on within the landing's look-ahead): no lift. Before, the foot stayed
+ * at the animated height (6 cm, on the ground) all the way. */
+static void test_feet_released_foot_steps(void **state)
+{
+    (void)state;
+    for (int coming = 0; coming < 2; ++coming) {
+        mm_character_desc d = defaults();
+        d.plant_time = 0.0f;
+        float dt = 1.0f / 60.0f;
+        mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                         off = {0, {coming ? 0.05f : -1.0f, -1.0f}, {-1.0f, -1.0f}};
+        mm_feet f;
+        memset(&f, 0, sizeof f);
+        body b;
+        body_at(&b, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        mm_vec3 P = f.heel_lock[0];
+        body_at(&b, 0.3f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_vec3_near(f.heel_lock[0], P, 1e-6f);
+        float highest = 0.0f, first = -1.0f;
+        for (int n = 0; n < 120; ++n) {
+            body_at(&b, 0.3f);
+            mm_feet_update(&f, &d, &b.rig, &off, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+            float lift = f.lock[0].y - P.y;
+            if (first < 0.0f) first = lift;
+            highest = fmaxf(highest, lift);
+            assert_true(lift <= 0.04f + 1e-5f && lift <= 0.25f * 0.3f);
+        }
+        assert_float_equal(f.lock[0].z, P.z + 0.3f, 1e-3f); /* there */
+        if (coming) {
+            assert_float_equal(highest, 0.0f, 1e-6f);
+        } else {
+            assert_true(first >= 0.0f && first < 0.002f);
+            assert_true(highest > 0.02f); /* 2.77 cm */
+            assert_float_equal(f.lock[0].y, P.y, 1e-3f);
+        }
+    }
+}
+
 /* A foot let go keeps its velocity: the left heel held at P while the body stands, the body moving
  * at v along +Z from the tick before the label turns off (its ankle at P on that tick). The ankle's
  * target then follows the animation plus an offset that starts at 0 with velocity -v (what the foot
  * had less what it follows) and decays on a critically damped spring: x(t) = -v t e^(-y t), y the
  * damping of foot_halflife, so p(n) = P + v n dt (1 - e^(-y n dt)). Its largest second difference,
- * 2 v dt (e^(-y dt) - e^(-2 y dt)) = 0.37 v dt, is where a jump to the animation's velocity gave v dt. */
+ * 2 v dt (e^(-y dt) - e^(-2 y dt)) = 0.37 v dt, is where a jump to the animation's velocity gave v dt.
+ * On the ground plane: the foot also rises as it catches up (test_feet_released_foot_steps). */
 static void test_feet_release_keeps_velocity(void **state)
 {
     (void)state;
@@ -951,8 +999,9 @@ static void test_feet_release_keeps_velocity(void **state)
         mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         float t = (float)n * dt;
         mm_vec3 expected = mm_vec3_add(P, mm_vec3_make(0, 0, v * t * (1.0f - expf(-y * t))));
-        assert_vec3_near(f.lock[0], expected, 1e-4f);
-        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        mm_vec3 flat = mm_vec3_make(f.lock[0].x, P.y, f.lock[0].z); /* the step's lift aside */
+        assert_vec3_near(flat, expected, 1e-4f);
+        last[0] = last[1], last[1] = last[2], last[2] = flat;
         worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
     }
     assert_false(f.locked[0]);
@@ -1001,8 +1050,9 @@ static void test_feet_far_release_keeps_velocity(void **state)
         mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
         assert_false(f.locked[0]);
         float t = (float)i * dt, x = (x0 + (-v + y * x0) * t) * expf(-y * t);
-        assert_vec3_near(f.lock[0], mm_vec3_add(P, mm_vec3_make(0, 0, v * (float)n * dt + x)), 1e-4f);
-        last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
+        mm_vec3 flat = mm_vec3_make(f.lock[0].x, P.y, f.lock[0].z); /* the step's lift aside */
+        assert_vec3_near(flat, mm_vec3_add(P, mm_vec3_make(0, 0, v * (float)n * dt + x)), 1e-4f);
+        last[0] = last[1], last[1] = last[2], last[2] = flat;
         worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
     }
     assert_true(worst < 0.6f * v * dt);
@@ -1277,14 +1327,51 @@ static void test_feet_hips_come_down_smoothly(void **state)
     assert_float_equal(f.hip_drop, D, 1e-3f);
 }
 
+/* The body leans back over a planted foot the root goes on from, as far as a third of a leg: the
+ * left heel planted at (0.1, 0.06, 0), the hips 0.7 m up (no hip drop) then carried 0.75 m ahead at
+ * 1.5 m/s and held there. The leg (0.84 m, softening from R = 0.95 x 0.84 m) needs the pelvis back
+ * by 0.75 - sqrt(R^2 - 0.64^2) = 0.27 m to reach; the first-order move (L - R) L / 0.75 = 0.247 m
+ * (L = |(0.64, 0.75)|) is within the most (0.35 x 0.84 = 0.294 m): the lock creeps only while
+ * the pelvis's spring lags the hips (under 1 cm), and the ankle ends within 5 mm of it. With the
+ * pelvis moved at most 0.12 m the lock crept 7.5 cm after the animation and the ankle was left 2 cm
+ * short of it (REACH_SLACK). */
+static void test_feet_pelvis_leans_back_over_a_planted_foot(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    d.unlock_radius = 2.0f;
+    float dt = 1.0f / 60.0f, reach = 0.95f * 0.84f, L = sqrtf(0.64f * 0.64f + 0.75f * 0.75f);
+    float move = (L - reach) * L / 0.75f;
+    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    make_body(&b);
+    on_the_ground(&b);
+    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    mm_vec3 planted = f.heel_lock[0];
+    for (int n = 1; n <= 120; ++n) {
+        make_body(&b);
+        on_the_ground(&b);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, fminf(1.5f * dt * (float)n, 0.75f));
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    }
+    assert_float_equal(f.pelvis_shift.z, -move, 0.01f);
+    assert_true(mm_vec3_distance(f.heel_lock[0], planted) < 0.01f);
+    assert_true(mm_vec3_distance(b.global[L_FOOT].translation, f.heel_lock[0]) < 0.005f);
+}
+
 /* A planted foot the hips are carried away from is kept in reach by moving the pelvis toward it on
  * the ground plane (in the pose only): the left heel planted at (0.1, 0.06, 0), then the hips held
  * 0.2 m lower (0.7 m, straight legs of 0.84 m) and moved 0.55 m forward. The leg reaches
  * R = 0.95 x 0.84 m before the IK softens; the hip is L = |(0.64, 0.55)| from the lock, and the
  * pelvis comes back by the first-order move that shortens the leg by L - R: (L - R) L / 0.55 (the
  * ankle then within a millimetre of its lock, where 0.55 - sqrt(R^2 - 0.64^2) = 7.3 cm short without
- * it). Hips 0.8 m ahead: at most 0.12 m (feet.c's MAX_PELVIS_SHIFT); with the label off, or the
- * ground not held, back to none. */
+ * it). Hips 1 m ahead: at most 0.35 leg lengths (feet.c's MAX_PELVIS_SHIFT_LEGS: 0.294 m); with
+ * the label off, or the ground not held, back to none. */
 static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
 {
     (void)state;
@@ -1318,19 +1405,19 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
     assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, -move), 1e-4f);
     assert_vec3_near(b.global[HIPS].translation, mm_vec3_make(0.0f, 0.7f, 0.55f - move), 1e-4f);
     assert_vec3_near(b.global[L_FOOT].translation, f.heel_lock[0], 1e-3f);
-    /* through a critically damped spring (half-life 0.08 s) from rest: no second difference larger
-     * than its first step toward the most it moves */
-    float y = (float)mm_spring_damping(0.08f);
-    assert_true(worst > 0.0f && worst <= 0.12f * (1.0f - (1.0f + y * dt) * expf(-y * dt)) + 1e-6f);
-    /* further than the most it moves: MAX_PELVIS_SHIFT toward the lock */
+    /* through a critically damped spring (half-life 0.05 s) from rest: no second difference larger
+     * than its first step toward where it goes */
+    float y = (float)mm_spring_damping(0.05f);
+    assert_true(worst > 0.0f && worst <= move * (1.0f - (1.0f + y * dt) * expf(-y * dt)) + 1e-6f);
+    /* further than the most it moves: MAX_PELVIS_SHIFT_LEGS toward the lock */
     for (int n = 0; n < 120; ++n) {
         make_body(&b);
         on_the_ground(&b);
-        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.8f);
+        b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 1.0f);
         mm_rig_forward(&b.rig, 1, &b.pose);
         mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
     }
-    assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, -0.12f), 1e-4f);
+    assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, -0.35f * 0.84f), 1e-4f);
     /* the label off: back to none */
     for (int n = 0; n < 120; ++n) {
         make_body(&b);
@@ -1384,11 +1471,11 @@ static void test_feet_unreachable_lock_creeps(void **state)
     }
     assert_true(f.reach_miss[0] <= 0.02f + 1e-4f);
     assert_float_equal(z[0], z[1], 1e-6f); /* at rest */
-    /* come up to where the straight leg from the hip (the pelvis moved back its most, 0.12 m, to
-     * 0.88 m ahead) reaches it, give or take the slack: 0.84 to 0.86 m from the hip */
-    assert_float_equal(f.pelvis_shift.z, -0.12f, 1e-4f);
-    float near = 0.88f - sqrtf(0.84f * 0.84f - 0.64f * 0.64f),
-          far = 0.88f - sqrtf(0.86f * 0.86f - 0.64f * 0.64f);
+    /* come up to where the straight leg from the hip (the pelvis moved back its most, 0.35 x 0.84
+     * = 0.294 m, to 0.706 m ahead) reaches it, give or take the slack: 0.84 to 0.86 m from the hip */
+    assert_float_equal(f.pelvis_shift.z, -0.35f * 0.84f, 1e-4f);
+    float near = 0.706f - sqrtf(0.84f * 0.84f - 0.64f * 0.64f),
+          far = 0.706f - sqrtf(0.86f * 0.86f - 0.64f * 0.64f);
     assert_true(f.heel_lock[0].z >= far - 1e-3f && f.heel_lock[0].z <= near + 1e-3f);
     assert_vec3_near(b.global[L_FOOT].translation, f.lock[0], 0.02f + 1e-4f);
 }
@@ -1461,6 +1548,7 @@ int main(void)
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
+        cmocka_unit_test(test_feet_released_foot_steps),
         cmocka_unit_test(test_feet_far_release_keeps_velocity),
         cmocka_unit_test(test_feet_release_lifts_off_as_animated),
         cmocka_unit_test(test_feet_lock_creeps_after_the_animation),
@@ -1470,6 +1558,7 @@ int main(void)
         cmocka_unit_test(test_feet_heel_planted_under_a_held_toe),
         cmocka_unit_test(test_feet_hips_come_down_smoothly),
         cmocka_unit_test(test_feet_pelvis_shifts_toward_a_planted_foot),
+        cmocka_unit_test(test_feet_pelvis_leans_back_over_a_planted_foot),
         cmocka_unit_test(test_feet_unreachable_lock_creeps),
         cmocka_unit_test(test_feet_toe_floor_and_far_targets),
         cmocka_unit_test(test_feet_roll_onto_the_toe),

@@ -141,7 +141,7 @@ expect_grep '^  run  side .* covered$' "$tmp/out"
 expect_grep '^  run  backward .* covered$' "$tmp/out"
 expect_grep '^  walk forward *1.50 m/s default .* covered$' "$tmp/out"
 expect_exit 0 "$mm" db info "$tmp/synth.mmdb" --json
-expect_grep '"clips": 63' "$tmp/out"
+expect_grep '"clips": 65' "$tmp/out"
 expect_grep '"gait_speeds": \[{"gait": "walk", "direction": "forward", "speed": 1.5, "source": "default", ' "$tmp/out"
 expect_grep '"warnings": \[\]' "$tmp/out"
 expect_grep '"speeds": \[{"name": "Walk", "frames": [0-9]*, "still": [0-9]*, "forward": {"frames": [1-9][0-9]*, "p10": 1\.0[45]' "$tmp/out"
@@ -152,10 +152,11 @@ expect_grep '^distance: .* segments (.* stops, .* pivots, .* without a stop), .*
 # speeds by gait tag, against the built-in set's construction (src/synth/synth_set.c): the walk
 # loops at 1.05 to 1.75 m/s and the run loops at 3.0, 3.8 and 4.6 m/s hold their speed, so the
 # forward p10 and p90 are the slowest and fastest walk loop's and the fastest run loop's (the run
-# p10 is lower: the loop of sharp run turns slows to 2.7 m/s in them); the one backward walk is a
-# loop at 1.0 m/s (untagged: locomotion); the idle never moves
+# p10 is lower: the loop of sharp run turns slows to 2.7 m/s in them); the backward walk is a
+# loop at 1.0 m/s and the backstep holds 1.0 m/s between its start and stop (untagged: locomotion);
+# the idle never moves
 expect_speeds "$tmp/out" Walk forward 1.05 '*' 1.75
-expect_speeds "$tmp/out" locomotion backward 1.00 1.00 1.00
+expect_speeds "$tmp/out" locomotion backward '*' 1.00 1.00
 expect_speeds "$tmp/out" Run forward '*' '*' 4.60
 expect_grep '^  idle  *480 frames  *480 still  forward  *-  *-  *- (0)' "$tmp/out"
 expect_grep '^  clip  35 walk_stop .* 1 stop$' "$tmp/out"

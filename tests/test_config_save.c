@@ -269,7 +269,15 @@ static void test_apply_defaults_bit_identical(void **state)
     assert_non_null(a);
     assert_non_null(b);
     int ta = 0, tb = 0;
-    simulate(NULL, a, &ta);
+    /* the runtime's defaults with the speed envelope the build measured (a config applies it unless
+     * runtime.speed_envelope is false) */
+    mm_character_desc enveloped;
+    mm_character_defaults(&enveloped);
+    enveloped.trajectory.bounded = true;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g)
+        memcpy(enveloped.trajectory.envelopes[g].speeds, db.settings->envelope[g],
+               sizeof enveloped.trajectory.envelopes[g].speeds);
+    simulate(&enveloped, a, &ta);
 
     mm_character_desc d;
     char *no_runtime = config_without_runtime(db.config_json);
@@ -282,16 +290,28 @@ static void test_apply_defaults_bit_identical(void **state)
     assert_memory_equal(&p, &run.params, sizeof p);
     mm_trajectory_desc t;
     mm_trajectory_defaults(&t);
+    t.bounded = true;
+    memcpy(t.envelopes, enveloped.trajectory.envelopes, sizeof t.envelopes);
     assert_memory_equal(&t, &run.trajectory, sizeof t);
     simulate(&d, b, &tb);
     assert_int_equal(ta, tb);
     assert_memory_equal(a, b, n * sizeof(mm_xform));
 
     /* the defaults written out: the same */
-    mm_character_defaults(&d);
+    d = enveloped;
     mm_character_desc_apply_config(&d, &db, NULL);
     simulate(&d, b, NULL);
     assert_memory_equal(a, b, n * sizeof(mm_xform));
+    /* the envelope off: the runtime's defaults alone (a character made without a database's settings) */
+    desc_from_text("{\"runtime\": {\"speed_envelope\": false}}", &d);
+    assert_false(d.trajectory.bounded);
+    simulate(&d, b, NULL);
+    int tn = 0;
+    mm_xform *c = (mm_xform *)calloc(n, sizeof(mm_xform));
+    assert_non_null(c);
+    simulate(NULL, c, &tn);
+    assert_memory_equal(c, b, n * sizeof(mm_xform));
+    free(c);
 
     /* a walk speed of its own changes the motion */
     desc_from_text("{\"runtime\": {\"walk\": {\"forward_speed\": 0.9}}}", &d);

@@ -595,7 +595,7 @@ static void test_bad_files(void **state)
         mm_error e;
         memset(&e, 0, sizeof e);
         assert_int_equal(mm_database_load_memory(old, db.size, true, &out, &e), MM_ERR_OUT_OF_RANGE);
-        assert_string_equal(e.message, "format version 1, this mm reads version 5: rebuild it");
+        assert_string_equal(e.message, "format version 1, this mm reads version 6: rebuild it");
         free(old);
     }
     expect_refused(&db, db.size, db.size / 2, 1, MM_ERR_SYNTAX, "checksum");

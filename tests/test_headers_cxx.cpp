@@ -23,6 +23,7 @@
 #include <mm/runtime.h>
 #include <mm/scene_json.h>
 #include <mm/skeleton_roles.h>
+#include <mm/speed_envelope.h>
 #include <mm/trace.h>
 #include <mm/target_match.h>
 #include <mm/terrain_mesh.h>

@@ -1,5 +1,6 @@
 /* mm db build | info | dump | search */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -91,7 +92,14 @@ static int print_diagnosis(const mm_database *db, const mm_db_build_report *repo
                    c->from_settings ? "settings" : "default", c->frames, c->p10, c->p50, c->p90, c->near,
                    c->covered ? "true" : "false");
         }
-        printf("], \"warnings\": [");
+        printf("], \"speed_envelope\": {\"bounded\": %s", d.bounded ? "true" : "false");
+        for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+            printf(", \"%s\": [", mm_gait_name((mm_gait)g));
+            for (int k = 0; k < MM_SPEED_ENVELOPE_BINS; ++k)
+                printf("%s%.4g", k ? ", " : "", d.envelope[g].speeds[k]);
+            printf("]");
+        }
+        printf("}, \"warnings\": [");
         for (int i = 0; i < d.count; ++i) {
             printf("%s{\"code\": \"%s\", \"message\": ", i ? ", " : "",
                    mm_diagnostic_code_name(d.items[i].code));
@@ -116,8 +124,19 @@ static int print_diagnosis(const mm_database *db, const mm_db_build_report *repo
             printf("  data %.2f %.2f %.2f (%d)", c->p10, c->p50, c->p90, c->frames);
         else
             printf("  data    -    -    - (0)");
-        printf("  near %d (%.1f s)  %s\n", c->near, c->near * db->interval,
-               c->covered ? "covered" : "NOT COVERED");
+        printf("  near %d (%.1f s)", c->near, c->near * db->interval);
+        if (isfinite(c->envelope)) printf("  envelope %.2f", c->envelope);
+        printf("  %s\n", c->covered ? "covered" : "NOT COVERED");
+    }
+    printf("envelope:   the speed each gait's locomotion covers (m/s) by direction of travel, forward, then "
+           "every %.1f degrees toward the left; %s\n",
+           360.0 / MM_SPEED_ENVELOPE_BINS,
+           d.bounded ? "the runtime bounds the gait speeds by it"
+                     : "not applied (runtime.speed_envelope false, or no settings)");
+    for (int g = 0; g < MM_GAIT_COUNT; ++g) {
+        printf("  %-6s", mm_gait_name((mm_gait)g));
+        for (int k = 0; k < MM_SPEED_ENVELOPE_BINS; ++k) printf(" %5.2f", d.envelope[g].speeds[k]);
+        printf("\n");
     }
     printf("warnings:   %d%s\n", d.count, d.count ? " (docs/database.md, \"Diagnostics\")" : "");
     for (int i = 0; i < d.count; ++i)
@@ -294,10 +313,11 @@ static void print_settings(const mm_database *db, int json)
         if (s->set & (1u << k))
             printf(json ? "%s\"%s\": %.9g" : "%s%s %g", fields++ ? (json ? ", " : " ") : " ", names[k],
                    values[k]);
-    const unsigned switch_bits[2] = {MM_RUNTIME_DISTANCE_MATCHING, MM_RUNTIME_WARPING};
-    const char *switch_names[2] = {"distance_matching", "warping"};
-    const uint32_t switches[2] = {s->distance_matching, s->warping};
-    for (int k = 0; k < 2; ++k)
+    const unsigned switch_bits[3] = {MM_RUNTIME_DISTANCE_MATCHING, MM_RUNTIME_WARPING,
+                                     MM_RUNTIME_SPEED_ENVELOPE};
+    const char *switch_names[3] = {"distance_matching", "warping", "speed_envelope"};
+    const uint32_t switches[3] = {s->distance_matching, s->warping, s->speed_envelope};
+    for (int k = 0; k < 3; ++k)
         if (s->set & switch_bits[k])
             printf(json ? "%s\"%s\": %s" : "%s%s %s", fields++ ? (json ? ", " : " ") : " ", switch_names[k],
                    switches[k] ? "true" : "false");

@@ -142,8 +142,9 @@ static const help_entry entries[] = {
      "usage: mm db info FILE [--json]\n"
      "What a database holds: frames, joints, clips (and the idle loops the build made), feature\n"
      "groups, distance curves, settings, root speeds per kind of motion, the runtime's gait speeds\n"
-     "against them, tags, every clip, and the warnings of docs/database.md, \"Diagnostics\" (JSON:\n"
-     "\"warnings\", each with a code and message).\n"
+     "against them, the speed envelope (what each gait's locomotion covers per direction of travel,\n"
+     "docs/runtime.md; JSON: \"speed_envelope\"), tags, every clip, and the warnings of\n"
+     "docs/database.md, \"Diagnostics\" (JSON: \"warnings\", each with a code and message).\n"
      "  FILE               a database (.mmdb)\n"
      "  --json             print JSON (default: text)\n"},
     {"db dump", "everything in a database as deterministic text",

@@ -96,6 +96,7 @@ typedef struct mm_runtime_config {
     bool warping;
     mm_runtime_gait walk, run, crouch;
     float contact_favour; /* >= 1 (mm_search_params.contact_mismatch_favour) */
+    bool speed_envelope;  /* the desired velocity bounded by the data's speed envelope (default true) */
 } mm_runtime_config;
 
 typedef struct mm_config {

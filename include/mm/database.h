@@ -58,7 +58,7 @@
 extern "C" {
 #endif
 
-#define MM_DB_VERSION     5
+#define MM_DB_VERSION     6
 #define MM_DB_ALIGN       64  /* every array starts at a multiple of this in the buffer */
 #define MM_DB_SIMD_WIDTH  8   /* dims_padded is a multiple of this */
 #define MM_DB_SMALL_BLOCK 16  /* frames per small bounding box */
@@ -195,9 +195,10 @@ enum mm_runtime_field {
     MM_RUNTIME_SYNC_HALFLIFE = 1u << 7,
     MM_RUNTIME_DISTANCE_MATCHING = 1u << 8,
     MM_RUNTIME_WARPING = 1u << 9,
-    MM_RUNTIME_CONTACT_FAVOUR = 1u << 10
+    MM_RUNTIME_CONTACT_FAVOUR = 1u << 10,
+    MM_RUNTIME_SPEED_ENVELOPE = 1u << 11
 };
-#define MM_RUNTIME_FIELDS_ALL 0x7ffu
+#define MM_RUNTIME_FIELDS_ALL 0xfffu
 enum mm_runtime_gait_field {
     MM_RUNTIME_FORWARD_SPEED = 1u << 0,
     MM_RUNTIME_SIDE_SPEED = 1u << 1,
@@ -239,7 +240,12 @@ typedef enum mm_role {
     MM_ROLE_COUNT = 8
 } mm_role;
 
-/* The runtime tuning a database carries (its settings section, 304 bytes stored as they are;
+/* Directions of the settings' speed envelopes (MM_SPEED_ENVELOPE_BINS of mm/trajectory.h) and the
+ * gaits they are for (MM_GAIT_COUNT of mm/gait.h: walk, run, crouch, jump). */
+#define MM_SETTINGS_ENVELOPE_BINS  16
+#define MM_SETTINGS_ENVELOPE_GAITS 4
+
+/* The runtime tuning a database carries (its settings section, 564 bytes stored as they are;
  * docs/format.md). Written by mm_database_build from the config: what
  * mm_character_desc_apply_config would take from it, resolved against this database. Loading
  * checks every value: set bits known, values finite and in their ranges, zero where not set. */
@@ -272,6 +278,11 @@ typedef struct mm_database_settings {
     /* Bone roles: joint indices (mm_role order), -1 where the config names no joint */
     int32_t roles[MM_ROLE_COUNT];
     float contact_favour; /* >= 1 (the runtime object's, after the roles: added in version 5) */
+    /* Added in version 6: the runtime object's speed_envelope switch (0 or 1; not set: on), and
+     * the speed envelope the build measured from the database's locomotion
+     * (mm_speed_envelope_measure, mm/speed_envelope.h): per gait, m/s in [0, 50] per direction */
+    uint32_t speed_envelope;
+    float envelope[MM_SETTINGS_ENVELOPE_GAITS][MM_SETTINGS_ENVELOPE_BINS];
 } mm_database_settings;
 
 /* The seed's PoseData of one frame, assembled by mm_database_pose. Positions and directions are

@@ -3,7 +3,8 @@
  *
  * mm_database_diagnose checks a built or loaded database, and the report of its build when there is
  * one (mm_db_build_report: the database does not keep it), and lists what will look wrong at run
- * time: no idle clip, gait speeds the runtime asks for that no clip moves at, no stops or starts,
+ * time: no idle clip, gait speeds the runtime asks for that no clip moves at or that are above the
+ * data's speed envelope (mm/speed_envelope.h), no stops or starts,
  * bone roles that name no joint, a body too small or too large for metres, most frames left out or
  * tagged by postures. `mm db build` and `mm db info` print the list (docs/database.md,
  * "Diagnostics"); `mm db info --json` gives it as "warnings", each with its code and message.
@@ -23,6 +24,7 @@
 #include "database.h"
 #include "database_build.h"
 #include "result.h"
+#include "speed_envelope.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -37,15 +39,17 @@ typedef enum mm_diagnostic_code {
     MM_DIAG_HEIGHT,            /* the body stands under MM_DIAGNOSE_MIN_HEIGHT or over MAX: units */
     MM_DIAG_POSTURES_LEFT_OUT, /* the build left out more than MM_DIAGNOSE_POSTURE_SHARE of the frames */
     MM_DIAG_POSTURES_TAGGED,   /* the build tagged more than MM_DIAGNOSE_POSTURE_SHARE of them Crouch */
+    MM_DIAG_SPEED_ENVELOPE,    /* a gait speed above the data's speed envelope that way */
     MM_DIAG_CODE_COUNT
 } mm_diagnostic_code;
 
 /* Thresholds (docs/database.md, "Diagnostics"). */
-#define MM_DIAGNOSE_SPEED_BAND    1.25f /* frames within [v / this, v x this] cover speed v */
-#define MM_DIAGNOSE_COVER_SECONDS 1.0f  /* the seconds of such frames a covered speed needs */
-#define MM_DIAGNOSE_MIN_HEIGHT    1.0f  /* m: standing heights outside [MIN, MAX] look like wrong units */
-#define MM_DIAGNOSE_MAX_HEIGHT    2.5f
-#define MM_DIAGNOSE_POSTURE_SHARE 0.25f /* of the judged source frames */
+#define MM_DIAGNOSE_SPEED_BAND      1.25f /* frames within [v / this, v x this] cover speed v */
+#define MM_DIAGNOSE_COVER_SECONDS   1.0f  /* the seconds of such frames a covered speed needs */
+#define MM_DIAGNOSE_MIN_HEIGHT      1.0f  /* m: standing heights outside [MIN, MAX] look like wrong units */
+#define MM_DIAGNOSE_MAX_HEIGHT      2.5f
+#define MM_DIAGNOSE_POSTURE_SHARE   0.25f /* of the judged source frames */
+#define MM_DIAGNOSE_ENVELOPE_MARGIN 1.1f  /* a gait speed over its envelope times this is warned about */
 
 #define MM_DIAGNOSTIC_MESSAGE_MAX 400
 #define MM_DIAGNOSE_MAX           32
@@ -69,6 +73,8 @@ typedef struct mm_speed_coverage {
     float p10, p50, p90; /* their speeds (m/s; 0 without frames) */
     int near;            /* of them, within the band of speed */
     bool covered;        /* near x the interval >= MM_DIAGNOSE_COVER_SECONDS, or speed 0 */
+    float envelope;      /* m/s: the speed envelope that way (sideways: the lower of left and right;
+                            INFINITY where the gait has none) */
 } mm_speed_coverage;
 
 #define MM_DIAGNOSE_SPEEDS 6 /* walk and run, forward, side and backward */
@@ -85,10 +91,15 @@ typedef struct mm_diagnosis {
                                lowest joint, 90th percentile over frames, / MM_POSTURE_HEAD_TO_STATURE);
                                0 when the database has no frames */
     float posture_share[2]; /* of the build's judged frames: left out, tagged (0 without a report) */
+    /* the speed envelope of each gait (mm/speed_envelope.h): the settings' (measured by the build),
+     * or measured now for a database without settings; bounded: whether the runtime applies it
+     * (runtime.speed_envelope) */
+    mm_speed_envelope envelope[MM_GAIT_COUNT];
+    bool bounded;
 } mm_diagnosis;
 
 /* "no_idle", "speed_not_covered", "no_stops", "no_starts", "role_missing", "height",
- * "postures_left_out", "postures_tagged"; NULL if out of range. */
+ * "postures_left_out", "postures_tagged", "speed_envelope"; NULL if out of range. */
 const char *mm_diagnostic_code_name(mm_diagnostic_code code);
 
 /* Fills out with what db lacks (report: its build's, or NULL; allocator NULL: malloc). The items

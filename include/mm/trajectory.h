@@ -6,10 +6,12 @@
  * and the facing toward the direction it asks for, with exact critically damped springs
  * (mm/spring.h): the motion does not depend on the tick rate. Limits act on the targets: the
  * desired velocity is the stick times the gait's maximum speed forward, sideways or backward
- * (an ellipse in the character's frame). The future is predicted by running the same closed form
- * ahead with the input held; the past is read from a history recorded at a fixed rate, whatever
- * the tick rate. Gait style weights (walk, run, ...) move toward the input's gait with their own
- * spring (seed 004).
+ * (an ellipse in the character's frame), and, where the desc carries a speed envelope (what the
+ * database's own locomotion covers in each direction of travel, mm/speed_envelope.h), at most the
+ * envelope's speed in the direction asked for: the direction is kept, the speed cut to what the
+ * data can do (docs/runtime.md, "The speed envelope"). The future is predicted by running the same closed
+ * form ahead with the input held; the past is read from a history recorded at a fixed rate, whatever the tick
+ * rate. Gait style weights (walk, run, ...) move toward the input's gait with their own spring (seed 004).
  *
  * In a scene (mm_trajectory_set_scene) the simulated character is a vertical capsule that collides
  * with the scene's walls and slides along them: the motion is then stepped (at most
@@ -29,7 +31,7 @@
  *
  * Functions: mm_trajectory_resolve_desc mm_trajectory_defaults mm_trajectory_init mm_trajectory_free
  * mm_trajectory_reset mm_trajectory_teleport mm_trajectory_update mm_trajectory_sample mm_trajectory_desired
- * mm_trajectory_set_scene mm_trajectory_collide mm_trajectory_predict
+ * mm_trajectory_set_scene mm_trajectory_collide mm_trajectory_predict mm_trajectory_envelope_speed
  */
 #ifndef MM_TRAJECTORY_H
 #define MM_TRAJECTORY_H
@@ -43,6 +45,20 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Directions of a speed envelope: bin k is the direction 2 pi k / MM_SPEED_ENVELOPE_BINS from
+ * straight ahead toward the character's left (+X), so bin 0 is forward, bin BINS/4 left, bin
+ * BINS/2 backward, bin 3 BINS/4 right. */
+#define MM_SPEED_ENVELOPE_BINS 16
+/* m/s: the fastest an envelope's speed may be (as the gait speeds) */
+#define MM_SPEED_ENVELOPE_MAX 50.0f
+
+/* The most a gait moves in each direction relative to its facing (m/s at each bin's direction;
+ * between two bins, linear in the angle). A gait whose speeds are all 0 has no envelope (the data
+ * says nothing about it): its speeds are the ellipse's alone. */
+typedef struct mm_speed_envelope {
+    float speeds[MM_SPEED_ENVELOPE_BINS];
+} mm_speed_envelope;
 
 typedef struct mm_gait_params {
     float forward_speed;     /* m/s at full stick, straight ahead */
@@ -58,7 +74,7 @@ typedef struct mm_gait_params {
  * 1.0 m/s (forward / side / backward) with half-lives 0.25 s (velocity) and 0.2 s (facing); run
  * 4.0 / 2.6 / 2.2 m/s, 0.3 s and 0.25 s; crouch 0.9 / 0.7 / 0.6 m/s, 0.25 s and 0.2 s; jump as
  * run; gait_halflife 0.2 s, history_seconds 10 s, history_rate 60 per second; the collider 0.3 m
- * in radius, 1.8 m high, stepping over 0.3 m. */
+ * in radius, 1.8 m high, stepping over 0.3 m; no speed envelope (bounded false). */
 typedef struct mm_trajectory_desc {
     mm_gait_params gaits[MM_GAIT_COUNT]; /* per gait */
     float gait_halflife;                 /* s: gait style weights follow the input's gait */
@@ -70,6 +86,12 @@ typedef struct mm_trajectory_desc {
     float collider_step;                 /* m: a box whose top is at most this far above the floor
                                             is stepped over, not a wall (mm_trajectory_set_scene
                                             may raise it) */
+    /* The speed envelope (mm/speed_envelope.h measures it from a database): with bounded true,
+     * the desired velocity of each gait is at most envelopes[gait]'s speed in its direction (each
+     * speed in [0, 50] m/s). mm_character_desc_from_database sets them from the database's
+     * settings unless runtime.speed_envelope is false. */
+    bool bounded;
+    mm_speed_envelope envelopes[MM_GAIT_COUNT];
     const mm_allocator *allocator;
 } mm_trajectory_desc;
 
@@ -130,6 +152,11 @@ void mm_trajectory_teleport(mm_trajectory *t, mm_vec3 position, mm_quat facing);
  * strafing, the facing turns along what is left (when it is at least MM_TRAJECTORY_SLIDE_MIN_SPEED):
  * the character slides along a wall, or stops at it facing it. */
 void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *velocity, mm_quat *facing);
+
+/* The fastest the desc lets gait move in direction (radians from straight ahead toward the left,
+ * +X, in the facing's frame): the envelope's speed there (linear between its bins), or INFINITY
+ * when the desc is not bounded or the gait has no envelope. */
+float mm_trajectory_envelope_speed(const mm_trajectory_desc *d, mm_gait gait, float direction);
 
 /* Advances by dt seconds (negative, NaN or infinite dt do nothing; a NaN or oversized stick
  * counts as zero or is clamped to the unit circle). Allocates nothing. */

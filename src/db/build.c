@@ -1060,6 +1060,17 @@ mm_result mm_database_build(const mm_config *cfg, const mm_clip *sources, const 
     view.joint_count = jc;
     view.groups = x.groups;
     view.group_count = group_count;
+    view.dims = dims;
+    view.dims_padded = dims_padded;
+    /* and its clips, tags and root velocities, for the speed envelope */
+    view.frame_count = p.frame_count;
+    view.interval = cfg->interval;
+    view.clips = x.clips;
+    view.clip_count = b.count;
+    view.tag_names = (const char(*)[MM_TAG_NAME_MAX])x.tag_names;
+    view.tag_count = postures.tag_count;
+    view.frame_tags = x.frame_tags;
+    view.root_velocity = x.root_velocity;
     mm_database_settings settings;
     r = mm__db_settings_resolve(cfg, &view, &settings, err);
     if (r != MM_OK) {

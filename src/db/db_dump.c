@@ -55,7 +55,7 @@ static void dump_settings(const mm_database *db, FILE *out)
     fprintf(out, " distance_matching %u warping %u contact_favour", (unsigned)s->distance_matching,
             (unsigned)s->warping);
     num(out, s->contact_favour);
-    fputc('\n', out);
+    fprintf(out, " speed_envelope %u\n", (unsigned)s->speed_envelope);
     const mm_runtime_gait *gaits[3] = {&s->walk, &s->run, &s->crouch};
     const char *gait_names[3] = {"walk", "run", "crouch"};
     for (int g = 0; g < 3; ++g) {
@@ -70,6 +70,11 @@ static void dump_settings(const mm_database *db, FILE *out)
         num(out, a->velocity_halflife);
         fputs(" rotation_halflife", out);
         num(out, a->rotation_halflife);
+        fputc('\n', out);
+    }
+    for (int g = 0; g < MM_SETTINGS_ENVELOPE_GAITS; ++g) {
+        fprintf(out, "settings envelope %d", g);
+        for (int k = 0; k < MM_SETTINGS_ENVELOPE_BINS; ++k) num(out, s->envelope[g][k]);
         fputc('\n', out);
     }
     const char *roles[MM_ROLE_COUNT] = {"hips",      "left_foot", "right_foot", "left_toe",

@@ -20,6 +20,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <mm/gait.h>
+#include <mm/trajectory.h>
+
 #include "io/checksum.h"
 #include "io/file.h"
 #include "io/sections.h"
@@ -62,10 +65,14 @@ _Static_assert(sizeof(mm_feature_group) == 92, "mm_feature_group layout changed:
 _Static_assert(sizeof(mm_db_distance_clip) == 16, "mm_db_distance_clip layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_distance_segment) == 20, "mm_distance_segment layout changed: bump MM_DB_VERSION");
 _Static_assert(sizeof(mm_runtime_gait) == 24, "mm_runtime_gait layout changed: bump MM_DB_VERSION");
-_Static_assert(sizeof(mm_database_settings) == 304,
+_Static_assert(sizeof(mm_database_settings) == 564,
                "mm_database_settings layout changed: bump MM_DB_VERSION");
-_Static_assert(offsetof(mm_database_settings, walk) == 196 && offsetof(mm_database_settings, roles) == 268,
+_Static_assert(offsetof(mm_database_settings, walk) == 196 && offsetof(mm_database_settings, roles) == 268 &&
+                   offsetof(mm_database_settings, envelope) == 308,
                "mm_database_settings layout changed: bump MM_DB_VERSION");
+_Static_assert(MM_SETTINGS_ENVELOPE_BINS == MM_SPEED_ENVELOPE_BINS &&
+                   MM_SETTINGS_ENVELOPE_GAITS == MM_GAIT_COUNT,
+               "the settings' envelopes are the trajectory's");
 _Static_assert(sizeof(mm_db_pose_segment) == 16 && sizeof(mm_db_rotation_track) == 16 &&
                    sizeof(mm_db_translation_track) == 28,
                "compressed pose layout changed: bump MM_DB_VERSION");
@@ -692,10 +699,11 @@ mm_result mm__db_settings_validate(const mm_database *db, const mm_database_sett
     r = check_rules(base, s->set, runtime_rules, (int)(sizeof runtime_rules / sizeof runtime_rules[0]),
                     "runtime.", code, err);
     if (r != MM_OK) return r;
-    const uint32_t switches[2] = {s->distance_matching, s->warping};
-    const unsigned switch_bits[2] = {MM_RUNTIME_DISTANCE_MATCHING, MM_RUNTIME_WARPING};
-    static const char *const switch_names[2] = {"distance_matching", "warping"};
-    for (int k = 0; k < 2; ++k)
+    const uint32_t switches[3] = {s->distance_matching, s->warping, s->speed_envelope};
+    const unsigned switch_bits[3] = {MM_RUNTIME_DISTANCE_MATCHING, MM_RUNTIME_WARPING,
+                                     MM_RUNTIME_SPEED_ENVELOPE};
+    static const char *const switch_names[3] = {"distance_matching", "warping", "speed_envelope"};
+    for (int k = 0; k < 3; ++k)
         if (switches[k] > ((s->set & switch_bits[k]) ? 1u : 0u))
             FAIL("settings: runtime.%s: %u is not %s", switch_names[k], (unsigned)switches[k],
                  (s->set & switch_bits[k]) ? "0 or 1" : "0 (not set)");
@@ -710,6 +718,11 @@ mm_result mm__db_settings_validate(const mm_database *db, const mm_database_sett
                         err);
         if (r != MM_OK) return r;
     }
+    for (int g = 0; g < MM_SETTINGS_ENVELOPE_GAITS; ++g)
+        for (int k = 0; k < MM_SETTINGS_ENVELOPE_BINS; ++k)
+            if (!(s->envelope[g][k] >= 0.0f && s->envelope[g][k] <= MM_SPEED_ENVELOPE_MAX))
+                FAIL("settings: envelope of %s, direction %d: %g m/s is out of range (0 to %g m/s)",
+                     mm_gait_name((mm_gait)g), k, (double)s->envelope[g][k], (double)MM_SPEED_ENVELOPE_MAX);
     static const char *const roles[MM_ROLE_COUNT] = {"hips",      "left_foot", "right_foot", "left_toe",
                                                      "right_toe", "left_hand", "right_hand", "head"};
     for (int k = 0; k < MM_ROLE_COUNT; ++k)

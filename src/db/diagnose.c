@@ -15,8 +15,8 @@
 #include "db/standing.h"
 
 static const char *const code_names[MM_DIAG_CODE_COUNT] = {
-    "no_idle", "speed_not_covered", "no_stops",       "no_starts", "role_missing",
-    "height",  "postures_left_out", "postures_tagged"};
+    "no_idle", "speed_not_covered", "no_stops",        "no_starts",     "role_missing",
+    "height",  "postures_left_out", "postures_tagged", "speed_envelope"};
 
 const char *mm_diagnostic_code_name(mm_diagnostic_code code)
 {
@@ -113,6 +113,33 @@ static void cover_speeds(const mm_database *db, float *v, mm_speed_coverage out[
     }
 }
 
+/* The speed envelopes (the settings', else measured now) and each gait speed's envelope that way. */
+static mm_result envelopes(const mm_database *db, const mm_allocator *a, mm_diagnosis *out)
+{
+    const mm_database_settings *s = db->settings;
+    if (s) {
+        for (int g = 0; g < MM_GAIT_COUNT; ++g)
+            memcpy(out->envelope[g].speeds, s->envelope[g], sizeof out->envelope[g].speeds);
+        out->bounded = !(s->set & MM_RUNTIME_SPEED_ENVELOPE) || s->speed_envelope;
+    } else {
+        mm_result r = mm_speed_envelope_measure(db, a, out->envelope);
+        if (r != MM_OK) return r;
+        out->bounded = false; /* a database made in code: the character has no settings to take it from */
+    }
+    mm_trajectory_desc d;
+    memset(&d, 0, sizeof d);
+    d.bounded = true;
+    memcpy(d.envelopes, out->envelope, sizeof d.envelopes);
+    const float way[3][2] = {
+        {0.0f, 0.0f}, {0.5f * (float)MM_PI, -0.5f * (float)MM_PI}, {(float)MM_PI, (float)MM_PI}};
+    for (int k = 0; k < MM_DIAGNOSE_SPEEDS; ++k) {
+        mm_speed_coverage *c = &out->speeds[k];
+        c->envelope = fminf(mm_trajectory_envelope_speed(&d, (mm_gait)c->gait, way[c->direction][0]),
+                            mm_trajectory_envelope_speed(&d, (mm_gait)c->gait, way[c->direction][1]));
+    }
+    return MM_OK;
+}
+
 /* The standing height (mm_diagnosis.height) over at most 4096 frames evenly spread; v: scratch of
  * frame_count, g: of joint_count. */
 static float standing_height(const mm_database *db, float *v, mm_xform *g)
@@ -192,9 +219,11 @@ mm_result mm_database_diagnose(const mm_database *db, const mm_db_build_report *
         return MM_ERR_OUT_OF_MEMORY;
     }
     if (db->frame_count > 0 && db->root_velocity) cover_speeds(db, v, out->speeds);
+    mm_result measured = envelopes(db, a, out);
     if (db->frame_count > 0 && db->joint_count > 1) out->height = standing_height(db, v, g);
     mm_free(a, v);
     mm_free(a, g);
+    if (measured != MM_OK) return measured;
     int made = -1, poses = 0; /* the first standing clip the build made; those not mirrored */
     for (int c = 0; c < db->clip_count; ++c) {
         if (db->clips[c].type != MM_CLIP_IDLE) continue;
@@ -294,6 +323,22 @@ mm_result mm_database_diagnose(const mm_database *db, const mm_db_build_report *
                     "running, tag them Walk or Run in the config, or set postures.detect to false",
                     100.0 * out->posture_share[1], n[MM_POSTURE_CROUCHED], n[MM_POSTURE_BENT], judged);
         }
+    }
+    for (int k = 0; k < MM_DIAGNOSE_SPEEDS; ++k) {
+        const mm_speed_coverage *c = &out->speeds[k];
+        if (!(c->speed > c->envelope * MM_DIAGNOSE_ENVELOPE_MARGIN)) continue;
+        const char *gait = mm_gait_name((mm_gait)c->gait), *dir = direction_names[c->direction],
+                   *way = c->direction == 1 ? "sideways" : dir;
+        add(out, MM_DIAG_SPEED_ENVELOPE,
+            "%s %s at %.2f m/s (%s) is above what the data covers %s, %.2f m/s (the speed envelope: the "
+            "fastest %.1f s of the frames the gait plays within %.0f degrees of that way): %s; add clips "
+            "that %s %s at about %.2f m/s, or set runtime.%s.%s_speed to at most %.2f",
+            gait, dir, c->speed,
+            c->from_settings ? "the database's runtime settings" : "the runtime's default", way, c->envelope,
+            (double)MM_SPEED_ENVELOPE_COVER_SECONDS, (double)(MM_SPEED_ENVELOPE_WINDOW * 180.0 / MM_PI),
+            out->bounded ? "the runtime moves no faster there (runtime.speed_envelope)"
+                         : "runtime.speed_envelope is false, so the feet will slide",
+            gait, way, c->speed, gait, dir, c->envelope);
     }
     return MM_OK;
 }

@@ -7,6 +7,8 @@
 
 #include <string.h>
 
+#include <mm/speed_envelope.h>
+
 #include "db/db_file.h"
 
 mm_result mm__db_settings_resolve(const mm_config *cfg, const mm_database *db, mm_database_settings *out,
@@ -57,6 +59,7 @@ mm_result mm__db_settings_resolve(const mm_config *cfg, const mm_database *db, m
     if (rt->set & MM_RUNTIME_DISTANCE_MATCHING) out->distance_matching = rt->distance_matching ? 1u : 0u;
     if (rt->set & MM_RUNTIME_WARPING) out->warping = rt->warping ? 1u : 0u;
     if (rt->set & MM_RUNTIME_CONTACT_FAVOUR) out->contact_favour = rt->contact_favour;
+    if (rt->set & MM_RUNTIME_SPEED_ENVELOPE) out->speed_envelope = rt->speed_envelope ? 1u : 0u;
     const mm_runtime_gait *from[3] = {&rt->walk, &rt->run, &rt->crouch};
     mm_runtime_gait *to[3] = {&out->walk, &out->run, &out->crouch};
     for (int g = 0; g < 3; ++g) {
@@ -69,6 +72,12 @@ mm_result mm__db_settings_resolve(const mm_config *cfg, const mm_database *db, m
         if (s->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = s->velocity_halflife;
         if (s->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = s->rotation_halflife;
     }
+    /* what db's locomotion covers (stored whatever the switch: mm db info shows it) */
+    mm_speed_envelope envelope[MM_GAIT_COUNT];
+    mm_result r = mm_speed_envelope_measure(db, NULL, envelope);
+    if (r != MM_OK) return mm_error_set(err, r, 0, 0, "out of memory measuring the speed envelope");
+    for (int g = 0; g < MM_GAIT_COUNT; ++g)
+        memcpy(out->envelope[g], envelope[g].speeds, sizeof out->envelope[g]);
     /* the bone roles, as joints of db (the first joint of the name, as the build finds them) */
     const char *roles[MM_ROLE_COUNT] = {cfg->hips,      cfg->left_foot, cfg->right_foot, cfg->left_toe,
                                         cfg->right_toe, cfg->left_hand, cfg->right_hand, cfg->head};

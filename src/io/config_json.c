@@ -188,6 +188,10 @@ static const mm_config_field_doc docs[] = {
     {"runtime.warping", "bool", "", "false",
      "Stride and orientation warping of the legs (docs/distance.md); mm simulate's --distance-matching and "
      "--warping override both."},
+    {"runtime.speed_envelope", "bool", "", "true",
+     "Bound each gait's desired velocity by the speed the database's own locomotion covers in its "
+     "direction (the envelope mm db info prints; docs/runtime.md, \"The speed envelope\"): false asks "
+     "for the gait speeds alone."},
     {"runtime.walk", "object", "", "", "The walk gait's speeds and half-lives (fields below)."},
     {"runtime.walk.forward_speed", "number", "m/s", "1.5",
      "Speed at full stick, straight ahead (at least 0)."},
@@ -552,6 +556,7 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
                                        "run",
                                        "crouch",
                                        "contact_favour",
+                                       "speed_envelope",
                                        NULL};
     static const char *const gkeys[] = {"forward_speed",     "side_speed",        "backward_speed",
                                         "velocity_halflife", "rotation_halflife", NULL};
@@ -576,6 +581,10 @@ static mm_result parse_runtime(ctx *c, const cJSON *rt)
             r = get_bool(c, rt, keys[8 + i], "runtime", switches[i]);
             o->set |= MM_RUNTIME_DISTANCE_MATCHING << i;
         }
+    if (r == MM_OK && cJSON_GetObjectItemCaseSensitive(rt, keys[14])) {
+        r = get_bool(c, rt, keys[14], "runtime", &o->speed_envelope);
+        o->set |= MM_RUNTIME_SPEED_ENVELOPE;
+    }
     mm_runtime_gait *gaits[3] = {&o->walk, &o->run, &o->crouch};
     for (int g = 0; g < 3 && r == MM_OK; ++g) {
         const cJSON *j = cJSON_GetObjectItemCaseSensitive(rt, keys[10 + g]);

@@ -595,6 +595,8 @@ static cJSON *runtime_object(const mm_runtime_config *rt)
     if (ok && (rt->set & MM_RUNTIME_WARPING)) ok = add(o, "warping", cJSON_CreateBool(rt->warping));
     if (ok && (rt->set & MM_RUNTIME_CONTACT_FAVOUR))
         ok = add(o, "contact_favour", number(rt->contact_favour));
+    if (ok && (rt->set & MM_RUNTIME_SPEED_ENVELOPE))
+        ok = add(o, "speed_envelope", cJSON_CreateBool(rt->speed_envelope));
     const mm_runtime_gait *gaits[3] = {&rt->walk, &rt->run, &rt->crouch};
     static const char *const names[3] = {"walk", "run", "crouch"};
     for (int g = 0; ok && g < 3; ++g)

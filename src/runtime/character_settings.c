@@ -48,6 +48,10 @@ void mm_character_desc_apply_settings(mm_character_desc *d, const mm_database_se
         if (a->set & MM_RUNTIME_VELOCITY_HALFLIFE) t->velocity_halflife = kept(a->velocity_halflife);
         if (a->set & MM_RUNTIME_ROTATION_HALFLIFE) t->rotation_halflife = kept(a->rotation_halflife);
     }
+    /* the speed envelope the build measured, unless the config turned it off */
+    d->trajectory.bounded = !(s->set & MM_RUNTIME_SPEED_ENVELOPE) || s->speed_envelope != 0;
+    for (int g = 0; g < MM_GAIT_COUNT; ++g)
+        memcpy(d->trajectory.envelopes[g].speeds, s->envelope[g], sizeof d->trajectory.envelopes[g].speeds);
 }
 
 mm_result mm_character_desc_from_database(mm_character_desc *d, const mm_database *db, mm_error *err)

@@ -89,6 +89,9 @@ mm_result mm_trajectory_init(mm_trajectory *t, const mm_trajectory_desc *desc, c
             !sane(p->rotation_halflife, 0, MAX_HALFLIFE))
             return MM_ERR_OUT_OF_RANGE;
     }
+    for (int g = 0; g < MM_GAIT_COUNT && d->bounded; ++g)
+        for (int k = 0; k < MM_SPEED_ENVELOPE_BINS; ++k)
+            if (!sane(d->envelopes[g].speeds[k], 0, MM_SPEED_ENVELOPE_MAX)) return MM_ERR_OUT_OF_RANGE;
     if (!sane(d->gait_halflife, 0, MAX_HALFLIFE) || !sane(d->history_seconds, 0, MAX_HISTORY_SECONDS) ||
         !sane(d->history_rate, MIN_HISTORY_RATE, MAX_HISTORY_RATE) ||
         !sane(d->collider_radius, 0, MAX_COLLIDER_SIZE) || !sane(d->collider_height, 0, MAX_COLLIDER_SIZE) ||
@@ -186,6 +189,24 @@ static const mm_gait_params *gait_of(const mm_trajectory *t, const mm_input *in)
     return &t->desc.gaits[g];
 }
 
+float mm_trajectory_envelope_speed(const mm_trajectory_desc *d, mm_gait gait, float direction)
+{
+    if (!d || !d->bounded || (int)gait < 0 || (int)gait >= MM_GAIT_COUNT || !isfinite(direction))
+        return INFINITY;
+    const float *v = d->envelopes[gait].speeds;
+    float top = 0.0f;
+    for (int k = 0; k < MM_SPEED_ENVELOPE_BINS; ++k) top = fmaxf(top, v[k]);
+    if (!(top > 0.0f)) return INFINITY; /* no envelope for this gait */
+    /* the bins' directions, from forward toward the left, a full turn */
+    float bins = direction / (2.0f * (float)MM_PI) * (float)MM_SPEED_ENVELOPE_BINS;
+    bins -= floorf(bins / (float)MM_SPEED_ENVELOPE_BINS) * (float)MM_SPEED_ENVELOPE_BINS;
+    int k0 = (int)floorf(bins);
+    float a = bins - (float)k0;
+    k0 %= MM_SPEED_ENVELOPE_BINS;
+    int k1 = (k0 + 1) % MM_SPEED_ENVELOPE_BINS;
+    return v[k0] + (v[k1] - v[k0]) * a;
+}
+
 void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *velocity, mm_quat *facing)
 {
     float x, z;
@@ -197,6 +218,12 @@ void mm_trajectory_desired(const mm_trajectory *t, const mm_input *in, mm_vec3 *
     local.x *= p->side_speed;
     local.z *= local.z >= 0.0f ? p->forward_speed : p->backward_speed;
     local.y = 0.0f;
+    /* and at most what the data covers that way (the envelope keeps the direction) */
+    float speed = sqrtf(local.x * local.x + local.z * local.z);
+    if (t->desc.bounded && speed > 0.0f) {
+        float most = mm_trajectory_envelope_speed(&t->desc, mm_input_gait(in), atan2f(local.x, local.z));
+        if (speed > most) local = mm_vec3_scale(local, most / speed);
+    }
     mm_vec3 v = mm_quat_rotate(f, local);
     if (t->contact_count > 0) { /* against walls: along them */
         bool into = false;

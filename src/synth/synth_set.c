@@ -361,6 +361,23 @@ static int build_specs(const synth_ctx *ctx, clip_spec *specs)
         s->direction = dir;
     }
 
+    /* Steps backward from standing and back to standing: the backward walk's start and stop
+     * (without them a character standing, asked to walk backward, has no way into the walk). */
+    s = add_spec(specs, &n, MM_SYNTH_SIDESTEP);
+    spec_name(s, "backstep", 0, -1, NULL);
+    s->plan.keys[0] = key(0.0f, 0, 0, pi, 0, 0, 0);
+    s->plan.keys[1] = key(0.6f, 0, 0, pi, 0, 0, 0);
+    s->plan.keys[2] = key(1.1f, 0.3f, 0, pi, 0, 0, 1);
+    s->plan.keys[3] = key(1.9f, 1.0f, 0, pi, 0, 0, 1);
+    s->plan.keys[4] = key(3.6f, 1.0f, 0, pi, 0, 0, 1);
+    s->plan.keys[5] = key(4.5f, 0.2f, 0, pi, 0, 0, 1);
+    s->plan.keys[6] = key(5.0f, 0, 0, pi, 0, 0, 0);
+    s->plan.key_count = 7;
+    s->plan.duration = 6.0f;
+    s->plan.lead = SYNTH_LEFT;
+    s->speed = 1.0f;
+    s->direction = pi;
+
     s = add_spec(specs, &n, MM_SYNTH_BACKWARD);
     spec_name(s, "walk_backward", 0, -1, NULL);
     loop_plan(ctx, s, 1.0f, 0, pi, 0, 8.0f);

@@ -128,7 +128,8 @@ mm_result mm_config_save_tuning(const char *config_path, const mm_database *db, 
         !mm__json_set_number(rt, "idle_speed", d->idle_speed) ||
         !mm__json_set_number(rt, "sync_halflife", d->sync_halflife) ||
         !mm__json_set_bool(rt, "distance_matching", d->distance_matching) ||
-        !mm__json_set_bool(rt, "warping", d->warping))
+        !mm__json_set_bool(rt, "warping", d->warping) ||
+        !mm__json_set_bool(rt, "speed_envelope", d->trajectory.bounded))
         return mm__config_doc_no_memory(root, &cfg, err);
     static const char *const gait_keys[3] = {"walk", "run", "crouch"};
     static const mm_gait gaits[3] = {MM_GAIT_WALK, MM_GAIT_RUN, MM_GAIT_CROUCH};

@@ -282,6 +282,8 @@ static void apply_tuning(mm_character *c, const mm_character_desc *given)
     s->trajectory.desc.collider_radius = s->desc.trajectory.collider_radius;
     s->trajectory.desc.collider_height = s->desc.trajectory.collider_height;
     s->trajectory.desc.collider_step = s->desc.trajectory.collider_step;
+    s->trajectory.desc.bounded = s->desc.trajectory.bounded;
+    memcpy(s->trajectory.desc.envelopes, s->desc.trajectory.envelopes, sizeof s->trajectory.desc.envelopes);
     const mm_character_desc *d = &s->desc;
     mm_playback_params *pp = &s->playback_params;
     pp->distance_matching = d->distance_matching, pp->warping = d->warping;

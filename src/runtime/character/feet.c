@@ -31,6 +31,13 @@
 #define PLANT_MAX_HEIGHT 0.04f
 /* a landing is done once this little of plant_time is left */
 #define LANDING_DONE 1e-4f
+/* a free foot catching up with its animated place along the ground plane (the offset a lock let go
+ * of leaves, a transition's) is lifted by this share of the way left, at most STEP_LIFT_MAX: it
+ * steps there instead of skating over the ground; no lift while a contact is on or coming */
+#define STEP_LIFT_SHARE 0.25f
+#define STEP_LIFT_MAX   0.04f
+/* s: half-life of the spring the lift follows with (up, and down before a landing) */
+#define STEP_LIFT_HALFLIFE 0.15f
 /* m: past unlock_radius, how far the creep of a lock after the animation grows from nothing to a
  * whole spring step a tick (a threshold would move the lock by a whole step at once) */
 #define UNLOCK_RAMP 0.05f
@@ -331,6 +338,22 @@ static void plan_swing(mm_feet *f, int k, const mm_feet_ground *ground, float pl
     f->ground_shift_velocity[k] = (shift - before) / dt;
 }
 
+/* How far free foot k is lifted this tick as it catches up with its animated place: STEP_LIFT_SHARE
+ * of its offset left on the ground plane, at most STEP_LIFT_MAX, followed through a spring (from
+ * nothing as a lock lets go: the foot rises as it moves off); none while the foot is locked, and
+ * down toward none while a contact is on or coming (`free` false) or the ground is not held. */
+static float step_lift(mm_feet *f, int k, bool free, float dt)
+{
+    if (f->locked[k]) {
+        f->step_lift[k] = f->step_lift_velocity[k] = 0.0f;
+        return 0.0f;
+    }
+    float left = sqrtf(f->offset[k].x * f->offset[k].x + f->offset[k].z * f->offset[k].z);
+    float want = free ? fminf(STEP_LIFT_SHARE * left, STEP_LIFT_MAX) : 0.0f;
+    mm_spring_update(&f->step_lift[k], &f->step_lift_velocity[k], want, STEP_LIFT_HALFLIFE, dt);
+    return f->step_lift[k];
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -556,6 +579,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
     mm_vec3 target = mm_vec3_add(foot_source(f, k, a, t), f->offset[k]);
+    target.y += step_lift(f, k, ground->hold && !heel_on && !toe_on && contacts->until_label[k] < 0.0f, dt);
     if (tilt && f->toe_locked[k]) {
         /* on terrain the locks stand at the data's planted heights over the ground, not where the
          * foot was: a held toe stays over its lock while the ankle's offset fades (the foot turns
@@ -577,17 +601,19 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
     return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
 }
 
-/* m: the furthest the pelvis is moved on the ground plane toward planted feet out of reach */
-#define MAX_PELVIS_SHIFT 0.12f
+/* the furthest the pelvis is moved on the ground plane toward planted feet out of reach, in leg
+ * lengths (hip to knee to ankle): as far as a body leans back over a planted foot while the root
+ * goes on ahead (a transition's root motion, the pull toward the simulation) */
+#define MAX_PELVIS_SHIFT_LEGS 0.35f
 /* s: half-life of the spring the pelvis is moved through (and back) */
-#define PELVIS_SHIFT_HALFLIFE 0.08f
+#define PELVIS_SHIFT_HALFLIFE 0.05f
 /* the most the pelvis's move asks for per unit of a leg's excess over its reach, for a foot
  * nearly under its hip (see shift_pelvis) */
 #define SHIFT_GAIN 3.0f
 
 /* The pelvis moves on the ground plane, in the pose only (the simulated root stays), as far as the
  * locked feet need to come within their legs' softened reach from the hips lowered as they are:
- * each locked foot out of reach asks for its excess toward it, the sum at most MAX_PELVIS_SHIFT,
+ * each locked foot out of reach asks for its excess toward it, the sum at most MAX_PELVIS_SHIFT_LEGS,
  * followed through a spring both ways (back to none while the feet do not keep to the ground). A locked foot
  * the hips were carried away from (a transition's root motion, the simulation's pull) stays on its lock
  * instead of being dragged by its straight leg, or crept after the animation. */
@@ -596,6 +622,9 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
 {
     int pelvis = rig->pelvis;
     mm_vec3 need = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    float most = 0.0f;
+    for (int k = 0; k < 2; ++k)
+        if (rig->ankle[k] >= 0) most = fmaxf(most, MAX_PELVIS_SHIFT_LEGS * leg_length(rig, k, pose));
     for (int k = 0; k < 2; ++k) {
         if (!hold || rig->ankle[k] < 0 || !f->locked[k]) continue;
         mm_vec3 h = pose->global[rig->hip[k]].translation;
@@ -611,7 +640,7 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
         need.x += r.x * move, need.z += r.z * move;
     }
     float size = mm_vec3_length(need);
-    if (size > MAX_PELVIS_SHIFT) need = mm_vec3_scale(need, MAX_PELVIS_SHIFT / size);
+    if (size > most) need = mm_vec3_scale(need, most / size);
     if (!f->placed) f->pelvis_shift = need, f->pelvis_shift_velocity = mm_vec3_make(0.0f, 0.0f, 0.0f);
     mm_spring_update_vec3(&f->pelvis_shift, &f->pelvis_shift_velocity, need, PELVIS_SHIFT_HALFLIFE, dt);
     if (mm_vec3_length(f->pelvis_shift) > 1e-7f) {

@@ -30,6 +30,9 @@ typedef struct mm_feet {
     float landing_time[2]; /* s: how long that landing takes (plant_time, or longer for a fast foot) */
     float hip_drop, hip_drop_velocity; /* m: how far the pelvis is lowered */
     float hip_need;                    /* m: on terrain, how far the legs needed it lowered last tick */
+    /* m: how far each free foot is lifted as it catches up with its animated place (a spring's
+     * state) */
+    float step_lift[2], step_lift_velocity[2];
     /* m: how far the pelvis is moved on the ground plane toward planted feet out of their legs'
      * reach (in the pose only, not the simulated root) */
     mm_vec3 pelvis_shift, pelvis_shift_velocity;
