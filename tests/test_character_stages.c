@@ -869,9 +869,8 @@ static void test_feet_lock_settles_gradually(void **state)
  * where it stands is not planted there: held on the ground plane by the landing (plant_time, two
  * ticks) and not rising (its animation lifted 2 cm more on one tick), it comes down with the
  * animated foot and is planted on the first tick it is within 4 cm (the ankle 0.06 m + 4 cm). */
-static void test_feet_wait_aloft(void **state)
+static void wait_aloft(const mm_scene *scene)
 {
-    (void)state;
     mm_character_desc d = defaults();
     float dt = 1.0f / 60.0f;
     d.plant_time = 2.0f * dt;
@@ -888,7 +887,7 @@ static void test_feet_wait_aloft(void **state)
         bent_left_leg(&b, 0.3f, 0.0f, lift[n]);
         b.positions[HIPS].z = 0.5f * (float)n * dt; /* the body moving on */
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, n == 0 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
+        mm_feet_update(&f, &d, &b.rig, n == 0 ? &none : &heel, &(mm_feet_ground){0.0f, true, scene}, dt,
                        &b.pose);
         if (n == 0) continue;
         assert_true(f.lock[0].y <= last_y + 1e-6f); /* not rising */
@@ -897,12 +896,31 @@ static void test_feet_wait_aloft(void **state)
         if (f.heel_locked[0]) {
             first = n;
             assert_true(f.heel_lock[0].y < 0.06f + 0.04f);
-        } else if (n >= 2) {
+        } else if (n >= 2 && !scene) {
             assert_true(f.lock[0].y > 0.06f + 0.04f - 1e-5f); /* waiting: aloft */
         }
         last_y = f.lock[0].y;
     }
     assert_true(first > 2);
+}
+
+static void test_feet_wait_aloft(void **state)
+{
+    (void)state;
+    wait_aloft(NULL);
+}
+
+/* The same on terrain (a scene whose ground is the plane y = 0): where a foot stands is the ground
+ * under it, and a foot labelled while held up is not planted until it is down (going down stairs,
+ * a foot labelled over the lower tread while still shown above it was planted in the air and came
+ * down over 0.2 s, 11 cm up); while it waits the terrain's landing brings it down
+ * (LANDING_FALL_SPEED), so its height then is not the animation's. */
+static void test_feet_wait_aloft_on_terrain(void **state)
+{
+    (void)state;
+    static mm_scene flat; /* large: kept off the stack */
+    mm_scene_init(&flat, 0.0f);
+    wait_aloft(&flat);
 }
 
 /* The body at z along +Z (everything moved with its hips and root). */
@@ -1566,6 +1584,7 @@ int main(void)
         cmocka_unit_test(test_feet_lock_comes_down),
         cmocka_unit_test(test_feet_lock_settles_gradually),
         cmocka_unit_test(test_feet_wait_aloft),
+        cmocka_unit_test(test_feet_wait_aloft_on_terrain),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -301,11 +301,13 @@ static float landing_fall_time(const mm_feet_ground *ground, const mm_rig *rig, 
  * to plant on the labels that are on (heel_on, toe_on): each labelled joint more than
  * PLANT_MAX_HEIGHT above where it stands. A transition's offset can hold a foot up while its clip's
  * label is on; planted there, it would be held in the air (and let go again as the label turns
- * off), so it waits for the foot to come down, held on the ground plane by the landing. */
+ * off), so it waits for the foot to come down, held on the ground plane by the landing. On terrain
+ * too, where it stands is the ground under it: a foot labelled over a lower tread while still
+ * shown above it (going down stairs) waits until it is down. */
 static bool aloft(const mm_feet_ground *ground, const mm_rig *rig, int k, int heel_on, int toe_on,
                   mm_vec3 ankle, float toe_above)
 {
-    if (!ground->hold || ground->scene) return false;
+    if (!ground->hold) return false;
     bool heel_up = ankle.y - stand_height(ground, ankle.x, ankle.z, rig->planted_ankle[k]) > PLANT_MAX_HEIGHT;
     bool toe_up =
         ankle.y + toe_above - stand_height(ground, ankle.x, ankle.z, rig->planted_toe[k]) > PLANT_MAX_HEIGHT;
