@@ -8,6 +8,8 @@
 #   report.json  every metric of every run, and each metric's mean and worst over the seeds and
 #                over the scripts
 #   sheets/NAME.png  the contact sheet of each run;  runs/NAME.bvh, .json, .log  what mm wrote
+#   sheets/NAME_slide.png  the contact sheet of the second of each run whose labelled foot slide adds
+#                the most to foot_slide_cm_s (the metrics' "where"), when it slid at all
 # Any numeric key of the metrics JSON is taken (docs/metrics.md); nulls are left out of means.
 # Worst is the largest value, or the smallest for the keys in larger_is_better below. Keys ending
 # in _us are wall-clock time, the only values that differ between two reports of the same runs.
@@ -106,7 +108,20 @@ run_one() { # NAME KIND ARGUMENT
     elif ! "$mm" render "$base.bvh" ${scene:+--scene} ${scene:+"$scene"} --contact-sheet "$out/sheets/$1.png" \
         </dev/null >/dev/null 2>>"$base.log"; then
         echo "mm render --contact-sheet failed" >"$base.failed"
+    else
+        worst=$(worst_slide "$base.json")
+        rm -f "$out/sheets/$1_slide.png"
+        if [ -n "$worst" ] && ! "$mm" render "$base.bvh" ${scene:+--scene} ${scene:+"$scene"} \
+            --contact-sheet "$out/sheets/$1_slide.png" --from "$(echo "$worst" | cut -d' ' -f1)" \
+            --seconds "$(echo "$worst" | cut -d' ' -f2)" </dev/null >/dev/null 2>>"$base.log"; then
+            echo "mm render --contact-sheet of the worst second failed" >"$base.failed"
+        fi
     fi
+}
+
+# the worst second of foot slide in a metrics JSON ("where"): "START SECONDS CM_S", or nothing
+worst_slide() { # FILE
+    sed -n 's/^    "foot_slide": {"t_s": \([-0-9.e+]*\), "frame": [0-9]*, "seconds": \([-0-9.e+]*\), "cm_s": \([-0-9.e+]*\).*/\1 \2 \3/p' "$1"
 }
 
 # lanes: run k goes to lane k mod jobs; each lane runs its share in order
@@ -134,11 +149,16 @@ while read -r name kind arg; do
 done <"$list"
 [ "$failed" -eq 0 ] || exit 1
 
-# every metric of every run: NAME KEY VALUE, in run order and each file's key order
+# every metric of every run: NAME KEY VALUE, in run order and each file's key order; and the worst
+# second of slide of each run that slid: NAME START SECONDS CM_S
 table=$out/runs/metrics.txt
+where=$out/runs/where.txt
 : >"$table"
+: >"$where"
 while read -r name kind arg; do
     pairs "$out/runs/$name.json" | sed "s/^/$name /" >>"$table"
+    worst=$(worst_slide "$out/runs/$name.json")
+    [ -z "$worst" ] || echo "$name $worst" >>"$where"
 done <"$list"
 
 awk -v db="$db" -v seconds="$seconds" -v better="$larger_is_better" -v main="$main_keys" \
@@ -165,7 +185,8 @@ function stats(g, k,    i, r, v) {
 }
 BEGIN { split(better, b, " "); for (i in b) is_better[b[i]] = 1 }
 # the list of runs (NAME KIND ARGUMENT), then the metrics (NAME KEY VALUE)
-NR == FNR { run[++nruns] = $1; kind[$1] = $2; arg[$1] = substr($0, length($1) + length($2) + 3); next }
+FILENAME == ARGV[1] { run[++nruns] = $1; kind[$1] = $2; arg[$1] = substr($0, length($1) + length($2) + 3); next }
+FILENAME == ARGV[2] { slide_from[$1] = $2; slide_seconds[$1] = $3; slide_cm_s[$1] = $4; next }
 {
     if (!($2 in known)) { known[$2] = 1; key[++nkeys] = $2 }
     value[$1, $2] = $3
@@ -193,6 +214,9 @@ END {
             print "      \"seed\": " arg[r] "," > json
         }
         print "      \"sheet\": " jstr("sheets/" r ".png") "," > json
+        if (r in slide_from)
+            print "      \"worst_slide\": {\"t_s\": " slide_from[r] ", \"seconds\": " slide_seconds[r] \
+                ", \"cm_s\": " slide_cm_s[r] ", \"sheet\": " jstr("sheets/" r "_slide.png") "}," > json
         print "      \"metrics\": {" > json
         for (j = 1; j <= nkeys; ++j) if ((r, key[j]) in value) last[r] = key[j]
         for (j = 1; j <= nkeys; ++j)
@@ -224,7 +248,8 @@ END {
     print "" > md
     printf "`%s`, %s s per run: %d input scripts from scripts/input/ and %d random-input seeds " \
         "(`mm simulate --random SEED`). The metrics are those of docs/metrics.md; `-` is null. Each run has " \
-        "a contact sheet in sheets/.\n", db, seconds, count["script"], count["random"] > md
+        "a contact sheet in sheets/, and one of its worst second of foot slide (the mean ground speed of the labelled feet " \
+        "over that second: the `where` of the metrics).\n", db, seconds, count["script"], count["random"] > md
     print "" > md
     print "## Runs" > md
     print "" > md
@@ -232,12 +257,13 @@ END {
     for (j = 1; j <= nm; ++j) if (mk[j] in known) col[++cols] = mk[j]
     s = "| run |"; t = "|---|"
     for (j = 1; j <= cols; ++j) { s = s " " col[j] " |"; t = t "---|" }
-    print s " sheet |" > md
-    print t "---|" > md
+    print s " worst second of slide | sheet |" > md
+    print t "---|---|" > md
     for (i = 1; i <= nruns; ++i) {
         r = run[i]; s = "| " r " |"
         for (j = 1; j <= cols; ++j) s = s " " cell(col[j], (r, col[j]) in value ? value[r, col[j]] : "") " |"
-        print s " [sheet](sheets/" r ".png) |" > md
+        w = r in slide_from ? sprintf("[%.2f s: %.1f cm/s](sheets/%s_slide.png)", slide_from[r], slide_cm_s[r], r) : "-"
+        print s " " w " | [sheet](sheets/" r ".png) |" > md
     }
     for (g = 1; g <= 2; ++g) {
         grp = g == 1 ? "random" : "script"
@@ -266,7 +292,7 @@ END {
         stats("random", key[j]); s = "| " key[j] " | " cell(key[j], mean) " | " cell(key[j], worst)
         stats("script", key[j]); print s " | " cell(key[j], mean) " | " cell(key[j], worst) " |" > md
     }
-}' "$list" "$table"
+}' "$list" "$where" "$table"
 
 nan=$(awk '$2 == "nan_frames" && $3 != "null" && $3 > 0 { printf " %s (%s)", $1, $3 }' "$table")
 echo "quality_report: $runs runs, $out/report.md, $out/report.json, $out/sheets/"

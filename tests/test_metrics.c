@@ -68,6 +68,10 @@ static void test_below_ground(void **state)
         motion_metrics_pose(&m, w);
     }
     assert_near(summary(&m).below_ground_cm, 3.0, 0.01);
+    /* where: the left toe on frame 5 */
+    assert_int_equal(m.worst_below.frame, 5);
+    assert_int_equal(m.worst_below.joint, LTOE);
+    assert_near(m.worst_below.value, 3.0, 0.01);
     motion_metrics_free(&m);
 
     /* never below: 0 */
@@ -206,6 +210,10 @@ static void test_foot_float(void **state)
             frame(&m, w, 0x3u);
         }
         assert_near(summary(&m).foot_float_cm, late ? 30.0 : 4.0, 1e-4);
+        /* where: the first frame past the landing (6), the left ankle or toe (both as high) */
+        assert_int_equal(m.worst_float.frame, 6);
+        assert_true(m.worst_float.joint == LFOOT || m.worst_float.joint == LTOE);
+        assert_near(m.worst_float.value, late ? 30.0 : 4.0, 1e-4);
         motion_metrics_free(&m);
     }
 }
@@ -227,6 +235,42 @@ static void test_pop(void **state)
     assert_near(s.max_pop_cm, 10.0, 1e-4);
     /* 18 pops (frames 2 to 19): fifteen 0, 5, 10, 5; rank floor(0.99 x 17) = 16 of the sorted: 5 */
     assert_near(s.pop_p99_cm, 5.0, 1e-4);
+    /* where: the left hand, the acceleration of 2d at frame 10 */
+    assert_int_equal(m.worst_pop.frame, 10);
+    assert_int_equal(m.worst_pop.joint, LHAND);
+    assert_near(m.worst_pop.value, 10.0, 1e-4);
+    motion_metrics_free(&m);
+}
+
+static void test_worst_slide(void **state)
+{
+    (void)state;
+    /* 200 frames, the left heel labelled throughout; it slides at 1 m/s on frames 10-12 and
+     * 100-109, and stands otherwise. The worst second (60 frames) holds frames 100-109: the first
+     * window that does begins at frame 50; its 60 labelled frames average 1000 / 60 cm/s; it holds
+     * 1000 of the 1300 cm/s-frames of slide. */
+    motion_metrics m;
+    start(&m, 200);
+    mm_vec3 w[N];
+    float x = 0.0f;
+    for (int f = 0; f < 200; ++f) {
+        stand(w, 0.0f, 0);
+        if ((f >= 10 && f <= 12) || (f >= 100 && f <= 109)) x += (float)(1.0 / FPS);
+        w[LFOOT].x += x;
+        frame(&m, w, 0x1u);
+    }
+    double seconds = 0.0, cm_s = 0.0, share = 0.0;
+    assert_int_equal(motion_metrics_worst_slide(&m, &seconds, &cm_s, &share), 50);
+    assert_near(seconds, 1.0, 1e-9);
+    assert_near(cm_s, 1000.0 / 60.0, 0.01);
+    assert_near(share, 1000.0 / 1300.0, 1e-3);
+    motion_metrics_free(&m);
+
+    /* no slide at all: none */
+    start(&m, 100);
+    stand(w, 0.0f, 0);
+    for (int f = 0; f < 100; ++f) frame(&m, w, 0x1u);
+    assert_int_equal(motion_metrics_worst_slide(&m, &seconds, &cm_s, &share), -1);
     motion_metrics_free(&m);
 }
 
@@ -431,17 +475,12 @@ static void test_database(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_below_ground),
-        cmocka_unit_test(test_calibration),
-        cmocka_unit_test(test_hand_raised),
-        cmocka_unit_test(test_knee_raised),
-        cmocka_unit_test(test_pop),
-        cmocka_unit_test(test_pop_p99),
-        cmocka_unit_test(test_contact_share),
-        cmocka_unit_test(test_slide_height),
-        cmocka_unit_test(test_posture_seconds),
-        cmocka_unit_test(test_database),
-        cmocka_unit_test(test_foot_float),
+        cmocka_unit_test(test_below_ground), cmocka_unit_test(test_calibration),
+        cmocka_unit_test(test_hand_raised),  cmocka_unit_test(test_knee_raised),
+        cmocka_unit_test(test_pop),          cmocka_unit_test(test_worst_slide),
+        cmocka_unit_test(test_pop_p99),      cmocka_unit_test(test_contact_share),
+        cmocka_unit_test(test_slide_height), cmocka_unit_test(test_posture_seconds),
+        cmocka_unit_test(test_database),     cmocka_unit_test(test_foot_float),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,7 +18,14 @@ expect_grep "3 runs" "$tmp/out"
 for name in straight_walk random_01 random_02; do
     expect_grep "^| $name | .* | \[sheet\](sheets/$name.png) |$" "$tmp/a/report.md"
     [ "$(png_size "$tmp/a/sheets/$name.png")" = 1920x1080 ] && ok || bad "no 1920x1080 sheets/$name.png"
+    # the worst second of slide, where the run slid: its sheet and its link
+    if grep -q '^    "foot_slide": {' "$tmp/a/runs/$name.json"; then
+        expect_grep "^| $name | .* | \[[0-9.]* s: [0-9.]* cm/s\](sheets/${name}_slide.png) | \[sheet\]" "$tmp/a/report.md"
+        [ "$(png_size "$tmp/a/sheets/${name}_slide.png")" = 1920x1080 ] && ok || bad "no sheets/${name}_slide.png"
+        slid=1
+    fi
 done
+[ -n "${slid:-}" ] && ok || bad "no run slid: the worst second's sheet is not tested"
 expect_grep "^## Over the 2 random seeds" "$tmp/a/report.md"
 expect_grep "^| foot_slide_cm_s | 2 | " "$tmp/a/report.md"
 expect_grep "^## Wall-clock timing" "$tmp/a/report.md"

@@ -115,6 +115,7 @@ int mm_cmd_metrics(int argc, char **argv)
         status = 1;
         goto done;
     }
+    mx.joints = clip.skeleton.joints;
     if (scene_path) motion_metrics_scene(&mx, &scene);
     for (int k = 0; k < frames; ++k) {
         mm_clip_fk(&clip, k, global);

@@ -220,6 +220,7 @@ int mm_cmd_pfnn_run(int argc, char **argv)
      * measures it against the motion itself); the feet's planted heights are where they rest
      * standing */
     motion_metrics_reference(&mx, &posture_joints, 0.0f, planted);
+    mx.joints = skel.joints;
     if (scene_path) motion_metrics_scene(&mx, &scene); /* heights and walls against the scene */
     /* the metrics file is opened first, so that a bad path fails before the run and leaves no
        motion behind */

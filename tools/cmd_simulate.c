@@ -275,6 +275,7 @@ int mm_cmd_simulate(int argc, char **argv)
     motion_metrics mx;
     mm_vec3 *world = malloc(sizeof(mm_vec3) * (size_t)n);
     int metrics_ok = motion_metrics_init(&mx, n, contact, fps, frames) == 0 && world;
+    if (metrics_ok) mx.joints = db.joints;
     if (metrics_ok && scene_path) motion_metrics_scene(&mx, &scene);
     /* what the database gives the metrics: its own pops, its upright head height and where its
      * feet are planted */

@@ -28,11 +28,15 @@ int motion_metrics_init(motion_metrics *m, int joint_count, const int contact_jo
     m->pop = malloc(sizeof(float) * cap);
     m->posture = calloc(cap, 1);
     m->crouch = calloc(cap, 1);
+    m->slide = calloc(cap, sizeof(float));
+    m->slide_count = calloc(cap, 1);
     if (!m->world[0] || !m->world[1] || !m->world[2] || !m->frame_us || !m->search_us || !m->head_height ||
-        !m->pop || !m->posture || !m->crouch) {
+        !m->pop || !m->posture || !m->crouch || !m->slide || !m->slide_count) {
         motion_metrics_free(m);
         return -1;
     }
+    const motion_metrics_worst none = {0.0, -1, -1};
+    m->worst_pop = m->worst_below = m->worst_float = none;
     motion_metrics_reference(m, NULL, 0.0f, NULL);
     return 0;
 }
@@ -46,6 +50,8 @@ void motion_metrics_free(motion_metrics *m)
     free(m->pop);
     free(m->posture);
     free(m->crouch);
+    free(m->slide);
+    free(m->slide_count);
     memset(m, 0, sizeof *m);
 }
 
@@ -127,16 +133,24 @@ void motion_metrics_reference_from_motion(motion_metrics *m, const mm_posture_jo
     free(h);
 }
 
-double motion_metrics_frame_pop(const mm_vec3 *now, const mm_vec3 *before, const mm_vec3 *before2, int n)
+double motion_metrics_frame_pop(const mm_vec3 *now, const mm_vec3 *before, const mm_vec3 *before2, int n,
+                                int *joint)
 {
-    double worst = 0.0;
+    /* the joint: the first within a rounding of the largest (a motion in other units names the same) */
+    double worst = 0.0, at_value = 0.0;
+    int at = -1;
     for (int j = 0; j < n; ++j) {
         double x = (double)now[j].x - 2.0 * before[j].x + before2[j].x,
                y = (double)now[j].y - 2.0 * before[j].y + before2[j].y,
                z = (double)now[j].z - 2.0 * before[j].z + before2[j].z;
         double d = sqrt(x * x + y * y + z * z);
         if (d > worst) worst = d; /* a NaN is left out */
+        if (d > at_value * (1.0 + 1e-6)) {
+            at_value = d;
+            at = j;
+        }
     }
+    if (joint) *joint = at;
     return worst;
 }
 
@@ -160,13 +174,20 @@ static void pose_frame(motion_metrics *m, long f, const mm_vec3 *world)
     }
     int keep = f < m->frame_capacity;
     if (f >= 2) {
-        double pop = motion_metrics_frame_pop(now, before, before2, n);
+        int joint;
+        double pop = motion_metrics_frame_pop(now, before, before2, n, &joint);
         m->max_pop = fmax(m->max_pop, 100.0 * pop);
+        /* the second difference is the acceleration at the middle frame */
+        if (100.0 * pop > m->worst_pop.value)
+            m->worst_pop = (motion_metrics_worst){100.0 * pop, f - 1, joint};
         if (f - 2 < m->frame_capacity) m->pop[f - 2] = (float)pop;
     }
     for (int j = 1; j < n; ++j) {
         double depth = -height_above(m, now[j]);
-        if (depth > m->below_ground) m->below_ground = depth;
+        if (depth > m->below_ground) {
+            m->below_ground = depth;
+            m->worst_below = (motion_metrics_worst){100.0 * depth, f, j};
+        }
     }
     const mm_posture_joints *pj = &m->posture_joints;
     double support = support_ground(m, now);
@@ -251,15 +272,22 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
         }
         if (++m->labelled_frames[foot] <= lround(MOTION_METRICS_FLOAT_LANDING * m->fps)) continue;
         double gap = INFINITY;
+        int lower = -1;
         for (int k = 2 * foot; k < 2 * foot + 2; ++k) {
             int j = m->contact_joint[k];
             if (j < 0 || !isfinite(m->planted[k])) continue;
             double g = height_above(m, now[j]) - m->planted[k];
-            if (isfinite(g)) gap = fmin(gap, g);
+            if (isfinite(g) && g < gap) {
+                gap = g;
+                lower = j;
+            }
         }
         if (!isfinite(gap)) continue;
         ++m->foot_float_frames;
-        if (gap > m->foot_float) m->foot_float = gap;
+        if (gap > m->foot_float) {
+            m->foot_float = gap;
+            m->worst_float = (motion_metrics_worst){100.0 * gap, f, lower};
+        }
     }
     mm_vec3 raw[4];
     for (int k = 0; k < 4; ++k)
@@ -270,8 +298,13 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
         for (int k = 0; k < 4; ++k) {
             if (m->contact_joint[k] < 0 || !(contacts & (1u << k))) continue;
             mm_vec3 d = mm_vec3_sub(now[m->contact_joint[k]], before[m->contact_joint[k]]);
-            m->slide_sum += 100.0 * sqrt(d.x * d.x + d.z * d.z) * m->fps;
+            double speed = 100.0 * sqrt(d.x * d.x + d.z * d.z) * m->fps;
+            m->slide_sum += speed;
             m->slide_frames += 1;
+            if (f < m->frame_capacity && isfinite(speed)) {
+                m->slide[f] += (float)speed;
+                m->slide_count[f] += 1;
+            }
             mm_vec3 rd = mm_vec3_sub(raw[k], m->raw_previous[k]);
             m->raw_sum += 100.0 * sqrt(rd.x * rd.x + rd.z * rd.z) * m->fps;
         }
@@ -324,6 +357,42 @@ static void json_number(FILE *f, const char *key, double v, int last)
         fprintf(f, "  \"%s\": null%s\n", key, last ? "" : ",");
 }
 
+/* A joint name as a JSON string (names come from files: quotes, backslashes and control characters
+ * escaped). */
+static void json_name(FILE *f, const char *name)
+{
+    fputc('"', f);
+    for (const unsigned char *c = (const unsigned char *)name; *c; ++c) {
+        if (*c == '"' || *c == '\\')
+            fprintf(f, "\\%c", *c);
+        else if (*c < 0x20)
+            fprintf(f, "\\u%04x", *c);
+        else
+            fputc(*c, f);
+    }
+    fputc('"', f);
+}
+
+/* "key": where a worst value happened ({t_s, frame, joint, unit}), or null when it never was measured
+ * or stayed 0. */
+static void json_worst(FILE *f, const motion_metrics *m, const char *key, const motion_metrics_worst *w,
+                       const char *unit, int last)
+{
+    fprintf(f, "\n    \"%s\": ", key);
+    if (!w || w->frame < 0 || !(w->value > 0.0)) {
+        fprintf(f, "null%s", last ? "" : ",");
+        return;
+    }
+    fprintf(f, "{\"t_s\": %.6g, \"frame\": %ld, \"joint\": ", (double)w->frame / m->fps, w->frame);
+    if (w->joint < 0)
+        fprintf(f, "null");
+    else if (m->joints)
+        json_name(f, m->joints[w->joint].name);
+    else
+        fprintf(f, "%d", w->joint);
+    fprintf(f, ", \"%s\": %.6g}%s", unit, w->value, last ? "" : ",");
+}
+
 /* Sorts values in place and returns the q-quantile (NAN when empty). */
 static double quantile(float *values, long n, double q)
 {
@@ -356,6 +425,34 @@ double motion_metrics_foot_slide(const motion_metrics *m)
 double motion_metrics_traj_err(const motion_metrics *m)
 {
     return m->frames ? m->traj_err / (double)m->frames : NAN;
+}
+
+long motion_metrics_worst_slide(const motion_metrics *m, double *seconds, double *cm_s, double *share)
+{
+    long frames = m->frames < m->frame_capacity ? m->frames : m->frame_capacity;
+    long window = lround(MOTION_METRICS_SLIDE_WINDOW * m->fps);
+    if (window < 1) window = 1;
+    if (window > frames) window = frames;
+    double sum = 0.0, total = 0.0, best = 0.0;
+    long count = 0, best_count = 0, best_first = -1;
+    for (long f = 0; f < frames; ++f) {
+        total += m->slide[f];
+        sum += m->slide[f];
+        count += m->slide_count[f];
+        if (f >= window) {
+            sum -= m->slide[f - window];
+            count -= m->slide_count[f - window];
+        }
+        if (f + 1 >= window && sum > best) {
+            best = sum;
+            best_count = count;
+            best_first = f + 1 - window;
+        }
+    }
+    *seconds = (double)window / m->fps;
+    *cm_s = best_count > 0 ? best / (double)best_count : NAN;
+    *share = total > 0.0 ? best / total : NAN;
+    return best_first;
 }
 
 int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
@@ -450,6 +547,20 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "knee_raised_s", s.knee_raised_s, 0);
     json_number(f, "arms_out_s", s.arms_out_s, 0);
     json_number(f, "hands_apart_max_cm", s.hands_apart_max_cm, 0);
+    fprintf(f, "  \"where\": {");
+    json_worst(f, m, "max_pop", &m->worst_pop, "cm", 0);
+    json_worst(f, m, "below_ground", &m->worst_below, "cm", 0);
+    json_worst(f, m, "foot_float", controller ? &m->worst_float : NULL, "cm", 0);
+    double slide_seconds = NAN, slide_cm_s = NAN, slide_share = NAN;
+    long slide_first =
+        controller ? motion_metrics_worst_slide(m, &slide_seconds, &slide_cm_s, &slide_share) : -1;
+    fprintf(f, "\n    \"foot_slide\": ");
+    if (slide_first >= 0)
+        fprintf(f, "{\"t_s\": %.6g, \"frame\": %ld, \"seconds\": %.6g, \"cm_s\": %.6g, \"share\": %.6g}",
+                (double)slide_first / m->fps, slide_first, slide_seconds, slide_cm_s, slide_share);
+    else
+        fprintf(f, "null");
+    fprintf(f, "\n  },\n");
     fprintf(f, "  \"moves\": [");
     for (int k = 0; k < m->move_count; ++k) {
         fprintf(f, "%s\n    {\"kind\": \"%s\", \"t_start\": %.6g, \"t_end\": %.6g, \"target_error_cm\": ",
@@ -573,7 +684,7 @@ static long database_playback(const mm_database *db, const mm_skeleton *s, doubl
                 }
                 if (i >= 2)
                     (*pops)[count++] =
-                        (float)motion_metrics_frame_pop(w[i % 3], w[(i + 2) % 3], w[(i + 1) % 3], n);
+                        (float)motion_metrics_frame_pop(w[i % 3], w[(i + 2) % 3], w[(i + 1) % 3], n, NULL);
             }
         }
     }

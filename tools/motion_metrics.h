@@ -36,8 +36,19 @@ double motion_metrics_slide_value(const motion_metrics_slide *s);
  * into it); a higher top is a wall the joint is inside (penetration_max_cm), not ground */
 #define MOTION_METRICS_STEP_HEIGHT 0.3f
 
+/* Where a worst value happened: the frame of the output (its time frame / fps) and the joint (-1:
+ * none); value in the metric's own unit. frame -1: never measured. */
+typedef struct motion_metrics_worst {
+    double value;
+    long frame;
+    int joint;
+} motion_metrics_worst;
+/* s: the window the worst stretch of labelled slide is found over */
+#define MOTION_METRICS_SLIDE_WINDOW 1.0
+
 typedef struct motion_metrics {
     int joint_count;
+    const mm_joint *joints; /* their names in "where" (NULL: joint indices) */
     double fps;
     int contact_joint[4]; /* left heel, left toe, right heel, right toe (-1: none) */
     mm_vec3 *world[3];    /* the last three frames' joint positions */
@@ -79,11 +90,17 @@ typedef struct motion_metrics {
     motion_metrics_slide slide_height;
     double hands_apart_max; /* m */
     long arms_out_frames;
+    /* where the largest pop (cm), the deepest joint below the ground (cm) and the largest float
+     * (cm) happened */
+    motion_metrics_worst worst_pop, worst_below, worst_float;
     /* per frame (frame_capacity of each): the head's height above the ground (m; NAN: none), the
      * largest second difference over joints (m; from the third frame on, at index frame - 2), the
      * posture (mm_posture) and whether the input asked for the crouch gait */
     float *head_height, *pop;
     uint8_t *posture, *crouch;
+    /* per frame: the labelled contact bones' ground speeds summed (cm/s) and how many there were */
+    float *slide;
+    uint8_t *slide_count;
 } motion_metrics;
 
 /* The heading of a rotation: the yaw of its +Z axis on the ground (radians, 0 = +Z). */
@@ -127,8 +144,10 @@ void motion_metrics_scene(motion_metrics *m, const mm_scene *scene);
 void motion_metrics_move(motion_metrics *m, const char *kind, double t_start, double t_end,
                          double target_error_cm);
 
-/* The largest |now - 2 before + before2| over n joints (m; non-finite joints left out, 0 if none). */
-double motion_metrics_frame_pop(const mm_vec3 *now, const mm_vec3 *before, const mm_vec3 *before2, int n);
+/* The largest |now - 2 before + before2| over n joints (m; non-finite joints left out, 0 if none);
+ * the joint it is at in *joint when joint is not NULL (-1 if none). */
+double motion_metrics_frame_pop(const mm_vec3 *now, const mm_vec3 *before, const mm_vec3 *before2, int n,
+                                int *joint);
 /* The value at rank floor(q (n - 1)) of the finite values of v once sorted (v is left as it is);
  * NAN when none is finite or memory runs out. */
 double motion_metrics_percentile(const float *v, long n, double q);
@@ -166,6 +185,11 @@ typedef struct motion_metrics_seen {
         arms_out_s, hands_apart_max_cm;
 } motion_metrics_seen;
 int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out);
+/* The MOTION_METRICS_SLIDE_WINDOW seconds of frames (all of them in a shorter motion) whose
+ * labelled slide adds the most to foot_slide_cm_s: their first frame (-1: no labelled slide), their
+ * length (s), the mean of their labelled bones' speeds (cm/s) and their share of all the labelled
+ * slide. */
+long motion_metrics_worst_slide(const motion_metrics *m, double *seconds, double *cm_s, double *share);
 
 /* The metrics as JSON (docs/metrics.md's keys). extra may be NULL. */
 void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_extra *extra);
