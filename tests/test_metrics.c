@@ -405,6 +405,11 @@ static void test_posture_seconds(void **state)
     assert_near(s.head_p5_cm, 128.0, 1e-4);
     assert_near(s.head_p50_cm, 160.0, 1e-4);
     assert_near(s.hands_apart_max_cm, 40.0, 1e-4);
+    /* where: the longest stretch counted, the crouch from frame 60 with the bent flicker, 35 frames
+     * (the crouch asked for is as long but not counted) */
+    assert_int_equal(s.posture_first, 60);
+    assert_int_equal(s.posture_frames, 35);
+    assert_int_equal(s.posture_worst, MM_POSTURE_CROUCHED);
     motion_metrics_free(&m);
     /* without a reference the posture's seconds are null, the head's heights are not */
     assert_int_equal(motion_metrics_init(&m, N, CONTACT, FPS, 3), 0);

@@ -472,6 +472,9 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
     out->head_p2_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.02);
     out->head_p5_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.05);
     out->head_p50_cm = 100.0 * motion_metrics_percentile(m->head_height, frames, 0.5);
+    out->posture_first = -1;
+    out->posture_frames = 0;
+    out->posture_worst = MM_POSTURE_UPRIGHT;
     out->crouched_s = out->bent_s = out->lying_s = out->calibration_s = out->arms_spread_s =
         out->hand_raised_s = out->knee_raised_s = NAN;
     out->arms_out_s = m->reference.head_height > 0 && hands ? m->arms_out_frames / m->fps : NAN;
@@ -482,9 +485,19 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
         memcpy(p, m->posture, (size_t)frames);
         long min_frames = lround(MM_POSTURE_MIN_SECONDS * m->fps);
         mm_posture_remove_flicker(p, (int)frames, min_frames > 1 ? (int)min_frames : 1);
-        long count[MM_POSTURE_COUNT] = {0};
-        for (long f = 0; f < frames; ++f)
-            if (p[f] == MM_POSTURE_CALIBRATION || !m->crouch[f]) ++count[p[f] < MM_POSTURE_COUNT ? p[f] : 0];
+        long count[MM_POSTURE_COUNT] = {0}, run = 0;
+        for (long f = 0; f < frames; ++f) {
+            int counted = p[f] == MM_POSTURE_CALIBRATION || !m->crouch[f];
+            if (counted) ++count[p[f] < MM_POSTURE_COUNT ? p[f] : 0];
+            /* the stretch of one posture other than upright, every frame counted, this frame ends */
+            int other = counted && p[f] != MM_POSTURE_UPRIGHT && p[f] < MM_POSTURE_COUNT;
+            run = !other ? 0 : run > 0 && p[f - 1] == p[f] ? run + 1 : 1;
+            if (run > out->posture_frames) {
+                out->posture_frames = run;
+                out->posture_first = f + 1 - run;
+                out->posture_worst = (mm_posture)p[f];
+            }
+        }
         free(p);
         out->crouched_s = count[MM_POSTURE_CROUCHED] / m->fps;
         out->bent_s = count[MM_POSTURE_BENT] / m->fps;
@@ -558,6 +571,13 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     if (slide_first >= 0)
         fprintf(f, "{\"t_s\": %.6g, \"frame\": %ld, \"seconds\": %.6g, \"cm_s\": %.6g, \"share\": %.6g}",
                 (double)slide_first / m->fps, slide_first, slide_seconds, slide_cm_s, slide_share);
+    else
+        fprintf(f, "null");
+    fprintf(f, ",\n    \"posture\": ");
+    if (s.posture_first >= 0)
+        fprintf(f, "{\"t_s\": %.6g, \"frame\": %ld, \"seconds\": %.6g, \"posture\": \"%s\"}",
+                (double)s.posture_first / m->fps, s.posture_first, (double)s.posture_frames / m->fps,
+                mm_posture_name(s.posture_worst));
     else
         fprintf(f, "null");
     fprintf(f, "\n  },\n");

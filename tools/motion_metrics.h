@@ -183,6 +183,10 @@ typedef struct motion_metrics_seen {
     double max_pop_cm, pop_p99_cm, head_p2_cm, head_p5_cm, head_p50_cm;
     double crouched_s, bent_s, lying_s, calibration_s, arms_spread_s, hand_raised_s, knee_raised_s,
         arms_out_s, hands_apart_max_cm;
+    /* the longest stretch counted in those seconds: its first frame (-1: none), length (frames) and
+     * posture */
+    long posture_first, posture_frames;
+    mm_posture posture_worst;
 } motion_metrics_seen;
 int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out);
 /* The MOTION_METRICS_SLIDE_WINDOW seconds of frames (all of them in a shorter motion) whose
