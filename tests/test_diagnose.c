@@ -6,29 +6,10 @@
 #include <mm/gait.h>
 
 #include "test_databases.h"
+#include "test_takes.h"
 #include "test_util.h"
 
 #define FPS 30.0f
-
-/* Hips 1 m up (times size), a spine, the head 0.55 m above the hips, hands beside the spine, legs
- * with the toes 0.95 m below the hips; the hands named hand_names. */
-static void make_skeleton(mm_skeleton *s, float size, const char *left_hand, const char *right_hand)
-{
-    assert_int_equal(mm_skeleton_init(s, 9, NULL), MM_OK);
-    const char *names[9] = {"Hips",     "Spine2",  "Head",      left_hand, right_hand,
-                            "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
-    const int parents[9] = {-1, 0, 1, 1, 1, 0, 5, 0, 7};
-    const float off[9][3] = {{0, 1, 0},          {0, 0.3f, 0},       {0, 0.25f, 0},
-                             {0.2f, -0.45f, 0},  {-0.2f, -0.45f, 0}, {0.1f, -0.9f, 0},
-                             {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},  {0, -0.05f, 0.15f}};
-    for (int j = 0; j < 9; ++j) {
-        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
-        s->joints[j].parent = parents[j];
-        s->joints[j].offset = mm_vec3_make(off[j][0] * size, off[j][1] * size, off[j][2] * size);
-        s->joints[j].order = MM_EULER_ZYX;
-    }
-    s->joints[0].flags = MM_JOINT_TRANSLATES;
-}
 
 /* A take of seconds s whose hips move with velocity (vx, vz) m/s (facing +Z throughout) scaled by
  * ramp(t) in [0, 1]: 1 throughout when ramp is NULL. */
@@ -37,7 +18,7 @@ static void make_take(mm_clip *clip, float seconds, float vx, float vz, ramp_fn 
                       const char *left_hand, const char *right_hand)
 {
     mm_skeleton s;
-    make_skeleton(&s, size, left_hand, right_hand);
+    test_take_skeleton_named(&s, size, left_hand, right_hand);
     int frames = (int)lroundf(seconds * FPS) + 1;
     assert_int_equal(mm_clip_init(clip, &s, frames, FPS, NULL), MM_OK);
     mm_skeleton_free(&s);

@@ -13,35 +13,18 @@
 #include <mm/speed_envelope.h>
 #include <mm/trajectory.h>
 
+#include "test_takes.h"
 #include "test_util.h"
 
 #define FPS   30.0f
 #define SPEED 1e-3f /* m/s: speeds measured from finite differences of float positions */
-
-static void make_skeleton(mm_skeleton *s)
-{
-    assert_int_equal(mm_skeleton_init(s, 9, NULL), MM_OK);
-    const char *names[9] = {"Hips",     "Spine2",  "Head",      "LeftHand", "RightHand",
-                            "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
-    const int parents[9] = {-1, 0, 1, 1, 1, 0, 5, 0, 7};
-    const float off[9][3] = {{0, 1, 0},          {0, 0.3f, 0},       {0, 0.25f, 0},
-                             {0.2f, -0.45f, 0},  {-0.2f, -0.45f, 0}, {0.1f, -0.9f, 0},
-                             {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},  {0, -0.05f, 0.15f}};
-    for (int j = 0; j < 9; ++j) {
-        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
-        s->joints[j].parent = parents[j];
-        s->joints[j].offset = mm_vec3_make(off[j][0], off[j][1], off[j][2]);
-        s->joints[j].order = MM_EULER_ZYX;
-    }
-    s->joints[0].flags = MM_JOINT_TRANSLATES;
-}
 
 /* A take of `seconds` whose hips move at `speed` m/s in `degrees` from forward (+Z) toward the
  * left (+X), facing +Z throughout. */
 static void make_take(mm_clip *clip, float seconds, float speed, float degrees)
 {
     mm_skeleton s;
-    make_skeleton(&s);
+    test_take_skeleton(&s);
     int frames = (int)lroundf(seconds * FPS) + 1;
     assert_int_equal(mm_clip_init(clip, &s, frames, FPS, NULL), MM_OK);
     mm_skeleton_free(&s);
