@@ -34,42 +34,22 @@ static void make_take(mm_clip *clip, float seconds, float speed, float degrees)
 }
 
 enum { TAKES = 6 };
-typedef struct takes {
-    mm_clip clips[TAKES];
-    mm_config cfg;
-} takes;
 
 /* Forward 1.2 m/s (4 s), left 0.4 (4 s), backward 0.8 (4 s), forward-right (45 degrees right)
  * 0.7 (4 s); a burst to the right at 2 m/s and one forward at 3 m/s, each 0.3 s (too short to
  * count: fewer than MM_SPEED_ENVELOPE_COVER_SECONDS of frames). */
-static void make_takes(takes *t)
+static void make_takes(test_takes *t)
 {
-    memset(t, 0, sizeof *t);
-    mm_config_defaults(&t->cfg);
-    t->cfg.scale = 1.0f;
-    t->cfg.root_smoothing = 0.0f;
-    t->cfg.clips = calloc(TAKES, sizeof(mm_config_clip));
+    test_takes_start(t);
     const char *names[TAKES] = {"forward", "left", "backward", "diagonal", "burst_right", "burst_forward"};
     const float seconds[TAKES] = {4, 4, 4, 4, 0.3f, 0.3f},
                 speeds[TAKES] = {1.2f, 0.4f, 0.8f, 0.7f, 2.0f, 3.0f},
                 degrees[TAKES] = {0, 90, 180, -45, -90, 0};
-    for (int i = 0; i < TAKES; ++i) {
-        mm_config_clip *c = &t->cfg.clips[i];
-        snprintf(c->name, MM_NAME_MAX, "%s", names[i]);
-        snprintf(c->file, MM_PATH_MAX, "%s.bvh", names[i]);
-        c->type = MM_CLIP_LOCOMOTION;
-        make_take(&t->clips[i], seconds[i], speeds[i], degrees[i]);
-    }
-    t->cfg.clip_count = TAKES;
+    for (int i = 0; i < TAKES; ++i)
+        make_take(test_takes_add(t, names[i], MM_CLIP_LOCOMOTION), seconds[i], speeds[i], degrees[i]);
 }
 
-static void free_takes(takes *t)
-{
-    for (int i = 0; i < t->cfg.clip_count; ++i) mm_clip_free(&t->clips[i]);
-    mm_config_free(&t->cfg);
-}
-
-static void build(takes *t, mm_database *db)
+static void build(test_takes *t, mm_database *db)
 {
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -93,7 +73,7 @@ static void assert_envelope(const float *speeds, const float *want)
 static void test_measured(void **state)
 {
     (void)state;
-    takes t;
+    test_takes t;
     make_takes(&t);
     mm_database db;
     build(&t, &db);
@@ -123,7 +103,7 @@ static void test_measured(void **state)
     assert_envelope(env[MM_GAIT_WALK].speeds, walk);
     assert_envelope(env[MM_GAIT_RUN].speeds, expected);
     mm_database_free(&db);
-    free_takes(&t);
+    test_takes_free(&t);
 }
 
 /* A trajectory bounded by the hand-made envelope, every gait speed 2 m/s (a circle: the direction
@@ -223,7 +203,7 @@ static void test_bounded(void **state)
 static void test_file_and_desc(void **state)
 {
     (void)state;
-    takes t;
+    test_takes t;
     make_takes(&t);
     mm_database db;
     build(&t, &db);
@@ -266,7 +246,7 @@ static void test_file_and_desc(void **state)
     assert_false(d.trajectory.bounded);
     assert_envelope(db.settings->envelope[MM_GAIT_WALK], expected);
     mm_database_free(&db);
-    free_takes(&t);
+    test_takes_free(&t);
 }
 
 int main(void)
