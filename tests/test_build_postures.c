@@ -4,6 +4,7 @@
 #include <math.h>
 #include <mm/database_build.h>
 
+#include "test_takes.h"
 #include "test_util.h"
 
 #define FPS    30.0f
@@ -14,32 +15,12 @@
 #define CROUCH_BEGIN 180
 #define CROUCH_END   240
 
-/* Hips 1 m up; a spine, the head 0.55 m above the hips; hands hanging beside the spine; legs
- * with feet 0.95 m below the hips. */
-static void make_skeleton(mm_skeleton *s)
-{
-    assert_int_equal(mm_skeleton_init(s, 9, NULL), MM_OK);
-    const char *names[9] = {"Hips",     "Spine2",  "Head",      "LeftHand", "RightHand",
-                            "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
-    const int parents[9] = {-1, 0, 1, 1, 1, 0, 5, 0, 7};
-    const float off[9][3] = {{0, 1, 0},          {0, 0.3f, 0},       {0, 0.25f, 0},
-                             {0.2f, -0.45f, 0},  {-0.2f, -0.45f, 0}, {0.1f, -0.9f, 0},
-                             {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},  {0, -0.05f, 0.15f}};
-    for (int j = 0; j < 9; ++j) {
-        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
-        s->joints[j].parent = parents[j];
-        s->joints[j].offset = mm_vec3_make(off[j][0], off[j][1], off[j][2]);
-        s->joints[j].order = MM_EULER_ZYX;
-    }
-    s->joints[0].flags = MM_JOINT_TRANSLATES;
-}
-
 /* Walks straight along +Z at 1 m/s; arms straight out in the T pose, the hips 0.3 m lower in the
  * crouch (the head at 0.8 of its upright height above the ground). */
 static void make_take(mm_clip *clip)
 {
     mm_skeleton s;
-    make_skeleton(&s);
+    test_take_skeleton(&s);
     assert_int_equal(mm_clip_init(clip, &s, FRAMES, FPS, NULL), MM_OK);
     mm_skeleton_free(&s);
     for (int f = 0; f < FRAMES; ++f) {

@@ -648,22 +648,46 @@ static void test_warping_orientation_turns_legs_not_chest(void **state)
 
 /* ---- 7. feet ---- */
 
+/* The contact labels the feet tests give, none foreseen. */
+static const mm_feet_contacts LABEL_NONE = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                              LABEL_LEFT_HEEL = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                              LABEL_LEFT_TOE = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                              LABEL_LEFT_HEEL_TOE = {
+                                  MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+
+/* A feet test's settings and feet: the character's defaults with the landing eased over
+ * plant_time (0: planted at once; the easing is test_feet_land's, test_character.c) and, with
+ * hips_held, the hips never lowered (max_hip_drop 0: the legs' reach is the test's alone); no foot
+ * planted yet. */
+static mm_character_desc feet_fixture(mm_feet *f, float plant_time, bool hips_held)
+{
+    mm_character_desc d = defaults();
+    d.plant_time = plant_time;
+    if (hips_held) d.max_hip_drop = 0.0f;
+    memset(f, 0, sizeof *f);
+    return d;
+}
+
+/* One tick of the feet of b under labels on level ground at 0, held (not a move). */
+static void level_tick(mm_feet *f, const mm_character_desc *d, body *b, const mm_feet_contacts *labels,
+                       float dt)
+{
+    mm_feet_update(f, d, &b->rig, labels, &(mm_feet_ground){0.0f, true, NULL}, dt, &b->pose);
+}
+
 static void test_feet_lock_holds_and_releases(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f; /* the landing's easing is test_feet_land's (test_character.c) */
-    body b;
     mm_feet f;
-    memset(&f, 0, sizeof f);
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_character_desc d = feet_fixture(&f, 0.0f, false);
+    body b;
     float dt = 1.0f / 60.0f;
     /* planted where the ankle is */
     make_body(&b);
     mm_feet_record(&f, &b.rig, &b.pose);
     assert_vec3_near(f.raw_contacts[0], mm_vec3_make(0.1f, 0.06f, 0), 1e-6f);
     assert_vec3_near(f.raw_contacts[3], mm_vec3_make(-0.1f, 0.02f, 0.12f), 1e-6f);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     assert_true(f.locked[0] && f.heel_locked[0]);
     assert_false(f.locked[1]);
     mm_vec3 planted = f.heel_lock[0];
@@ -673,25 +697,24 @@ static void test_feet_lock_holds_and_releases(void **state)
         make_body(&b);
         b.positions[HIPS].z = 0.05f;
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     }
     assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
     assert_vec3_near(b.global[R_FOOT].translation, mm_vec3_make(-0.1f, 0.06f, 0.05f), 1e-3f);
     /* the label off: released where it is held (the ankle keeps its place and velocity on that
      * tick), then the difference fades with foot_halflife (half of it one half-life later) */
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     int ticks = (int)lroundf(d.foot_halflife / dt);
     make_body(&b);
     b.positions[HIPS].z = 0.05f;
     mm_rig_forward(&b.rig, 1, &b.pose);
-    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_NONE, dt);
     assert_false(f.locked[0]);
     assert_vec3_near(b.global[L_FOOT].translation, planted, 1e-3f);
     for (int k = 0; k < ticks; ++k) {
         make_body(&b);
         b.positions[HIPS].z = 0.05f;
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_NONE, dt);
     }
     assert_false(f.locked[0]);
     assert_float_equal(b.global[L_FOOT].translation.z, 0.05f - 0.025f, 2e-3f);
@@ -699,12 +722,12 @@ static void test_feet_lock_holds_and_releases(void **state)
      * from rest) from where it was toward the animation: the foot creeps after it */
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     make_body(&b);
     b.positions[ROOT].z = b.positions[HIPS].z = 0.0f;
     b.global[ROOT].translation.z = d.unlock_radius + 0.1f;
     mm_rig_forward(&b.rig, 1, &b.pose);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     assert_true(f.heel_locked[0]);
     float pulled = d.unlock_radius + 0.1f, y = (float)mm_spring_damping(d.foot_halflife);
     assert_float_equal(f.heel_lock[0].z, pulled * (1.0f - (1.0f + y * dt) * expf(-y * dt)), 1e-4f);
@@ -713,11 +736,11 @@ static void test_feet_lock_holds_and_releases(void **state)
      * this pose, is at most 1 cm (feet.c's TOE_SINK) below its own planted height (0) */
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.1f, true, NULL}, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &LABEL_LEFT_HEEL, &(mm_feet_ground){0.1f, true, NULL}, dt, &b.pose);
     assert_float_equal(f.lock[0].y, 0.1f + 0.04f - 0.01f, 1e-6f);
     memset(&f, 0, sizeof f);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.1f, false, NULL}, dt,
+    mm_feet_update(&f, &d, &b.rig, &LABEL_LEFT_HEEL, &(mm_feet_ground){0.1f, false, NULL}, dt,
                    &b.pose); /* a move: no ground held */
     assert_float_equal(f.lock[0].y, 0.06f, 1e-6f);
 }
@@ -743,24 +766,18 @@ static void bent_left_leg(body *b, float bend, float pitch, float lift)
 static void test_feet_roll_onto_the_toe(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
-    body b;
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    body b;
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-    mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL_TOE, dt);
     assert_true(f.heel_locked[0] && f.toe_locked[0]);
     mm_vec3 planted = b.global[L_TOE].translation;
     for (int i = 1; i <= 20; ++i) {
         /* the animated foot pitches toe-down about its ankle, 0.02 rad a tick (the heel rising) */
         bent_left_leg(&b, 0.3f, 0.02f * (float)i, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, i < 4 ? &both : &toe, &(mm_feet_ground){0.0f, true, NULL}, dt,
-                       &b.pose);
+        level_tick(&f, &d, &b, i < 4 ? &LABEL_LEFT_HEEL_TOE : &LABEL_LEFT_TOE, dt);
         assert_vec3_near(b.global[L_TOE].translation, planted, 1e-3f);
     }
     assert_true(f.toe_locked[0] && !f.heel_locked[0]);
@@ -774,28 +791,23 @@ static void test_feet_roll_onto_the_toe(void **state)
 static void test_feet_heel_lifts_where_shown(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
-    body b;
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    body b;
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-    mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL_TOE, dt);
     assert_true(f.heel_locked[0] && f.toe_locked[0]);
     mm_vec3 along = mm_vec3_sub(f.toe_lock[0], f.heel_lock[0]);
     along.y = 0.0f;
     f.toe_lock[0] = mm_vec3_add(f.toe_lock[0], mm_vec3_scale(mm_vec3_normalize(along), 0.01f));
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-    mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL_TOE, dt);
     mm_vec3 shown = b.global[L_TOE].translation, off = mm_vec3_sub(f.toe_lock[0], shown);
     assert_true(sqrtf(off.x * off.x + off.z * off.z) > 0.008f); /* short of its lock */
     for (int i = 1; i <= 10; ++i) {
         bent_left_leg(&b, 0.3f, 0.02f * (float)i, 0.0f); /* the heel rising */
-        mm_feet_update(&f, &d, &b.rig, &toe, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_TOE, dt);
         assert_true(f.toe_locked[0] && !f.heel_locked[0]);
         mm_vec3 moved = mm_vec3_sub(b.global[L_TOE].translation, shown);
         assert_true(sqrtf(moved.x * moved.x + moved.z * moved.z) < 1e-3f);
@@ -807,18 +819,14 @@ static void test_feet_heel_lifts_where_shown(void **state)
 static void test_feet_lock_comes_down(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
-    body b;
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    body b;
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     for (int i = 0; i <= 10; ++i) {
         bent_left_leg(&b, 0.3f, 0.0f, 0.03f * (1.0f - (float)i / 10.0f));
         float animated = b.global[L_FOOT].translation.y;
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         assert_true(f.heel_locked[0]);
         assert_float_equal(b.global[L_FOOT].translation.y, animated, 1e-3f);
     }
@@ -839,23 +847,19 @@ static float second_difference(mm_vec3 p0, mm_vec3 p1, mm_vec3 p2)
 static void test_feet_lock_settles_gradually(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
-    body b;
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    body b;
     float dt = 1.0f / 60.0f, h = 0.1f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     assert_true(f.heel_locked[0]);
     f.heel_lock[0].y += h; /* planted h above the animated ankle */
     mm_vec3 p[3];
     float worst = 0.0f;
     for (int n = 0; n <= 30; ++n) {
         bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         p[2] = b.global[L_FOOT].translation;
         if (n == 0) p[0] = p[1] = mm_vec3_make(p[2].x, 0.06f + h, p[2].z);
         assert_float_equal(p[2].y, 0.06f + h * exp2f(-(float)(n + 1) * dt / 0.1f), 1e-3f);
@@ -871,15 +875,10 @@ static void test_feet_lock_settles_gradually(void **state)
  * animated foot and is planted on the first tick it is within 4 cm (the ankle 0.06 m + 4 cm). */
 static void wait_aloft(const mm_scene *scene)
 {
-    mm_character_desc d = defaults();
     float dt = 1.0f / 60.0f;
-    d.plant_time = 2.0f * dt;
-    d.max_hip_drop = 0.0f;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    const float lift[] = {0.08f, 0.08f, 0.10f, 0.09f, 0.07f, 0.05f, 0.03f, 0.02f, 0.01f};
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 2.0f * dt, true);
+    const float lift[] = {0.08f, 0.08f, 0.10f, 0.09f, 0.07f, 0.05f, 0.03f, 0.02f, 0.01f};
     body b;
     float last_y = 1.0f, held_z = 0.0f;
     int first = -1;
@@ -887,8 +886,8 @@ static void wait_aloft(const mm_scene *scene)
         bent_left_leg(&b, 0.3f, 0.0f, lift[n]);
         b.positions[HIPS].z = 0.5f * (float)n * dt; /* the body moving on */
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, n == 0 ? &none : &heel, &(mm_feet_ground){0.0f, true, scene}, dt,
-                       &b.pose);
+        mm_feet_update(&f, &d, &b.rig, n == 0 ? &LABEL_NONE : &LABEL_LEFT_HEEL,
+                       &(mm_feet_ground){0.0f, true, scene}, dt, &b.pose);
         if (n == 0) continue;
         assert_true(f.lock[0].y <= last_y + 1e-6f); /* not rising */
         if (n == 2) held_z = f.lock[0].z;           /* the landing has run its two ticks */
@@ -951,24 +950,21 @@ static void test_feet_released_foot_steps(void **state)
 {
     (void)state;
     for (int coming = 0; coming < 2; ++coming) {
-        mm_character_desc d = defaults();
-        d.plant_time = 0.0f;
-        float dt = 1.0f / 60.0f;
-        mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                         off = {0, {coming ? 0.05f : -1.0f, -1.0f}, {-1.0f, -1.0f}};
         mm_feet f;
-        memset(&f, 0, sizeof f);
+        mm_character_desc d = feet_fixture(&f, 0.0f, false);
+        float dt = 1.0f / 60.0f;
+        mm_feet_contacts off = {0, {coming ? 0.05f : -1.0f, -1.0f}, {-1.0f, -1.0f}};
         body b;
         body_at(&b, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         mm_vec3 P = f.heel_lock[0];
         body_at(&b, 0.3f);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         assert_vec3_near(f.heel_lock[0], P, 1e-6f);
         float highest = 0.0f, first = -1.0f;
         for (int n = 0; n < 120; ++n) {
             body_at(&b, 0.3f);
-            mm_feet_update(&f, &d, &b.rig, &off, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+            level_tick(&f, &d, &b, &off, dt);
             float lift = f.lock[0].y - P.y;
             if (first < 0.0f) first = lift;
             highest = fmaxf(highest, lift);
@@ -995,26 +991,22 @@ static void test_feet_released_foot_steps(void **state)
 static void test_feet_release_keeps_velocity(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife);
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, false);
+    float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife);
     body b;
     for (int k = 0; k < 5; ++k) {
         body_at(&b, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     }
     mm_vec3 P = f.heel_lock[0];
     body_at(&b, -v * dt); /* still held, the animation one step behind */
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     mm_vec3 last[3] = {P, P, P};
     float worst = 0.0f;
     for (int n = 0; n <= 20; ++n) {
         body_at(&b, v * (float)n * dt);
-        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_NONE, dt);
         float t = (float)n * dt;
         mm_vec3 expected = mm_vec3_add(P, mm_vec3_make(0, 0, v * t * (1.0f - expf(-y * t))));
         mm_vec3 flat = mm_vec3_make(f.lock[0].x, P.y, f.lock[0].z); /* the step's lift aside */
@@ -1037,17 +1029,13 @@ static void test_feet_release_keeps_velocity(void **state)
 static void test_feet_far_release_keeps_velocity(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, false);
     d.unlock_radius = 0.095f;
     float dt = 1.0f / 60.0f, v = 1.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    mm_feet f;
-    memset(&f, 0, sizeof f);
     body b;
     body_at(&b, 0.0f);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     mm_vec3 P = f.heel_lock[0];
     int n = 0;
     mm_vec3 last[3] = {P, P, P};
@@ -1055,7 +1043,7 @@ static void test_feet_far_release_keeps_velocity(void **state)
     /* held while the body walks off at v; the label goes off on the first tick past unlock_radius */
     for (n = 1; (float)n * v * dt <= d.unlock_radius; ++n) {
         body_at(&b, v * (float)n * dt);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         assert_true(f.heel_locked[0]);
         assert_vec3_near(f.heel_lock[0], P, 1e-6f); /* within the radius: no creep */
         last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
@@ -1065,7 +1053,7 @@ static void test_feet_far_release_keeps_velocity(void **state)
     float x0 = crept - gap;
     for (int i = 0; i <= 20; ++i, ++n) {
         body_at(&b, v * (float)n * dt);
-        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_NONE, dt);
         assert_false(f.locked[0]);
         float t = (float)i * dt, x = (x0 + (-v + y * x0) * t) * expf(-y * t);
         mm_vec3 flat = mm_vec3_make(f.lock[0].x, P.y, f.lock[0].z); /* the step's lift aside */
@@ -1084,33 +1072,28 @@ static void test_feet_far_release_keeps_velocity(void **state)
 static void test_feet_release_lifts_off_as_animated(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
-    float dt = 1.0f / 60.0f, lift = 0.08f, y = (float)mm_spring_damping(0.05f);
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    float dt = 1.0f / 60.0f, lift = 0.08f, y = (float)mm_spring_damping(0.05f);
     body b;
     for (int n = 0; n <= 30; ++n) { /* planted, then the body rises by lift while it is held */
         bent_left_leg(&b, 0.6f, 0.0f, lift * (float)n / 30.0f);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     }
     for (int n = 0; n < 30; ++n) {
         bent_left_leg(&b, 0.6f, 0.0f, lift);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     }
     mm_vec3 held = f.heel_lock[0], animated = b.global[L_FOOT].translation;
     assert_float_equal(held.y, 0.06f, 1e-4f);
     assert_vec3_near(b.global[L_FOOT].translation, held, 1e-3f); /* the IK reaches it */
     bent_left_leg(&b, 0.6f, 0.0f, lift);
-    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_NONE, dt);
     assert_false(f.locked[0]);
     animated = mm_vec3_make(held.x, held.y + lift, held.z);
     for (int i = 1; i <= 12; ++i) {
         bent_left_leg(&b, 0.6f, 0.0f, lift);
-        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_NONE, dt);
         float t = (float)i * dt, below = -lift * (1.0f + y * t) * expf(-y * t);
         assert_vec3_near(f.lock[0], mm_vec3_add(animated, mm_vec3_make(0, below, 0)), 1e-4f);
     }
@@ -1124,22 +1107,20 @@ static void test_feet_release_lifts_off_as_animated(void **state)
 static void test_feet_lock_creeps_after_the_animation(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, false);
     float dt = 1.0f / 60.0f, y = (float)mm_spring_damping(d.foot_halflife), ramp = 0.05f;
     float step = 1.0f - (1.0f + y * dt) * expf(-y * dt);
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     float past[4] = {-1e-4f, 1e-4f, 0.02f, 0.1f};
     for (int i = 0; i < 4; ++i) {
-        mm_feet f;
         memset(&f, 0, sizeof f);
         body b;
         body_at(&b, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         mm_vec3 P = f.heel_lock[0];
         float gap = d.unlock_radius + past[i];
         body_at(&b, gap);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         assert_true(f.heel_locked[0]);
         float share = past[i] > 0.0f ? fminf(past[i] / ramp, 1.0f) * step : 0.0f;
         assert_float_equal(f.heel_lock[0].z - P.z, share * gap, 1e-6f);
@@ -1153,24 +1134,18 @@ static void test_feet_lock_creeps_after_the_animation(void **state)
 static void test_feet_plant_above_the_animated_foot(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
-    float dt = 1.0f / 60.0f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    float dt = 1.0f / 60.0f;
     body b;
     bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_NONE, dt);
     f.offset[0] = mm_vec3_make(0, 0.08f, 0), f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
     mm_vec3 last[3] = {f.lock[0], f.lock[0], f.lock[0]};
     float worst = 0.0f;
     for (int n = 0; n < 60; ++n) {
         bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, n < 3 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
-                       &b.pose);
+        level_tick(&f, &d, &b, n < 3 ? &LABEL_NONE : &LABEL_LEFT_HEEL, dt);
         last[0] = last[1], last[1] = last[2], last[2] = f.lock[0];
         if (n >= 2) worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
         if (n == 3) assert_float_equal(f.heel_lock[0].y, 0.06f, 1e-4f);
@@ -1189,21 +1164,16 @@ static void test_feet_plant_above_the_animated_foot(void **state)
 static void test_feet_fast_landing(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
     float dt = 1.0f / 60.0f, v = 8.0f, deceleration = 150.0f;
-    d.plant_time = 2.0f * dt;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 2.0f * dt, false);
     body b;
     mm_vec3 p[16];
     int landed_at = -1, ticks = (int)ceilf(v / (deceleration * dt));
     for (int n = 0; n < 16; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
         body_at(&b, v * (float)n * dt);
         on_the_ground(&b);
-        mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
-                       &b.pose);
+        level_tick(&f, &d, &b, n < 5 ? &LABEL_NONE : &LABEL_LEFT_HEEL, dt);
         p[n] = f.lock[0];
         if (f.heel_locked[0] && landed_at < 0) landed_at = n;
         if (n >= 2) assert_true(second_difference(p[n - 2], p[n - 1], p[n]) < 1.2f * deceleration * dt * dt);
@@ -1223,8 +1193,7 @@ static void test_feet_fast_landing(void **state)
             0, {left <= MM_FEET_LANDING_MAX_TIME ? left : -1.0f, -1.0f}, {-1.0f, -1.0f}};
         body_at(&b, v * (float)n * dt);
         on_the_ground(&b);
-        mm_feet_update(&f, &d, &b.rig, n < 5 ? &coming : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
-                       &b.pose);
+        level_tick(&f, &d, &b, n < 5 ? &coming : &LABEL_LEFT_HEEL, dt);
         p[n] = f.lock[0];
         if (f.heel_locked[0] && landed_at < 0) landed_at = n;
         if (n >= 2) assert_true(second_difference(p[n - 2], p[n - 1], p[n]) < 1.2f * deceleration * dt * dt);
@@ -1239,22 +1208,16 @@ static void test_feet_fast_landing(void **state)
 static void test_feet_heel_planted_under_a_held_toe(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
-    float dt = 1.0f / 60.0f;
-    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    float dt = 1.0f / 60.0f;
     body b;
     mm_vec3 last[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     float worst = 0.0f, floated = 0.0f;
     for (int n = 0; n < 90; ++n) {
         float pitch = -0.4f * fminf((float)n / 20.0f, 1.0f); /* toe up, over a third of a second */
         bent_left_leg(&b, 0.3f, pitch, 0.0f);
-        mm_feet_update(&f, &d, &b.rig, n < 30 ? &toe : &both, &(mm_feet_ground){0.0f, true, NULL}, dt,
-                       &b.pose);
+        level_tick(&f, &d, &b, n < 30 ? &LABEL_LEFT_TOE : &LABEL_LEFT_HEEL_TOE, dt);
         if (n == 29) floated = b.global[L_TOE].translation.y - f.toe_lock[0].y;
         last[0] = last[1], last[1] = last[2], last[2] = b.global[L_TOE].translation;
         if (n >= 2) worst = fmaxf(worst, second_difference(last[0], last[1], last[2]));
@@ -1273,20 +1236,15 @@ static void test_feet_heel_planted_under_a_held_toe(void **state)
 static void test_feet_land_without_warning(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
     float dt = 1.0f / 60.0f, v = 1.2f;
-    d.plant_time = 2.0f * dt;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     mm_feet f;
-    memset(&f, 0, sizeof f);
+    mm_character_desc d = feet_fixture(&f, 2.0f * dt, false);
     body b;
     mm_vec3 p[8];
     for (int n = 0; n < 8; ++n) { /* free on ticks 0 to 4, the label on from tick 5 */
         body_at(&b, v * (float)n * dt);
         on_the_ground(&b);
-        mm_feet_update(&f, &d, &b.rig, n < 5 ? &none : &heel, &(mm_feet_ground){0.0f, true, NULL}, dt,
-                       &b.pose);
+        level_tick(&f, &d, &b, n < 5 ? &LABEL_NONE : &LABEL_LEFT_HEEL, dt);
         p[n] = f.lock[0];
         if (n == 5) assert_false(f.locked[0]); /* waited for */
         if (n == 6) assert_true(f.heel_locked[0]);
@@ -1304,11 +1262,7 @@ static void test_feet_land_without_warning(void **state)
     for (int n = 0; n < 7; ++n) {
         body_at(&b, v * (float)n * dt);
         on_the_ground(&b);
-        mm_feet_update(&f, &d, &b.rig,
-                       n < 4    ? &none
-                       : n == 4 ? &coming
-                                : &heel,
-                       &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, n < 4 ? &LABEL_NONE : n == 4 ? &coming : &LABEL_LEFT_HEEL, dt);
         p[n] = f.lock[0];
     }
     assert_float_equal(p[4].z - p[3].z, 0.5f * v * dt, 1e-5f);
@@ -1324,18 +1278,16 @@ static void test_feet_land_without_warning(void **state)
 static void test_feet_hips_come_down_smoothly(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, false);
     float dt = 1.0f / 60.0f, D = 0.84f - 0.95f * 0.84f, y = (float)mm_spring_damping(0.05f);
     mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_RIGHT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    mm_feet f;
-    memset(&f, 0, sizeof f);
     body b;
     mm_vec3 p[3] = {{0, 0.9f, 0}, {0, 0.9f, 0}, {0, 0.9f, 0}};
     float worst = 0.0f;
     for (int n = 1; n <= 30; ++n) {
         make_body(&b);
-        mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &both, dt);
         float t = (float)n * dt;
         assert_float_equal(f.hip_drop, D * (1.0f - (1.0f + y * t) * expf(-y * t)), 1e-4f);
         p[0] = p[1], p[1] = p[2], p[2] = b.global[HIPS].translation;
@@ -1356,26 +1308,22 @@ static void test_feet_hips_come_down_smoothly(void **state)
 static void test_feet_pelvis_leans_back_over_a_planted_foot(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
     d.unlock_radius = 2.0f;
     float dt = 1.0f / 60.0f, reach = 0.95f * 0.84f, L = sqrtf(0.64f * 0.64f + 0.75f * 0.75f);
     float move = (L - reach) * L / 0.75f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    mm_feet f;
-    memset(&f, 0, sizeof f);
     body b;
     make_body(&b);
     on_the_ground(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     mm_vec3 planted = f.heel_lock[0];
     for (int n = 1; n <= 120; ++n) {
         make_body(&b);
         on_the_ground(&b);
         b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, fminf(1.5f * dt * (float)n, 0.75f));
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     }
     assert_float_equal(f.pelvis_shift.z, -move, 0.01f);
     assert_true(mm_vec3_distance(f.heel_lock[0], planted) < 0.01f);
@@ -1393,20 +1341,15 @@ static void test_feet_pelvis_leans_back_over_a_planted_foot(void **state)
 static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;  /* the reach is the shift's alone */
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
     d.unlock_radius = 2.0f; /* the lock holds */
     float dt = 1.0f / 60.0f, reach = 0.95f * 0.84f, down = 0.7f - 0.06f;
     float L = sqrtf(down * down + 0.55f * 0.55f), move = (L - reach) * L / 0.55f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
-                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    mm_feet f;
-    memset(&f, 0, sizeof f);
     body b;
     make_body(&b);
     on_the_ground(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     assert_vec3_near(f.heel_lock[0], mm_vec3_make(0.1f, 0.06f, 0.0f), 1e-5f);
     assert_float_equal(mm_vec3_length(f.pelvis_shift), 0.0f, 1e-6f); /* in reach: no shift */
     mm_vec3 p[3] = {f.pelvis_shift, f.pelvis_shift, f.pelvis_shift};
@@ -1416,7 +1359,7 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
         on_the_ground(&b);
         b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.55f);
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         p[0] = p[1], p[1] = p[2], p[2] = f.pelvis_shift;
         worst = fmaxf(worst, second_difference(p[0], p[1], p[2]));
     }
@@ -1433,7 +1376,7 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
         on_the_ground(&b);
         b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 1.0f);
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     }
     assert_vec3_near(f.pelvis_shift, mm_vec3_make(0.0f, 0.0f, -0.35f * 0.84f), 1e-4f);
     /* the label off: back to none */
@@ -1442,7 +1385,7 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
         on_the_ground(&b);
         b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.8f);
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_NONE, dt);
     }
     assert_float_equal(mm_vec3_length(f.pelvis_shift), 0.0f, 1e-4f);
     assert_vec3_near(b.global[HIPS].translation, mm_vec3_make(0.0f, 0.7f, 0.8f), 1e-4f);
@@ -1452,7 +1395,7 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
         on_the_ground(&b);
         b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 0.8f);
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, false, NULL}, dt, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, &LABEL_LEFT_HEEL, &(mm_feet_ground){0.0f, false, NULL}, dt, &b.pose);
     }
     assert_float_equal(mm_vec3_length(f.pelvis_shift), 0.0f, 1e-4f);
 }
@@ -1465,25 +1408,21 @@ static void test_feet_pelvis_shifts_toward_a_planted_foot(void **state)
 static void test_feet_unreachable_lock_creeps(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
-    d.max_hip_drop = 0.0f;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
     d.unlock_radius = 2.0f; /* the animation's pull alone would never move it */
     float dt = 1.0f / 60.0f;
-    mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
-    mm_feet f;
-    memset(&f, 0, sizeof f);
     body b;
     make_body(&b);
     on_the_ground(&b);
-    mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+    level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
     float z[2] = {0.0f, 0.0f};
     for (int n = 0; n < 600; ++n) {
         make_body(&b);
         on_the_ground(&b);
         b.positions[HIPS] = mm_vec3_make(0.0f, 0.7f, 1.0f);
         mm_rig_forward(&b.rig, 1, &b.pose);
-        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
         assert_true(f.heel_locked[0]);
         z[n % 2] = f.heel_lock[0].z;
     }
@@ -1506,22 +1445,20 @@ static void test_feet_unreachable_lock_creeps(void **state)
 static void test_feet_toe_floor_and_far_targets(void **state)
 {
     (void)state;
-    mm_character_desc d = defaults();
-    d.plant_time = 0.0f;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, false);
     d.max_hip_drop = MM_OFF;
     float dt = 1.0f / 60.0f, h = 0.04f, s = 0.01f;
-    mm_feet_contacts none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
     float heights[] = {0.06f, h, h - 0.005f, h - s, h - 0.015f, h - 2.0f * s, 0.0f};
     for (int i = 0; i < (int)(sizeof heights / sizeof heights[0]); ++i) {
-        mm_feet f;
         memset(&f, 0, sizeof f);
         body b;
         for (int tick = 0; tick < 2; ++tick) { /* a ground far below, then at 0 */
             make_body(&b);
             b.positions[HIPS].y = 0.9f - (0.06f - heights[i]); /* the body lowered: ankle at heights[i] */
             mm_rig_forward(&b.rig, 1, &b.pose);
-            mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){tick ? 0.0f : -1.0f, true, NULL}, dt,
-                           &b.pose);
+            mm_feet_update(&f, &d, &b.rig, &LABEL_NONE, &(mm_feet_ground){tick ? 0.0f : -1.0f, true, NULL},
+                           dt, &b.pose);
         }
         float yy = heights[i], expected = yy;
         if (yy < h - 2.0f * s)
@@ -1531,15 +1468,14 @@ static void test_feet_toe_floor_and_far_targets(void **state)
         assert_float_equal(f.lock[0].y, expected, 1e-5f);
     }
     /* far out of reach, free: in to 1.15 of the leg's length from the hip, along the same line */
-    mm_feet f;
     memset(&f, 0, sizeof f);
     body b;
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){-1.0f, false, NULL}, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &LABEL_NONE, &(mm_feet_ground){-1.0f, false, NULL}, dt, &b.pose);
     f.offset[0] = mm_vec3_make(0, 0, 1.5f);
     f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
     make_body(&b);
-    mm_feet_update(&f, &d, &b.rig, &none, &(mm_feet_ground){-1.0f, false, NULL}, dt, &b.pose);
+    mm_feet_update(&f, &d, &b.rig, &LABEL_NONE, &(mm_feet_ground){-1.0f, false, NULL}, dt, &b.pose);
     /* the offset decayed one step from rest first: 1.5 (1 + y dt) e^(-y dt) */
     float y = (float)mm_spring_damping(d.foot_halflife), z = 1.5f * (1.0f + y * dt) * expf(-y * dt);
     mm_vec3 hip = mm_vec3_make(0.1f, 0.9f, 0.0f), along = mm_vec3_make(0.0f, -0.84f, z);

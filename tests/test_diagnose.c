@@ -6,29 +6,10 @@
 #include <mm/gait.h>
 
 #include "test_databases.h"
+#include "test_takes.h"
 #include "test_util.h"
 
 #define FPS 30.0f
-
-/* Hips 1 m up (times size), a spine, the head 0.55 m above the hips, hands beside the spine, legs
- * with the toes 0.95 m below the hips; the hands named hand_names. */
-static void make_skeleton(mm_skeleton *s, float size, const char *left_hand, const char *right_hand)
-{
-    assert_int_equal(mm_skeleton_init(s, 9, NULL), MM_OK);
-    const char *names[9] = {"Hips",     "Spine2",  "Head",      left_hand, right_hand,
-                            "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
-    const int parents[9] = {-1, 0, 1, 1, 1, 0, 5, 0, 7};
-    const float off[9][3] = {{0, 1, 0},          {0, 0.3f, 0},       {0, 0.25f, 0},
-                             {0.2f, -0.45f, 0},  {-0.2f, -0.45f, 0}, {0.1f, -0.9f, 0},
-                             {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},  {0, -0.05f, 0.15f}};
-    for (int j = 0; j < 9; ++j) {
-        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
-        s->joints[j].parent = parents[j];
-        s->joints[j].offset = mm_vec3_make(off[j][0] * size, off[j][1] * size, off[j][2] * size);
-        s->joints[j].order = MM_EULER_ZYX;
-    }
-    s->joints[0].flags = MM_JOINT_TRANSLATES;
-}
 
 /* A take of seconds s whose hips move with velocity (vx, vz) m/s (facing +Z throughout) scaled by
  * ramp(t) in [0, 1]: 1 throughout when ramp is NULL. */
@@ -37,7 +18,7 @@ static void make_take(mm_clip *clip, float seconds, float vx, float vz, ramp_fn 
                       const char *left_hand, const char *right_hand)
 {
     mm_skeleton s;
-    make_skeleton(&s, size, left_hand, right_hand);
+    test_take_skeleton_named(&s, size, left_hand, right_hand);
     int frames = (int)lroundf(seconds * FPS) + 1;
     assert_int_equal(mm_clip_init(clip, &s, frames, FPS, NULL), MM_OK);
     mm_skeleton_free(&s);
@@ -60,39 +41,8 @@ static float stop_and_go(float t)
     return 0.0f;
 }
 
-enum { MAX_CLIPS = 8 };
-typedef struct takes {
-    mm_clip clips[MAX_CLIPS];
-    mm_config cfg;
-} takes;
-
-static void start(takes *t)
-{
-    memset(t, 0, sizeof *t);
-    mm_config_defaults(&t->cfg);
-    t->cfg.scale = 1.0f;
-    t->cfg.root_smoothing = 0.0f;
-    t->cfg.clips = calloc(MAX_CLIPS, sizeof(mm_config_clip));
-}
-
-static mm_clip *add_clip(takes *t, const char *name, mm_clip_type type)
-{
-    assert_true(t->cfg.clip_count < MAX_CLIPS);
-    mm_config_clip *c = &t->cfg.clips[t->cfg.clip_count];
-    snprintf(c->name, MM_NAME_MAX, "%s", name);
-    snprintf(c->file, MM_PATH_MAX, "%s.bvh", name);
-    c->type = type;
-    return &t->clips[t->cfg.clip_count++];
-}
-
-static void finish(takes *t)
-{
-    for (int i = 0; i < t->cfg.clip_count; ++i) mm_clip_free(&t->clips[i]);
-    mm_config_free(&t->cfg);
-}
-
 /* Builds t and diagnoses the result (with the build's report when with_report). */
-static void diagnose(takes *t, int with_report, mm_diagnosis *d)
+static void diagnose(test_takes *t, int with_report, mm_diagnosis *d)
 {
     mm_db_build_report report;
     mm_db_build_desc desc;
@@ -138,9 +88,9 @@ static void test_code_names(void **state)
 static void test_idle_stops_starts(void **state)
 {
     (void)state;
-    takes t;
-    start(&t);
-    make_take(add_clip(&t, "walk", MM_CLIP_LOCOMOTION), 10.0f, 0.0f, 1.5f, NULL, 1.0f, "LeftHand",
+    test_takes t;
+    test_takes_start(&t);
+    make_take(test_takes_add(&t, "walk", MM_CLIP_LOCOMOTION), 10.0f, 0.0f, 1.5f, NULL, 1.0f, "LeftHand",
               "RightHand");
     mm_diagnosis d;
     diagnose(&t, 1, &d);
@@ -175,8 +125,9 @@ static void test_idle_stops_starts(void **state)
     assert_says(&d, MM_DIAG_SPEED_NOT_COVERED, "forward it moves at 1.50-1.50 m/s");
     assert_says(&d, MM_DIAG_SPEED_NOT_COVERED, "runtime.run.forward_speed");
 
-    make_take(add_clip(&t, "stand", MM_CLIP_IDLE), 5.0f, 0.0f, 0.0f, NULL, 1.0f, "LeftHand", "RightHand");
-    make_take(add_clip(&t, "stop_and_go", MM_CLIP_LOCOMOTION), 7.0f, 0.0f, 1.2f, stop_and_go, 1.0f,
+    make_take(test_takes_add(&t, "stand", MM_CLIP_IDLE), 5.0f, 0.0f, 0.0f, NULL, 1.0f, "LeftHand",
+              "RightHand");
+    make_take(test_takes_add(&t, "stop_and_go", MM_CLIP_LOCOMOTION), 7.0f, 0.0f, 1.2f, stop_and_go, 1.0f,
               "LeftHand", "RightHand");
     diagnose(&t, 1, &d);
     assert_int_equal(count_of(&d, MM_DIAG_NO_IDLE), 0);
@@ -185,20 +136,21 @@ static void test_idle_stops_starts(void **state)
     assert_int_equal(d.idle_clips, 2); /* stand and the loop the build made of it (idle_loop.make) */
     assert_true(d.stops >= 1);
     assert_int_equal(d.starts, 1);
-    finish(&t);
+    test_takes_free(&t);
 }
 
 /* The runtime's speeds: the settings' where the config sets them; a speed of 0 asks for nothing. */
 static void test_speeds(void **state)
 {
     (void)state;
-    takes t;
-    start(&t);
-    make_take(add_clip(&t, "walk", MM_CLIP_LOCOMOTION), 10.0f, 0.0f, 1.5f, NULL, 1.0f, "LeftHand",
+    test_takes t;
+    test_takes_start(&t);
+    make_take(test_takes_add(&t, "walk", MM_CLIP_LOCOMOTION), 10.0f, 0.0f, 1.5f, NULL, 1.0f, "LeftHand",
               "RightHand");
-    make_take(add_clip(&t, "side", MM_CLIP_LOCOMOTION), 4.0f, 0.6f, 0.0f, NULL, 1.0f, "LeftHand",
+    make_take(test_takes_add(&t, "side", MM_CLIP_LOCOMOTION), 4.0f, 0.6f, 0.0f, NULL, 1.0f, "LeftHand",
               "RightHand");
-    make_take(add_clip(&t, "run", MM_CLIP_LOCOMOTION), 4.0f, 0.0f, 3.5f, NULL, 1.0f, "LeftHand", "RightHand");
+    make_take(test_takes_add(&t, "run", MM_CLIP_LOCOMOTION), 4.0f, 0.0f, 3.5f, NULL, 1.0f, "LeftHand",
+              "RightHand");
     mm_runtime_config *rt = &t.cfg.runtime;
     rt->walk.set = MM_RUNTIME_SIDE_SPEED | MM_RUNTIME_BACKWARD_SPEED;
     rt->walk.side_speed = 0.6f;
@@ -230,16 +182,16 @@ static void test_speeds(void **state)
     assert_true(d.speeds[0].covered); /* walk forward 1.5 */
     assert_false(d.speeds[3].covered);
     assert_says(&d, MM_DIAG_SPEED_NOT_COVERED, "run forward at 1.50 m/s");
-    finish(&t);
+    test_takes_free(&t);
 }
 
 /* Roles naming no joint: the config leaves the hands empty (a name that is no joint fails the build). */
 static void test_roles(void **state)
 {
     (void)state;
-    takes t;
-    start(&t);
-    make_take(add_clip(&t, "walk", MM_CLIP_LOCOMOTION), 6.0f, 0.0f, 1.5f, NULL, 1.0f, "LHand", "RHand");
+    test_takes t;
+    test_takes_start(&t);
+    make_take(test_takes_add(&t, "walk", MM_CLIP_LOCOMOTION), 6.0f, 0.0f, 1.5f, NULL, 1.0f, "LHand", "RHand");
     t.cfg.left_hand[0] = t.cfg.right_hand[0] = '\0';
     mm_diagnosis d;
     diagnose(&t, 0, &d);
@@ -250,7 +202,7 @@ static void test_roles(void **state)
     snprintf(t.cfg.right_hand, MM_NAME_MAX, "RHand");
     diagnose(&t, 0, &d);
     assert_int_equal(count_of(&d, MM_DIAG_ROLE_MISSING), 0);
-    finish(&t);
+    test_takes_free(&t);
 }
 
 /* A body in centimetres read as metres, and one in metres read as centimetres. */
@@ -259,9 +211,9 @@ static void test_height(void **state)
     (void)state;
     const float sizes[2] = {100.0f, 0.01f};
     for (int i = 0; i < 2; ++i) {
-        takes t;
-        start(&t);
-        make_take(add_clip(&t, "walk", MM_CLIP_LOCOMOTION), 6.0f, 0.0f, 1.5f * sizes[i], NULL, sizes[i],
+        test_takes t;
+        test_takes_start(&t);
+        make_take(test_takes_add(&t, "walk", MM_CLIP_LOCOMOTION), 6.0f, 0.0f, 1.5f * sizes[i], NULL, sizes[i],
                   "LeftHand", "RightHand");
         mm_diagnosis d;
         diagnose(&t, 0, &d);
@@ -269,7 +221,7 @@ static void test_height(void **state)
         assert_int_equal(count_of(&d, MM_DIAG_HEIGHT), 1);
         assert_says(&d, MM_DIAG_HEIGHT, "the units look wrong");
         assert_says(&d, MM_DIAG_HEIGHT, "scale");
-        finish(&t);
+        test_takes_free(&t);
     }
 }
 
@@ -278,9 +230,9 @@ static void test_postures(void **state)
 {
     (void)state;
     for (int which = 0; which < 2; ++which) {
-        takes t;
-        start(&t);
-        mm_clip *take = add_clip(&t, "take", MM_CLIP_LOCOMOTION);
+        test_takes t;
+        test_takes_start(&t);
+        mm_clip *take = test_takes_add(&t, "take", MM_CLIP_LOCOMOTION);
         make_take(take, 10.0f, 0.0f, 1.0f, NULL, 1.0f, "LeftHand", "RightHand");
         for (int f = 150; f < 270; ++f) { /* 4 s of 10 */
             if (which == 0) {
@@ -302,7 +254,7 @@ static void test_postures(void **state)
         diagnose(&t, 0, &d);
         assert_int_equal(count_of(&d, code), 0);
         assert_true(d.posture_share[which] == 0.0f);
-        finish(&t);
+        test_takes_free(&t);
     }
 }
 

@@ -190,18 +190,41 @@ static void test_reference_height(void **state)
     assert_near(mm_posture_stature(&r), 2.0, 1e-6);
 }
 
-/* Runs a..: a string of posture letters (u c b l t) through the flicker removal. */
-static void flicker(const char *in, int min_frames, const char *want)
+/* The posture letters: upright, crouched, bent, lying, calibration (t), arms spread, hand raised,
+ * knee raised. */
+static const char LETTERS[MM_POSTURE_COUNT + 1] = "ucbltahk";
+
+/* Runs a string of posture letters through the flicker removal: with min_frames for every posture,
+ * or with each[posture] when each is not NULL. */
+static void flicker_with(const char *in, int min_frames, const int *each, const char *want)
 {
-    const char *letters = "ucblt";
     uint8_t p[256];
     int n = (int)strlen(in);
-    for (int i = 0; i < n; ++i) p[i] = (uint8_t)(strchr(letters, in[i]) - letters);
-    mm_posture_remove_flicker(p, n, min_frames);
+    for (int i = 0; i < n; ++i) p[i] = (uint8_t)(strchr(LETTERS, in[i]) - LETTERS);
+    if (each)
+        mm_posture_remove_flicker_each(p, n, each);
+    else
+        mm_posture_remove_flicker(p, n, min_frames);
     char got[257];
-    for (int i = 0; i < n; ++i) got[i] = letters[p[i]];
+    for (int i = 0; i < n; ++i) got[i] = LETTERS[p[i]];
     got[n] = 0;
     assert_string_equal(got, want);
+}
+
+/* Every posture's minimum all, but posture p's its. */
+static void minima_but(int all, mm_posture p, int its, int each[MM_POSTURE_COUNT])
+{
+    for (int k = 0; k < MM_POSTURE_COUNT; ++k) each[k] = all;
+    each[p] = its;
+}
+
+static void flicker(const char *in, int min_frames, const char *want)
+{
+    flicker_with(in, min_frames, NULL, want);
+    /* a minimum for each posture, all the same, is the one minimum */
+    int each[MM_POSTURE_COUNT];
+    minima_but(min_frames, MM_POSTURE_UPRIGHT, min_frames, each);
+    flicker_with(in, 0, each, want);
 }
 
 static void test_flicker(void **state)
@@ -230,12 +253,36 @@ static void test_flicker(void **state)
     flicker("", 4, "");
 }
 
+/* A minimum for each posture: the hands spread wide kept however brief (a minimum of 1) while the
+ * others need 4 frames; a crouch needing 6 frames where a stoop needs 2. */
+static void test_flicker_each(void **state)
+{
+    (void)state;
+    int arms[MM_POSTURE_COUNT];
+    minima_but(4, MM_POSTURE_ARMS_SPREAD, 1, arms);
+    /* a frame of arms spread stays, at the start, in the middle and at the end */
+    flicker_with("uuuuuuauuuuuu", 0, arms, "uuuuuuauuuuuu");
+    flicker_with("aauuuuu", 0, arms, "aauuuuu");
+    flicker_with("uuuuuua", 0, arms, "uuuuuua");
+    /* a short run after it takes it, as a short run takes the run before; one before it goes to
+     * the run before that */
+    flicker_with("uuuuaahuuuu", 0, arms, "uuuuaaauuuu");
+    flicker_with("uuuucauuuu", 0, arms, "uuuuuauuuu");
+    /* under the one minimum the brief arms spread goes too */
+    flicker("uuuuaahuuuu", 4, "uuuuuuuuuuu");
+    int crouch[MM_POSTURE_COUNT];
+    minima_but(2, MM_POSTURE_CROUCHED, 6, crouch);
+    flicker_with("uuuuccccccuuuu", 0, crouch, "uuuuccccccuuuu");
+    flicker_with("uuuuccccuuuu", 0, crouch, "uuuuuuuuuuuu");
+    flicker_with("uuuubbbuuuu", 0, crouch, "uuuubbbuuuu");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_poses),     cmocka_unit_test(test_knee_raised),
         cmocka_unit_test(test_find_legs), cmocka_unit_test(test_reference_height),
-        cmocka_unit_test(test_flicker),
+        cmocka_unit_test(test_flicker),   cmocka_unit_test(test_flicker_each),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

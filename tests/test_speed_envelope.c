@@ -13,35 +13,18 @@
 #include <mm/speed_envelope.h>
 #include <mm/trajectory.h>
 
+#include "test_takes.h"
 #include "test_util.h"
 
 #define FPS   30.0f
 #define SPEED 1e-3f /* m/s: speeds measured from finite differences of float positions */
-
-static void make_skeleton(mm_skeleton *s)
-{
-    assert_int_equal(mm_skeleton_init(s, 9, NULL), MM_OK);
-    const char *names[9] = {"Hips",     "Spine2",  "Head",      "LeftHand", "RightHand",
-                            "LeftFoot", "LeftToe", "RightFoot", "RightToe"};
-    const int parents[9] = {-1, 0, 1, 1, 1, 0, 5, 0, 7};
-    const float off[9][3] = {{0, 1, 0},          {0, 0.3f, 0},       {0, 0.25f, 0},
-                             {0.2f, -0.45f, 0},  {-0.2f, -0.45f, 0}, {0.1f, -0.9f, 0},
-                             {0, -0.05f, 0.15f}, {-0.1f, -0.9f, 0},  {0, -0.05f, 0.15f}};
-    for (int j = 0; j < 9; ++j) {
-        snprintf(s->joints[j].name, MM_NAME_MAX, "%s", names[j]);
-        s->joints[j].parent = parents[j];
-        s->joints[j].offset = mm_vec3_make(off[j][0], off[j][1], off[j][2]);
-        s->joints[j].order = MM_EULER_ZYX;
-    }
-    s->joints[0].flags = MM_JOINT_TRANSLATES;
-}
 
 /* A take of `seconds` whose hips move at `speed` m/s in `degrees` from forward (+Z) toward the
  * left (+X), facing +Z throughout. */
 static void make_take(mm_clip *clip, float seconds, float speed, float degrees)
 {
     mm_skeleton s;
-    make_skeleton(&s);
+    test_take_skeleton(&s);
     int frames = (int)lroundf(seconds * FPS) + 1;
     assert_int_equal(mm_clip_init(clip, &s, frames, FPS, NULL), MM_OK);
     mm_skeleton_free(&s);
@@ -51,42 +34,22 @@ static void make_take(mm_clip *clip, float seconds, float speed, float degrees)
 }
 
 enum { TAKES = 6 };
-typedef struct takes {
-    mm_clip clips[TAKES];
-    mm_config cfg;
-} takes;
 
 /* Forward 1.2 m/s (4 s), left 0.4 (4 s), backward 0.8 (4 s), forward-right (45 degrees right)
  * 0.7 (4 s); a burst to the right at 2 m/s and one forward at 3 m/s, each 0.3 s (too short to
  * count: fewer than MM_SPEED_ENVELOPE_COVER_SECONDS of frames). */
-static void make_takes(takes *t)
+static void make_takes(test_takes *t)
 {
-    memset(t, 0, sizeof *t);
-    mm_config_defaults(&t->cfg);
-    t->cfg.scale = 1.0f;
-    t->cfg.root_smoothing = 0.0f;
-    t->cfg.clips = calloc(TAKES, sizeof(mm_config_clip));
+    test_takes_start(t);
     const char *names[TAKES] = {"forward", "left", "backward", "diagonal", "burst_right", "burst_forward"};
     const float seconds[TAKES] = {4, 4, 4, 4, 0.3f, 0.3f},
                 speeds[TAKES] = {1.2f, 0.4f, 0.8f, 0.7f, 2.0f, 3.0f},
                 degrees[TAKES] = {0, 90, 180, -45, -90, 0};
-    for (int i = 0; i < TAKES; ++i) {
-        mm_config_clip *c = &t->cfg.clips[i];
-        snprintf(c->name, MM_NAME_MAX, "%s", names[i]);
-        snprintf(c->file, MM_PATH_MAX, "%s.bvh", names[i]);
-        c->type = MM_CLIP_LOCOMOTION;
-        make_take(&t->clips[i], seconds[i], speeds[i], degrees[i]);
-    }
-    t->cfg.clip_count = TAKES;
+    for (int i = 0; i < TAKES; ++i)
+        make_take(test_takes_add(t, names[i], MM_CLIP_LOCOMOTION), seconds[i], speeds[i], degrees[i]);
 }
 
-static void free_takes(takes *t)
-{
-    for (int i = 0; i < t->cfg.clip_count; ++i) mm_clip_free(&t->clips[i]);
-    mm_config_free(&t->cfg);
-}
-
-static void build(takes *t, mm_database *db)
+static void build(test_takes *t, mm_database *db)
 {
     mm_error err;
     memset(&err, 0, sizeof err);
@@ -110,7 +73,7 @@ static void assert_envelope(const float *speeds, const float *want)
 static void test_measured(void **state)
 {
     (void)state;
-    takes t;
+    test_takes t;
     make_takes(&t);
     mm_database db;
     build(&t, &db);
@@ -140,7 +103,7 @@ static void test_measured(void **state)
     assert_envelope(env[MM_GAIT_WALK].speeds, walk);
     assert_envelope(env[MM_GAIT_RUN].speeds, expected);
     mm_database_free(&db);
-    free_takes(&t);
+    test_takes_free(&t);
 }
 
 /* A trajectory bounded by the hand-made envelope, every gait speed 2 m/s (a circle: the direction
@@ -240,7 +203,7 @@ static void test_bounded(void **state)
 static void test_file_and_desc(void **state)
 {
     (void)state;
-    takes t;
+    test_takes t;
     make_takes(&t);
     mm_database db;
     build(&t, &db);
@@ -283,7 +246,7 @@ static void test_file_and_desc(void **state)
     assert_false(d.trajectory.bounded);
     assert_envelope(db.settings->envelope[MM_GAIT_WALK], expected);
     mm_database_free(&db);
-    free_takes(&t);
+    test_takes_free(&t);
 }
 
 int main(void)

@@ -126,6 +126,18 @@ static int joint(const mm_database *db, const char *name)
     return -1;
 }
 
+/* The joints the posture judgement reads, found as the build finds them: the hips, the head and
+ * the hands by name, each leg's knee and thigh up from its foot (mm_posture_find_legs). */
+static mm_posture_joints posture_joints_of(const mm_database *db)
+{
+    mm_posture_joints pj = {joint(db, "Hips"),      joint(db, "Head"), joint(db, "LeftHand"),
+                            joint(db, "RightHand"), {-1, -1},          {-1, -1}};
+    const mm_skeleton rest = {.joint_count = db->joint_count,
+                              .joints = (mm_joint *)(uintptr_t)db->joints}; /* only read */
+    assert_int_equal(mm_posture_find_legs(&rest, joint(db, "LeftFoot"), joint(db, "RightFoot"), &pj), 2);
+    return pj;
+}
+
 /* The made clip: an idle loop named after the frame it holds, every frame that frame's pose
  * (the source clip's frame, found again by its time), upright, all four heel and toe contacts
  * planted; its mirror; the report and the diagnosis name it. */
@@ -156,12 +168,7 @@ static void check_made_clip(const mm_database *db, const mm_db_build_report *rep
     /* upright by the build's reference, both feet at the ground, side by side */
     mm_vec3 w[MM_MAX_JOINTS];
     world_of(db, k->first_frame, w);
-    mm_posture_joints pj = {joint(db, "Hips"),
-                            joint(db, "Head"),
-                            joint(db, "LeftHand"),
-                            joint(db, "RightHand"),
-                            {joint(db, "LeftLeg"), joint(db, "RightLeg")},
-                            {joint(db, "LeftUpLeg"), joint(db, "RightUpLeg")}};
+    mm_posture_joints pj = posture_joints_of(db);
     mm_posture_reference ref = {report->reference_head_height};
     assert_int_equal(mm_posture_classify(w, &pj, w[0].y, &ref), MM_POSTURE_UPRIGHT);
     int lf = joint(db, "LeftFoot"), rf = joint(db, "RightFoot");
@@ -202,12 +209,7 @@ static void check_made_clip(const mm_database *db, const mm_db_build_report *rep
 static int check_every_made_clip(const mm_database *db, const mm_db_build_report *report)
 {
     int made = 0, first = -1, jc = db->joint_count;
-    mm_posture_joints pj = {joint(db, "Hips"),
-                            joint(db, "Head"),
-                            joint(db, "LeftHand"),
-                            joint(db, "RightHand"),
-                            {joint(db, "LeftLeg"), joint(db, "RightLeg")},
-                            {joint(db, "LeftUpLeg"), joint(db, "RightUpLeg")}};
+    mm_posture_joints pj = posture_joints_of(db);
     mm_posture_reference ref = {report->reference_head_height};
     mm_vec3 w[MM_MAX_JOINTS];
     for (int c = 0; c < db->clip_count; ++c) {

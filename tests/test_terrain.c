@@ -365,6 +365,21 @@ static void test_feet_on_a_20_degree_slope(void **state)
     mm_searcher_free(&searcher);
 }
 
+/* scene: stairs up along +Z, 4 m wide, of steps treads riser high and run_length deep from z =
+ * start, on level ground; the treads' heights checked by hand on the stairs' middle line (a
+ * step's count times the riser). */
+static void build_stairs(int steps, float riser, float run_length, float start)
+{
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
+                                         mm_vec3_make(4, steps * riser, steps * run_length), 0.0f, steps),
+                     MM_OK);
+    for (int i = 0; i < steps; ++i) {
+        float z = start + ((float)i + 0.5f) * run_length;
+        assert_float_equal(mm_scene_ground_height(&scene, 0.0f, z, NULL), (float)(i + 1) * riser, 1e-4f);
+    }
+}
+
 /* Walking up stairs of risers and runs the shipped scenes do not have (0.15 m over 0.28 m, 50
  * steps; the treads' heights checked by hand: a step's count times the riser): the planted feet
  * stand on one tread, their ankle and toe over the same tread on at least 90% of the planted ticks
@@ -377,17 +392,7 @@ static void test_feet_on_stairs(void **state)
     (void)state;
     mm_searcher searcher;
     assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
-    const int steps = 50;
-    const float riser = 0.15f, run_length = 0.28f, start = 1.0f;
-    mm_scene_init(&scene, 0.0f);
-    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
-                                         mm_vec3_make(4, steps * riser, steps * run_length), 0.0f, steps),
-                     MM_OK);
-    /* the ground by hand on the stairs' middle line */
-    for (int i = 0; i < steps; ++i) {
-        float z = start + ((float)i + 0.5f) * run_length;
-        assert_float_equal(mm_scene_ground_height(&scene, 0.0f, z, NULL), (float)(i + 1) * riser, 1e-4f);
-    }
+    build_stairs(50, 0.15f, 0.28f, 1.0f);
     mm_scene_init(&again, 0.25f);
     planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
     planted_feet stairs = walk_planted(&searcher, &scene, 0.0f, &flat);
@@ -446,16 +451,7 @@ static void test_trailing_foot_reached_up_stairs(void **state)
     (void)state;
     mm_searcher searcher;
     assert_int_equal(mm_searcher_init(&searcher, &db, NULL, NULL), MM_OK);
-    const int steps = 60;
-    const float riser = 0.17f, run_length = 0.30f, start = 2.0f;
-    mm_scene_init(&scene, 0.0f);
-    assert_int_equal(mm_scene_add_stairs(&scene, mm_vec3_make(0, 0, start + 0.5f * steps * run_length),
-                                         mm_vec3_make(4, steps * riser, steps * run_length), 0.0f, steps),
-                     MM_OK);
-    for (int i = 0; i < steps; ++i) {
-        float z = start + ((float)i + 0.5f) * run_length;
-        assert_float_equal(mm_scene_ground_height(&scene, 0.0f, z, NULL), (float)(i + 1) * riser, 1e-4f);
-    }
+    build_stairs(60, 0.17f, 0.30f, 2.0f);
     mm_scene_init(&again, 0.25f);
     planted_feet flat = walk_planted(&searcher, &again, 0.0f, NULL);
     planted_feet up = walk_planted(&searcher, &scene, 0.0f, &flat);

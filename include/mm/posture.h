@@ -18,8 +18,9 @@
  * (mm_posture_find_arms), not by mm_posture_classify.
  *
  * Functions: mm_posture_name mm_posture_reference_height mm_posture_stature mm_posture_classify
- *            mm_posture_arms_out mm_posture_remove_flicker mm_posture_find_arms mm_posture_find_legs
- *            mm_posture_thigh_sine mm_posture_a_pose_shape mm_posture_find_a_poses
+ *            mm_posture_arms_out mm_posture_remove_flicker mm_posture_remove_flicker_each
+ *            mm_posture_find_arms mm_posture_find_legs mm_posture_thigh_sine mm_posture_a_pose_shape
+ *            mm_posture_find_a_poses
  */
 #ifndef MM_POSTURE_H
 #define MM_POSTURE_H
@@ -166,6 +167,10 @@ int mm_posture_find_a_poses(const mm_vec3 *world, int n, int stride, float fps, 
 /* Runs of one posture shorter than min_frames take the posture of the run before them (the run
  * after, at the start): a pose that dips under a threshold for a few frames is not a crouch. */
 void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames);
+
+/* The same with a minimum for each posture: runs of posture p shorter than min_frames[p] are
+ * flicker (a minimum of 1 or less keeps every run of p, however brief). */
+void mm_posture_remove_flicker_each(uint8_t *postures, int n, const int min_frames[MM_POSTURE_COUNT]);
 
 #ifdef __cplusplus
 }

@@ -113,6 +113,14 @@ static mm_posture_joints joints_of(const mm_config *cfg, const mm_skeleton *s)
     return j;
 }
 
+/* The shortest run of each posture that is not flicker at fps: MM_POSTURE_MIN_SECONDS, but the
+ * hands spread wide are seen however briefly (an arm flung out in a hop): those frames stay out. */
+static void flicker_min_frames(float fps, int min_frames[MM_POSTURE_COUNT])
+{
+    for (int p = 0; p < MM_POSTURE_COUNT; ++p) min_frames[p] = (int)lroundf(MM_POSTURE_MIN_SECONDS * fps);
+    min_frames[MM_POSTURE_ARMS_SPREAD] = 1;
+}
+
 /* Pass 1: the head's heights over every judged frame; pass 2 (heights NULL): the postures. */
 static mm_result judge(const mm_config *cfg, const mm_clip *sources, mm__postures *p, float *heights,
                        int *height_count, mm_error *err)
@@ -138,13 +146,9 @@ static mm_result judge(const mm_config *cfg, const mm_clip *sources, mm__posture
             mm_posture_reference ref = {p->reference_head_height};
             for (int f = 0; f < c->frame_count; ++f)
                 post[f] = (uint8_t)mm_posture_classify(w + (size_t)f * (size_t)jc, &j, ground, &ref);
-            mm_posture_remove_flicker(post, c->frame_count, (int)lroundf(MM_POSTURE_MIN_SECONDS * c->fps));
-            /* the hands spread wide are seen however briefly (an arm flung out in a hop): those
-             * frames stay out, flicker or not */
-            for (int f = 0; f < c->frame_count; ++f)
-                if (mm_posture_classify(w + (size_t)f * (size_t)jc, &j, ground, &ref) ==
-                    MM_POSTURE_ARMS_SPREAD)
-                    post[f] = MM_POSTURE_ARMS_SPREAD;
+            int min_frames[MM_POSTURE_COUNT];
+            flicker_min_frames(c->fps, min_frames);
+            mm_posture_remove_flicker_each(post, c->frame_count, min_frames);
             p->frames[ci] = post;
         }
         free(w);

@@ -81,13 +81,16 @@ mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *jo
     return MM_POSTURE_UPRIGHT;
 }
 
-void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames)
+/* Runs shorter than their minimum, each[posture] (any value under MM_POSTURE_COUNT) or all (each
+ * NULL, any value), take the posture before them (after them, at the start). */
+static void remove_short_runs(uint8_t *postures, int n, const int *each, int all)
 {
     /* one pass left to right: a short run takes the posture before it, which has been settled */
     for (int f = 0; f < n;) {
         int e = f;
         while (e < n && postures[e] == postures[f]) ++e;
-        if (e - f < min_frames && (f > 0 || e < n)) {
+        int shortest = !each ? all : postures[f] < MM_POSTURE_COUNT ? each[postures[f]] : 0;
+        if (e - f < shortest && (f > 0 || e < n)) {
             uint8_t to = f > 0 ? postures[f - 1] : postures[e];
             for (int k = f; k < e; ++k) postures[k] = to;
             if (f > 0) {
@@ -98,6 +101,16 @@ void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames)
         }
         f = e;
     }
+}
+
+void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames)
+{
+    remove_short_runs(postures, n, NULL, min_frames);
+}
+
+void mm_posture_remove_flicker_each(uint8_t *postures, int n, const int min_frames[MM_POSTURE_COUNT])
+{
+    remove_short_runs(postures, n, min_frames, 0);
 }
 
 /* The two joints up a limb from its end joint j: up[0] the first ancestor at least bone_min from j

@@ -187,6 +187,38 @@ static void about_turn_plan(clip_spec *s, float speed, float vel_h, float rot_h,
     s->angle = 2.0f * pi;
 }
 
+/* The shared times of a start, a stretch at speed and a stop (seconds). */
+#define GO_STOP_STAND_UNTIL 0.6f /* standing still until here */
+#define GO_STOP_MOVE_AT     1.1f /* moving off at the start speed */
+#define GO_STOP_HOLD_UNTIL  3.6f /* the speed held until here */
+#define GO_STOP_DURATION    6.0f
+
+/* What differs between them (seconds, m/s). */
+typedef struct go_stop_timing {
+    float start_speed;         /* at GO_STOP_MOVE_AT */
+    float go_at, speed;        /* up to speed */
+    float slow_at, slow_speed; /* slowed after GO_STOP_HOLD_UNTIL */
+    float stand_at;            /* standing again */
+} go_stop_timing;
+
+/* The plan of a start, a stretch at speed and a stop in one direction (stand, go, hold, slow,
+ * stand), the foot lead stepping first. */
+static void start_go_stop_plan(clip_spec *s, float direction, const go_stop_timing *g, int lead)
+{
+    s->plan.keys[0] = key(0.0f, 0, 0, direction, 0, 0, 0);
+    s->plan.keys[1] = key(GO_STOP_STAND_UNTIL, 0, 0, direction, 0, 0, 0);
+    s->plan.keys[2] = key(GO_STOP_MOVE_AT, g->start_speed, 0, direction, 0, 0, 1);
+    s->plan.keys[3] = key(g->go_at, g->speed, 0, direction, 0, 0, 1);
+    s->plan.keys[4] = key(GO_STOP_HOLD_UNTIL, g->speed, 0, direction, 0, 0, 1);
+    s->plan.keys[5] = key(g->slow_at, g->slow_speed, 0, direction, 0, 0, 1);
+    s->plan.keys[6] = key(g->stand_at, 0, 0, direction, 0, 0, 0);
+    s->plan.key_count = 7;
+    s->plan.duration = GO_STOP_DURATION;
+    s->plan.lead = lead;
+    s->speed = g->speed;
+    s->direction = direction;
+}
+
 static int build_specs(const synth_ctx *ctx, clip_spec *specs)
 {
     int n = 0;
@@ -347,36 +379,16 @@ static int build_specs(const synth_ctx *ctx, clip_spec *specs)
         float dir = side == 0 ? 0.5f * pi : -0.5f * pi;
         s = add_spec(specs, &n, MM_SYNTH_SIDESTEP);
         spec_name(s, side == 0 ? "sidestep_left" : "sidestep_right", 0, -1, NULL);
-        s->plan.keys[0] = key(0.0f, 0, 0, dir, 0, 0, 0);
-        s->plan.keys[1] = key(0.6f, 0, 0, dir, 0, 0, 0);
-        s->plan.keys[2] = key(1.1f, 0.2f, 0, dir, 0, 0, 1);
-        s->plan.keys[3] = key(1.8f, 0.5f, 0, dir, 0, 0, 1);
-        s->plan.keys[4] = key(3.6f, 0.5f, 0, dir, 0, 0, 1);
-        s->plan.keys[5] = key(4.4f, 0.15f, 0, dir, 0, 0, 1);
-        s->plan.keys[6] = key(4.9f, 0, 0, dir, 0, 0, 0);
-        s->plan.key_count = 7;
-        s->plan.duration = 6.0f;
-        s->plan.lead = side == 0 ? SYNTH_LEFT : SYNTH_RIGHT;
-        s->speed = 0.5f;
-        s->direction = dir;
+        const go_stop_timing sidestep = {0.2f, 1.8f, 0.5f, 4.4f, 0.15f, 4.9f};
+        start_go_stop_plan(s, dir, &sidestep, side == 0 ? SYNTH_LEFT : SYNTH_RIGHT);
     }
 
     /* Steps backward from standing and back to standing: the backward walk's start and stop
      * (without them a character standing, asked to walk backward, has no way into the walk). */
     s = add_spec(specs, &n, MM_SYNTH_SIDESTEP);
     spec_name(s, "backstep", 0, -1, NULL);
-    s->plan.keys[0] = key(0.0f, 0, 0, pi, 0, 0, 0);
-    s->plan.keys[1] = key(0.6f, 0, 0, pi, 0, 0, 0);
-    s->plan.keys[2] = key(1.1f, 0.3f, 0, pi, 0, 0, 1);
-    s->plan.keys[3] = key(1.9f, 1.0f, 0, pi, 0, 0, 1);
-    s->plan.keys[4] = key(3.6f, 1.0f, 0, pi, 0, 0, 1);
-    s->plan.keys[5] = key(4.5f, 0.2f, 0, pi, 0, 0, 1);
-    s->plan.keys[6] = key(5.0f, 0, 0, pi, 0, 0, 0);
-    s->plan.key_count = 7;
-    s->plan.duration = 6.0f;
-    s->plan.lead = SYNTH_LEFT;
-    s->speed = 1.0f;
-    s->direction = pi;
+    const go_stop_timing backstep = {0.3f, 1.9f, 1.0f, 4.5f, 0.2f, 5.0f};
+    start_go_stop_plan(s, pi, &backstep, SYNTH_LEFT);
 
     s = add_spec(specs, &n, MM_SYNTH_BACKWARD);
     spec_name(s, "walk_backward", 0, -1, NULL);
