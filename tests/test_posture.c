@@ -237,8 +237,13 @@ static void test_flicker(void **state)
     /* at the start a short run takes the run after; at the end the run before */
     flicker("ccuuuuuu", 4, "uuuuuuuu");
     flicker("uuuuuubb", 4, "uuuuuuuu");
-    /* short runs in a row all join the run before */
-    flicker("uuuucblcuuuu", 4, "uuuuuuuuuuuu");
+    /* short runs in a row, together as long as the minimum, are one spell away from upright: they
+     * settle among themselves (the first takes the run after it, and so on) and stay */
+    flicker("uuuucblcuuuu", 4, "uuuuccccuuuu");
+    /* a crouch that leans past the bent threshold for a few frames is one spell */
+    flicker("uuuuuuuuccccbbbbbcccuuuuuuuu", 8, "uuuuuuuubbbbbbbbbbbbuuuuuuuu");
+    /* together still short, they join the run before */
+    flicker("uuuucbluuuu", 4, "uuuuuuuuuuu");
     /* two short runs at the start: the first joins the second, which is then long enough */
     flicker("ccbbbuuuuu", 4, "bbbbbuuuuu");
     /* and when the two are still short together, both join the run after */
@@ -264,10 +269,9 @@ static void test_flicker_each(void **state)
     flicker_with("uuuuuuauuuuuu", 0, arms, "uuuuuuauuuuuu");
     flicker_with("aauuuuu", 0, arms, "aauuuuu");
     flicker_with("uuuuuua", 0, arms, "uuuuuua");
-    /* a short run after it takes it, as a short run takes the run before; one before it goes to
-     * the run before that */
+    /* a short run next to it, in the same spell away from upright, takes it */
     flicker_with("uuuuaahuuuu", 0, arms, "uuuuaaauuuu");
-    flicker_with("uuuucauuuu", 0, arms, "uuuuuauuuu");
+    flicker_with("uuuucauuuu", 0, arms, "uuuuaauuuu"); /* one spell with the arms spread */
     /* under the one minimum the brief arms spread goes too */
     flicker("uuuuaahuuuu", 4, "uuuuuuuuuuu");
     int crouch[MM_POSTURE_COUNT];

@@ -165,7 +165,10 @@ int mm_posture_find_a_poses(const mm_vec3 *world, int n, int stride, float fps, 
                             const mm_posture_reference *ref, uint8_t *out);
 
 /* Runs of one posture shorter than min_frames take the posture of the run before them (the run
- * after, at the start): a pose that dips under a threshold for a few frames is not a crouch. */
+ * after, at the start): a pose that dips under a threshold for a few frames is not a crouch. A
+ * spell of postures other than upright at least min_frames long (for the shortest run of any
+ * posture in it) is one spell: its short runs first take their neighbours' postures within it
+ * (a crouch that leans past the bent threshold for a few frames stays out of upright whole). */
 void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames);
 
 /* The same with a minimum for each posture: runs of posture p shorter than min_frames[p] are

@@ -1,4 +1,5 @@
 /* The posture of a pose from its world joint positions (mm/posture.h). */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -81,16 +82,21 @@ mm_posture mm_posture_classify(const mm_vec3 *world, const mm_posture_joints *jo
     return MM_POSTURE_UPRIGHT;
 }
 
-/* Runs shorter than their minimum, each[posture] (any value under MM_POSTURE_COUNT) or all (each
- * NULL, any value), take the posture before them (after them, at the start). */
-static void remove_short_runs(uint8_t *postures, int n, const int *each, int all)
+/* The shortest run of posture p that is not flicker: each[p] (any value under MM_POSTURE_COUNT), or
+ * all (each NULL, any value). */
+static int shortest_run(const int *each, int all, uint8_t p)
+{
+    return !each ? all : p < MM_POSTURE_COUNT ? each[p] : 0;
+}
+
+/* Runs shorter than their shortest_run take the posture before them (after them, at the start). */
+static void settle_runs(uint8_t *postures, int n, const int *each, int all)
 {
     /* one pass left to right: a short run takes the posture before it, which has been settled */
     for (int f = 0; f < n;) {
         int e = f;
         while (e < n && postures[e] == postures[f]) ++e;
-        int shortest = !each ? all : postures[f] < MM_POSTURE_COUNT ? each[postures[f]] : 0;
-        if (e - f < shortest && (f > 0 || e < n)) {
+        if (e - f < shortest_run(each, all, postures[f]) && (f > 0 || e < n)) {
             uint8_t to = f > 0 ? postures[f - 1] : postures[e];
             for (int k = f; k < e; ++k) postures[k] = to;
             if (f > 0) {
@@ -101,6 +107,27 @@ static void remove_short_runs(uint8_t *postures, int n, const int *each, int all
         }
         f = e;
     }
+}
+
+static void remove_short_runs(uint8_t *postures, int n, const int *each, int all)
+{
+    /* A spell away from upright as long as the shortest run of any posture in it is one spell: its
+     * short runs settle among themselves first, so that a crouch that leans past the bent threshold
+     * for a few frames stays out of upright whole instead of going as three flickers. */
+    for (int s = 0; s < n;) {
+        if (postures[s] == MM_POSTURE_UPRIGHT) {
+            ++s;
+            continue;
+        }
+        int e = s, need = INT_MAX;
+        for (; e < n && postures[e] != MM_POSTURE_UPRIGHT; ++e) {
+            int shortest = shortest_run(each, all, postures[e]);
+            if (shortest < need) need = shortest;
+        }
+        if (e - s >= need) settle_runs(postures + s, e - s, each, all);
+        s = e;
+    }
+    settle_runs(postures, n, each, all);
 }
 
 void mm_posture_remove_flicker(uint8_t *postures, int n, int min_frames)
