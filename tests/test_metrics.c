@@ -242,6 +242,38 @@ static void test_pop(void **state)
     motion_metrics_free(&m);
 }
 
+static void test_response(void **state)
+{
+    (void)state;
+    /* at 60 fps, moving +Z at 1 m/s; the stick turns to +X at frame 30 (0.5 s): the simulated path
+     * moves +X from that frame on, the root from frame 48 (0.8 s). Each response counts from the
+     * turn to the end of the first frame that moves the new way: 1/60 s and 0.3 + 1/60 s. */
+    motion_metrics m;
+    start(&m, 90);
+    mm_input in;
+    memset(&in, 0, sizeof in);
+    mm_vec3 sim = mm_vec3_make(0, 0, 0), root = sim, w[N];
+    for (int f = 0; f < 90; ++f) {
+        int turned = f >= 30;
+        in.stick[0] = turned ? 1.0f : 0.0f;
+        in.stick[1] = turned ? 0.0f : 1.0f;
+        mm_vec3 desired = turned ? mm_vec3_make(1, 0, 0) : mm_vec3_make(0, 0, 1);
+        motion_metrics_input(&m, f / FPS, &in, desired);
+        const float step = (float)(1.0 / FPS);
+        if (f > 0) {
+            sim = mm_vec3_add(sim, turned ? mm_vec3_make(step, 0, 0) : mm_vec3_make(0, 0, step));
+            root = mm_vec3_add(root, f >= 48 ? mm_vec3_make(step, 0, 0) : mm_vec3_make(0, 0, step));
+        }
+        stand(w, 0.0f, 0);
+        motion_metrics_frame(&m, f / FPS, w, 0, NULL, sim, 0.0f, root, 0.0f, 1.0f);
+    }
+    assert_int_equal(m.response_sim.count, 1);
+    assert_near(m.response_sim.sum, 1.0 / FPS, 1e-6);
+    assert_int_equal(m.response_root.count, 1);
+    assert_near(m.response_root.sum, 0.3 + 1.0 / FPS, 1e-6);
+    motion_metrics_free(&m);
+}
+
 static void test_worst_slide(void **state)
 {
     (void)state;
@@ -480,12 +512,19 @@ static void test_database(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_below_ground), cmocka_unit_test(test_calibration),
-        cmocka_unit_test(test_hand_raised),  cmocka_unit_test(test_knee_raised),
-        cmocka_unit_test(test_pop),          cmocka_unit_test(test_worst_slide),
-        cmocka_unit_test(test_pop_p99),      cmocka_unit_test(test_contact_share),
-        cmocka_unit_test(test_slide_height), cmocka_unit_test(test_posture_seconds),
-        cmocka_unit_test(test_database),     cmocka_unit_test(test_foot_float),
+        cmocka_unit_test(test_below_ground),
+        cmocka_unit_test(test_calibration),
+        cmocka_unit_test(test_hand_raised),
+        cmocka_unit_test(test_knee_raised),
+        cmocka_unit_test(test_pop),
+        cmocka_unit_test(test_worst_slide),
+        cmocka_unit_test(test_response),
+        cmocka_unit_test(test_pop_p99),
+        cmocka_unit_test(test_contact_share),
+        cmocka_unit_test(test_slide_height),
+        cmocka_unit_test(test_posture_seconds),
+        cmocka_unit_test(test_database),
+        cmocka_unit_test(test_foot_float),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -63,9 +63,12 @@ void motion_metrics_input(motion_metrics *m, double t, const mm_input *in, mm_ve
     if (stick_on && m->had_stick && mm_vec3_length(desired) > 0.5f &&
         fabsf(remainderf(stick_direction - m->last_stick_direction, (float)(2 * MM_PI))) >
             (float)(MM_PI / 4)) {
-        m->pending = 1;
-        m->pending_direction = atan2f(desired.x, desired.z);
-        m->pending_since = (float)t;
+        motion_metrics_response *r[2] = {&m->response_root, &m->response_sim};
+        for (int k = 0; k < 2; ++k) {
+            r[k]->pending = 1;
+            r[k]->direction = atan2f(desired.x, desired.z);
+            r[k]->since = (float)t;
+        }
     }
     if (stick_on) m->last_stick_direction = stick_direction;
     m->had_stick = stick_on;
@@ -241,6 +244,21 @@ void motion_metrics_pose(motion_metrics *m, const mm_vec3 *world)
     pose_frame(m, m->frames++, world);
 }
 
+/* Frame f at time t: the point p moved since the frame before; a pending turn ends once it moves
+ * within 20 degrees of the turn's direction. */
+static void response_step(motion_metrics_response *r, long f, double t, double fps, mm_vec3 p)
+{
+    mm_vec3 v = mm_vec3_sub(p, f == 0 ? p : r->previous);
+    r->previous = p;
+    if (!r->pending || !(v.x * v.x + v.z * v.z > 1e-10)) return;
+    float a = fabsf(remainderf(atan2f(v.x, v.z) - r->direction, (float)(2 * MM_PI)));
+    if (a < (float)(20 * MM_DEG_TO_RAD)) {
+        r->sum += t + 1.0 / fps - r->since;
+        ++r->count;
+        r->pending = 0;
+    }
+}
+
 void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, unsigned contacts,
                           const mm_vec3 *raw_contacts, mm_vec3 sim_position, float sim_yaw, mm_vec3 root,
                           float root_yaw, float frame_us)
@@ -312,16 +330,8 @@ void motion_metrics_frame(motion_metrics *m, double t, const mm_vec3 *world, uns
     mm_vec3 e = mm_vec3_sub(sim_position, root);
     m->traj_err += 100.0 * sqrt(e.x * e.x + e.z * e.z);
     m->heading_err += fabs(remainderf(sim_yaw - root_yaw, (float)(2 * MM_PI))) * MM_RAD_TO_DEG;
-    mm_vec3 v = mm_vec3_sub(root, f == 0 ? root : m->previous_root);
-    m->previous_root = root;
-    if (m->pending && v.x * v.x + v.z * v.z > 1e-10) {
-        float a = fabsf(remainderf(atan2f(v.x, v.z) - m->pending_direction, (float)(2 * MM_PI)));
-        if (a < (float)(20 * MM_DEG_TO_RAD)) {
-            m->response_sum += t + 1.0 / m->fps - m->pending_since;
-            ++m->responses;
-            m->pending = 0;
-        }
-    }
+    response_step(&m->response_root, f, t, m->fps, root);
+    response_step(&m->response_sim, f, t, m->fps, sim_position);
     if (f < m->frame_capacity) m->frame_us[f] = frame_us;
 }
 
@@ -510,6 +520,8 @@ int motion_metrics_summary(const motion_metrics *m, motion_metrics_seen *out)
     return 0;
 }
 
+static double response_mean(const motion_metrics_response *r) { return r->count ? r->sum / r->count : NAN; }
+
 void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_extra *x)
 {
     long frames = m->frames < m->frame_capacity ? m->frames : m->frame_capacity;
@@ -527,7 +539,8 @@ void motion_metrics_write_json(motion_metrics *m, FILE *f, const motion_metrics_
     json_number(f, "foot_slide_raw_cm_s", m->slide_frames > 0 ? m->raw_sum / m->slide_frames : NAN, 0);
     json_number(f, "traj_err_cm", m->traj_err / n, 0);
     json_number(f, "heading_err_deg", m->heading_err / n, 0);
-    json_number(f, "response_s", m->responses ? m->response_sum / m->responses : NAN, 0);
+    json_number(f, "response_s", response_mean(&m->response_root), 0);
+    json_number(f, "response_sim_s", response_mean(&m->response_sim), 0);
     json_number(f, "max_pop_cm", m->max_pop, 0);
     json_number(f, "db_max_pop_cm", x->db_max_pop_cm, 0);
     json_number(f, "searches", x->searches, 0);

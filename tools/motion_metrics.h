@@ -46,6 +46,14 @@ typedef struct motion_metrics_worst {
 /* s: the window the worst stretch of labelled slide is found over */
 #define MOTION_METRICS_SLIDE_WINDOW 1.0
 
+/* The time a point takes to move the way a sharp stick turn asks, as it accumulates. */
+typedef struct motion_metrics_response {
+    double sum;
+    int count, pending;
+    float direction, since; /* the turn's desired direction (yaw) and when it came */
+    mm_vec3 previous;       /* the point on the frame before */
+} motion_metrics_response;
+
 typedef struct motion_metrics {
     int joint_count;
     const mm_joint *joints; /* their names in "where" (NULL: joint indices) */
@@ -56,11 +64,11 @@ typedef struct motion_metrics {
     long frames;
     double slide_sum, slide_frames, raw_sum, traj_err, heading_err, max_pop;
     int nan_frames;
-    /* response: time from a sharp stick turn to the root moving within 20 degrees of it */
-    double response_sum;
-    int responses, pending, had_stick;
-    float pending_direction, pending_since, last_stick_direction;
-    mm_vec3 previous_root;
+    /* response: time from a sharp stick turn to the root (and, apart, the simulated path) moving
+     * within 20 degrees of it */
+    motion_metrics_response response_root, response_sim;
+    int had_stick;
+    float last_stick_direction;
     /* per-frame controller cost and search times (us), kept for medians */
     float *frame_us, *search_us;
     long frame_capacity, search_count;
