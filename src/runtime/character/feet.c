@@ -356,6 +356,30 @@ static float step_lift(mm_feet *f, int k, bool free, float dt)
     return f->step_lift[k];
 }
 
+/* a free foot whose contact comes within foot_halflife times this many half-lives catches up with its
+ * animated place on the ground plane faster: its offset's half-life there is the time left over this
+ * many (nearly gone by its landing), at least SWING_CATCH_UP_MIN_HALFLIFE */
+#define SWING_CATCH_UP_HALFLIVES    3.0f
+#define SWING_CATCH_UP_MIN_HALFLIFE 0.08f
+/* m: only an offset this far from the animated place on the ground plane is caught up faster */
+#define SWING_CATCH_UP_FROM 0.2f
+
+/* Free foot k's offset on the ground plane (*offset, *velocity: before this tick's decay) decayed
+ * so that little of it is left by its contact in `left` s: the foot is planted near where the
+ * animation plants it, not where a transition's offset or a released lock left it (planted there,
+ * the hips come down and the legs spread to reach it). Returns whether it did (only where faster
+ * than foot_halflife). */
+static bool swing_catch_up(mm_vec3 *offset, mm_vec3 *velocity, float left, float foot_halflife, float dt)
+{
+    if (!(left > 0.0f) || !(sqrtf(offset->x * offset->x + offset->z * offset->z) > SWING_CATCH_UP_FROM))
+        return false;
+    float halflife = fmaxf(left / SWING_CATCH_UP_HALFLIVES, SWING_CATCH_UP_MIN_HALFLIFE);
+    if (!(halflife < foot_halflife)) return false;
+    mm_spring_step step = mm_spring_step_make(halflife, dt);
+    mm_spring_decay_vec3_step(offset, velocity, &step);
+    return true;
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -419,7 +443,13 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
     mm_vec3 below = {f->offset[k].y, 0, 0}, below_velocity = {f->offset_velocity[k].y, 0, 0};
+    mm_vec3 along = f->offset[k], along_velocity = f->offset_velocity[k];
     mm_spring_decay_vec3_step(&f->offset[k], &f->offset_velocity[k], foot_step);
+    if (!was_locked && f->placed &&
+        swing_catch_up(&along, &along_velocity, contacts->until_contact[k], d->foot_halflife, dt)) {
+        f->offset[k].x = along.x, f->offset[k].z = along.z;
+        f->offset_velocity[k].x = along_velocity.x, f->offset_velocity[k].z = along_velocity.z;
+    }
     if (!was_locked && below.x < 0.0f) { /* free and held down: lifts off as animated */
         mm_spring_decay_vec3_step(&below, &below_velocity, lift_step);
         f->offset[k].y = below.x, f->offset_velocity[k].y = below_velocity.x;
