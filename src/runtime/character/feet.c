@@ -356,28 +356,34 @@ static float step_lift(mm_feet *f, int k, bool free, float dt)
     return f->step_lift[k];
 }
 
-/* a free foot whose contact comes within foot_halflife times this many half-lives catches up with its
- * animated place on the ground plane faster: its offset's half-life there is the time left over this
- * many (nearly gone by its landing), at least SWING_CATCH_UP_MIN_HALFLIFE */
+/* a free foot whose contact is coming catches up with its animated place on the ground plane faster
+ * than foot_halflife: its offset there fades with the half-life of the time left over this many (little
+ * of it left by its landing), at least SWING_CATCH_UP_MIN_HALFLIFE */
 #define SWING_CATCH_UP_HALFLIVES    3.0f
 #define SWING_CATCH_UP_MIN_HALFLIFE 0.08f
-/* m: only an offset this far from the animated place on the ground plane is caught up faster */
+/* m: an offset on the ground plane of this length is caught up as by foot_halflife alone, one
+ * SWING_CATCH_UP_RAMP longer wholly as above, one between in proportion (a threshold would part
+ * two runs whose offsets differ in their last bit) */
 #define SWING_CATCH_UP_FROM 0.2f
+#define SWING_CATCH_UP_RAMP 0.1f
 
-/* Free foot k's offset on the ground plane (*offset, *velocity: before this tick's decay) decayed
- * so that little of it is left by its contact in `left` s: the foot is planted near where the
- * animation plants it, not where a transition's offset or a released lock left it (planted there,
- * the hips come down and the legs spread to reach it). Returns whether it did (only where faster
- * than foot_halflife). */
-static bool swing_catch_up(mm_vec3 *offset, mm_vec3 *velocity, float left, float foot_halflife, float dt)
+/* Free foot k's offset on the ground plane after this tick's decay (*offset, *velocity: on entry
+ * decayed by foot_halflife, from `before`, `before_velocity`), faster where it is long and its contact
+ * comes in `left` s: the foot is planted nearer where the animation plants it, not where a
+ * transition's offset or a released lock left it (planted there, the hips come down and the legs
+ * spread to reach it). */
+static void swing_catch_up(mm_vec3 *offset, mm_vec3 *velocity, mm_vec3 before, mm_vec3 before_velocity,
+                           float left, float foot_halflife, float dt)
 {
-    if (!(left > 0.0f) || !(sqrtf(offset->x * offset->x + offset->z * offset->z) > SWING_CATCH_UP_FROM))
-        return false;
+    float length = sqrtf(before.x * before.x + before.z * before.z);
+    float share = fminf(fmaxf((length - SWING_CATCH_UP_FROM) / SWING_CATCH_UP_RAMP, 0.0f), 1.0f);
     float halflife = fmaxf(left / SWING_CATCH_UP_HALFLIVES, SWING_CATCH_UP_MIN_HALFLIFE);
-    if (!(halflife < foot_halflife)) return false;
+    if (!(left > 0.0f) || !(share > 0.0f) || !(halflife < foot_halflife)) return;
     mm_spring_step step = mm_spring_step_make(halflife, dt);
-    mm_spring_decay_vec3_step(offset, velocity, &step);
-    return true;
+    mm_spring_decay_vec3_step(&before, &before_velocity, &step);
+    offset->x += share * (before.x - offset->x), offset->z += share * (before.z - offset->z);
+    velocity->x += share * (before_velocity.x - velocity->x);
+    velocity->z += share * (before_velocity.z - velocity->z);
 }
 
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
@@ -445,11 +451,9 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     mm_vec3 below = {f->offset[k].y, 0, 0}, below_velocity = {f->offset_velocity[k].y, 0, 0};
     mm_vec3 along = f->offset[k], along_velocity = f->offset_velocity[k];
     mm_spring_decay_vec3_step(&f->offset[k], &f->offset_velocity[k], foot_step);
-    if (!was_locked && f->placed &&
-        swing_catch_up(&along, &along_velocity, contacts->until_contact[k], d->foot_halflife, dt)) {
-        f->offset[k].x = along.x, f->offset[k].z = along.z;
-        f->offset_velocity[k].x = along_velocity.x, f->offset_velocity[k].z = along_velocity.z;
-    }
+    if (!was_locked && f->placed)
+        swing_catch_up(&f->offset[k], &f->offset_velocity[k], along, along_velocity,
+                       contacts->until_contact[k], d->foot_halflife, dt);
     if (!was_locked && below.x < 0.0f) { /* free and held down: lifts off as animated */
         mm_spring_decay_vec3_step(&below, &below_velocity, lift_step);
         f->offset[k].y = below.x, f->offset_velocity[k].y = below_velocity.x;
