@@ -981,6 +981,56 @@ static void test_feet_released_foot_steps(void **state)
     }
 }
 
+/* A foot let go far behind its animated place, its contact coming, is planted near the animation's
+ * place: the left heel held at P while the body is carried 0.3 m ahead (within unlock_radius), the
+ * label then off for 9 ticks (0.15 s) and on again with the body still. With no contact coming
+ * (until_contact -1) the offset decays on the spring of foot_halflife from rest: the heel is planted
+ * 0.3 (1 + y T) e^(-y T) short of the animated heel (y its damping, T the 9 ticks: the release tick
+ * sets the offset after its decay), 15 cm: T is the half-life. With the contact seen coming 0.15 s
+ * ahead an offset over SWING_CATCH_UP_FROM (0.2 m) fades faster, wholly from SWING_CATCH_UP_RAMP
+ * further (0.3 m), with the half-life of the time left over 3, at least 0.08 s (feet.c): planted
+ * 8.2 cm short (under 0.6 of the 15), the foot moving no faster than the spring of 0.08 s takes it
+ * from rest (a step of at most 0.3 y' dt e^-1 on the ground plane, y' its damping). */
+static void test_feet_swing_catches_up_before_contact(void **state)
+{
+    (void)state;
+    float short_of[2] = {0.0f, 0.0f};
+    for (int coming = 0; coming < 2; ++coming) {
+        mm_character_desc d = defaults();
+        d.plant_time = 0.0f;
+        float dt = 1.0f / 60.0f;
+        mm_feet_contacts heel = {MM_CONTACT_LEFT_HEEL, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+        mm_feet f;
+        memset(&f, 0, sizeof f);
+        body b;
+        body_at(&b, 0.0f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        mm_vec3 P = f.heel_lock[0];
+        body_at(&b, 0.3f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_vec3_near(f.heel_lock[0], P, 1e-6f);
+        float fastest = 0.0f, last_z = P.z;
+        for (int n = 0; n < 9; ++n) {
+            float left = coming ? 0.15f - (float)n * dt : -1.0f;
+            mm_feet_contacts off = {0, {-1.0f, -1.0f}, {left, -1.0f}};
+            body_at(&b, 0.3f);
+            mm_feet_update(&f, &d, &b.rig, &off, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+            assert_false(f.locked[0]);
+            fastest = fmaxf(fastest, f.lock[0].z - last_z);
+            last_z = f.lock[0].z;
+        }
+        body_at(&b, 0.3f);
+        mm_feet_update(&f, &d, &b.rig, &heel, &(mm_feet_ground){0.0f, true, NULL}, dt, &b.pose);
+        assert_true(f.heel_locked[0]);
+        short_of[coming] = P.z + 0.3f - f.heel_lock[0].z;
+        float y = (float)mm_spring_damping(coming ? 0.08f : d.foot_halflife);
+        assert_true(fastest <= 0.3f * y * dt * expf(-1.0f) + 1e-4f);
+    }
+    float y = (float)mm_spring_damping(0.15f), T = 9.0f / 60.0f;
+    assert_float_equal(short_of[0], 0.3f * (1.0f + y * T) * expf(-y * T), 2e-3f);
+    assert_true(short_of[1] > 0.0f && short_of[1] < 0.6f * short_of[0]);
+}
+
 /* A foot let go keeps its velocity: the left heel held at P while the body stands, the body moving
  * at v along +Z from the tick before the label turns off (its ankle at P on that tick). The ankle's
  * target then follows the animation plus an offset that starts at 0 with velocity -v (what the foot
@@ -1503,6 +1553,7 @@ int main(void)
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
         cmocka_unit_test(test_feet_released_foot_steps),
+        cmocka_unit_test(test_feet_swing_catches_up_before_contact),
         cmocka_unit_test(test_feet_far_release_keeps_velocity),
         cmocka_unit_test(test_feet_release_lifts_off_as_animated),
         cmocka_unit_test(test_feet_lock_creeps_after_the_animation),

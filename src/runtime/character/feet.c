@@ -356,6 +356,36 @@ static float step_lift(mm_feet *f, int k, bool free, float dt)
     return f->step_lift[k];
 }
 
+/* a free foot whose contact is coming catches up with its animated place on the ground plane faster
+ * than foot_halflife: its offset there fades with the half-life of the time left over this many (little
+ * of it left by its landing), at least SWING_CATCH_UP_MIN_HALFLIFE */
+#define SWING_CATCH_UP_HALFLIVES    3.0f
+#define SWING_CATCH_UP_MIN_HALFLIFE 0.08f
+/* m: an offset on the ground plane of this length is caught up as by foot_halflife alone, one
+ * SWING_CATCH_UP_RAMP longer wholly as above, one between in proportion (a threshold would part
+ * two runs whose offsets differ in their last bit) */
+#define SWING_CATCH_UP_FROM 0.2f
+#define SWING_CATCH_UP_RAMP 0.1f
+
+/* Free foot k's offset on the ground plane after this tick's decay (*offset, *velocity: on entry
+ * decayed by foot_halflife, from `before`, `before_velocity`), faster where it is long and its contact
+ * comes in `left` s: the foot is planted nearer where the animation plants it, not where a
+ * transition's offset or a released lock left it (planted there, the hips come down and the legs
+ * spread to reach it). */
+static void swing_catch_up(mm_vec3 *offset, mm_vec3 *velocity, mm_vec3 before, mm_vec3 before_velocity,
+                           float left, float foot_halflife, float dt)
+{
+    float length = sqrtf(before.x * before.x + before.z * before.z);
+    float share = fminf(fmaxf((length - SWING_CATCH_UP_FROM) / SWING_CATCH_UP_RAMP, 0.0f), 1.0f);
+    float halflife = fmaxf(left / SWING_CATCH_UP_HALFLIVES, SWING_CATCH_UP_MIN_HALFLIFE);
+    if (!(left > 0.0f) || !(share > 0.0f) || !(halflife < foot_halflife)) return;
+    mm_spring_step step = mm_spring_step_make(halflife, dt);
+    mm_spring_decay_vec3_step(&before, &before_velocity, &step);
+    offset->x += share * (before.x - offset->x), offset->z += share * (before.z - offset->z);
+    velocity->x += share * (before_velocity.x - velocity->x);
+    velocity->z += share * (before_velocity.z - velocity->z);
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -419,7 +449,11 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     int was_locked = f->heel_locked[k] || f->toe_locked[k];
     bool heel_was_locked = f->heel_locked[k], toe_was_locked = f->toe_locked[k];
     mm_vec3 below = {f->offset[k].y, 0, 0}, below_velocity = {f->offset_velocity[k].y, 0, 0};
+    mm_vec3 along = f->offset[k], along_velocity = f->offset_velocity[k];
     mm_spring_decay_vec3_step(&f->offset[k], &f->offset_velocity[k], foot_step);
+    if (!was_locked && f->placed)
+        swing_catch_up(&f->offset[k], &f->offset_velocity[k], along, along_velocity,
+                       contacts->until_contact[k], d->foot_halflife, dt);
     if (!was_locked && below.x < 0.0f) { /* free and held down: lifts off as animated */
         mm_spring_decay_vec3_step(&below, &below_velocity, lift_step);
         f->offset[k].y = below.x, f->offset_velocity[k].y = below_velocity.x;
