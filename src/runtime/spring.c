@@ -5,6 +5,8 @@
 #include <emmintrin.h>
 #endif
 
+#include "math_private.h"
+
 /* exp(-y h) (1 + y h) = 1/2 */
 #define HALFLIFE_ROOT 1.6783469900166603
 
@@ -134,8 +136,8 @@ void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflif
         out_r[i] = (rv[i] + j1 * dt) * e;
         out_w[i] = (wv[i] - j1 * y * dt) * e;
     }
-    *q = mm_quat_normalize(
-        mm_quat_mul(mm_quat_exp(mm_vec3_make((float)out_r[0], (float)out_r[1], (float)out_r[2])), target));
+    *q = mm_quat_normalize(mm_quat_mul(
+        mm__quat_exp_series(mm_vec3_make((float)out_r[0], (float)out_r[1], (float)out_r[2])), target));
     *w = mm_vec3_make((float)out_w[0], (float)out_w[1], (float)out_w[2]);
 }
 

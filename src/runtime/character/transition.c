@@ -137,10 +137,11 @@ static void crossfade_to(mm_transition *tr, const mm_database *db, int to, bool 
  * axes) while r turns at w_new: the output turns at J(x) x' + R(x) w_new, where R(x) is the offset's
  * rotation and J(x) the left Jacobian of the exponential map, so x' = J(x)^-1 (w_out - R(x) w_new).
  * Taking x' = w_out - w_new instead holds only for an offset about the axis of w_new: a leg swinging
- * under an offset turned about another axis would change its velocity at once. */
-static mm_vec3 rotation_offset_rate(mm_vec3 x, mm_vec3 w_out, mm_vec3 w_new)
+ * under an offset turned about another axis would change its velocity at once. turn is R(x),
+ * exp(x) as a quaternion. */
+static mm_vec3 rotation_offset_rate(mm_vec3 x, mm_quat turn, mm_vec3 w_out, mm_vec3 w_new)
 {
-    mm_vec3 u = mm_vec3_sub(w_out, mm_quat_rotate(mm_quat_exp(x), w_new));
+    mm_vec3 u = mm_vec3_sub(w_out, mm_quat_rotate(turn, w_new));
     double angle = mm_vec3_length(x);
     /* J^-1 = I - [x]/2 + c [x]^2, c = 1 / angle^2 - cot(angle / 2) / (2 angle) (1/12 near 0) */
     double c = angle < 1e-3 ? 1.0 / 12.0 + angle * angle / 720.0
@@ -164,12 +165,13 @@ void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_fram
             frame_rate);
         mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(to->positions1[j], to->positions0[j]), frame_rate);
         /* the new clip one tick back: the playhead's pose moved back by dt */
-        mm_quat r = mm_quat_slerp(to->rotations0[j], to->rotations1[j], fraction);
+        mm_quat r = mm__quat_slerp_series(to->rotations0[j], to->rotations1[j], fraction);
         mm_vec3 pp = mm_vec3_lerp(to->positions0[j], to->positions1[j], fraction);
-        mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm_quat_exp(mm_vec3_scale(w_dst, -dt)), r));
+        mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(mm_vec3_scale(w_dst, -dt)), r));
         mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
         tr->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
-        tr->rotation_offset_velocity[j] = rotation_offset_rate(tr->rotation_offset[j], w_out, w_dst);
+        tr->rotation_offset_velocity[j] = rotation_offset_rate(
+            tr->rotation_offset[j], mm__quat_exp_series(tr->rotation_offset[j]), w_out, w_dst);
         mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
         tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
         tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
@@ -266,17 +268,22 @@ void mm_transition_hold_velocity(mm_transition *tr, int joint_count, const mm_fr
 {
     float change = (rate_now - rate_before) * frame_rate;
     if (change == 0.0f || !isfinite(change)) return;
-    for (int j = 1; j < joint_count; ++j) {
-        /* the clip's velocity per frame interval at the playhead, times the change of rate */
-        mm_vec3 w = mm_vec3_scale(
-            mm_quat_log(mm_quat_abs(mm_quat_mul(at->rotations1[j], mm_quat_inverse(at->rotations0[j])))),
-            change);
-        mm_vec3 v = mm_vec3_scale(mm_vec3_sub(at->positions1[j], at->positions0[j]), change);
-        /* the offset's rate that keeps the output's velocity while the clip turns w faster */
-        tr->rotation_offset_velocity[j] =
-            mm_vec3_add(tr->rotation_offset_velocity[j],
-                        rotation_offset_rate(tr->rotation_offset[j], mm_vec3_make(0, 0, 0), w));
-        tr->position_offset_velocity[j] = mm_vec3_sub(tr->position_offset_velocity[j], v);
+    for (int first = 1; first < joint_count; first += DECAY_CHUNK) {
+        int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
+        mm_quat turn[DECAY_CHUNK]; /* the offsets' rotations */
+        mm__quat_exp_series_n(tr->rotation_offset + first, count, turn);
+        for (int j = first; j < first + count; ++j) {
+            /* the clip's velocity per frame interval at the playhead, times the change of rate */
+            mm_vec3 w = mm_vec3_scale(
+                mm_quat_log(mm_quat_abs(mm_quat_mul(at->rotations1[j], mm_quat_inverse(at->rotations0[j])))),
+                change);
+            mm_vec3 v = mm_vec3_scale(mm_vec3_sub(at->positions1[j], at->positions0[j]), change);
+            /* the offset's rate that keeps the output's velocity while the clip turns w faster */
+            tr->rotation_offset_velocity[j] = mm_vec3_add(
+                tr->rotation_offset_velocity[j],
+                rotation_offset_rate(tr->rotation_offset[j], turn[j - first], mm_vec3_make(0, 0, 0), w));
+            tr->position_offset_velocity[j] = mm_vec3_sub(tr->position_offset_velocity[j], v);
+        }
     }
 }
 
