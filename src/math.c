@@ -234,6 +234,26 @@ mm_quat mm__quat_exp_series(mm_vec3 v)
     return dq_to_quat(q);
 }
 
+/* sin^2 of half the largest angle mm__quat_log_series takes from its series (the reach of
+ * asin_over_h: sin^2(SERIES_MAX_ANGLE / 2) = 0.02233, rounded down) */
+#define LOG_SERIES_MAX_SIN2 0.0223
+
+mm_vec3 mm__quat_log_series(mm_quat quat)
+{
+    double q[4];
+    dq_from_quat(quat, q);
+    if (q[3] < 0.0) { /* as dq_log: -q is the same rotation with angle <= pi */
+        for (int c = 0; c < 4; c++) q[c] = -q[c];
+    }
+    double s2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2], n2 = s2 + q[3] * q[3];
+    double s = sqrt(s2), sin2 = s2 / n2; /* sin^2 of half the angle */
+    /* dq_log's own series below 1e-6 (and a zero quaternion, NaN) are left to it */
+    if (!(s >= 1e-6 * q[3]) || !(sin2 < LOG_SERIES_MAX_SIN2)) return mm_quat_log(quat);
+    /* angle / s = 2 asin(s / n) / s = 2 asin_over_h(s^2 / n^2) / n */
+    double scale = 2.0 * asin_over_h(sin2) / sqrt(n2);
+    return mm_vec3_make((float)(q[0] * scale), (float)(q[1] * scale), (float)(q[2] * scale));
+}
+
 mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t)
 {
     double qa[4], qb[4], out[4];

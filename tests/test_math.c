@@ -12,6 +12,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <mm/math.h>
 
@@ -778,6 +779,39 @@ static void test_exp_series(void **state)
     }
 }
 
+/* The series form of log (the turn between neighbouring frames): the rotation vector of the axis
+ * and angle it was made from, within a float rounding of mm_quat_log, from 1e-7 rad to past its
+ * series' reach (0.3 rad), for quaternions of either sign and not quite unit; zero and NaN as
+ * mm_quat_log gives them. */
+static void test_log_series(void **state)
+{
+    (void)state;
+    rng_seed(21);
+    int equal = 0, count = 20000;
+    for (int n = 0; n < count; n++) {
+        mm_vec3 axis = rnd_unit_vec3();
+        double angle = pow(10.0, rnd(-7.0, -0.2));
+        mm_quat q = ref_quat(axis, angle);
+        float sign = n % 2 ? -1.0f : 1.0f, size = (float)rnd(0.999, 1.001);
+        q = mm_quat_make(q.x * sign * size, q.y * sign * size, q.z * sign * size, q.w * sign * size);
+        mm_vec3 s = mm__quat_log_series(q), exact = mm_quat_log(q);
+        ASSERT_NEAR(s.x, axis.x * angle, 1e-6 * angle + 1e-7 * angle);
+        ASSERT_NEAR(s.y, axis.y * angle, 1e-6 * angle + 1e-7 * angle);
+        ASSERT_NEAR(s.z, axis.z * angle, 1e-6 * angle + 1e-7 * angle);
+        float ulp = 1.2e-7f * (float)angle;
+        ASSERT_NEAR(s.x, exact.x, ulp);
+        ASSERT_NEAR(s.y, exact.y, ulp);
+        ASSERT_NEAR(s.z, exact.z, ulp);
+        equal += memcmp(&s, &exact, sizeof s) == 0;
+    }
+    /* a float rounding apart at most, and almost always not at all */
+    assert_true(equal >= count - count / 1000);
+    mm_vec3 zero = mm__quat_log_series(mm_quat_make(0, 0, 0, 0)), z0 = mm_quat_log(mm_quat_make(0, 0, 0, 0));
+    assert_memory_equal(&zero, &z0, sizeof zero);
+    mm_vec3 nan = mm__quat_log_series(mm_quat_make(NAN, 0, 0, 1));
+    assert_true(isnan(nan.x) && isnan(mm_quat_log(mm_quat_make(NAN, 0, 0, 1)).x));
+}
+
 /* Many series exps at once (mm__quat_exp_series_n): the bits of one mm__quat_exp_series each, from
  * zero (either sign) through the series' reach and past it, NaN among them, counts odd and even. */
 static void test_exp_series_n(void **state)
@@ -1137,6 +1171,7 @@ int main(void)
         cmocka_unit_test(test_slerp_series),
         cmocka_unit_test(test_slerp_series_n),
         cmocka_unit_test(test_exp_series),
+        cmocka_unit_test(test_log_series),
         cmocka_unit_test(test_exp_series_n),
         cmocka_unit_test(test_mul_normalize_n),
         cmocka_unit_test(test_slerp_nearly_parallel),

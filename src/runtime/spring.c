@@ -128,7 +128,7 @@ void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflif
         return;
     }
     /* the rotation still to go, as a rotation vector, springs to zero */
-    mm_vec3 r = mm_quat_log(mm_quat_abs(mm_quat_mul(*q, mm_quat_inverse(target))));
+    mm_vec3 r = mm__quat_log_series(mm_quat_abs(mm_quat_mul(*q, mm_quat_inverse(target))));
     double e = exp(-y * dt);
     double rv[3] = {r.x, r.y, r.z}, wv[3] = {w->x, w->y, w->z}, out_r[3], out_w[3];
     for (int i = 0; i < 3; ++i) {

@@ -159,17 +159,18 @@ void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_fram
     for (int j = 1; j < joint_count; ++j) {
         /* the animated pose's velocity (from the last two ticks) minus the new clip's */
         mm_vec3 w_out = mm_vec3_scale(
-            mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
-        mm_vec3 w_dst = mm_vec3_scale(
-            mm_quat_log(mm_quat_abs(mm_quat_mul(to->rotations1[j], mm_quat_inverse(to->rotations0[j])))),
-            frame_rate);
+            mm__quat_log_series(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
+        mm_vec3 w_dst = mm_vec3_scale(mm__quat_log_series(mm_quat_abs(mm_quat_mul(
+                                          to->rotations1[j], mm_quat_inverse(to->rotations0[j])))),
+                                      frame_rate);
         mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(to->positions1[j], to->positions0[j]), frame_rate);
         /* the new clip one tick back: the playhead's pose moved back by dt */
         mm_quat r = mm__quat_slerp_series(to->rotations0[j], to->rotations1[j], fraction);
         mm_vec3 pp = mm_vec3_lerp(to->positions0[j], to->positions1[j], fraction);
         mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(mm_vec3_scale(w_dst, -dt)), r));
         mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
-        tr->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
+        tr->rotation_offset[j] =
+            mm__quat_log_series(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
         tr->rotation_offset_velocity[j] = rotation_offset_rate(
             tr->rotation_offset[j], mm__quat_exp_series(tr->rotation_offset[j]), w_out, w_dst);
         mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
@@ -274,9 +275,9 @@ void mm_transition_hold_velocity(mm_transition *tr, int joint_count, const mm_fr
         mm__quat_exp_series_n(tr->rotation_offset + first, count, turn);
         for (int j = first; j < first + count; ++j) {
             /* the clip's velocity per frame interval at the playhead, times the change of rate */
-            mm_vec3 w = mm_vec3_scale(
-                mm_quat_log(mm_quat_abs(mm_quat_mul(at->rotations1[j], mm_quat_inverse(at->rotations0[j])))),
-                change);
+            mm_vec3 w = mm_vec3_scale(mm__quat_log_series(mm_quat_abs(mm_quat_mul(
+                                          at->rotations1[j], mm_quat_inverse(at->rotations0[j])))),
+                                      change);
             mm_vec3 v = mm_vec3_scale(mm_vec3_sub(at->positions1[j], at->positions0[j]), change);
             /* the offset's rate that keeps the output's velocity while the clip turns w faster */
             tr->rotation_offset_velocity[j] = mm_vec3_add(
