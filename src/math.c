@@ -398,6 +398,40 @@ static int exp_series2(mm_vec3 v0, mm_vec3 v1, mm_quat *out0, mm_quat *out1)
     return ~_mm_movemask_pd(ok) & 3;
 }
 
+/* Two series logs; returns the lanes (bit 0: the first, bit 1: the second) the scalar code must
+ * redo. */
+static int log_series2(mm_quat q0, mm_quat q1, mm_vec3 *out0, mm_vec3 *out1)
+{
+    dq2 q = dq2_from_quats(q0, q1);
+    __m128d flip = _mm_and_pd(_mm_cmplt_pd(q.c[3], _mm_setzero_pd()), _mm_set1_pd(-0.0));
+    for (int c = 0; c < 4; ++c) q.c[c] = _mm_xor_pd(q.c[c], flip);
+    __m128d s2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(q.c[0], q.c[0]), _mm_mul_pd(q.c[1], q.c[1])),
+                            _mm_mul_pd(q.c[2], q.c[2]));
+    __m128d n2 = _mm_add_pd(s2, _mm_mul_pd(q.c[3], q.c[3]));
+    __m128d s = _mm_sqrt_pd(s2), sin2 = _mm_div_pd(s2, n2);
+    __m128d ok = _mm_and_pd(_mm_cmpge_pd(s, _mm_mul_pd(_mm_set1_pd(1e-6), q.c[3])),
+                            _mm_cmplt_pd(sin2, _mm_set1_pd(LOG_SERIES_MAX_SIN2)));
+    __m128d scale = _mm_div_pd(_mm_mul_pd(_mm_set1_pd(2.0), asin_over_h2(sin2)), _mm_sqrt_pd(n2));
+    float x[4], y[4], z[4];
+    _mm_storeu_ps(x, _mm_cvtpd_ps(_mm_mul_pd(q.c[0], scale)));
+    _mm_storeu_ps(y, _mm_cvtpd_ps(_mm_mul_pd(q.c[1], scale)));
+    _mm_storeu_ps(z, _mm_cvtpd_ps(_mm_mul_pd(q.c[2], scale)));
+    *out0 = mm_vec3_make(x[0], y[0], z[0]);
+    *out1 = mm_vec3_make(x[1], y[1], z[1]);
+    return ~_mm_movemask_pd(ok) & 3;
+}
+
+void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
+{
+    int i = 0;
+    for (; i + 1 < count; i += 2) {
+        int redo = log_series2(q[i], q[i + 1], &out[i], &out[i + 1]);
+        if (redo & 1) out[i] = mm__quat_log_series(q[i]);
+        if (redo & 2) out[i + 1] = mm__quat_log_series(q[i + 1]);
+    }
+    for (; i < count; ++i) out[i] = mm__quat_log_series(q[i]);
+}
+
 void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
 {
     int i = 0;
@@ -458,6 +492,11 @@ void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
     for (; i < count; ++i) b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i]));
 }
 #else
+void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
+{
+    for (int i = 0; i < count; ++i) out[i] = mm__quat_log_series(q[i]);
+}
+
 void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
 {
     for (int i = 0; i < count; ++i) b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i]));

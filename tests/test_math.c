@@ -838,6 +838,36 @@ static void test_exp_series_n(void **state)
     }
 }
 
+/* Many series logs at once (mm__quat_log_series_n): the bits of one mm__quat_log_series each, from
+ * the identity (either sign) through the series' reach and past it, negative w, zero, not quite
+ * unit and NaN among them, counts odd and even. */
+static void test_log_series_n(void **state)
+{
+    (void)state;
+    rng_seed(26);
+    enum { TURNS = 27 };
+    mm_quat q[TURNS];
+    mm_vec3 many[TURNS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < TURNS; ++i) {
+            mm_vec3 axis = rnd_unit_vec3();
+            double half = 0.5 * pow(10.0, rnd(-9.0, 0.6)), size = rnd(0.99, 1.01), sign = i % 3 ? 1.0 : -1.0;
+            double k = sin(half) * size * sign;
+            q[i] = mm_quat_make((float)(axis.x * k), (float)(axis.y * k), (float)(axis.z * k),
+                                (float)(cos(half) * size * sign));
+        }
+        q[n % TURNS] = mm_quat_make(0.0f, -0.0f, 0.0f, n % 2 ? 1.0f : -1.0f);
+        if (n % 10 == 3) q[5] = mm_quat_make(NAN, 0.0f, 0.0f, 1.0f);
+        if (n % 10 == 4) q[8] = mm_quat_make(0.0f, 0.0f, 0.0f, 0.0f);
+        int count = TURNS - n % 2;
+        mm__quat_log_series_n(q, count, many);
+        for (int i = 0; i < count; ++i) {
+            mm_vec3 one = mm__quat_log_series(q[i]);
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
+    }
+}
+
 /* Many products normalized at once (mm__quat_mul_normalize_n, four at a time): the bits of
  * mm_quat_normalize(mm_quat_mul(a, b)) each, unit and not, zero and tiny products (the identity),
  * signed zeros and NaN among them, every count's remainder. */
@@ -1172,6 +1202,7 @@ int main(void)
         cmocka_unit_test(test_slerp_series_n),
         cmocka_unit_test(test_exp_series),
         cmocka_unit_test(test_log_series),
+        cmocka_unit_test(test_log_series_n),
         cmocka_unit_test(test_exp_series_n),
         cmocka_unit_test(test_mul_normalize_n),
         cmocka_unit_test(test_slerp_nearly_parallel),
