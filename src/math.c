@@ -485,6 +485,47 @@ static void mul_normalize4(const mm_quat *a, mm_quat *b)
     _mm_storeu_ps(&b[3].x, w);
 }
 
+/* The turns of four pairs, one pair a lane: each lane mm_quat_inverse's, mm_quat_mul's and
+ * mm_quat_abs's operations in their order, so the same bits. */
+static void turns4(const mm_quat *from, const mm_quat *to, mm_quat *out)
+{
+#define MUL _mm_mul_ps
+    __m128 fx = _mm_loadu_ps(&from[0].x), fy = _mm_loadu_ps(&from[1].x), fz = _mm_loadu_ps(&from[2].x),
+           fw = _mm_loadu_ps(&from[3].x);
+    __m128 ax = _mm_loadu_ps(&to[0].x), ay = _mm_loadu_ps(&to[1].x), az = _mm_loadu_ps(&to[2].x),
+           aw = _mm_loadu_ps(&to[3].x);
+    _MM_TRANSPOSE4_PS(fx, fy, fz, fw);
+    _MM_TRANSPOSE4_PS(ax, ay, az, aw);
+    /* b = mm_quat_inverse(from): the identity under a norm of 1e-24 */
+    __m128 n = _mm_add_ps(_mm_add_ps(_mm_add_ps(MUL(fx, fx), MUL(fy, fy)), MUL(fz, fz)), MUL(fw, fw));
+    __m128 s = _mm_div_ps(_mm_set1_ps(1.0f), n), sign = _mm_set1_ps(-0.0f);
+    __m128 tiny = _mm_cmplt_ps(n, _mm_set1_ps(1e-24f));
+    __m128 bx = _mm_andnot_ps(tiny, MUL(_mm_xor_ps(fx, sign), s)),
+           by = _mm_andnot_ps(tiny, MUL(_mm_xor_ps(fy, sign), s)),
+           bz = _mm_andnot_ps(tiny, MUL(_mm_xor_ps(fz, sign), s)),
+           bw = _mm_or_ps(_mm_andnot_ps(tiny, MUL(fw, s)), _mm_and_ps(tiny, _mm_set1_ps(1.0f)));
+    __m128 x = _mm_sub_ps(_mm_add_ps(_mm_add_ps(MUL(aw, bx), MUL(ax, bw)), MUL(ay, bz)), MUL(az, by));
+    __m128 y = _mm_add_ps(_mm_add_ps(_mm_sub_ps(MUL(aw, by), MUL(ax, bz)), MUL(ay, bw)), MUL(az, bx));
+    __m128 z = _mm_add_ps(_mm_sub_ps(_mm_add_ps(MUL(aw, bz), MUL(ax, by)), MUL(ay, bx)), MUL(az, bw));
+    __m128 w = _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(MUL(aw, bw), MUL(ax, bx)), MUL(ay, by)), MUL(az, bz));
+#undef MUL
+    /* mm_quat_abs: negated where w < 0 */
+    __m128 flip = _mm_and_ps(_mm_cmplt_ps(w, _mm_setzero_ps()), sign);
+    x = _mm_xor_ps(x, flip), y = _mm_xor_ps(y, flip), z = _mm_xor_ps(z, flip), w = _mm_xor_ps(w, flip);
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    _mm_storeu_ps(&out[0].x, x);
+    _mm_storeu_ps(&out[1].x, y);
+    _mm_storeu_ps(&out[2].x, z);
+    _mm_storeu_ps(&out[3].x, w);
+}
+
+void mm__quat_turns_n(const mm_quat *from, const mm_quat *to, int count, mm_quat *out)
+{
+    int i = 0;
+    for (; i + 4 <= count; i += 4) turns4(from + i, to + i, out + i);
+    for (; i < count; ++i) out[i] = mm_quat_abs(mm_quat_mul(to[i], mm_quat_inverse(from[i])));
+}
+
 void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
 {
     int i = 0;
@@ -492,6 +533,11 @@ void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
     for (; i < count; ++i) b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i]));
 }
 #else
+void mm__quat_turns_n(const mm_quat *from, const mm_quat *to, int count, mm_quat *out)
+{
+    for (int i = 0; i < count; ++i) out[i] = mm_quat_abs(mm_quat_mul(to[i], mm_quat_inverse(from[i])));
+}
+
 void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
 {
     for (int i = 0; i < count; ++i) out[i] = mm__quat_log_series(q[i]);

@@ -896,6 +896,39 @@ static void test_mul_normalize_n(void **state)
     }
 }
 
+/* Many turns at once (mm__quat_turns_n, four at a time): the bits of mm_quat_abs(mm_quat_mul(to,
+ * mm_quat_inverse(from))) each, unit and not, a zero and a tiny `from` (the identity inverse), turns
+ * past half a turn (the sign flipped), signed zeros and NaN among them, every count's remainder. */
+static void test_turns_n(void **state)
+{
+    (void)state;
+    rng_seed(27);
+    enum { PAIRS = 23 };
+    mm_quat from[PAIRS], to[PAIRS], many[PAIRS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < PAIRS; ++i) {
+            from[i] = rnd_quat();
+            to[i] = rnd_quat();
+            if (i % 3 == 1)
+                from[i] =
+                    mm_quat_make(from[i].x * 2.0f, from[i].y * 2.0f, from[i].z * 2.0f, from[i].w * 2.0f);
+        }
+        from[n % PAIRS] = mm_quat_make(0.0f, -0.0f, 0.0f, 0.0f);
+        from[(n + 5) % PAIRS] = mm_quat_make(1e-13f, 0.0f, -1e-13f, 0.0f);
+        to[(n + 9) % PAIRS] = mm_quat_make(0.0f, 0.0f, -0.0f, 0.0f);
+        if (n % 10 == 3) to[7] = mm_quat_make(NAN, 0.0f, 0.0f, 1.0f);
+        if (n % 10 == 4) from[2] = mm_quat_make(0.0f, INFINITY, 0.0f, 1.0f);
+        int count = PAIRS - n % 4;
+        for (int i = 0; i < PAIRS; ++i) many[i] = mm_quat_make(7.0f, 7.0f, 7.0f, 7.0f);
+        mm__quat_turns_n(from, to, count, many);
+        for (int i = 0; i < PAIRS; ++i) {
+            mm_quat one = i < count ? mm_quat_abs(mm_quat_mul(to[i], mm_quat_inverse(from[i])))
+                                    : mm_quat_make(7.0f, 7.0f, 7.0f, 7.0f);
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
+    }
+}
+
 static void test_slerp_shortest_path(void **state)
 {
     (void)state;
@@ -1203,6 +1236,7 @@ int main(void)
         cmocka_unit_test(test_exp_series),
         cmocka_unit_test(test_log_series),
         cmocka_unit_test(test_log_series_n),
+        cmocka_unit_test(test_turns_n),
         cmocka_unit_test(test_exp_series_n),
         cmocka_unit_test(test_mul_normalize_n),
         cmocka_unit_test(test_slerp_nearly_parallel),

@@ -349,8 +349,7 @@ void mm_transition_hold_velocity(mm_transition *tr, int joint_count, const mm_fr
         mm_quat step[DECAY_CHUNK]; /* the clip's turn over the frame interval at the playhead */
         mm_vec3 w[DECAY_CHUNK], still[DECAY_CHUNK], rate[DECAY_CHUNK];
         mm__quat_exp_series_n(tr->rotation_offset + first, count, turn);
-        for (int j = first; j < first + count; ++j)
-            step[j - first] = mm_quat_abs(mm_quat_mul(at->rotations1[j], mm_quat_inverse(at->rotations0[j])));
+        mm__quat_turns_n(at->rotations0 + first, at->rotations1 + first, count, step);
         mm__quat_log_series_n(step, count, w);
         for (int k = 0; k < count; ++k) {
             /* the clip's velocity per frame interval, times the change of rate */
