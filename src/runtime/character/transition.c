@@ -224,32 +224,49 @@ void mm__rotation_offset_rates(const mm_vec3 *x, const mm_quat *turn, const mm_v
     for (; i < count; ++i) out[i] = mm__rotation_offset_rate(x[i], turn[i], w_out[i], w_new[i]);
 }
 
+/* joints whose rotation offsets are turned into quaternions together (on the stack) */
+#define DECAY_CHUNK 32
+
 void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_frame_pair *to, float fraction,
                                float frame_rate, float dt)
 {
     float inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
     const mm_quat *now_r = tr->rotations, *last_r = tr->previous_rotations;
     const mm_vec3 *now_p = tr->positions, *last_p = tr->previous_positions;
-    for (int j = 1; j < joint_count; ++j) {
-        /* the animated pose's velocity (from the last two ticks) minus the new clip's */
-        mm_vec3 w_out = mm_vec3_scale(
-            mm__quat_log_series(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
-        mm_vec3 w_dst = mm_vec3_scale(mm__quat_log_series(mm_quat_abs(mm_quat_mul(
-                                          to->rotations1[j], mm_quat_inverse(to->rotations0[j])))),
-                                      frame_rate);
-        mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(to->positions1[j], to->positions0[j]), frame_rate);
+    /* joint after joint in runs of DECAY_CHUNK, each step over the run at once (the packed forms) */
+    for (int first = 1; first < joint_count; first += DECAY_CHUNK) {
+        int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
+        mm_quat turn[DECAY_CHUNK], back[DECAY_CHUNK];
+        mm_vec3 w_out[DECAY_CHUNK], w_dst[DECAY_CHUNK], step[DECAY_CHUNK];
+        /* the animated pose's velocity (from the last two ticks) and the new clip's */
+        mm__quat_turns_n(last_r + first, now_r + first, count, turn);
+        mm__quat_log_series_n(turn, count, w_out);
+        mm__quat_turns_n(to->rotations0 + first, to->rotations1 + first, count, turn);
+        mm__quat_log_series_n(turn, count, w_dst);
+        for (int k = 0; k < count; ++k) {
+            w_out[k] = mm_vec3_scale(w_out[k], inv_dt);
+            w_dst[k] = mm_vec3_scale(w_dst[k], frame_rate);
+            step[k] = mm_vec3_scale(w_dst[k], -dt);
+        }
         /* the new clip one tick back: the playhead's pose moved back by dt */
-        mm_quat r = mm__quat_slerp_series(to->rotations0[j], to->rotations1[j], fraction);
-        mm_vec3 pp = mm_vec3_lerp(to->positions0[j], to->positions1[j], fraction);
-        mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm__quat_exp_series(mm_vec3_scale(w_dst, -dt)), r));
-        mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
-        tr->rotation_offset[j] =
-            mm__quat_log_series(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
-        tr->rotation_offset_velocity[j] = mm__rotation_offset_rate(
-            tr->rotation_offset[j], mm__quat_exp_series(tr->rotation_offset[j]), w_out, w_dst);
-        mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
-        tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
-        tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
+        mm__quat_slerp_series_n(to->rotations0 + first, to->rotations1 + first, fraction, count, back);
+        mm__quat_exp_series_n(step, count, turn);
+        mm__quat_mul_normalize_n(turn, back, count);
+        /* the offsets from there to the animated pose, and their rates (the velocity out minus the
+         * new clip's) */
+        mm__quat_turns_n(back, now_r + first, count, turn);
+        mm__quat_log_series_n(turn, count, tr->rotation_offset + first);
+        mm__quat_exp_series_n(tr->rotation_offset + first, count, turn);
+        mm__rotation_offset_rates(tr->rotation_offset + first, turn, w_out, w_dst, count,
+                                  tr->rotation_offset_velocity + first);
+        for (int j = first; j < first + count; ++j) {
+            mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(to->positions1[j], to->positions0[j]), frame_rate);
+            mm_vec3 pp = mm_vec3_lerp(to->positions0[j], to->positions1[j], fraction);
+            mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
+            mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
+            tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
+            tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
+        }
     }
 }
 
@@ -292,9 +309,6 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
     else
         inertialize_to(tr, db, jump->frame, jump->fraction, current, p, dt);
 }
-
-/* joints whose rotation offsets are turned into quaternions together (on the stack) */
-#define DECAY_CHUNK 32
 
 void mm_transition_mark_legs(mm_transition *tr, const mm_joint *skeleton, int joint_count, const int hips[2])
 {
