@@ -234,6 +234,26 @@ mm_quat mm__quat_exp_series(mm_vec3 v)
     return dq_to_quat(q);
 }
 
+/* sin^2 of half the largest angle mm__quat_log_series takes from its series (the reach of
+ * asin_over_h: sin^2(SERIES_MAX_ANGLE / 2) = 0.02233, rounded down) */
+#define LOG_SERIES_MAX_SIN2 0.0223
+
+mm_vec3 mm__quat_log_series(mm_quat quat)
+{
+    double q[4];
+    dq_from_quat(quat, q);
+    if (q[3] < 0.0) { /* as dq_log: -q is the same rotation with angle <= pi */
+        for (int c = 0; c < 4; c++) q[c] = -q[c];
+    }
+    double s2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2], n2 = s2 + q[3] * q[3];
+    double s = sqrt(s2), sin2 = s2 / n2; /* sin^2 of half the angle */
+    /* dq_log's own series below 1e-6 (and a zero quaternion, NaN) are left to it */
+    if (!(s >= 1e-6 * q[3]) || !(sin2 < LOG_SERIES_MAX_SIN2)) return mm_quat_log(quat);
+    /* angle / s = 2 asin(s / n) / s = 2 asin_over_h(s^2 / n^2) / n */
+    double scale = 2.0 * asin_over_h(sin2) / sqrt(n2);
+    return mm_vec3_make((float)(q[0] * scale), (float)(q[1] * scale), (float)(q[2] * scale));
+}
+
 mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t)
 {
     double qa[4], qb[4], out[4];
@@ -378,6 +398,40 @@ static int exp_series2(mm_vec3 v0, mm_vec3 v1, mm_quat *out0, mm_quat *out1)
     return ~_mm_movemask_pd(ok) & 3;
 }
 
+/* Two series logs; returns the lanes (bit 0: the first, bit 1: the second) the scalar code must
+ * redo. */
+static int log_series2(mm_quat q0, mm_quat q1, mm_vec3 *out0, mm_vec3 *out1)
+{
+    dq2 q = dq2_from_quats(q0, q1);
+    __m128d flip = _mm_and_pd(_mm_cmplt_pd(q.c[3], _mm_setzero_pd()), _mm_set1_pd(-0.0));
+    for (int c = 0; c < 4; ++c) q.c[c] = _mm_xor_pd(q.c[c], flip);
+    __m128d s2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(q.c[0], q.c[0]), _mm_mul_pd(q.c[1], q.c[1])),
+                            _mm_mul_pd(q.c[2], q.c[2]));
+    __m128d n2 = _mm_add_pd(s2, _mm_mul_pd(q.c[3], q.c[3]));
+    __m128d s = _mm_sqrt_pd(s2), sin2 = _mm_div_pd(s2, n2);
+    __m128d ok = _mm_and_pd(_mm_cmpge_pd(s, _mm_mul_pd(_mm_set1_pd(1e-6), q.c[3])),
+                            _mm_cmplt_pd(sin2, _mm_set1_pd(LOG_SERIES_MAX_SIN2)));
+    __m128d scale = _mm_div_pd(_mm_mul_pd(_mm_set1_pd(2.0), asin_over_h2(sin2)), _mm_sqrt_pd(n2));
+    float x[4], y[4], z[4];
+    _mm_storeu_ps(x, _mm_cvtpd_ps(_mm_mul_pd(q.c[0], scale)));
+    _mm_storeu_ps(y, _mm_cvtpd_ps(_mm_mul_pd(q.c[1], scale)));
+    _mm_storeu_ps(z, _mm_cvtpd_ps(_mm_mul_pd(q.c[2], scale)));
+    *out0 = mm_vec3_make(x[0], y[0], z[0]);
+    *out1 = mm_vec3_make(x[1], y[1], z[1]);
+    return ~_mm_movemask_pd(ok) & 3;
+}
+
+void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
+{
+    int i = 0;
+    for (; i + 1 < count; i += 2) {
+        int redo = log_series2(q[i], q[i + 1], &out[i], &out[i + 1]);
+        if (redo & 1) out[i] = mm__quat_log_series(q[i]);
+        if (redo & 2) out[i + 1] = mm__quat_log_series(q[i + 1]);
+    }
+    for (; i < count; ++i) out[i] = mm__quat_log_series(q[i]);
+}
+
 void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
 {
     int i = 0;
@@ -431,6 +485,47 @@ static void mul_normalize4(const mm_quat *a, mm_quat *b)
     _mm_storeu_ps(&b[3].x, w);
 }
 
+/* The turns of four pairs, one pair a lane: each lane mm_quat_inverse's, mm_quat_mul's and
+ * mm_quat_abs's operations in their order, so the same bits. */
+static void turns4(const mm_quat *from, const mm_quat *to, mm_quat *out)
+{
+#define MUL _mm_mul_ps
+    __m128 fx = _mm_loadu_ps(&from[0].x), fy = _mm_loadu_ps(&from[1].x), fz = _mm_loadu_ps(&from[2].x),
+           fw = _mm_loadu_ps(&from[3].x);
+    __m128 ax = _mm_loadu_ps(&to[0].x), ay = _mm_loadu_ps(&to[1].x), az = _mm_loadu_ps(&to[2].x),
+           aw = _mm_loadu_ps(&to[3].x);
+    _MM_TRANSPOSE4_PS(fx, fy, fz, fw);
+    _MM_TRANSPOSE4_PS(ax, ay, az, aw);
+    /* b = mm_quat_inverse(from): the identity under a norm of 1e-24 */
+    __m128 n = _mm_add_ps(_mm_add_ps(_mm_add_ps(MUL(fx, fx), MUL(fy, fy)), MUL(fz, fz)), MUL(fw, fw));
+    __m128 s = _mm_div_ps(_mm_set1_ps(1.0f), n), sign = _mm_set1_ps(-0.0f);
+    __m128 tiny = _mm_cmplt_ps(n, _mm_set1_ps(1e-24f));
+    __m128 bx = _mm_andnot_ps(tiny, MUL(_mm_xor_ps(fx, sign), s)),
+           by = _mm_andnot_ps(tiny, MUL(_mm_xor_ps(fy, sign), s)),
+           bz = _mm_andnot_ps(tiny, MUL(_mm_xor_ps(fz, sign), s)),
+           bw = _mm_or_ps(_mm_andnot_ps(tiny, MUL(fw, s)), _mm_and_ps(tiny, _mm_set1_ps(1.0f)));
+    __m128 x = _mm_sub_ps(_mm_add_ps(_mm_add_ps(MUL(aw, bx), MUL(ax, bw)), MUL(ay, bz)), MUL(az, by));
+    __m128 y = _mm_add_ps(_mm_add_ps(_mm_sub_ps(MUL(aw, by), MUL(ax, bz)), MUL(ay, bw)), MUL(az, bx));
+    __m128 z = _mm_add_ps(_mm_sub_ps(_mm_add_ps(MUL(aw, bz), MUL(ax, by)), MUL(ay, bx)), MUL(az, bw));
+    __m128 w = _mm_sub_ps(_mm_sub_ps(_mm_sub_ps(MUL(aw, bw), MUL(ax, bx)), MUL(ay, by)), MUL(az, bz));
+#undef MUL
+    /* mm_quat_abs: negated where w < 0 */
+    __m128 flip = _mm_and_ps(_mm_cmplt_ps(w, _mm_setzero_ps()), sign);
+    x = _mm_xor_ps(x, flip), y = _mm_xor_ps(y, flip), z = _mm_xor_ps(z, flip), w = _mm_xor_ps(w, flip);
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    _mm_storeu_ps(&out[0].x, x);
+    _mm_storeu_ps(&out[1].x, y);
+    _mm_storeu_ps(&out[2].x, z);
+    _mm_storeu_ps(&out[3].x, w);
+}
+
+void mm__quat_turns_n(const mm_quat *from, const mm_quat *to, int count, mm_quat *out)
+{
+    int i = 0;
+    for (; i + 4 <= count; i += 4) turns4(from + i, to + i, out + i);
+    for (; i < count; ++i) out[i] = mm_quat_abs(mm_quat_mul(to[i], mm_quat_inverse(from[i])));
+}
+
 void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
 {
     int i = 0;
@@ -438,6 +533,16 @@ void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
     for (; i < count; ++i) b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i]));
 }
 #else
+void mm__quat_turns_n(const mm_quat *from, const mm_quat *to, int count, mm_quat *out)
+{
+    for (int i = 0; i < count; ++i) out[i] = mm_quat_abs(mm_quat_mul(to[i], mm_quat_inverse(from[i])));
+}
+
+void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
+{
+    for (int i = 0; i < count; ++i) out[i] = mm__quat_log_series(q[i]);
+}
+
 void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count)
 {
     for (int i = 0; i < count; ++i) b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i]));

@@ -50,6 +50,18 @@ mm_quat mm__quat_exp_series(mm_vec3 v);
  * machine has the lanes for it. */
 void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out);
 
+/* mm_quat_log without its arc tangent, for small rotations (the turn between neighbouring
+ * frames): under 0.3 rad from the Taylor series of the arc sine, exact to double rounding (the
+ * result differs from mm_quat_log's by at most a float rounding); mm_quat_log itself beyond. */
+mm_vec3 mm__quat_log_series(mm_quat quat);
+/* out[i] = mm__quat_log_series(q[i]) for i in [0, count): the same bits, two at a time where the
+ * machine has the lanes for it. */
+void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out);
+
+/* out[i] = mm_quat_abs(mm_quat_mul(to[i], mm_quat_inverse(from[i]))) for i in [0, count): the turn
+ * from one rotation to the next, the same bits, four at a time where the machine has the lanes. */
+void mm__quat_turns_n(const mm_quat *from, const mm_quat *to, int count, mm_quat *out);
+
 /* b[i] = mm_quat_normalize(mm_quat_mul(a[i], b[i])) for i in [0, count): the same bits, four at
  * a time where the machine has the lanes for it. */
 void mm__quat_mul_normalize_n(const mm_quat *a, mm_quat *b, int count);

@@ -12,6 +12,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <mm/math.h>
 
@@ -778,6 +779,39 @@ static void test_exp_series(void **state)
     }
 }
 
+/* The series form of log (the turn between neighbouring frames): the rotation vector of the axis
+ * and angle it was made from, within a float rounding of mm_quat_log, from 1e-7 rad to past its
+ * series' reach (0.3 rad), for quaternions of either sign and not quite unit; zero and NaN as
+ * mm_quat_log gives them. */
+static void test_log_series(void **state)
+{
+    (void)state;
+    rng_seed(21);
+    int equal = 0, count = 20000;
+    for (int n = 0; n < count; n++) {
+        mm_vec3 axis = rnd_unit_vec3();
+        double angle = pow(10.0, rnd(-7.0, -0.2));
+        mm_quat q = ref_quat(axis, angle);
+        float sign = n % 2 ? -1.0f : 1.0f, size = (float)rnd(0.999, 1.001);
+        q = mm_quat_make(q.x * sign * size, q.y * sign * size, q.z * sign * size, q.w * sign * size);
+        mm_vec3 s = mm__quat_log_series(q), exact = mm_quat_log(q);
+        ASSERT_NEAR(s.x, axis.x * angle, 1e-6 * angle + 1e-7 * angle);
+        ASSERT_NEAR(s.y, axis.y * angle, 1e-6 * angle + 1e-7 * angle);
+        ASSERT_NEAR(s.z, axis.z * angle, 1e-6 * angle + 1e-7 * angle);
+        float ulp = 1.2e-7f * (float)angle;
+        ASSERT_NEAR(s.x, exact.x, ulp);
+        ASSERT_NEAR(s.y, exact.y, ulp);
+        ASSERT_NEAR(s.z, exact.z, ulp);
+        equal += memcmp(&s, &exact, sizeof s) == 0;
+    }
+    /* a float rounding apart at most, and almost always not at all */
+    assert_true(equal >= count - count / 1000);
+    mm_vec3 zero = mm__quat_log_series(mm_quat_make(0, 0, 0, 0)), z0 = mm_quat_log(mm_quat_make(0, 0, 0, 0));
+    assert_memory_equal(&zero, &z0, sizeof zero);
+    mm_vec3 nan = mm__quat_log_series(mm_quat_make(NAN, 0, 0, 1));
+    assert_true(isnan(nan.x) && isnan(mm_quat_log(mm_quat_make(NAN, 0, 0, 1)).x));
+}
+
 /* Many series exps at once (mm__quat_exp_series_n): the bits of one mm__quat_exp_series each, from
  * zero (either sign) through the series' reach and past it, NaN among them, counts odd and even. */
 static void test_exp_series_n(void **state)
@@ -799,6 +833,36 @@ static void test_exp_series_n(void **state)
         mm__quat_exp_series_n(v, count, many);
         for (int i = 0; i < count; ++i) {
             mm_quat one = mm__quat_exp_series(v[i]);
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
+    }
+}
+
+/* Many series logs at once (mm__quat_log_series_n): the bits of one mm__quat_log_series each, from
+ * the identity (either sign) through the series' reach and past it, negative w, zero, not quite
+ * unit and NaN among them, counts odd and even. */
+static void test_log_series_n(void **state)
+{
+    (void)state;
+    rng_seed(26);
+    enum { TURNS = 27 };
+    mm_quat q[TURNS];
+    mm_vec3 many[TURNS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < TURNS; ++i) {
+            mm_vec3 axis = rnd_unit_vec3();
+            double half = 0.5 * pow(10.0, rnd(-9.0, 0.6)), size = rnd(0.99, 1.01), sign = i % 3 ? 1.0 : -1.0;
+            double k = sin(half) * size * sign;
+            q[i] = mm_quat_make((float)(axis.x * k), (float)(axis.y * k), (float)(axis.z * k),
+                                (float)(cos(half) * size * sign));
+        }
+        q[n % TURNS] = mm_quat_make(0.0f, -0.0f, 0.0f, n % 2 ? 1.0f : -1.0f);
+        if (n % 10 == 3) q[5] = mm_quat_make(NAN, 0.0f, 0.0f, 1.0f);
+        if (n % 10 == 4) q[8] = mm_quat_make(0.0f, 0.0f, 0.0f, 0.0f);
+        int count = TURNS - n % 2;
+        mm__quat_log_series_n(q, count, many);
+        for (int i = 0; i < count; ++i) {
+            mm_vec3 one = mm__quat_log_series(q[i]);
             assert_memory_equal(&many[i], &one, sizeof one);
         }
     }
@@ -827,6 +891,39 @@ static void test_mul_normalize_n(void **state)
         mm__quat_mul_normalize_n(a, many, count);
         for (int i = 0; i < PAIRS; ++i) {
             mm_quat one = i < count ? mm_quat_normalize(mm_quat_mul(a[i], b[i])) : b[i];
+            assert_memory_equal(&many[i], &one, sizeof one);
+        }
+    }
+}
+
+/* Many turns at once (mm__quat_turns_n, four at a time): the bits of mm_quat_abs(mm_quat_mul(to,
+ * mm_quat_inverse(from))) each, unit and not, a zero and a tiny `from` (the identity inverse), turns
+ * past half a turn (the sign flipped), signed zeros and NaN among them, every count's remainder. */
+static void test_turns_n(void **state)
+{
+    (void)state;
+    rng_seed(27);
+    enum { PAIRS = 23 };
+    mm_quat from[PAIRS], to[PAIRS], many[PAIRS];
+    for (int n = 0; n < 400; n++) {
+        for (int i = 0; i < PAIRS; ++i) {
+            from[i] = rnd_quat();
+            to[i] = rnd_quat();
+            if (i % 3 == 1)
+                from[i] =
+                    mm_quat_make(from[i].x * 2.0f, from[i].y * 2.0f, from[i].z * 2.0f, from[i].w * 2.0f);
+        }
+        from[n % PAIRS] = mm_quat_make(0.0f, -0.0f, 0.0f, 0.0f);
+        from[(n + 5) % PAIRS] = mm_quat_make(1e-13f, 0.0f, -1e-13f, 0.0f);
+        to[(n + 9) % PAIRS] = mm_quat_make(0.0f, 0.0f, -0.0f, 0.0f);
+        if (n % 10 == 3) to[7] = mm_quat_make(NAN, 0.0f, 0.0f, 1.0f);
+        if (n % 10 == 4) from[2] = mm_quat_make(0.0f, INFINITY, 0.0f, 1.0f);
+        int count = PAIRS - n % 4;
+        for (int i = 0; i < PAIRS; ++i) many[i] = mm_quat_make(7.0f, 7.0f, 7.0f, 7.0f);
+        mm__quat_turns_n(from, to, count, many);
+        for (int i = 0; i < PAIRS; ++i) {
+            mm_quat one = i < count ? mm_quat_abs(mm_quat_mul(to[i], mm_quat_inverse(from[i])))
+                                    : mm_quat_make(7.0f, 7.0f, 7.0f, 7.0f);
             assert_memory_equal(&many[i], &one, sizeof one);
         }
     }
@@ -1137,6 +1234,9 @@ int main(void)
         cmocka_unit_test(test_slerp_series),
         cmocka_unit_test(test_slerp_series_n),
         cmocka_unit_test(test_exp_series),
+        cmocka_unit_test(test_log_series),
+        cmocka_unit_test(test_log_series_n),
+        cmocka_unit_test(test_turns_n),
         cmocka_unit_test(test_exp_series_n),
         cmocka_unit_test(test_mul_normalize_n),
         cmocka_unit_test(test_slerp_nearly_parallel),

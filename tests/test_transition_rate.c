@@ -131,12 +131,49 @@ static void test_same_rate_holds_nothing(void **state)
     assert_true(r.pov[1].x == -0.5f);
 }
 
+/* The offsets' rates four joints at a time (mm__rotation_offset_rates): the bits of
+ * mm__rotation_offset_rate each, for offsets from none through tiny (the series of c) to past pi,
+ * velocities in and out of every size, zero and NaN among them, every count's remainder. */
+static void test_offset_rates_packed(void **state)
+{
+    (void)state;
+    enum { JOINTS = 23 };
+    mm_vec3 x[JOINTS], w_out[JOINTS], w_new[JOINTS], many[JOINTS];
+    mm_quat turn[JOINTS];
+    unsigned seed = 7;
+    for (int n = 0; n < 300; ++n) {
+        for (int j = 0; j < JOINTS; ++j) {
+            float v[9];
+            for (int k = 0; k < 9; ++k) {
+                seed = seed * 1664525u + 1013904223u;
+                v[k] = ((float)(seed >> 8) / 16777216.0f - 0.5f) * 2.0f;
+            }
+            float size = powf(10.0f, -6.0f + 6.5f * fabsf(v[0])); /* 1e-6 to about 3 rad */
+            x[j] = mm_vec3_scale(mm_vec3_normalize(mm_vec3_make(v[1], v[2], v[0] + 0.1f)), size);
+            w_out[j] = mm_vec3_scale(mm_vec3_make(v[3], v[4], v[5]), 10.0f * fabsf(v[8]));
+            w_new[j] = mm_vec3_make(v[6] * 20.0f, v[7], v[8]);
+            turn[j] = mm_quat_exp(x[j]);
+        }
+        x[n % JOINTS] = mm_vec3_make(0.0f, -0.0f, 0.0f);
+        turn[n % JOINTS] = mm_quat_identity();
+        if (n % 7 == 2) w_new[3] = mm_vec3_make(NAN, 0.0f, 0.0f);
+        if (n % 7 == 4) x[6] = mm_vec3_make(0.0f, INFINITY, 0.0f);
+        int count = JOINTS - n % 4;
+        mm__rotation_offset_rates(x, turn, w_out, w_new, count, many);
+        for (int j = 0; j < count; ++j) {
+            mm_vec3 one = mm__rotation_offset_rate(x[j], turn[j], w_out[j], w_new[j]);
+            assert_memory_equal(&many[j], &one, sizeof one);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rate_change_keeps_velocity),
         cmocka_unit_test(test_rate_change_under_a_tilted_offset),
         cmocka_unit_test(test_same_rate_holds_nothing),
+        cmocka_unit_test(test_offset_rates_packed),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,6 +5,8 @@
 #include <emmintrin.h>
 #endif
 
+#include "math_private.h"
+
 /* exp(-y h) (1 + y h) = 1/2 */
 #define HALFLIFE_ROOT 1.6783469900166603
 
@@ -126,7 +128,7 @@ void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflif
         return;
     }
     /* the rotation still to go, as a rotation vector, springs to zero */
-    mm_vec3 r = mm_quat_log(mm_quat_abs(mm_quat_mul(*q, mm_quat_inverse(target))));
+    mm_vec3 r = mm__quat_log_series(mm_quat_abs(mm_quat_mul(*q, mm_quat_inverse(target))));
     double e = exp(-y * dt);
     double rv[3] = {r.x, r.y, r.z}, wv[3] = {w->x, w->y, w->z}, out_r[3], out_w[3];
     for (int i = 0; i < 3; ++i) {
@@ -134,8 +136,8 @@ void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflif
         out_r[i] = (rv[i] + j1 * dt) * e;
         out_w[i] = (wv[i] - j1 * y * dt) * e;
     }
-    *q = mm_quat_normalize(
-        mm_quat_mul(mm_quat_exp(mm_vec3_make((float)out_r[0], (float)out_r[1], (float)out_r[2])), target));
+    *q = mm_quat_normalize(mm_quat_mul(
+        mm__quat_exp_series(mm_vec3_make((float)out_r[0], (float)out_r[1], (float)out_r[2])), target));
     *w = mm_vec3_make((float)out_w[0], (float)out_w[1], (float)out_w[2]);
 }
 

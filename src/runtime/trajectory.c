@@ -195,7 +195,8 @@ float mm_trajectory_envelope_speed(const mm_trajectory_desc *d, mm_gait gait, fl
         return INFINITY;
     const float *v = d->envelopes[gait].speeds;
     float top = 0.0f;
-    for (int k = 0; k < MM_SPEED_ENVELOPE_BINS; ++k) top = fmaxf(top, v[k]);
+    for (int k = 0; k < MM_SPEED_ENVELOPE_BINS; ++k)
+        if (v[k] > top) top = v[k];     /* fmaxf's answer here (top is never NaN), without its call */
     if (!(top > 0.0f)) return INFINITY; /* no envelope for this gait */
     /* the bins' directions, from forward toward the left, a full turn */
     float bins = direction / (2.0f * (float)MM_PI) * (float)MM_SPEED_ENVELOPE_BINS;

@@ -3,6 +3,9 @@
 
 #include <math.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 
 #include <mm/pose.h>
 #include <mm/spring.h>
@@ -137,17 +140,92 @@ static void crossfade_to(mm_transition *tr, const mm_database *db, int to, bool 
  * axes) while r turns at w_new: the output turns at J(x) x' + R(x) w_new, where R(x) is the offset's
  * rotation and J(x) the left Jacobian of the exponential map, so x' = J(x)^-1 (w_out - R(x) w_new).
  * Taking x' = w_out - w_new instead holds only for an offset about the axis of w_new: a leg swinging
- * under an offset turned about another axis would change its velocity at once. */
-static mm_vec3 rotation_offset_rate(mm_vec3 x, mm_vec3 w_out, mm_vec3 w_new)
+ * under an offset turned about another axis would change its velocity at once. turn is R(x),
+ * exp(x) as a quaternion. */
+/* c of J^-1 = I - [x]/2 + c [x]^2 for an offset of this angle: 1 / angle^2 - cot(angle / 2) / (2
+ * angle) (1/12 near 0) */
+static float inverse_jacobian_c(double angle)
 {
-    mm_vec3 u = mm_vec3_sub(w_out, mm_quat_rotate(mm_quat_exp(x), w_new));
-    double angle = mm_vec3_length(x);
-    /* J^-1 = I - [x]/2 + c [x]^2, c = 1 / angle^2 - cot(angle / 2) / (2 angle) (1/12 near 0) */
     double c = angle < 1e-3 ? 1.0 / 12.0 + angle * angle / 720.0
                             : 1.0 / (angle * angle) - 1.0 / (2.0 * angle * tan(0.5 * angle));
-    mm_vec3 xu = mm_vec3_cross(x, u), xxu = mm_vec3_cross(x, xu);
-    return mm_vec3_add(mm_vec3_sub(u, mm_vec3_scale(xu, 0.5f)), mm_vec3_scale(xxu, (float)c));
+    return (float)c;
 }
+
+mm_vec3 mm__rotation_offset_rate(mm_vec3 x, mm_quat turn, mm_vec3 w_out, mm_vec3 w_new)
+{
+    mm_vec3 u = mm_vec3_sub(w_out, mm_quat_rotate(turn, w_new));
+    float c = inverse_jacobian_c(mm_vec3_length(x));
+    mm_vec3 xu = mm_vec3_cross(x, u), xxu = mm_vec3_cross(x, xu);
+    return mm_vec3_add(mm_vec3_sub(u, mm_vec3_scale(xu, 0.5f)), mm_vec3_scale(xxu, c));
+}
+
+#if defined(__SSE2__)
+/* The x, y and z of four vectors, one vector a lane. */
+static void load_vec3x4(const mm_vec3 *v, __m128 *x, __m128 *y, __m128 *z)
+{
+    *x = _mm_setr_ps(v[0].x, v[1].x, v[2].x, v[3].x);
+    *y = _mm_setr_ps(v[0].y, v[1].y, v[2].y, v[3].y);
+    *z = _mm_setr_ps(v[0].z, v[1].z, v[2].z, v[3].z);
+}
+
+/* mm__rotation_offset_rate of four joints, one a lane: each lane the scalar code's float
+ * operations in their order (mm_quat_rotate's, the cross products'), c from the same double code,
+ * so the same bits. */
+static void rotation_offset_rates4(const mm_vec3 *x, const mm_quat *turn, const mm_vec3 *w_out,
+                                   const mm_vec3 *w_new, mm_vec3 *out)
+{
+#define MUL _mm_mul_ps
+#define ADD _mm_add_ps
+#define SUB _mm_sub_ps
+    __m128 qx = _mm_loadu_ps(&turn[0].x), qy = _mm_loadu_ps(&turn[1].x), qz = _mm_loadu_ps(&turn[2].x),
+           qw = _mm_loadu_ps(&turn[3].x);
+    _MM_TRANSPOSE4_PS(qx, qy, qz, qw);
+    __m128 vx, vy, vz, ox, oy, oz, xx, xy, xz;
+    load_vec3x4(w_new, &vx, &vy, &vz);
+    load_vec3x4(w_out, &ox, &oy, &oz);
+    load_vec3x4(x, &xx, &xy, &xz);
+    /* mm_quat_rotate: t = 2 (q.xyz x v), v + q.w t + q.xyz x t */
+    __m128 two = _mm_set1_ps(2.0f);
+    __m128 tx = MUL(SUB(MUL(qy, vz), MUL(qz, vy)), two), ty = MUL(SUB(MUL(qz, vx), MUL(qx, vz)), two),
+           tz = MUL(SUB(MUL(qx, vy), MUL(qy, vx)), two);
+    __m128 rx = ADD(ADD(vx, MUL(tx, qw)), SUB(MUL(qy, tz), MUL(qz, ty))),
+           ry = ADD(ADD(vy, MUL(ty, qw)), SUB(MUL(qz, tx), MUL(qx, tz))),
+           rz = ADD(ADD(vz, MUL(tz, qw)), SUB(MUL(qx, ty), MUL(qy, tx)));
+    __m128 ux = SUB(ox, rx), uy = SUB(oy, ry), uz = SUB(oz, rz);
+    float length[4];
+    _mm_storeu_ps(length, _mm_sqrt_ps(ADD(ADD(MUL(xx, xx), MUL(xy, xy)), MUL(xz, xz))));
+    __m128 c = _mm_setr_ps(inverse_jacobian_c(length[0]), inverse_jacobian_c(length[1]),
+                           inverse_jacobian_c(length[2]), inverse_jacobian_c(length[3]));
+    __m128 ax = SUB(MUL(xy, uz), MUL(xz, uy)), ay = SUB(MUL(xz, ux), MUL(xx, uz)),
+           az = SUB(MUL(xx, uy), MUL(xy, ux)); /* x cross u */
+    __m128 bx = SUB(MUL(xy, az), MUL(xz, ay)), by = SUB(MUL(xz, ax), MUL(xx, az)),
+           bz = SUB(MUL(xx, ay), MUL(xy, ax)); /* x cross (x cross u) */
+    __m128 half = _mm_set1_ps(0.5f);
+    __m128 rx2 = ADD(SUB(ux, MUL(ax, half)), MUL(bx, c)), ry2 = ADD(SUB(uy, MUL(ay, half)), MUL(by, c)),
+           rz2 = ADD(SUB(uz, MUL(az, half)), MUL(bz, c));
+#undef MUL
+#undef ADD
+#undef SUB
+    float ox4[4], oy4[4], oz4[4];
+    _mm_storeu_ps(ox4, rx2);
+    _mm_storeu_ps(oy4, ry2);
+    _mm_storeu_ps(oz4, rz2);
+    for (int l = 0; l < 4; ++l) out[l] = mm_vec3_make(ox4[l], oy4[l], oz4[l]);
+}
+#endif
+
+void mm__rotation_offset_rates(const mm_vec3 *x, const mm_quat *turn, const mm_vec3 *w_out,
+                               const mm_vec3 *w_new, int count, mm_vec3 *out)
+{
+    int i = 0;
+#if defined(__SSE2__)
+    for (; i + 4 <= count; i += 4) rotation_offset_rates4(x + i, turn + i, w_out + i, w_new + i, out + i);
+#endif
+    for (; i < count; ++i) out[i] = mm__rotation_offset_rate(x[i], turn[i], w_out[i], w_new[i]);
+}
+
+/* joints whose rotation offsets are turned into quaternions together (on the stack) */
+#define DECAY_CHUNK 32
 
 void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_frame_pair *to, float fraction,
                                float frame_rate, float dt)
@@ -155,24 +233,40 @@ void mm_transition_inertialize(mm_transition *tr, int joint_count, const mm_fram
     float inv_dt = dt > 0.0f ? 1.0f / dt : 0.0f;
     const mm_quat *now_r = tr->rotations, *last_r = tr->previous_rotations;
     const mm_vec3 *now_p = tr->positions, *last_p = tr->previous_positions;
-    for (int j = 1; j < joint_count; ++j) {
-        /* the animated pose's velocity (from the last two ticks) minus the new clip's */
-        mm_vec3 w_out = mm_vec3_scale(
-            mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(last_r[j])))), inv_dt);
-        mm_vec3 w_dst = mm_vec3_scale(
-            mm_quat_log(mm_quat_abs(mm_quat_mul(to->rotations1[j], mm_quat_inverse(to->rotations0[j])))),
-            frame_rate);
-        mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(to->positions1[j], to->positions0[j]), frame_rate);
+    /* joint after joint in runs of DECAY_CHUNK, each step over the run at once (the packed forms) */
+    for (int first = 1; first < joint_count; first += DECAY_CHUNK) {
+        int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
+        mm_quat turn[DECAY_CHUNK], back[DECAY_CHUNK];
+        mm_vec3 w_out[DECAY_CHUNK], w_dst[DECAY_CHUNK], step[DECAY_CHUNK];
+        /* the animated pose's velocity (from the last two ticks) and the new clip's */
+        mm__quat_turns_n(last_r + first, now_r + first, count, turn);
+        mm__quat_log_series_n(turn, count, w_out);
+        mm__quat_turns_n(to->rotations0 + first, to->rotations1 + first, count, turn);
+        mm__quat_log_series_n(turn, count, w_dst);
+        for (int k = 0; k < count; ++k) {
+            w_out[k] = mm_vec3_scale(w_out[k], inv_dt);
+            w_dst[k] = mm_vec3_scale(w_dst[k], frame_rate);
+            step[k] = mm_vec3_scale(w_dst[k], -dt);
+        }
         /* the new clip one tick back: the playhead's pose moved back by dt */
-        mm_quat r = mm_quat_slerp(to->rotations0[j], to->rotations1[j], fraction);
-        mm_vec3 pp = mm_vec3_lerp(to->positions0[j], to->positions1[j], fraction);
-        mm_quat r_back = mm_quat_normalize(mm_quat_mul(mm_quat_exp(mm_vec3_scale(w_dst, -dt)), r));
-        mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
-        tr->rotation_offset[j] = mm_quat_log(mm_quat_abs(mm_quat_mul(now_r[j], mm_quat_inverse(r_back))));
-        tr->rotation_offset_velocity[j] = rotation_offset_rate(tr->rotation_offset[j], w_out, w_dst);
-        mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
-        tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
-        tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
+        mm__quat_slerp_series_n(to->rotations0 + first, to->rotations1 + first, fraction, count, back);
+        mm__quat_exp_series_n(step, count, turn);
+        mm__quat_mul_normalize_n(turn, back, count);
+        /* the offsets from there to the animated pose, and their rates (the velocity out minus the
+         * new clip's) */
+        mm__quat_turns_n(back, now_r + first, count, turn);
+        mm__quat_log_series_n(turn, count, tr->rotation_offset + first);
+        mm__quat_exp_series_n(tr->rotation_offset + first, count, turn);
+        mm__rotation_offset_rates(tr->rotation_offset + first, turn, w_out, w_dst, count,
+                                  tr->rotation_offset_velocity + first);
+        for (int j = first; j < first + count; ++j) {
+            mm_vec3 v_dst = mm_vec3_scale(mm_vec3_sub(to->positions1[j], to->positions0[j]), frame_rate);
+            mm_vec3 pp = mm_vec3_lerp(to->positions0[j], to->positions1[j], fraction);
+            mm_vec3 p_back = mm_vec3_sub(pp, mm_vec3_scale(v_dst, dt));
+            mm_vec3 v_out = mm_vec3_scale(mm_vec3_sub(now_p[j], last_p[j]), inv_dt);
+            tr->position_offset[j] = mm_vec3_sub(now_p[j], p_back);
+            tr->position_offset_velocity[j] = mm_vec3_sub(v_out, v_dst);
+        }
     }
 }
 
@@ -215,9 +309,6 @@ void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump 
     else
         inertialize_to(tr, db, jump->frame, jump->fraction, current, p, dt);
 }
-
-/* joints whose rotation offsets are turned into quaternions together (on the stack) */
-#define DECAY_CHUNK 32
 
 void mm_transition_mark_legs(mm_transition *tr, const mm_joint *skeleton, int joint_count, const int hips[2])
 {
@@ -266,17 +357,26 @@ void mm_transition_hold_velocity(mm_transition *tr, int joint_count, const mm_fr
 {
     float change = (rate_now - rate_before) * frame_rate;
     if (change == 0.0f || !isfinite(change)) return;
-    for (int j = 1; j < joint_count; ++j) {
-        /* the clip's velocity per frame interval at the playhead, times the change of rate */
-        mm_vec3 w = mm_vec3_scale(
-            mm_quat_log(mm_quat_abs(mm_quat_mul(at->rotations1[j], mm_quat_inverse(at->rotations0[j])))),
-            change);
-        mm_vec3 v = mm_vec3_scale(mm_vec3_sub(at->positions1[j], at->positions0[j]), change);
-        /* the offset's rate that keeps the output's velocity while the clip turns w faster */
-        tr->rotation_offset_velocity[j] =
-            mm_vec3_add(tr->rotation_offset_velocity[j],
-                        rotation_offset_rate(tr->rotation_offset[j], mm_vec3_make(0, 0, 0), w));
-        tr->position_offset_velocity[j] = mm_vec3_sub(tr->position_offset_velocity[j], v);
+    for (int first = 1; first < joint_count; first += DECAY_CHUNK) {
+        int count = joint_count - first < DECAY_CHUNK ? joint_count - first : DECAY_CHUNK;
+        mm_quat turn[DECAY_CHUNK]; /* the offsets' rotations */
+        mm_quat step[DECAY_CHUNK]; /* the clip's turn over the frame interval at the playhead */
+        mm_vec3 w[DECAY_CHUNK], still[DECAY_CHUNK], rate[DECAY_CHUNK];
+        mm__quat_exp_series_n(tr->rotation_offset + first, count, turn);
+        mm__quat_turns_n(at->rotations0 + first, at->rotations1 + first, count, step);
+        mm__quat_log_series_n(step, count, w);
+        for (int k = 0; k < count; ++k) {
+            /* the clip's velocity per frame interval, times the change of rate */
+            w[k] = mm_vec3_scale(w[k], change);
+            still[k] = mm_vec3_make(0, 0, 0);
+        }
+        /* the offsets' rates that keep the output's velocity while the clip turns w faster */
+        mm__rotation_offset_rates(tr->rotation_offset + first, turn, still, w, count, rate);
+        for (int j = first; j < first + count; ++j) {
+            mm_vec3 v = mm_vec3_scale(mm_vec3_sub(at->positions1[j], at->positions0[j]), change);
+            tr->rotation_offset_velocity[j] = mm_vec3_add(tr->rotation_offset_velocity[j], rate[j - first]);
+            tr->position_offset_velocity[j] = mm_vec3_sub(tr->position_offset_velocity[j], v);
+        }
     }
 }
 

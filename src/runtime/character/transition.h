@@ -69,6 +69,14 @@ void mm_transition_advance(mm_transition *tr, const mm_database *db, const mm_pl
 void mm_transition_jump(mm_transition *tr, const mm_database *db, const mm_jump *jump, float crossfade_time,
                         mm_root_played current, mm_playback *p, float dt);
 
+/* The rate of a rotation offset x (a rotation vector; turn = exp(x)) that gives the output the
+ * angular velocity w_out while the clip turns at w_new (mm_transition_inertialize, and a change of
+ * play rate); mm__rotation_offset_rates: count of them, the same bits, four at a time where the
+ * machine has the lanes for it. */
+mm_vec3 mm__rotation_offset_rate(mm_vec3 x, mm_quat turn, mm_vec3 w_out, mm_vec3 w_new);
+void mm__rotation_offset_rates(const mm_vec3 *x, const mm_quat *turn, const mm_vec3 *w_out,
+                               const mm_vec3 *w_new, int count, mm_vec3 *out);
+
 /* Inertialization's offsets for a jump into `to` at fraction (the new clip plays on at frame_rate
  * frames per second; 0 at its last frame), taken one tick (dt) back against the animated pose and
  * its velocity (tr->rotations, tr->positions and their previous values): the output keeps its
