@@ -938,6 +938,48 @@ static void on_the_ground(body *b)
     for (int k = 0; k < 2; ++k) b->rig.planted_ankle[k] = 0.06f, b->rig.planted_toe[k] = 0.02f;
 }
 
+/* Toe down under a raised heel (feet.c): on terrain (a scene whose ground is the plane y = 0), the
+ * left foot labelled on heel and toe while animated toe first: the body 8 cm up and the foot
+ * pitched 0.6 rad toe down, so that its toe is 1.9 cm above its planted height (not aloft) and its
+ * ankle 8 cm above its own. Planted there, both locks stand on the ground and the offset carries the
+ * ankle's 8 cm, fading over foot_halflife (the knee bent 0.6 rad: the leg reaches the ground). The
+ * toe is shown within 1.5 cm of its planted 2 cm from the first tick (3.3 cm: the foot's length
+ * from the raised ankle falls short of a lock 1.9 cm under the animated toe) while the ankle comes
+ * down from its 14 cm; before, the foot was held flat above both locks, its toe lifted with the
+ * ankle (8.1 cm on the first tick, 3.7 cm after 10). */
+static void test_feet_toe_down_under_raised_heel(void **state)
+{
+    (void)state;
+    static mm_scene flat; /* large: kept off the stack */
+    mm_scene_init(&flat, 0.0f);
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f, raised = 0.08f, pitch = 0.6f;
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    float last_ankle = 1.0f;
+    for (int n = 0; n < 20; ++n) {
+        bent_left_leg(&b, 0.6f, pitch, raised); /* the knee bent: the leg can reach the ground */
+        if (n == 0) { /* as animated: toe 1.9 cm, ankle 8 cm above their planted heights */
+            assert_float_equal(b.global[L_TOE].translation.y, 0.02f + 0.0194f, 1e-3f);
+            assert_float_equal(b.global[L_FOOT].translation.y, 0.06f + raised, 1e-6f);
+        }
+        mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, &flat}, dt, &b.pose);
+        assert_true(f.heel_locked[0] && f.toe_locked[0]);
+        float ankle = b.global[L_FOOT].translation.y, toe = b.global[L_TOE].translation.y;
+        /* on (or just over) its lock: the lock is 1.9 cm under the animated toe, which the foot's
+         * length reaches from the raised ankle at 3.3 cm, then the toe's soft floor (TOE_SINK) */
+        assert_true(toe < 0.02f + 0.015f && toe > 0.02f - 0.0101f);
+        assert_true(ankle < last_ankle + 1e-5f);        /* the heel comes down, never up */
+        if (n == 0) assert_true(ankle > 0.06f + 0.07f); /* from where it was shown */
+        last_ankle = ankle;
+    }
+    assert_true(last_ankle < 0.06f + 0.025f); /* most of the way down after 1/3 s (2 cm left) */
+}
+
 /* A foot let go behind its animated place steps there instead of skating over the ground: the left
  * heel planted at P while the body stands, the body then 0.3 m ahead (within unlock_radius: held),
  * the label off with the body still. The ankle's target catches up 0.3 m along +Z as its offset
@@ -1585,6 +1627,7 @@ int main(void)
         cmocka_unit_test(test_feet_lock_settles_gradually),
         cmocka_unit_test(test_feet_wait_aloft),
         cmocka_unit_test(test_feet_wait_aloft_on_terrain),
+        cmocka_unit_test(test_feet_toe_down_under_raised_heel),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -588,6 +588,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * about the toe, at most MAX_FOOT_TURN from the animation), not carried along the ground by
          * it; it comes down with the offset's height */
         mm_vec3 toe_at = mm_vec3_make(f->toe_lock[k].x, f->toe_lock[k].y + f->offset[k].y, f->toe_lock[k].z);
+        /* Toe down under a raised heel: planted on heel and toe with its ankle still above where it
+         * stands (a foot landing toe first, its ankle's height carried by the offset), the toe is
+         * aimed at its lock itself, not lifted with the ankle: the foot stands on its toe and rolls
+         * down onto its heel as the offset fades, instead of being held flat in the air above both
+         * locks (docs/scene.md, "Toe down under a raised heel") */
+        if (f->heel_locked[k]) toe_at.y = f->toe_lock[k].y;
         mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, target)));
         float angle = mm_vec3_length(aim);
         if (angle > MAX_FOOT_TURN) aim = mm_vec3_scale(aim, MAX_FOOT_TURN / angle);
