@@ -767,6 +767,42 @@ static void test_feet_roll_onto_the_toe(void **state)
     assert_true(b.global[L_FOOT].translation.y > 0.06f + 0.03f);
 }
 
+/* Toe pivot (feet.c): the left foot planted on its toe alone, the body then carried on along +Z at
+ * 1.2 m/s with the leg as animated (bent 0.5 rad), the toe's label on: once the pelvis's move is
+ * spent (from the 16th tick) the ankle's target is out of the leg's reach, and the foot pivots
+ * about its toe, heel up, so that the toe stays on its lock (within 1 mm) while the ankle rises
+ * (3.8 cm by the 30th tick); before, the straight leg left the whole foot short of its target, the
+ * toe lifted off the ground (1.4 cm by then) and dragged after the body. The label then off, the
+ * foot lets go from where it was shown (the toe moves 0.4 cm in that tick; dropping the pivot
+ * at once moved it 2.8 cm). */
+static void test_feet_toe_pivot_out_of_reach(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_vec3 planted = {0, 0, 0}, shown = {0, 0, 0};
+    for (int n = 0; n <= 31; ++n) {
+        bent_left_leg(&b, 0.5f, 0.0f, 0.0f);
+        b.positions[HIPS].z = 1.2f * (float)n * dt;
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, n <= 30 ? &toe : &none, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        if (n == 0) planted = b.global[L_TOE].translation;
+        if (n <= 30) assert_vec3_near(b.global[L_TOE].translation, planted, 1e-3f);
+        if (n == 30) assert_true(b.global[L_FOOT].translation.y > 0.06f + 0.03f); /* heel up */
+        if (n == 31) assert_true(mm_vec3_distance(b.global[L_TOE].translation, shown) < 0.01f);
+        shown = b.global[L_TOE].translation;
+    }
+    assert_false(f.toe_locked[0]);
+}
+
 /* Planted on heel and toe with the toe's lock 1 cm further along the foot than the foot reaches (two
  * locks placed and settled apart): the toe is shown on the foot, short of its lock; when the heel
  * lifts, the toe stays where it was shown (within 1 mm on the ground plane) instead of moving onto
@@ -1628,6 +1664,7 @@ int main(void)
         cmocka_unit_test(test_feet_wait_aloft),
         cmocka_unit_test(test_feet_wait_aloft_on_terrain),
         cmocka_unit_test(test_feet_toe_down_under_raised_heel),
+        cmocka_unit_test(test_feet_toe_pivot_out_of_reach),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
