@@ -784,6 +784,42 @@ static void test_feet_roll_onto_the_toe(void **state)
     assert_true(b.global[L_FOOT].translation.y > 0.06f + 0.03f);
 }
 
+/* Toe pivot (feet.c): the left foot planted on its toe alone, the body then carried on along +Z at
+ * 1.2 m/s with the leg as animated (bent 0.5 rad), the toe's label on: once the pelvis's move is
+ * spent (from the 16th tick) the ankle's target is out of the leg's reach, and the foot pivots
+ * about its toe, heel up, so that the toe stays on its lock (within 1 mm) while the ankle rises
+ * (3.8 cm by the 30th tick); before, the straight leg left the whole foot short of its target, the
+ * toe lifted off the ground (1.4 cm by then) and dragged after the body. The label then off, the
+ * foot lets go from where it was shown (the toe moves 0.4 cm in that tick; dropping the pivot
+ * at once moved it 2.8 cm). */
+static void test_feet_toe_pivot_out_of_reach(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     none = {0, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_vec3 planted = {0, 0, 0}, shown = {0, 0, 0};
+    for (int n = 0; n <= 31; ++n) {
+        bent_left_leg(&b, 0.5f, 0.0f, 0.0f);
+        b.positions[HIPS].z = 1.2f * (float)n * dt;
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_feet_update(&f, &d, &b.rig, n <= 30 ? &toe : &none, &(mm_feet_ground){0.0f, true, NULL}, dt,
+                       &b.pose);
+        if (n == 0) planted = b.global[L_TOE].translation;
+        if (n <= 30) assert_vec3_near(b.global[L_TOE].translation, planted, 1e-3f);
+        if (n == 30) assert_true(b.global[L_FOOT].translation.y > 0.06f + 0.03f); /* heel up */
+        if (n == 31) assert_true(mm_vec3_distance(b.global[L_TOE].translation, shown) < 0.01f);
+        shown = b.global[L_TOE].translation;
+    }
+    assert_false(f.toe_locked[0]);
+}
+
 /* Planted on heel and toe with the toe's lock 1 cm further along the foot than the foot reaches (two
  * locks placed and settled apart): the toe is shown on the foot, short of its lock; when the heel
  * lifts, the toe stays where it was shown (within 1 mm on the ground plane) instead of moving onto
@@ -935,6 +971,48 @@ static void body_at(body *b, float z)
 static void on_the_ground(body *b)
 {
     for (int k = 0; k < 2; ++k) b->rig.planted_ankle[k] = 0.06f, b->rig.planted_toe[k] = 0.02f;
+}
+
+/* Toe down under a raised heel (feet.c): on terrain (a scene whose ground is the plane y = 0), the
+ * left foot labelled on heel and toe while animated toe first: the body 8 cm up and the foot
+ * pitched 0.6 rad toe down, so that its toe is 1.9 cm above its planted height (not aloft) and its
+ * ankle 8 cm above its own. Planted there, both locks stand on the ground and the offset carries the
+ * ankle's 8 cm, fading over foot_halflife (the knee bent 0.6 rad: the leg reaches the ground). The
+ * toe is shown within 1.5 cm of its planted 2 cm from the first tick (3.3 cm: the foot's length
+ * from the raised ankle falls short of a lock 1.9 cm under the animated toe) while the ankle comes
+ * down from its 14 cm; before, the foot was held flat above both locks, its toe lifted with the
+ * ankle (8.1 cm on the first tick, 3.7 cm after 10). */
+static void test_feet_toe_down_under_raised_heel(void **state)
+{
+    (void)state;
+    static mm_scene flat; /* large: kept off the stack */
+    mm_scene_init(&flat, 0.0f);
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f, raised = 0.08f, pitch = 0.6f;
+    mm_feet_contacts both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    float last_ankle = 1.0f;
+    for (int n = 0; n < 20; ++n) {
+        bent_left_leg(&b, 0.6f, pitch, raised); /* the knee bent: the leg can reach the ground */
+        if (n == 0) { /* as animated: toe 1.9 cm, ankle 8 cm above their planted heights */
+            assert_float_equal(b.global[L_TOE].translation.y, 0.02f + 0.0194f, 1e-3f);
+            assert_float_equal(b.global[L_FOOT].translation.y, 0.06f + raised, 1e-6f);
+        }
+        mm_feet_update(&f, &d, &b.rig, &both, &(mm_feet_ground){0.0f, true, &flat}, dt, &b.pose);
+        assert_true(f.heel_locked[0] && f.toe_locked[0]);
+        float ankle = b.global[L_FOOT].translation.y, toe = b.global[L_TOE].translation.y;
+        /* on (or just over) its lock: the lock is 1.9 cm under the animated toe, which the foot's
+         * length reaches from the raised ankle at 3.3 cm, then the toe's soft floor (TOE_SINK) */
+        assert_true(toe < 0.02f + 0.015f && toe > 0.02f - 0.0101f);
+        assert_true(ankle < last_ankle + 1e-5f);        /* the heel comes down, never up */
+        if (n == 0) assert_true(ankle > 0.06f + 0.07f); /* from where it was shown */
+        last_ankle = ankle;
+    }
+    assert_true(last_ankle < 0.06f + 0.025f); /* most of the way down after 1/3 s (2 cm left) */
 }
 
 /* A foot let go behind its animated place steps there instead of skating over the ground: the left
@@ -1572,6 +1650,8 @@ int main(void)
         cmocka_unit_test(test_feet_lock_settles_gradually),
         cmocka_unit_test(test_feet_wait_aloft),
         cmocka_unit_test(test_feet_wait_aloft_on_terrain),
+        cmocka_unit_test(test_feet_toe_down_under_raised_heel),
+        cmocka_unit_test(test_feet_toe_pivot_out_of_reach),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

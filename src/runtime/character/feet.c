@@ -103,6 +103,13 @@
  * while its offset on the ground plane faded (docs/metrics.md, "The independent slide") */
 #define LIFT_HALFLIFE 0.05f
 
+/* rad: the most a foot planted on its toe alone is pivoted about it, heel up, so that a leg that
+ * cannot reach its ankle's target still reaches the toe (pivot_on_toe) */
+#define MAX_TOE_PIVOT 0.8f
+/* rad/s: the fastest that pivot grows (a foot whose heel lets go far out of its leg's reach rolls
+ * up onto its toe over a few ticks, not in one) */
+#define TOE_PIVOT_RATE 3.0f
+
 /* Where foot k's ankle goes by its locks alone: the heel lock; or the toe lock less the animated
  * ankle-to-toe vector (turned by the foot's turn), so that the foot rolls about its planted toe as
  * animated; or, free, the animated ankle. */
@@ -460,6 +467,17 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     }
     if (!heel_on) f->heel_locked[k] = false;
     if (!toe_on) f->toe_locked[k] = false;
+    /* a foot pivoted about its toe (pivot_on_toe) whose toe lets go, or whose heel is planted, goes
+     * on from where it was shown: the pivot's move and turn are carried by the offset and the turn,
+     * fading (dropped at once, the foot jumped back by up to 10 cm in a tick) */
+    mm_vec3 let_go = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    bool pivoted = mm_vec3_length(f->pivot_turn[k]) > 0.0f;
+    if (pivoted && (!f->toe_locked[k] || heel_on)) {
+        let_go = f->pivot_shift[k];
+        f->turn[k] = mm_quat_log(mm_quat_mul(mm_quat_exp(f->pivot_turn[k]), mm_quat_exp(f->turn[k])));
+        f->turn_velocity[k] = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    }
+    f->pivot_shift[k] = f->pivot_turn[k] = mm_vec3_make(0.0f, 0.0f, 0.0f);
     /* the heel lifts off while the toe holds: the foot stays as it was shown, its ankle at last
      * tick's target and its toe that far along the foot as shown (the toe's lock moves there), turned
      * to match; the roll goes on from there as the turn fades. Both planted, the toe is shown off its
@@ -480,6 +498,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         f->offset[k] = mm_vec3_sub(f->lock[k], foot_source(f, k, a, t)); /* the ankle where it was held */
     } else {
         f->offset[k] = mm_vec3_add(f->offset[k], mm_vec3_sub(before, foot_source(f, k, a, t)));
+        f->offset[k] = mm_vec3_add(f->offset[k], let_go);
     }
     /* the velocity on the ground plane only: upward the foot takes what it follows at once (let
      * go, it lifts off as animated instead of dragging along the ground while its offset fades).
@@ -622,6 +641,12 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * about the toe, at most MAX_FOOT_TURN from the animation), not carried along the ground by
          * it; it comes down with the offset's height */
         mm_vec3 toe_at = mm_vec3_make(f->toe_lock[k].x, f->toe_lock[k].y + f->offset[k].y, f->toe_lock[k].z);
+        /* Toe down under a raised heel: planted on heel and toe with its ankle still above where it
+         * stands (a foot landing toe first, its ankle's height carried by the offset), the toe is
+         * aimed at its lock itself, not lifted with the ankle: the foot stands on its toe and rolls
+         * down onto its heel as the offset fades, instead of being held flat in the air above both
+         * locks (docs/scene.md, "Toe down under a raised heel") */
+        if (f->heel_locked[k]) toe_at.y = f->toe_lock[k].y;
         mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, target)));
         float angle = mm_vec3_length(aim);
         if (angle > MAX_FOOT_TURN) aim = mm_vec3_scale(aim, MAX_FOOT_TURN / angle);
@@ -784,12 +809,49 @@ static mm_quat foot_tilt(mm_feet *f, const mm_rig *rig, int k, const mm_feet_gro
     return mm_quat_from_axis_angle(mm_vec3_scale(axis, 1.0f / sine), angle);
 }
 
+/* Toe pivot: foot k, planted on its toe alone, has its ankle's target (*target, the foot turned by
+ * *orientation) further than reach from its hip: the foot is pivoted about its toe, heel up, toward
+ * the hip by the least angle that brings the ankle within reach (at most MAX_TOE_PIVOT), the toe
+ * staying on its lock. A body carried on past a foot planted behind it (a root faster than its
+ * clip, a transition's offsets still swinging the foot when its label turns on) would otherwise
+ * leave the leg straight and short of the whole foot: the foot lifted off the ground by its
+ * straight leg and dragged along while its label holds it. Records the pivot (f->pivot_shift,
+ * f->pivot_turn) for the tick the toe lets go. */
+static void pivot_on_toe(mm_feet *f, const mm_rig *rig, int k, mm_vec3 hip, float reach, float last, float dt,
+                         const mm_rig_pose *pose, mm_vec3 *target, mm_quat *orientation)
+{
+    if (!(mm_vec3_distance(*target, hip) > reach)) return;
+    mm_vec3 toe_to_ankle =
+        mm_vec3_scale(mm_quat_rotate(*orientation, pose->local_positions[rig->toe[k]]), -1.0f);
+    mm_vec3 toe = mm_vec3_sub(*target, toe_to_ankle), to_hip = mm_vec3_sub(hip, toe);
+    float foot = mm_vec3_length(toe_to_ankle), away = mm_vec3_length(to_hip);
+    if (!(foot > MIN_FOOT_LENGTH) || !(away > MIN_FOOT_LENGTH)) return;
+    mm_vec3 axis = mm_vec3_cross(toe_to_ankle, to_hip);
+    float sine = mm_vec3_length(axis);
+    if (!(sine > MIN_FOOT_LENGTH * MIN_FOOT_LENGTH)) return;
+    /* the angle between the toe-to-ankle and toe-to-hip directions now, and the largest at which
+     * the ankle is within reach of the hip (the law of cosines) */
+    float now = atan2f(sine, mm_vec3_dot(toe_to_ankle, to_hip));
+    float within = (away * away + foot * foot - reach * reach) / (2.0f * foot * away);
+    float most = within >= 1.0f ? 0.0f : within <= -1.0f ? (float)MM_PI : acosf(within);
+    float angle = fminf(fminf(now - most, MAX_TOE_PIVOT), last + TOE_PIVOT_RATE * dt);
+    if (!(angle > 0.0f)) return;
+    mm_vec3 turn = mm_vec3_scale(axis, angle / sine);
+    mm_quat pivot = mm_quat_exp(turn);
+    mm_vec3 pivoted = mm_vec3_add(toe, mm_quat_rotate(pivot, toe_to_ankle));
+    f->pivot_shift[k] = mm_vec3_sub(pivoted, *target);
+    f->pivot_turn[k] = turn;
+    *target = pivoted;
+    *orientation = mm_quat_normalize(mm_quat_mul(pivot, *orientation));
+}
+
 void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                     const mm_feet_contacts *contacts, const mm_feet_ground *ground, float dt,
                     mm_rig_pose *pose)
 {
     mm_vec3 target[2] = {{0, 0, 0}, {0, 0, 0}}, landing[2] = {{0, 0, 0}, {0, 0, 0}};
     mm_quat orientation[2] = {{0, 0, 0, 1}, {0, 0, 0, 1}};
+    float last_pivot[2] = {mm_vec3_length(f->pivot_turn[0]), mm_vec3_length(f->pivot_turn[1])};
     bool terrain = ground->scene && ground->hold;
     /* the springs of both feet's offsets and turns share a half-life and dt */
     mm_spring_step foot_step = mm_spring_step_make(d->foot_halflife, dt);
@@ -878,6 +940,9 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             target[k] = onto;
             f->lock[k] = onto;
         }
+        if (ground->hold && f->toe_locked[k] && !f->heel_locked[k] && rig->toe[k] >= 0)
+            pivot_on_toe(f, rig, k, h, (1.0f - SOFT_REACH) * leg_length(rig, k, pose), last_pivot[k], dt,
+                         pose, &target[k], &orientation[k]);
         solve_leg(rig, k, target[k], orientation[k], pose);
         int ankle = rig->ankle[k], knee = rig->knee[k]; /* the ankle where the solved leg puts it */
         mm_xform reached = mm_xform_mul(

@@ -38,6 +38,9 @@ typedef struct mm_feet {
     mm_vec3 pelvis_shift, pelvis_shift_velocity;
     /* m: how far each ankle was left short of its target last tick (out of its leg's reach) */
     float reach_miss[2];
+    /* how far each foot planted on its toe alone was pivoted about it last tick (pivot_on_toe in
+     * feet.c): the ankle's move and the turn, carried by the offset and the turn when it lets go */
+    mm_vec3 pivot_shift[2], pivot_turn[2];
     mm_vec3 tilt_normal[2]; /* on terrain: the ground's normal each foot was last turned to */
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
      * root's ground (a spring's state) */
