@@ -539,10 +539,8 @@ static void test_root_motion_pull_and_clamps(void **state)
     memset(&r, 0, sizeof r);
     r.root = mm_xform_identity();
     float dt = 0.1f;
-    /* played 1 m/s forward, the simulation at the same place and speed: the root goes where it is
-     * played */
+    /* played 1 m/s forward, the simulation at the same place: the root goes where it is played */
     t.position = mm_vec3_make(0, 0, 0.1f);
-    t.velocity = mm_vec3_make(0, 0, 1.0f);
     mm_root_played played = {mm_vec3_make(0, 0, 1.0f), 0.0f};
     mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
     assert_vec3_near(r.root.translation, mm_vec3_make(0, 0, 0.1f), 1e-6f);
@@ -570,53 +568,6 @@ static void test_root_motion_pull_and_clamps(void **state)
     mm_root_motion_update(&r, &d, &t, &intent, played, true, dt);
     assert_vec3_near(r.root.translation, mm_vec3_make(0, 0.7f, 0.1f), 1e-6f);
     assert_float_equal(yaw_of(r.root.rotation), 0.0f, 1e-6f);
-    mm_trajectory_free(&t);
-}
-
-/* The simulation turned (a strafe to the right asked for) while the clip still plays forward: the
- * root takes a share 1 - 2^(-0.12 s / sync_halflife) of the velocity's difference at once, not
- * only the pull on the gap, so it heads off the clip's course from the first tick. */
-static void test_root_motion_velocity_sync(void **state)
-{
-    (void)state;
-    mm_character_desc d = defaults();
-    mm_trajectory t;
-    assert_int_equal(mm_trajectory_init(&t, NULL, NULL), MM_OK);
-    mm_intent intent;
-    memset(&intent, 0, sizeof intent);
-    intent.desired_facing = mm_quat_identity();
-    mm_root_played played = {mm_vec3_make(0, 0, 1.0f), 0.0f};
-    float dt = 1.0f / 60.0f;
-    const float halflives[] = {0.1f, 0.3f};
-    for (int i = 0; i < 2; ++i) {
-        d.sync_halflife = halflives[i];
-        mm_root_motion r;
-        memset(&r, 0, sizeof r);
-        r.root = mm_xform_identity();
-        /* the simulation moving 1 m/s to +x, where the played step would take the root (no gap) */
-        t.position = mm_vec3_make(0, 0, dt);
-        t.velocity = mm_vec3_make(1.0f, 0, 0);
-        mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
-        double share = 1.0 - exp2(-0.12 / halflives[i]);
-        double pull = 1.0 - exp2(-(double)dt / halflives[i]);
-        /* the step (share, 0, 1 - share) dt, then the pull closes its gap to (0, 0, dt) */
-        double x = share * dt * (1.0 - pull), z = ((1.0 - share) + share * pull) * dt;
-        assert_vec3_near(r.root.translation, mm_vec3_make((float)x, 0, (float)z), 1e-6f);
-        /* the heading is off the clip's course by more than a position pull alone would turn it */
-        float heading = atan2f(r.root.translation.x, r.root.translation.z);
-        assert_true(heading > 0.1f);
-        /* a move's root motion stays its own */
-        r.root = mm_xform_identity();
-        mm_root_motion_update(&r, &d, &t, &intent, played, true, dt);
-        assert_vec3_near(r.root.translation, mm_vec3_make(0, 0, dt), 1e-7f);
-    }
-    /* glued to the simulation (sync_halflife 0): the root is where the simulation is */
-    d.sync_halflife = 0.0f;
-    mm_root_motion r;
-    memset(&r, 0, sizeof r);
-    r.root = mm_xform_identity();
-    mm_root_motion_update(&r, &d, &t, &intent, played, false, dt);
-    assert_vec3_near(r.root.translation, t.position, 1e-7f);
     mm_trajectory_free(&t);
 }
 
@@ -1675,7 +1626,6 @@ int main(void)
         cmocka_unit_test(test_transition_legs_fade_with_their_halflife),
         cmocka_unit_test(test_matching_stance_ends_after_its_reach),
         cmocka_unit_test(test_root_motion_pull_and_clamps),
-        cmocka_unit_test(test_root_motion_velocity_sync),
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
         cmocka_unit_test(test_feet_lock_holds_and_releases),

@@ -16,21 +16,6 @@
 #define ROOT_GROUND_SAMPLES 15
 /* s: half-life of the spring the root's height follows the ground with */
 #define ROOT_GROUND_HALFLIFE 0.08f
-/* s: the root's velocity takes at once the share of its difference from the simulation's that the
- * sync spring (sync_halflife) closes over this time (docs/runtime.md, "The root's velocity") */
-#define ROOT_VELOCITY_SYNC_TIME 0.12f
-
-/* The share of the difference between the simulated velocity and the played one the root takes
- * each tick: 1 - 2^(-ROOT_VELOCITY_SYNC_TIME / sync_halflife). A pull on the position alone keeps
- * the root on the played clip's course after the simulation turns until the gap has grown (about
- * sync_halflife / ln 2 behind each change), so a clip that turns or starts slowly, or plays on
- * while the search holds it, adds its own lag to the response. A stiffer sync takes more of the
- * velocity too: all of it when the root is glued to the simulation (sync_halflife 0), none when it
- * is left free (a huge half-life). */
-static float velocity_sync_share(const mm_character_desc *d)
-{
-    return d->sync_halflife > 0.0f ? 1.0f - exp2f(-ROOT_VELOCITY_SYNC_TIME / d->sync_halflife) : 1.0f;
-}
 
 void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const mm_trajectory *t,
                            const mm_intent *intent, mm_root_played played, bool free_root, float dt)
@@ -38,11 +23,6 @@ void mm_root_motion_update(mm_root_motion *r, const mm_character_desc *d, const 
     r->played = played;
     mm_vec3 v = mm_quat_rotate(r->root.rotation, played.velocity);
     float yaw = yaw_of(r->root.rotation) + played.yaw_rate * dt;
-    if (!free_root) { /* a share of the velocity's difference, along the ground */
-        mm_vec3 toward = mm_vec3_sub(t->velocity, v);
-        toward.y = 0.0f;
-        v = mm_vec3_add(v, mm_vec3_scale(toward, velocity_sync_share(d)));
-    }
     mm_vec3 position = mm_vec3_add(r->root.translation, mm_vec3_scale(v, dt));
     float pull = free_root ? 0.0f : d->sync_halflife > 0.0f ? 1.0f - exp2f(-dt / d->sync_halflife) : 1.0f;
     mm_vec3 gap = mm_vec3_sub(t->position, position);
