@@ -337,6 +337,43 @@ static void test_matching_due(void **state)
     assert_true(m.idle);
 }
 
+/* The ratio the search weighs with: at a run of 3 m/s with the stick let go the velocity must change
+ * by more than velocity_change_speed, so the ratio is velocity_change_ratio; right after a jump
+ * the pose is weighed back up to the desc's ratio, and one transition_halflife later (the spring's
+ * offset halved, by the halflife's definition) the ratio is half-way back up. */
+static void test_matching_pose_weighed_back_after_a_jump(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    mm_matching m;
+    memset(&m, 0, sizeof m);
+    m.since_jump = INFINITY;
+    mm_trajectory t;
+    memset(&t, 0, sizeof t);
+    t.velocity = mm_vec3_make(0, 0, 3.0f);
+    mm_intent intent;
+    memset(&intent, 0, sizeof intent);
+    float base = d.params.pose_trajectory_ratio, raised = d.velocity_change_ratio;
+    assert_true(raised > base + 0.1f);
+    assert_true(3.0f > d.velocity_change_speed);
+    /* no jump yet: the velocity change's ratio */
+    assert_float_equal(mm_matching_ratio(&m, &d, &t, &intent), raised, 1e-6f);
+    /* at the jump: the desc's */
+    m.since_jump = 0.0f;
+    assert_float_equal(mm_matching_ratio(&m, &d, &t, &intent), base, 1e-6f);
+    /* one halflife on, counted by the ticks of mm_matching_due: half-way */
+    float dt = d.transition_halflife / 12.0f;
+    for (int k = 0; k < 12; ++k) mm_matching_due(&m, &d, &intent, 3.0f, 3.0f, false, false, dt);
+    assert_float_equal(m.since_jump, d.transition_halflife, 1e-5f);
+    assert_float_equal(mm_matching_ratio(&m, &d, &t, &intent), 0.5f * (base + raised), 1e-4f);
+    /* long after: the velocity change's again; and with the velocity reached, the desc's */
+    m.since_jump = 20.0f * d.transition_halflife;
+    assert_float_equal(mm_matching_ratio(&m, &d, &t, &intent), raised, 1e-4f);
+    intent.desired_velocity = t.velocity;
+    m.since_jump = 0.0f;
+    assert_float_equal(mm_matching_ratio(&m, &d, &t, &intent), base, 1e-6f);
+}
+
 /* ---- 4. transition ---- */
 
 /* One joint (joint 1) turning about +Y at rate w (rad/s) from angle a0: its rotation at time t. */
@@ -1621,6 +1658,7 @@ int main(void)
         cmocka_unit_test(test_playback_time_to_contact),
         cmocka_unit_test(test_playback_distance_matching_on_a_cycle),
         cmocka_unit_test(test_matching_due),
+        cmocka_unit_test(test_matching_pose_weighed_back_after_a_jump),
         cmocka_unit_test(test_transition_inertialize_keeps_pose_and_velocity),
         cmocka_unit_test(test_transition_inertialize_keeps_velocity_across_axes),
         cmocka_unit_test(test_transition_legs_fade_with_their_halflife),

@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <mm/spring.h>
+
 #include "math_private.h"
 
 /* m/s: the simulated character counts as stopped */
@@ -43,6 +45,7 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query, float
     m->since_search = INFINITY; /* search on the first tick */
     m->last_result.frame = -1;
     m->stance_reach = leg_length > 0.0f ? STANCE_REACH_LEGS * leg_length : 0.0f;
+    m->since_jump = INFINITY;
 }
 
 void mm_matching_track_stances(mm_matching *m, unsigned label, mm_vec3 root)
@@ -111,6 +114,29 @@ static void velocity_change_weights(const mm_character_desc *d, const mm_traject
     }
 }
 
+/* The share of a jump's offsets inertialization has still to hide since_jump s after it: the
+ * transition's spring decaying from rest, (1 + y t) e^(-y t) (mm_spring_damping), 1/2 after one
+ * halflife; 0 with no jump yet or no halflife. */
+static float jump_offset_left(float since_jump, float halflife)
+{
+    if (!isfinite(since_jump) || !(halflife > 0.0f)) return 0.0f;
+    double yt = mm_spring_damping(halflife) * fmax(since_jump, 0.0);
+    return (float)((1.0 + yt) * exp(-yt));
+}
+
+float mm_matching_ratio(const mm_matching *m, const mm_character_desc *d, const mm_trajectory *t,
+                        const mm_intent *intent)
+{
+    mm_search_params p = d->params;
+    velocity_change_weights(d, t, intent, &p);
+    /* the pose weighed back up after a jump: the query's pose is the new frame's, but the pose
+     * shown is still that frame plus the offsets left to hide; the velocity change's trajectory
+     * weight chose the next jump on top of them, and jumps in a row while the input turns stacked
+     * their offsets into lunges (docs/transitions.md, "Transitions in a row") */
+    float base = d->params.pose_trajectory_ratio, raised = p.pose_trajectory_ratio;
+    return raised - (raised - base) * jump_offset_left(m->since_jump, d->transition_halflife);
+}
+
 /* The desired direction (rad) and speed (m/s). */
 static float desired_direction(const mm_intent *intent, float *speed)
 {
@@ -139,6 +165,7 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
     int turned =
         speed > DIRECTION_MIN_SPEED && fabsf(wrap_angle(direction - m->last_direction)) > d->turn_threshold;
     m->since_search += dt;
+    m->since_jump += dt;
     return !move_playing && (m->since_search >= d->search_interval || turned || idle_changed || ended);
 }
 
@@ -160,7 +187,7 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
      * gait than the one asked for are left out */
     for (int g = 0; g < MM_GAIT_COUNT; ++g)
         if (g != (int)intent->gait) p.excluded_tags |= m->gait_tags[g];
-    velocity_change_weights(d, t, intent, &p);
+    p.pose_trajectory_ratio = mm_matching_ratio(m, d, t, intent);
     /* the best candidates when a debugger asked for them (the winner is the same whatever k) */
     mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
     int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
@@ -187,6 +214,7 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
         return;
     jump->frame = best.frame;
     jump->fraction = pb->fraction;
+    m->since_jump = 0.0f;
     /* crossfade: cancellable, but not at the end of the clip (the playhead would stand still) */
     jump->uncancellable = db->frame_next[pb->frame] < 0;
 }

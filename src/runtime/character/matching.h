@@ -40,6 +40,9 @@ typedef struct mm_matching {
     /* m: a foot whose stance the character has travelled this far from is no longer kept planted
      * by the contact favour (a leg's length, mm_matching_init); 0: never */
     float stance_reach;
+    /* s since the search last asked for a jump (INFINITY: none yet): its offsets are still being
+     * hidden, and the search weighs the pose back up meanwhile (mm_matching_ratio) */
+    float since_jump;
 } mm_matching;
 
 /* m/s: under this simulated speed (standing, starting, stopping) the search does not favour the
@@ -75,6 +78,13 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
  * playing's), less the bits of the feet the character (at root) has travelled stance_reach from
  * since they were planted. */
 int mm_matching_contact_pattern(const mm_matching *m, unsigned label, mm_xform root);
+
+/* The pose_trajectory_ratio the search weighs with: the desc's, moved toward
+ * velocity_change_ratio while the simulated velocity (t) must change toward the intent's; that
+ * move held back, right after a jump, by the share of the jump's offsets still to hide (the
+ * transition's spring over transition_halflife: all of it at the jump, half after one halflife). */
+float mm_matching_ratio(const mm_matching *m, const mm_character_desc *d, const mm_trajectory *t,
+                        const mm_intent *intent);
 
 /* Searches with the pose of the frame playing and t's future in the frame of root (in: the input
  * that future is sampled under; m's future instead, when given); frames in other contacts than the
