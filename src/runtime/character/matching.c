@@ -114,13 +114,17 @@ static void velocity_change_weights(const mm_character_desc *d, const mm_traject
     }
 }
 
-/* The share of a jump's offsets inertialization has still to hide since_jump s after it: the
- * transition's spring decaying from rest, (1 + y t) e^(-y t) (mm_spring_damping), 1/2 after one
- * halflife; 0 with no jump yet or no halflife. */
-static float jump_offset_left(float since_jump, float halflife)
+/* The share of a jump the transition has still to hide since_jump s after it: with
+ * inertialization its offsets' spring decaying from rest, (1 + y t) e^(-y t) (mm_spring_damping),
+ * 1/2 after one transition_halflife; with the crossfade mixer the weight the sources before it
+ * still have (1 - t / crossfade_time); 0 with no jump yet, no halflife or no crossfade time. */
+static float jump_offset_left(float since_jump, const mm_character_desc *d)
 {
-    if (!isfinite(since_jump) || !(halflife > 0.0f)) return 0.0f;
-    double yt = mm_spring_damping(halflife) * fmax(since_jump, 0.0);
+    if (!isfinite(since_jump)) return 0.0f;
+    if (d->transition_mode == MM_TRANSITION_CROSSFADE)
+        return d->crossfade_time > 0.0f ? fmaxf(1.0f - since_jump / d->crossfade_time, 0.0f) : 0.0f;
+    if (!(d->transition_halflife > 0.0f)) return 0.0f;
+    double yt = mm_spring_damping(d->transition_halflife) * fmax(since_jump, 0.0);
     return (float)((1.0 + yt) * exp(-yt));
 }
 
@@ -134,7 +138,7 @@ float mm_matching_ratio(const mm_matching *m, const mm_character_desc *d, const 
      * weight chose the next jump on top of them, and jumps in a row while the input turns stacked
      * their offsets into lunges (docs/transitions.md, "Transitions in a row") */
     float base = d->params.pose_trajectory_ratio, raised = p.pose_trajectory_ratio;
-    return raised - (raised - base) * jump_offset_left(m->since_jump, d->transition_halflife);
+    return raised - (raised - base) * jump_offset_left(m->since_jump, d);
 }
 
 /* The desired direction (rad) and speed (m/s). */

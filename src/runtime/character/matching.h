@@ -81,8 +81,9 @@ int mm_matching_contact_pattern(const mm_matching *m, unsigned label, mm_xform r
 
 /* The pose_trajectory_ratio the search weighs with: the desc's, moved toward
  * velocity_change_ratio while the simulated velocity (t) must change toward the intent's; that
- * move held back, right after a jump, by the share of the jump's offsets still to hide (the
- * transition's spring over transition_halflife: all of it at the jump, half after one halflife). */
+ * move held back, right after a jump, by the share of the jump still to hide (the transition's
+ * spring over transition_halflife: all of it at the jump, half after one halflife; with the
+ * crossfade mixer the old sources' weight over crossfade_time). */
 float mm_matching_ratio(const mm_matching *m, const mm_character_desc *d, const mm_trajectory *t,
                         const mm_intent *intent);
 
