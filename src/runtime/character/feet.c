@@ -394,14 +394,13 @@ static void swing_catch_up(mm_vec3 *offset, mm_vec3 *velocity, mm_vec3 before, m
 }
 
 /* A lock that begins while the animated foot still rolls (the toe's label turning on as the foot
- * flattens over its heel or as a landing foot pitches down onto its toe, the heel's as the foot
- * rolls down off its toe) holds its joint where the foot was shown last tick: the foot keeps the
- * turn it was shown with (its turn from the animated foot `have`, ankle to toe, to last tick's
- * shown one), so that the toe's lock, placed along the turned foot, is where the toe was shown, and
- * a heel planted under a held toe is where the ankle was. The roll then goes on as the turn fades
- * (both planted: as the turn offset fades) instead of carrying the joint along the ground on its
- * first labelled tick. Returns false, the turn unchanged, where the foot was shown turned further
- * than MAX_FOOT_TURN from the animation (or has no length). */
+ * flattens over its held heel, the heel's as the foot rolls down off its held toe) holds its joint
+ * where the foot was shown last tick: the foot keeps the turn it was shown with (its turn from the
+ * animated foot `have`, ankle to toe, to last tick's shown one), so that the toe's lock, placed
+ * along the turned foot, is where the toe was shown, and a heel planted under a held toe is where
+ * the ankle was. The roll then goes on as the turn offset fades instead of carrying the joint along
+ * the ground on its first labelled tick. Returns false, the turn unchanged, where the foot was
+ * shown turned further than MAX_FOOT_TURN from the animation (or has no length). */
 static bool foot_as_shown(mm_feet *f, int k, mm_vec3 have)
 {
     mm_vec3 shown = f->shown_foot[k];
@@ -597,7 +596,10 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
      * down after it (settle, above) */
     bool held_heel = f->heel_locked[k], held_toe = f->toe_locked[k];
     int planted = 0;
-    /* a lock that begins with the toe's held holds the foot as it was shown (foot_as_shown) */
+    /* a lock that begins while the foot rolls holds its joint where it was shown last tick: a toe
+     * landing alone is planted where the toe was, its ankle put round it as the animated foot is
+     * turned (a foot pitching down onto its toe); a toe planted with or after its heel, and a heel
+     * under a held toe, with the foot as it was shown (foot_as_shown) */
     bool toe_alone = toe_on && !held_toe && !heel_on && !held_heel && !wait && f->placed &&
                      mm_vec3_length(f->shown_foot[k]) > MIN_FOOT_LENGTH;
     bool as_shown = ((toe_on && !held_toe) || (heel_on && !held_heel && held_toe)) && !wait && f->placed &&
