@@ -925,9 +925,8 @@ static float plant_while_rolling(float pitch, float rate, int on, const mm_feet_
  * turns on: a toe landing first (the foot pitching toe down), a toe coming down after its heel (the
  * foot flattening, the heel held), a heel coming down under a held toe (the foot rolling back onto
  * it). Before, the joint was planted where the foot had turned it that tick and moved 0.7, 2.0 and
- * 2.9 mm on its first labelled tick (the first tick of a lock was 0.57 of LAFAN1's 2.07 cm/s of
- * labelled slide on free input, 0.44 of the built-in set's 2.17). Now at most a tenth of the tick
- * before; the toe planted first stays within 1 mm while the foot goes on turning. */
+ * 2.9 mm on its first labelled tick. Now at most a tenth of the tick before; the toe planted first
+ * stays within 1 mm while the foot goes on turning. */
 static void test_feet_lock_begins_where_shown(void **state)
 {
     (void)state;
