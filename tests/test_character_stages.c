@@ -887,6 +887,64 @@ static void test_feet_heel_lifts_where_shown(void **state)
     }
 }
 
+/* The horizontal distance (m) between a and b. */
+static float ground_distance(mm_vec3 a, mm_vec3 b)
+{
+    return sqrtf((a.x - b.x) * (a.x - b.x) + (a.z - b.z) * (a.z - b.z));
+}
+
+/* A lock that begins while the foot still rolls holds its joint where it was shown (feet.c,
+ * foot_as_shown). The animated left foot turns about its ankle at `rate` rad a tick from `pitch`
+ * (positive: toe down), under `before` and then, from tick `on`, under `after`; joint (L_TOE or
+ * L_FOOT) is followed as shown. Returns how far it moved on the ground plane in the tick before
+ * `on` (*rolling: the roll's speed as shown, which the planted joint used to keep for its first
+ * labelled tick) and in tick `on` itself; *held: the most it moved from there over 4 ticks more. */
+static float plant_while_rolling(float pitch, float rate, int on, const mm_feet_contacts *before,
+                                 const mm_feet_contacts *after, int joint, float *rolling, float *held)
+{
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    body b;
+    float dt = 1.0f / 60.0f, moved = 0.0f;
+    mm_vec3 shown = {0, 0, 0}, planted = {0, 0, 0};
+    *held = 0.0f;
+    for (int i = 0; i <= on + 4; ++i) {
+        bent_left_leg(&b, 0.3f, pitch + rate * (float)i, 0.0f);
+        level_tick(&f, &d, &b, i < on ? before : after, dt);
+        mm_vec3 at = b.global[joint].translation;
+        if (i == on - 1) *rolling = ground_distance(at, shown);
+        if (i == on) moved = ground_distance(at, shown), planted = at;
+        if (i > on) *held = fmaxf(*held, ground_distance(at, planted));
+        shown = at;
+    }
+    return moved;
+}
+
+/* Three ways a lock begins while the foot rolls at 4.2 or 2.4 rad/s (a transition's offsets turning
+ * the foot), the joint moving over the ground by 1.3, 2.6 and 3.0 mm in the tick before its label
+ * turns on: a toe landing first (the foot pitching toe down), a toe coming down after its heel (the
+ * foot flattening, the heel held), a heel coming down under a held toe (the foot rolling back onto
+ * it). Before, the joint was planted where the foot had turned it that tick and moved 0.7, 2.0 and
+ * 2.9 mm on its first labelled tick. Now at most a tenth of the tick before; the toe planted first
+ * stays within 1 mm while the foot goes on turning. */
+static void test_feet_lock_begins_where_shown(void **state)
+{
+    (void)state;
+    float rolling = 0.0f, held = 0.0f, moved;
+    moved = plant_while_rolling(0.0f, -0.07f, 4, &LABEL_NONE, &LABEL_LEFT_TOE, L_TOE, &rolling, &held);
+    assert_true(rolling > 1e-3f);
+    assert_true(moved < 0.1f * rolling);
+    assert_true(held < 1e-3f);
+    moved =
+        plant_while_rolling(-0.8f, 0.07f, 4, &LABEL_LEFT_HEEL, &LABEL_LEFT_HEEL_TOE, L_TOE, &rolling, &held);
+    assert_true(rolling > 1e-3f);
+    assert_true(moved < 0.1f * rolling);
+    moved =
+        plant_while_rolling(0.5f, -0.04f, 6, &LABEL_LEFT_TOE, &LABEL_LEFT_HEEL_TOE, L_FOOT, &rolling, &held);
+    assert_true(rolling > 1e-3f);
+    assert_true(moved < 0.1f * rolling);
+}
+
 /* A foot planted while still settling (its label on 3 cm above where it comes to rest) follows the
  * animated foot down to the ground instead of hovering at the height it was planted at. */
 static void test_feet_lock_comes_down(void **state)
@@ -1685,6 +1743,7 @@ int main(void)
         cmocka_unit_test(test_feet_roll_onto_the_toe),
         cmocka_unit_test(test_feet_heel_lifts_where_shown),
         cmocka_unit_test(test_feet_lock_comes_down),
+        cmocka_unit_test(test_feet_lock_begins_where_shown),
         cmocka_unit_test(test_feet_lock_settles_gradually),
         cmocka_unit_test(test_feet_wait_aloft),
         cmocka_unit_test(test_feet_wait_aloft_on_terrain),

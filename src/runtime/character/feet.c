@@ -393,6 +393,25 @@ static void swing_catch_up(mm_vec3 *offset, mm_vec3 *velocity, mm_vec3 before, m
     velocity->z += share * (before_velocity.z - velocity->z);
 }
 
+/* A lock that begins while the animated foot still rolls (the toe's label turning on as the foot
+ * flattens over its held heel, the heel's as the foot rolls down off its held toe) holds its joint
+ * where the foot was shown last tick: the foot keeps the turn it was shown with (its turn from the
+ * animated foot `have`, ankle to toe, to last tick's shown one), so that the toe's lock, placed
+ * along the turned foot, is where the toe was shown, and a heel planted under a held toe is where
+ * the ankle was. The roll then goes on as the turn offset fades instead of carrying the joint along
+ * the ground on its first labelled tick. Returns false, the turn unchanged, where the foot was
+ * shown turned further than MAX_FOOT_TURN from the animation (or has no length). */
+static bool foot_as_shown(mm_feet *f, int k, mm_vec3 have)
+{
+    mm_vec3 shown = f->shown_foot[k];
+    if (!(mm_vec3_length(shown) > MIN_FOOT_LENGTH) || !(mm_vec3_length(have) > MIN_FOOT_LENGTH)) return false;
+    mm_vec3 turn = mm_quat_log(mm_quat_between(have, shown));
+    if (!(mm_vec3_length(turn) <= MAX_FOOT_TURN)) return false;
+    f->turn[k] = turn;
+    f->turn_velocity[k] = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    return true;
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -577,6 +596,14 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
      * down after it (settle, above) */
     bool held_heel = f->heel_locked[k], held_toe = f->toe_locked[k];
     int planted = 0;
+    /* a lock that begins while the foot rolls holds its joint where it was shown last tick: a toe
+     * landing alone is planted where the toe was, its ankle put round it as the animated foot is
+     * turned (a foot pitching down onto its toe); a toe planted with or after its heel, and a heel
+     * under a held toe, with the foot as it was shown (foot_as_shown) */
+    bool toe_alone = toe_on && !held_toe && !heel_on && !held_heel && !wait && f->placed &&
+                     mm_vec3_length(f->shown_foot[k]) > MIN_FOOT_LENGTH;
+    bool as_shown = ((toe_on && !held_toe) || (heel_on && !held_heel && held_toe)) && !wait && f->placed &&
+                    !pivoted && !toe_alone && foot_as_shown(f, k, mm_vec3_sub(t, a));
     if (heel_on && !held_heel && !wait) {
         f->heel_lock[k] = held_toe ? foot_source(f, k, a, t) : out;
         f->heel_lock[k].y = fminf(f->heel_lock[k].y, a.y);
@@ -587,6 +614,9 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (toe_on && !held_toe && !wait) {
         f->toe_lock[k] = mm_vec3_add(held_heel ? f->heel_lock[k] : out,
                                      mm_quat_rotate(mm_quat_exp(f->turn[k]), mm_vec3_sub(t, a)));
+        if (toe_alone) /* where the toe was shown */
+            f->toe_lock[k].x = f->lock[k].x + f->shown_foot[k].x,
+            f->toe_lock[k].z = f->lock[k].z + f->shown_foot[k].z;
         f->toe_lock[k].y = fminf(f->toe_lock[k].y, t.y);
         f->toe_lock[k].y = above_ground(ground, rig->planted_toe[k], f->toe_lock[k]);
         f->toe_locked[k] = true;
@@ -595,6 +625,9 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (planted) { /* held exactly from here (a lock raised to the ground: once the offset has faded) */
         mm_vec3 source = foot_source(f, k, a, t);
         f->offset[k] = mm_vec3_sub(out, source);
+        if (as_shown && held_toe) /* the ankle where it was held, as the heel comes down */
+            f->offset[k].x = f->lock[k].x - source.x, f->offset[k].z = f->lock[k].z - source.z;
+        if (toe_alone) f->offset[k].x = f->offset[k].z = 0.0f; /* the toe on its lock at once */
         /* on terrain, a foot planted on its toe whose ankle would come below where the ankle
          * stands (the foot turned less than the slope it lands on) is held there by the ankle's
          * floor: the offset carries only the height above that, so that the toe, aimed at its lock
