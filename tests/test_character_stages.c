@@ -1052,6 +1052,52 @@ static void test_feet_toe_down_under_raised_heel(void **state)
     assert_true(last_ankle < 0.06f + 0.025f); /* most of the way down after 1/3 s (2 cm left) */
 }
 
+/* A toe planted under a raised ankle (feet.c, the toe's aim from the floored ankle): on terrain (a
+ * scene whose ground is the plane y = 0), the left foot animated 3 cm too low (its ankle at 0.03,
+ * under its planted 0.06) and pitched 0.24 rad toe up so that its toe is at its planted 2 cm, lands
+ * toe first, then on heel and toe, then rolls up onto its toe (pitching 0.03 rad a tick toe down)
+ * while the body runs on past it at 1.2 m/s (the knee bent 0.5 rad: the leg reaches). The ankle is
+ * held at its floor (0.06 m), 3 cm above where the animation has it: the foot pitches down about it
+ * onto the toe's lock. The toe then stands within the foot's own mismatch of its lock: the foot's
+ * length, 12.65 cm, against 13.0 cm from the raised ankle to the lock, leaves it short by 0.35 cm
+ * along a foot pitched 0.32 rad down, about 0.2 cm up, and by TOE_SINK (1 cm) at most down. Before,
+ * the foot was pitched for the ankle where the animation had it and then raised with it: the toe 3
+ * cm above its lock while both labels were on and after the heel let go (the 2.96 cm of LAFAN1's
+ * run on the rough field). */
+static void test_feet_toe_planted_under_a_raised_ankle(void **state)
+{
+    (void)state;
+    static mm_scene flat; /* large: kept off the stack */
+    mm_scene_init(&flat, 0.0f);
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f, low = -0.03f, toe_up = -0.24f;
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    float highest = 0.0f, lowest = 1.0f;
+    for (int n = 0; n < 30; ++n) {
+        float pitch = toe_up + (n < 15 ? 0.0f : 0.03f * (float)(n - 14));
+        bent_left_leg(&b, 0.5f, pitch, low);
+        b.positions[HIPS].z = 1.2f * (float)n * dt;
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        if (n == 0) { /* as animated: the toe at its planted height, the ankle 3 cm under its own */
+            assert_float_equal(b.global[L_TOE].translation.y, 0.02f, 1e-3f);
+            assert_float_equal(b.global[L_FOOT].translation.y, 0.06f + low, 1e-6f);
+        }
+        const mm_feet_contacts *labels = n < 3 || n >= 15 ? &toe : &both;
+        mm_feet_update(&f, &d, &b.rig, labels, &(mm_feet_ground){0.0f, true, &flat}, dt, &b.pose);
+        assert_true(f.toe_locked[0]);
+        float gap = b.global[L_TOE].translation.y - 0.02f;
+        highest = fmaxf(highest, gap), lowest = fminf(lowest, gap);
+    }
+    assert_true(highest < 0.005f); /* 3 cm before */
+    assert_true(lowest > -0.0101f);
+}
+
 /* A foot let go behind its animated place steps there instead of skating over the ground: the left
  * heel planted at P while the body stands, the body then 0.3 m ahead (within unlock_radius: held),
  * the label off with the body still. The ankle's target catches up 0.3 m along +Z as its offset
@@ -1689,6 +1735,7 @@ int main(void)
         cmocka_unit_test(test_feet_wait_aloft),
         cmocka_unit_test(test_feet_wait_aloft_on_terrain),
         cmocka_unit_test(test_feet_toe_down_under_raised_heel),
+        cmocka_unit_test(test_feet_toe_planted_under_a_raised_ankle),
         cmocka_unit_test(test_feet_toe_pivot_out_of_reach),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -599,9 +599,13 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * stands (the foot turned less than the slope it lands on) is held there by the ankle's
          * floor: the offset carries only the height above that, so that the toe, aimed at its lock
          * lifted by the offset's height, comes onto it */
-        if (tilt)
-            f->offset[k].y =
-                out.y - fmaxf(source.y, stand_height(ground, source.x, source.z, rig->planted_ankle[k]));
+        if (tilt) {
+            /* and only what is above that floor: an ankle shown under it (the foot landing lower
+             * than the data plants it) is raised to it all the same, and a negative height would
+             * aim the toe under its lock */
+            float floor = stand_height(ground, source.x, source.z, rig->planted_ankle[k]);
+            f->offset[k].y = fmaxf(out.y, floor) - fmaxf(source.y, floor);
+        }
         f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
     }
     if (f->heel_locked[k] && f->toe_locked[k]) {
@@ -647,7 +651,13 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * down onto its heel as the offset fades, instead of being held flat in the air above both
          * locks (docs/scene.md, "Toe down under a raised heel") */
         if (f->heel_locked[k]) toe_at.y = f->toe_lock[k].y;
-        mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, target)));
+        /* Aimed from where the ankle will be: no lower than where it stands (the floor the caller
+         * raises the target to). An offset holding the ankle below that floor (a foot planted toe
+         * first on ground that falls away under the toe) would otherwise pitch the foot for an
+         * ankle that is then raised, lifting the toe off its lock by as much */
+        mm_vec3 from = target;
+        from.y = fmaxf(from.y, stand_height(ground, target.x, target.z, rig->planted_ankle[k]));
+        mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, from)));
         float angle = mm_vec3_length(aim);
         if (angle > MAX_FOOT_TURN) aim = mm_vec3_scale(aim, MAX_FOOT_TURN / angle);
         *orientation = mm_quat_mul(mm_quat_exp(aim), animated);
