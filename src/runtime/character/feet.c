@@ -393,6 +393,34 @@ static void swing_catch_up(mm_vec3 *offset, mm_vec3 *velocity, mm_vec3 before, m
     velocity->z += share * (before_velocity.z - velocity->z);
 }
 
+/* m/s^2: the most a free foot's offset changes the velocity of its ankle's target on the ground
+ * plane beyond the animation's own change: as much as a landing slows a foot. The offset's
+ * spring pulls hardest on its first tick, and a swing's catch-up harder still: a foot let go far
+ * behind its animated place with its contact near (a toe held by its pivot while the body ran on)
+ * went from rest to 5 m/s in one tick */
+#define SWING_ACCELERATION LANDING_DECELERATION
+
+/* Free foot k's offset on the ground plane (*offset, *velocity: after this tick's decay and
+ * catch-up, from before and before_velocity) eased so that the velocity of its ankle's target
+ * (shown: last tick's, m/s) changes by at most SWING_ACCELERATION dt, or by the animation's own
+ * change when that is larger (moving: the animated ankle's velocity now; shown less before_velocity
+ * is what it was last tick): the foot swings as animated, and the offset adds no jolt of its own.
+ * The part of the pull held back stays in the offset, caught up over the next ticks. */
+static void ease_swing(mm_vec3 *offset, mm_vec3 *velocity, mm_vec3 before, mm_vec3 before_velocity,
+                       mm_vec3 moving, mm_vec3 shown, float dt)
+{
+    float own_x = moving.x - (shown.x - before_velocity.x), own_z = moving.z - (shown.z - before_velocity.z);
+    float dvx = moving.x + velocity->x - shown.x, dvz = moving.z + velocity->z - shown.z;
+    float change = sqrtf(dvx * dvx + dvz * dvz);
+    float most = fmaxf(SWING_ACCELERATION * dt, sqrtf(own_x * own_x + own_z * own_z));
+    if (!(change > most)) return;
+    float keep = most / change;
+    velocity->x = shown.x + dvx * keep - moving.x, velocity->z = shown.z + dvz * keep - moving.z;
+    /* the offset moved at the mean of its velocities over the tick (an even acceleration) */
+    offset->x = before.x + 0.5f * (before_velocity.x + velocity->x) * dt;
+    offset->z = before.z + 0.5f * (before_velocity.z + velocity->z) * dt;
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -461,6 +489,9 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (!was_locked && f->placed)
         swing_catch_up(&f->offset[k], &f->offset_velocity[k], along, along_velocity,
                        contacts->until_contact[k], d->foot_halflife, dt);
+    if (!was_locked && f->placed)
+        ease_swing(&f->offset[k], &f->offset_velocity[k], along, along_velocity,
+                   source_velocity(f, k, a, t, dt), f->target_velocity[k], dt);
     if (!was_locked && below.x < 0.0f) { /* free and held down: lifts off as animated */
         mm_spring_decay_vec3_step(&below, &below_velocity, lift_step);
         f->offset[k].y = below.x, f->offset_velocity[k].y = below_velocity.x;
@@ -954,6 +985,10 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             pivot_on_toe(f, rig, k, h, (1.0f - SOFT_REACH) * leg_length(rig, k, pose), last_pivot[k], dt,
                          pose, &target[k], &orientation[k]);
         solve_leg(rig, k, target[k], orientation[k], pose);
+        f->target_velocity[k] = f->placed
+                                    ? mm_vec3_scale(mm_vec3_sub(target[k], f->last_target[k]), 1.0f / dt)
+                                    : mm_vec3_make(0.0f, 0.0f, 0.0f);
+        f->last_target[k] = target[k];
         int ankle = rig->ankle[k], knee = rig->knee[k]; /* the ankle where the solved leg puts it */
         mm_xform reached = mm_xform_mul(
             pose->global[knee], mm_xform_make(pose->local_rotations[ankle], pose->local_positions[ankle]));
