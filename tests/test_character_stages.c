@@ -1000,6 +1000,57 @@ static void test_feet_lock_settles_gradually(void **state)
     assert_float_equal(worst, h * (1.0f - exp2f(-dt / 0.1f)), 1e-3f);
 }
 
+/* A foot let go far behind its animated place with its next contact near (ease_swing, feet.c): the
+ * left toe held (its pivot, the pelvis leaning back) for 8 ticks while the body runs on along +Z at
+ * 4 m/s, its label then off with the next contact 0.25 s away. Let go, the foot keeps its velocity
+ * (at rest) and its offset (0.5 m behind the animated ankle, which moves on evenly: any change of
+ * the foot's velocity is the feet stage's own). The offset's spring, with the swing's catch-up
+ * (half-life 0.08 s), pulled the ankle's target from rest by a second difference of 6.2 cm in one
+ * tick (the shown ankle 4.8 cm); now its velocity changes by at most SWING_ACCELERATION (150 m/s^2)
+ * dt a tick, a second difference of 150 dt^2 = 4.2 cm on the ground plane (4.5 allowed: the height
+ * is the step's lift's), and the shown ankle follows within its leg's reach. The foot still goes
+ * after its animated place (over 0.5 m in the 9 ticks). */
+static void test_feet_swing_eases_out_of_a_far_release(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    d.max_hip_drop = 0.0f;
+    body b;
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    float dt = 1.0f / 60.0f, speed = 4.0f;
+    int held = 8, free_ticks = 9;
+    mm_vec3 shown[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, aimed[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    mm_vec3 let_go = {0, 0, 0};
+    float worst_shown = 0.0f, worst_aimed = 0.0f;
+    for (int n = 0; n <= held + free_ticks; ++n) {
+        bent_left_leg(&b, 0.5f, 0.0f, 0.0f);
+        b.positions[HIPS].z = speed * (float)n * dt;
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        mm_vec3 animated = b.global[L_FOOT].translation;
+        /* the toe's label on, then off with the next contact coming in 0.25 s (beyond the landing's
+         * look-ahead throughout: no landing, the catch-up alone) */
+        mm_feet_contacts labels = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+        if (n > held) labels.label = 0, labels.until_contact[0] = 0.25f - (float)(n - held - 1) * dt;
+        level_tick(&f, &d, &b, &labels, dt);
+        shown[0] = shown[1], shown[1] = shown[2], shown[2] = b.global[L_FOOT].translation;
+        aimed[0] = aimed[1], aimed[1] = aimed[2], aimed[2] = f.last_target[0];
+        if (n == held) {
+            assert_true(f.toe_locked[0]);
+            let_go = shown[2];
+            assert_true(animated.z - let_go.z > 0.5f); /* far behind its animated place */
+        }
+        if (n > held) {
+            assert_false(f.locked[0]);
+            worst_shown = fmaxf(worst_shown, second_difference(shown[0], shown[1], shown[2]));
+            worst_aimed = fmaxf(worst_aimed, second_difference(aimed[0], aimed[1], aimed[2]));
+        }
+    }
+    assert_true(worst_aimed < 0.045f); /* 6.2 cm before */
+    assert_true(worst_shown < 0.045f); /* 4.8 cm before */
+    assert_true(shown[2].z - let_go.z > 0.5f);
+}
+
 /* A foot whose label turns on while it is held up more than feet.c's PLANT_MAX_HEIGHT (4 cm) above
  * where it stands is not planted there: held on the ground plane by the landing (plant_time, two
  * ticks) and not rising (its animation lifted 2 cm more on one tick), it comes down with the
@@ -1108,6 +1159,52 @@ static void test_feet_toe_down_under_raised_heel(void **state)
         last_ankle = ankle;
     }
     assert_true(last_ankle < 0.06f + 0.025f); /* most of the way down after 1/3 s (2 cm left) */
+}
+
+/* A toe planted under a raised ankle (feet.c, the toe's aim from the floored ankle): on terrain (a
+ * scene whose ground is the plane y = 0), the left foot animated 3 cm too low (its ankle at 0.03,
+ * under its planted 0.06) and pitched 0.24 rad toe up so that its toe is at its planted 2 cm, lands
+ * toe first, then on heel and toe, then rolls up onto its toe (pitching 0.03 rad a tick toe down)
+ * while the body runs on past it at 1.2 m/s (the knee bent 0.5 rad: the leg reaches). The ankle is
+ * held at its floor (0.06 m), 3 cm above where the animation has it: the foot pitches down about it
+ * onto the toe's lock. The toe then stands within the foot's own mismatch of its lock: the foot's
+ * length, 12.65 cm, against 13.2 cm from the raised ankle to the lock (12.6 cm ahead, 4 cm down),
+ * leaves it short by 0.58 cm along a foot pitched 0.31 rad down, 0.18 cm up (0.5 allowed), and by
+ * TOE_SINK (1 cm) at most down. Before, the foot was pitched for the ankle where the animation had
+ * it and then raised with it: the toe 3 cm above its lock while on its toe, up to 5.6 cm on heel
+ * and toe, and 2.2-2.5 cm after the heel let go (LAFAN1's run on the rough field: 2.96 cm). */
+static void test_feet_toe_planted_under_a_raised_ankle(void **state)
+{
+    (void)state;
+    static mm_scene flat; /* large: kept off the stack */
+    mm_scene_init(&flat, 0.0f);
+    mm_character_desc d = defaults();
+    d.plant_time = 0.0f;
+    d.max_hip_drop = 0.0f;
+    float dt = 1.0f / 60.0f, low = -0.03f, toe_up = -0.24f;
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}},
+                     both = {MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    mm_feet f;
+    memset(&f, 0, sizeof f);
+    body b;
+    float highest = 0.0f, lowest = 1.0f;
+    for (int n = 0; n < 30; ++n) {
+        float pitch = toe_up + (n < 15 ? 0.0f : 0.03f * (float)(n - 14));
+        bent_left_leg(&b, 0.5f, pitch, low);
+        b.positions[HIPS].z = 1.2f * (float)n * dt;
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        if (n == 0) { /* as animated: the toe at its planted height, the ankle 3 cm under its own */
+            assert_float_equal(b.global[L_TOE].translation.y, 0.02f, 1e-3f);
+            assert_float_equal(b.global[L_FOOT].translation.y, 0.06f + low, 1e-6f);
+        }
+        const mm_feet_contacts *labels = n < 3 || n >= 15 ? &toe : &both;
+        mm_feet_update(&f, &d, &b.rig, labels, &(mm_feet_ground){0.0f, true, &flat}, dt, &b.pose);
+        assert_true(f.toe_locked[0]);
+        float gap = b.global[L_TOE].translation.y - 0.02f;
+        highest = fmaxf(highest, gap), lowest = fminf(lowest, gap);
+    }
+    assert_true(highest < 0.005f); /* 5.6 cm before */
+    assert_true(lowest > -0.0101f);
 }
 
 /* A foot let go behind its animated place steps there instead of skating over the ground: the left
@@ -1699,8 +1796,11 @@ static void test_feet_toe_floor_and_far_targets(void **state)
     f.offset_velocity[0] = mm_vec3_make(0, 0, 0);
     make_body(&b);
     mm_feet_update(&f, &d, &b.rig, &LABEL_NONE, &(mm_feet_ground){-1.0f, false, NULL}, dt, &b.pose);
-    /* the offset decayed one step from rest first: 1.5 (1 + y dt) e^(-y dt) */
+    /* the offset decayed one step from rest first: 1.5 (1 + y dt) e^(-y dt), its velocity changed by
+     * at most feet.c's SWING_ACCELERATION (150 m/s^2) dt, evenly over the tick (the spring's first
+     * step asks for a little more here: 2.6 m/s) */
     float y = (float)mm_spring_damping(d.foot_halflife), z = 1.5f * (1.0f + y * dt) * expf(-y * dt);
+    z = fmaxf(z, 1.5f - 0.5f * 150.0f * dt * dt);
     mm_vec3 hip = mm_vec3_make(0.1f, 0.9f, 0.0f), along = mm_vec3_make(0.0f, -0.84f, z);
     assert_vec3_near(f.lock[0], mm_vec3_add(hip, mm_vec3_scale(along, 1.15f * 0.84f / mm_vec3_length(along))),
                      1e-4f);
@@ -1748,7 +1848,9 @@ int main(void)
         cmocka_unit_test(test_feet_wait_aloft),
         cmocka_unit_test(test_feet_wait_aloft_on_terrain),
         cmocka_unit_test(test_feet_toe_down_under_raised_heel),
+        cmocka_unit_test(test_feet_toe_planted_under_a_raised_ankle),
         cmocka_unit_test(test_feet_toe_pivot_out_of_reach),
+        cmocka_unit_test(test_feet_swing_eases_out_of_a_far_release),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

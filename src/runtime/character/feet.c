@@ -412,6 +412,34 @@ static bool foot_as_shown(mm_feet *f, int k, mm_vec3 have)
     return true;
 }
 
+/* m/s^2: the most a free foot's offset changes the velocity of its ankle's target on the ground
+ * plane beyond the animation's own change: as much as a landing slows a foot. The offset's
+ * spring pulls hardest on its first tick, and a swing's catch-up harder still: a foot let go far
+ * behind its animated place with its contact near (a toe held by its pivot while the body ran on)
+ * went from rest to 5 m/s in one tick */
+#define SWING_ACCELERATION LANDING_DECELERATION
+
+/* Free foot k's offset on the ground plane (*offset, *velocity: after this tick's decay and
+ * catch-up, from before and before_velocity) eased so that the velocity of its ankle's target
+ * (shown: last tick's, m/s) changes by at most SWING_ACCELERATION dt, or by the animation's own
+ * change when that is larger (moving: the animated ankle's velocity now; shown less before_velocity
+ * is what it was last tick): the foot swings as animated, and the offset adds no jolt of its own.
+ * The part of the pull held back stays in the offset, caught up over the next ticks. */
+static void ease_swing(mm_vec3 *offset, mm_vec3 *velocity, mm_vec3 before, mm_vec3 before_velocity,
+                       mm_vec3 moving, mm_vec3 shown, float dt)
+{
+    float own_x = moving.x - (shown.x - before_velocity.x), own_z = moving.z - (shown.z - before_velocity.z);
+    float dvx = moving.x + velocity->x - shown.x, dvz = moving.z + velocity->z - shown.z;
+    float change = sqrtf(dvx * dvx + dvz * dvz);
+    float most = fmaxf(SWING_ACCELERATION * dt, sqrtf(own_x * own_x + own_z * own_z));
+    if (!(change > most)) return;
+    float keep = most / change;
+    velocity->x = shown.x + dvx * keep - moving.x, velocity->z = shown.z + dvz * keep - moving.z;
+    /* the offset moved at the mean of its velocities over the tick (an even acceleration) */
+    offset->x = before.x + 0.5f * (before_velocity.x + velocity->x) * dt;
+    offset->z = before.z + 0.5f * (before_velocity.z + velocity->z) * dt;
+}
+
 /* Foot k's locks on this tick's labels; returns the ankle's target (*orientation: the foot's). The
  * offset decays first; a change of what the foot follows then adds to it the difference in place and
  * in velocity on the ground plane, so that the ankle keeps them (as inertialization does). */
@@ -480,6 +508,9 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     if (!was_locked && f->placed)
         swing_catch_up(&f->offset[k], &f->offset_velocity[k], along, along_velocity,
                        contacts->until_contact[k], d->foot_halflife, dt);
+    if (!was_locked && f->placed)
+        ease_swing(&f->offset[k], &f->offset_velocity[k], along, along_velocity,
+                   source_velocity(f, k, a, t, dt), f->target_velocity[k], dt);
     if (!was_locked && below.x < 0.0f) { /* free and held down: lifts off as animated */
         mm_spring_decay_vec3_step(&below, &below_velocity, lift_step);
         f->offset[k].y = below.x, f->offset_velocity[k].y = below_velocity.x;
@@ -632,9 +663,13 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * stands (the foot turned less than the slope it lands on) is held there by the ankle's
          * floor: the offset carries only the height above that, so that the toe, aimed at its lock
          * lifted by the offset's height, comes onto it */
-        if (tilt)
-            f->offset[k].y =
-                out.y - fmaxf(source.y, stand_height(ground, source.x, source.z, rig->planted_ankle[k]));
+        if (tilt) {
+            /* and only what is above that floor: an ankle shown under it (the foot landing lower
+             * than the data plants it) is raised to it all the same, and a negative height would
+             * aim the toe under its lock */
+            float floor = stand_height(ground, source.x, source.z, rig->planted_ankle[k]);
+            f->offset[k].y = fmaxf(out.y, floor) - fmaxf(source.y, floor);
+        }
         f->offset_velocity[k] = mm_vec3_make(0, 0, 0);
     }
     if (f->heel_locked[k] && f->toe_locked[k]) {
@@ -680,7 +715,13 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
          * down onto its heel as the offset fades, instead of being held flat in the air above both
          * locks (docs/scene.md, "Toe down under a raised heel") */
         if (f->heel_locked[k]) toe_at.y = f->toe_lock[k].y;
-        mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, target)));
+        /* Aimed from where the ankle will be: no lower than where it stands (the floor the caller
+         * raises the target to). An offset holding the ankle below that floor (a foot planted toe
+         * first on ground that falls away under the toe) would otherwise pitch the foot for an
+         * ankle that is then raised, lifting the toe off its lock by as much */
+        mm_vec3 from = target;
+        from.y = fmaxf(from.y, stand_height(ground, target.x, target.z, rig->planted_ankle[k]));
+        mm_vec3 aim = mm_quat_log(mm_quat_between(mm_vec3_sub(t, a), mm_vec3_sub(toe_at, from)));
         float angle = mm_vec3_length(aim);
         if (angle > MAX_FOOT_TURN) aim = mm_vec3_scale(aim, MAX_FOOT_TURN / angle);
         *orientation = mm_quat_mul(mm_quat_exp(aim), animated);
@@ -977,6 +1018,10 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             pivot_on_toe(f, rig, k, h, (1.0f - SOFT_REACH) * leg_length(rig, k, pose), last_pivot[k], dt,
                          pose, &target[k], &orientation[k]);
         solve_leg(rig, k, target[k], orientation[k], pose);
+        f->target_velocity[k] = f->placed
+                                    ? mm_vec3_scale(mm_vec3_sub(target[k], f->last_target[k]), 1.0f / dt)
+                                    : mm_vec3_make(0.0f, 0.0f, 0.0f);
+        f->last_target[k] = target[k];
         int ankle = rig->ankle[k], knee = rig->knee[k]; /* the ankle where the solved leg puts it */
         mm_xform reached = mm_xform_mul(
             pose->global[knee], mm_xform_make(pose->local_rotations[ankle], pose->local_positions[ankle]));

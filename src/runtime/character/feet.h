@@ -45,6 +45,9 @@ typedef struct mm_feet {
     /* on terrain: how far each animated foot is raised (or lowered) to the ground under it from the
      * root's ground (a spring's state) */
     float ground_shift[2], ground_shift_velocity[2];
+    /* each ankle's target as reached for last tick (after the toe pivot), and its velocity then (m/s):
+     * a free foot's offset speeds it up from there (ease_swing in feet.c) */
+    mm_vec3 last_target[2], target_velocity[2];
     mm_vec3 raw_contacts[4]; /* left ankle, left toe, right ankle, right toe before IK */
 } mm_feet;
 
