@@ -721,15 +721,13 @@ static int check_query(const mm_searcher *s, const float *q, const mm_search_par
     return n == 2 && top[1].cost <= brute.cost + 1e-6f * fabsf(brute.cost) && top[1].frame != brute.frame;
 }
 
-/* Every kind of query on the real database, and what characters searched with on random input
- * (the database's runtime settings: the ratio, favours, tags and type the runtime sets). */
-static void test_kinds_equal_brute(void **state)
+/* Every kind of query on database db (named name), and what characters searched with on random
+ * input (the database's runtime settings: the ratio, favours, tags and type the runtime sets). */
+static void kinds_equal_brute(const mm_database *db, const char *name, uint64_t seed)
 {
-    (void)state;
-    const mm_database *db = &real_db;
     mm_searcher s;
     assert_int_equal(mm_searcher_init(&s, db, NULL, NULL), MM_OK);
-    test_rng r = {0x5eed};
+    test_rng r = {seed};
     int n = getenv("MM_TEST_SEARCH_QUERIES") ? atoi(getenv("MM_TEST_SEARCH_QUERIES")) / 3 : 300;
     if (n < 10) n = 10;
     float q[MM_SEARCH_MAX_DIMS];
@@ -772,8 +770,26 @@ static void test_kinds_equal_brute(void **state)
     print_message(
         "%s: near, transition, random (%d each) and %d recorded queries (%d with the ratio the runtime "
         "moved): fast = brute force\n",
-        real_name, n, recorded, ratios);
+        name, n, recorded, ratios);
     mm_searcher_free(&s);
+}
+
+static void test_kinds_equal_brute(void **state)
+{
+    (void)state;
+    kinds_equal_brute(&real_db, real_name, 0x5eed);
+}
+
+/* The same on the generated built-in set whatever the real database is (with MM_DATA_DIR set, the
+ * test above runs on LAFAN1): every kind of query, recorded ones included. */
+static void test_builtin_set_kinds_equal_brute(void **state)
+{
+    (void)state;
+    if (!lafan_loaded) skip(); /* the real database is the built-in set: the test above */
+    mm_database db;
+    assert_int_equal(test_build_synth_database(&db), 0);
+    kinds_equal_brute(&db, "built-in set", 0x5eed3);
+    mm_database_free(&db);
 }
 
 /* The first pass's bound with weights and queries far from the defaults: queries far outside the
@@ -890,6 +906,7 @@ int main(void)
         cmocka_unit_test(test_tree),
         cmocka_unit_test(test_small_trees),
         cmocka_unit_test(test_kinds_equal_brute),
+        cmocka_unit_test(test_builtin_set_kinds_equal_brute),
         cmocka_unit_test(test_ties_every_kind),
         cmocka_unit_test(test_quantized_bound),
     };
