@@ -4,6 +4,8 @@
 
 #include <mm/spring.h>
 
+#include "runtime/spring_private.h"
+
 #include "test_util.h"
 
 /* x'' = -y^2 (x - g) - 2 y x', integrated with RK4 at 1e-5 s: the truth the closed forms must meet. */
@@ -194,6 +196,40 @@ static void test_shared_step(void **state)
     assert_float_equal(x.x, 0.5f, 1e-5f);
 }
 
+/* The rotation spring in two parts (mm__spring_quat_gap once, mm__spring_update_quat_gap for
+ * several steps from the same rotation toward the same target) against mm_spring_update_quat,
+ * bit for bit: random rotations, angular velocities, half-lives (0: none) and steps (0 and
+ * negative: none). */
+static void test_quat_spring_gap(void **state)
+{
+    (void)state;
+    unsigned seed = 7u;
+    const float halflives[4] = {0.0f, 0.05f, 0.2f, 1.5f},
+                dts[5] = {-0.1f, 0.0f, 1.0f / 60.0f, 0.3333333f, 2.0f};
+    for (int n = 0; n < 400; ++n) {
+        float r[10];
+        for (int c = 0; c < 10; ++c) {
+            seed = seed * 1664525u + 1013904223u;
+            r[c] = (float)(seed >> 8) / (float)(1u << 24) * 2.0f - 1.0f;
+        }
+        float spread = n % 4 == 0 ? 3.0f : 0.4f; /* turns past the series' reach, and within it */
+        mm_quat q = mm_quat_exp(mm_vec3_make(spread * r[0], spread * r[1], spread * r[2]));
+        mm_quat target = mm_quat_exp(mm_vec3_make(spread * r[3], spread * r[4], spread * r[5]));
+        if (n % 9 == 0) target = q;
+        mm_vec3 w0 = mm_vec3_make(4.0f * r[6], 4.0f * r[7], 4.0f * r[8]);
+        mm_vec3 gap = mm__spring_quat_gap(q, target);
+        for (int h = 0; h < 4; ++h)
+            for (int k = 0; k < 5; ++k) {
+                mm_quat qa = q, qb = q;
+                mm_vec3 wa = w0, wb = w0;
+                mm_spring_update_quat(&qa, &wa, target, halflives[h], dts[k]);
+                mm__spring_update_quat_gap(&qb, &wb, gap, target, halflives[h], dts[k]);
+                assert_memory_equal(&qa, &qb, sizeof qa);
+                assert_memory_equal(&wa, &wb, sizeof wa);
+            }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -203,6 +239,7 @@ int main(void)
         cmocka_unit_test(test_velocity_spring),
         cmocka_unit_test(test_quat_spring),
         cmocka_unit_test(test_shared_step),
+        cmocka_unit_test(test_quat_spring_gap),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -6,6 +6,7 @@
 #endif
 
 #include "math_private.h"
+#include "runtime/spring_private.h"
 
 /* exp(-y h) (1 + y h) = 1/2 */
 #define HALFLIFE_ROOT 1.6783469900166603
@@ -118,7 +119,12 @@ void mm_spring_decay_vec3(mm_vec3 *x, mm_vec3 *v, float halflife, float dt)
     mm_spring_update_vec3(x, v, mm_vec3_make(0, 0, 0), halflife, dt);
 }
 
-void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflife, float dt)
+mm_vec3 mm__spring_quat_gap(mm_quat q, mm_quat target)
+{
+    return mm__quat_log_series(mm_quat_abs(mm_quat_mul(q, mm_quat_inverse(target))));
+}
+
+void mm__spring_update_quat_gap(mm_quat *q, mm_vec3 *w, mm_vec3 gap, mm_quat target, float halflife, float dt)
 {
     if (!(dt > 0.0f)) return;
     double y = mm_spring_damping(halflife);
@@ -128,9 +134,8 @@ void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflif
         return;
     }
     /* the rotation still to go, as a rotation vector, springs to zero */
-    mm_vec3 r = mm__quat_log_series(mm_quat_abs(mm_quat_mul(*q, mm_quat_inverse(target))));
     double e = exp(-y * dt);
-    double rv[3] = {r.x, r.y, r.z}, wv[3] = {w->x, w->y, w->z}, out_r[3], out_w[3];
+    double rv[3] = {gap.x, gap.y, gap.z}, wv[3] = {w->x, w->y, w->z}, out_r[3], out_w[3];
     for (int i = 0; i < 3; ++i) {
         double j1 = wv[i] + rv[i] * y;
         out_r[i] = (rv[i] + j1 * dt) * e;
@@ -139,6 +144,13 @@ void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflif
     *q = mm_quat_normalize(mm_quat_mul(
         mm__quat_exp_series(mm_vec3_make((float)out_r[0], (float)out_r[1], (float)out_r[2])), target));
     *w = mm_vec3_make((float)out_w[0], (float)out_w[1], (float)out_w[2]);
+}
+
+void mm_spring_update_quat(mm_quat *q, mm_vec3 *w, mm_quat target, float halflife, float dt)
+{
+    bool moves = dt > 0.0f && isfinite(mm_spring_damping(halflife)); /* else no gap is read */
+    mm_vec3 gap = moves ? mm__spring_quat_gap(*q, target) : mm_vec3_make(0, 0, 0);
+    mm__spring_update_quat_gap(q, w, gap, target, halflife, dt);
 }
 
 void mm_spring_velocity_update(mm_vec3 *position, mm_vec3 *velocity, mm_vec3 *acceleration,
