@@ -230,6 +230,38 @@ static void test_quat_spring_gap(void **state)
     }
 }
 
+/* mm_spring_step_make keeps the steps it made on the thread: whatever it made before (many
+ * half-lives and steps, in any order, some the same again), a step is the one its definition
+ * gives, bit for bit: the damping, dt, e^(-y dt) (0 without a spring or a step) and whether it
+ * moves. */
+static void test_step_made_again(void **state)
+{
+    (void)state;
+    enum { PAIRS = 300 };
+    float halflives[PAIRS], dts[PAIRS];
+    unsigned seed = 11u;
+    for (int i = 0; i < PAIRS; ++i) {
+        seed = seed * 1664525u + 1013904223u;
+        halflives[i] = i % 17 == 0 ? 0.0f : (float)(seed >> 8) / (float)(1u << 24) * 2.0f;
+        seed = seed * 1664525u + 1013904223u;
+        dts[i] = i % 13 == 0  ? (i % 2 ? -0.0f : -0.01f)
+                 : i % 3 == 0 ? 1.0f / 60.0f
+                              : (float)(seed >> 8) / (float)(1u << 24);
+    }
+    for (int pass = 0; pass < 3; ++pass)
+        for (int n = 0; n < PAIRS; ++n) {
+            int i = pass == 1 ? PAIRS - 1 - n : pass == 2 ? (n * 7) % PAIRS : n;
+            mm_spring_step s = mm_spring_step_make(halflives[i], dts[i]);
+            double y = mm_spring_damping(halflives[i]), dt = dts[i];
+            bool moves = dts[i] > 0.0f;
+            double decay = moves && isfinite(y) ? exp(-y * dt) : 0.0;
+            assert_memory_equal(&s.damping, &y, sizeof y);
+            assert_memory_equal(&s.dt, &dt, sizeof dt);
+            assert_memory_equal(&s.decay, &decay, sizeof decay);
+            assert_true(s.moves == moves);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -240,6 +272,7 @@ int main(void)
         cmocka_unit_test(test_quat_spring),
         cmocka_unit_test(test_shared_step),
         cmocka_unit_test(test_quat_spring_gap),
+        cmocka_unit_test(test_step_made_again),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

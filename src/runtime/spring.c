@@ -1,6 +1,8 @@
 #include <mm/spring.h>
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -17,11 +19,35 @@ double mm_spring_damping(float halflife)
     return HALFLIFE_ROOT / (double)halflife;
 }
 
-mm_spring_step mm_spring_step_make(float halflife, float dt)
+static mm_spring_step step_make(float halflife, float dt)
 {
     mm_spring_step s = {mm_spring_damping(halflife), dt, 0.0, dt > 0.0f};
     if (s.moves && isfinite(s.damping)) s.decay = exp(-s.damping * s.dt);
     return s;
+}
+
+/* The steps last made on this thread, by the bits of their half-life and dt: a character's springs
+ * take a handful of half-lives over the same dt tick after tick, and the exponential is most of a
+ * step's cost. A step found here is the one step_make gives (a pure function of those bits). */
+#define STEP_MEMO_SIZE 16 /* a power of two */
+typedef struct step_memo {
+    uint32_t halflife, dt;
+    bool used;
+    mm_spring_step step;
+} step_memo;
+static _Thread_local step_memo step_memos[STEP_MEMO_SIZE];
+
+mm_spring_step mm_spring_step_make(float halflife, float dt)
+{
+    uint32_t h, d;
+    memcpy(&h, &halflife, sizeof h);
+    memcpy(&d, &dt, sizeof d);
+    step_memo *m = &step_memos[((h * 0x9E3779B1u) ^ d) >> 28 & (STEP_MEMO_SIZE - 1)];
+    if (!m->used || m->halflife != h || m->dt != d) {
+        m->step = step_make(halflife, dt);
+        m->halflife = h, m->dt = d, m->used = true;
+    }
+    return m->step;
 }
 
 /* One coordinate, in double: the closed form over the step's dt. */
