@@ -39,8 +39,11 @@ static inline bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) &&
  * exact to double rounding (the result differs from mm_quat_slerp's by at most a float rounding);
  * mm_quat_slerp itself beyond. */
 mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t);
-/* out[i] = mm__quat_slerp_series(a[i], b[i], t) for i in [0, count): the same bits, two at a
- * time where the machine has the lanes for it. */
+/* Whether the packed kernels below may go four doubles wide (AVX) where the machine has it (on
+ * at start): the same bits either way; the tests check both. */
+void mm__math_wide_kernels(bool on);
+/* out[i] = mm__quat_slerp_series(a[i], b[i], t) for i in [0, count): the same bits, four or two
+ * at a time where the machine has the lanes for it. */
 void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out);
 
 /* mm_quat_exp without its sine and cosine, for small rotations (offsets decaying to none): under
