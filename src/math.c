@@ -437,28 +437,6 @@ static int log_series2(mm_quat q0, mm_quat q1, mm_vec3 *out0, mm_vec3 *out1)
     return ~_mm_movemask_pd(ok) & 3;
 }
 
-void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
-{
-    int i = 0;
-    for (; i + 1 < count; i += 2) {
-        int redo = log_series2(q[i], q[i + 1], &out[i], &out[i + 1]);
-        if (redo & 1) out[i] = mm__quat_log_series(q[i]);
-        if (redo & 2) out[i + 1] = mm__quat_log_series(q[i + 1]);
-    }
-    for (; i < count; ++i) out[i] = mm__quat_log_series(q[i]);
-}
-
-void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
-{
-    int i = 0;
-    for (; i + 1 < count; i += 2) {
-        int redo = exp_series2(v[i], v[i + 1], &out[i], &out[i + 1]);
-        if (redo & 1) out[i] = mm__quat_exp_series(v[i]);
-        if (redo & 2) out[i + 1] = mm__quat_exp_series(v[i + 1]);
-    }
-    for (; i < count; ++i) out[i] = mm__quat_exp_series(v[i]);
-}
-
 #if defined(MM_WIDE_KERNELS)
 /* slerp_series2 for four pairs in the four double lanes of AVX, operation for operation (AVX's
  * arithmetic is IEEE's as SSE2's is, and without FMA nothing is fused): the same bits. */
@@ -545,7 +523,97 @@ MM_WIDE static int slerp_series4(const mm_quat *a, const mm_quat *b, float t, mm
     _mm_storeu_ps(&out[3].x, w);
     return ~_mm256_movemask_pd(ok) & 15;
 }
+
+MM_WIDE static __m256d cos_series4(__m256d y)
+{
+    static const double k[] = {1.0 / 479001600.0, -1.0 / 3628800.0, 1.0 / 40320.0,
+                               -1.0 / 720.0,      1.0 / 24.0,       -1.0 / 2.0};
+    __m256d r = _mm256_mul_pd(y, _mm256_set1_pd(k[0]));
+    for (int i = 1; i < 6; ++i) r = _mm256_mul_pd(y, _mm256_add_pd(_mm256_set1_pd(k[i]), r));
+    return _mm256_add_pd(_mm256_set1_pd(1.0), r);
+}
+
+/* exp_series2 for four; returns the lanes the scalar code must redo. */
+MM_WIDE static int exp_series4(const mm_vec3 *v, mm_quat *out)
+{
+    __m256d d[3] = {_mm256_set_pd(v[3].x, v[2].x, v[1].x, v[0].x),
+                    _mm256_set_pd(v[3].y, v[2].y, v[1].y, v[0].y),
+                    _mm256_set_pd(v[3].z, v[2].z, v[1].z, v[0].z)};
+    __m256d angle2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1])),
+                                   _mm256_mul_pd(d[2], d[2]));
+    __m256d h2 = _mm256_mul_pd(_mm256_set1_pd(0.25), angle2);
+    __m256d ok = _mm256_cmp_pd(h2, _mm256_set1_pd(SERIES_MAX_ANGLE * SERIES_MAX_ANGLE), _CMP_LT_OQ);
+    __m256d scale = _mm256_mul_pd(_mm256_set1_pd(0.5), sin_over_x4(h2));
+    __m128 x = _mm256_cvtpd_ps(_mm256_mul_pd(d[0], scale)), y = _mm256_cvtpd_ps(_mm256_mul_pd(d[1], scale)),
+           z = _mm256_cvtpd_ps(_mm256_mul_pd(d[2], scale)), w = _mm256_cvtpd_ps(cos_series4(h2));
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    _mm_storeu_ps(&out[0].x, x);
+    _mm_storeu_ps(&out[1].x, y);
+    _mm_storeu_ps(&out[2].x, z);
+    _mm_storeu_ps(&out[3].x, w);
+    return ~_mm256_movemask_pd(ok) & 15;
+}
+
+/* log_series2 for four; returns the lanes the scalar code must redo. */
+MM_WIDE static int log_series4(const mm_quat *in, mm_vec3 *out)
+{
+    dq4 q = dq4_from_quats(in);
+    __m256d flip =
+        _mm256_and_pd(_mm256_cmp_pd(q.c[3], _mm256_setzero_pd(), _CMP_LT_OQ), _mm256_set1_pd(-0.0));
+    for (int c = 0; c < 4; ++c) q.c[c] = _mm256_xor_pd(q.c[c], flip);
+    __m256d s2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(q.c[0], q.c[0]), _mm256_mul_pd(q.c[1], q.c[1])),
+                               _mm256_mul_pd(q.c[2], q.c[2]));
+    __m256d n2 = _mm256_add_pd(s2, _mm256_mul_pd(q.c[3], q.c[3]));
+    __m256d s = _mm256_sqrt_pd(s2), sin2 = _mm256_div_pd(s2, n2);
+    __m256d ok = _mm256_and_pd(_mm256_cmp_pd(s, _mm256_mul_pd(_mm256_set1_pd(1e-6), q.c[3]), _CMP_GE_OQ),
+                               _mm256_cmp_pd(sin2, _mm256_set1_pd(LOG_SERIES_MAX_SIN2), _CMP_LT_OQ));
+    __m256d scale = _mm256_div_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), asin_over_h4(sin2)), _mm256_sqrt_pd(n2));
+    float x[4], y[4], z[4];
+    _mm_storeu_ps(x, _mm256_cvtpd_ps(_mm256_mul_pd(q.c[0], scale)));
+    _mm_storeu_ps(y, _mm256_cvtpd_ps(_mm256_mul_pd(q.c[1], scale)));
+    _mm_storeu_ps(z, _mm256_cvtpd_ps(_mm256_mul_pd(q.c[2], scale)));
+    for (int k = 0; k < 4; ++k) out[k] = mm_vec3_make(x[k], y[k], z[k]);
+    return ~_mm256_movemask_pd(ok) & 15;
+}
 #endif
+
+void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
+{
+    int i = 0;
+#if defined(MM_WIDE_KERNELS)
+    if (wide_kernels())
+        for (; i + 3 < count; i += 4) {
+            int redo = log_series4(q + i, out + i);
+            for (int k = 0; k < 4; ++k)
+                if (redo & 1 << k) out[i + k] = mm__quat_log_series(q[i + k]);
+        }
+#endif
+    for (; i + 1 < count; i += 2) {
+        int redo = log_series2(q[i], q[i + 1], &out[i], &out[i + 1]);
+        if (redo & 1) out[i] = mm__quat_log_series(q[i]);
+        if (redo & 2) out[i + 1] = mm__quat_log_series(q[i + 1]);
+    }
+    for (; i < count; ++i) out[i] = mm__quat_log_series(q[i]);
+}
+
+void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
+{
+    int i = 0;
+#if defined(MM_WIDE_KERNELS)
+    if (wide_kernels())
+        for (; i + 3 < count; i += 4) {
+            int redo = exp_series4(v + i, out + i);
+            for (int k = 0; k < 4; ++k)
+                if (redo & 1 << k) out[i + k] = mm__quat_exp_series(v[i + k]);
+        }
+#endif
+    for (; i + 1 < count; i += 2) {
+        int redo = exp_series2(v[i], v[i + 1], &out[i], &out[i + 1]);
+        if (redo & 1) out[i] = mm__quat_exp_series(v[i]);
+        if (redo & 2) out[i + 1] = mm__quat_exp_series(v[i + 1]);
+    }
+    for (; i < count; ++i) out[i] = mm__quat_exp_series(v[i]);
+}
 
 void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out)
 {
