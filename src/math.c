@@ -14,20 +14,15 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-/* Kernels four doubles wide (AVX), where the compiler can build them for a machine without AVX and
- * the machine they run on has it: the same operations as the two-wide SSE2 ones, so the same bits
- * on either. */
-#if defined(__SSE2__) && defined(__x86_64__) && defined(__GNUC__)
-#define MM_WIDE_KERNELS 1
-#define MM_WIDE         __attribute__((target("avx")))
-#include <immintrin.h>
-
+#if defined(MM_WIDE_KERNELS)
 static int wide_off; /* mm__math_wide_kernels(false): the tests' check of the two-wide kernels */
 
-static int wide_kernels(void) { return !wide_off && __builtin_cpu_supports("avx"); }
+bool mm__wide_kernels(void) { return !wide_off && __builtin_cpu_supports("avx"); }
 
 void mm__math_wide_kernels(bool on) { wide_off = !on; }
 #else
+bool mm__wide_kernels(void) { return false; }
+
 void mm__math_wide_kernels(bool on) { (void)on; }
 #endif
 
@@ -581,7 +576,7 @@ void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
 {
     int i = 0;
 #if defined(MM_WIDE_KERNELS)
-    if (wide_kernels())
+    if (mm__wide_kernels())
         for (; i + 3 < count; i += 4) {
             int redo = log_series4(q + i, out + i);
             for (int k = 0; k < 4; ++k)
@@ -600,7 +595,7 @@ void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
 {
     int i = 0;
 #if defined(MM_WIDE_KERNELS)
-    if (wide_kernels())
+    if (mm__wide_kernels())
         for (; i + 3 < count; i += 4) {
             int redo = exp_series4(v + i, out + i);
             for (int k = 0; k < 4; ++k)
@@ -619,7 +614,7 @@ void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int co
 {
     int i = 0;
 #if defined(MM_WIDE_KERNELS)
-    if (wide_kernels())
+    if (mm__wide_kernels())
         for (; i + 3 < count; i += 4) {
             int redo = slerp_series4(a + i, b + i, t, out + i);
             for (int k = 0; k < 4; ++k)
