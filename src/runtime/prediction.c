@@ -129,14 +129,10 @@ static mm_result predict_stop(mm_vec3 velocity, mm_vec3 acceleration, float half
     }
     for (int it = 0; it < BISECTION_STEPS; ++it) {
         double mid = 0.5 * (lo + hi);
-        /* lo and hi next to each other (or equal): whichever way this halving goes, every later one
-         * halves the same pair again and moves neither */
-        bool settled = mid == lo || mid == hi;
         if (vs_speed(&s, mid) >= rest)
             lo = mid;
         else
             hi = mid;
-        if (settled) break;
     }
     out->found = 1;
     out->time = (float)(0.5 * (lo + hi) / y);
@@ -178,12 +174,10 @@ static mm_result predict_pivot(mm_vec3 velocity, mm_vec3 acceleration, mm_vec3 t
     double lo = (i - 1) * h, hi = i * h;
     for (int it = 0; it < BISECTION_STEPS; ++it) {
         double mid = 0.5 * (lo + hi);
-        bool settled = mid == lo || mid == hi; /* as in predict_stop */
         if (ALONG(mid) < 0.0)
             lo = mid;
         else
             hi = mid;
-        if (settled) break;
     }
 #undef ALONG
     double u = 0.5 * (lo + hi);

@@ -28,26 +28,34 @@ static mm_spring_step step_make(float halflife, float dt)
 
 /* The steps last made on this thread, by the bits of their half-life and dt: a character's springs
  * take a handful of half-lives over the same dt tick after tick, and the exponential is most of a
- * step's cost. A step found here is the one step_make gives (a pure function of those bits). */
-#define STEP_MEMO_SIZE 16 /* a power of two */
+ * step's cost. A step found here is the one step_make gives (a pure function of those bits). The
+ * memo is small and in the thread's static block (initial-exec: no call to find it, and the
+ * runtime library needs nothing past libc, libm and pthreads). */
+#define STEP_MEMO_SIZE 8 /* a power of two */
 typedef struct step_memo {
     uint32_t halflife, dt;
+    double damping, decay;
     bool used;
-    mm_spring_step step;
 } step_memo;
+#if defined(__GNUC__)
+static _Thread_local step_memo step_memos[STEP_MEMO_SIZE] __attribute__((tls_model("initial-exec")));
+#else
 static _Thread_local step_memo step_memos[STEP_MEMO_SIZE];
+#endif
 
 mm_spring_step mm_spring_step_make(float halflife, float dt)
 {
     uint32_t h, d;
     memcpy(&h, &halflife, sizeof h);
     memcpy(&d, &dt, sizeof d);
-    step_memo *m = &step_memos[((h * 0x9E3779B1u) ^ d) >> 28 & (STEP_MEMO_SIZE - 1)];
+    step_memo *m = &step_memos[((h * 0x9E3779B1u) ^ d) >> 29 & (STEP_MEMO_SIZE - 1)];
     if (!m->used || m->halflife != h || m->dt != d) {
-        m->step = step_make(halflife, dt);
-        m->halflife = h, m->dt = d, m->used = true;
+        mm_spring_step s = step_make(halflife, dt);
+        m->halflife = h, m->dt = d, m->damping = s.damping, m->decay = s.decay, m->used = true;
+        return s;
     }
-    return m->step;
+    mm_spring_step s = {m->damping, dt, m->decay, dt > 0.0f};
+    return s;
 }
 
 /* One coordinate, in double: the closed form over the step's dt. */
