@@ -14,6 +14,17 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(MM_WIDE_KERNELS)
+static int wide_off; /* mm__math_wide_kernels(false): the tests' check of the two-wide kernels */
+
+bool mm__wide_kernels(void) { return !wide_off && __builtin_cpu_supports("avx"); }
+
+void mm__math_wide_kernels(bool on) { wide_off = !on; }
+#else
+bool mm__wide_kernels(void) { return false; }
+
+void mm__math_wide_kernels(bool on) { (void)on; }
+#endif
 
 /* ---- internal double-precision helpers -------------------------------------------------- */
 
@@ -421,9 +432,157 @@ static int log_series2(mm_quat q0, mm_quat q1, mm_vec3 *out0, mm_vec3 *out1)
     return ~_mm_movemask_pd(ok) & 3;
 }
 
+#if defined(MM_WIDE_KERNELS)
+/* slerp_series2 for four pairs in the four double lanes of AVX, operation for operation (AVX's
+ * arithmetic is IEEE's as SSE2's is, and without FMA nothing is fused): the same bits. */
+typedef struct dq4 {
+    __m256d c[4]; /* x, y, z, w: each the four lanes */
+} dq4;
+
+MM_WIDE static dq4 dq4_from_quats(const mm_quat *q)
+{
+    __m128 x = _mm_loadu_ps(&q[0].x), y = _mm_loadu_ps(&q[1].x), z = _mm_loadu_ps(&q[2].x),
+           w = _mm_loadu_ps(&q[3].x);
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    dq4 r = {{_mm256_cvtps_pd(x), _mm256_cvtps_pd(y), _mm256_cvtps_pd(z), _mm256_cvtps_pd(w)}};
+    return r;
+}
+
+MM_WIDE static __m256d dq4_norm(const dq4 *q)
+{
+    __m256d n = _mm256_mul_pd(q->c[0], q->c[0]);
+    for (int c = 1; c < 4; ++c) n = _mm256_add_pd(n, _mm256_mul_pd(q->c[c], q->c[c]));
+    return _mm256_sqrt_pd(n);
+}
+
+MM_WIDE static __m256d dq4_divide(dq4 *q, __m256d n)
+{
+    for (int c = 0; c < 4; ++c) q->c[c] = _mm256_div_pd(q->c[c], n);
+    return _mm256_cmp_pd(n, _mm256_set1_pd(1e-300), _CMP_GE_OQ);
+}
+
+MM_WIDE static __m256d sin_over_x4(__m256d y)
+{
+    static const double k[] = {1.0 / 6227020800.0, -1.0 / 39916800.0, 1.0 / 362880.0,
+                               -1.0 / 5040.0,      1.0 / 120.0,       -1.0 / 6.0};
+    __m256d r = _mm256_mul_pd(y, _mm256_set1_pd(k[0]));
+    for (int i = 1; i < 6; ++i) r = _mm256_mul_pd(y, _mm256_add_pd(_mm256_set1_pd(k[i]), r));
+    return _mm256_add_pd(_mm256_set1_pd(1.0), r);
+}
+
+MM_WIDE static __m256d asin_over_h4(__m256d z)
+{
+    __m256d sum = _mm256_setzero_pd();
+    for (int n = (int)(sizeof ASIN_OVER_H / sizeof ASIN_OVER_H[0]) - 1; n >= 0; --n)
+        sum = _mm256_add_pd(_mm256_mul_pd(sum, z), _mm256_set1_pd(ASIN_OVER_H[n]));
+    return sum;
+}
+
+/* Four slerps; returns the lanes (bit k: pair k) the scalar code must redo. */
+MM_WIDE static int slerp_series4(const mm_quat *a, const mm_quat *b, float t, mm_quat *out)
+{
+    dq4 qa = dq4_from_quats(a), qb = dq4_from_quats(b);
+    __m256d ok = _mm256_and_pd(dq4_divide(&qa, dq4_norm(&qa)), dq4_divide(&qb, dq4_norm(&qb)));
+    __m256d dot = _mm256_mul_pd(qa.c[0], qb.c[0]);
+    for (int c = 1; c < 4; ++c) dot = _mm256_add_pd(dot, _mm256_mul_pd(qa.c[c], qb.c[c]));
+    __m256d flip = _mm256_and_pd(_mm256_cmp_pd(dot, _mm256_setzero_pd(), _CMP_LT_OQ), _mm256_set1_pd(-0.0));
+    for (int c = 0; c < 4; ++c) qb.c[c] = _mm256_xor_pd(qb.c[c], flip);
+    __m256d d2 = _mm256_setzero_pd();
+    for (int c = 0; c < 4; ++c) {
+        __m256d e = _mm256_sub_pd(qa.c[c], qb.c[c]);
+        d2 = _mm256_add_pd(d2, _mm256_mul_pd(e, e));
+    }
+    __m256d h2 = _mm256_mul_pd(_mm256_set1_pd(0.25), d2), half = asin_over_h4(h2);
+    __m256d theta2 = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(4.0), h2), half), half);
+    ok = _mm256_and_pd(
+        ok, _mm256_cmp_pd(theta2, _mm256_set1_pd(SERIES_MAX_ANGLE * SERIES_MAX_ANGLE), _CMP_LT_OQ));
+    __m256d td = _mm256_set1_pd((double)t), ua = _mm256_sub_pd(_mm256_set1_pd(1.0), td);
+    __m256d s = sin_over_x4(theta2);
+    __m256d wa =
+        _mm256_div_pd(_mm256_mul_pd(ua, sin_over_x4(_mm256_mul_pd(_mm256_mul_pd(ua, ua), theta2))), s);
+    __m256d wb =
+        _mm256_div_pd(_mm256_mul_pd(td, sin_over_x4(_mm256_mul_pd(_mm256_mul_pd(td, td), theta2))), s);
+    __m256d linear = _mm256_cmp_pd(theta2, _mm256_set1_pd(1e-8), _CMP_LT_OQ);
+    wa = _mm256_blendv_pd(wa, ua, linear);
+    wb = _mm256_blendv_pd(wb, td, linear);
+    dq4 r;
+    for (int c = 0; c < 4; ++c)
+        r.c[c] = _mm256_add_pd(_mm256_mul_pd(wa, qa.c[c]), _mm256_mul_pd(wb, qb.c[c]));
+    ok = _mm256_and_pd(ok, dq4_divide(&r, dq4_norm(&r)));
+    __m128 x = _mm256_cvtpd_ps(r.c[0]), y = _mm256_cvtpd_ps(r.c[1]), z = _mm256_cvtpd_ps(r.c[2]),
+           w = _mm256_cvtpd_ps(r.c[3]);
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    _mm_storeu_ps(&out[0].x, x);
+    _mm_storeu_ps(&out[1].x, y);
+    _mm_storeu_ps(&out[2].x, z);
+    _mm_storeu_ps(&out[3].x, w);
+    return ~_mm256_movemask_pd(ok) & 15;
+}
+
+MM_WIDE static __m256d cos_series4(__m256d y)
+{
+    static const double k[] = {1.0 / 479001600.0, -1.0 / 3628800.0, 1.0 / 40320.0,
+                               -1.0 / 720.0,      1.0 / 24.0,       -1.0 / 2.0};
+    __m256d r = _mm256_mul_pd(y, _mm256_set1_pd(k[0]));
+    for (int i = 1; i < 6; ++i) r = _mm256_mul_pd(y, _mm256_add_pd(_mm256_set1_pd(k[i]), r));
+    return _mm256_add_pd(_mm256_set1_pd(1.0), r);
+}
+
+/* exp_series2 for four; returns the lanes the scalar code must redo. */
+MM_WIDE static int exp_series4(const mm_vec3 *v, mm_quat *out)
+{
+    __m256d d[3] = {_mm256_set_pd(v[3].x, v[2].x, v[1].x, v[0].x),
+                    _mm256_set_pd(v[3].y, v[2].y, v[1].y, v[0].y),
+                    _mm256_set_pd(v[3].z, v[2].z, v[1].z, v[0].z)};
+    __m256d angle2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1])),
+                                   _mm256_mul_pd(d[2], d[2]));
+    __m256d h2 = _mm256_mul_pd(_mm256_set1_pd(0.25), angle2);
+    __m256d ok = _mm256_cmp_pd(h2, _mm256_set1_pd(SERIES_MAX_ANGLE * SERIES_MAX_ANGLE), _CMP_LT_OQ);
+    __m256d scale = _mm256_mul_pd(_mm256_set1_pd(0.5), sin_over_x4(h2));
+    __m128 x = _mm256_cvtpd_ps(_mm256_mul_pd(d[0], scale)), y = _mm256_cvtpd_ps(_mm256_mul_pd(d[1], scale)),
+           z = _mm256_cvtpd_ps(_mm256_mul_pd(d[2], scale)), w = _mm256_cvtpd_ps(cos_series4(h2));
+    _MM_TRANSPOSE4_PS(x, y, z, w);
+    _mm_storeu_ps(&out[0].x, x);
+    _mm_storeu_ps(&out[1].x, y);
+    _mm_storeu_ps(&out[2].x, z);
+    _mm_storeu_ps(&out[3].x, w);
+    return ~_mm256_movemask_pd(ok) & 15;
+}
+
+/* log_series2 for four; returns the lanes the scalar code must redo. */
+MM_WIDE static int log_series4(const mm_quat *in, mm_vec3 *out)
+{
+    dq4 q = dq4_from_quats(in);
+    __m256d flip =
+        _mm256_and_pd(_mm256_cmp_pd(q.c[3], _mm256_setzero_pd(), _CMP_LT_OQ), _mm256_set1_pd(-0.0));
+    for (int c = 0; c < 4; ++c) q.c[c] = _mm256_xor_pd(q.c[c], flip);
+    __m256d s2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(q.c[0], q.c[0]), _mm256_mul_pd(q.c[1], q.c[1])),
+                               _mm256_mul_pd(q.c[2], q.c[2]));
+    __m256d n2 = _mm256_add_pd(s2, _mm256_mul_pd(q.c[3], q.c[3]));
+    __m256d s = _mm256_sqrt_pd(s2), sin2 = _mm256_div_pd(s2, n2);
+    __m256d ok = _mm256_and_pd(_mm256_cmp_pd(s, _mm256_mul_pd(_mm256_set1_pd(1e-6), q.c[3]), _CMP_GE_OQ),
+                               _mm256_cmp_pd(sin2, _mm256_set1_pd(LOG_SERIES_MAX_SIN2), _CMP_LT_OQ));
+    __m256d scale = _mm256_div_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), asin_over_h4(sin2)), _mm256_sqrt_pd(n2));
+    float x[4], y[4], z[4];
+    _mm_storeu_ps(x, _mm256_cvtpd_ps(_mm256_mul_pd(q.c[0], scale)));
+    _mm_storeu_ps(y, _mm256_cvtpd_ps(_mm256_mul_pd(q.c[1], scale)));
+    _mm_storeu_ps(z, _mm256_cvtpd_ps(_mm256_mul_pd(q.c[2], scale)));
+    for (int k = 0; k < 4; ++k) out[k] = mm_vec3_make(x[k], y[k], z[k]);
+    return ~_mm256_movemask_pd(ok) & 15;
+}
+#endif
+
 void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
 {
     int i = 0;
+#if defined(MM_WIDE_KERNELS)
+    if (mm__wide_kernels())
+        for (; i + 3 < count; i += 4) {
+            int redo = log_series4(q + i, out + i);
+            for (int k = 0; k < 4; ++k)
+                if (redo & 1 << k) out[i + k] = mm__quat_log_series(q[i + k]);
+        }
+#endif
     for (; i + 1 < count; i += 2) {
         int redo = log_series2(q[i], q[i + 1], &out[i], &out[i + 1]);
         if (redo & 1) out[i] = mm__quat_log_series(q[i]);
@@ -435,6 +594,14 @@ void mm__quat_log_series_n(const mm_quat *q, int count, mm_vec3 *out)
 void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
 {
     int i = 0;
+#if defined(MM_WIDE_KERNELS)
+    if (mm__wide_kernels())
+        for (; i + 3 < count; i += 4) {
+            int redo = exp_series4(v + i, out + i);
+            for (int k = 0; k < 4; ++k)
+                if (redo & 1 << k) out[i + k] = mm__quat_exp_series(v[i + k]);
+        }
+#endif
     for (; i + 1 < count; i += 2) {
         int redo = exp_series2(v[i], v[i + 1], &out[i], &out[i + 1]);
         if (redo & 1) out[i] = mm__quat_exp_series(v[i]);
@@ -446,6 +613,14 @@ void mm__quat_exp_series_n(const mm_vec3 *v, int count, mm_quat *out)
 void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out)
 {
     int i = 0;
+#if defined(MM_WIDE_KERNELS)
+    if (mm__wide_kernels())
+        for (; i + 3 < count; i += 4) {
+            int redo = slerp_series4(a + i, b + i, t, out + i);
+            for (int k = 0; k < 4; ++k)
+                if (redo & 1 << k) out[i + k] = mm__quat_slerp_series(a[i + k], b[i + k], t);
+        }
+#endif
     for (; i + 1 < count; i += 2) {
         int redo = slerp_series2(a[i], a[i + 1], b[i], b[i + 1], t, &out[i], &out[i + 1]);
         if (redo & 1) out[i] = mm__quat_slerp_series(a[i], b[i], t);

@@ -39,8 +39,20 @@ static inline bool finite3(mm_vec3 v) { return isfinite(v.x) && isfinite(v.y) &&
  * exact to double rounding (the result differs from mm_quat_slerp's by at most a float rounding);
  * mm_quat_slerp itself beyond. */
 mm_quat mm__quat_slerp_series(mm_quat a, mm_quat b, float t);
-/* out[i] = mm__quat_slerp_series(a[i], b[i], t) for i in [0, count): the same bits, two at a
- * time where the machine has the lanes for it. */
+/* Kernels four doubles wide (AVX, MM_WIDE on a function), where the compiler can build them for a
+ * machine without AVX, run where the machine has it (mm__wide_kernels): the same operations as the
+ * two-wide SSE2 ones (AVX's arithmetic is IEEE's, and without FMA nothing is fused), so the same
+ * bits on any machine. mm__math_wide_kernels(false) keeps them off (on at start): the tests check
+ * both paths. */
+#if defined(__SSE2__) && defined(__x86_64__) && defined(__GNUC__)
+#define MM_WIDE_KERNELS 1
+#define MM_WIDE         __attribute__((target("avx")))
+#include <immintrin.h>
+#endif
+bool mm__wide_kernels(void);
+void mm__math_wide_kernels(bool on);
+/* out[i] = mm__quat_slerp_series(a[i], b[i], t) for i in [0, count): the same bits, four or two
+ * at a time where the machine has the lanes for it. */
 void mm__quat_slerp_series_n(const mm_quat *a, const mm_quat *b, float t, int count, mm_quat *out);
 
 /* mm_quat_exp without its sine and cosine, for small rotations (offsets decaying to none): under

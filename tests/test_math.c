@@ -730,34 +730,39 @@ static void test_slerp_series(void **state)
     }
 }
 
-/* Many series slerps at once (mm__quat_slerp_series_n, two at a time in packed doubles): the bits of
- * one mm__quat_slerp_series each, for pairs nearly parallel (the linear weights), close, past the
- * series' reach, of either sign, zero quaternions and NaN among them, and counts odd and even. */
+/* Many series slerps at once (mm__quat_slerp_series_n, four at a time in AVX where the machine has
+ * it, two in SSE2, and the rest alone; both packed paths run): the bits of one mm__quat_slerp_series
+ * each, for pairs nearly parallel (the linear weights), close, past the series' reach, of either
+ * sign, zero quaternions and NaN among them, and counts of every remainder. */
 static void test_slerp_series_n(void **state)
 {
     (void)state;
-    rng_seed(23);
     enum { PAIRS = 37 };
     mm_quat a[PAIRS], b[PAIRS], many[PAIRS];
-    for (int n = 0; n < 400; n++) {
-        for (int i = 0; i < PAIRS; ++i) {
-            a[i] = rnd_quat();
-            mm_vec3 axis = rnd_unit_vec3();
-            double theta = pow(10.0, rnd(-9.0, 0.3)); /* 1e-9 to 2 rad */
-            b[i] = mm_quat_mul(a[i], ref_quat(axis, theta));
-            if ((n + i) & 1) b[i] = mm_quat_make(-b[i].x, -b[i].y, -b[i].z, -b[i].w);
-            if (i % 5 == 0) b[i] = a[i]; /* the same rotation */
-        }
-        if (n % 10 == 1) a[3] = mm_quat_make(0, 0, 0, 0);
-        if (n % 10 == 2) b[8] = mm_quat_make(NAN, 0, 0, 1);
-        float t = n % 7 == 0 ? 0.0f : n % 7 == 1 ? 1.0f : (float)rnd(0.0, 1.0);
-        int count = PAIRS - n % 2;
-        mm__quat_slerp_series_n(a, b, t, count, many);
-        for (int i = 0; i < count; ++i) {
-            mm_quat one = mm__quat_slerp_series(a[i], b[i], t);
-            assert_memory_equal(&many[i], &one, sizeof one);
+    for (int wide = 1; wide >= 0; --wide) {
+        mm__math_wide_kernels(wide);
+        rng_seed(23);
+        for (int n = 0; n < 400; n++) {
+            for (int i = 0; i < PAIRS; ++i) {
+                a[i] = rnd_quat();
+                mm_vec3 axis = rnd_unit_vec3();
+                double theta = pow(10.0, rnd(-9.0, 0.3)); /* 1e-9 to 2 rad */
+                b[i] = mm_quat_mul(a[i], ref_quat(axis, theta));
+                if ((n + i) & 1) b[i] = mm_quat_make(-b[i].x, -b[i].y, -b[i].z, -b[i].w);
+                if (i % 5 == 0) b[i] = a[i]; /* the same rotation */
+            }
+            if (n % 10 == 1) a[3] = mm_quat_make(0, 0, 0, 0);
+            if (n % 10 == 2) b[8] = mm_quat_make(NAN, 0, 0, 1);
+            float t = n % 7 == 0 ? 0.0f : n % 7 == 1 ? 1.0f : (float)rnd(0.0, 1.0);
+            int count = PAIRS - n % 4;
+            mm__quat_slerp_series_n(a, b, t, count, many);
+            for (int i = 0; i < count; ++i) {
+                mm_quat one = mm__quat_slerp_series(a[i], b[i], t);
+                assert_memory_equal(&many[i], &one, sizeof one);
+            }
         }
     }
+    mm__math_wide_kernels(true);
 }
 
 /* The series form of exp (small offsets): the reference rotation about the axis, and within a float
@@ -812,16 +817,17 @@ static void test_log_series(void **state)
     assert_true(isnan(nan.x) && isnan(mm_quat_log(mm_quat_make(NAN, 0, 0, 1)).x));
 }
 
-/* Many series exps at once (mm__quat_exp_series_n): the bits of one mm__quat_exp_series each, from
- * zero (either sign) through the series' reach and past it, NaN among them, counts odd and even. */
+/* Many series exps at once (mm__quat_exp_series_n, four wide and two wide): the bits of one
+ * mm__quat_exp_series each, from zero (either sign) through the series' reach and past it, NaN
+ * among them, counts of every remainder. */
 static void test_exp_series_n(void **state)
 {
     (void)state;
-    rng_seed(24);
     enum { OFFSETS = 29 };
     mm_vec3 v[OFFSETS];
     mm_quat many[OFFSETS];
-    for (int n = 0; n < 400; n++) {
+    for (int n = 0; n < 800; n++) {
+        if (n % 400 == 0) rng_seed(24), mm__math_wide_kernels(n == 0); /* four wide (AVX), then two */
         for (int i = 0; i < OFFSETS; ++i) {
             mm_vec3 axis = rnd_unit_vec3();
             double angle = pow(10.0, rnd(-9.0, 0.5));
@@ -829,26 +835,27 @@ static void test_exp_series_n(void **state)
         }
         v[n % OFFSETS] = mm_vec3_make(0.0f, -0.0f, 0.0f);
         if (n % 10 == 3) v[5] = mm_vec3_make(NAN, 0.0f, 0.0f);
-        int count = OFFSETS - n % 2;
+        int count = OFFSETS - n % 4;
         mm__quat_exp_series_n(v, count, many);
         for (int i = 0; i < count; ++i) {
             mm_quat one = mm__quat_exp_series(v[i]);
             assert_memory_equal(&many[i], &one, sizeof one);
         }
     }
+    mm__math_wide_kernels(true);
 }
 
-/* Many series logs at once (mm__quat_log_series_n): the bits of one mm__quat_log_series each, from
- * the identity (either sign) through the series' reach and past it, negative w, zero, not quite
- * unit and NaN among them, counts odd and even. */
+/* Many series logs at once (mm__quat_log_series_n, four wide and two wide): the bits of one
+ * mm__quat_log_series each, from the identity (either sign) through the series' reach and past it,
+ * negative w, zero, not quite unit and NaN among them, counts of every remainder. */
 static void test_log_series_n(void **state)
 {
     (void)state;
-    rng_seed(26);
     enum { TURNS = 27 };
     mm_quat q[TURNS];
     mm_vec3 many[TURNS];
-    for (int n = 0; n < 400; n++) {
+    for (int n = 0; n < 800; n++) {
+        if (n % 400 == 0) rng_seed(26), mm__math_wide_kernels(n == 0); /* four wide (AVX), then two */
         for (int i = 0; i < TURNS; ++i) {
             mm_vec3 axis = rnd_unit_vec3();
             double half = 0.5 * pow(10.0, rnd(-9.0, 0.6)), size = rnd(0.99, 1.01), sign = i % 3 ? 1.0 : -1.0;
@@ -859,13 +866,14 @@ static void test_log_series_n(void **state)
         q[n % TURNS] = mm_quat_make(0.0f, -0.0f, 0.0f, n % 2 ? 1.0f : -1.0f);
         if (n % 10 == 3) q[5] = mm_quat_make(NAN, 0.0f, 0.0f, 1.0f);
         if (n % 10 == 4) q[8] = mm_quat_make(0.0f, 0.0f, 0.0f, 0.0f);
-        int count = TURNS - n % 2;
+        int count = TURNS - n % 4;
         mm__quat_log_series_n(q, count, many);
         for (int i = 0; i < count; ++i) {
             mm_vec3 one = mm__quat_log_series(q[i]);
             assert_memory_equal(&many[i], &one, sizeof one);
         }
     }
+    mm__math_wide_kernels(true);
 }
 
 /* Many products normalized at once (mm__quat_mul_normalize_n, four at a time): the bits of

@@ -4,6 +4,9 @@
 
 #include <mm/spring.h>
 
+#include "math_private.h"
+#include "runtime/spring_private.h"
+
 #include "test_util.h"
 
 /* x'' = -y^2 (x - g) - 2 y x', integrated with RK4 at 1e-5 s: the truth the closed forms must meet. */
@@ -182,8 +185,12 @@ static void test_shared_step(void **state)
                 xa[i] = xb[i] = mm_vec3_make(r[0], r[1], r[2]);
                 va[i] = vb[i] = mm_vec3_make(r[3], r[4], r[5]);
             }
-            for (int i = 0; i < SPRINGS; ++i) mm_spring_decay_vec3_step(&xa[i], &va[i], &step);
-            mm_spring_decay_vec3_steps(xb, vb, SPRINGS, &step);
+            /* four coordinates wide (AVX) and two (SSE2), every remainder */
+            int count = SPRINGS - (int)((h + k) % 4);
+            mm__math_wide_kernels((h + k) % 2 == 0);
+            for (int i = 0; i < count; ++i) mm_spring_decay_vec3_step(&xa[i], &va[i], &step);
+            mm_spring_decay_vec3_steps(xb, vb, count, &step);
+            mm__math_wide_kernels(true);
             assert_memory_equal(xa, xb, sizeof xa);
             assert_memory_equal(va, vb, sizeof va);
         }
@@ -192,6 +199,72 @@ static void test_shared_step(void **state)
     mm_vec3 x = mm_vec3_make(1, 0, 0), v = mm_vec3_make(0, 0, 0);
     mm_spring_decay_vec3_step(&x, &v, &step);
     assert_float_equal(x.x, 0.5f, 1e-5f);
+}
+
+/* The rotation spring in two parts (mm__spring_quat_gap once, mm__spring_update_quat_gap for
+ * several steps from the same rotation toward the same target) against mm_spring_update_quat,
+ * bit for bit: random rotations, angular velocities, half-lives (0: none) and steps (0 and
+ * negative: none). */
+static void test_quat_spring_gap(void **state)
+{
+    (void)state;
+    unsigned seed = 7u;
+    const float halflives[4] = {0.0f, 0.05f, 0.2f, 1.5f},
+                dts[5] = {-0.1f, 0.0f, 1.0f / 60.0f, 0.3333333f, 2.0f};
+    for (int n = 0; n < 400; ++n) {
+        float r[10];
+        for (int c = 0; c < 10; ++c) {
+            seed = seed * 1664525u + 1013904223u;
+            r[c] = (float)(seed >> 8) / (float)(1u << 24) * 2.0f - 1.0f;
+        }
+        float spread = n % 4 == 0 ? 3.0f : 0.4f; /* turns past the series' reach, and within it */
+        mm_quat q = mm_quat_exp(mm_vec3_make(spread * r[0], spread * r[1], spread * r[2]));
+        mm_quat target = mm_quat_exp(mm_vec3_make(spread * r[3], spread * r[4], spread * r[5]));
+        if (n % 9 == 0) target = q;
+        mm_vec3 w0 = mm_vec3_make(4.0f * r[6], 4.0f * r[7], 4.0f * r[8]);
+        mm_vec3 gap = mm__spring_quat_gap(q, target);
+        for (int h = 0; h < 4; ++h)
+            for (int k = 0; k < 5; ++k) {
+                mm_quat qa = q, qb = q;
+                mm_vec3 wa = w0, wb = w0;
+                mm_spring_update_quat(&qa, &wa, target, halflives[h], dts[k]);
+                mm__spring_update_quat_gap(&qb, &wb, gap, target, halflives[h], dts[k]);
+                assert_memory_equal(&qa, &qb, sizeof qa);
+                assert_memory_equal(&wa, &wb, sizeof wa);
+            }
+    }
+}
+
+/* mm_spring_step_make keeps the steps it made on the thread: whatever it made before (many
+ * half-lives and steps, in any order, some the same again), a step is the one its definition
+ * gives, bit for bit: the damping, dt, e^(-y dt) (0 without a spring or a step) and whether it
+ * moves. */
+static void test_step_made_again(void **state)
+{
+    (void)state;
+    enum { PAIRS = 300 };
+    float halflives[PAIRS], dts[PAIRS];
+    unsigned seed = 11u;
+    for (int i = 0; i < PAIRS; ++i) {
+        seed = seed * 1664525u + 1013904223u;
+        halflives[i] = i % 17 == 0 ? 0.0f : (float)(seed >> 8) / (float)(1u << 24) * 2.0f;
+        seed = seed * 1664525u + 1013904223u;
+        dts[i] = i % 13 == 0  ? (i % 2 ? -0.0f : -0.01f)
+                 : i % 3 == 0 ? 1.0f / 60.0f
+                              : (float)(seed >> 8) / (float)(1u << 24);
+    }
+    for (int pass = 0; pass < 3; ++pass)
+        for (int n = 0; n < PAIRS; ++n) {
+            int i = pass == 1 ? PAIRS - 1 - n : pass == 2 ? (n * 7) % PAIRS : n;
+            mm_spring_step s = mm_spring_step_make(halflives[i], dts[i]);
+            double y = mm_spring_damping(halflives[i]), dt = dts[i];
+            bool moves = dts[i] > 0.0f;
+            double decay = moves && isfinite(y) ? exp(-y * dt) : 0.0;
+            assert_memory_equal(&s.damping, &y, sizeof y);
+            assert_memory_equal(&s.dt, &dt, sizeof dt);
+            assert_memory_equal(&s.decay, &decay, sizeof decay);
+            assert_true(s.moves == moves);
+        }
 }
 
 int main(void)
@@ -203,6 +276,8 @@ int main(void)
         cmocka_unit_test(test_velocity_spring),
         cmocka_unit_test(test_quat_spring),
         cmocka_unit_test(test_shared_step),
+        cmocka_unit_test(test_quat_spring_gap),
+        cmocka_unit_test(test_step_made_again),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -3,8 +3,10 @@
 #include <math.h>
 
 #include <mm/input_json.h>
+#include <mm/scene.h>
 #include <mm/trajectory.h>
 
+#include "runtime/trajectory_private.h"
 #include "test_util.h"
 
 static mm_input stick(float x, float z, mm_gait gait)
@@ -156,12 +158,71 @@ static void test_bad_input(void **state)
     mm_trajectory_free(&t);
 }
 
+/* The update that gives the desired velocity and facing (mm__trajectory_update_desired, which
+ * reuses those the update moved toward) against mm_trajectory_update then mm_trajectory_desired,
+ * bit for bit, on random input in the open and against a wall; and the samples of the future
+ * (one facing gap for all of them) against mm_trajectory_predict, which steps each alone. */
+static void test_update_desired_bits(void **state)
+{
+    (void)state;
+    mm_scene scene;
+    mm_scene_init(&scene, 0.0f);
+    assert_int_equal(
+        mm_scene_add_box(&scene, mm_vec3_make(0.0f, 1.0f, 3.0f), mm_vec3_make(8.0f, 2.0f, 0.5f), 0.3f),
+        MM_OK);
+    const float times[5] = {-0.5f, -0.1f, 0.3333333f, 0.6666667f, 1.0f};
+    int walls_touched = 0;
+    for (int seed = 1; seed <= 6; ++seed) {
+        mm_input_script script;
+        mm_input_random_desc rd = {30.0f, 0.7f, 0, 0.2f, 0, NULL};
+        assert_int_equal(mm_input_script_random(&script, (uint64_t)seed, &rd), MM_OK);
+        mm_trajectory a, b;
+        assert_int_equal(mm_trajectory_init(&a, NULL, NULL), MM_OK);
+        assert_int_equal(mm_trajectory_init(&b, NULL, NULL), MM_OK);
+        bool walls = seed % 2 == 0;
+        if (walls) {
+            mm_trajectory_set_scene(&a, &scene, -1.0f);
+            mm_trajectory_set_scene(&b, &scene, -1.0f);
+        }
+        for (int i = 0; i < 60 * 30; ++i) {
+            mm_input in;
+            mm_input_script_sample(&script, (float)i / 60.0f, &in);
+            mm_vec3 va, vb;
+            mm_quat fa, fb;
+            mm_trajectory_update(&a, &in, 1.0f / 60.0f);
+            mm_trajectory_desired(&a, &in, &va, &fa);
+            mm__trajectory_update_desired(&b, &in, 1.0f / 60.0f, &vb, &fb);
+            assert_memory_equal(&va, &vb, sizeof va);
+            assert_memory_equal(&fa, &fb, sizeof fa);
+            assert_memory_equal(&a.position, &b.position, sizeof a.position);
+            assert_memory_equal(&a.facing, &b.facing, sizeof a.facing);
+            walls_touched += a.contact_count > 0;
+            if (walls || i % 7 != 0) continue;
+            mm_vec3 positions[5];
+            mm_quat facings[5];
+            mm_trajectory_sample(&b, &in, times, 5, positions, facings);
+            for (int k = 2; k < 5; ++k) {
+                mm_vec3 p;
+                mm_quat f;
+                mm_trajectory_predict(&b, vb, fb, mm_input_gait(&in), times[k], &p, &f, NULL);
+                assert_memory_equal(&p, &positions[k], sizeof p);
+                assert_memory_equal(&f, &facings[k], sizeof f);
+            }
+        }
+        mm_trajectory_free(&a);
+        mm_trajectory_free(&b);
+        mm_input_script_free(&script);
+    }
+    assert_true(walls_touched > 0); /* the wall's path was taken */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tick_rate_independent),
         cmocka_unit_test(test_speeds_and_turns),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_update_desired_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -4,6 +4,8 @@
 #include <string.h>
 
 #include <mm/spring.h>
+#include "runtime/spring_private.h"
+#include "runtime/trajectory_private.h"
 
 /* The ranges mm_trajectory_init accepts: beyond them a number is a unit mistake. */
 /* m/s: the fastest gait speed (a sprint is 10) */
@@ -256,6 +258,16 @@ static void advance(state *s, mm_vec3 velocity, mm_quat facing, const mm_gait_pa
     mm_spring_update_quat(&s->facing, &s->angular_velocity, facing, p->rotation_halflife, dt);
 }
 
+/* advance() given the facing's gap to its target (mm__spring_quat_gap(s->facing, facing)): the
+ * same bits, the gap computed once for the several times stepped from one state */
+static void advance_gap(state *s, mm_vec3 velocity, mm_quat facing, mm_vec3 gap, const mm_gait_params *p,
+                        float dt)
+{
+    mm_spring_velocity_update(&s->position, &s->velocity, &s->acceleration, velocity, p->velocity_halflife,
+                              dt);
+    mm__spring_update_quat_gap(&s->facing, &s->angular_velocity, gap, facing, p->rotation_halflife, dt);
+}
+
 static state current(const mm_trajectory *t)
 {
     state s;
@@ -351,9 +363,11 @@ static state update_colliding(mm_trajectory *t, mm_vec3 velocity, mm_quat facing
     return s;
 }
 
-void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
+/* mm_trajectory_update, giving the velocity and facing it moved toward; false when it did not run. */
+static bool update(mm_trajectory *t, const mm_input *in, float dt, mm_vec3 *desired_velocity,
+                   mm_quat *desired_facing)
 {
-    if (!t || !t->history_position || !(dt > 0.0f) || !isfinite(dt)) return;
+    if (!t || !t->history_position || !(dt > 0.0f) || !isfinite(dt)) return false;
     mm_vec3 velocity;
     mm_quat facing;
     mm_trajectory_desired(t, in, &velocity, &facing);
@@ -367,14 +381,16 @@ void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
         t->contact_count = s.normal_count;
         for (int i = 0; i < s.normal_count; ++i) t->contact_normals[i] = s.normals[i];
     } else {
+        /* every sample steps from the present toward the same facing */
+        mm_vec3 gap = mm__spring_quat_gap(t->facing, facing);
         for (; k / rate <= end + 1e-9; k += 1.0) {
             state q = current(t);
             float tau = (float)(k / rate - t->time);
-            if (tau > 0.0f) advance(&q, velocity, facing, p, tau);
+            if (tau > 0.0f) advance_gap(&q, velocity, facing, gap, p, tau);
             push_history(t, q.position, q.facing, k / rate);
         }
         s = current(t);
-        advance(&s, velocity, facing, p, dt);
+        advance_gap(&s, velocity, facing, gap, p, dt);
     }
     t->position = mm_vec3_make(s.position.x, 0.0f, s.position.z);
     t->velocity = s.velocity;
@@ -388,6 +404,26 @@ void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
     for (int i = 0; i < MM_GAIT_COUNT; ++i)
         mm_spring_update_step(&t->gait_weights[i], &t->gait_rates[i], i == g ? 1.0f : 0.0f, &gait_step);
     t->time = end;
+    *desired_velocity = velocity;
+    *desired_facing = facing;
+    return true;
+}
+
+void mm_trajectory_update(mm_trajectory *t, const mm_input *in, float dt)
+{
+    mm_vec3 velocity;
+    mm_quat facing;
+    update(t, in, dt, &velocity, &facing);
+}
+
+void mm__trajectory_update_desired(mm_trajectory *t, const mm_input *in, float dt, mm_vec3 *velocity,
+                                   mm_quat *facing)
+{
+    int walls_before = t ? t->contact_count : 0;
+    /* mm_trajectory_desired reads the simulation's last target facing, which the update sets to
+     * the one it moved toward, and its walls: without walls before or after, the same answer */
+    if (!update(t, in, dt, velocity, facing) || walls_before > 0 || t->contact_count > 0)
+        mm_trajectory_desired(t, in, velocity, facing);
 }
 
 /* The recorded state at absolute time `when` (<= now): interpolated between history samples. */
@@ -428,6 +464,8 @@ void mm_trajectory_sample(const mm_trajectory *t, const mm_input *in, const floa
      * step before it and then the rest */
     state grid = current(t);
     int grid_steps = 0;
+    mm_vec3 gap = {0.0f, 0.0f, 0.0f}; /* every sample steps from the present toward one facing */
+    bool have_gap = false;
     for (int i = 0; i < count; ++i) {
         float tau = isfinite(times[i]) ? times[i] : 0.0f;
         if (tau <= 0.0f) {
@@ -444,7 +482,8 @@ void mm_trajectory_sample(const mm_trajectory *t, const mm_input *in, const floa
             float rest = tau - (float)n * MM_TRAJECTORY_COLLISION_STEP;
             if (rest > 0.0f) step(t, &s, velocity, facing, p, rest);
         } else {
-            advance(&s, velocity, facing, p, tau);
+            if (!have_gap) gap = mm__spring_quat_gap(t->facing, facing), have_gap = true;
+            advance_gap(&s, velocity, facing, gap, p, tau);
         }
         positions[i] = mm_vec3_make(s.position.x, 0.0f, s.position.z);
         facings[i] = s.facing;

@@ -3,13 +3,14 @@
 
 #include <math.h>
 
+#include "runtime/trajectory_private.h"
+
 void mm_intent_update(mm_trajectory *t, const mm_input *in, float dt, mm_intent *out)
 {
     mm_vec3 before = t->position;
-    mm_trajectory_update(t, in, dt);
+    mm__trajectory_update_desired(t, in, dt, &out->desired_velocity, &out->desired_facing);
     float dx = t->position.x - before.x, dz = t->position.z - before.z;
     out->travelled = sqrtf(dx * dx + dz * dz);
-    mm_trajectory_desired(t, in, &out->desired_velocity, &out->desired_facing);
     out->gait = mm_input_gait(in);
     out->strafe = in && in->strafe;
 }

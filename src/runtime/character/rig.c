@@ -82,18 +82,31 @@ static bool legs_apart(const mm_rig *rig)
     return rig->pelvis >= 1 && rig->leg_end[0] >= 0 && rig->leg_end[1] >= 0;
 }
 
+/* The forward kinematics of the runs of joints [begin[r], end[r]) in turn, each reading parents
+ * already current; runs that meet (a leg right after the pelvis or the other leg) in one call. */
+static void forward_runs(const mm_rig *rig, mm_rig_pose *pose, const int *begin, const int *end, int count)
+{
+    for (int r = 0; r < count;) {
+        int b = begin[r], e = end[r];
+        for (++r; r < count && begin[r] == e && b < e; ++r) e = end[r];
+        if (b < e)
+            mm_skeleton_global_from(rig->joints, e, b, pose->local_rotations, pose->local_positions,
+                                    pose->global);
+    }
+}
+
 void mm_rig_forward_pelvis(const mm_rig *rig, mm_rig_pose *pose)
 {
     if (!pose->defer_body || !legs_apart(rig)) {
         mm_rig_forward(rig, 1, pose);
         return;
     }
-    /* the joints up to the pelvis (those before it are unchanged: the same transforms again) */
-    mm_skeleton_global_from(rig->joints, rig->pelvis + 1, 1, pose->local_rotations, pose->local_positions,
-                            pose->global);
-    for (int k = 0; k < 2; ++k)
-        mm_skeleton_global_from(rig->joints, rig->leg_end[k], rig->hip[k], pose->local_rotations,
-                                pose->local_positions, pose->global);
+    /* the joints up to the pelvis (those before it are unchanged: the same transforms again), then
+     * the legs */
+    int first = rig->hip[0] < rig->hip[1] ? 0 : 1;
+    const int begin[3] = {1, rig->hip[first], rig->hip[1 - first]},
+              end[3] = {rig->pelvis + 1, rig->leg_end[first], rig->leg_end[1 - first]};
+    forward_runs(rig, pose, begin, end, 3);
     pose->body_stale = true;
 }
 
@@ -110,12 +123,9 @@ void mm_rig_forward_rest(const mm_rig *rig, mm_rig_pose *pose)
     /* the joints past the pelvis outside the legs, in runs between them: none of them hangs from
      * a leg (mm_rig.leg_end), so each reads parents already current */
     int first = rig->hip[0] < rig->hip[1] ? 0 : 1;
-    int begin[3] = {rig->pelvis + 1, rig->leg_end[first], rig->leg_end[1 - first]},
-        end[3] = {rig->hip[first], rig->hip[1 - first], rig->joint_count};
-    for (int r = 0; r < 3; ++r)
-        if (begin[r] < end[r])
-            mm_skeleton_global_from(rig->joints, end[r], begin[r], pose->local_rotations,
-                                    pose->local_positions, pose->global);
+    const int begin[3] = {rig->pelvis + 1, rig->leg_end[first], rig->leg_end[1 - first]},
+              end[3] = {rig->hip[first], rig->hip[1 - first], rig->joint_count};
+    forward_runs(rig, pose, begin, end, 3);
 }
 
 void mm_rig_forward_legs(const mm_rig *rig, mm_rig_pose *pose)
@@ -124,9 +134,10 @@ void mm_rig_forward_legs(const mm_rig *rig, mm_rig_pose *pose)
         mm_rig_forward(rig, 1, pose);
         return;
     }
-    for (int k = 0; k < 2; ++k)
-        mm_skeleton_global_from(rig->joints, rig->leg_end[k], rig->hip[k], pose->local_rotations,
-                                pose->local_positions, pose->global);
+    int first = rig->hip[0] < rig->hip[1] ? 0 : 1;
+    const int begin[2] = {rig->hip[first], rig->hip[1 - first]},
+              end[2] = {rig->leg_end[first], rig->leg_end[1 - first]};
+    forward_runs(rig, pose, begin, end, 2);
 }
 
 mm_vec3 mm_rig_pelvis_forward(const mm_rig *rig, const mm_rig_pose *pose)

@@ -318,15 +318,16 @@ void mm_transition_mark_legs(mm_transition *tr, const mm_joint *skeleton, int jo
     }
 }
 
-void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float legs_halflife, float dt)
+/* mm_transition_decay with its springs' steps made */
+static void decay_steps(mm_transition *tr, int joint_count, const mm_spring_step *body,
+                        const mm_spring_step *legs)
 {
     /* the body's joints' offsets decay alike, the legs' alike: each run of joints of one kind (a
      * leg's joints come one after another) in one call */
-    mm_spring_step body = mm_spring_step_make(halflife, dt), legs = mm_spring_step_make(legs_halflife, dt);
     for (int first = 1; first < joint_count;) {
         int leg = tr->legs && tr->legs[first], end = first + 1;
         while (end < joint_count && (tr->legs && tr->legs[end]) == leg) ++end;
-        const mm_spring_step *step = leg ? &legs : &body;
+        const mm_spring_step *step = leg ? legs : body;
         mm_spring_decay_vec3_steps(tr->rotation_offset + first, tr->rotation_offset_velocity + first,
                                    end - first, step);
         mm_spring_decay_vec3_steps(tr->position_offset + first, tr->position_offset_velocity + first,
@@ -343,13 +344,26 @@ void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, flo
     }
 }
 
-mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played, float halflife, float dt)
+void mm_transition_decay(mm_transition *tr, int joint_count, float halflife, float legs_halflife, float dt)
 {
-    mm_spring_decay_vec3(&tr->root_velocity_offset, &tr->root_velocity_offset_rate, halflife, dt);
-    mm_spring_update(&tr->root_yaw_rate_offset, &tr->root_yaw_rate_offset_rate, 0.0f, halflife, dt);
+    mm_spring_step body = mm_spring_step_make(halflife, dt), legs = mm_spring_step_make(legs_halflife, dt);
+    decay_steps(tr, joint_count, &body, &legs);
+}
+
+/* mm_transition_decay_root with its springs' step made (the _step updates give the same bits) */
+static mm_root_played decay_root_step(mm_transition *tr, mm_root_played played, const mm_spring_step *step)
+{
+    mm_spring_decay_vec3_step(&tr->root_velocity_offset, &tr->root_velocity_offset_rate, step);
+    mm_spring_update_step(&tr->root_yaw_rate_offset, &tr->root_yaw_rate_offset_rate, 0.0f, step);
     mm_root_played out = {mm_vec3_add(played.velocity, tr->root_velocity_offset),
                           played.yaw_rate + tr->root_yaw_rate_offset};
     return out;
+}
+
+mm_root_played mm_transition_decay_root(mm_transition *tr, mm_root_played played, float halflife, float dt)
+{
+    mm_spring_step step = mm_spring_step_make(halflife, dt);
+    return decay_root_step(tr, played, &step);
 }
 
 void mm_transition_hold_velocity(mm_transition *tr, int joint_count, const mm_frame_pair *at,
@@ -396,6 +410,8 @@ void mm_transition_pose(mm_transition *tr, const mm_database *db, const mm_playb
     }
     tr->played_rate = p->play_rate;
     mm_root_played played = play_pose(tr, db, p, tr->rotations, tr->positions);
-    mm_transition_decay(tr, db->joint_count, halflife, legs_halflife, dt);
-    *root = mm_transition_decay_root(tr, played, legs_halflife, dt);
+    /* the legs' step serves the root motion's offsets too (what carries the planted feet) */
+    mm_spring_step body = mm_spring_step_make(halflife, dt), legs = mm_spring_step_make(legs_halflife, dt);
+    decay_steps(tr, db->joint_count, &body, &legs);
+    *root = decay_root_step(tr, played, &legs);
 }
