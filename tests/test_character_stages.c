@@ -683,6 +683,39 @@ static void test_warping_orientation_turns_legs_not_chest(void **state)
                      0.0f);
 }
 
+/* A clip that starts going forward while strafing: the warp's target steps from 0 to 90 degrees
+ * in one tick. The angle eases in: its largest second difference per tick is a small share of
+ * what a critically damped spring from rest toward the whole step moves on its first tick,
+ * step (1 - (1 + y dt) e^(-y dt)) (mm_spring_damping; the spring alone moves exactly that, all of
+ * its acceleration at once: 0.098 rad here, eased 0.029); and it still gets there. */
+static void test_warping_orientation_eases_in_a_step(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    body b;
+    mm_warping w;
+    memset(&w, 0, sizeof w);
+    const float dt = 1.0f / 60.0f, step = (float)MM_PI / 2.0f;
+    double y = mm_spring_damping(0.6931472f / d.orientation_speed);
+    double spring_first = step * (1.0 - (1.0 + y * dt) * exp(-y * dt));
+    mm_warping_clip standing = {mm_vec3_make(0, 0, 0.0f), false}, forward = {mm_vec3_make(0, 0, 1.2f), false};
+    float a[122] = {0};
+    for (int k = 0; k < 122; ++k) {
+        make_body(&b);
+        /* two ticks on a clip going nowhere (no warp), then one going forward */
+        mm_warping_orientation(&w, &d, &b.rig, mm_xform_identity(), mm_vec3_make(-1.0f, 0, 0),
+                               k < 2 ? standing : forward, true, false, dt, &b.pose);
+        a[k] = w.orientation_angle;
+    }
+    assert_float_equal(a[0], 0.0f, 0.0f);
+    assert_float_equal(a[1], 0.0f, 0.0f);
+    double largest = 0.0;
+    for (int k = 2; k < 122; ++k) largest = fmax(largest, fabs(a[k] - 2.0f * a[k - 1] + a[k - 2]));
+    assert_true(largest > 0.0);
+    assert_true(largest <= 0.5 * spring_first);
+    assert_float_equal(a[121], -step, 0.02f);
+}
+
 /* ---- 7. feet ---- */
 
 /* The contact labels the feet tests give, none foreseen. */
@@ -1666,6 +1699,7 @@ int main(void)
         cmocka_unit_test(test_root_motion_pull_and_clamps),
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
+        cmocka_unit_test(test_warping_orientation_eases_in_a_step),
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
         cmocka_unit_test(test_feet_released_foot_steps),
