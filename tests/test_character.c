@@ -449,14 +449,15 @@ static void test_distance_matching_cycle(void **state)
     mm_character_free(&c);
 }
 
-/* Each tick's play rate in a loop equals desired speed / clip speed within the clamp: checked at
- * several stick lengths (and so speeds; slower than this the built-in set plays its one-shot
- * start and stop clips), with a narrower clamp, warping off. */
+/* Each tick's play rate in a loop equals desired speed / clip speed within the clamp, plus what it
+ * keeps, fading, of the rate before a change of clip (none on a tick where nothing is kept):
+ * checked at several stick lengths (and so speeds; slower than this the built-in set plays its
+ * one-shot start and stop clips), with a narrower clamp, warping off. */
 static void test_distance_matching_rate(void **state)
 {
     (void)state;
     const float sticks[4] = {0.7f, 0.8f, 0.9f, 1.0f};
-    int total = 0;
+    int total = 0, total_exact = 0;
     for (int s = 0; s < 4; ++s) {
         mm_character_desc d = default_desc();
         d.distance_matching = true;
@@ -469,7 +470,7 @@ static void test_distance_matching_rate(void **state)
         mm_character c;
         make_character(&c, &d);
         mm_input in = stick_input(0.0f, sticks[s]);
-        int checked = 0;
+        int checked = 0, exact = 0;
         for (int i = 0; i < 300; ++i) {
             int clip = db.frame_clip[c.frame]; /* the clip the rate is set for */
             mm_character_update(&c, &in, 1.0f / 60.0f);
@@ -479,15 +480,18 @@ static void test_distance_matching_rate(void **state)
             float speed = sqrtf(c.trajectory->velocity.x * c.trajectory->velocity.x +
                                 c.trajectory->velocity.z * c.trajectory->velocity.z);
             float expect = fminf(fmaxf(speed / mm_distance_clip_speed(&curve), 0.5f), 1.1f);
-            assert_true(fabsf(c.play_rate - expect) < 1e-5f);
+            float kept = c.state->playback.rate_kept;
+            assert_true(fabsf(c.play_rate - kept - expect) < 1e-5f);
+            exact += kept == 0.0f;
             assert_true(c.stride_scale == 1.0f); /* warping off */
             ++checked;
         }
-        printf("stick %.1f: %d ticks checked, rate %.3f\n", (double)sticks[s], checked, (double)c.play_rate);
-        total += checked;
+        printf("stick %.1f: %d ticks checked (%d with nothing kept), rate %.3f\n", (double)sticks[s], checked,
+               exact, (double)c.play_rate);
+        total += checked, total_exact += exact;
         mm_character_free(&c);
     }
-    assert_true(total > 300);
+    assert_true(total > 300 && total_exact > 100);
 }
 
 /* Both switches off (the default) is the controller as it was: the same poses, bit for bit, over

@@ -295,6 +295,53 @@ static void test_playback_distance_matching_on_a_cycle(void **state)
     mm_distance_curve_free(&curve);
 }
 
+/* A jump from a 1 m/s cycle to a 2 m/s one (another clip) while the simulation goes 1.1 m/s: the
+ * new clip's rate, 0.55 clamped to 0.75, is reached from the 1.1 played before, not in one tick
+ * (the root's velocity and every joint's in the clip would step by the rate's change): on the
+ * tick of the change the rate is still 1.1, then 0.75 + 0.35 2^(-t / 0.1 s). Within one clip the
+ * rate follows its target at once. */
+static void test_playback_rate_after_a_change_of_clip(void **state)
+{
+    (void)state;
+    mm_distance_curve walk, run;
+    walk_loop(&walk);
+    float path[2 * 60];
+    for (int f = 0; f < 60; ++f) path[2 * f] = 0.0f, path[2 * f + 1] = (float)f / 15.0f;
+    mm_distance_desc d;
+    memset(&d, 0, sizeof d);
+    d.positions = path, d.components = 2, d.frame_count = 60, d.fps = 30.0f, d.loop = 1;
+    assert_int_equal(mm_distance_curve_build(&run, &d, NULL), MM_OK);
+    mm_trajectory t;
+    assert_int_equal(mm_trajectory_init(&t, NULL, NULL), MM_OK);
+    mm_intent intent;
+    memset(&intent, 0, sizeof intent);
+    mm_playback_params params = {true, true, 0.75f, 1.25f, 0.8f, 1.2f, 0.15f};
+    mm_playback p;
+    memset(&p, 0, sizeof p);
+    mm_playback_by_clock(&p);
+    const float dt = 1.0f / 60.0f;
+    t.velocity = mm_vec3_make(0, 0, 1.1f);
+    for (int k = 0; k < 3; ++k) mm_playback_match_distance(&p, &params, &walk, 0, &t, NULL, &intent, dt);
+    assert_float_equal(p.play_rate, 1.1f, 1e-4f);
+    /* the jump: the run clip starts at database frame 100 */
+    mm_playback_match_distance(&p, &params, &run, 100, &t, NULL, &intent, dt);
+    assert_float_equal(p.play_rate, 1.1f, 1e-4f);
+    for (int k = 1; k <= 60; ++k) {
+        mm_playback_match_distance(&p, &params, &run, 100, &t, NULL, &intent, dt);
+        if (k == 6) assert_float_equal(p.play_rate, 0.75f + 0.35f * 0.5f, 1e-3f);
+    }
+    assert_float_equal(p.play_rate, 0.75f, 1e-3f);
+    /* back to the walk at 1.0 m/s: from 0.75 toward 1.0; by the clock: 1 at once */
+    t.velocity = mm_vec3_make(0, 0, 1.0f);
+    mm_playback_match_distance(&p, &params, &walk, 0, &t, NULL, &intent, dt);
+    assert_float_equal(p.play_rate, 0.75f, 1e-3f);
+    mm_playback_match_distance(&p, &params, NULL, 0, &t, NULL, &intent, dt);
+    assert_float_equal(p.play_rate, 1.0f, 0.0f);
+    mm_trajectory_free(&t);
+    mm_distance_curve_free(&walk);
+    mm_distance_curve_free(&run);
+}
+
 /* ---- 3. search: when ---- */
 
 static void test_matching_due(void **state)
@@ -681,6 +728,39 @@ static void test_warping_orientation_turns_legs_not_chest(void **state)
     assert_float_equal(w.orientation_angle, 0.0f, 0.0f);
     assert_vec3_near(mm_quat_rotate(b.global[HIPS].rotation, mm_vec3_make(0, 0, 1)), mm_vec3_make(0, 0, 1),
                      0.0f);
+}
+
+/* A clip that starts going forward while strafing: the warp's target steps from 0 to 90 degrees
+ * in one tick. The angle eases in: its largest second difference per tick is a small share of
+ * what a critically damped spring from rest toward the whole step moves on its first tick,
+ * step (1 - (1 + y dt) e^(-y dt)) (mm_spring_damping; the spring alone moves exactly that, all of
+ * its acceleration at once: 0.098 rad here, eased 0.029); and it still gets there. */
+static void test_warping_orientation_eases_in_a_step(void **state)
+{
+    (void)state;
+    mm_character_desc d = defaults();
+    body b;
+    mm_warping w;
+    memset(&w, 0, sizeof w);
+    const float dt = 1.0f / 60.0f, step = (float)MM_PI / 2.0f;
+    double y = mm_spring_damping(0.6931472f / d.orientation_speed);
+    double spring_first = step * (1.0 - (1.0 + y * dt) * exp(-y * dt));
+    mm_warping_clip standing = {mm_vec3_make(0, 0, 0.0f), false}, forward = {mm_vec3_make(0, 0, 1.2f), false};
+    float a[122] = {0};
+    for (int k = 0; k < 122; ++k) {
+        make_body(&b);
+        /* two ticks on a clip going nowhere (no warp), then one going forward */
+        mm_warping_orientation(&w, &d, &b.rig, mm_xform_identity(), mm_vec3_make(-1.0f, 0, 0),
+                               k < 2 ? standing : forward, true, false, dt, &b.pose);
+        a[k] = w.orientation_angle;
+    }
+    assert_float_equal(a[0], 0.0f, 0.0f);
+    assert_float_equal(a[1], 0.0f, 0.0f);
+    double largest = 0.0;
+    for (int k = 2; k < 122; ++k) largest = fmax(largest, fabs(a[k] - 2.0f * a[k - 1] + a[k - 2]));
+    assert_true(largest > 0.0);
+    assert_true(largest <= 0.5 * spring_first);
+    assert_float_equal(a[121], -step, 0.02f);
 }
 
 /* ---- 7. feet ---- */
@@ -1815,6 +1895,7 @@ int main(void)
         cmocka_unit_test(test_playback_advance_by_clock_and_rate),
         cmocka_unit_test(test_playback_time_to_contact),
         cmocka_unit_test(test_playback_distance_matching_on_a_cycle),
+        cmocka_unit_test(test_playback_rate_after_a_change_of_clip),
         cmocka_unit_test(test_matching_due),
         cmocka_unit_test(test_matching_pose_weighed_back_after_a_jump),
         cmocka_unit_test(test_transition_inertialize_keeps_pose_and_velocity),
@@ -1824,6 +1905,7 @@ int main(void)
         cmocka_unit_test(test_root_motion_pull_and_clamps),
         cmocka_unit_test(test_warping_stride_stretches_the_step),
         cmocka_unit_test(test_warping_orientation_turns_legs_not_chest),
+        cmocka_unit_test(test_warping_orientation_eases_in_a_step),
         cmocka_unit_test(test_feet_lock_holds_and_releases),
         cmocka_unit_test(test_feet_release_keeps_velocity),
         cmocka_unit_test(test_feet_released_foot_steps),

@@ -17,6 +17,10 @@
 /* the slowest play rate the look-ahead for a coming contact assumes (a clip standing still would
  * put every contact infinitely far) */
 #define CONTACT_LOOKAHEAD_MIN_RATE 0.1f
+/* s: after a change of clip the play rate goes from the old clip's to the new one's with this
+ * half-life: a rate that steps (1.0 to 1.25 after a jump) steps the root's velocity and every
+ * joint's in the clip with it */
+#define PLAY_RATE_JUMP_HALFLIFE 0.1f
 /* the largest play rate a stop or pivot match may ask for */
 #define PLAY_RATE_LIMIT 16.0f
 
@@ -25,6 +29,8 @@ void mm_playback_by_clock(mm_playback *p)
     p->mode = MM_PLAYBACK_CLOCK;
     p->play_rate = 1.0f;
     p->stride_scale = 1.0f;
+    p->rate_clip = 0;
+    p->rate_kept = 0.0f;
 }
 
 /* A one-shot clip: advance by distance, or match to the predicted stop or pivot. Returns the play
@@ -111,8 +117,19 @@ void mm_playback_match_distance(mm_playback *p, const mm_playback_params *params
                                 const mm_distance_curve *curve, int clip_first_frame, const mm_trajectory *t,
                                 const mm_input *in, const mm_intent *intent, float dt)
 {
-    float previous = p->stride_scale;
+    float previous = p->stride_scale, previous_rate = p->play_rate, kept = p->rate_kept;
+    int previous_clip = p->rate_clip;
     match_target(p, params, curve, clip_first_frame, t, in, intent, dt);
+    if (curve && params->distance_matching) {
+        if (previous_clip != 0 && previous_clip != clip_first_frame + 1 && isfinite(previous_rate))
+            kept = previous_rate - p->play_rate; /* a change of clip: the rate played goes on */
+        else
+            kept *= exp2f(-dt / PLAY_RATE_JUMP_HALFLIFE);
+        if (!isfinite(kept)) kept = 0.0f;
+        p->play_rate = fminf(fmaxf(p->play_rate + kept, 0.0f), PLAY_RATE_LIMIT);
+        p->rate_kept = kept;
+        p->rate_clip = clip_first_frame + 1;
+    }
     if (params->warping && p->mode != MM_PLAYBACK_CYCLE && isfinite(previous) && previous > 0.0f) {
         float scale = previous + (p->stride_scale - previous) * (1.0f - exp2f(-dt / STRIDE_SCALE_HALFLIFE));
         p->stride_scale = fabsf(scale - 1.0f) < 1e-4f && p->stride_scale == 1.0f ? 1.0f : scale;

@@ -20,6 +20,10 @@ typedef struct mm_playback {
     mm_character_playback mode; /* how the playhead moved this tick */
     float play_rate;            /* clip seconds per second (1 without distance matching) */
     float stride_scale;         /* how far stride warping stretches the legs (1: not warped) */
+    /* distance matching: 1 + the first frame of the clip whose rate was chosen last (0: none), and
+     * what the rate played keeps of the rate before a change of clip (fading) */
+    int rate_clip;
+    float rate_kept;
 } mm_playback;
 
 /* What distance matching is tuned with (mm_character_desc's fields of the same names). */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include <mm/leg_ik.h>
+#include <mm/spring.h>
 #include <mm/warp.h>
 
 #include "runtime/warp_private.h"
@@ -45,22 +46,38 @@ void mm_warping_orientation(mm_warping *w, const mm_character_desc *d, const mm_
     mm_warp_orientation_params p;
     memset(&p, 0, sizeof p);
     p.max_angle = d->orientation_max;
-    /* a spring of the same half-life as speed's exponential (ln 2 / speed): a target that jumps (a
-     * transition to a clip facing elsewhere) would turn the legs at once */
-    p.halflife = d->orientation_speed > 0.0f ? 0.6931472f / d->orientation_speed : 0.0f;
-    p.velocity = w->orientation_velocity;
     p.spine_count = rig->spine_count;
+    /* the target, at once (p.halflife and p.speed 0); none when the movement is more than 90
+     * degrees off the clip's direction */
+    mm_vec3 base = side < 0 ? mm_vec3_scale(facing, -1.0f) : facing;
     mm_warp_orientation_result r;
-    if (mm_warp_orientation(side < 0 ? mm_vec3_scale(facing, -1.0f) : facing, move, w->orientation_angle, dt,
-                            &p, &r) != MM_OK)
-        return;
-    if (r.backward) /* the movement is more than 90 degrees off the clip's direction: no warp */
-        mm_warp_orientation(facing, facing, w->orientation_angle, dt, &p, &r);
-    if (fabsf(r.angle) < ORIENTATION_REST_ANGLE && fabsf(r.velocity) < ORIENTATION_REST_VELOCITY)
-        r.angle = r.velocity = 0.0f;
-    w->orientation_angle = r.angle;
-    w->orientation_velocity = r.velocity;
-    if (r.angle == 0.0f) return;
+    if (mm_warp_orientation(base, move, w->orientation_angle, dt, &p, &r) != MM_OK) return;
+    float target = r.backward ? 0.0f : r.angle;
+    /* the angle follows a spring of the same half-life as speed's exponential (ln 2 / speed): a
+     * target that jumps (a transition to a clip facing elsewhere) would turn the legs at once. The
+     * spring follows the target eased over that half-life first: a step in the target (the clip
+     * playing starts or stops going forward, strafing starts) would start the spring at its
+     * largest acceleration, the legs' whole turn times y^2 in one tick */
+    float halflife = d->orientation_speed > 0.0f ? 0.6931472f / d->orientation_speed : 0.0f;
+    float angle = target, rate = 0.0f;
+    if (halflife > 0.0f) {
+        w->orientation_goal += (target - w->orientation_goal) * (1.0f - exp2f(-dt / halflife));
+        angle = w->orientation_angle, rate = w->orientation_velocity;
+        mm_spring_update(&angle, &rate, w->orientation_goal, halflife, dt);
+        float largest = p.max_angle > 0.0f ? p.max_angle : MM_WARP_ORIENTATION_MAX_DEFAULT;
+        if (fabsf(angle) > largest) angle = copysignf(largest, angle), rate = 0.0f;
+    } else {
+        w->orientation_goal = target;
+    }
+    if (fabsf(angle) < ORIENTATION_REST_ANGLE && fabsf(rate) < ORIENTATION_REST_VELOCITY &&
+        fabsf(w->orientation_goal) < ORIENTATION_REST_ANGLE)
+        angle = rate = w->orientation_goal = 0.0f;
+    w->orientation_angle = angle;
+    w->orientation_velocity = rate;
+    if (angle == 0.0f) return;
+    /* the warp of that angle: the movement turned from the clip's direction by it */
+    mm_vec3 turned = mm_quat_rotate(mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), angle), base);
+    if (mm_warp_orientation(base, turned, angle, 0.0f, &p, &r) != MM_OK) return;
     mm_rig_forward_rest(rig, pose); /* the spine's global transforms, where they wait */
     mm_quat spine_world[MM_RIG_MAX_SPINE], spine_local[MM_RIG_MAX_SPINE];
     for (int i = 0; i < rig->spine_count; ++i) spine_world[i] = pose->global[rig->spine[i]].rotation;

@@ -13,6 +13,7 @@
 typedef struct mm_warping {
     float orientation_angle;    /* rad about +Y: the lower body's turn */
     float orientation_velocity; /* rad/s: its rate */
+    float orientation_goal;     /* rad: the target the angle springs toward, eased toward the warp's */
     float stride_drop;          /* m: the pelvis lowered so that the stretched legs reach */
 } mm_warping;
 
