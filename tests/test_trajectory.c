@@ -216,6 +216,48 @@ static void test_update_desired_bits(void **state)
     assert_true(walls_touched > 0); /* the wall's path was taken */
 }
 
+/* A stick turned 120 degrees for 0.13 s at a walk, then let go: the stop keeps the turn. While
+ * stopping, the gap between the velocity's heading and the last velocity asked for shrinks by
+ * 2^(-dt / velocity_halflife) each tick (the spring toward zero turns nothing itself), so from the
+ * gap g at release it is within 20 degrees after velocity_halflife log2(g / 20 deg), one tick of
+ * slack; the speed left then, (1 + y t) e^(-y t) of the release's with y = 2 ln 2 / halflife (about
+ * 7% of a walk after 3.2 half-lives), is still a course to measure. Strafing (facing held ahead) the
+ * velocity asked for is the stick on the gait's ellipse in the facing's frame: the stop turns
+ * toward that. Before, the velocity came to rest on the old course, the turn lost (its heading
+ * stayed over 20 degrees off). */
+static void test_stop_keeps_last_turn(void **state)
+{
+    (void)state;
+    for (int strafe = 0; strafe < 2; ++strafe) {
+        mm_trajectory t;
+        assert_int_equal(mm_trajectory_init(&t, NULL, NULL), MM_OK);
+        const float dt = 1.0f / 60, halflife = t.desc.gaits[MM_GAIT_WALK].velocity_halflife;
+        const float turn = (float)(120 * MM_DEG_TO_RAD), near = (float)(20 * MM_DEG_TO_RAD);
+        mm_input in = stick(0, 1, MM_GAIT_WALK);
+        in.strafe = strafe, in.has_facing = strafe, in.facing[1] = 1.0f;
+        for (int i = 0; i < 180; ++i) mm_trajectory_update(&t, &in, dt);
+        in.stick[0] = sinf(turn), in.stick[1] = cosf(turn);
+        mm_vec3 asked;
+        mm_trajectory_desired(&t, &in, &asked, NULL);
+        float want = atan2f(asked.x, asked.z);
+        for (int i = 0; i < 8; ++i) mm_trajectory_update(&t, &in, dt);
+        float gap = fabsf(remainderf(want - atan2f(t.velocity.x, t.velocity.z), 2.0f * (float)MM_PI));
+        assert_true(gap > near); /* the simulation has not turned yet */
+        float bound = halflife * log2f(gap / near) + dt, reached = -1.0f;
+        in.stick[0] = in.stick[1] = 0.0f;
+        for (int i = 1; i <= 180 && reached < 0.0f; ++i) {
+            mm_trajectory_update(&t, &in, dt);
+            float speed = sqrtf(t.velocity.x * t.velocity.x + t.velocity.z * t.velocity.z);
+            if (speed < 0.05f) break;
+            if (fabsf(remainderf(want - atan2f(t.velocity.x, t.velocity.z), 2.0f * (float)MM_PI)) < near)
+                reached = (float)i * dt;
+        }
+        assert_true(reached > 0.0f);
+        assert_true(reached <= bound);
+        mm_trajectory_free(&t);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -223,6 +265,7 @@ int main(void)
         cmocka_unit_test(test_speeds_and_turns),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_update_desired_bits),
+        cmocka_unit_test(test_stop_keeps_last_turn),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -114,6 +114,7 @@ typedef struct mm_trajectory {
     mm_vec3 position, velocity, acceleration; /* on the ground (y = 0) */
     mm_quat facing;
     mm_quat target_facing;             /* the last facing asked for (the facing spring's target) */
+    mm_vec3 last_desired;              /* the last nonzero velocity asked for (a stop turns toward it) */
     mm_vec3 angular_velocity;          /* rad/s about world axes */
     float gait_weights[MM_GAIT_COUNT]; /* style weights, summing to about 1 */
     float gait_rates[MM_GAIT_COUNT];

@@ -26,6 +26,8 @@
 #define MAX_COLLIDER_SIZE 100.0f
 /* s: the longest look ahead mm_trajectory_predict steps through */
 #define MAX_PREDICT_SECONDS 60.0f
+/* below this speed (m/s) a stopping simulation has no course left to turn */
+#define STOP_TURN_MIN_SPEED 0.05f
 
 static mm_gait_params gait(float forward, float side, float backward, float velocity, float rotation)
 {
@@ -139,7 +141,7 @@ void mm_trajectory_teleport(mm_trajectory *t, mm_vec3 position, mm_quat facing)
 void mm_trajectory_reset(mm_trajectory *t, mm_vec3 position, mm_quat facing)
 {
     t->position = mm_vec3_make(position.x, 0.0f, position.z);
-    t->velocity = t->acceleration = t->angular_velocity = mm_vec3_make(0, 0, 0);
+    t->velocity = t->acceleration = t->angular_velocity = t->last_desired = mm_vec3_make(0, 0, 0);
     t->facing = mm_quat_normalize(facing);
     t->target_facing = t->facing;
     memset(t->gait_weights, 0, sizeof t->gait_weights);
@@ -363,6 +365,28 @@ static state update_colliding(mm_trajectory *t, mm_vec3 velocity, mm_quat facing
     return s;
 }
 
+/* A stop keeps the last turn: with the stick let go (nothing asked for) the velocity spring brings
+ * the velocity to zero along a straight line from where it was, so a stick turned and let go within
+ * a fraction of a second stopped on the old course, the turn lost. While stopping, the velocity and
+ * its spring's acceleration are turned toward the last velocity asked for (last_desired), by the
+ * share the velocity spring closes in dt: the stop bends toward the turn as the velocity would
+ * have. A rotation commutes with the spring toward zero, so the speed's decay is unchanged. */
+static void stop_toward_last_turn(const mm_trajectory *t, const mm_gait_params *p, mm_vec3 desired, state *s,
+                                  float dt)
+{
+    mm_vec3 last = t->last_desired;
+    if (desired.x * desired.x + desired.z * desired.z > 0.0f || !(last.x * last.x + last.z * last.z > 0.0f))
+        return;
+    float speed = sqrtf(s->velocity.x * s->velocity.x + s->velocity.z * s->velocity.z);
+    if (!(speed > STOP_TURN_MIN_SPEED) || !(p->velocity_halflife > 0.0f)) return;
+    float gap =
+        remainderf(atan2f(last.x, last.z) - atan2f(s->velocity.x, s->velocity.z), 2.0f * (float)MM_PI);
+    float share = 1.0f - exp2f(-dt / p->velocity_halflife);
+    mm_quat turn = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), gap * share);
+    s->velocity = mm_quat_rotate(turn, s->velocity);
+    s->acceleration = mm_quat_rotate(turn, s->acceleration);
+}
+
 /* mm_trajectory_update, giving the velocity and facing it moved toward; false when it did not run. */
 static bool update(mm_trajectory *t, const mm_input *in, float dt, mm_vec3 *desired_velocity,
                    mm_quat *desired_facing)
@@ -378,6 +402,7 @@ static bool update(mm_trajectory *t, const mm_input *in, float dt, mm_vec3 *desi
     state s;
     if (colliding(t)) {
         s = update_colliding(t, velocity, facing, p, dt, k);
+        stop_toward_last_turn(t, p, velocity, &s, dt);
         t->contact_count = s.normal_count;
         for (int i = 0; i < s.normal_count; ++i) t->contact_normals[i] = s.normals[i];
     } else {
@@ -391,6 +416,7 @@ static bool update(mm_trajectory *t, const mm_input *in, float dt, mm_vec3 *desi
         }
         s = current(t);
         advance_gap(&s, velocity, facing, gap, p, dt);
+        stop_toward_last_turn(t, p, velocity, &s, dt);
     }
     t->position = mm_vec3_make(s.position.x, 0.0f, s.position.z);
     t->velocity = s.velocity;
@@ -398,6 +424,7 @@ static bool update(mm_trajectory *t, const mm_input *in, float dt, mm_vec3 *desi
     t->facing = s.facing;
     t->angular_velocity = s.angular_velocity;
     t->target_facing = facing;
+    if (velocity.x * velocity.x + velocity.z * velocity.z > 0.0f) t->last_desired = velocity;
     int g = (int)mm_input_gait(in);
     mm_spring_step gait_step =
         mm_spring_step_make(t->desc.gait_halflife, dt); /* the gaits' springs share it */
