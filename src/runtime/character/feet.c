@@ -11,7 +11,9 @@
 /* share of the leg's length over which the IK's reach softens (mm_leg_ik_params.soft_reach) */
 #define SOFT_REACH 0.05f
 /* rad: the most a foot planted on heel and toe is turned from its animated orientation */
-#define MAX_FOOT_TURN 0.8f
+#define MAX_FOOT_TURN 1.2f
+/* share of a foot's turn about its leg's axis that the leg turns with (solve_leg) */
+#define LEG_TURN_SHARE 1.0f
 /* s: half-life of the spring the hips are lowered and raised through */
 #define HIP_DROP_HALFLIFE 0.05f
 /* a free foot's target far out of reach is brought in to the leg's length and this many widths of
@@ -141,9 +143,25 @@ static void solve_leg(const mm_rig *rig, int k, mm_vec3 target, mm_quat ankle_wo
     mm_leg_pose leg = {g[hip].translation, g[knee].translation, g[ankle].translation};
     mm_leg_ik_params params = {1.0f, SOFT_REACH};
     mm_leg_warp out;
-    if (mm_leg_ik_solve(&leg, target, mm_rig_knee_pole(rig, pose, k), &params, &out) != MM_OK) return;
-    mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out.thigh, g[hip].rotation));
-    mm_quat knee_world = mm_quat_normalize(mm_quat_mul(out.shin, g[knee].rotation));
+    mm_vec3 pole = mm_rig_knee_pole(rig, pose, k);
+    mm_quat about = mm_quat_identity();
+    /* the leg turns with its foot about the hip-to-ankle axis (the twist of the foot's turn from its
+     * animated orientation about that axis): a planted foot held while the body turns away from it
+     * keeps its knee over it instead of twisting below the shin */
+    mm_vec3 axis = mm_vec3_sub(leg.foot, leg.hip);
+    float reach = mm_vec3_length(axis);
+    if (reach > MIN_FOOT_LENGTH) {
+        axis = mm_vec3_scale(axis, 1.0f / reach);
+        mm_quat turn = mm_quat_mul(ankle_world, mm_quat_conj(g[ankle].rotation));
+        if (turn.w < 0.0f) turn = (mm_quat){-turn.x, -turn.y, -turn.z, -turn.w};
+        float twist = 2.0f * atan2f(turn.x * axis.x + turn.y * axis.y + turn.z * axis.z, turn.w);
+        about = mm_quat_exp(mm_vec3_scale(axis, LEG_TURN_SHARE * twist));
+        leg.knee = mm_vec3_add(leg.hip, mm_quat_rotate(about, mm_vec3_sub(leg.knee, leg.hip)));
+        pole = mm_quat_rotate(about, pole);
+    }
+    if (mm_leg_ik_solve(&leg, target, pole, &params, &out) != MM_OK) return;
+    mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out.thigh, mm_quat_mul(about, g[hip].rotation)));
+    mm_quat knee_world = mm_quat_normalize(mm_quat_mul(out.shin, mm_quat_mul(about, g[knee].rotation)));
     pose->local_rotations[hip] =
         mm_quat_normalize(mm_quat_mul(mm_quat_conj(g[hip_parent].rotation), hip_world));
     g[hip] =
