@@ -634,6 +634,10 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
                 out.y = fmaxf(lowered, fminf(out.y, from.y - LANDING_FALL_SPEED * dt));
             }
             if (up) out.y = fminf(out.y, from.y); /* aloft: held on the ground plane, not rising */
+            /* landed but still aloft, its toe labelled: the toe held where it was shown about the
+             * held ankle (the foot keeps the turn it was shown with) instead of swinging round it as
+             * animated */
+            if (up && toe_on && w_before >= 1.0f - LANDING_DONE) foot_as_shown(f, k, mm_vec3_sub(t, a));
             f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
             f->offset_velocity[k] = mm_vec3_sub(velocity, source_velocity(f, k, a, t, dt));
         }
