@@ -430,6 +430,26 @@ static bool foot_as_shown(mm_feet *f, int k, mm_vec3 have)
     return true;
 }
 
+/* Foot k turned about the vertical so that its ankle-to-toe vector (have, as animated, turned by the
+ * foot's turn) points on the ground plane where last tick's shown one did; nothing where either is
+ * shorter than HEADING_MIN_SHARE of the foot on the ground plane (a foot pointing down has no
+ * heading to keep), or where the foot would be turned more than MAX_FOOT_TURN. */
+#define HEADING_MIN_SHARE 0.5f
+static void keep_heading(mm_feet *f, int k, mm_vec3 have)
+{
+    mm_vec3 now = mm_quat_rotate(mm_quat_exp(f->turn[k]), have), shown = f->shown_foot[k];
+    float a = sqrtf(now.x * now.x + now.z * now.z), b = sqrtf(shown.x * shown.x + shown.z * shown.z);
+    float least = HEADING_MIN_SHARE * mm_vec3_length(have);
+    if (!(a > least) || !(b > least)) return;
+    /* the angle about +Y from now to shown on the ground plane */
+    float yaw = atan2f(now.z * shown.x - now.x * shown.z, now.x * shown.x + now.z * shown.z);
+    mm_quat about = mm_quat_from_axis_angle(mm_vec3_make(0.0f, 1.0f, 0.0f), yaw);
+    mm_vec3 turn = mm_quat_log(mm_quat_mul(about, mm_quat_exp(f->turn[k])));
+    if (!(mm_vec3_length(turn) <= MAX_FOOT_TURN)) return;
+    f->turn[k] = turn;
+    f->turn_velocity[k] = mm_vec3_make(0.0f, 0.0f, 0.0f);
+}
+
 /* m/s^2: the most a free foot's offset changes the velocity of its ankle's target on the ground
  * plane beyond the animation's own change: as much as a landing slows a foot. The offset's
  * spring pulls hardest on its first tick, and a swing's catch-up harder still: a foot let go far
@@ -588,7 +608,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         out = mm_vec3_add(out, onto_tread);
         f->offset[k] = mm_vec3_add(f->offset[k], onto_tread);
     }
-    bool wait = false;
+    bool wait = false, held_heading = false;
     if (d->plant_time > 0.0f && f->placed && !was_locked) {
         /* landing: the foot's step on the ground plane shrinks to nothing as its contact comes (w:
          * the share of plant_time gone before the label turns on), where the foot is planted where
@@ -634,10 +654,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
                 out.y = fmaxf(lowered, fminf(out.y, from.y - LANDING_FALL_SPEED * dt));
             }
             if (up) out.y = fminf(out.y, from.y); /* aloft: held on the ground plane, not rising */
-            /* landed but still aloft, its toe labelled: the toe held where it was shown about the
-             * held ankle (the foot keeps the turn it was shown with) instead of swinging round it as
-             * animated */
-            if (up && toe_on && w_before >= 1.0f - LANDING_DONE) foot_as_shown(f, k, mm_vec3_sub(t, a));
+            held_heading = up && toe_on && w_before >= 1.0f - LANDING_DONE;
             f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
             f->offset_velocity[k] = mm_vec3_sub(velocity, source_velocity(f, k, a, t, dt));
         }
@@ -720,6 +737,10 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     } else {
         mm_spring_decay_vec3_step(&f->turn[k], &f->turn_velocity[k], foot_step);
     }
+    /* landed but still aloft, its toe labelled: the foot keeps the heading it was shown with about
+     * the held ankle (its pitch as animated, so that it comes down as the data has it) instead of
+     * swinging the toe round it */
+    if (held_heading) keep_heading(f, k, mm_vec3_sub(t, a));
     f->last_ankle[k] = a, f->last_toe[k] = t;
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
