@@ -14,6 +14,9 @@
 #define MAX_FOOT_TURN 1.2f
 /* share of a foot's turn about its leg's axis that the leg turns with (solve_leg) */
 #define LEG_TURN_SHARE 1.0f
+/* a foot whose ankle-to-toe vector is shorter than this share of it on the ground plane has no
+ * heading to keep (keep_heading) */
+#define HEADING_MIN_SHARE 0.5f
 /* s: half-life of the spring the hips are lowered and raised through */
 #define HIP_DROP_HALFLIFE 0.05f
 /* a free foot's target far out of reach is brought in to the leg's length and this many widths of
@@ -434,7 +437,6 @@ static bool foot_as_shown(mm_feet *f, int k, mm_vec3 have)
  * foot's turn) points on the ground plane where last tick's shown one did; nothing where either is
  * shorter than HEADING_MIN_SHARE of the foot on the ground plane (a foot pointing down has no
  * heading to keep), or where the foot would be turned more than MAX_FOOT_TURN. */
-#define HEADING_MIN_SHARE 0.5f
 static void keep_heading(mm_feet *f, int k, mm_vec3 have)
 {
     mm_vec3 now = mm_quat_rotate(mm_quat_exp(f->turn[k]), have), shown = f->shown_foot[k];
