@@ -973,6 +973,42 @@ static float ground_distance(mm_vec3 a, mm_vec3 b)
     return sqrtf((a.x - b.x) * (a.x - b.x) + (a.z - b.z) * (a.z - b.z));
 }
 
+/* The body turning on the spot about a foot planted on heel and toe (its ankle where the animation
+ * has it, the animated foot yawing 1.1 rad away from the planted one over 44 ticks, as a body turns
+ * over a foot the data pivots): the foot is held, its toe within 1 mm of where it was planted; with
+ * the foot turned at most 0.8 rad from its animation, the toe went round the heel past that, 0.12 m
+ * from the ankle: 0.12 * 0.3 = 3.6 cm. The knee turns with the held foot, by the foot's turn about
+ * the leg (here vertical): the least rotation taking the animated ankle-to-toe vector (0, -0.04,
+ * 0.12) yawed by 1.1 rad onto the planted one turns it 0.978 rad about the vertical, so the knee's
+ * bend (from the middle of hip and ankle, on the ground plane) ends 1.1 - 0.978 rad from the foot;
+ * before, it stayed where the body turned, 1.1 rad off the foot. */
+static void test_feet_body_turns_over_a_planted_foot(void **state)
+{
+    (void)state;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    body b;
+    float dt = 1.0f / 60.0f;
+    bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+    mm_vec3 ankle = b.global[L_FOOT].translation, planted = {0, 0, 0};
+    for (int i = 0; i <= 44; ++i) {
+        bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
+        mm_quat yaw = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.025f * (float)i);
+        b.global[ROOT] = mm_xform_make(yaw, mm_vec3_sub(ankle, mm_quat_rotate(yaw, ankle)));
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        level_tick(&f, &d, &b, &LABEL_LEFT_HEEL_TOE, dt);
+        mm_vec3 toe = b.global[L_TOE].translation;
+        if (i == 0) planted = toe;
+        assert_true(ground_distance(toe, planted) < 1e-3f);
+    }
+    mm_vec3 foot = mm_vec3_sub(b.global[L_TOE].translation, b.global[L_FOOT].translation);
+    mm_vec3 middle =
+        mm_vec3_scale(mm_vec3_add(b.global[L_UPLEG].translation, b.global[L_FOOT].translation), 0.5f);
+    mm_vec3 bend = mm_vec3_sub(b.global[L_LEG].translation, middle);
+    float off = fabsf(atan2f(foot.x * bend.z - foot.z * bend.x, foot.x * bend.x + foot.z * bend.z));
+    assert_float_equal(off, 1.1f - 0.978f, 0.01f);
+}
+
 /* A lock that begins while the foot still rolls holds its joint where it was shown (feet.c,
  * foot_as_shown). The animated left foot turns about its ankle at `rate` rad a tick from `pitch`
  * (positive: toe down), under `before` and then, from tick `on`, under `after`; joint (L_TOE or
@@ -1169,6 +1205,33 @@ static void test_feet_wait_aloft(void **state)
 {
     (void)state;
     wait_aloft(NULL);
+}
+
+/* A foot whose toe's label turns on while it is held 8 cm up (aloft: it waits to be planted), the
+ * body turning about that ankle 0.03 rad a tick (the animated foot yawing with it): once the
+ * landing has run (two ticks), the foot keeps the heading it was shown with, its toe within 0.5 mm
+ * on the ground plane over the next 5 ticks. Before, the toe swung round the held ankle as
+ * animated, 0.12 m from it: 0.12 * 0.03 = 3.6 mm a tick. */
+static void test_feet_toe_aloft_keeps_its_heading(void **state)
+{
+    (void)state;
+    float dt = 1.0f / 60.0f;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 2.0f * dt, true);
+    body b;
+    bent_left_leg(&b, 0.3f, 0.0f, 0.08f);
+    mm_vec3 ankle = b.global[L_FOOT].translation, held = {0, 0, 0};
+    for (int n = 0; n <= 8; ++n) { /* free on tick 0, the toe's label on from tick 1 */
+        bent_left_leg(&b, 0.3f, 0.0f, 0.08f);
+        mm_quat yaw = mm_quat_from_axis_angle(mm_vec3_make(0, 1, 0), 0.03f * (float)n);
+        b.global[ROOT] = mm_xform_make(yaw, mm_vec3_sub(ankle, mm_quat_rotate(yaw, ankle)));
+        mm_rig_forward(&b.rig, 1, &b.pose);
+        level_tick(&f, &d, &b, n == 0 ? &LABEL_NONE : &LABEL_LEFT_TOE, dt);
+        assert_false(f.locked[0]); /* aloft: waiting */
+        mm_vec3 toe = b.global[L_TOE].translation;
+        if (n == 3) held = toe;
+        if (n > 3) assert_true(ground_distance(toe, held) < 5e-4f);
+    }
 }
 
 /* The same on terrain (a scene whose ground is the plane y = 0): where a foot stands is the ground
@@ -1926,6 +1989,8 @@ int main(void)
         cmocka_unit_test(test_feet_heel_lifts_where_shown),
         cmocka_unit_test(test_feet_lock_comes_down),
         cmocka_unit_test(test_feet_lock_begins_where_shown),
+        cmocka_unit_test(test_feet_body_turns_over_a_planted_foot),
+        cmocka_unit_test(test_feet_toe_aloft_keeps_its_heading),
         cmocka_unit_test(test_feet_lock_settles_gradually),
         cmocka_unit_test(test_feet_wait_aloft),
         cmocka_unit_test(test_feet_wait_aloft_on_terrain),

@@ -11,7 +11,12 @@
 /* share of the leg's length over which the IK's reach softens (mm_leg_ik_params.soft_reach) */
 #define SOFT_REACH 0.05f
 /* rad: the most a foot planted on heel and toe is turned from its animated orientation */
-#define MAX_FOOT_TURN 0.8f
+#define MAX_FOOT_TURN 1.2f
+/* share of a foot's turn about its leg's axis that the leg turns with (solve_leg) */
+#define LEG_TURN_SHARE 1.0f
+/* a foot whose ankle-to-toe vector is shorter than this share of it on the ground plane has no
+ * heading to keep (keep_heading) */
+#define HEADING_MIN_SHARE 0.5f
 /* s: half-life of the spring the hips are lowered and raised through */
 #define HIP_DROP_HALFLIFE 0.05f
 /* a free foot's target far out of reach is brought in to the leg's length and this many widths of
@@ -141,9 +146,25 @@ static void solve_leg(const mm_rig *rig, int k, mm_vec3 target, mm_quat ankle_wo
     mm_leg_pose leg = {g[hip].translation, g[knee].translation, g[ankle].translation};
     mm_leg_ik_params params = {1.0f, SOFT_REACH};
     mm_leg_warp out;
-    if (mm_leg_ik_solve(&leg, target, mm_rig_knee_pole(rig, pose, k), &params, &out) != MM_OK) return;
-    mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out.thigh, g[hip].rotation));
-    mm_quat knee_world = mm_quat_normalize(mm_quat_mul(out.shin, g[knee].rotation));
+    mm_vec3 pole = mm_rig_knee_pole(rig, pose, k);
+    mm_quat about = mm_quat_identity();
+    /* the leg turns with its foot about the hip-to-ankle axis (the twist of the foot's turn from its
+     * animated orientation about that axis): a planted foot held while the body turns away from it
+     * keeps its knee over it instead of twisting below the shin */
+    mm_vec3 axis = mm_vec3_sub(leg.foot, leg.hip);
+    float reach = mm_vec3_length(axis);
+    if (reach > MIN_FOOT_LENGTH) {
+        axis = mm_vec3_scale(axis, 1.0f / reach);
+        mm_quat turn = mm_quat_mul(ankle_world, mm_quat_conj(g[ankle].rotation));
+        if (turn.w < 0.0f) turn = (mm_quat){-turn.x, -turn.y, -turn.z, -turn.w};
+        float twist = 2.0f * atan2f(turn.x * axis.x + turn.y * axis.y + turn.z * axis.z, turn.w);
+        about = mm_quat_exp(mm_vec3_scale(axis, LEG_TURN_SHARE * twist));
+        leg.knee = mm_vec3_add(leg.hip, mm_quat_rotate(about, mm_vec3_sub(leg.knee, leg.hip)));
+        pole = mm_quat_rotate(about, pole);
+    }
+    if (mm_leg_ik_solve(&leg, target, pole, &params, &out) != MM_OK) return;
+    mm_quat hip_world = mm_quat_normalize(mm_quat_mul(out.thigh, mm_quat_mul(about, g[hip].rotation)));
+    mm_quat knee_world = mm_quat_normalize(mm_quat_mul(out.shin, mm_quat_mul(about, g[knee].rotation)));
     pose->local_rotations[hip] =
         mm_quat_normalize(mm_quat_mul(mm_quat_conj(g[hip_parent].rotation), hip_world));
     g[hip] =
@@ -412,6 +433,25 @@ static bool foot_as_shown(mm_feet *f, int k, mm_vec3 have)
     return true;
 }
 
+/* Foot k turned about the vertical so that its ankle-to-toe vector (have, as animated, turned by the
+ * foot's turn) points on the ground plane where last tick's shown one did; nothing where either is
+ * shorter than HEADING_MIN_SHARE of the foot on the ground plane (a foot pointing down has no
+ * heading to keep), or where the foot would be turned more than MAX_FOOT_TURN. */
+static void keep_heading(mm_feet *f, int k, mm_vec3 have)
+{
+    mm_vec3 now = mm_quat_rotate(mm_quat_exp(f->turn[k]), have), shown = f->shown_foot[k];
+    float a = sqrtf(now.x * now.x + now.z * now.z), b = sqrtf(shown.x * shown.x + shown.z * shown.z);
+    float least = HEADING_MIN_SHARE * mm_vec3_length(have);
+    if (!(a > least) || !(b > least)) return;
+    /* the angle about +Y from now to shown on the ground plane */
+    float yaw = atan2f(now.z * shown.x - now.x * shown.z, now.x * shown.x + now.z * shown.z);
+    mm_quat about = mm_quat_from_axis_angle(mm_vec3_make(0.0f, 1.0f, 0.0f), yaw);
+    mm_vec3 turn = mm_quat_log(mm_quat_mul(about, mm_quat_exp(f->turn[k])));
+    if (!(mm_vec3_length(turn) <= MAX_FOOT_TURN)) return;
+    f->turn[k] = turn;
+    f->turn_velocity[k] = mm_vec3_make(0.0f, 0.0f, 0.0f);
+}
+
 /* m/s^2: the most a free foot's offset changes the velocity of its ankle's target on the ground
  * plane beyond the animation's own change: as much as a landing slows a foot. The offset's
  * spring pulls hardest on its first tick, and a swing's catch-up harder still: a foot let go far
@@ -570,7 +610,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
         out = mm_vec3_add(out, onto_tread);
         f->offset[k] = mm_vec3_add(f->offset[k], onto_tread);
     }
-    bool wait = false;
+    bool wait = false, held_heading = false;
     if (d->plant_time > 0.0f && f->placed && !was_locked) {
         /* landing: the foot's step on the ground plane shrinks to nothing as its contact comes (w:
          * the share of plant_time gone before the label turns on), where the foot is planted where
@@ -616,6 +656,7 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
                 out.y = fmaxf(lowered, fminf(out.y, from.y - LANDING_FALL_SPEED * dt));
             }
             if (up) out.y = fminf(out.y, from.y); /* aloft: held on the ground plane, not rising */
+            held_heading = up && toe_on && w_before >= 1.0f - LANDING_DONE;
             f->offset[k] = mm_vec3_sub(out, foot_source(f, k, a, t));
             f->offset_velocity[k] = mm_vec3_sub(velocity, source_velocity(f, k, a, t, dt));
         }
@@ -698,6 +739,10 @@ static mm_vec3 lock_foot(mm_feet *f, const mm_character_desc *d, const mm_rig *r
     } else {
         mm_spring_decay_vec3_step(&f->turn[k], &f->turn_velocity[k], foot_step);
     }
+    /* landed but still aloft, its toe labelled: the foot keeps the heading it was shown with about
+     * the held ankle (its pitch as animated, so that it comes down as the data has it) instead of
+     * swinging the toe round it */
+    if (held_heading) keep_heading(f, k, mm_vec3_sub(t, a));
     f->last_ankle[k] = a, f->last_toe[k] = t;
     *orientation = mm_quat_mul(mm_quat_exp(f->turn[k]), animated);
     f->locked[k] = f->heel_locked[k] || f->toe_locked[k];
