@@ -995,6 +995,81 @@ static void test_no_short_replay(void **state)
     print_message("%d jumps back within a clip\n", backward);
 }
 
+/* A database of the built-in set's clip `name` alone: unmirrored, no blends, no standing pose. */
+static void build_one_clip(const char *name, mm_database *one)
+{
+    mm_config cfg;
+    memset(&cfg, 0, sizeof cfg);
+    assert_int_equal(mm_config_load_json(MM_SOURCE_DIR "/configs/synth.json", &cfg, NULL, NULL), MM_OK);
+    int at = -1;
+    for (int i = 0; i < cfg.clip_count; ++i)
+        if (strcmp(cfg.clips[i].name, name) == 0) at = i;
+    assert_true(at >= 0);
+    mm_synth_set set;
+    assert_int_equal(mm_synth_generate(NULL, &set, NULL), MM_OK);
+    mm_clip source;
+    memset(&source, 0, sizeof source);
+    for (int k = 0; k < set.clip_count; ++k)
+        if (strcmp(set.clips[k].name, name) == 0) mm_clip_copy(&source, &set.clips[k].clip, NULL);
+    mm_synth_set_free(&set);
+    mm_config_clip only = cfg.clips[at];
+    only.mirror = false;
+    mm_config one_cfg = cfg;
+    one_cfg.clips = &only;
+    one_cfg.clip_count = 1;
+    one_cfg.blend_count = 0;
+    one_cfg.standing_make = false;
+    assert_int_equal(mm_database_build(&one_cfg, &source, NULL, one, NULL), MM_OK);
+    mm_clip_free(&source);
+    mm_config_free(&cfg);
+}
+
+/* A clip that has ended is left. matching.c does not jump back within the playing clip by less
+ * than MIN_REPLAY (0.5 s) or the search interval; at a one-shot clip's last frame, where playback
+ * cannot go on, a winner in that stretch left the playhead standing on the last frame tick after
+ * tick (a search each tick, each winner refused) while the root moved on with the simulation and
+ * dragged the planted feet (the LAFAN1 cut's strafe resampled to 120 fps: 50 ticks at the end of
+ * a clip that stops, the feet dragged at 0.9 m/s). On a database of one clip that ends standing,
+ * played from 0.5 s before its end with the stick held, the frames just before the end (the stop,
+ * standing) are the best there; the playhead is on the clip's last frame for at most one tick in
+ * a row (the tick it gets there), and it goes back more than MIN_REPLAY. */
+static void test_ended_clip_left(void **state)
+{
+    (void)state;
+    static const char *const names[] = {"walk_stop", "run_stop", "sidestep_right", "backstep"};
+    for (int n = 0; n < 4; ++n) {
+        mm_database one;
+        build_one_clip(names[n], &one);
+        assert_int_equal(one.clip_count, 1);
+        assert_false(one.clips[0].loop);
+        int last = one.frame_count - 1;
+        mm_searcher os;
+        assert_int_equal(mm_searcher_init(&os, &one, NULL, NULL), MM_OK);
+        mm_character c;
+        assert_int_equal(mm_character_init(&c, &one, &os, NULL, NULL), MM_OK);
+        mm_input in = stick_input(0.0f, 1.0f);
+        if (strncmp(names[n], "run", 3) == 0) in.gait = MM_GAIT_RUN; /* its frames are tagged Run */
+        run_ticks(&c, &in, 10);
+        mm_character_play_move(&c, last - 30, last + 100, 0.0f);
+        int in_a_row = 0, most = 0, left_to = -1;
+        for (int i = 0; i < 120; ++i) {
+            int before = c.frame;
+            mm_character_update(&c, &in, 1.0f / 60.0f);
+            in_a_row = c.frame == last ? in_a_row + 1 : 0;
+            if (in_a_row > most) most = in_a_row;
+            if (before == last && c.frame != last && left_to < 0) left_to = c.frame;
+        }
+        print_message("%s: %d ticks in a row on its last frame, left for frame %d\n", names[n], most,
+                      left_to);
+        assert_true(most >= 1); /* it got there */
+        assert_true(most <= 1);
+        assert_true((float)(last - left_to) * one.interval > 0.5f);
+        mm_character_free(&c);
+        mm_searcher_free(&os);
+        mm_database_free(&one);
+    }
+}
+
 static void test_idle_after_stop(void **state)
 {
     (void)state;
@@ -1328,6 +1403,7 @@ int main(void)
         cmocka_unit_test(test_knee_continuous_out_of_reach),
         cmocka_unit_test(test_idle_after_stop),
         cmocka_unit_test(test_no_short_replay),
+        cmocka_unit_test(test_ended_clip_left),
         cmocka_unit_test(test_run_stop),
         cmocka_unit_test(test_run_stop_lafan1),
         cmocka_unit_test(test_distance_matching_cycle),

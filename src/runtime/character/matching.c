@@ -192,6 +192,12 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     for (int g = 0; g < MM_GAIT_COUNT; ++g)
         if (g != (int)intent->gait) p.excluded_tags |= m->gait_tags[g];
     p.pose_trajectory_ratio = mm_matching_ratio(m, d, t, intent);
+    /* a jump back within the playing clip by less than `behind` is not taken (below); at the clip's
+     * last frame, where playback cannot go on, such a winner left the playhead standing there every
+     * tick while the root moved on with the simulation, dragging the planted feet: those frames are
+     * left out of the search instead, so that it finds a frame it jumps to */
+    int behind = d->skip_frames + (int)ceilf(fmaxf(d->search_interval, MIN_REPLAY) / db->interval);
+    if (db->frame_next[pb->frame] < 0 && p.exclude_window < behind) p.exclude_window = behind;
     /* the best candidates when a debugger asked for them (the winner is the same whatever k) */
     mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
     int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
@@ -212,7 +218,6 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
      * same clip by less than MIN_REPLAY or what played since the last search: that would replay
      * the same stretch over and over (an idle frozen in a loop of a few frames) */
     int ahead = best.frame - pb->frame;
-    int behind = d->skip_frames + (int)ceilf(fmaxf(d->search_interval, MIN_REPLAY) / db->interval);
     if (db->frame_clip[best.frame] == db->frame_clip[pb->frame] && ahead >= -behind &&
         ahead <= d->skip_frames)
         return;
