@@ -1104,6 +1104,40 @@ static void test_idle_after_stop(void **state)
     mm_character_free(&c);
 }
 
+/* A stick asking for less than idle_speed + idle_hysteresis while idle (under which idle is kept)
+ * leaves the simulation standing with the idle pose: before, it walked at the stick's speed, the
+ * root pulled along with it and the feet planted under it (built-in set, random seed 15: 7 s at
+ * 0.19 m/s). A stick past it moves the simulation and ends idle, as before. */
+static void test_idle_stick_under_threshold_stands(void **state)
+{
+    (void)state;
+    mm_character c;
+    make_character(&c, NULL);
+    mm_input in = stick_input(0.0f, 0.0f);
+    run_ticks(&c, &in, 60);
+    assert_true(c.idle);
+    /* a stick in the hysteresis band: its desired speed between idle_speed and the band's top */
+    const float low = c.desc.idle_speed, high = c.desc.idle_speed + c.desc.idle_hysteresis;
+    float asked = 0.0f;
+    for (int i = 1; i <= 100 && !(asked > low && asked < high); ++i) {
+        in = stick_input(0.0f, (float)i / 100.0f);
+        mm_vec3 v;
+        mm_trajectory_desired(c.trajectory, &in, &v, NULL);
+        asked = sqrtf(v.x * v.x + v.z * v.z);
+    }
+    assert_true(asked > low && asked < high);
+    mm_vec3 from = c.trajectory->position;
+    run_ticks(&c, &in, 120); /* 2 s: 0.3 m or more at that speed */
+    assert_true(c.idle);
+    assert_true(mm_vec3_distance(c.trajectory->position, from) < 1e-3f);
+    /* past the band: it walks */
+    in = stick_input(0.0f, 1.0f);
+    run_ticks(&c, &in, 60);
+    assert_false(c.idle);
+    assert_true(mm_vec3_distance(c.trajectory->position, from) > 0.2f);
+    mm_character_free(&c);
+}
+
 /* Stops (issue 6): after the stick is let go at a run, the root motion played slows to a walk
  * within the time the database's own run stops take, plus one half-life of the simulation's
  * braking and one search interval. The stop time is read from the data: in each clip, from the
@@ -1402,6 +1436,7 @@ int main(void)
         cmocka_unit_test(test_feet_land),
         cmocka_unit_test(test_knee_continuous_out_of_reach),
         cmocka_unit_test(test_idle_after_stop),
+        cmocka_unit_test(test_idle_stick_under_threshold_stands),
         cmocka_unit_test(test_no_short_replay),
         cmocka_unit_test(test_ended_clip_left),
         cmocka_unit_test(test_run_stop),

@@ -450,6 +450,23 @@ static mm_feet_contacts feet_contacts(const mm_database *db, const mm_playback *
     return fc;
 }
 
+/* The input the simulation follows (and the play rate and the search's query with it): while idle
+ * is asked for (the matching's, from the last tick), a stick asking for no more than idle_speed +
+ * idle_hysteresis (under which idle is kept) leaves the simulation standing, as the idle pose does:
+ * moving, it pulled the root and the feet planted under it along at that speed for as long as idle
+ * was kept (docs/metrics.md, "Idle drift"). */
+static const mm_input *idle_input(const mm_character_state *s, const mm_character_desc *d, const mm_input *in,
+                                  mm_input *standing)
+{
+    if (!in || !s->matching.idle || s->move.playing) return in;
+    mm_vec3 v;
+    mm_trajectory_desired(&s->trajectory, in, &v, NULL);
+    if (sqrtf(v.x * v.x + v.z * v.z) > d->idle_speed + d->idle_hysteresis) return in;
+    *standing = *in;
+    standing->stick[0] = standing->stick[1] = 0.0f;
+    return standing;
+}
+
 void mm_character_update(mm_character *c, const mm_input *in, float dt)
 {
     if (!c || !c->state || !(dt > 0.0f) || !isfinite(dt)) return;
@@ -462,13 +479,15 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     /* 1. input -> trajectory: the simulation, and what the input asks for; on terrain, at the
      * height of the ground under it; its capsule stands where the character stands */
     s->trajectory.floor = s->root_motion.root.translation.y;
-    mm_intent_update(&s->trajectory, in, dt, &s->intent);
+    mm_input standing;
+    const mm_input *asked = idle_input(s, d, in, &standing);
+    mm_intent_update(&s->trajectory, asked, dt, &s->intent);
     if (terrain)
         s->trajectory.position.y =
             mm_scene_ground_height(terrain, s->trajectory.position.x, s->trajectory.position.z, NULL);
 
     /* 2. playback: by the clock, or by distance matching (never during a move) */
-    choose_play_rate(s, db, in, dt);
+    choose_play_rate(s, db, asked, dt);
     bool ended = mm_playback_advance(&s->playback, db->frame_next, db->interval, dt);
     mm_transition_advance(&s->transition, db, &s->playback, dt);
 
@@ -477,7 +496,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     if (play_moves(&s->move, db, &s->playback, ended, &jump)) s->matching.since_search = INFINITY;
     if (mm_matching_due(&s->matching, d, &s->intent, mm_intent_ground_speed(&s->trajectory),
                         mm_vec3_length(s->root_motion.played.velocity), ended, s->move.playing, dt)) {
-        mm_matching_search(&s->matching, d, db, c->searcher, &s->trajectory, in, &s->intent,
+        mm_matching_search(&s->matching, d, db, c->searcher, &s->trajectory, asked, &s->intent,
                            s->root_motion.root, &s->playback, &found);
     }
     if (found.frame >= 0) jump = found;
