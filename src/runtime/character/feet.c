@@ -384,6 +384,60 @@ static float step_lift(mm_feet *f, int k, bool free, float dt)
     return f->step_lift[k];
 }
 
+/* m/s: a free foot moving over the ground faster than this is kept above where it would stand
+ * (swing_clear): a swing that a transition's offsets bring down to the ground (the legs' offsets
+ * act on rotations, and carry the toe through the floor) skimmed it at 1-6 m/s, and a lock let go
+ * far behind its animated place dragged its toe along the ground as it caught up (docs/metrics.md,
+ * "The independent slide: swings kept off the ground") */
+#define SWING_CLEAR_FROM 0.5f
+/* s: the clearance is this times the speed beyond SWING_CLEAR_FROM (2 cm at 1.5 m/s), at most
+ * SWING_CLEAR_MAX */
+#define SWING_CLEAR_TIME 0.02f
+#define SWING_CLEAR_MAX  0.04f
+/* s: half-life of the spring the clearance follows its speed's with (a foot let go speeds up by up
+ * to 2.5 m/s a tick, SWING_ACCELERATION: followed at once the foot rose by up to 4 cm in a tick) */
+#define SWING_CLEAR_HALFLIFE 0.05f
+/* s: a contact coming within this takes the clearance down in proportion to the time left (all of
+ * it, with the landing's share, by the time the foot is planted) */
+#define SWING_CLEAR_LAND 0.15f
+
+/* Whether foot k's label is on or is seen coming within the landing's look-ahead (until_label). */
+static bool landing_now(const mm_feet_contacts *contacts, int k)
+{
+    return ((contacts->label >> (2 * k)) & 3u) != 0 || contacts->until_label[k] >= 0.0f;
+}
+
+/* Free foot k's ankle target height y kept clear of the ground for the foot's speed over it (last
+ * tick's target's): SWING_CLEAR_TIME of the speed beyond SWING_CLEAR_FROM, at most SWING_CLEAR_MAX,
+ * less as a contact comes in `left` s (within SWING_CLEAR_LAND), followed through a spring, above
+ * stand (the ankle's height at which its ankle and toe are at their planted heights), as toe_floor's
+ * soft floor. While `landing` (a label on or coming within the landing's look-ahead) none is asked
+ * for and what is left comes down with the landing's share, gone by the tick before the foot is planted.
+ * A foot at rest or planted is not moved; none while locked. */
+static float swing_clear(mm_feet *f, int k, float y, float stand, float left, bool landing, float dt)
+{
+    if (f->locked[k] || !f->placed) {
+        f->clearance[k] = f->clearance_velocity[k] = 0.0f;
+        return y;
+    }
+    mm_vec3 v = f->target_velocity[k];
+    float speed = sqrtf(v.x * v.x + v.z * v.z);
+    float want = fminf(SWING_CLEAR_TIME * fmaxf(speed - SWING_CLEAR_FROM, 0.0f), SWING_CLEAR_MAX);
+    if (left > 0.0f) want *= fminf(left / SWING_CLEAR_LAND, 1.0f);
+    if (landing) want = 0.0f;
+    mm_spring_update(&f->clearance[k], &f->clearance_velocity[k], want, SWING_CLEAR_HALFLIFE, dt);
+    /* landing: down as the landing goes, from no speed to none, gone by the tick before the foot
+     * is planted (q: the landing's share over the share it has then) */
+    float last = 1.0f - dt / fmaxf(f->landing_time[k], dt);
+    float q = landing ? (last > 0.0f ? fminf(fmaxf(f->landed[k], 0.0f) / last, 1.0f) : 1.0f) : 0.0f;
+    float clear = f->clearance[k] * (1.0f - q) * (1.0f - q) * (1.0f + 2.0f * q);
+    if (!(clear > 0.0f)) return y;
+    /* eased in over the first TOE_SINK of clearance: the soft floor lifts a foot within TOE_SINK of
+     * stand by a quarter of that even at no clearance, which would lift it by that in the tick it
+     * is let go */
+    return y + (toe_floor(y, stand + clear + TOE_SINK) - y) * fminf(clear / TOE_SINK, 1.0f);
+}
+
 /* a free foot whose contact is coming catches up with its animated place on the ground plane faster
  * than foot_halflife: its offset there fades with the half-life of the time left over this many (little
  * of it left by its landing), at least SWING_CATCH_UP_MIN_HALFLIFE */
@@ -1005,6 +1059,9 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                 most = fmaxf(unlifted, f->lock[k].y + CLEAR_RISE_SPEED * dt);
             }
             target[k].y = fminf(toe_floor(target[k].y, toe_y - v.y), most);
+            if (!terrain)
+                target[k].y = swing_clear(f, k, target[k].y, fmaxf(floor, toe_y - v.y),
+                                          contacts->until_contact[k], landing_now(contacts, k), dt);
         }
         /* a swinging foot on terrain is reached for at the height it will land at too (the hips
          * come down during the swing toward a lower tread, not once the foot is planted there) */

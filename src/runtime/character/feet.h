@@ -33,6 +33,9 @@ typedef struct mm_feet {
     /* m: how far each free foot is lifted as it catches up with its animated place (a spring's
      * state) */
     float step_lift[2], step_lift_velocity[2];
+    /* m: how far each free foot is kept above where it would stand for its speed over the ground
+     * (swing_clear in feet.c; a spring's state) */
+    float clearance[2], clearance_velocity[2];
     /* m: how far the pelvis is moved on the ground plane toward planted feet out of their legs'
      * reach (in the pose only, not the simulated root) */
     mm_vec3 pelvis_shift, pelvis_shift_velocity;
