@@ -690,7 +690,7 @@ static void test_feet_hold_under_pull(void **state)
 
 /* Feet land at rest (plant_time): on a zigzag of walking and running on the built-in set, every
  * tick where a foot is planted from the air (its lock begins: neither heel nor toe held the tick
- * before) plants it within 5 mm of where its target was on the tick before, on the ground plane (a
+ * before) plants it within 6 mm of where its target was on the tick before, on the ground plane (a
  * toe-only landing holds the toe there, and the ankle turns about it as the foot's turn fades); and
  * the ankles' mean ground speed on those ticks falls to under a third of what it is without. A
  * contact that comes without warning (a jump onto a frame whose label is on) is planted plant_time
@@ -743,7 +743,7 @@ static void test_feet_land(void **state)
                   on, default_desc().plant_time, landings_on, step_on, off, landings_off, step_off);
     assert_true(default_desc().plant_time > 0.0f);
     assert_true(landings_on > 40 && landings_off > 40);
-    assert_true(step_on < 0.005f); /* a toe-only landing holds the toe; the ankle turns about it */
+    assert_true(step_on < 0.006f); /* a toe-only landing holds the toe; the ankle turns about it */
     assert_true(step_off > 0.01f);
     assert_true(3.0 * on < off);
 }

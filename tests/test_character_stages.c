@@ -937,6 +937,42 @@ static void test_feet_toe_pivot_out_of_reach(void **state)
     assert_false(f.toe_locked[0]);
 }
 
+/* The heel up before the hips down (feet.c): the toe pivot's body, carried on along +Z at 1.2 m/s
+ * over the left foot planted behind it, now with the hips free to come down (max_hip_drop 0.1 m).
+ * Planted on its toe alone, the foot's pivot (at most 0.8 rad) brings its ankle within reach for
+ * the whole 30 ticks (test_feet_toe_pivot_out_of_reach: the toe held by the pivot alone, the hips
+ * never lowered), so the hips stay where they are animated (hip_drop 0) and the toe stays on its
+ * lock (within 1 mm). Planted on heel and toe, the ankle held where it was planted, the same body
+ * has its hips lowered (more than 2 cm by the 30th tick): the pivot, not the drop, is what spares
+ * the hips; before, the drop reached for the unpivoted ankle and came down either way. */
+static void test_feet_heel_up_before_hips_down(void **state)
+{
+    (void)state;
+    float dt = 1.0f / 60.0f;
+    mm_feet_contacts toe = {MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+    for (int heel = 0; heel <= 1; ++heel) {
+        mm_feet f;
+        mm_character_desc d = feet_fixture(&f, 0.0f, false);
+        assert_true(d.max_hip_drop >= 0.1f - 1e-6f);
+        body b;
+        mm_vec3 planted = {0, 0, 0};
+        float most = 0.0f;
+        for (int n = 0; n <= 30; ++n) {
+            bent_left_leg(&b, 0.5f, 0.0f, 0.0f);
+            b.positions[HIPS].z = 1.2f * (float)n * dt;
+            mm_rig_forward(&b.rig, 1, &b.pose);
+            level_tick(&f, &d, &b, heel ? &LABEL_LEFT_HEEL_TOE : &toe, dt);
+            if (n == 0) planted = b.global[L_TOE].translation;
+            most = fmaxf(most, f.hip_drop);
+            if (!heel) assert_vec3_near(b.global[L_TOE].translation, planted, 1e-3f);
+        }
+        if (heel)
+            assert_true(f.hip_drop > 0.02f);
+        else
+            assert_float_equal(most, 0.0f, 1e-6f);
+    }
+}
+
 /* Planted on heel and toe with the toe's lock 1 cm further along the foot than the foot reaches (two
  * locks placed and settled apart): the toe is shown on the foot, short of its lock; when the heel
  * lifts, the toe stays where it was shown (within 1 mm on the ground plane) instead of moving onto
@@ -2055,6 +2091,7 @@ int main(void)
         cmocka_unit_test(test_feet_toe_down_under_raised_heel),
         cmocka_unit_test(test_feet_toe_planted_under_a_raised_ankle),
         cmocka_unit_test(test_feet_toe_pivot_out_of_reach),
+        cmocka_unit_test(test_feet_heel_up_before_hips_down),
         cmocka_unit_test(test_feet_swing_eases_out_of_a_far_release),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -982,40 +982,54 @@ static mm_quat foot_tilt(mm_feet *f, const mm_rig *rig, int k, const mm_feet_gro
     return mm_quat_from_axis_angle(mm_vec3_scale(axis, 1.0f / sine), angle);
 }
 
-/* Toe pivot: foot k, planted on its toe alone, has its ankle's target (*target, the foot turned by
- * *orientation) further than reach from its hip: the foot is pivoted about its toe, heel up, toward
- * the hip by the least angle that brings the ankle within reach (at most MAX_TOE_PIVOT), the toe
- * staying on its lock. A body carried on past a foot planted behind it (a root faster than its
- * clip, a transition's offsets still swinging the foot when its label turns on) would otherwise
- * leave the leg straight and short of the whole foot: the foot lifted off the ground by its
- * straight leg and dragged along while its label holds it. Records the pivot (f->pivot_shift,
- * f->pivot_turn) for the tick the toe lets go. */
-static void pivot_on_toe(mm_feet *f, const mm_rig *rig, int k, mm_vec3 hip, float reach, float last, float dt,
+/* The geometry of the toe pivot below: foot k's ankle target (*target, the foot turned by
+ * *orientation) pivoted about its toe toward hip by the least angle that brings it within reach,
+ * at most limit (rad). Returns the rotation vector of the pivot (zero when none is needed or
+ * possible) and moves *target and *orientation by it. */
+static mm_vec3 toe_pivot(const mm_rig *rig, int k, mm_vec3 hip, float reach, float limit,
                          const mm_rig_pose *pose, mm_vec3 *target, mm_quat *orientation)
 {
-    if (!(mm_vec3_distance(*target, hip) > reach)) return;
+    mm_vec3 none = mm_vec3_make(0.0f, 0.0f, 0.0f);
+    if (!(mm_vec3_distance(*target, hip) > reach)) return none;
     mm_vec3 toe_to_ankle =
         mm_vec3_scale(mm_quat_rotate(*orientation, pose->local_positions[rig->toe[k]]), -1.0f);
     mm_vec3 toe = mm_vec3_sub(*target, toe_to_ankle), to_hip = mm_vec3_sub(hip, toe);
     float foot = mm_vec3_length(toe_to_ankle), away = mm_vec3_length(to_hip);
-    if (!(foot > MIN_FOOT_LENGTH) || !(away > MIN_FOOT_LENGTH)) return;
+    if (!(foot > MIN_FOOT_LENGTH) || !(away > MIN_FOOT_LENGTH)) return none;
     mm_vec3 axis = mm_vec3_cross(toe_to_ankle, to_hip);
     float sine = mm_vec3_length(axis);
-    if (!(sine > MIN_FOOT_LENGTH * MIN_FOOT_LENGTH)) return;
+    if (!(sine > MIN_FOOT_LENGTH * MIN_FOOT_LENGTH)) return none;
     /* the angle between the toe-to-ankle and toe-to-hip directions now, and the largest at which
      * the ankle is within reach of the hip (the law of cosines) */
     float now = atan2f(sine, mm_vec3_dot(toe_to_ankle, to_hip));
     float within = (away * away + foot * foot - reach * reach) / (2.0f * foot * away);
     float most = within >= 1.0f ? 0.0f : within <= -1.0f ? (float)MM_PI : acosf(within);
-    float angle = fminf(fminf(now - most, MAX_TOE_PIVOT), last + TOE_PIVOT_RATE * dt);
-    if (!(angle > 0.0f)) return;
+    float angle = fminf(now - most, limit);
+    if (!(angle > 0.0f)) return none;
     mm_vec3 turn = mm_vec3_scale(axis, angle / sine);
     mm_quat pivot = mm_quat_exp(turn);
-    mm_vec3 pivoted = mm_vec3_add(toe, mm_quat_rotate(pivot, toe_to_ankle));
-    f->pivot_shift[k] = mm_vec3_sub(pivoted, *target);
-    f->pivot_turn[k] = turn;
-    *target = pivoted;
+    *target = mm_vec3_add(toe, mm_quat_rotate(pivot, toe_to_ankle));
     *orientation = mm_quat_normalize(mm_quat_mul(pivot, *orientation));
+    return turn;
+}
+
+/* Toe pivot: foot k, planted on its toe alone, has its ankle's target (*target, the foot turned by
+ * *orientation) further than reach from its hip: the foot is pivoted about its toe, heel up, toward
+ * the hip by the least angle that brings the ankle within reach (at most MAX_TOE_PIVOT, growing by
+ * at most TOE_PIVOT_RATE), the toe staying on its lock. A body carried on past a foot planted behind
+ * it (a root faster than its clip, a transition's offsets still swinging the foot when its label
+ * turns on) would otherwise leave the leg straight and short of the whole foot: the foot lifted off
+ * the ground by its straight leg and dragged along while its label holds it. Records the pivot
+ * (f->pivot_shift, f->pivot_turn) for the tick the toe lets go. */
+static void pivot_on_toe(mm_feet *f, const mm_rig *rig, int k, mm_vec3 hip, float reach, float last, float dt,
+                         const mm_rig_pose *pose, mm_vec3 *target, mm_quat *orientation)
+{
+    mm_vec3 from = *target;
+    mm_vec3 turn = toe_pivot(rig, k, hip, reach, fminf(MAX_TOE_PIVOT, last + TOE_PIVOT_RATE * dt), pose,
+                             target, orientation);
+    if (!(mm_vec3_length(turn) > 0.0f)) return;
+    f->pivot_shift[k] = mm_vec3_sub(*target, from);
+    f->pivot_turn[k] = turn;
 }
 
 void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
@@ -1094,8 +1108,22 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
             step_down =
                 fmaxf(step_down, fminf(below, trailing ? TERRAIN_TRAILING_HIP_DROP : TERRAIN_HIP_DROP));
         }
-        lower_hips(f, d->max_hip_drop + step_down, terrain && step_down > 0.0f, rig, target, landing, dt,
-                   pose);
+        /* a foot planted on its toe alone is reached for as far as it can be pivoted (pivot_on_toe,
+         * MAX_TOE_PIVOT, which the pivot grows to within a few ticks): the heel comes up before the
+         * hips come down (docs/metrics.md, "Crouched time: the heel up before the hips down") */
+        mm_vec3 reach_target[2] = {target[0], target[1]}, reach_landing[2] = {landing[0], landing[1]};
+        for (int k = 0; k < 2; ++k) {
+            if (rig->ankle[k] < 0 || rig->toe[k] < 0 || !ground->hold || !f->toe_locked[k] ||
+                f->heel_locked[k])
+                continue;
+            mm_quat pivoted = orientation[k];
+            toe_pivot(rig, k, pose->global[rig->hip[k]].translation,
+                      (1.0f - SOFT_REACH) * leg_length(rig, k, pose), MAX_TOE_PIVOT, pose, &reach_target[k],
+                      &pivoted);
+            reach_landing[k] = reach_target[k];
+        }
+        lower_hips(f, d->max_hip_drop + step_down, terrain && step_down > 0.0f, rig, reach_target,
+                   reach_landing, dt, pose);
     }
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;
