@@ -7,6 +7,7 @@
 #include <mm/input.h>
 #include <mm/search.h>
 
+#include "math_private.h"
 #include "test_databases.h"
 #include "test_util.h"
 
@@ -895,6 +896,49 @@ static void test_ties_every_kind(void **state)
     free(features);
 }
 
+/* The 256-bit kernels (AVX and AVX2, where the machine has them) against the 128-bit ones: every
+ * method and kind of query, near and far from the grid, k of 1 and 5, a NaN: the same frames and
+ * costs bit for bit, and the same work (frames bounded and evaluated, boxes), so every bound and
+ * every quantized mask on the way was the same. */
+static void test_wide_kernels(void **state)
+{
+    (void)state;
+    const mm_database *db = &real_db;
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, db, NULL, NULL), MM_OK);
+    test_rng r = {0x3d1};
+    float q[MM_SEARCH_MAX_DIMS];
+    const mm_search_method methods[3] = {MM_SEARCH_FAST, MM_SEARCH_BRUTE, MM_SEARCH_FACING};
+    for (int i = 0; i < 90; ++i) {
+        mm_search_params p;
+        make_case(db, &r, i, q, &p);
+        if (i % 10 == 4)
+            for (int d = 0; d < db->dims; ++d) q[d] *= 40.0f; /* outside the quantized grid */
+        if (i == 89) q[1] = NAN;
+        mm_search_method m = methods[i % 5 == 2 ? 1 : i % 5 == 3 ? 2 : 0];
+        for (int k = 1; k <= 5; k += 4) {
+            mm_search_result res[2][5];
+            mm_search_stats st[2];
+            int n[2];
+            for (int wide = 0; wide < 2; ++wide) {
+                mm__math_wide_kernels(wide == 1);
+                n[wide] = mm_searcher_search_stats(&s, q, &p, m, res[wide], k, &st[wide]);
+            }
+            mm__math_wide_kernels(true);
+            assert_int_equal(n[0], n[1]);
+            assert_int_equal(st[0].frames_evaluated, st[1].frames_evaluated);
+            assert_int_equal(st[0].frames_bounded, st[1].frames_bounded);
+            assert_int_equal(st[0].boxes_tested, st[1].boxes_tested);
+            for (int j = 0; j < n[0]; ++j) {
+                assert_int_equal(res[0][j].frame, res[1][j].frame);
+                assert_memory_equal(&res[0][j].cost, &res[1][j].cost, sizeof(float));
+                assert_memory_equal(&res[0][j].base, &res[1][j].base, sizeof(float));
+            }
+        }
+    }
+    mm_searcher_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -909,6 +953,7 @@ int main(void)
         cmocka_unit_test(test_builtin_set_kinds_equal_brute),
         cmocka_unit_test(test_ties_every_kind),
         cmocka_unit_test(test_quantized_bound),
+        cmocka_unit_test(test_wide_kernels),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "math_private.h"
 #include "search/pool.h"
 
 #if defined(__SSE2__)
@@ -359,6 +360,106 @@ static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail
 }
 #endif
 
+/* The kernels above in 256-bit registers, for a machine with AVX (the distance, the box bounds) and
+ * AVX2 (the quantized bounds), chosen at run time (query_ctx.wide): each lane does the operations
+ * of the 128-bit code in its order (AVX's arithmetic is IEEE's, without FMA nothing is fused, the
+ * integer steps are exact), so the same floats, bounds and masks, on any machine. */
+#if defined(MM_WIDE_KERNELS) && QUANT_BLOCK == 16 && LANES == 8 && MM_SEARCH_WIDTH == 4
+#define SEARCH_WIDE_KERNELS 1
+__attribute__((target("avx"))) static float distance_wide(const float *q, const float *x, const float *w,
+                                                          int dims)
+{
+    __m256 acc = _mm256_setzero_ps();
+    for (int d = 0; d < dims; d += LANES) {
+        __m256 t = _mm256_sub_ps(_mm256_loadu_ps(q + d), _mm256_loadu_ps(x + d));
+        acc = _mm256_add_ps(acc, _mm256_mul_ps(_mm256_loadu_ps(w + d), _mm256_mul_ps(t, t)));
+    }
+    /* ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) */
+    __m128 s = _mm_add_ps(_mm256_castps256_ps128(acc), _mm256_extractf128_ps(acc, 1));
+    float v[4];
+    _mm_storeu_ps(v, s);
+    return (v[0] + v[1]) + (v[2] + v[3]);
+}
+
+/* gap_sum's four accumulators, two to a register: h and h + 1 of each step side by side */
+__attribute__((target("avx"))) static __m128 gap_sum_wide(const float *q, const float *lo, const float *hi,
+                                                          int d0, int d1)
+{
+    __m256 acc01 = _mm256_setzero_ps(), acc23 = _mm256_setzero_ps();
+    const __m256 zero = _mm256_setzero_ps();
+    for (int d = d0; d < d1; d += 4) {
+        __m256 x = _mm256_loadu_ps(q + d * 4);
+        __m256 t = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(_mm256_loadu_ps(lo + d * 4), x),
+                                               _mm256_sub_ps(x, _mm256_loadu_ps(hi + d * 4))),
+                                 zero);
+        acc01 = _mm256_add_ps(acc01, _mm256_mul_ps(t, t));
+        x = _mm256_loadu_ps(q + d * 4 + 8);
+        t = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(_mm256_loadu_ps(lo + d * 4 + 8), x),
+                                        _mm256_sub_ps(x, _mm256_loadu_ps(hi + d * 4 + 8))),
+                          zero);
+        acc23 = _mm256_add_ps(acc23, _mm256_mul_ps(t, t));
+    }
+    /* (acc[0] + acc[1]) + (acc[2] + acc[3]) */
+    return _mm_add_ps(_mm_add_ps(_mm256_castps256_ps128(acc01), _mm256_extractf128_ps(acc01, 1)),
+                      _mm_add_ps(_mm256_castps256_ps128(acc23), _mm256_extractf128_ps(acc23, 1)));
+}
+
+__attribute__((target("avx"))) static void lane_bounds_wide(const float *q, const float *lo, const float *hi,
+                                                            int split, int dims, const float *scale,
+                                                            float *out)
+{
+    __m128 pose = gap_sum_wide(q, lo, hi, 0, split), traj = gap_sum_wide(q, lo, hi, split, dims);
+    _mm_storeu_ps(
+        out, _mm_add_ps(_mm_mul_ps(pose, _mm_set1_ps(scale[0])), _mm_mul_ps(traj, _mm_set1_ps(scale[1]))));
+}
+
+/* quant_block_mask with the block's 16 sums in one register of 16-bit lanes (the gap taken in 16
+ * bits: |x - q| - 1 saturated at 0, the same integers as the bytes' saturating steps). */
+__attribute__((target("avx2"))) static unsigned sums_at_most(__m256i sum, __m256i t)
+{
+    __m256i ok = _mm256_cmpeq_epi16(_mm256_subs_epu16(sum, t), _mm256_setzero_si256());
+    return (unsigned)_mm_movemask_epi8(
+        _mm_packs_epi16(_mm256_castsi256_si128(ok), _mm256_extracti128_si256(ok, 1)));
+}
+
+/* One slot's term added to the sums: codes and query the slot's 16 bytes, weight its 8 copies. */
+__attribute__((target("avx2"))) static inline __m256i add_slot(__m256i sum, const uint8_t *codes,
+                                                               const uint8_t *query, const uint16_t *weight)
+{
+    const __m256i one = _mm256_set1_epi16(1);
+    __m256i x = _mm256_cvtepu8_epi16(_mm_loadu_si128((const __m128i *)codes));
+    __m256i q = _mm256_cvtepu8_epi16(_mm_loadu_si128((const __m128i *)query));
+    __m256i w = _mm256_broadcastsi128_si256(_mm_loadu_si128((const __m128i *)weight));
+    __m256i gap = _mm256_subs_epu16(_mm256_abs_epi16(_mm256_sub_epi16(x, q)), one);
+    return _mm256_adds_epu16(sum, _mm256_mulhi_epu16(_mm256_mullo_epi16(gap, gap), w));
+}
+
+__attribute__((target("avx2"))) static unsigned
+quant_block_mask_wide(const uint8_t *head, const uint8_t *tail, const uint8_t *query, const uint16_t *weight,
+                      int head_slots, int slots, uint16_t thr)
+{
+    const __m256i t = _mm256_set1_epi16((short)thr);
+    __m256i sum = _mm256_setzero_si256();
+    for (int j0 = 0; j0 < slots; j0 += QUANT_CHECK) {
+        if (j0 > 0 && !sums_at_most(sum, t)) return 0; /* every sum already above thr */
+        int j1 = j0 + QUANT_CHECK < slots ? j0 + QUANT_CHECK : slots;
+        if (j1 - j0 == QUANT_CHECK && (j1 <= head_slots || j0 >= head_slots)) { /* one run of codes */
+            const uint8_t *codes =
+                j0 < head_slots ? head + j0 * QUANT_BLOCK : tail + (j0 - head_slots) * QUANT_BLOCK;
+            for (int j = 0; j < QUANT_CHECK; ++j)
+                sum = add_slot(sum, codes + j * QUANT_BLOCK, query + (j0 + j) * QUANT_BLOCK,
+                               weight + (j0 + j) * 8);
+        } else {
+            for (int j = j0; j < j1; ++j)
+                sum = add_slot(
+                    sum, j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK,
+                    query + j * QUANT_BLOCK, weight + j * 8);
+        }
+    }
+    return sums_at_most(sum, t);
+}
+#endif
+
 /* ---- one query -------------------------------------------------------------------------- */
 
 typedef struct query_ctx {
@@ -392,8 +493,23 @@ typedef struct query_ctx {
     float quant_scale;
     uint8_t quant_query[MM_SEARCH_MAX_DIMS * QUANT_BLOCK]; /* per slot, repeated per lane */
     uint16_t quant_weight[MM_SEARCH_MAX_DIMS * 8];
+    /* node_factor(flags) for flags 0-3, and node_contact_factor's values: 1 for nodes whose frames
+     * all have contact_same (0 when there is no favour), contact_none when none has, contact_some
+     * when some have */
+    float loop_factor[4], contact_none, contact_some;
+    unsigned contact_same;
+    int wide;                      /* the 256-bit kernels (the machine has AVX2 and mm__wide_kernels is on) */
     int evaluated, boxes, bounded; /* work counters (single-threaded paths) */
 } query_ctx;
+
+/* The weighted distance of the query to the feature row x. */
+static inline float query_distance(const query_ctx *c, const float *x)
+{
+#if defined(SEARCH_WIDE_KERNELS)
+    if (c->wide) return distance_wide(c->q, x, c->w, c->db->dims_padded);
+#endif
+    return distance(c->q, x, c->w, c->db->dims_padded);
+}
 
 /* Whether frame f (of clip clip_index, with tags) is a candidate. */
 static inline int accepted_with(const query_ctx *c, int f, int clip_index, uint64_t tags)
@@ -437,7 +553,7 @@ static inline float frame_cost(query_ctx *c, int f, const float *x, float *base)
 {
     const mm_database *db = c->db;
     ++c->evaluated;
-    float b = distance(c->q, x, c->w, db->dims_padded);
+    float b = query_distance(c, x);
     *base = b;
     float cost = favoured(c, f, db->frame_clip[f], b);
     if (f == c->next) cost = cost * c->p->next_pose_favour - c->p->continuing_bias;
@@ -466,6 +582,13 @@ static float node_contact_factor(const query_ctx *c, uint16_t patterns)
     return at_most_one(c->contact_lo);
 }
 
+/* node_contact_factor from the values prepare keeps. */
+static inline float contact_factor(const query_ctx *c, uint16_t patterns)
+{
+    if (patterns == c->contact_same) return 1.0f;
+    return patterns & c->contact_same ? c->contact_some : c->contact_none;
+}
+
 static float tie_limit(float lowest) { return lowest + TIE_TOLERANCE * fabsf(lowest); }
 
 /* Whether some frame under lane l of node n can be a candidate (by type and tags). */
@@ -490,6 +613,25 @@ static void rotate(const mm_searcher *s, const float *x, double *z)
     }
     memcpy(z, sum, sizeof(double) * (size_t)slots);
 }
+
+#if defined(SEARCH_WIDE_KERNELS)
+/* rotate four slots at a time (the slots are a multiple of 4): each lane the same product and sum */
+__attribute__((target("avx"))) static void rotate_wide(const mm_searcher *s, const float *x, double *z)
+{
+    int dims = s->db->dims_padded, slots = s->tree_dims;
+    __m256d sum[SEARCH_MAX_SLOTS / 4];
+    for (int j = 0; j < slots / 4; ++j) sum[j] = _mm256_setzero_pd();
+    for (int k = 0; k < dims; ++k) {
+        double y = s->sqrt_w0[k] * (double)x[k] - s->center[k];
+        if (y == 0.0) continue; /* padding: adds nothing */
+        const double *axis = s->basis + (size_t)k * slots;
+        __m256d yy = _mm256_set1_pd(y);
+        for (int j = 0; j < slots / 4; ++j)
+            sum[j] = _mm256_add_pd(sum[j], _mm256_mul_pd(_mm256_loadu_pd(axis + 4 * j), yy));
+    }
+    for (int j = 0; j < slots / 4; ++j) _mm256_storeu_pd(z + 4 * j, sum[j]);
+}
+#endif
 
 /* The query on the quantized grid, and its weights as integers. With g the gap in steps between
  * the query's code and a frame's, less one (half a step for the frame's rounding and half for the
@@ -548,6 +690,15 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
     c->contact_lo = p->contact_mismatch_favour;
     if (!(c->contact_lo >= 0.0f)) c->contact_lo = 0.0f; /* as the loop favour */
     c->use_facing = 0;
+    for (int flags = 0; flags < 4; ++flags) c->loop_factor[flags] = node_factor(c, (uint8_t)flags);
+    c->contact_same = c->contact_pattern >= 0 ? 1u << c->contact_pattern : 0u;
+    c->contact_none = node_contact_factor(c, 0);
+    c->contact_some = c->contact_pattern >= 0 ? at_most_one(c->contact_lo) : 1.0f;
+#if defined(SEARCH_WIDE_KERNELS)
+    c->wide = mm__wide_kernels() && __builtin_cpu_supports("avx2");
+#else
+    c->wide = 0;
+#endif
     c->evaluated = c->boxes = c->bounded = c->touched = 0;
     c->sorted_budget = INT32_MAX; /* work units of a thread: nearest first throughout */
     c->streaming = c->scanned_count = c->skip_at = 0;
@@ -570,7 +721,12 @@ static void prepare(query_ctx *c, const mm_searcher *s, const float *query, cons
         c->bound_scale[b] = (float)(rho[b] * (1.0 - 1e-5));
     }
     double zq[SEARCH_MAX_SLOTS];
-    rotate(s, query, zq);
+#if defined(SEARCH_WIDE_KERNELS)
+    if (c->wide && s->tree_dims % 4 == 0)
+        rotate_wide(s, query, zq);
+    else
+#endif
+        rotate(s, query, zq);
     for (int j = 0; j < s->tree_dims; ++j)
         for (int l = 0; l < MM_SEARCH_WIDTH; ++l) c->zq_lanes[j * MM_SEARCH_WIDTH + l] = (float)zq[j];
     prepare_quantized(c);
@@ -604,14 +760,19 @@ typedef struct scan_state {
     int find_first;
     float first_limit;
     mm_search_result first;
+    float limit; /* limit_of(this state), kept as the state changes: the scans read it per frame */
 } scan_state;
 
-static float state_limit(const scan_state *st)
+/* The cost a frame must not exceed to matter: the fallback's limit, the tie limit of the lowest, or
+ * the k-th lowest cost once k are kept. */
+static float limit_of(const scan_state *st)
 {
     if (st->find_first) return st->first_limit;
     if (st->count < st->k) return INFINITY;
     return st->k == 1 ? tie_limit(st->list[0].cost) : st->list[st->k - 1].cost;
 }
+
+static inline float state_limit(const scan_state *st) { return st->limit; }
 
 /* Keeps the k lowest (cost, index) in order; list has room for k. */
 static void offer(mm_search_result *list, int k, int *count, int f, float cost, float base)
@@ -641,6 +802,7 @@ static void take(scan_state *st, int f, float cost, float base)
     }
     float old_limit = state_limit(st);
     offer(st->list, st->k, &st->count, f, cost, base);
+    st->limit = limit_of(st);
     if (st->k != 1) return;
     float limit = state_limit(st);
     if (limit < old_limit) { /* the lowest fell: drop ties no longer within reach */
@@ -667,6 +829,15 @@ static void state_init(scan_state *st, mm_search_result *list, int k)
     st->list = list;
     st->k = k;
     st->first.frame = -1;
+    st->limit = limit_of(st);
+}
+
+/* The fallback mode: the lowest frame index with a cost at or under limit. */
+static void state_find_first(scan_state *st, float limit)
+{
+    st->find_first = 1;
+    st->first_limit = limit;
+    st->limit = limit_of(st);
 }
 
 /* ---- traversal ----------------------------------------------------------------------------
@@ -681,8 +852,7 @@ static void state_init(scan_state *st, mm_search_result *list, int k)
 static void run_distances(const query_ctx *c, const float *x, int count, float *out)
 {
     int dims = c->db->dims_padded;
-    const float *q = c->q, *w = c->w;
-    for (int i = 0; i < count; ++i) out[i] = distance(q, x + (size_t)i * dims, w, dims);
+    for (int i = 0; i < count; ++i) out[i] = query_distance(c, x + (size_t)i * dims);
 }
 
 #define RUN 64 /* rows per run: distances first, then the rules for the few that can matter */
@@ -766,16 +936,24 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
             thr = quant_threshold(c, limit, least);
         }
         int head = s->quant_head;
+        const uint8_t *codes = s->quantized + (size_t)block * head * QUANT_BLOCK,
+                      *tail = quant_tail(s, block);
+#if defined(SEARCH_WIDE_KERNELS)
+        unsigned mask = c->wide ? quant_block_mask_wide(codes, tail, c->quant_query, c->quant_weight, head,
+                                                        s->quant_slots, thr)
+                                : quant_block_mask(codes, tail, c->quant_query, c->quant_weight, head,
+                                                   s->quant_slots, thr);
+#else
         unsigned mask =
-            quant_block_mask(s->quantized + (size_t)block * head * QUANT_BLOCK, quant_tail(s, block),
-                             c->quant_query, c->quant_weight, head, s->quant_slots, thr);
+            quant_block_mask(codes, tail, c->quant_query, c->quant_weight, head, s->quant_slots, thr);
+#endif
         if (first < p0) mask &= ~0u << (p0 - first);
         if (p1 - first < QUANT_BLOCK) mask &= (1u << (p1 - first)) - 1u;
         while (mask) {
             int at = first + __builtin_ctz(mask);
             mask &= mask - 1u;
             ++c->evaluated;
-            float base = distance(c->q, s->features + (size_t)at * dims, c->w, dims);
+            float base = query_distance(c, s->features + (size_t)at * dims);
             consider(c, s->order, s->order_clip, s->order_tags, at, base, least_loop, least_contact, st);
         }
     }
@@ -794,10 +972,15 @@ static inline void node_bounds(query_ctx *c, int n, float *out)
     const mm_searcher *s = c->s;
     const mm_search_node *node = &s->nodes[n];
     const float *lo = node_boxes(s, n), *hi = lo + (size_t)s->tree_dims * MM_SEARCH_WIDTH;
-    lane_bounds(c->zq_lanes, lo, hi, s->pose_dims, s->tree_dims, c->bound_scale, out);
+#if defined(SEARCH_WIDE_KERNELS)
+    if (c->wide)
+        lane_bounds_wide(c->zq_lanes, lo, hi, s->pose_dims, s->tree_dims, c->bound_scale, out);
+    else
+#endif
+        lane_bounds(c->zq_lanes, lo, hi, s->pose_dims, s->tree_dims, c->bound_scale, out);
     c->boxes += node->count;
     for (int l = 0; l < MM_SEARCH_WIDTH; ++l)
-        out[l] = out[l] * node_factor(c, node->loop[l]) * node_contact_factor(c, node->contacts[l]);
+        out[l] = out[l] * c->loop_factor[node->loop[l] & 3] * contact_factor(c, node->contacts[l]);
 }
 
 static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st);
@@ -962,8 +1145,7 @@ static mm_search_result first_under(query_ctx *c, int u0, int u1, float limit, i
 {
     scan_state st;
     state_init(&st, NULL, 0);
-    st.find_first = 1;
-    st.first_limit = limit;
+    state_find_first(&st, limit);
     if (with_next) take_next(c, &st);
     scan_units(c, u0, u1, &st);
     return st.first;
@@ -1058,8 +1240,7 @@ static int search_parallel(const mm_searcher *s, query_ctx *c, mm_search_result 
         mm__pool_run(s->pool, parallel_pass, job);
         scan_state first;
         state_init(&first, NULL, 0);
-        first.find_first = 1;
-        first.first_limit = limit;
+        state_find_first(&first, limit);
         take_next(c, &first);
         for (int t = 0; t < workers; ++t)
             if (job->first[t].frame >= 0)
