@@ -149,4 +149,18 @@ else
     [ ! -e "$out/deep.mmdb" ] && ok || bad "a failed build wrote deep.mmdb"
 fi
 
+# An output that is a pipe or a device (/dev/null) is written in place, not replaced by a renamed
+# file: a named pipe read by cat gets the whole BVH and is still a pipe afterwards.
+if mkfifo "$tmp/pipe.bvh" 2>/dev/null; then
+    cat "$tmp/pipe.bvh" >"$tmp/piped.bvh" &
+    reader=$!
+    "$mm" simulate "$tmp/db.mmdb" --random 1 --seconds 0.5 -o "$tmp/pipe.bvh" >/dev/null 2>"$tmp/err" ||
+        { bad "mm simulate -o PIPE failed"; cat "$tmp/err"; }
+    wait "$reader"
+    [ -p "$tmp/pipe.bvh" ] && ok || bad "the pipe was replaced by a file"
+    head -n 1 "$tmp/piped.bvh" | grep -q '^HIERARCHY' && grep -q '^Frames: 30' "$tmp/piped.bvh" && ok ||
+        bad "the pipe's reader did not get the BVH"
+    ls "$tmp" | grep -q 'pipe.bvh.tmp' && bad "a temporary file was left beside the pipe" || ok
+fi
+
 finish test_cli_refusals

@@ -220,6 +220,14 @@ FILE *cli_create(const char *path, char *tmp, size_t tmp_size)
         fprintf(stderr, "mm: %s: cannot create: %s\n", path, strerror(EISDIR));
         return NULL;
     }
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        /* a device or a pipe (/dev/null, /dev/stdout): written in place, never replaced by a
+         * renamed file; tmp is left empty for cli_finish and cli_publish */
+        if (tmp_size > 0) tmp[0] = 0;
+        FILE *f = fopen(path, "wb");
+        if (!f) fprintf(stderr, "mm: %s: cannot create: %s\n", path, strerror(errno));
+        return f;
+    }
     int n = snprintf(tmp, tmp_size, "%s.tmp%ld", path, (long)getpid());
     if (n < 0 || (size_t)n >= tmp_size) {
         fprintf(stderr, "mm: %s: cannot create: the path is too long\n", path);
@@ -259,7 +267,7 @@ int cli_finish(FILE *f, const char *tmp, const char *path)
     bad |= fclose(f) != 0;
     if (bad) {
         fprintf(stderr, "mm: %s: cannot write: %s\n", path, errno ? strerror(errno) : "write error");
-        remove(tmp);
+        if (tmp[0]) remove(tmp);
         cli_forget_temp(tmp);
         return 1;
     }
@@ -268,6 +276,7 @@ int cli_finish(FILE *f, const char *tmp, const char *path)
 
 int cli_publish(const char *tmp, const char *path)
 {
+    if (!tmp[0]) return 0; /* written in place (cli_create) */
     int renamed = rename(tmp, path) == 0;
     if (!renamed) {
         fprintf(stderr, "mm: %s: cannot write: %s\n", path, strerror(errno));
@@ -281,7 +290,7 @@ int cli_commit(FILE *f, const char *tmp, const char *path, int failed)
 {
     if (failed) {
         fclose(f);
-        remove(tmp);
+        if (tmp[0]) remove(tmp);
         cli_forget_temp(tmp);
         return 1;
     }

@@ -67,7 +67,8 @@ long cli_default_threads(void);
 int cli_parse_size(const char *s, int *width, int *height);
 /* Output files that appear whole or not at all. cli_create opens a temporary file beside path for
  * writing and puts its name in tmp (tmp_size bytes); NULL after printing "mm: PATH: ..." when it
- * cannot. cli_commit closes f and renames the temporary file to path; when failed is non-zero, or
+ * cannot; a path that is a device or a pipe (/dev/null) is opened in place instead and tmp left
+ * empty. cli_commit closes f and renames the temporary file to path; when failed is non-zero, or
  * anything fails, it removes the temporary file instead. Returns 0 when path was written, else 1
  * (after printing "mm: PATH: cannot write: ...", unless failed was given). */
 FILE *cli_create(const char *path, char *tmp, size_t tmp_size);

@@ -58,6 +58,15 @@ mm_result mm__write_file_atomic(const char *path, const void *data, size_t size,
 {
     mm__error_set_file(err, path);
     if (!path || !path[0]) return mm_error_set(err, MM_ERR_INVALID_ARGUMENT, 0, 0, "no file name given");
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
+        /* a device or a pipe (/dev/null): written in place, never replaced by a renamed file */
+        FILE *f = fopen(path, "wb");
+        if (!f) return mm_error_set(err, MM_ERR_IO, 0, 0, "cannot create: %s", strerror(errno));
+        int ok = fwrite(data, 1, size, f) == size;
+        ok &= fclose(f) == 0;
+        return ok ? MM_OK : mm_error_set(err, MM_ERR_IO, 0, 0, "cannot write: %s", strerror(errno));
+    }
     size_t n = strlen(path);
     char *tmp = (char *)malloc(n + 32);
     if (!tmp) return mm_error_set(err, MM_ERR_OUT_OF_MEMORY, 0, 0, "out of memory");
