@@ -768,7 +768,7 @@ typedef struct scan_state {
 static float limit_of(const scan_state *st)
 {
     if (st->find_first) return st->first_limit;
-    if (st->count < st->k) return INFINITY;
+    if (st->k < 1 || st->count < st->k) return INFINITY; /* k 0: a state that keeps no list */
     return st->k == 1 ? tie_limit(st->list[0].cost) : st->list[st->k - 1].cost;
 }
 
