@@ -407,18 +407,38 @@ static bool landing_now(const mm_feet_contacts *contacts, int k)
     return ((contacts->label >> (2 * k)) & 3u) != 0 || contacts->until_label[k] >= 0.0f;
 }
 
+/* The height a clearance `clear` adds to an ankle target at height y above stand (the ankle's height
+ * at which its ankle and toe are at their planted heights), as toe_floor's soft floor, eased in over
+ * the first TOE_SINK of clearance: the soft floor lifts a foot within TOE_SINK of stand by a quarter
+ * of that even at no clearance, which would lift it by that in the tick it is let go. */
+static float cleared(float y, float stand, float clear)
+{
+    if (!(clear > 0.0f)) return y;
+    return y + (toe_floor(y, stand + clear + TOE_SINK) - y) * fminf(clear / TOE_SINK, 1.0f);
+}
+
 /* Free foot k's ankle target height y kept clear of the ground for the foot's speed over it (last
  * tick's target's): SWING_CLEAR_TIME of the speed beyond SWING_CLEAR_FROM, at most SWING_CLEAR_MAX,
- * less as a contact comes in `left` s (within SWING_CLEAR_LAND), followed through a spring, above
- * stand (the ankle's height at which its ankle and toe are at their planted heights), as toe_floor's
- * soft floor. While `landing` (a label on or coming within the landing's look-ahead) none is asked
- * for and what is left comes down with the landing's share, gone by the tick before the foot is planted.
- * A foot at rest or planted is not moved; none while locked. */
+ * less as a contact comes in `left` s (within SWING_CLEAR_LAND), none while `landing` (a label on or
+ * coming within the landing's look-ahead), followed through a spring (cleared). On the tick the
+ * foot is planted, what is left of it is handed to the foot's offset in place and velocity, fading
+ * from there over foot_halflife as any other offset: the foot comes down through the landing with
+ * no step in its vertical velocity (taken down with the landing's share, a clearance was gone in the
+ * one or two ticks of an unforeseen landing; docs/metrics.md, "Pops, fifth pass"). A foot at rest
+ * is not moved; nothing before the first tick. */
 static float swing_clear(mm_feet *f, int k, float y, float stand, float left, bool landing, float dt)
 {
     if (f->locked[k] || !f->placed) {
+        float out = y;
+        if (f->locked[k] && f->placed &&
+            f->clearance[k] > 0.0f) { /* planted: this tick's, then handed over */
+            mm_spring_update(&f->clearance[k], &f->clearance_velocity[k], 0.0f, SWING_CLEAR_HALFLIFE, dt);
+            out = cleared(y, stand, f->clearance[k]);
+            f->offset[k].y += out - y;
+            if (out > y) f->offset_velocity[k].y += f->clearance_velocity[k];
+        }
         f->clearance[k] = f->clearance_velocity[k] = 0.0f;
-        return y;
+        return out;
     }
     mm_vec3 v = f->target_velocity[k];
     float speed = sqrtf(v.x * v.x + v.z * v.z);
@@ -426,16 +446,7 @@ static float swing_clear(mm_feet *f, int k, float y, float stand, float left, bo
     if (left > 0.0f) want *= fminf(left / SWING_CLEAR_LAND, 1.0f);
     if (landing) want = 0.0f;
     mm_spring_update(&f->clearance[k], &f->clearance_velocity[k], want, SWING_CLEAR_HALFLIFE, dt);
-    /* landing: down as the landing goes, from no speed to none, gone by the tick before the foot
-     * is planted (q: the landing's share over the share it has then) */
-    float last = 1.0f - dt / fmaxf(f->landing_time[k], dt);
-    float q = landing ? (last > 0.0f ? fminf(fmaxf(f->landed[k], 0.0f) / last, 1.0f) : 1.0f) : 0.0f;
-    float clear = f->clearance[k] * (1.0f - q) * (1.0f - q) * (1.0f + 2.0f * q);
-    if (!(clear > 0.0f)) return y;
-    /* eased in over the first TOE_SINK of clearance: the soft floor lifts a foot within TOE_SINK of
-     * stand by a quarter of that even at no clearance, which would lift it by that in the tick it
-     * is let go */
-    return y + (toe_floor(y, stand + clear + TOE_SINK) - y) * fminf(clear / TOE_SINK, 1.0f);
+    return cleared(y, stand, f->clearance[k]);
 }
 
 /* a free foot whose contact is coming catches up with its animated place on the ground plane faster
