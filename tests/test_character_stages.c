@@ -973,6 +973,41 @@ static void test_feet_heel_up_before_hips_down(void **state)
     }
 }
 
+/* The hips come down no lower than the data's upright locomotion carries them (mm_rig.hip_floor):
+ * the body of test_feet_heel_up_before_hips_down carried on at 1.2 m/s over a foot planted on heel
+ * and toe, its animated hips at 0.9 - 0.84 (1 - cos 0.5) = 0.797 m. With no floor the hips come down
+ * more than 2 cm; with the floor 1 cm under the animated hips they come down at most that 1 cm (the
+ * pelvis never under the floor), and the lock its leg no longer reaches creeps after the animation
+ * (the ankle left within REACH_SLACK, 2 cm, of its target) instead of the body sinking. */
+static void test_feet_hips_no_lower_than_the_floor(void **state)
+{
+    (void)state;
+    float dt = 1.0f / 60.0f;
+    for (int floored = 0; floored <= 1; ++floored) {
+        mm_feet f;
+        mm_character_desc d = feet_fixture(&f, 0.0f, false);
+        body b;
+        float most = 0.0f, lowest = INFINITY;
+        for (int n = 0; n <= 30; ++n) {
+            bent_left_leg(&b, 0.5f, 0.0f, 0.0f);
+            b.rig.hip_floor = floored ? 0.9f - 0.84f * (1.0f - cosf(0.5f)) - 0.01f : 0.0f;
+            b.positions[HIPS].z = 1.2f * (float)n * dt;
+            mm_rig_forward(&b.rig, 1, &b.pose);
+            level_tick(&f, &d, &b, &LABEL_LEFT_HEEL_TOE, dt);
+            most = fmaxf(most, f.hip_drop);
+            lowest = fminf(lowest, b.global[HIPS].translation.y);
+            assert_true(f.locked[0]);
+            assert_true(f.reach_miss[0] < 0.02f + 1e-4f);
+        }
+        if (floored) {
+            assert_true(most <= 0.01f + 1e-6f);
+            assert_true(lowest >= b.rig.hip_floor - 1e-5f);
+        } else {
+            assert_true(most > 0.02f);
+        }
+    }
+}
+
 /* Planted on heel and toe with the toe's lock 1 cm further along the foot than the foot reaches (two
  * locks placed and settled apart): the toe is shown on the foot, short of its lock; when the heel
  * lifts, the toe stays where it was shown (within 1 mm on the ground plane) instead of moving onto
@@ -2120,6 +2155,7 @@ int main(void)
         cmocka_unit_test(test_feet_toe_planted_under_a_raised_ankle),
         cmocka_unit_test(test_feet_toe_pivot_out_of_reach),
         cmocka_unit_test(test_feet_heel_up_before_hips_down),
+        cmocka_unit_test(test_feet_hips_no_lower_than_the_floor),
         cmocka_unit_test(test_feet_swing_eases_out_of_a_far_release),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -896,6 +896,22 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
     }
 }
 
+/* The most the hips may come down this tick: most, but on flat ground no lower than the data's
+ * upright locomotion carries them (mm_rig.hip_floor, above the ground): a lock further than the legs
+ * reach from there creeps after the animation (reach_miss) instead of the body sinking into a lunge
+ * (docs/metrics.md, "Crouched time: the hips no lower than the data's upright locomotion"). As
+ * most while a foot whose label is on or coming is not locked yet (its landing: held up, it would
+ * wait aloft) and on terrain (a leg reaching a lower tread). */
+static float hip_drop_limit(const mm_feet *f, const mm_rig *rig, const mm_feet_contacts *contacts,
+                            const mm_feet_ground *ground, bool terrain, float most, const mm_rig_pose *pose)
+{
+    if (terrain || !(rig->hip_floor > 0.0f)) return most;
+    for (int k = 0; k < 2; ++k)
+        if (rig->ankle[k] >= 0 && !f->locked[k] && landing_now(contacts, k)) return most;
+    float above = pose->global[rig->pelvis].translation.y - ground->height - rig->hip_floor;
+    return fminf(most, fmaxf(above, 0.0f));
+}
+
 /* The hips come down as far as the legs need to reach their targets (never below what they need,
  * rising back through a spring), at most max_hip_drop, and to reach a swinging foot's landing
  * height (landing: the targets lowered to it; the targets themselves elsewhere); stepping (a foot
@@ -1133,8 +1149,8 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
                       &pivoted);
             reach_landing[k] = reach_target[k];
         }
-        lower_hips(f, d->max_hip_drop + step_down, terrain && step_down > 0.0f, rig, reach_target,
-                   reach_landing, dt, pose);
+        lower_hips(f, hip_drop_limit(f, rig, contacts, ground, terrain, d->max_hip_drop + step_down, pose),
+                   terrain && step_down > 0.0f, rig, reach_target, reach_landing, dt, pose);
     }
     for (int k = 0; k < 2; ++k) {
         if (rig->ankle[k] < 0) continue;

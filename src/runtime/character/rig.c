@@ -234,3 +234,22 @@ void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db)
         rig->planted_toe[k] = rig->toe[k] >= 0 ? planted_height(rig, db, rig->toe[k], toe_bit[k]) : 0.0f;
     }
 }
+
+void mm_rig_learn_hip_floor(mm_rig *rig, const mm_database *db, uint64_t other_gaits)
+{
+    float h[PLANTED_SAMPLES];
+    int upright = 0, n = 0;
+    rig->hip_floor = 0.0f;
+    if (rig->pelvis <= 0) return;
+    for (int f = 0; f < db->frame_count; ++f)
+        upright += db->clips[db->frame_clip[f]].type == MM_CLIP_LOCOMOTION &&
+                   !(db->frame_tags && (db->frame_tags[f] & other_gaits));
+    int step = upright > PLANTED_SAMPLES ? upright / PLANTED_SAMPLES + 1 : 1;
+    for (int f = 0, seen = 0; f < db->frame_count && n < PLANTED_SAMPLES; ++f)
+        if (db->clips[db->frame_clip[f]].type == MM_CLIP_LOCOMOTION &&
+            !(db->frame_tags && (db->frame_tags[f] & other_gaits)) && seen++ % step == 0)
+            h[n++] = height_above_root(rig, db, f, rig->pelvis);
+    if (n == 0) return;
+    qsort(h, (size_t)n, sizeof(float), compare_float);
+    rig->hip_floor = h[(int)(MM_RIG_HIP_FLOOR_QUANTILE * (float)(n - 1))];
+}

@@ -28,6 +28,10 @@ typedef struct mm_rig {
     /* per leg: the ankle's and the toe's height above the ground (the root's height) where the
      * database labels them planted (the median over its labelled frames); 0 when unknown */
     float planted_ankle[2], planted_toe[2];
+    /* m: the hips' (the pelvis's) lowest height above the ground in the database's upright
+     * locomotion, MM_RIG_HIP_FLOOR_QUANTILE of it over its locomotion frames not tagged for another
+     * gait (mm_rig_learn_hip_floor); the feet stage lowers the hips no further; 0 when unknown */
+    float hip_floor;
 } mm_rig;
 
 /* Learns each knee's hinge from the frames of db (whose skeleton the rig was made on). */
@@ -36,6 +40,15 @@ void mm_rig_learn_hinges(mm_rig *rig, const mm_database *db);
 /* Learns each foot's planted heights (mm_rig.planted_ankle, planted_toe) from the frames of db
  * whose contact labels are on. */
 void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db);
+
+/* the share of the database's upright locomotion frames whose hips are lower than mm_rig.hip_floor:
+ * its lowest strides and turns, not a dip of a frame or two (docs/metrics.md, "Crouched time: the
+ * hips no lower than the data's upright locomotion") */
+#define MM_RIG_HIP_FLOOR_QUANTILE 0.005f
+
+/* Learns mm_rig.hip_floor from the frames of db's locomotion clips that carry none of the tags in
+ * other_gaits (the crouch and jump gaits' tags); 0 without any such frame or without a pelvis. */
+void mm_rig_learn_hip_floor(mm_rig *rig, const mm_database *db, uint64_t other_gaits);
 
 /* A pose on the rig: local rotations and positions (joint 0: the root, in the world) and the
  * global transforms they give. */
