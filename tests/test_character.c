@@ -1146,6 +1146,50 @@ static void test_idle_stick_under_threshold_stands(void **state)
  * from their absence. */
 static float hspeed(mm_vec3 v) { return sqrtf(v.x * v.x + v.z * v.z); }
 
+/* Idle is chosen while the simulation still moves (under idle_speed + idle_hysteresis): from the
+ * tick after an idle clip begins, the simulation stands where the root stood then, its velocity
+ * zero, instead of coasting on by its velocity spring and pulling the root and the feet planted
+ * under it after it (the PFNN take: 8 cm after its idle began). The root moves on only by the
+ * motion played (the transition's offsets fading). */
+static void test_idle_stands_where_chosen(void **state)
+{
+    (void)state;
+    mm_character c;
+    make_character(&c, NULL);
+    mm_input in = stick_input(0.0f, 1.0f);
+    run_ticks(&c, &in, 180);
+    assert_false(c.idle);
+    in.stick[1] = 0.0f;
+    int tick = 0;
+    for (; tick < 240; ++tick) {
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        if (db.clips[db.frame_clip[c.state->playback.frame]].type == MM_CLIP_IDLE) break;
+    }
+    assert_true(tick < 240 && c.idle);
+    /* the case: the simulation still moving as the idle clip begins */
+    const float coasting = hspeed(c.trajectory->velocity);
+    assert_true(coasting > 0.05f);
+    mm_vec3 from = c.state->root_motion.root.translation;
+    float played = 0.0f, drift = 0.0f; /* the root motion played from here; the simulation's move */
+    for (int i = 0; i < 60; ++i) {
+        mm_character_update(&c, &in, 1.0f / 60.0f);
+        assert_true(c.idle);
+        played += hspeed(c.state->root_motion.played.velocity) / 60.0f;
+        mm_vec3 sim = c.trajectory->position;
+        drift = fmaxf(drift, hypotf(sim.x - from.x, sim.z - from.z));
+        assert_true(hspeed(c.trajectory->velocity) == 0.0f);
+    }
+    mm_vec3 to = c.state->root_motion.root.translation;
+    float moved = hypotf(to.x - from.x, to.z - from.z);
+    print_message(
+        "idle: simulation at %.3f m/s as it began, then %.4f m from the root's place; root moved %.4f m, "
+        "played %.4f m\n",
+        coasting, drift, moved, played);
+    assert_true(drift < 1e-3f);
+    assert_true(moved <= played + 1e-3f);
+    mm_character_free(&c);
+}
+
 /* The defaults with the runtime tuning saved in data's config (as mm simulate runs). */
 static mm_character_desc runtime_desc(const mm_database *data)
 {
@@ -1437,6 +1481,7 @@ int main(void)
         cmocka_unit_test(test_knee_continuous_out_of_reach),
         cmocka_unit_test(test_idle_after_stop),
         cmocka_unit_test(test_idle_stick_under_threshold_stands),
+        cmocka_unit_test(test_idle_stands_where_chosen),
         cmocka_unit_test(test_no_short_replay),
         cmocka_unit_test(test_ended_clip_left),
         cmocka_unit_test(test_run_stop),

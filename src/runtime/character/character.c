@@ -469,6 +469,22 @@ static const mm_input *idle_input(const mm_character_state *s, const mm_characte
     return standing;
 }
 
+/* While idle is asked for with a stick under its band (idle_input) and an idle clip plays, a
+ * simulation still moving stands where the character stands: moved onto the root, its velocity and
+ * acceleration dropped (once: from then on it stands, and the root is pulled toward it as before).
+ * Idle is chosen while the simulation still moves (up to idle_speed + idle_hysteresis), and left to
+ * its velocity spring it coasted on, pulling the root and the feet planted under it after it
+ * (docs/metrics.md, "The simulation stands with the idle"). */
+static void stand_with_idle(mm_character_state *s, const mm_database *db, const mm_input *asked,
+                            const mm_input *standing)
+{
+    if (asked != standing || db->clips[db->frame_clip[s->playback.frame]].type != MM_CLIP_IDLE) return;
+    mm_vec3 v = s->trajectory.velocity, a = s->trajectory.acceleration;
+    if (v.x == 0.0f && v.z == 0.0f && a.x == 0.0f && a.z == 0.0f) return; /* standing already */
+    mm_trajectory_teleport(&s->trajectory, s->root_motion.root.translation, s->trajectory.facing);
+    s->trajectory.velocity = s->trajectory.acceleration = mm_vec3_make(0.0f, 0.0f, 0.0f);
+}
+
 void mm_character_update(mm_character *c, const mm_input *in, float dt)
 {
     if (!c || !c->state || !(dt > 0.0f) || !isfinite(dt)) return;
@@ -483,6 +499,7 @@ void mm_character_update(mm_character *c, const mm_input *in, float dt)
     s->trajectory.floor = s->root_motion.root.translation.y;
     mm_input standing;
     const mm_input *asked = idle_input(s, d, in, &standing);
+    stand_with_idle(s, db, asked, &standing);
     mm_intent_update(&s->trajectory, asked, dt, &s->intent);
     if (terrain)
         s->trajectory.position.y =
