@@ -859,6 +859,107 @@ static void test_quantized_bound(void **state)
     mm_searcher_free(&s);
 }
 
+/* Queries beyond the quantized grid on some dimensions (past its end point by a fraction of a step
+ * to several ranges of the grid, below and above): the fast search returns brute force's winner, and
+ * on near queries moved far beyond on one dimension the first pass still leaves few frames to
+ * evaluate exactly (every frame not at the grid's end code on that dimension has the query's distance
+ * beyond the grid in its bound; without it the bound of every frame lacks that distance, which then
+ * dominates every cost, and the frames it bounds are nearly all evaluated). */
+static void test_quantized_beyond_grid(void **state)
+{
+    (void)state;
+    const mm_database *db = &real_db;
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, db, NULL, NULL), MM_OK);
+    test_rng r = {0xbe70};
+    float q[MM_SEARCH_MAX_DIMS];
+    const double past[7] = {0.3, 0.7, 2.5, 12.0, 40.0, 120.0, 5000.0}; /* in steps of the grid */
+    long bounded = 0, evaluated = 0;
+    for (int i = 0; i < 180; ++i) {
+        mm_search_params p;
+        make_kind(db, &r, i % 3, q, &p);
+        int moved = 1 + i % 3; /* dimensions moved beyond the grid */
+        for (int m = 0; m < moved; ++m) {
+            int d = s.quant_order[(i * 7 + m * 5) % s.quant_slots];
+            double e = past[(i / 3 + m) % 7] * s.quant_step[d];
+            q[d] = (i + m) % 2 ? (float)(s.quant_lo[d] - e)
+                               : (float)(s.quant_lo[d] + 255.0 * s.quant_step[d] + e);
+        }
+        if (i % 4 == 1) with_contact_favour(db, i, i, &p);
+        check_query(&s, q, &p, "beyond the grid", i);
+        double e = past[(i / 3) % 7];
+        if (i % 3 == 0 && moved == 1 && e >= 12.0 && e <= 120.0) { /* near, far beyond on one */
+            mm_search_result res;
+            mm_search_stats st;
+            mm_searcher_search_stats(&s, q, &p, MM_SEARCH_FAST, &res, 1, &st);
+            bounded += st.frames_bounded;
+            evaluated += st.frames_evaluated;
+        }
+    }
+    print_message("beyond the grid: %ld of %ld frames bounded on near queries evaluated exactly\n", evaluated,
+                  bounded);
+    assert_true(bounded > 0);
+    /* LAFAN1: 3% evaluated (34% without the distance beyond the grid); the built-in set's near
+     * queries have more frames about as close: 25% (45% without) */
+    assert_true(evaluated * (lafan_loaded ? 4 : 3) < bounded);
+    mm_searcher_free(&s);
+}
+
+/* The scan that replaces the tree walk when the bounds prune almost nothing (random queries): such a
+ * query bounds every position of the quantized copy exactly once (the nearest-first phase's leaves,
+ * then every other position in memory order: frames bounded = frames), and its answers are brute
+ * force's, the k = 5 list included (frames, costs, order), with favours, filters and ratios; queries
+ * whose box bounds are all 0 take it; near queries do not (far fewer frames bounded). */
+static void test_scan_when_bounds_fail(void **state)
+{
+    (void)state;
+    const mm_database *db = &real_db;
+    mm_searcher s;
+    assert_int_equal(mm_searcher_init(&s, db, NULL, NULL), MM_OK);
+    test_rng r = {0x5ca7};
+    float q[MM_SEARCH_MAX_DIMS];
+    int scanned = 0, queries = 60;
+    for (int i = 0; i < queries; ++i) {
+        mm_search_params p;
+        make_kind(db, &r, 2, q, &p);
+        /* a weight of 0 in the pose block and in the trajectory block: each block's least ratio of the
+         * weights to the defaults is 0, so every box bound is 0 and the scan is expected */
+        int blind = i % 2 == 0;
+        if (blind) {
+            p.joint_position_weights[0] = 0.0f;
+            p.position_multiplier = 0.0f;
+        } else if (i % 3 == 1)
+            with_contact_favour(db, i, p.current_frame, &p);
+        if (!blind && i % 4 == 3) p.pose_trajectory_ratio = (float)test_rng_uniform(&r, 0, 1);
+        if (!blind && i % 5 == 3) p.type = MM_SEARCH_LOCOMOTION;
+        if (!blind && i % 3 == 2) p.loop_anim_favour = 0.5f;
+        check_query(&s, q, &p, "scan", i);
+        mm_search_result fast[5], brute[5];
+        mm_search_stats st;
+        int n = mm_searcher_search_stats(&s, q, &p, MM_SEARCH_FAST, fast, 5, &st);
+        assert_int_equal(mm_searcher_search(&s, q, &p, MM_SEARCH_BRUTE, brute, 5), n);
+        for (int j = 0; j < n; ++j) {
+            assert_int_equal(fast[j].frame, brute[j].frame);
+            assert_true(fast[j].cost == brute[j].cost);
+        }
+        mm_searcher_search_stats(&s, q, &p, MM_SEARCH_FAST, fast, 1, &st);
+        assert_true(st.frames_bounded <= db->frame_count); /* no position twice */
+        scanned += blind && st.frames_bounded == db->frame_count;
+    }
+    print_message("scan: %d of %d queries whose boxes bound nothing scanned every position\n", scanned,
+                  queries / 2);
+    assert_int_equal(scanned, queries / 2);
+    for (int i = 0; i < 30; ++i) { /* near queries keep the tree */
+        mm_search_params p;
+        make_kind(db, &r, 0, q, &p);
+        mm_search_result res;
+        mm_search_stats st;
+        mm_searcher_search_stats(&s, q, &p, MM_SEARCH_FAST, &res, 1, &st);
+        assert_true(st.frames_bounded < db->frame_count / 4);
+    }
+    mm_searcher_free(&s);
+}
+
 /* Ties: the real database with its features on a coarse grid (many frames then have exactly the
  * same features, so exact ties are everywhere), every kind of query; the fast search returns
  * brute force's winner, the lowest index among the tied. */
@@ -953,6 +1054,8 @@ int main(void)
         cmocka_unit_test(test_builtin_set_kinds_equal_brute),
         cmocka_unit_test(test_ties_every_kind),
         cmocka_unit_test(test_quantized_bound),
+        cmocka_unit_test(test_quantized_beyond_grid),
+        cmocka_unit_test(test_scan_when_bounds_fail),
         cmocka_unit_test(test_wide_kernels),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -31,6 +31,12 @@
 #define SORTED_BUDGET_PERCENT 5
 #define SORTED_BUDGET_MIN     64
 #define MAX_SORTED_LEAVES     512
+/* After the nearest-first phase, a query whose limit leaves more than SCAN_SHARE_PERCENT of the
+ * frames under the lanes SCAN_LEVELS node levels below the root (64 lanes of about 900 frames on
+ * LAFAN1) scans the rest of the quantized copy in memory order instead of walking the tree: random
+ * queries (90% and 97% measured alike; transition queries reach it rarely at 97%) */
+#define SCAN_LEVELS        3
+#define SCAN_SHARE_PERCENT 97
 /* The quantized copy of the features: one byte per dimension, in blocks of QUANT_BLOCK positions
  * stored dimension by dimension (a block's codes of one dimension side by side, so that one SIMD
  * pass bounds the whole block); each dimension's grid spans its values but the QUANT_TAIL share at
@@ -43,6 +49,8 @@
 #define QUANT_WEIGHT_MAX 32767
 #define QUANT_CHECK      8 /* slots between the checks whether a block's bounds all exceed the limit */
 #define QUANT_HEAD       8 /* slots stored apart (the widest): all a far block's bound usually reads */
+#define BEYOND_FAR_MAX                                                                                       \
+    3800 /* steps beyond the grid counted: (far + 255)^2 stays below 2^24, exact in float */
 
 const char *mm_search_method_name(mm_search_method m)
 {
@@ -305,6 +313,32 @@ static inline void lane_bounds(const float *q, const float *lo, const float *hi,
 }
 #endif
 
+/* The slots on which the query lies beyond the quantized grid by at least half a step: its code is
+ * the end code `end` there, and a frame of code c != end is at least far + |end - c| - 1 steps from it
+ * along the slot's dimension (far: the query's distance to the grid's end point in steps, rounded
+ * down from half a step on; the frame within half a step of its code's point), further than the
+ * in-grid gap |end - c| - 1 by far, and its term (far + |end - c| - 1)^2 w step^2 grows with the
+ * cross term: it is taken here in float (far at most BEYOND_FAR_MAX, so the squared gap is exact),
+ * times scale (the sum's unit: the slot's integer weight / 2^16, rounded down), truncated and
+ * saturated at 65535, in place of the in-grid term (the slot's integer weight is then 0). A frame at
+ * the end code may lie anywhere beyond it and gets nothing. */
+typedef struct quant_beyond {
+    int count;
+    int16_t slot[MM_SEARCH_MAX_DIMS];
+    int32_t end[MM_SEARCH_MAX_DIMS], far[MM_SEARCH_MAX_DIMS];
+    float scale[MM_SEARCH_MAX_DIMS];
+} quant_beyond;
+
+/* One frame's term of a slot where the query is beyond the grid (as quant_beyond says), in the
+ * order of the SIMD kernels' operations. */
+static inline uint32_t beyond_term(int code, int32_t end, int32_t far, float scale)
+{
+    if (code == end) return 0;
+    float g = (float)((code > end ? code - end : end - code) + far - 1);
+    float v = (g * g) * scale;
+    return (uint32_t)(v < 65535.0f ? v : 65535.0f);
+}
+
 /* The integer parts of the quantized bounds of the QUANT_BLOCK positions of a block: per slot j (a
  * dimension), g = max(|query code - code| - 1, 0) adds floor(g^2 weight_j / 2^16), in 16 bits
  * saturating (a saturated sum is still a lower bound). head: the block's codes of the first
@@ -313,11 +347,35 @@ static inline void lane_bounds(const float *q, const float *lo, const float *hi,
  * thr, stopping early when none can be. */
 #if defined(__SSE2__) && QUANT_BLOCK == 16
 static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
-                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
+                                        const uint16_t *weight, int head_slots, int slots,
+                                        const quant_beyond *beyond, uint16_t thr)
 {
     const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi8(1), t = _mm_set1_epi16((short)thr);
     __m128i sum_lo = zero, sum_hi = zero;
     unsigned mask = 0xFFFF;
+    for (int i = 0; i < beyond->count; ++i) { /* the slots where the query is beyond the grid */
+        int j = beyond->slot[i];
+        const uint8_t *codes =
+            j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
+        __m128i x = _mm_loadu_si128((const __m128i *)codes);
+        __m128i x_lo = _mm_unpacklo_epi8(x, zero), x_hi = _mm_unpackhi_epi8(x, zero);
+        const __m128i end = _mm_set1_epi32(beyond->end[i]), far = _mm_set1_epi32(beyond->far[i] - 1),
+                      bias = _mm_set1_epi32(32768), flip = _mm_set1_epi16((short)0x8000);
+        const __m128 scale = _mm_set1_ps(beyond->scale[i]), most = _mm_set1_ps(65535.0f);
+        __m128i term[4];
+        for (int h = 0; h < 4; ++h) { /* 4 frames each, as 32-bit integers */
+            __m128i c = h < 2 ? (h ? _mm_unpackhi_epi16(x_lo, zero) : _mm_unpacklo_epi16(x_lo, zero))
+                              : (h == 3 ? _mm_unpackhi_epi16(x_hi, zero) : _mm_unpacklo_epi16(x_hi, zero));
+            __m128i d = _mm_sub_epi32(c, end), sign = _mm_srai_epi32(d, 31);
+            __m128i gap = _mm_add_epi32(_mm_sub_epi32(_mm_xor_si128(d, sign), sign), far);
+            gap = _mm_andnot_si128(_mm_cmpeq_epi32(c, end), gap);
+            __m128 g = _mm_cvtepi32_ps(gap);
+            __m128 v = _mm_min_ps(_mm_mul_ps(_mm_mul_ps(g, g), scale), most);
+            term[h] = _mm_sub_epi32(_mm_cvttps_epi32(v), bias); /* packed with signed saturation */
+        }
+        sum_lo = _mm_adds_epu16(sum_lo, _mm_xor_si128(_mm_packs_epi32(term[0], term[1]), flip));
+        sum_hi = _mm_adds_epu16(sum_hi, _mm_xor_si128(_mm_packs_epi32(term[2], term[3]), flip));
+    }
     for (int j = 0; j < slots; ++j) {
         if (j % QUANT_CHECK == 0 && j > 0) { /* every sum already above thr: the rest cannot help */
             mask = (unsigned)_mm_movemask_epi8(
@@ -340,11 +398,19 @@ static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail
 }
 #else
 static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
-                                        const uint16_t *weight, int head_slots, int slots, uint16_t thr)
+                                        const uint16_t *weight, int head_slots, int slots,
+                                        const quant_beyond *beyond, uint16_t thr)
 {
     unsigned mask = 0;
     for (int i = 0; i < QUANT_BLOCK; ++i) {
         uint32_t sum = 0;
+        for (int k = 0; k < beyond->count; ++k) { /* the slots where the query is beyond the grid */
+            int j = beyond->slot[k];
+            const uint8_t *codes =
+                j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
+            sum += beyond_term(codes[i], beyond->end[k], beyond->far[k], beyond->scale[k]);
+            if (sum > 0xFFFF) sum = 0xFFFF;
+        }
         for (int j = 0; j < slots; ++j) {
             const uint8_t *codes =
                 j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
@@ -436,10 +502,29 @@ __attribute__((target("avx2"))) static inline __m256i add_slot(__m256i sum, cons
 
 __attribute__((target("avx2"))) static unsigned
 quant_block_mask_wide(const uint8_t *head, const uint8_t *tail, const uint8_t *query, const uint16_t *weight,
-                      int head_slots, int slots, uint16_t thr)
+                      int head_slots, int slots, const quant_beyond *beyond, uint16_t thr)
 {
     const __m256i t = _mm256_set1_epi16((short)thr);
     __m256i sum = _mm256_setzero_si256();
+    for (int i = 0; i < beyond->count; ++i) { /* the slots where the query is beyond the grid */
+        int j = beyond->slot[i];
+        const uint8_t *codes =
+            j < head_slots ? head + j * QUANT_BLOCK : tail + (j - head_slots) * QUANT_BLOCK;
+        const __m256i end = _mm256_set1_epi32(beyond->end[i]), far = _mm256_set1_epi32(beyond->far[i] - 1);
+        const __m256 scale = _mm256_set1_ps(beyond->scale[i]), most = _mm256_set1_ps(65535.0f);
+        __m256i term[2];
+        for (int h = 0; h < 2; ++h) { /* 8 frames each, as 32-bit integers */
+            __m256i c = _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(codes + 8 * h)));
+            __m256i gap = _mm256_add_epi32(_mm256_abs_epi32(_mm256_sub_epi32(c, end)), far);
+            gap = _mm256_andnot_si256(_mm256_cmpeq_epi32(c, end), gap);
+            __m256 g = _mm256_cvtepi32_ps(gap);
+            __m256 v = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(g, g), scale), most);
+            term[h] = _mm256_cvttps_epi32(v);
+        }
+        /* packus works within 128-bit halves: frames 0-3, 8-11, 4-7, 12-15, put back in order */
+        __m256i packed = _mm256_permute4x64_epi64(_mm256_packus_epi32(term[0], term[1]), 0xD8);
+        sum = _mm256_adds_epu16(sum, packed);
+    }
     for (int j0 = 0; j0 < slots; j0 += QUANT_CHECK) {
         if (j0 > 0 && !sums_at_most(sum, t)) return 0; /* every sum already above thr */
         int j1 = j0 + QUANT_CHECK < slots ? j0 + QUANT_CHECK : slots;
@@ -485,6 +570,7 @@ typedef struct query_ctx {
      * scanned[0..scanned_count)) */
     int sorted_budget, streaming, scanned_count, skip_at;
     int32_t scanned[MAX_SORTED_LEAVES];
+    int64_t scanned_span[MAX_SORTED_LEAVES]; /* the same leaves, begin << 32 | end */
     int touched; /* frames of the leaves scanned so far (what the nearest-first budget counts) */
     /* the quantized first pass: the query's codes and integer weights (quant_dims each), and the
      * factor turning their integer sum into a lower bound of the cost; off (use_quant 0) when the
@@ -493,6 +579,7 @@ typedef struct query_ctx {
     float quant_scale;
     uint8_t quant_query[MM_SEARCH_MAX_DIMS * QUANT_BLOCK]; /* per slot, repeated per lane */
     uint16_t quant_weight[MM_SEARCH_MAX_DIMS * 8];
+    quant_beyond quant_beyond;
     /* node_factor(flags) for flags 0-3, and node_contact_factor's values: 1 for nodes whose frames
      * all have contact_same (0 when there is no favour), contact_none when none has, contact_some
      * when some have */
@@ -644,13 +731,17 @@ static void prepare_quantized(query_ctx *c)
     const mm_searcher *s = c->s;
     c->use_quant = 0;
     if (!s->quantized) return;
-    double largest = 0.0, term[MM_SEARCH_MAX_DIMS];
+    double largest = 0.0, term[MM_SEARCH_MAX_DIMS], beyond[MM_SEARCH_MAX_DIMS];
     for (int j = 0; j < s->quant_slots; ++j) {
         int d = s->quant_order[j];
         term[j] = (double)c->w[d] * s->quant_step[d] * s->quant_step[d];
         if (term[j] > largest) largest = term[j];
         double v = floor(((double)c->q[d] - s->quant_lo[d]) / s->quant_step[d] + 0.5);
         if (v != v) return; /* NaN: no bound */
+        double below = s->quant_lo[d] - (double)c->q[d],
+               above = (double)c->q[d] - (s->quant_lo[d] + (QUANT_LEVELS - 1) * s->quant_step[d]);
+        beyond[j] = floor((below > above ? below : above) / s->quant_step[d] + 0.5); /* steps, rounded down
+                                                                                      * from half a step */
         memset(c->quant_query + j * QUANT_BLOCK,
                (uint8_t)(v < 0.0                ? 0.0
                          : v > QUANT_LEVELS - 1 ? QUANT_LEVELS - 1
@@ -663,6 +754,17 @@ static void prepare_quantized(query_ctx *c)
         double x = floor(term[j] * (1.0 - 1e-5) / unit);
         uint16_t weight = (uint16_t)(x < 0.0 ? 0.0 : x > QUANT_WEIGHT_MAX ? QUANT_WEIGHT_MAX : x);
         for (int l = 0; l < 8; ++l) c->quant_weight[j * 8 + l] = weight;
+    }
+    c->quant_beyond.count = 0;
+    for (int j = 0; j < s->quant_slots; ++j) {
+        if (!(beyond[j] >= 1.0) || c->quant_weight[j * 8] == 0) continue; /* in the grid, or weight 0 */
+        quant_beyond *b = &c->quant_beyond;
+        b->slot[b->count] = (int16_t)j;
+        b->end[b->count] = c->quant_query[j * QUANT_BLOCK];
+        b->far[b->count] = (int32_t)(beyond[j] < BEYOND_FAR_MAX ? beyond[j] : BEYOND_FAR_MAX);
+        b->scale[b->count] = nextafterf((float)(c->quant_weight[j * 8] / 65536.0 * (1.0 - 1e-6)), 0.0f);
+        ++b->count;
+        for (int l = 0; l < 8; ++l) c->quant_weight[j * 8 + l] = 0; /* the term is taken above */
     }
     c->quant_scale = nextafterf((float)(unit * 65536.0 * (1.0 - 1e-6)), 0.0f);
     c->use_quant = 1;
@@ -940,12 +1042,12 @@ static void scan_positions(query_ctx *c, int p0, int p1, scan_state *st)
                       *tail = quant_tail(s, block);
 #if defined(SEARCH_WIDE_KERNELS)
         unsigned mask = c->wide ? quant_block_mask_wide(codes, tail, c->quant_query, c->quant_weight, head,
-                                                        s->quant_slots, thr)
+                                                        s->quant_slots, &c->quant_beyond, thr)
                                 : quant_block_mask(codes, tail, c->quant_query, c->quant_weight, head,
-                                                   s->quant_slots, thr);
+                                                   s->quant_slots, &c->quant_beyond, thr);
 #else
-        unsigned mask =
-            quant_block_mask(codes, tail, c->quant_query, c->quant_weight, head, s->quant_slots, thr);
+        unsigned mask = quant_block_mask(codes, tail, c->quant_query, c->quant_weight, head, s->quant_slots,
+                                         &c->quant_beyond, thr);
 #endif
         if (first < p0) mask &= ~0u << (p0 - first);
         if (p1 - first < QUANT_BLOCK) mask &= (1u << (p1 - first)) - 1u;
@@ -1061,6 +1163,7 @@ static void visit_lane(query_ctx *c, int n, int l, float bound, scan_state *st)
             c->streaming = -1; /* unwind: the rest streams */
             return;
         }
+        c->scanned_span[c->scanned_count] = (int64_t)begin << 32 | node->end[l];
         c->scanned[c->scanned_count++] = begin;
     }
     scan_positions(c, begin, node->end[l], st);
@@ -1072,10 +1175,60 @@ static int compare_positions(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+static int compare_spans(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* After the nearest-first phase: whether the lanes two levels below the root that the limit admits
+ * hold more than SCAN_SHARE_PERCENT of the frames (the bounds then prune little). */
+/* Frames under the lanes `levels` node levels below node n (or leaves above) whose bounds are at
+ * most limit. */
+static long admitted_below(query_ctx *c, int n, int levels, float limit)
+{
+    const mm_search_node *node = &c->s->nodes[n];
+    float bounds[MM_SEARCH_WIDTH];
+    node_bounds(c, n, bounds);
+    long admitted = 0;
+    for (int l = 0; l < node->count; ++l) {
+        if (bounds[l] > limit) continue;
+        admitted += node->child[l] < 0 || levels <= 1 ? node->end[l] - node->begin[l]
+                                                      : admitted_below(c, node->child[l], levels - 1, limit);
+    }
+    return admitted;
+}
+
+/* After the nearest-first phase: whether the bounds will prune so little that scanning the rest of
+ * the quantized copy in memory order costs less than walking the tree (the lanes SCAN_LEVELS node
+ * levels below the root that the limit admits hold more than SCAN_SHARE_PERCENT of the frames). */
+static int scan_pays(query_ctx *c, const scan_state *st)
+{
+    if (!c->use_quant) return 0;
+    long admitted = admitted_below(c, 0, SCAN_LEVELS, state_limit(st));
+    return admitted * 100 > (long)SCAN_SHARE_PERCENT * c->db->frame_count;
+}
+
+/* Every position of the tree order the nearest-first phase did not scan, in memory order through
+ * the quantized copy: the leaves it scanned sorted, the runs between them scanned (each position
+ * once). */
+static void scan_rest(query_ctx *c, scan_state *st)
+{
+    qsort(c->scanned_span, (size_t)c->scanned_count, sizeof c->scanned_span[0], compare_spans);
+    int at = 0;
+    for (int i = 0; i <= c->scanned_count; ++i) {
+        int begin = i < c->scanned_count ? (int)(c->scanned_span[i] >> 32) : c->db->frame_count;
+        if (begin > at) scan_positions(c, at, begin, st);
+        if (i < c->scanned_count) at = (int)(c->scanned_span[i] & 0xffffffff);
+    }
+}
+
 /* The whole tree: nearest first (the lowest limit soonest) while that evaluates at most
  * sorted_budget frames; what it did not reach then in memory order, pruned by the same bounds.
  * Nearest-first visits are scattered in memory, and where the bounds prune little (queries far
- * from every frame) a walk that reads the tree and the features in order costs less. */
+ * from every frame) a walk that reads the tree and the features in order costs less; where they
+ * prune almost nothing (scan_pays), the rest is scanned through the quantized copy in memory order,
+ * without the tree. */
 static void descend(query_ctx *c, scan_state *st)
 {
     long budget = (long)c->db->frame_count * SORTED_BUDGET_PERCENT / 100;
@@ -1083,7 +1236,9 @@ static void descend(query_ctx *c, scan_state *st)
     c->sorted_budget = (int)(c->touched + budget < INT32_MAX ? c->touched + budget : INT32_MAX);
     c->streaming = c->scanned_count = c->skip_at = 0;
     expand(c, 0, st);
-    if (c->streaming != 0) {
+    if (c->streaming != 0 && scan_pays(c, st)) {
+        scan_rest(c, st);
+    } else if (c->streaming != 0) {
         qsort(c->scanned, (size_t)c->scanned_count, sizeof c->scanned[0], compare_positions);
         c->streaming = 1;
         expand(c, 0, st);
