@@ -430,12 +430,15 @@ static float swing_clear(mm_feet *f, int k, float y, float stand, float left, bo
 {
     if (f->locked[k] || !f->placed) {
         float out = y;
-        if (f->locked[k] && f->placed &&
-            f->clearance[k] > 0.0f) { /* planted: this tick's, then handed over */
+        if (f->locked[k] && f->placed) {
+            /* planted: this tick's step, then handed over with the rate at which the height it adds
+             * changed over the step (continuous in the foot's place: a rounding apart, two feet
+             * hand over nearly the same) */
+            float from = cleared(y, stand, f->clearance[k]);
             mm_spring_update(&f->clearance[k], &f->clearance_velocity[k], 0.0f, SWING_CLEAR_HALFLIFE, dt);
             out = cleared(y, stand, f->clearance[k]);
             f->offset[k].y += out - y;
-            if (out > y) f->offset_velocity[k].y += f->clearance_velocity[k];
+            f->offset_velocity[k].y += (out - from) / dt;
         }
         f->clearance[k] = f->clearance_velocity[k] = 0.0f;
         return out;
