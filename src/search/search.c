@@ -1181,8 +1181,6 @@ static int compare_spans(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* After the nearest-first phase: whether the lanes two levels below the root that the limit admits
- * hold more than SCAN_SHARE_PERCENT of the frames (the bounds then prune little). */
 /* Frames under the lanes `levels` node levels below node n (or leaves above) whose bounds are at
  * most limit. */
 static long admitted_below(query_ctx *c, int n, int levels, float limit)
