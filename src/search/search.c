@@ -329,16 +329,6 @@ typedef struct quant_beyond {
     float scale[MM_SEARCH_MAX_DIMS];
 } quant_beyond;
 
-/* One frame's term of a slot where the query is beyond the grid (as quant_beyond says), in the
- * order of the SIMD kernels' operations. */
-static inline uint32_t beyond_term(int code, int32_t end, int32_t far, float scale)
-{
-    if (code == end) return 0;
-    float g = (float)((code > end ? code - end : end - code) + far - 1);
-    float v = (g * g) * scale;
-    return (uint32_t)(v < 65535.0f ? v : 65535.0f);
-}
-
 /* The integer parts of the quantized bounds of the QUANT_BLOCK positions of a block: per slot j (a
  * dimension), g = max(|query code - code| - 1, 0) adds floor(g^2 weight_j / 2^16), in 16 bits
  * saturating (a saturated sum is still a lower bound). head: the block's codes of the first
@@ -397,6 +387,16 @@ static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail
                                                        _mm_cmpeq_epi16(_mm_subs_epu16(sum_hi, t), zero)));
 }
 #else
+/* One frame's term of a slot where the query is beyond the grid (as quant_beyond says), in the
+ * order of the SIMD kernels' operations. */
+static inline uint32_t beyond_term(int code, int32_t end, int32_t far, float scale)
+{
+    if (code == end) return 0;
+    float g = (float)((code > end ? code - end : end - code) + far - 1);
+    float v = (g * g) * scale;
+    return (uint32_t)(v < 65535.0f ? v : 65535.0f);
+}
+
 static inline unsigned quant_block_mask(const uint8_t *head, const uint8_t *tail, const uint8_t *query,
                                         const uint16_t *weight, int head_slots, int slots,
                                         const quant_beyond *beyond, uint16_t thr)
