@@ -6,6 +6,7 @@
 #include <mm/database_build.h>
 #include <mm/input.h>
 
+#include "runtime/character/matching.h"
 #include "runtime/character/state.h"
 
 #include "test_databases.h"
@@ -1460,6 +1461,70 @@ static void test_knee_hinges(void **state)
     mm_character_free(&c);
 }
 
+/* A jump that plants a foot the animation playing has up in a swing is told apart from one that
+ * lands it with the animation (a clip of 40 frames at 60 fps: the left foot labelled on frames
+ * 0-9 and 30-39, the right on 15-34; at 60 fps the windows are 15 frames ahead, 6 of slack
+ * before and 3 after). */
+static void test_plants_swinging_foot(void **state)
+{
+    (void)state;
+    enum { N = 40 };
+    uint8_t contacts[N];
+    int32_t next[N];
+    for (int f = 0; f < N; ++f) {
+        bool left = f < 10 || f >= 30, right = f >= 15 && f < 35;
+        contacts[f] = (uint8_t)((left ? MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE : 0) |
+                                (right ? MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE : 0));
+        next[f] = f + 1 < N ? f + 1 : -1;
+    }
+    mm_database clip;
+    memset(&clip, 0, sizeof clip);
+    clip.frame_count = N;
+    clip.interval = 1.0f / 60.0f;
+    clip.contacts = contacts;
+    clip.frame_next = next;
+    /* the left foot 18 frames into its swing's 20: a jump to frame 0 plants it now */
+    assert_true(mm_matching_plants_swinging_foot(&clip, 12, 0));
+    /* the same frame: the same labels */
+    assert_false(mm_matching_plants_swinging_foot(&clip, 12, 12));
+    /* the left foot lands 3 frames after the jump (the slack after): a match */
+    assert_false(mm_matching_plants_swinging_foot(&clip, 27, 0));
+    /* ... 4 frames after: planted too soon */
+    assert_true(mm_matching_plants_swinging_foot(&clip, 26, 0));
+    /* the animation lifts the left foot 5 frames before the destination does (within the 6 of
+     * slack before): a match */
+    assert_false(mm_matching_plants_swinging_foot(&clip, 5, 0));
+    /* the destination holds it planted to its clip's end (the last frame held) while the
+     * animation has it in the air for 20 frames: planted in a swing */
+    assert_true(mm_matching_plants_swinging_foot(&clip, 5, 30));
+    /* the right foot: frame 14 lands it on the next frame, as frame 13 does on the one after */
+    assert_false(mm_matching_plants_swinging_foot(&clip, 13, 14));
+
+    /* the choice from frame 12 (the left foot 18 frames into its swing): frame 0 plants it, so
+     * it is priced PLANT_PRICE of its cost (1) more; frame 12 plants nothing */
+    const float d = 0.01f, price = PLANT_PRICE;
+    float priced = 0.0f;
+    mm_search_result near[2] = {{.frame = 0, .cost = 1.0f}, {.frame = 12, .cost = 1.0f + price - d}};
+    assert_int_equal(mm_matching_plant_choice(&clip, 12, near, 2, 0.0f, &priced), 1);
+    assert_float_equal(priced, 1.0f + price - d, 1e-6f);
+    /* the one that plants nothing costs more than the winner and its price: a wait while it lasts
+     * under PLANT_MAX_WAIT, then the winner */
+    near[1].cost = 1.0f + price + d;
+    assert_int_equal(mm_matching_plant_choice(&clip, 12, near, 2, 0.0f, &priced), -1);
+    assert_float_equal(priced, 1.0f + price, 1e-6f);
+    assert_int_equal(mm_matching_plant_choice(&clip, 12, near, 2, 0.5f * PLANT_MAX_WAIT, &priced), -1);
+    assert_int_equal(mm_matching_plant_choice(&clip, 12, near, 2, PLANT_MAX_WAIT, &priced), 0);
+    assert_float_equal(priced, 1.0f + price, 1e-6f);
+    /* the price is the winner's share, the same for every candidate: with the winner's cost
+     * doubled, the other within twice the price is taken */
+    near[0].cost = 2.0f, near[1].cost = 2.0f + 2.0f * price - d;
+    assert_int_equal(mm_matching_plant_choice(&clip, 12, near, 2, 0.0f, &priced), 1);
+    /* a winner that plants no swinging foot is the choice */
+    near[0].frame = 12, near[1].frame = 0;
+    assert_int_equal(mm_matching_plant_choice(&clip, 12, near, 2, 0.0f, &priced), 0);
+    assert_float_equal(priced, 2.0f, 1e-6f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1490,6 +1555,7 @@ int main(void)
         cmocka_unit_test(test_distance_matching_rate),
         cmocka_unit_test(test_distance_switches_off),
         cmocka_unit_test(test_distance_robust),
+        cmocka_unit_test(test_plants_swinging_foot),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

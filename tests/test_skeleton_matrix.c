@@ -522,8 +522,10 @@ static db_diff compare_databases(const variant_set *a, const variant_set *b)
  *   - before it (or before the joints part) a heel lock was released in one run and not in the
  *     other where it was unlock_radius from its animated ankle, within FEET_TIE (feet_unlock_tie,
  * tests/feet_ties.h); or
- *   - the playheads never part but were, before the joints parted, either side of a whole frame
- *     (322 + 0.99999 and 323 + 0): the labels of two frames.
+ *   - the playheads were, before they or the joints parted, either side of a whole frame (322 +
+ *     0.99999 and 323 + 0): the labels of two frames, or a clip's last frame (where a jump is
+ *     the search's winner) in one and the frame before it (where a jump that plants a swinging
+ *     foot waits) in the other.
  * Anything else (another choice, or joints apart while the playheads and labels agree) fails. */
 typedef enum parting_kind {
     PART_NONE,
@@ -552,6 +554,15 @@ typedef struct parting {
     parting_kind kind;
     char state[256];
 } parting;
+
+/* Whether two characters searched from playheads either side of a whole frame (322 + 0.99999 and
+ * 323 + 0), the one behind still there (it did not jump). */
+static bool straddled(const mm_character c[2])
+{
+    int from[2] = {c[0].last_params.current_frame, c[1].last_params.current_frame};
+    int behind = from[0] + 1 == from[1] ? 0 : from[1] + 1 == from[0] ? 1 : -1;
+    return behind >= 0 && c[behind].frame == from[behind] && c[behind].frame_fraction >= 1.0 - PLAYHEAD_SAME;
+}
 
 /* Characters on both databases play the script: the largest distance of their world joints. */
 static double run_characters(const variant_set *a, const variant_set *b, const char *script, parting *parted)
@@ -599,7 +610,7 @@ static double run_characters(const variant_set *a, const variant_set *b, const c
             parted->whole = t; /* e.g. 322 + 0.99999 and 323 + 0: the labels of two frames */
         if (parted->tick < 0 && fabs(x[0] - x[1]) > PLAYHEAD_SAME) {
             int searched[2] = {c[0].searches > searches[0], c[1].searches > searches[1]};
-            float cost[2] = {c[0].last_result.cost, c[1].last_result.cost};
+            float cost[2] = {c[0].last_choice.cost, c[1].last_choice.cost}; /* priced */
             parted->tick = t;
             if (fabs(x[0] - x[1]) <= 1.0 + PLAYHEAD_SAME)
                 parted->kind = PART_PLAYHEAD;
@@ -607,6 +618,9 @@ static double run_characters(const variant_set *a, const variant_set *b, const c
                 parted->kind = PART_LABELS;
             else if (parted->unlock >= 0)
                 parted->kind = PART_UNLOCK;
+            else if (parted->whole >= 0 || (searched[0] && searched[1] && straddled(c)))
+                parted->kind =
+                    PART_PLAYHEAD; /* e.g. a clip's last frame in one, the one before in the other */
             else if (searched[0] && searched[1])
                 parted->kind = fabsf(cost[0] - cost[1]) <= NEAR_TIE * fmaxf(fabsf(cost[0]), fabsf(cost[1]))
                                    ? PART_NEAR_TIE
@@ -629,6 +643,11 @@ static double run_characters(const variant_set *a, const variant_set *b, const c
         snprintf(parted->state, sizeof parted->state, "the playheads never part; joints apart at tick %d%s",
                  parted->apart,
                  parted->kind == PART_PLAYHEAD ? ", playheads either side of a whole frame before" : "");
+    }
+    if (parted->kind == PART_PLAYHEAD && parted->tick >= 0 && parted->whole >= 0) {
+        size_t used = strlen(parted->state);
+        snprintf(parted->state + used, sizeof parted->state - used,
+                 "; playheads either side of a whole frame at tick %d", parted->whole);
     }
     if (parted->kind == PART_UNLOCK) {
         size_t used = strlen(parted->state);

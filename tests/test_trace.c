@@ -12,6 +12,7 @@
 #include <mm/moves.h>
 #include <mm/trace.h>
 
+#include "runtime/character/matching.h"
 #include "test_databases.h"
 
 #define SEED    11
@@ -103,7 +104,10 @@ static void test_read_back(void **state)
         assert_true(s->candidate_count >= 1 && s->candidate_count <= TOP_K);
         assert_int_equal(t.ticks[s->tick].frame, s->winner); /* where playback went */
         const mm_trace_candidate *c = &t.candidates[s->candidate_first];
-        if (s->transition) assert_int_equal(s->winner, c[0].frame);
+        if (s->transition) assert_int_equal(s->winner, s->choice); /* the candidate chosen */
+        for (int k = 1; k < s->candidate_count; ++k) /* chosen over the winner: within the price */
+            if (c[k].frame == s->choice)
+                assert_true(c[k].cost <= c[0].cost + PLANT_PRICE * fabsf(c[0].cost) + 1e-5f);
         /* the five terms: mm_search_cost_terms on the query read back, with the weights the
          * character weighed (the database's: its ratio moves only while the velocity changes,
          * which scales the pose and trajectory terms alike, so compare shares of the sum) */

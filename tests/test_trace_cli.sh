@@ -61,8 +61,14 @@ for r in s:
     # the winner is where playback went: the best candidate after a jump, else the frame playing on
     t = by_tick[r["tick"]]
     assert r["winner"] == t["frame"], (r["tick"], r["winner"], t["frame"])
+    # a jump goes to the candidate chosen: the winner, or one that plants no swinging foot (at
+    # most a quarter of the winner's cost dearer); playing on to let a foot land chooses -1
     if r["transition"]:
-        assert r["winner"] == c[0]["frame"]
+        assert r["winner"] == r["choice"], r["tick"]
+        chosen = [x for x in c if x["frame"] == r["choice"]]
+        assert not chosen or chosen[0]["cost"] <= 1.25 * c[0]["cost"] + 1e-6, r["tick"]
+    elif r["choice"] == -1:
+        assert r["winner"] == t["frame"]
 for t in ticks:
     assert len(t["feet"]) == 2 and all(set(f) >= {"heel", "toe", "locked"} for f in t["feet"])
     assert len(t["root"]["position"]) == 3 and len(t["root"]["facing"]) == 4

@@ -289,11 +289,13 @@ typedef struct mm_character {
     mm_vec3 raw_contact_positions[4];
 
     /* statistics: searches, transitions, the winners the crossfade mixer cancelled, the last
-     * search's time (desc.clock), result, the parameters it weighed with (desc.params as adjusted
-     * for that tick) and its query ([dims_padded]) */
+     * search's time (desc.clock), result (the search's winner), choice (the candidate the jump
+     * went to, or frame -1 for playing on while a swinging foot lands: docs/runtime.md, its cost
+     * priced), the parameters it weighed with (desc.params as adjusted for that tick) and its
+     * query ([dims_padded]) */
     int searches, transitions, cancelled_transitions;
     float last_search_us;
-    mm_search_result last_result;
+    mm_search_result last_result, last_choice;
     mm_search_params last_params;
     const float *query;
 

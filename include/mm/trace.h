@@ -94,6 +94,8 @@ mm_result mm_trace_write_header(FILE *out, const mm_trace_run *run, const mm_dat
 mm_result mm_trace_write_tick(FILE *out, const mm_trace_run *run, const mm_character *c, int tick, double t,
                               int searches_before, int transitions_before);
 
+#define MM_TRACE_NO_CHOICE (-2)
+
 /* One candidate of a search line. */
 typedef struct mm_trace_candidate {
     int frame, clip;
@@ -106,7 +108,10 @@ typedef struct mm_trace_search {
     double t;            /* s: the end of its tick */
     int frame_before;    /* the frame playing when it searched */
     int winner;          /* the frame playback continues from (the frame playing when no jump) */
-    bool transition;     /* the playhead jumped to the best candidate */
+    bool transition;     /* the playhead jumped to the candidate chosen */
+    int choice;          /* the candidate chosen (mm_character.last_choice): the winner, or one that plants no
+                          * foot the animation has in a swing, or -1 for playing on until it lands;
+                          * MM_TRACE_NO_CHOICE in traces written before the field */
     int query_offset;    /* into mm_trace.queries: dims floats */
     int candidate_first; /* into mm_trace.candidates */
     int candidate_count;

@@ -228,8 +228,8 @@ static void search_line(line_text *b, const mm_trace_run *run, const mm_characte
     const mm_database *db = c->db;
     putf(b, "{\"type\":\"search\",\"tick\":%d,\"t\":", tick);
     put_number(b, t, DOUBLE_DIGITS);
-    putf(b, ",\"frame_before\":%d,\"winner\":%d,\"transition\":%s,\"query\":[", c->last_params.current_frame,
-         c->frame, transition ? "true" : "false");
+    putf(b, ",\"frame_before\":%d,\"winner\":%d,\"transition\":%s,\"choice\":%d,\"query\":[",
+         c->last_params.current_frame, c->frame, transition ? "true" : "false", c->last_choice.frame);
     for (int d = 0; d < db->dims; ++d) {
         if (d) puts_text(b, ",");
         put_number(b, c->query[d], FLOAT_DIGITS);
@@ -488,6 +488,9 @@ static mm_result read_search(const reader *rd, const cJSON *o, const char *text,
     integer(rd, o, "frame_before", -1, 0x7fffffff, &s->frame_before, &r);
     integer(rd, o, "winner", -1, 0x7fffffff, &s->winner, &r);
     boolean(rd, o, "transition", &s->transition, &r);
+    s->choice = MM_TRACE_NO_CHOICE; /* traces written before the field */
+    if (cJSON_GetObjectItemCaseSensitive(o, "choice"))
+        integer(rd, o, "choice", -1, 0x7fffffff, &s->choice, &r);
     if (r != MM_OK) return r;
     const cJSON *query = cJSON_GetObjectItemCaseSensitive(o, "query");
     if (!cJSON_IsArray(query) || cJSON_GetArraySize(query) != t->dims)
@@ -654,7 +657,7 @@ static void describe_difference(const char *traced, const char *replayed, char *
     cJSON *a = cJSON_Parse(traced), *b = cJSON_Parse(replayed);
     snprintf(message, size, "the search line differs");
     if (a && b) {
-        const char *fields[] = {"tick", "frame_before", "winner", "transition"};
+        const char *fields[] = {"tick", "frame_before", "winner", "transition", "choice"};
         int done = 0;
         for (size_t i = 0; i < sizeof fields / sizeof fields[0] && !done; ++i) {
             const cJSON *x = cJSON_GetObjectItemCaseSensitive(a, fields[i]);

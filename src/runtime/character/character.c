@@ -251,6 +251,7 @@ static void publish(mm_character *c)
     c->cancelled_transitions = s->transition.cancelled;
     c->last_search_us = s->matching.last_search_us;
     c->last_result = s->matching.last_result;
+    c->last_choice = s->matching.last_choice;
     c->last_params = s->matching.last_params;
     c->query = s->matching.query;
 }

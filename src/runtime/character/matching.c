@@ -1,6 +1,7 @@
 /* Stage 3: when to search, the query, the search and the winner. */
 #include "matching.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -30,6 +31,22 @@
 #define MATCHING_CONTACT_BITS                                                                                \
     (MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE | MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE)
 
+/* Jumps that plant a foot the animation playing has up in a swing (docs/metrics.md, "Jumps that
+ * plant a swinging foot"): s over which the frames after a jump's destination are compared with
+ * the frames the animation playing would go on to */
+#define PLANT_AHEAD 0.25f
+/* s: a destination's planted foot is refused only where the animation playing has that foot off
+ * the ground from this long before (a foot it lifts a little sooner: the end of a stance, slow) */
+#define SWING_SLACK 0.1f
+/* s: ... to this long after (a foot it lands a little later; a running foot landed sooner than
+ * that is carried into the ground at its swing's speed) */
+#define LANDING_SLACK 0.034f
+/* the best candidates looked through for one that plants no swinging foot (the search's winner
+ * is the same whatever k) */
+#define PLANT_CANDIDATES 16
+/* frames of labels looked at past a frame: the longest window above at 240 fps */
+#define PLANT_MAX_STEPS 96
+
 void mm_matching_init(mm_matching *m, const mm_database *db, float *query, float leg_length)
 {
     memset(m, 0, sizeof *m);
@@ -43,7 +60,7 @@ void mm_matching_init(mm_matching *m, const mm_database *db, float *query, float
     for (int k = 0; k < db->clip_count && !m->has_idle; ++k) m->has_idle = db->clips[k].type == MM_CLIP_IDLE;
     m->idle = true;
     m->since_search = INFINITY; /* search on the first tick */
-    m->last_result.frame = -1;
+    m->last_result.frame = m->last_choice.frame = -1;
     m->stance_reach = leg_length > 0.0f ? STANCE_REACH_LEGS * leg_length : 0.0f;
     m->since_jump = INFINITY;
 }
@@ -169,8 +186,81 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
     int turned =
         speed > DIRECTION_MIN_SPEED && fabsf(wrap_angle(direction - m->last_direction)) > d->turn_threshold;
     m->since_search += dt;
+    if (m->plant_waited > 0.0f) m->plant_waited += dt;
     m->since_jump += dt;
     return !move_playing && (m->since_search >= d->search_interval || turned || idle_changed || ended);
+}
+
+/* The contact labels of the n frames from frame on as playback goes (a clip's last frame held). */
+static void labels_ahead(const mm_database *db, int frame, int n, unsigned *labels)
+{
+    for (int i = 0; i < n; ++i) {
+        labels[i] = db->contacts[frame];
+        if (db->frame_next[frame] >= 0) frame = db->frame_next[frame];
+    }
+}
+
+/* Whether a jump from the frame playing to frame to plants a foot the animation playing has in a
+ * swing: over PLANT_AHEAD, a frame after `to` whose foot is labelled while the frames after the
+ * frame playing have that foot unlabelled from SWING_SLACK before to LANDING_SLACK after it (from:
+ * their labels, ahead + slack of them). The transition carries the foot on with its swing's speed
+ * under a label that says it stands. */
+static bool plants_swinging_foot(const mm_database *db, const unsigned *from, int ahead, int slack, int early,
+                                 int to)
+{
+    unsigned dest[PLANT_MAX_STEPS];
+    labels_ahead(db, to, ahead, dest);
+    for (int t = 0; t < ahead; ++t)
+        for (int k = 0; k < 2; ++k) {
+            if (!(dest[t] & FOOT_CONTACT_BITS(k))) continue;
+            bool swinging = true;
+            for (int u = t > slack ? t - slack : 0; u <= t + early && swinging; ++u)
+                swinging = !(from[u] & FOOT_CONTACT_BITS(k));
+            if (swinging) return true;
+        }
+    return false;
+}
+
+/* frames: the windows of plants_swinging_foot at the database's rate */
+static void plant_windows(const mm_database *db, int *ahead, int *slack, int *early)
+{
+    *slack = (int)ceilf(SWING_SLACK / db->interval);
+    *early = (int)ceilf(LANDING_SLACK / db->interval);
+    *ahead = (int)ceilf(PLANT_AHEAD / db->interval);
+    if (*ahead + *slack > PLANT_MAX_STEPS) *ahead = PLANT_MAX_STEPS - *slack;
+    if (*early > *slack) *early = *slack;
+}
+
+bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to)
+{
+    int ahead, slack, early;
+    plant_windows(db, &ahead, &slack, &early);
+    unsigned from[PLANT_MAX_STEPS];
+    labels_ahead(db, playing, ahead + slack, from);
+    return plants_swinging_foot(db, from, ahead, slack, early, to);
+}
+
+int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
+                             float waited, float *priced)
+{
+    int ahead, slack, early;
+    plant_windows(db, &ahead, &slack, &early);
+    unsigned from[PLANT_MAX_STEPS];
+    labels_ahead(db, playing, ahead + slack, from);
+    float price = PLANT_PRICE * fabsf(results[0].cost);
+    int chosen = 0;
+    bool plants = false;
+    float best = INFINITY;
+    /* by cost: none further on can undercut the best once its own cost does not */
+    for (int i = 0; i < n && !(results[i].cost >= best); ++i) {
+        if (results[i].frame < 0) continue;
+        bool lands = plants_swinging_foot(db, from, ahead, slack, early, results[i].frame);
+        float total = lands ? results[i].cost + price : results[i].cost;
+        if (total < best) chosen = i, best = total, plants = lands;
+    }
+    if (!(best < INFINITY)) best = results[0].cost; /* NaN costs: the winner */
+    *priced = best;
+    return plants && waited < PLANT_MAX_WAIT ? -1 : chosen;
 }
 
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
@@ -198,9 +288,12 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
      * left out of the search instead, so that it finds a frame it jumps to */
     int behind = d->skip_frames + (int)ceilf(fmaxf(d->search_interval, MIN_REPLAY) / db->interval);
     if (db->frame_next[pb->frame] < 0 && p.exclude_window < behind) p.exclude_window = behind;
-    /* the best candidates when a debugger asked for them (the winner is the same whatever k) */
-    mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
-    int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
+    /* the best PLANT_CANDIDATES, or as many as a debugger asked for (the winner is the same
+     * whatever k; the debugger is given the first candidate_capacity) */
+    mm_search_result near[PLANT_CANDIDATES];
+    bool own = m->candidate_capacity >= PLANT_CANDIDATES;
+    mm_search_result *results = own ? m->candidates : near;
+    int k = own ? m->candidate_capacity : PLANT_CANDIDATES;
     double start = d->clock ? d->clock() : 0.0;
     int found = mm_searcher_search(searcher, m->query, &p, d->method, results, k);
     if (d->clock) m->last_search_us = (float)(1e6 * (d->clock() - start));
@@ -208,12 +301,33 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     /* a phase set: the search after this one comes search_phase of the interval sooner */
     m->since_search = m->phase_pending ? m->search_phase * d->search_interval : 0.0f;
     m->phase_pending = false;
-    mm_search_result best = results[0];
-    m->last_result = best;
-    m->candidate_count = found;
     m->last_params = p;
     if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
-    if (!found || best.frame < 0) return;
+    m->last_result = results[0];
+    int kept = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
+    m->candidate_count = found < kept ? found : kept;
+    if (!own && m->candidate_capacity > 0)
+        memcpy(m->candidates, near, sizeof(mm_search_result) * (size_t)m->candidate_capacity);
+    m->last_choice = results[0];
+    if (!found || results[0].frame < 0) return;
+    /* moving, jumps that plant a foot the animation has in a swing are priced; when the cheapest
+     * still does, playback goes on (the next search on the next tick) until that foot lands or
+     * PLANT_MAX_WAIT; at a clip's end, or standing, the search's winner */
+    int chosen = 0;
+    if (keep_contacts && db->frame_next[pb->frame] >= 0) {
+        int n = found < PLANT_CANDIDATES ? found : PLANT_CANDIDATES;
+        float priced;
+        chosen = mm_matching_plant_choice(db, pb->frame, results, n, m->plant_waited, &priced);
+        m->last_choice = chosen >= 0 ? results[chosen] : (mm_search_result){.frame = -1, .base = 0.0f};
+        m->last_choice.cost = priced;
+    }
+    if (chosen < 0) {
+        m->since_search = d->search_interval;
+        if (m->plant_waited <= 0.0f) m->plant_waited = FLT_MIN;
+        return;
+    }
+    m->plant_waited = 0.0f;
+    mm_search_result best = results[chosen];
     /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor back in the
      * same clip by less than MIN_REPLAY or what played since the last search: that would replay
      * the same stretch over and over (an idle frozen in a loop of a few frames) */

@@ -11,10 +11,19 @@
 #include "intent.h"
 #include "playback.h"
 
+/* A candidate that plants a foot the animation playing has in a swing is priced this share of the
+ * search winner's cost above its own (a price, not a cut: candidates and the wait compete on
+ * cost plus price; docs/metrics.md, "Jumps that plant a swinging foot, priced") */
+#define PLANT_PRICE 0.25f
+/* s: the longest the jump waits for a swinging foot to land before the cheapest candidate is
+ * taken all the same (the simulation goes on meanwhile) */
+#define PLANT_MAX_WAIT 1.0f
+
 typedef struct mm_matching {
     float since_search;                /* s */
     float search_phase;                /* share of the search interval by which the schedule shifts */
     bool phase_pending;                /* the next search shifts it (mm_character_set_search_phase) */
+    float plant_waited;                /* s: jumps refused in a row for planting a swinging foot */
     float last_direction;              /* rad: desired direction at the last search */
     bool idle;                         /* asking for idle */
     bool has_idle;                     /* the database has idle clips */
@@ -22,7 +31,9 @@ typedef struct mm_matching {
     float *query;                      /* [dims_padded] */
     int searches;
     float last_search_us;
-    mm_search_result last_result;
+    mm_search_result last_result; /* the search's winner */
+    mm_search_result last_choice; /* what the jump went to: a candidate or, frame -1, playing on
+                                   * (a wait); cost: the cheapest's cost plus its plant price */
     mm_search_params last_params; /* what the last search weighed with */
     /* the last search's best candidates, winner first (mm_character_set_candidates: allocated
      * apart from the state's block; NULL with capacity 0: the winner alone, in last_result) */
@@ -96,5 +107,17 @@ float mm_matching_ratio(const mm_matching *m, const mm_character_desc *d, const 
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
                         const mm_searcher *searcher, const mm_trajectory *t, const mm_input *in,
                         const mm_intent *intent, mm_xform root, const mm_playback *p, mm_jump *jump);
+
+/* Whether a jump from the frame playing to frame `to` plants a foot that the animation playing has
+ * up in a swing (labelled at `to` or soon after while the frames after `playing` have that foot
+ * unlabelled around that time): the search passes such a winner over while moving. */
+bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to);
+
+/* Which of the search's best n candidates (best first) a jump from the frame playing goes to: the
+ * one whose cost plus price is lowest (price: PLANT_PRICE of the winner's cost when it plants a
+ * swinging foot, else 0); -1 (play on, wait) when that one plants a swinging foot while `waited`
+ * (s played on in a row for that) is under PLANT_MAX_WAIT. *priced: that one's cost plus price. */
+int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
+                             float waited, float *priced);
 
 #endif
