@@ -288,14 +288,26 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
      * left out of the search instead, so that it finds a frame it jumps to */
     int behind = d->skip_frames + (int)ceilf(fmaxf(d->search_interval, MIN_REPLAY) / db->interval);
     if (db->frame_next[pb->frame] < 0 && p.exclude_window < behind) p.exclude_window = behind;
-    /* the best PLANT_CANDIDATES, or as many as a debugger asked for (the winner is the same
-     * whatever k; the debugger is given the first candidate_capacity) */
-    mm_search_result near[PLANT_CANDIDATES];
-    bool own = m->candidate_capacity >= PLANT_CANDIDATES;
-    mm_search_result *results = own ? m->candidates : near;
-    int k = own ? m->candidate_capacity : PLANT_CANDIDATES;
+    /* the winner, or the best candidates a debugger asked for (the winner is the same whatever k) */
+    mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
+    int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
     double start = d->clock ? d->clock() : 0.0;
     int found = mm_searcher_search(searcher, m->query, &p, d->method, results, k);
+    /* moving, a winner that plants a foot the animation has in a swing is priced against the best
+     * PLANT_CANDIDATES (searched again for them: a search for one is much the quicker, and most
+     * winners plant no swinging foot); when the cheapest still does, playback goes on (the next
+     * search on the next tick) until that foot lands or PLANT_MAX_WAIT; at a clip's end, or
+     * standing, the search's winner */
+    mm_search_result near[PLANT_CANDIDATES];
+    const mm_search_result *priced_from = results;
+    int n = 0;
+    if (found && results[0].frame >= 0 && keep_contacts && db->frame_next[pb->frame] >= 0 &&
+        mm_matching_plants_swinging_foot(db, pb->frame, results[0].frame)) {
+        n = k >= PLANT_CANDIDATES
+                ? (found < PLANT_CANDIDATES ? found : PLANT_CANDIDATES)
+                : mm_searcher_search(searcher, m->query, &p, d->method, near, PLANT_CANDIDATES);
+        if (k < PLANT_CANDIDATES) priced_from = near;
+    }
     if (d->clock) m->last_search_us = (float)(1e6 * (d->clock() - start));
     ++m->searches;
     /* a phase set: the search after this one comes search_phase of the interval sooner */
@@ -304,21 +316,14 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     m->last_params = p;
     if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
     m->last_result = results[0];
-    int kept = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
-    m->candidate_count = found < kept ? found : kept;
-    if (!own && m->candidate_capacity > 0)
-        memcpy(m->candidates, near, sizeof(mm_search_result) * (size_t)m->candidate_capacity);
+    m->candidate_count = found;
     m->last_choice = results[0];
     if (!found || results[0].frame < 0) return;
-    /* moving, jumps that plant a foot the animation has in a swing are priced; when the cheapest
-     * still does, playback goes on (the next search on the next tick) until that foot lands or
-     * PLANT_MAX_WAIT; at a clip's end, or standing, the search's winner */
     int chosen = 0;
-    if (keep_contacts && db->frame_next[pb->frame] >= 0) {
-        int n = found < PLANT_CANDIDATES ? found : PLANT_CANDIDATES;
+    if (n > 0) {
         float priced;
-        chosen = mm_matching_plant_choice(db, pb->frame, results, n, m->plant_waited, &priced);
-        m->last_choice = chosen >= 0 ? results[chosen] : (mm_search_result){.frame = -1, .base = 0.0f};
+        chosen = mm_matching_plant_choice(db, pb->frame, priced_from, n, m->plant_waited, &priced);
+        m->last_choice = chosen >= 0 ? priced_from[chosen] : (mm_search_result){.frame = -1, .base = 0.0f};
         m->last_choice.cost = priced;
     }
     if (chosen < 0) {
@@ -327,7 +332,7 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
         return;
     }
     m->plant_waited = 0.0f;
-    mm_search_result best = results[chosen];
+    mm_search_result best = priced_from[chosen];
     /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor back in the
      * same clip by less than MIN_REPLAY or what played since the last search: that would replay
      * the same stretch over and over (an idle frozen in a loop of a few frames) */
