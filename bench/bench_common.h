@@ -1,9 +1,10 @@
-/* What the benchmarks share: a monotonic clock, an ordering of doubles for qsort and random numbers
- * (the same sequence in every run). */
+/* What the benchmarks share: a monotonic clock, an ordering of doubles for qsort, random numbers
+ * (the same sequence in every run) and a sweep that makes caches cold. */
 #ifndef MM_BENCH_COMMON_H
 #define MM_BENCH_COMMON_H
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <time.h>
 
@@ -39,6 +40,18 @@ static inline double normal(void)
 {
     double u = uniform() + 1e-12, v = uniform();
     return sqrt(-2.0 * log(u)) * cos(2.0 * MM_PI * v);
+}
+
+/* bytes a cold-cache sweep goes over: more than the last-level cache of the machines we run on */
+#define BENCH_COLD_SWEEP_BYTES (48u << 20)
+#define BENCH_CACHE_LINE       64
+
+/* Reads and writes every cache line of buffer (BENCH_COLD_SWEEP_BYTES): what a game's frame does to
+ * the caches between two searches. */
+static inline void bench_cold_sweep(unsigned char *buffer)
+{
+    for (size_t i = 0; i < BENCH_COLD_SWEEP_BYTES; i += BENCH_CACHE_LINE)
+        buffer[i] = (unsigned char)(buffer[i] + 1);
 }
 
 #endif

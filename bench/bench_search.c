@@ -8,7 +8,7 @@
  *               settings: weights, favours, tags and type as the runtime adjusts them)
  *   transition  the pose of frame i with the trajectory of frame j
  *   random      normal in feature space
- * each timed query by query with warm caches and with cold ones (a COLD_SWEEP_BYTES sweep before
+ * each timed query by query with warm caches and with cold ones (a BENCH_COLD_SWEEP_BYTES sweep before
  * each query), median and p99 for the fast search and brute force in the same run; then batch
  * throughput of each kind on 1 and 2 threads. Every answer of the fast search is checked against
  * brute force (the exit status is 1 on a mismatch).
@@ -33,8 +33,6 @@
 
 #include "bench_common.h"
 
-#define COLD_SWEEP_BYTES  (48u << 20) /* more than the last-level cache of the machines we run on */
-#define CACHE_LINE        64
 #define NEAR_NOISE        0.1 /* per normalised dimension */
 #define RECORD_CHARACTERS 16  /* characters whose searches are recorded, ticked in turn */
 #define RECORD_INPUT_SECS 120.0f
@@ -46,14 +44,7 @@
 static const char *const KIND_NAMES[KINDS] = {"near", "recorded", "transition", "random"};
 static const char *const CACHE_NAMES[CACHES] = {"warm", "cold"};
 
-/* Reads (and writes) every cache line of the sweep buffer: what a game's frame does to the caches
- * between two searches. */
-static unsigned char *sweep_buffer;
-static void sweep(void)
-{
-    for (size_t i = 0; i < COLD_SWEEP_BYTES; i += CACHE_LINE)
-        sweep_buffer[i] = (unsigned char)(sweep_buffer[i] + 1);
-}
+static unsigned char *sweep_buffer; /* BENCH_COLD_SWEEP_BYTES */
 
 /* The queries of one kind and their parameters. */
 typedef struct query_set {
@@ -151,7 +142,7 @@ static void time_queries(const mm_searcher *s, const query_set *set, int n, int 
             for (int i = 0; i < n; ++i)
                 for (int m = 0; m < 2; ++m) {
                     if (!cold && m != pass) continue;
-                    if (cold) sweep();
+                    if (cold) bench_cold_sweep(sweep_buffer);
                     mm_search_stats st;
                     const float *q = set->q + (size_t)i * dims;
                     double a = now();
@@ -208,7 +199,7 @@ int main(int argc, char **argv)
         "pose and %d trajectory slots\n",
         lafan ? "LAFAN1 (lafan1.json)" : "the built-in set (set MM_DATA_DIR for LAFAN1)", db.frame_count,
         db.dims, dims, s.memory / 1e6, s.node_count, MM_SEARCH_WIDTH, s.pose_dims, s.tree_dims - s.pose_dims);
-    sweep_buffer = calloc(COLD_SWEEP_BYTES, 1);
+    sweep_buffer = calloc(BENCH_COLD_SWEEP_BYTES, 1);
     query_set sets[KINDS];
     for (int k = 0; k < KINDS; ++k) {
         sets[k].n = n;
@@ -229,7 +220,7 @@ int main(int argc, char **argv)
         out,
         "\nper query (fast / brute force, the same queries; cold: a %u MB sweep before each; each query's "
         "least time of %d)\n",
-        COLD_SWEEP_BYTES >> 20, repeat);
+        BENCH_COLD_SWEEP_BYTES >> 20, repeat);
     fprintf(out, "%-10s %-4s %5s  %9s %9s  %9s %9s  %7s %7s  %8s %6s\n", "kind", "cache", "n", "fast med",
             "p99", "brute med", "p99", "x med", "x p99", "frames%", "boxes");
     for (int k = 0; k < KINDS; ++k)

@@ -25,18 +25,11 @@
 
 #include "bench_common.h"
 
-#define REPEATS          7
-#define COLD_SWEEP_BYTES (48u << 20) /* as bench_search */
-#define NEAR_NOISE       0.1
-#define WAYS             3
+#define REPEATS    7
+#define NEAR_NOISE 0.1
+#define WAYS       3
 
 static const char *const WAY_NAMES[WAYS] = {"plain", "guessed", "perfect"};
-
-static unsigned char *sweep_buffer;
-static void sweep(void)
-{
-    for (size_t i = 0; i < COLD_SWEEP_BYTES; i += 64) sweep_buffer[i] = (unsigned char)(sweep_buffer[i] + 1);
-}
 
 static float total_cost(const mm_database *db, const float *q, const mm_search_params *p, int frame)
 {
@@ -70,15 +63,21 @@ int main(int argc, char **argv)
     mm_searcher s;
     mm_error err;
     if (mm_searcher_init(&s, &db, NULL, &err) != MM_OK) return 1;
-    sweep_buffer = calloc(COLD_SWEEP_BYTES, 1);
+    unsigned char *sweep_buffer = calloc(BENCH_COLD_SWEEP_BYTES, 1);
     int dims = db.dims_padded;
     float *q = calloc((size_t)n * dims, sizeof(float));
     mm_search_params *p[WAYS];
     double *t[WAYS], guess_ratio = 0.0;
     long work[WAYS][3] = {{0}};
+    int missing = !sweep_buffer || !q;
     for (int w = 0; w < WAYS; ++w) {
         p[w] = calloc((size_t)n, sizeof(mm_search_params));
         t[w] = malloc(sizeof(double) * (size_t)n);
+        missing |= !p[w] || !t[w];
+    }
+    if (missing) {
+        fprintf(stderr, "bench_search_limit: out of memory\n");
+        return 1;
     }
     for (int i = 0; i < n; ++i) {
         float *qi = q + (size_t)i * dims;
@@ -108,7 +107,7 @@ int main(int argc, char **argv)
         for (int r = 0; r < REPEATS; ++r)
             for (int i = 0; i < n; ++i) {
                 const float *qi = q + (size_t)i * dims;
-                if (cold) sweep();
+                if (cold) bench_cold_sweep(sweep_buffer);
                 mm_search_result res;
                 mm_search_stats st;
                 double start = now();
@@ -133,5 +132,10 @@ int main(int argc, char **argv)
                1e6 * t[w][n / 2], 1e6 * t[w][(int)(0.99 * (n - 1) + 0.5)], (double)work[w][0] / n,
                (double)work[w][1] / n, (double)work[w][2] / n);
     printf("answers unlike brute force's: %d\n", wrong);
+    for (int w = 0; w < WAYS; ++w) free(p[w]), free(t[w]);
+    free(q);
+    free(sweep_buffer);
+    mm_searcher_free(&s);
+    mm_database_free(&db);
     return wrong ? 1 : 0;
 }

@@ -1,7 +1,6 @@
 /* Stage 3: when to search, the query, the search and the winner. */
 #include "matching.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -186,7 +185,7 @@ bool mm_matching_due(mm_matching *m, const mm_character_desc *d, const mm_intent
     int turned =
         speed > DIRECTION_MIN_SPEED && fabsf(wrap_angle(direction - m->last_direction)) > d->turn_threshold;
     m->since_search += dt;
-    if (m->plant_waited > 0.0f) m->plant_waited += dt;
+    if (m->plant_waiting) m->plant_waited += dt;
     m->since_jump += dt;
     return !move_playing && (m->since_search >= d->search_interval || turned || idle_changed || ended);
 }
@@ -200,53 +199,46 @@ static void labels_ahead(const mm_database *db, int frame, int n, unsigned *labe
     }
 }
 
+/* The label windows of plants_swinging_foot at the database's rate (frames) and the labels of the
+ * frames the animation playing goes on to (ahead + slack of them). */
+typedef struct swing_view {
+    int ahead, slack, early;
+    unsigned from[PLANT_MAX_STEPS];
+} swing_view;
+
+static void swing_view_of(const mm_database *db, int playing, swing_view *v)
+{
+    v->slack = (int)ceilf(SWING_SLACK / db->interval);
+    v->early = (int)ceilf(LANDING_SLACK / db->interval);
+    v->ahead = (int)ceilf(PLANT_AHEAD / db->interval);
+    if (v->ahead + v->slack > PLANT_MAX_STEPS) v->ahead = PLANT_MAX_STEPS - v->slack;
+    if (v->early > v->slack) v->early = v->slack;
+    labels_ahead(db, playing, v->ahead + v->slack, v->from);
+}
+
 /* Whether a jump from the frame playing to frame to plants a foot the animation playing has in a
  * swing: over PLANT_AHEAD, a frame after `to` whose foot is labelled while the frames after the
- * frame playing have that foot unlabelled from SWING_SLACK before to LANDING_SLACK after it (from:
- * their labels, ahead + slack of them). The transition carries the foot on with its swing's speed
- * under a label that says it stands. */
-static bool plants_swinging_foot(const mm_database *db, const unsigned *from, int ahead, int slack, int early,
-                                 int to)
+ * frame playing have that foot unlabelled from SWING_SLACK before to LANDING_SLACK after it. The
+ * transition carries the foot on with its swing's speed under a label that says it stands. */
+static bool plants_swinging_foot(const mm_database *db, const swing_view *v, int to)
 {
     unsigned dest[PLANT_MAX_STEPS];
-    labels_ahead(db, to, ahead, dest);
-    for (int t = 0; t < ahead; ++t)
+    labels_ahead(db, to, v->ahead, dest);
+    for (int t = 0; t < v->ahead; ++t)
         for (int k = 0; k < 2; ++k) {
             if (!(dest[t] & FOOT_CONTACT_BITS(k))) continue;
             bool swinging = true;
-            for (int u = t > slack ? t - slack : 0; u <= t + early && swinging; ++u)
-                swinging = !(from[u] & FOOT_CONTACT_BITS(k));
+            for (int u = t > v->slack ? t - v->slack : 0; u <= t + v->early && swinging; ++u)
+                swinging = !(v->from[u] & FOOT_CONTACT_BITS(k));
             if (swinging) return true;
         }
     return false;
 }
 
-/* frames: the windows of plants_swinging_foot at the database's rate */
-static void plant_windows(const mm_database *db, int *ahead, int *slack, int *early)
+/* mm_matching_plant_choice from the frame playing's view. */
+static int plant_choice(const mm_database *db, const swing_view *v, const mm_search_result *results, int n,
+                        float waited, float *priced)
 {
-    *slack = (int)ceilf(SWING_SLACK / db->interval);
-    *early = (int)ceilf(LANDING_SLACK / db->interval);
-    *ahead = (int)ceilf(PLANT_AHEAD / db->interval);
-    if (*ahead + *slack > PLANT_MAX_STEPS) *ahead = PLANT_MAX_STEPS - *slack;
-    if (*early > *slack) *early = *slack;
-}
-
-bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to)
-{
-    int ahead, slack, early;
-    plant_windows(db, &ahead, &slack, &early);
-    unsigned from[PLANT_MAX_STEPS];
-    labels_ahead(db, playing, ahead + slack, from);
-    return plants_swinging_foot(db, from, ahead, slack, early, to);
-}
-
-int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
-                             float waited, float *priced)
-{
-    int ahead, slack, early;
-    plant_windows(db, &ahead, &slack, &early);
-    unsigned from[PLANT_MAX_STEPS];
-    labels_ahead(db, playing, ahead + slack, from);
     float price = PLANT_PRICE * fabsf(results[0].cost);
     int chosen = 0;
     bool plants = false;
@@ -254,13 +246,28 @@ int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search
     /* by cost: none further on can undercut the best once its own cost does not */
     for (int i = 0; i < n && !(results[i].cost >= best); ++i) {
         if (results[i].frame < 0) continue;
-        bool lands = plants_swinging_foot(db, from, ahead, slack, early, results[i].frame);
+        bool lands = plants_swinging_foot(db, v, results[i].frame);
         float total = lands ? results[i].cost + price : results[i].cost;
         if (total < best) chosen = i, best = total, plants = lands;
     }
     if (!(best < INFINITY)) best = results[0].cost; /* NaN costs: the winner */
     *priced = best;
     return plants && waited < PLANT_MAX_WAIT ? -1 : chosen;
+}
+
+bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to)
+{
+    swing_view v;
+    swing_view_of(db, playing, &v);
+    return plants_swinging_foot(db, &v, to);
+}
+
+int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
+                             float waited, float *priced)
+{
+    swing_view v;
+    swing_view_of(db, playing, &v);
+    return plant_choice(db, &v, results, n, waited, priced);
 }
 
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
@@ -300,13 +307,16 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
      * standing, the search's winner */
     mm_search_result near[PLANT_CANDIDATES];
     const mm_search_result *priced_from = results;
+    swing_view view;
     int n = 0;
-    if (found && results[0].frame >= 0 && keep_contacts && db->frame_next[pb->frame] >= 0 &&
-        mm_matching_plants_swinging_foot(db, pb->frame, results[0].frame)) {
-        n = k >= PLANT_CANDIDATES
-                ? (found < PLANT_CANDIDATES ? found : PLANT_CANDIDATES)
-                : mm_searcher_search(searcher, m->query, &p, d->method, near, PLANT_CANDIDATES);
-        if (k < PLANT_CANDIDATES) priced_from = near;
+    if (found && results[0].frame >= 0 && keep_contacts && db->frame_next[pb->frame] >= 0) {
+        swing_view_of(db, pb->frame, &view);
+        if (plants_swinging_foot(db, &view, results[0].frame)) {
+            n = k >= PLANT_CANDIDATES
+                    ? (found < PLANT_CANDIDATES ? found : PLANT_CANDIDATES)
+                    : mm_searcher_search(searcher, m->query, &p, d->method, near, PLANT_CANDIDATES);
+            if (k < PLANT_CANDIDATES) priced_from = near;
+        }
     }
     if (d->clock) m->last_search_us = (float)(1e6 * (d->clock() - start));
     ++m->searches;
@@ -315,23 +325,22 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     m->phase_pending = false;
     m->last_params = p;
     if (speed > DIRECTION_MIN_SPEED) m->last_direction = direction;
-    m->last_result = results[0];
+    m->last_result = m->last_choice = results[0];
     m->candidate_count = found;
-    m->last_choice = results[0];
     if (!found || results[0].frame < 0) return;
     int chosen = 0;
     if (n > 0) {
         float priced;
-        chosen = mm_matching_plant_choice(db, pb->frame, priced_from, n, m->plant_waited, &priced);
+        chosen = plant_choice(db, &view, priced_from, n, m->plant_waiting ? m->plant_waited : 0.0f, &priced);
         m->last_choice = chosen >= 0 ? priced_from[chosen] : (mm_search_result){.frame = -1, .base = 0.0f};
         m->last_choice.cost = priced;
     }
-    if (chosen < 0) {
+    if (chosen < 0) { /* wait: search again on the next tick */
         m->since_search = d->search_interval;
-        if (m->plant_waited <= 0.0f) m->plant_waited = FLT_MIN;
+        if (!m->plant_waiting) m->plant_waiting = true, m->plant_waited = 0.0f;
         return;
     }
-    m->plant_waited = 0.0f;
+    m->plant_waiting = false;
     mm_search_result best = priced_from[chosen];
     /* where playback goes anyway (a few frames ahead in the same clip): no jump; nor back in the
      * same clip by less than MIN_REPLAY or what played since the last search: that would replay

@@ -23,7 +23,8 @@ typedef struct mm_matching {
     float since_search;                /* s */
     float search_phase;                /* share of the search interval by which the schedule shifts */
     bool phase_pending;                /* the next search shifts it (mm_character_set_search_phase) */
-    float plant_waited;                /* s: jumps refused in a row for planting a swinging foot */
+    bool plant_waiting;                /* playing on until a swinging foot lands (no jump taken since) */
+    float plant_waited;                /* s: how long, while plant_waiting */
     float last_direction;              /* rad: desired direction at the last search */
     bool idle;                         /* asking for idle */
     bool has_idle;                     /* the database has idle clips */
