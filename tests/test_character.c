@@ -1525,6 +1525,56 @@ static void test_plants_swinging_foot(void **state)
     assert_float_equal(priced, 2.0f, 1e-6f);
 }
 
+/* Which jumps the wait is weighed for, and how long: a clip of 40 walking frames at 60 fps (the
+ * left foot labelled on frames 0-9 and 30-39, the right on 15-34) and an idle loop of 10 with both
+ * feet planted. Moving, every winner is weighed, for up to PLANT_MAX_WAIT; stopping or standing, only
+ * a winner in the idle clip, for up to STOP_PLANT_MAX_WAIT: a stop onto a standing frame from frame
+ * 12 (the left foot 18 frames into its swing) plants that foot, and waits for it; a start from the
+ * idle plants no foot the idle has in a swing (it has none). */
+static void test_stop_plant_wait(void **state)
+{
+    (void)state;
+    enum { WALK = 40, IDLE = 10, N = WALK + IDLE };
+    uint8_t contacts[N];
+    int32_t next[N], frame_clip[N];
+    const uint8_t both =
+        MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE | MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE;
+    for (int f = 0; f < N; ++f) {
+        bool left = f < 10 || f >= 30, right = f >= 15 && f < 35;
+        contacts[f] = f >= WALK ? both
+                                : (uint8_t)((left ? MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE : 0) |
+                                            (right ? MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE : 0));
+        next[f] = f < WALK ? (f + 1 < WALK ? f + 1 : -1) : (f + 1 < N ? f + 1 : WALK);
+        frame_clip[f] = f < WALK ? 0 : 1;
+    }
+    mm_db_clip clips[2];
+    memset(clips, 0, sizeof clips);
+    clips[0] = (mm_db_clip){.first_frame = 0, .frame_count = WALK, .type = MM_CLIP_LOCOMOTION};
+    clips[1] = (mm_db_clip){.first_frame = WALK, .frame_count = IDLE, .type = MM_CLIP_IDLE, .loop = 1};
+    mm_database set;
+    memset(&set, 0, sizeof set);
+    set.frame_count = N;
+    set.clip_count = 2;
+    set.interval = 1.0f / 60.0f;
+    set.contacts = contacts;
+    set.frame_next = next;
+    set.frame_clip = frame_clip;
+    set.clips = clips;
+    /* moving: any winner, the longer wait */
+    assert_float_equal(mm_matching_plant_max_wait(&set, true, 0), PLANT_MAX_WAIT, 0.0f);
+    assert_float_equal(mm_matching_plant_max_wait(&set, true, WALK + 3), PLANT_MAX_WAIT, 0.0f);
+    /* stopping: a standing frame is weighed for the short wait, a walking one not at all */
+    assert_float_equal(mm_matching_plant_max_wait(&set, false, WALK + 3), STOP_PLANT_MAX_WAIT, 0.0f);
+    assert_float_equal(mm_matching_plant_max_wait(&set, false, 0), 0.0f, 0.0f);
+    assert_float_equal(mm_matching_plant_max_wait(&set, false, -1), 0.0f, 0.0f);
+    /* the stop from frame 12 plants the swinging left foot; from frame 27 (the left foot lands 3
+     * frames on, within the slack) it plants the right foot the walk lifts 8 frames on, and holds
+     * it down for the rest of the 15 frames looked at; from the idle nothing swings */
+    assert_true(mm_matching_plants_swinging_foot(&set, 12, WALK + 3));
+    assert_true(mm_matching_plants_swinging_foot(&set, 27, WALK + 3));
+    assert_false(mm_matching_plants_swinging_foot(&set, WALK + 2, 0));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1556,6 +1606,7 @@ int main(void)
         cmocka_unit_test(test_distance_switches_off),
         cmocka_unit_test(test_distance_robust),
         cmocka_unit_test(test_plants_swinging_foot),
+        cmocka_unit_test(test_stop_plant_wait),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -237,7 +237,7 @@ static bool plants_swinging_foot(const mm_database *db, const swing_view *v, int
 
 /* mm_matching_plant_choice from the frame playing's view. */
 static int plant_choice(const mm_database *db, const swing_view *v, const mm_search_result *results, int n,
-                        float waited, float *priced)
+                        float waited, float max_wait, float *priced)
 {
     float price = PLANT_PRICE * fabsf(results[0].cost);
     int chosen = 0;
@@ -252,7 +252,7 @@ static int plant_choice(const mm_database *db, const swing_view *v, const mm_sea
     }
     if (!(best < INFINITY)) best = results[0].cost; /* NaN costs: the winner */
     *priced = best;
-    return plants && waited < PLANT_MAX_WAIT ? -1 : chosen;
+    return plants && waited < max_wait ? -1 : chosen;
 }
 
 bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to)
@@ -267,7 +267,13 @@ int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search
 {
     swing_view v;
     swing_view_of(db, playing, &v);
-    return plant_choice(db, &v, results, n, waited, priced);
+    return plant_choice(db, &v, results, n, waited, PLANT_MAX_WAIT, priced);
+}
+
+float mm_matching_plant_max_wait(const mm_database *db, bool moving, int to)
+{
+    if (moving) return PLANT_MAX_WAIT;
+    return to >= 0 && db->clips[db->frame_clip[to]].type == MM_CLIP_IDLE ? STOP_PLANT_MAX_WAIT : 0.0f;
 }
 
 void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_database *db,
@@ -303,13 +309,15 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     /* moving, a winner that plants a foot the animation has in a swing is priced against the best
      * PLANT_CANDIDATES (searched again for them: a search for one is much the quicker, and most
      * winners plant no swinging foot); when the cheapest still does, playback goes on (the next
-     * search on the next tick) until that foot lands or PLANT_MAX_WAIT; at a clip's end, or
-     * standing, the search's winner */
+     * search on the next tick) until that foot lands or PLANT_MAX_WAIT. Stopping or standing, the
+     * same for a winner in an idle clip, up to STOP_PLANT_MAX_WAIT (mm_matching_plant_max_wait); at
+     * a clip's end, or any other winner, the search's winner */
     mm_search_result near[PLANT_CANDIDATES];
     const mm_search_result *priced_from = results;
     swing_view view;
     int n = 0;
-    if (found && results[0].frame >= 0 && keep_contacts && db->frame_next[pb->frame] >= 0) {
+    float max_wait = found ? mm_matching_plant_max_wait(db, keep_contacts, results[0].frame) : 0.0f;
+    if (found && results[0].frame >= 0 && max_wait > 0.0f && db->frame_next[pb->frame] >= 0) {
         swing_view_of(db, pb->frame, &view);
         if (plants_swinging_foot(db, &view, results[0].frame)) {
             n = k >= PLANT_CANDIDATES
@@ -331,7 +339,8 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     int chosen = 0;
     if (n > 0) {
         float priced;
-        chosen = plant_choice(db, &view, priced_from, n, m->plant_waiting ? m->plant_waited : 0.0f, &priced);
+        chosen = plant_choice(db, &view, priced_from, n, m->plant_waiting ? m->plant_waited : 0.0f, max_wait,
+                              &priced);
         m->last_choice = chosen >= 0 ? priced_from[chosen] : (mm_search_result){.frame = -1, .base = 0.0f};
         m->last_choice.cost = priced;
     }

@@ -18,6 +18,12 @@
 /* s: the longest the jump waits for a swinging foot to land before the cheapest candidate is
  * taken all the same (the simulation goes on meanwhile) */
 #define PLANT_MAX_WAIT 1.0f
+/* s: ... stopping or standing (under KEEP_CONTACTS_FROM_SPEED), where only a jump onto an idle
+ * frame is weighed: a stop landing a foot in mid-swing onto a standing frame planted heel and toe
+ * together under the transition's pitch and stood on its toes the whole idle; a swing lands within
+ * this (docs/metrics.md, "A heel held up by its locks"). Waiting the moving 1 s delayed stops: the
+ * demo script's response 0.51 -> 0.54 s */
+#define STOP_PLANT_MAX_WAIT 0.25f
 
 typedef struct mm_matching {
     float since_search;                /* s */
@@ -120,5 +126,11 @@ bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to
  * (s played on in a row for that) is under PLANT_MAX_WAIT. *priced: that one's cost plus price. */
 int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
                              float waited, float *priced);
+
+/* How long playback may wait for a swinging foot to land before a jump to frame `to` that plants
+ * it is taken all the same: PLANT_MAX_WAIT moving; stopping or standing, STOP_PLANT_MAX_WAIT when
+ * `to` is an idle clip's frame and 0 otherwise (not weighed: a start, or a slow turn, goes where the
+ * search says). */
+float mm_matching_plant_max_wait(const mm_database *db, bool moving, int to);
 
 #endif
