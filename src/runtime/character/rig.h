@@ -44,7 +44,7 @@ void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db);
 /* the share of the database's upright locomotion frames whose hips are lower than mm_rig.hip_floor:
  * its lowest strides and turns, not a dip of a frame or two (docs/metrics.md, "Crouched time: the
  * hips no lower than the data's upright locomotion") */
-#define MM_RIG_HIP_FLOOR_QUANTILE 0.005f
+#define MM_RIG_HIP_FLOOR_QUANTILE 0.05f
 
 /* Learns mm_rig.hip_floor from the frames of db's locomotion clips that carry none of the tags in
  * other_gaits (the crouch and jump gaits' tags); 0 without any such frame or without a pelvis. */
