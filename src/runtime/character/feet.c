@@ -904,11 +904,12 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
  * reach from there creeps after the animation (reach_miss) instead of the body sinking into a lunge
  * (docs/metrics.md, "Crouched time: the hips no lower than the data's upright locomotion"). As
  * most while a foot whose label is on or coming is not locked yet (its landing: held up, it would
- * wait aloft) and on terrain (a leg reaching a lower tread). */
+ * wait aloft), on terrain (a leg reaching a lower tread) and during a move (its clip's own
+ * postures: a climb's legs reach for the wall's top). */
 static float hip_drop_limit(const mm_feet *f, const mm_rig *rig, const mm_feet_contacts *contacts,
                             const mm_feet_ground *ground, bool terrain, float most, const mm_rig_pose *pose)
 {
-    if (terrain || !(rig->hip_floor > 0.0f)) return most;
+    if (terrain || !ground->hold || !(rig->hip_floor > 0.0f)) return most;
     for (int k = 0; k < 2; ++k)
         if (rig->ankle[k] >= 0 && !f->locked[k] && landing_now(contacts, k)) return most;
     float above = pose->global[rig->pelvis].translation.y - ground->height - rig->hip_floor;
