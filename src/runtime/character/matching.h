@@ -18,11 +18,11 @@
 /* s: the longest the jump waits for a swinging foot to land before the cheapest candidate is
  * taken all the same (the simulation goes on meanwhile) */
 #define PLANT_MAX_WAIT 1.0f
-/* s: ... stopping or standing (under KEEP_CONTACTS_FROM_SPEED), where only a jump onto an idle
- * frame is weighed: a stop landing a foot in mid-swing onto a standing frame planted heel and toe
- * together under the transition's pitch and stood on its toes the whole idle; a swing lands within
- * this (docs/metrics.md, "A heel held up by its locks"). Waiting the moving 1 s delayed stops: the
- * demo script's response 0.51 -> 0.54 s */
+/* s: the same wait stopping or standing (under KEEP_CONTACTS_FROM_SPEED), where only a jump onto
+ * an idle frame is weighed: a stop that lands a foot in mid-swing on a standing frame plants heel
+ * and toe together under the transition's pitch, and the foot stands on its toes the whole idle.
+ * A swing lands within this; longer would delay the stop itself (docs/metrics.md, "A heel held up
+ * by its locks") */
 #define STOP_PLANT_MAX_WAIT 0.25f
 
 typedef struct mm_matching {

@@ -42,8 +42,9 @@ void mm_rig_learn_hinges(mm_rig *rig, const mm_database *db);
 void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db);
 
 /* the share of the database's upright locomotion frames whose hips are lower than mm_rig.hip_floor:
- * its lowest strides and turns, not a dip of a frame or two (docs/metrics.md, "Crouched time: the
- * hips no lower than the data's upright locomotion") */
+ * its lowest strides and turns, where the feet stage would rather let a lock creep than sink the
+ * body (a trade of posture against slide: docs/metrics.md, "Seeds never tuned on, and the hips'
+ * floor at the 5% quantile") */
 #define MM_RIG_HIP_FLOOR_QUANTILE 0.05f
 
 /* Learns mm_rig.hip_floor from the frames of db's locomotion clips that carry none of the tags in
