@@ -1013,6 +1013,68 @@ static void test_feet_hips_no_lower_than_the_floor(void **state)
     }
 }
 
+/* The hips' drop keeps the head above the crouch line (mm_rig.head_floor), on held ground: the body
+ * of test_feet_hips_no_lower_than_the_floor (hips animated at 0.797 m, no hip floor), its head
+ * 0.15 + 0.2 + 0.3 = 0.65 m above the hips (upright spine), so at 1.447 m. With no head floor the hips
+ * come down more than 2 cm; with the line 2 cm under the animated head they come down at most the
+ * 2 cm less the 1 cm margin, the head never under the line plus that margin, and the lock the leg no
+ * longer reaches creeps after the animation (the ankle within REACH_SLACK, 2 cm, of its target).
+ * During a move (the ground not held) the line does not hold the hips. */
+static void test_feet_head_above_the_crouch_line(void **state)
+{
+    (void)state;
+    float dt = 1.0f / 60.0f, hips = 0.9f - 0.84f * (1.0f - cosf(0.5f)), line = hips + 0.65f - 0.02f;
+    for (int floored = 0; floored <= 2; ++floored) {
+        mm_feet f;
+        mm_character_desc d = feet_fixture(&f, 0.0f, false);
+        body b;
+        float most = 0.0f, lowest = INFINITY;
+        for (int n = 0; n <= 30; ++n) {
+            bent_left_leg(&b, 0.5f, 0.0f, 0.0f);
+            b.rig.hip_floor = 0.0f;
+            b.rig.head = HEAD;
+            b.rig.head_floor = floored ? line : 0.0f;
+            assert_float_equal(mm_rig_head_above_pelvis(&b.rig, &b.pose), 0.65f, 1e-5f);
+            b.positions[HIPS].z = 1.2f * (float)n * dt;
+            mm_rig_forward(&b.rig, 1, &b.pose);
+            mm_feet_update(&f, &d, &b.rig, &LABEL_LEFT_HEEL_TOE, &(mm_feet_ground){0.0f, floored != 2, NULL},
+                           dt, &b.pose);
+            most = fmaxf(most, f.hip_drop);
+            lowest = fminf(lowest, b.global[HIPS].translation.y + 0.65f);
+            assert_true(f.locked[0]);
+            if (floored < 2) assert_true(f.reach_miss[0] < 0.02f + 1e-4f);
+        }
+        if (floored == 1) {
+            assert_true(most <= 0.01f + 1e-5f);
+            assert_true(lowest >= line + 0.01f - 1e-5f);
+        } else {
+            assert_true(most > 0.02f);
+        }
+    }
+}
+
+/* The head's height above the pelvis follows the spine: the test body's spine (its joint 0.15 m above
+ * the hips, the chest 0.2 m above it, the head 0.3 m above that) leaned 0.6 rad at the spine joint
+ * puts the head 0.15 + 0.5 cos 0.6 above the hips; the pelvis turned 0.3 rad about the same axis as
+ * well, 0.15 cos 0.3 + 0.5 cos 0.9; a rig with no head gives 0. */
+static void test_rig_head_above_pelvis(void **state)
+{
+    (void)state;
+    body b;
+    make_body(&b);
+    b.rig.head = HEAD;
+    mm_vec3 x = mm_vec3_make(1, 0, 0);
+    b.rotations[SPINE] = mm_quat_from_axis_angle(x, 0.6f);
+    mm_rig_forward(&b.rig, 1, &b.pose);
+    assert_float_equal(mm_rig_head_above_pelvis(&b.rig, &b.pose), 0.15f + 0.5f * cosf(0.6f), 1e-5f);
+    b.rotations[HIPS] = mm_quat_from_axis_angle(x, 0.3f);
+    mm_rig_forward(&b.rig, 1, &b.pose);
+    assert_float_equal(mm_rig_head_above_pelvis(&b.rig, &b.pose), 0.15f * cosf(0.3f) + 0.5f * cosf(0.9f),
+                       1e-5f);
+    b.rig.head = -1;
+    assert_float_equal(mm_rig_head_above_pelvis(&b.rig, &b.pose), 0.0f, 0.0f);
+}
+
 /* Planted on heel and toe with the toe's lock 1 cm further along the foot than the foot reaches (two
  * locks placed and settled apart): the toe is shown on the foot, short of its lock; when the heel
  * lifts, the toe stays where it was shown (within 1 mm on the ground plane) instead of moving onto
@@ -2161,6 +2223,8 @@ int main(void)
         cmocka_unit_test(test_feet_toe_pivot_out_of_reach),
         cmocka_unit_test(test_feet_heel_up_before_hips_down),
         cmocka_unit_test(test_feet_hips_no_lower_than_the_floor),
+        cmocka_unit_test(test_feet_head_above_the_crouch_line),
+        cmocka_unit_test(test_rig_head_above_pelvis),
         cmocka_unit_test(test_feet_swing_eases_out_of_a_far_release),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -371,6 +371,7 @@ mm_result mm_character_init(mm_character *c, const mm_database *db, const mm_sea
     mm_matching_init(&s->matching, db, query, leg_length(&s->rig));
     mm_rig_learn_hip_floor(&s->rig, db,
                            s->matching.gait_tags[MM_GAIT_CROUCH] | s->matching.gait_tags[MM_GAIT_JUMP]);
+    mm_rig_learn_head_floor(&s->rig, db);
     s->playback.frame = start_frame(db, &s->matching);
     mm_playback_by_clock(&s->playback);
     s->root_motion.root = mm_xform_identity();

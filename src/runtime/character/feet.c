@@ -899,20 +899,31 @@ static void shift_pelvis(mm_feet *f, const mm_rig *rig, const mm_vec3 *target, b
     }
 }
 
+/* m: how far above the metric's crouch line (mm_rig.head_floor) the hips' drop keeps the head, for
+ * what the stages after it move the head by */
+#define HEAD_FLOOR_MARGIN 0.01f
+
 /* The most the hips may come down this tick: most, but on flat ground no lower than the data's
  * upright locomotion carries them (mm_rig.hip_floor, above the ground): a lock further than the legs
  * reach from there creeps after the animation (reach_miss) instead of the body sinking into a lunge
- * (docs/metrics.md, "Crouched time: the hips no lower than the data's upright locomotion"). As
- * most while a foot whose label is on or coming is not locked yet (its landing: held up, it would
- * wait aloft), on terrain (a leg reaching a lower tread) and during a move (its clip's own
- * postures: a climb's legs reach for the wall's top). */
+ * (docs/metrics.md, "Crouched time: the hips no lower than the data's upright locomotion"), and no
+ * lower than keeps the head HEAD_FLOOR_MARGIN above the line under which it is crouched
+ * (mm_rig.head_floor: a stooped clip's hips above the floor, its head low; docs/metrics.md,
+ * "Crouched time: the head kept above the crouch line"). As most while a foot whose label is on or
+ * coming is not locked yet (its landing: held up, it would wait aloft), on terrain (a leg reaching
+ * a lower tread) and during a move (its clip's own postures: a climb's legs reach for the wall's
+ * top). */
 static float hip_drop_limit(const mm_feet *f, const mm_rig *rig, const mm_feet_contacts *contacts,
                             const mm_feet_ground *ground, bool terrain, float most, const mm_rig_pose *pose)
 {
-    if (terrain || !ground->hold || !(rig->hip_floor > 0.0f)) return most;
+    if (terrain || !ground->hold || !(rig->hip_floor > 0.0f || rig->head_floor > 0.0f)) return most;
     for (int k = 0; k < 2; ++k)
         if (rig->ankle[k] >= 0 && !f->locked[k] && landing_now(contacts, k)) return most;
-    float above = pose->global[rig->pelvis].translation.y - ground->height - rig->hip_floor;
+    float pelvis = pose->global[rig->pelvis].translation.y - ground->height;
+    float above = rig->hip_floor > 0.0f ? pelvis - rig->hip_floor : most;
+    if (rig->head >= 0 && rig->head_floor > 0.0f)
+        above =
+            fminf(above, pelvis + mm_rig_head_above_pelvis(rig, pose) - rig->head_floor - HEAD_FLOOR_MARGIN);
     return fminf(most, fmaxf(above, 0.0f));
 }
 

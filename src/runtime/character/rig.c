@@ -1,6 +1,8 @@
 /* The character's rig: legs, pelvis and spine found from the ankles by parentage. */
 #include "rig.h"
 
+#include <mm/posture.h>
+
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +34,7 @@ void mm_rig_init(mm_rig *rig, const mm_joint *joints, int joint_count, int left_
     rig->joint_count = joint_count;
     const int ankles[2] = {left_ankle, right_ankle};
     rig->pelvis = -1;
+    rig->head = -1;
     for (int k = 0; k < 2; ++k) {
         int ankle = ankles[k] >= 0 && ankles[k] < joint_count ? ankles[k] : -1;
         /* the chain ankle <- knee <- hip must exist below the root */
@@ -233,6 +236,42 @@ void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db)
             rig->ankle[k] >= 0 ? planted_height(rig, db, rig->ankle[k], heel_bit[k]) : 0.0f;
         rig->planted_toe[k] = rig->toe[k] >= 0 ? planted_height(rig, db, rig->toe[k], toe_bit[k]) : 0.0f;
     }
+}
+
+void mm_rig_learn_head_floor(mm_rig *rig, const mm_database *db)
+{
+    float h[PLANTED_SAMPLES];
+    int frames = 0, n = 0;
+    rig->head = -1;
+    rig->head_floor = 0.0f;
+    int head = mm_database_role_joint(db, MM_ROLE_HEAD);
+    if (rig->pelvis <= 0 || head <= rig->pelvis || head >= rig->joint_count ||
+        !hangs_from(rig->joints, head, rig->pelvis))
+        return;
+    for (int f = 0; f < db->frame_count; ++f) {
+        int type = db->clips[db->frame_clip[f]].type;
+        frames += type == MM_CLIP_LOCOMOTION || type == MM_CLIP_IDLE;
+    }
+    int step = frames > PLANTED_SAMPLES ? frames / PLANTED_SAMPLES + 1 : 1;
+    for (int f = 0, seen = 0; f < db->frame_count && n < PLANTED_SAMPLES; ++f) {
+        int type = db->clips[db->frame_clip[f]].type;
+        if ((type == MM_CLIP_LOCOMOTION || type == MM_CLIP_IDLE) && seen++ % step == 0)
+            h[n++] = height_above_root(rig, db, f, head);
+    }
+    if (n == 0) return;
+    qsort(h, (size_t)n, sizeof(float), compare_float);
+    rig->head = head;
+    rig->head_floor = MM_POSTURE_CROUCHED_HEIGHT * h[(int)(MM_POSTURE_REFERENCE_QUANTILE * (float)(n - 1))];
+}
+
+float mm_rig_head_above_pelvis(const mm_rig *rig, const mm_rig_pose *pose)
+{
+    if (rig->head < 0) return 0.0f;
+    mm_vec3 v = mm_vec3_make(0, 0, 0);
+    int j = rig->head;
+    for (; j != rig->pelvis; j = rig->joints[j].parent)
+        v = mm_vec3_add(pose->local_positions[j], mm_quat_rotate(pose->local_rotations[j], v));
+    return mm_quat_rotate(pose->global[rig->pelvis].rotation, v).y;
 }
 
 void mm_rig_learn_hip_floor(mm_rig *rig, const mm_database *db, uint64_t other_gaits)

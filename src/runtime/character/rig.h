@@ -32,6 +32,13 @@ typedef struct mm_rig {
      * locomotion, MM_RIG_HIP_FLOOR_QUANTILE of it over its locomotion frames not tagged for another
      * gait (mm_rig_learn_hip_floor); the feet stage lowers the hips no further; 0 when unknown */
     float hip_floor;
+    /* the head joint (the database's head role, hanging from the pelvis; -1 when unknown) and m: the
+     * height above the ground under which the metric's posture classifier calls a head crouched,
+     * MM_POSTURE_CROUCHED_HEIGHT x the reference (MM_POSTURE_REFERENCE_QUANTILE of the head's heights
+     * over the database's locomotion and idle frames; mm_rig_learn_head_floor); the feet stage
+     * lowers the hips no further than keeps the head above it; 0 when unknown */
+    int head;
+    float head_floor;
 } mm_rig;
 
 /* Learns each knee's hinge from the frames of db (whose skeleton the rig was made on). */
@@ -51,6 +58,10 @@ void mm_rig_learn_planted_heights(mm_rig *rig, const mm_database *db);
  * other_gaits (the crouch and jump gaits' tags); 0 without any such frame or without a pelvis. */
 void mm_rig_learn_hip_floor(mm_rig *rig, const mm_database *db, uint64_t other_gaits);
 
+/* Learns mm_rig.head and head_floor from db's head role and its locomotion and idle frames; head -1
+ * and head_floor 0 without a head hanging from the pelvis or without such frames. */
+void mm_rig_learn_head_floor(mm_rig *rig, const mm_database *db);
+
 /* A pose on the rig: local rotations and positions (joint 0: the root, in the world) and the
  * global transforms they give. */
 typedef struct mm_rig_pose {
@@ -62,6 +73,10 @@ typedef struct mm_rig_pose {
     bool defer_body;
     bool body_stale; /* the rest of the body's global transforms are waiting */
 } mm_rig_pose;
+
+/* The height of the head joint above the pelvis in pose (the pelvis's global transform current, the
+ * local transforms of the joints between them read); 0 when rig->head < 0. */
+float mm_rig_head_above_pelvis(const mm_rig *rig, const mm_rig_pose *pose);
 
 /* Finds the legs of the ankle joints left_ankle and right_ankle (-1: that leg is missing; the
  * character gives its desc's feet or the database's foot roles). */
