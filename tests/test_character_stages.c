@@ -1245,9 +1245,10 @@ static void test_feet_lock_settles_gradually(void **state)
     for (int n = 0; n <= 30; ++n) {
         bent_left_leg(&b, 0.3f, 0.0f, 0.0f);
         level_tick(&f, &d, &b, &LABEL_LEFT_HEEL, dt);
-        p[2] = b.global[L_FOOT].translation;
+        p[2] = f.lock[0]; /* the ankle's target (the leg's bend catches up with it: ease_bend) */
         if (n == 0) p[0] = p[1] = mm_vec3_make(p[2].x, 0.06f + h, p[2].z);
         assert_float_equal(p[2].y, 0.06f + h * exp2f(-(float)(n + 1) * dt / 0.1f), 1e-3f);
+        if (n >= 6) assert_float_equal(b.global[L_FOOT].translation.y, p[2].y, 1e-3f);
         worst = fmaxf(worst, second_difference(p[0], p[1], p[2]));
         p[0] = p[1], p[1] = p[2];
     }
@@ -1303,6 +1304,46 @@ static void test_feet_swing_eases_out_of_a_far_release(void **state)
     assert_true(worst_aimed < 0.045f); /* 6.2 cm before */
     assert_true(worst_shown < 0.045f); /* 4.8 cm before */
     assert_true(shown[2].z - let_go.z > 0.5f);
+}
+
+/* A leg near full extension whose target goes out of its reach and comes back fast, as built-in seed
+ * 52's right leg did at 15.7 s (docs/metrics.md, "Pops, eighth pass"): the hip-to-ankle distance asked
+ * for, in leg lengths (0.84 m), 0.97 -> 1.11 -> 0.75 over ten ticks, here a planted foot the hips rise
+ * above and come down over (the leg's animated shape the same throughout). Near straight the knee
+ * moves as the square root of what the leg lacks: the knee's second difference about its hip, the
+ * thigh (0.42 m) times the bend's at the hip, was 0.2 rad (8 cm) as the target came back into reach;
+ * feet.c's ease_bend bounds the bend's by BEND_ACCELERATION dt^2 (1 + (bend / 0.3)^2), 300 rad/s^2
+ * (0.083 rad, 3.5 cm near straight), and the ankle is on its lock again once the bend has caught up. */
+static void test_feet_bend_eased_near_full_extension(void **state)
+{
+    (void)state;
+    mm_feet f;
+    mm_character_desc d = feet_fixture(&f, 0.0f, true);
+    body b;
+    float dt = 1.0f / 60.0f, length = 0.84f, shown = 0.84f * cosf(0.05f);
+    const float asked[] = {0.974f, 0.974f, 0.974f, 0.987f, 1.034f, 1.083f, 1.105f, 1.074f, 1.000f, 0.903f,
+                           0.816f, 0.762f, 0.748f, 0.743f, 0.743f, 0.743f, 0.743f, 0.743f, 0.743f, 0.743f};
+    int ticks = (int)(sizeof asked / sizeof asked[0]);
+    mm_vec3 rel[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    float bend[3] = {0, 0, 0}, worst = 0.0f;
+    for (int n = 0; n < ticks; ++n) {
+        bent_left_leg(&b, 0.05f, 0.0f, asked[n] * length - shown);
+        mm_feet_contacts labels = {
+            MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE, {-1.0f, -1.0f}, {-1.0f, -1.0f}};
+        level_tick(&f, &d, &b, &labels, dt);
+        assert_true(f.locked[0]);
+        rel[0] = rel[1], rel[1] = rel[2];
+        rel[2] = mm_vec3_sub(b.global[L_LEG].translation, b.global[L_UPLEG].translation);
+        bend[0] = bend[1], bend[1] = bend[2], bend[2] = f.bend[0];
+        if (n < 2) continue;
+        worst = fmaxf(worst, second_difference(rel[0], rel[1], rel[2]));
+        /* the bend's own second difference within the limit (the animated bend is still: no own change) */
+        float most = fmaxf(bend[0], fmaxf(bend[1], bend[2])) / 0.3f;
+        assert_true(fabsf(bend[2] - 2.0f * bend[1] + bend[0]) <=
+                    300.0f * dt * dt * (1.0f + most * most) + 1e-4f);
+    }
+    assert_true(worst < 0.055f);           /* 0.064 m without the ease, 0.050 with it */
+    assert_true(f.reach_miss[0] < 0.005f); /* caught up: on its lock */
 }
 
 /* A foot whose label turns on while it is held up more than feet.c's PLANT_MAX_HEIGHT (4 cm) above
@@ -2226,6 +2267,7 @@ int main(void)
         cmocka_unit_test(test_feet_head_above_the_crouch_line),
         cmocka_unit_test(test_rig_head_above_pelvis),
         cmocka_unit_test(test_feet_swing_eases_out_of_a_far_release),
+        cmocka_unit_test(test_feet_bend_eased_near_full_extension),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

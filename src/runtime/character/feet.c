@@ -849,6 +849,88 @@ static float leg_length(const mm_rig *rig, int k, const mm_rig_pose *pose)
     return mm_vec3_distance(h, knee) + mm_vec3_distance(knee, pose->global[rig->ankle[k]].translation);
 }
 
+/* The angle at the hip between the thigh (l1) and the hip-to-ankle line of a leg whose ankle is len
+ * from its hip (the shin l2): the law of cosines. */
+static float hip_bend(float l1, float l2, float len)
+{
+    float c = (l1 * l1 - l2 * l2 + len * len) / (2.0f * l1 * len);
+    return acosf(fminf(1.0f, fmaxf(-1.0f, c)));
+}
+
+/* The hip-to-ankle distance of a leg bent by `bend` at the hip (hip_bend's inverse). */
+static float bend_length(float l1, float l2, float bend)
+{
+    float across = l1 * sinf(bend);
+    return l1 * cosf(bend) + sqrtf(fmaxf(0.0f, l2 * l2 - across * across));
+}
+
+/* The hip-to-ankle distance the leg IK solves a target at len to (its softened reach, leg_ik.c). */
+static float softened(float len, float length)
+{
+    float s = SOFT_REACH * length, start = length - s;
+    return len > start ? length - s * expf(-(len - start) / s) : len;
+}
+
+/* The target distance the leg IK solves to reach (softened's inverse), at most `most`. */
+static float unsoftened(float reach, float length, float most)
+{
+    float s = SOFT_REACH * length, start = length - s;
+    if (!(reach > start)) return reach;
+    float left = length - reach;
+    return left > s * expf(-(most - start) / s) ? start - s * logf(left / s) : most;
+}
+
+/* rad/s^2: the most a leg's bend at the hip may change its rate by in a second near full extension,
+ * beyond the animation's own change (ease_bend; 300 x the thigh's 0.4 m x dt^2 is 3.3 cm of the
+ * knee's move a tick squared) */
+#define BEND_ACCELERATION 300.0f
+/* rad: the bend over which that limit widens, as 1 + (bend / this)^2: a leg clearly bent moves its
+ * knee in proportion to its target, and a limit there lagged ordinary swings */
+#define BEND_NEAR_STRAIGHT 0.3f
+
+/* Foot k's ankle target (*target, from hip h) eased so that the leg's bend at the hip changes its rate
+ * by at most BEND_ACCELERATION dt a tick near full extension (more as the leg is bent, 1 + (bend /
+ * BEND_NEAR_STRAIGHT)^2 times), or by the animated leg's own change when that is larger: near full
+ * extension the knee moves as the square root of what the leg lacks, and a target that goes out of
+ * reach and comes back at a few m/s (a foot let go behind the body) bends a straight leg by 0.25 rad
+ * in a tick. The bend follows what the target asks for at the rate that changes, and closes the gap
+ * left no faster than it could still stop; the target is moved along its line from the hip to where
+ * the IK solves to that bend. Locked feet too: a free foot locked while its bend lags would snap. */
+static void ease_bend(mm_feet *f, const mm_rig *rig, int k, mm_vec3 h, const mm_rig_pose *pose, float dt,
+                      mm_vec3 *target)
+{
+    mm_vec3 knee = pose->global[rig->knee[k]].translation, ankle = pose->global[rig->ankle[k]].translation;
+    float l1 = mm_vec3_distance(h, knee), l2 = mm_vec3_distance(knee, ankle), length = l1 + l2;
+    float away = mm_vec3_distance(*target, h);
+    if (!(l1 > MIN_FOOT_LENGTH && l2 > MIN_FOOT_LENGTH && away > 1e-4f)) return;
+    float low = fabsf(l1 - l2);
+    float want = hip_bend(l1, l2, fminf(length, fmaxf(low, softened(away, length))));
+    float animated = hip_bend(l1, l2, fminf(length, fmaxf(low, mm_vec3_distance(ankle, h))));
+    bool follow = !f->placed;
+    float want_velocity = f->placed ? (want - f->bend_want[k]) / dt : 0.0f;
+    float behind = f->bend_want[k] - f->bend[k]; /* the gap left last tick */
+    float animated_velocity = f->placed ? (animated - f->animated_bend[k]) / dt : 0.0f;
+    float own = fabsf(animated_velocity - f->animated_bend_velocity[k]);
+    f->bend_want[k] = want;
+    f->animated_bend[k] = animated, f->animated_bend_velocity[k] = animated_velocity;
+    float bend = want;
+    if (!follow) {
+        float bent = fminf(want, f->bend[k]) / BEND_NEAR_STRAIGHT;
+        float most = fmaxf(BEND_ACCELERATION * (1.0f + bent * bent) * dt, own);
+        float close = fminf(fabsf(behind) / dt, sqrtf(2.0f * most / dt * fabsf(behind)));
+        float wanted = want_velocity + copysignf(close, behind);
+        float change = fminf(most, fmaxf(-most, wanted - f->bend_velocity[k]));
+        bend = fmaxf(0.0f, f->bend[k] + (f->bend_velocity[k] + change) * dt);
+    }
+    f->bend_velocity[k] = f->placed ? (bend - f->bend[k]) / dt : 0.0f;
+    f->bend[k] = bend;
+    if (bend == want) return;
+    float reach = bend_length(l1, l2, bend);
+    float far = unsoftened(fminf(length, fmaxf(low, reach)), length,
+                           fmaxf(away, length * (1.0f + ONTO_SOFT_WIDTHS * SOFT_REACH)));
+    *target = mm_vec3_add(h, mm_vec3_scale(mm_vec3_sub(*target, h), far / away));
+}
+
 /* the furthest the pelvis is moved on the ground plane toward planted feet out of reach, in leg
  * lengths (hip to knee to ankle): as far as a body leans back over a planted foot while the root
  * goes on ahead (a transition's root motion, the pull toward the simulation) */
@@ -1189,6 +1271,7 @@ void mm_feet_update(mm_feet *f, const mm_character_desc *d, const mm_rig *rig,
         if (ground->hold && f->toe_locked[k] && !f->heel_locked[k] && rig->toe[k] >= 0)
             pivot_on_toe(f, rig, k, h, (1.0f - SOFT_REACH) * leg_length(rig, k, pose), last_pivot[k], dt,
                          pose, &target[k], &orientation[k]);
+        ease_bend(f, rig, k, h, pose, dt, &target[k]);
         solve_leg(rig, k, target[k], orientation[k], pose);
         f->target_velocity[k] = f->placed
                                     ? mm_vec3_scale(mm_vec3_sub(target[k], f->last_target[k]), 1.0f / dt)

@@ -52,6 +52,11 @@ typedef struct mm_feet {
      * a free foot's offset speeds it up from there (ease_swing in feet.c) */
     mm_vec3 last_target[2], target_velocity[2];
     mm_vec3 raw_contacts[4]; /* left ankle, left toe, right ankle, right toe before IK */
+    /* rad: each leg's bend as solved last tick (the angle at the hip between thigh and hip-to-ankle
+     * line) and its rate (rad/s); the bend the target asked for last tick; the animated bend and
+     * its rate (ease_bend in feet.c) */
+    float bend[2], bend_velocity[2], bend_want[2];
+    float animated_bend[2], animated_bend_velocity[2];
 } mm_feet;
 
 /* s: the longest landing (a fast foot slowed to rest before its contact, see feet.c): how far ahead
