@@ -718,6 +718,33 @@ static int check_query(const mm_searcher *s, const float *q, const mm_search_par
                     fast.frame, fast.cost);
     assert_int_equal(fast.frame, brute.frame);
     assert_true(fast.cost == brute.cost);
+    /* the first of the best k is the winner whatever k, both methods: the tie rule's frame, its
+     * cost and base bit for bit (k 2 and 16: the list holds every tie, or some are left out) */
+    for (int m = 0; m < 2; ++m)
+        for (int k = 2; k <= 16; k += 14) {
+            mm_search_result list[16];
+            int found = mm_searcher_search(s, q, p, m ? MM_SEARCH_BRUTE : MM_SEARCH_FAST, list, k);
+            assert_true(found >= 1);
+            assert_int_equal(list[0].frame, brute.frame);
+            assert_memory_equal(&list[0].cost, &brute.cost, sizeof(float));
+            assert_memory_equal(&list[0].base, &brute.base, sizeof(float));
+            /* hinted: the list's own frames (the tightest bound: the k-th cost itself; reversed,
+             * repeated, with -1, a frame past the end and the current frame), then the frames
+             * after them (a looser bound): the same list bit for bit */
+            for (int h = 0; h < 2; ++h) {
+                int hints[MM_SEARCH_MAX_HINTS], count = 0;
+                for (int j = found - 1; j >= 0; --j) hints[count++] = list[j].frame + h;
+                hints[count++] = list[0].frame + h;
+                hints[count++] = -1;
+                hints[count++] = s->db->frame_count;
+                hints[count++] = p->current_frame;
+                mm_search_result again[16];
+                int n2 = mm_searcher_search_hinted(s, q, p, m ? MM_SEARCH_BRUTE : MM_SEARCH_FAST, again, k,
+                                                   hints, count, NULL);
+                assert_int_equal(n2, found);
+                assert_memory_equal(again, list, sizeof(mm_search_result) * (size_t)found);
+            }
+        }
     int n = mm_searcher_search(s, q, p, MM_SEARCH_BRUTE, top, 2);
     return n == 2 && top[1].cost <= brute.cost + 1e-6f * fabsf(brute.cost) && top[1].frame != brute.frame;
 }

@@ -41,7 +41,8 @@
  *   mm_searcher_free(&s);
  *
  * Functions: mm_search_params_defaults mm_search_query_from_frames mm_search_query_from_pose
- *            mm_searcher_init mm_searcher_free mm_searcher_search mm_searcher_batch
+ *            mm_searcher_init mm_searcher_free mm_searcher_search mm_searcher_search_hinted
+ *            mm_searcher_batch
  *            mm_search_cost_terms mm_search_tag_mask mm_search_method_name
  */
 #ifndef MM_SEARCH_H
@@ -229,6 +230,16 @@ typedef struct mm_search_stats {
 int mm_searcher_search_stats(const mm_searcher *s, const float *query, const mm_search_params *p,
                              mm_search_method method, mm_search_result *results, int k,
                              mm_search_stats *stats);
+
+/* Hints: frames likely among the best k, such as the best k of a search a moment before (at most
+ * MM_SEARCH_MAX_HINTS; -1, repeats and frames that are no candidates are passed over). With k > 1,
+ * the k-th lowest of their costs under this query bounds the k-th lowest of all from above, so the
+ * search prunes from its start; the answer is mm_searcher_search's bit for bit, whatever the hints
+ * (stats count the hints' costs among the frames evaluated). */
+#define MM_SEARCH_MAX_HINTS 32
+int mm_searcher_search_hinted(const mm_searcher *s, const float *query, const mm_search_params *p,
+                              mm_search_method method, mm_search_result *results, int k, const int *hints,
+                              int hint_count, mm_search_stats *stats);
 
 /* count independent queries (rows of dims_padded floats) with their params (one each, or all
  * the same when params_stride is 0), each answered as by mm_searcher_search with k = 1,

@@ -863,6 +863,7 @@ typedef struct scan_state {
     float first_limit;
     mm_search_result first;
     float limit; /* limit_of(this state), kept as the state changes: the scans read it per frame */
+    float cap;   /* k > 1: a cost the k-th lowest is known not to exceed (INFINITY: none) */
 } scan_state;
 
 /* The cost a frame must not exceed to matter: the fallback's limit, the tie limit of the lowest, or
@@ -870,8 +871,10 @@ typedef struct scan_state {
 static float limit_of(const scan_state *st)
 {
     if (st->find_first) return st->first_limit;
-    if (st->k < 1 || st->count < st->k) return INFINITY; /* k 0: a state that keeps no list */
-    return st->k == 1 ? tie_limit(st->list[0].cost) : st->list[st->k - 1].cost;
+    if (st->k < 1) return INFINITY; /* k 0: a state that keeps no list */
+    if (st->k == 1) return st->count < 1 ? INFINITY : tie_limit(st->list[0].cost);
+    float kth = st->count < st->k ? INFINITY : st->list[st->k - 1].cost;
+    return st->cap < kth ? st->cap : kth;
 }
 
 static inline float state_limit(const scan_state *st) { return st->limit; }
@@ -931,6 +934,7 @@ static void state_init(scan_state *st, mm_search_result *list, int k)
     st->list = list;
     st->k = k;
     st->first.frame = -1;
+    st->cap = INFINITY;
     st->limit = limit_of(st);
 }
 
@@ -1315,16 +1319,56 @@ static void put_first(mm_search_result *list, int count, mm_search_result w)
     list[0] = w;
 }
 
-static int search_one(query_ctx *c, mm_search_result *results, int k)
+/* k > 1: the k-th lowest cost among the distinct candidates of hints (INFINITY with fewer than k
+ * of them). No candidate outside the best k costs less, so it bounds their k-th from above. */
+static float hints_cap(query_ctx *c, const int *hints, int hint_count, int k)
+{
+    float kth[MM_SEARCH_MAX_HINTS];
+    int n = 0;
+    const mm_database *db = c->db;
+    for (int i = 0; i < hint_count && i < MM_SEARCH_MAX_HINTS; ++i) {
+        int f = hints[i], seen = 0;
+        if (f < 0 || f >= db->frame_count || f == c->current || !accepted(c, f)) continue;
+        for (int j = 0; j < i && !seen; ++j) seen = hints[j] == f;
+        if (seen) continue;
+        float base, cost = frame_cost(c, f, db->features + (size_t)f * db->dims_padded, &base);
+        if (!(cost == cost)) continue; /* NaN: bounds nothing */
+        int at;                        /* the k lowest, in order */
+        if (n < k) {
+            at = n++;
+        } else {
+            if (!(cost < kth[k - 1])) continue;
+            at = k - 1;
+        }
+        while (at > 0 && cost < kth[at - 1]) kth[at] = kth[at - 1], --at;
+        kth[at] = cost;
+    }
+    return k <= MM_SEARCH_MAX_HINTS && n >= k ? kth[k - 1] : INFINITY;
+}
+
+static int search_one(query_ctx *c, mm_search_result *results, int k, const int *hints, int hint_count)
 {
     scan_state st;
     state_init(&st, results, k);
+    if (k > 1 && hint_count > 0) {
+        st.cap = hints_cap(c, hints, hint_count, k);
+        st.limit = limit_of(&st);
+    }
     take_next(c, &st);
     scan_units(c, 0, c->s->unit_count, &st);
     if (st.count == 0) return 0;
     float limit = tie_limit(results[0].cost);
-    mm_search_result w = k == 1 && !st.overflow ? winner_of(st.ties, st.tie_count, limit)
-                                                : first_under(c, 0, c->s->unit_count, limit, 1);
+    /* the tie-rule winner: among the ties kept (k 1), or among the k lowest when they hold every
+     * frame within the tie limit (fewer than k found, or the k-th above it: the list is the k
+     * lowest of all candidates); otherwise a second pass for the lowest index under the limit */
+    mm_search_result w;
+    if (k == 1)
+        w = !st.overflow ? winner_of(st.ties, st.tie_count, limit)
+                         : first_under(c, 0, c->s->unit_count, limit, 1);
+    else if (st.count < k || results[k - 1].cost > limit)
+        w = winner_of(results, st.count, limit);
+    else
+        w = first_under(c, 0, c->s->unit_count, limit, 1);
     put_first(results, st.count, w);
     return st.count;
 }
@@ -1407,12 +1451,19 @@ static int search_parallel(const mm_searcher *s, query_ctx *c, mm_search_result 
 int mm_searcher_search(const mm_searcher *s, const float *query, const mm_search_params *p,
                        mm_search_method method, mm_search_result *results, int k)
 {
-    return mm_searcher_search_stats(s, query, p, method, results, k, NULL);
+    return mm_searcher_search_hinted(s, query, p, method, results, k, NULL, 0, NULL);
 }
 
 int mm_searcher_search_stats(const mm_searcher *s, const float *query, const mm_search_params *p,
                              mm_search_method method, mm_search_result *results, int k,
                              mm_search_stats *stats)
+{
+    return mm_searcher_search_hinted(s, query, p, method, results, k, NULL, 0, stats);
+}
+
+int mm_searcher_search_hinted(const mm_searcher *s, const float *query, const mm_search_params *p,
+                              mm_search_method method, mm_search_result *results, int k, const int *hints,
+                              int hint_count, mm_search_stats *stats)
 {
     if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !s->db || !query || !p || !results || k < 1) return 0;
@@ -1422,7 +1473,8 @@ int mm_searcher_search_stats(const mm_searcher *s, const float *query, const mm_
     }
     query_ctx c;
     prepare(&c, s, query, p, method);
-    int found = k > 1 || !s->pool ? search_one(&c, results, k) : search_parallel(s, &c, results);
+    int found = k > 1 || !s->pool ? search_one(&c, results, k, hints, hints ? hint_count : 0)
+                                  : search_parallel(s, &c, results);
     if (stats) {
         stats->frames_evaluated = c.evaluated;
         stats->boxes_tested = c.boxes;
@@ -1453,7 +1505,7 @@ static void batch_worker(void *ctx, int worker, int workers)
         mm_search_result *r = &job->results[i];
         r->frame = -1;
         r->cost = r->base = INFINITY;
-        search_one(&c, r, 1);
+        search_one(&c, r, 1, NULL, 0);
     }
 }
 

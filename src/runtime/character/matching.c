@@ -40,9 +40,6 @@
 /* s: ... to this long after (a foot it lands a little later; a running foot landed sooner than
  * that is carried into the ground at its swing's speed) */
 #define LANDING_SLACK 0.034f
-/* the best candidates looked through for one that plants no swinging foot (the search's winner
- * is the same whatever k) */
-#define PLANT_CANDIDATES 16
 /* frames of labels looked at past a frame: the longest window above at 240 fps */
 #define PLANT_MAX_STEPS 96
 
@@ -305,14 +302,25 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     mm_search_result winner_only, *results = m->candidate_capacity > 0 ? m->candidates : &winner_only;
     int k = m->candidate_capacity > 0 ? m->candidate_capacity : 1;
     double start = d->clock ? d->clock() : 0.0;
-    int found = mm_searcher_search(searcher, m->query, &p, d->method, results, k);
+    /* waiting for a swinging foot, the winner mostly plants it still: the PLANT_CANDIDATES are
+     * searched at once, their first the winner of a search for one (the search's tie rule) */
+    mm_search_result near[PLANT_CANDIDATES];
+    int near_found = -1, found;
+    if (m->plant_waiting && m->candidate_capacity == 0) {
+        /* the candidates of the tick before, whose costs under this query bound the search's */
+        near_found = mm_searcher_search_hinted(searcher, m->query, &p, d->method, near, PLANT_CANDIDATES,
+                                               m->plant_hints, m->plant_hint_count, NULL);
+        winner_only = near[0];
+        found = near_found > 0;
+    } else {
+        found = mm_searcher_search(searcher, m->query, &p, d->method, results, k);
+    }
     /* moving, a winner that plants a foot the animation has in a swing is priced against the best
      * PLANT_CANDIDATES (searched again for them: a search for one is much the quicker, and most
      * winners plant no swinging foot); when the cheapest still does, playback goes on (the next
      * search on the next tick) until that foot lands or PLANT_MAX_WAIT. Stopping or standing, the
      * same for a winner in an idle clip, up to STOP_PLANT_MAX_WAIT (mm_matching_plant_max_wait); at
      * a clip's end, or any other winner, the search's winner */
-    mm_search_result near[PLANT_CANDIDATES];
     const mm_search_result *priced_from = results;
     swing_view view;
     int n = 0;
@@ -320,12 +328,15 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     if (found && results[0].frame >= 0 && max_wait > 0.0f && db->frame_next[pb->frame] >= 0) {
         swing_view_of(db, pb->frame, &view);
         if (plants_swinging_foot(db, &view, results[0].frame)) {
-            n = k >= PLANT_CANDIDATES
-                    ? (found < PLANT_CANDIDATES ? found : PLANT_CANDIDATES)
+            n = k >= PLANT_CANDIDATES ? (found < PLANT_CANDIDATES ? found : PLANT_CANDIDATES)
+                : near_found >= 0
+                    ? near_found
                     : mm_searcher_search(searcher, m->query, &p, d->method, near, PLANT_CANDIDATES);
             if (k < PLANT_CANDIDATES) priced_from = near;
         }
     }
+    m->plant_hint_count = n;
+    for (int i = 0; i < n; ++i) m->plant_hints[i] = priced_from[i].frame;
     if (d->clock) m->last_search_us = (float)(1e6 * (d->clock() - start));
     ++m->searches;
     /* a phase set: the search after this one comes search_phase of the interval sooner */

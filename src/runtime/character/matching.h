@@ -25,12 +25,20 @@
  * by its locks") */
 #define STOP_PLANT_MAX_WAIT 0.25f
 
+/* the best candidates looked through for one that plants no swinging foot (the search's winner
+ * is the same whatever k) */
+#define PLANT_CANDIDATES 16
+
 typedef struct mm_matching {
-    float since_search;                /* s */
-    float search_phase;                /* share of the search interval by which the schedule shifts */
-    bool phase_pending;                /* the next search shifts it (mm_character_set_search_phase) */
-    bool plant_waiting;                /* playing on until a swinging foot lands (no jump taken since) */
-    float plant_waited;                /* s: how long, while plant_waiting */
+    float since_search; /* s */
+    float search_phase; /* share of the search interval by which the schedule shifts */
+    bool phase_pending; /* the next search shifts it (mm_character_set_search_phase) */
+    bool plant_waiting; /* playing on until a swinging foot lands (no jump taken since) */
+    float plant_waited; /* s: how long, while plant_waiting */
+    /* the frames of the candidates priced at the last search (hints for the next while waiting:
+     * mm_searcher_search_hinted) */
+    int plant_hints[PLANT_CANDIDATES];
+    int plant_hint_count;
     float last_direction;              /* rad: desired direction at the last search */
     bool idle;                         /* asking for idle */
     bool has_idle;                     /* the database has idle clips */
