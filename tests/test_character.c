@@ -1575,6 +1575,72 @@ static void test_stop_plant_wait(void **state)
     assert_false(mm_matching_plants_swinging_foot(&set, WALK + 2, 0));
 }
 
+/* A stop's wait only for a foot the walk lands soon (docs/metrics.md, "A stop's wait only for a
+ * foot that lands"): a hand-made 60 fps walk whose left foot is up from frame 10 to 44 (a leg held
+ * up 0.58 s) and whose right foot stands from frame 5 to 54, then a standing idle clip. */
+static void test_stop_waits_only_for_a_landing(void **state)
+{
+    (void)state;
+    enum { WALK = 60, IDLE = 10, N = WALK + IDLE };
+    uint8_t contacts[N];
+    int32_t next[N], frame_clip[N];
+    const uint8_t left = MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE,
+                  right = MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE;
+    for (int f = 0; f < N; ++f) {
+        contacts[f] = f >= WALK ? (uint8_t)(left | right)
+                                : (uint8_t)((f < 10 || f >= 45 ? left : 0) | (f >= 5 && f < 55 ? right : 0));
+        next[f] = f < WALK ? (f + 1 < WALK ? f + 1 : -1) : (f + 1 < N ? f + 1 : WALK);
+        frame_clip[f] = f < WALK ? 0 : 1;
+    }
+    mm_db_clip clips[2];
+    memset(clips, 0, sizeof clips);
+    clips[0] = (mm_db_clip){.first_frame = 0, .frame_count = WALK, .type = MM_CLIP_LOCOMOTION};
+    clips[1] = (mm_db_clip){.first_frame = WALK, .frame_count = IDLE, .type = MM_CLIP_IDLE, .loop = 1};
+    mm_database set;
+    memset(&set, 0, sizeof set);
+    set.frame_count = N;
+    set.clip_count = 2;
+    set.interval = 1.0f / 60.0f;
+    set.contacts = contacts;
+    set.frame_next = next;
+    set.frame_clip = frame_clip;
+    set.clips = clips;
+    /* 24 frames at 60 fps: the landing's bound */
+    assert_int_equal((int)lroundf(STOP_LANDING_WITHIN * 60.0f), 24);
+    /* the idle frame plants the swinging left foot; the walk's next frame plants nothing new, but
+     * costs more than the idle and its price: the wait, were the foot near its landing */
+    float priced = 0.0f;
+    mm_search_result near[2] = {{.frame = WALK + 2, .cost = 1.0f}, {.frame = 0, .cost = 10.0f}};
+    for (int f = 12; f <= 30; ++f) {
+        near[1].frame = f + 1;
+        assert_false(mm_matching_plants_swinging_foot(&set, f, f + 1));
+        assert_true(mm_matching_plants_swinging_foot(&set, f, WALK + 2));
+        /* moving, the wait whatever the landing */
+        assert_int_equal(mm_matching_plant_choice(&set, f, near, 2, 0.0f, &priced), -1);
+    }
+    /* stopping: from frame 12 (33 frames, 0.55 s, from the landing at 45) and 19 (26 frames) the
+     * idle at once; from 23 (22 frames, 0.37 s) and 30 (15 frames) a wait, while it lasts under
+     * STOP_PLANT_MAX_WAIT */
+    near[1].frame = 13;
+    assert_int_equal(mm_matching_stop_plant_choice(&set, 12, near, 2, 0.0f, &priced), 0);
+    assert_float_equal(priced, 1.0f + PLANT_PRICE, 1e-6f);
+    near[1].frame = 20;
+    assert_int_equal(mm_matching_stop_plant_choice(&set, 19, near, 2, 0.0f, &priced), 0);
+    near[1].frame = 24;
+    assert_int_equal(mm_matching_stop_plant_choice(&set, 23, near, 2, 0.0f, &priced), -1);
+    assert_int_equal(mm_matching_stop_plant_choice(&set, 23, near, 2, STOP_PLANT_MAX_WAIT, &priced), 0);
+    near[1].frame = 31;
+    assert_int_equal(mm_matching_stop_plant_choice(&set, 30, near, 2, 0.5f * STOP_PLANT_MAX_WAIT, &priced),
+                     -1);
+    /* a right foot the walk lifts at frame 55 and never lands (the clip ends with it up; its last
+     * frame held): from frame 50 a jump to the idle plants it (its lift within the slack, 0.1 s,
+     * the destination's labels on), and the stop does not wait for it */
+    near[1].frame = 51;
+    assert_true(mm_matching_plants_swinging_foot(&set, 50, WALK + 2));
+    assert_int_equal(mm_matching_plant_choice(&set, 50, near, 2, 0.0f, &priced), -1);
+    assert_int_equal(mm_matching_stop_plant_choice(&set, 50, near, 2, 0.0f, &priced), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1607,6 +1673,7 @@ int main(void)
         cmocka_unit_test(test_distance_robust),
         cmocka_unit_test(test_plants_swinging_foot),
         cmocka_unit_test(test_stop_plant_wait),
+        cmocka_unit_test(test_stop_waits_only_for_a_landing),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -199,12 +199,13 @@ static void labels_ahead(const mm_database *db, int frame, int n, unsigned *labe
 /* The label windows of plants_swinging_foot at the database's rate (frames) and the labels of the
  * frames the animation playing goes on to (ahead + slack of them). */
 typedef struct swing_view {
-    int ahead, slack, early;
+    int playing, ahead, slack, early;
     unsigned from[PLANT_MAX_STEPS];
 } swing_view;
 
 static void swing_view_of(const mm_database *db, int playing, swing_view *v)
 {
+    v->playing = playing;
     v->slack = (int)ceilf(SWING_SLACK / db->interval);
     v->early = (int)ceilf(LANDING_SLACK / db->interval);
     v->ahead = (int)ceilf(PLANT_AHEAD / db->interval);
@@ -213,43 +214,71 @@ static void swing_view_of(const mm_database *db, int playing, swing_view *v)
     labels_ahead(db, playing, v->ahead + v->slack, v->from);
 }
 
-/* Whether a jump from the frame playing to frame to plants a foot the animation playing has in a
- * swing: over PLANT_AHEAD, a frame after `to` whose foot is labelled while the frames after the
- * frame playing have that foot unlabelled from SWING_SLACK before to LANDING_SLACK after it. The
- * transition carries the foot on with its swing's speed under a label that says it stands. */
-static bool plants_swinging_foot(const mm_database *db, const swing_view *v, int to)
+/* The feet (bit k: foot k) a jump from the frame playing to frame to plants while the animation
+ * playing has them in a swing: over PLANT_AHEAD, a frame after `to` whose foot is labelled while
+ * the frames after the frame playing have that foot unlabelled from SWING_SLACK before to
+ * LANDING_SLACK after it. The transition carries the foot on with its swing's speed under a label
+ * that says it stands. */
+static unsigned swinging_feet(const mm_database *db, const swing_view *v, int to)
 {
-    unsigned dest[PLANT_MAX_STEPS];
+    unsigned dest[PLANT_MAX_STEPS], feet = 0;
     labels_ahead(db, to, v->ahead, dest);
     for (int t = 0; t < v->ahead; ++t)
         for (int k = 0; k < 2; ++k) {
-            if (!(dest[t] & FOOT_CONTACT_BITS(k))) continue;
+            if (!(dest[t] & FOOT_CONTACT_BITS(k)) || (feet & (1u << k))) continue;
             bool swinging = true;
             for (int u = t > v->slack ? t - v->slack : 0; u <= t + v->early && swinging; ++u)
                 swinging = !(v->from[u] & FOOT_CONTACT_BITS(k));
-            if (swinging) return true;
+            if (swinging) feet |= 1u << k;
         }
-    return false;
+    return feet;
 }
 
-/* mm_matching_plant_choice from the frame playing's view. */
+static bool plants_swinging_foot(const mm_database *db, const swing_view *v, int to)
+{
+    return swinging_feet(db, v, to) != 0;
+}
+
+/* Whether the animation playing lands every one of `feet` (labels it after a frame without its
+ * label: a foot still down that lifts lands after its swing) within `frames` frames from the frame
+ * playing (a clip's last frame held). */
+static bool lands_within(const mm_database *db, const swing_view *v, unsigned feet, int frames)
+{
+    unsigned up = 0, landed = 0;
+    for (int u = 0, f = v->playing; u <= frames && (landed & feet) != feet; ++u) {
+        for (int k = 0; k < 2; ++k) {
+            if (!(db->contacts[f] & FOOT_CONTACT_BITS(k)))
+                up |= 1u << k;
+            else if (up & (1u << k))
+                landed |= 1u << k;
+        }
+        if (db->frame_next[f] >= 0) f = db->frame_next[f];
+    }
+    return (landed & feet) == feet;
+}
+
+/* mm_matching_plant_choice from the frame playing's view; `landing`: the wait only for feet the
+ * animation playing lands within STOP_LANDING_WITHIN (a stop's). */
 static int plant_choice(const mm_database *db, const swing_view *v, const mm_search_result *results, int n,
-                        float waited, float max_wait, float *priced)
+                        float waited, float max_wait, bool landing, float *priced)
 {
     float price = PLANT_PRICE * fabsf(results[0].cost);
     int chosen = 0;
-    bool plants = false;
+    unsigned plants = 0;
     float best = INFINITY;
     /* by cost: none further on can undercut the best once its own cost does not */
     for (int i = 0; i < n && !(results[i].cost >= best); ++i) {
         if (results[i].frame < 0) continue;
-        bool lands = plants_swinging_foot(db, v, results[i].frame);
+        unsigned lands = swinging_feet(db, v, results[i].frame);
         float total = lands ? results[i].cost + price : results[i].cost;
         if (total < best) chosen = i, best = total, plants = lands;
     }
     if (!(best < INFINITY)) best = results[0].cost; /* NaN costs: the winner */
     *priced = best;
-    return plants && waited < max_wait ? -1 : chosen;
+    if (!plants || !(waited < max_wait)) return chosen;
+    if (landing && !lands_within(db, v, plants, (int)ceilf(STOP_LANDING_WITHIN / db->interval)))
+        return chosen;
+    return -1;
 }
 
 bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to)
@@ -264,7 +293,15 @@ int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search
 {
     swing_view v;
     swing_view_of(db, playing, &v);
-    return plant_choice(db, &v, results, n, waited, PLANT_MAX_WAIT, priced);
+    return plant_choice(db, &v, results, n, waited, PLANT_MAX_WAIT, false, priced);
+}
+
+int mm_matching_stop_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
+                                  float waited, float *priced)
+{
+    swing_view v;
+    swing_view_of(db, playing, &v);
+    return plant_choice(db, &v, results, n, waited, STOP_PLANT_MAX_WAIT, true, priced);
 }
 
 float mm_matching_plant_max_wait(const mm_database *db, bool moving, int to)
@@ -351,7 +388,7 @@ void mm_matching_search(mm_matching *m, const mm_character_desc *d, const mm_dat
     if (n > 0) {
         float priced;
         chosen = plant_choice(db, &view, priced_from, n, m->plant_waiting ? m->plant_waited : 0.0f, max_wait,
-                              &priced);
+                              !keep_contacts, &priced);
         m->last_choice = chosen >= 0 ? priced_from[chosen] : (mm_search_result){.frame = -1, .base = 0.0f};
         m->last_choice.cost = priced;
     }

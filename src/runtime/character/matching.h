@@ -24,6 +24,11 @@
  * A swing lands within this; longer would delay the stop itself (docs/metrics.md, "A heel held up
  * by its locks") */
 #define STOP_PLANT_MAX_WAIT 0.25f
+/* s: that wait is only for a swinging foot the animation playing lands within this (a walking
+ * swing: the wait ends before it, the winner's cost falling as the foot comes down); a foot held
+ * up longer (a leg kicked up behind) is shown higher still when the jump comes, and snaps down
+ * (docs/metrics.md, "A stop's wait only for a foot that lands") */
+#define STOP_LANDING_WITHIN 0.4f
 
 /* the best candidates looked through for one that plants no swinging foot (the search's winner
  * is the same whatever k) */
@@ -134,6 +139,12 @@ bool mm_matching_plants_swinging_foot(const mm_database *db, int playing, int to
  * (s played on in a row for that) is under PLANT_MAX_WAIT. *priced: that one's cost plus price. */
 int mm_matching_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
                              float waited, float *priced);
+
+/* mm_matching_plant_choice stopping or standing: the wait under STOP_PLANT_MAX_WAIT, and only while
+ * the animation playing lands every swinging foot the choice plants within STOP_LANDING_WITHIN of
+ * frames from `playing` (else the choice at once). */
+int mm_matching_stop_plant_choice(const mm_database *db, int playing, const mm_search_result *results, int n,
+                                  float waited, float *priced);
 
 /* How long playback may wait for a swinging foot to land before a jump to frame `to` that plants
  * it is taken all the same: PLANT_MAX_WAIT moving; stopping or standing, STOP_PLANT_MAX_WAIT when
