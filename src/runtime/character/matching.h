@@ -27,7 +27,7 @@
 /* s: that wait is only for a swinging foot the animation playing lands within this (a walking
  * swing: the wait ends before it, the winner's cost falling as the foot comes down); a foot held
  * up longer (a leg kicked up behind) is shown higher still when the jump comes, and snaps down
- * (docs/metrics.md, "A stop's wait only for a foot that lands") */
+ * (docs/metrics.md, "Late responses and the stop's wait for a foot held up") */
 #define STOP_LANDING_WITHIN 0.4f
 
 /* the best candidates looked through for one that plants no swinging foot (the search's winner
