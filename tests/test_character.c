@@ -1525,6 +1525,29 @@ static void test_plants_swinging_foot(void **state)
     assert_float_equal(priced, 2.0f, 1e-6f);
 }
 
+/* A 60 fps database of labels alone: a walk clip of `walk` frames that ends, then an idle loop of
+ * `idle` (contacts given; the frames' successors and clips filled in here). */
+static void walk_then_idle(mm_database *set, mm_db_clip clips[2], int walk, int idle, uint8_t *contacts,
+                           int32_t *next, int32_t *frame_clip)
+{
+    int n = walk + idle;
+    for (int f = 0; f < n; ++f) {
+        next[f] = f < walk ? (f + 1 < walk ? f + 1 : -1) : (f + 1 < n ? f + 1 : walk);
+        frame_clip[f] = f < walk ? 0 : 1;
+    }
+    memset(clips, 0, 2 * sizeof *clips);
+    clips[0] = (mm_db_clip){.first_frame = 0, .frame_count = walk, .type = MM_CLIP_LOCOMOTION};
+    clips[1] = (mm_db_clip){.first_frame = walk, .frame_count = idle, .type = MM_CLIP_IDLE, .loop = 1};
+    memset(set, 0, sizeof *set);
+    set->frame_count = n;
+    set->clip_count = 2;
+    set->interval = 1.0f / 60.0f;
+    set->contacts = contacts;
+    set->frame_next = next;
+    set->frame_clip = frame_clip;
+    set->clips = clips;
+}
+
 /* Which jumps the wait is weighed for, and how long: a clip of 40 walking frames at 60 fps (the
  * left foot labelled on frames 0-9 and 30-39, the right on 15-34) and an idle loop of 10 with both
  * feet planted. Moving, every winner is weighed, for up to PLANT_MAX_WAIT; stopping or standing, only
@@ -1544,22 +1567,10 @@ static void test_stop_plant_wait(void **state)
         contacts[f] = f >= WALK ? both
                                 : (uint8_t)((left ? MM_CONTACT_LEFT_HEEL | MM_CONTACT_LEFT_TOE : 0) |
                                             (right ? MM_CONTACT_RIGHT_HEEL | MM_CONTACT_RIGHT_TOE : 0));
-        next[f] = f < WALK ? (f + 1 < WALK ? f + 1 : -1) : (f + 1 < N ? f + 1 : WALK);
-        frame_clip[f] = f < WALK ? 0 : 1;
     }
     mm_db_clip clips[2];
-    memset(clips, 0, sizeof clips);
-    clips[0] = (mm_db_clip){.first_frame = 0, .frame_count = WALK, .type = MM_CLIP_LOCOMOTION};
-    clips[1] = (mm_db_clip){.first_frame = WALK, .frame_count = IDLE, .type = MM_CLIP_IDLE, .loop = 1};
     mm_database set;
-    memset(&set, 0, sizeof set);
-    set.frame_count = N;
-    set.clip_count = 2;
-    set.interval = 1.0f / 60.0f;
-    set.contacts = contacts;
-    set.frame_next = next;
-    set.frame_clip = frame_clip;
-    set.clips = clips;
+    walk_then_idle(&set, clips, WALK, IDLE, contacts, next, frame_clip);
     /* moving: any winner, the longer wait */
     assert_float_equal(mm_matching_plant_max_wait(&set, true, 0), PLANT_MAX_WAIT, 0.0f);
     assert_float_equal(mm_matching_plant_max_wait(&set, true, WALK + 3), PLANT_MAX_WAIT, 0.0f);
@@ -1575,9 +1586,10 @@ static void test_stop_plant_wait(void **state)
     assert_false(mm_matching_plants_swinging_foot(&set, WALK + 2, 0));
 }
 
-/* A stop's wait only for a foot the walk lands soon (docs/metrics.md, "A stop's wait only for a
- * foot that lands"): a hand-made 60 fps walk whose left foot is up from frame 10 to 44 (a leg held
- * up 0.58 s) and whose right foot stands from frame 5 to 54, then a standing idle clip. */
+/* A stop's wait only for a foot the walk lands soon (docs/metrics.md, "Late responses and the
+ * stop's wait for a foot held up"): a hand-made 60 fps walk whose left foot is up from frame 10 to
+ * 44 (a leg held up 0.58 s) and whose right foot stands from frame 5 to 54, then a standing idle
+ * clip. */
 static void test_stop_waits_only_for_a_landing(void **state)
 {
     (void)state;
@@ -1589,22 +1601,10 @@ static void test_stop_waits_only_for_a_landing(void **state)
     for (int f = 0; f < N; ++f) {
         contacts[f] = f >= WALK ? (uint8_t)(left | right)
                                 : (uint8_t)((f < 10 || f >= 45 ? left : 0) | (f >= 5 && f < 55 ? right : 0));
-        next[f] = f < WALK ? (f + 1 < WALK ? f + 1 : -1) : (f + 1 < N ? f + 1 : WALK);
-        frame_clip[f] = f < WALK ? 0 : 1;
     }
     mm_db_clip clips[2];
-    memset(clips, 0, sizeof clips);
-    clips[0] = (mm_db_clip){.first_frame = 0, .frame_count = WALK, .type = MM_CLIP_LOCOMOTION};
-    clips[1] = (mm_db_clip){.first_frame = WALK, .frame_count = IDLE, .type = MM_CLIP_IDLE, .loop = 1};
     mm_database set;
-    memset(&set, 0, sizeof set);
-    set.frame_count = N;
-    set.clip_count = 2;
-    set.interval = 1.0f / 60.0f;
-    set.contacts = contacts;
-    set.frame_next = next;
-    set.frame_clip = frame_clip;
-    set.clips = clips;
+    walk_then_idle(&set, clips, WALK, IDLE, contacts, next, frame_clip);
     /* 24 frames at 60 fps: the landing's bound */
     assert_int_equal((int)lroundf(STOP_LANDING_WITHIN * 60.0f), 24);
     /* the idle frame plants the swinging left foot; the walk's next frame plants nothing new, but

@@ -973,6 +973,16 @@ static void test_feet_heel_up_before_hips_down(void **state)
     }
 }
 
+/* Tick n of the body carried on at 1.2 m/s over its left foot planted on heel and toe (the ground
+ * held or not: a move's), the rig's floors as the caller set them. */
+static void carry_over_planted_foot(mm_feet *f, const mm_character_desc *d, body *b, int n, float dt,
+                                    bool held)
+{
+    b->positions[HIPS].z = 1.2f * (float)n * dt;
+    mm_rig_forward(&b->rig, 1, &b->pose);
+    mm_feet_update(f, d, &b->rig, &LABEL_LEFT_HEEL_TOE, &(mm_feet_ground){0.0f, held, NULL}, dt, &b->pose);
+}
+
 /* The hips come down no lower than the data's upright locomotion carries them (mm_rig.hip_floor),
  * on held ground (not during a move):
  * the body of test_feet_heel_up_before_hips_down carried on at 1.2 m/s over a foot planted on heel
@@ -994,10 +1004,7 @@ static void test_feet_hips_no_lower_than_the_floor(void **state)
         for (int n = 0; n <= 30; ++n) {
             bent_left_leg(&b, 0.5f, 0.0f, 0.0f);
             b.rig.hip_floor = floored ? 0.9f - 0.84f * (1.0f - cosf(0.5f)) - 0.01f : 0.0f;
-            b.positions[HIPS].z = 1.2f * (float)n * dt;
-            mm_rig_forward(&b.rig, 1, &b.pose);
-            mm_feet_update(&f, &d, &b.rig, &LABEL_LEFT_HEEL_TOE, &(mm_feet_ground){0.0f, floored != 2, NULL},
-                           dt, &b.pose);
+            carry_over_planted_foot(&f, &d, &b, n, dt, floored != 2);
             most = fmaxf(most, f.hip_drop);
             lowest = fminf(lowest, b.global[HIPS].translation.y);
             assert_true(f.locked[0]);
@@ -1035,10 +1042,7 @@ static void test_feet_head_above_the_crouch_line(void **state)
             b.rig.head = HEAD;
             b.rig.head_floor = floored ? line : 0.0f;
             assert_float_equal(mm_rig_head_above_pelvis(&b.rig, &b.pose), 0.65f, 1e-5f);
-            b.positions[HIPS].z = 1.2f * (float)n * dt;
-            mm_rig_forward(&b.rig, 1, &b.pose);
-            mm_feet_update(&f, &d, &b.rig, &LABEL_LEFT_HEEL_TOE, &(mm_feet_ground){0.0f, floored != 2, NULL},
-                           dt, &b.pose);
+            carry_over_planted_foot(&f, &d, &b, n, dt, floored != 2);
             most = fmaxf(most, f.hip_drop);
             lowest = fminf(lowest, b.global[HIPS].translation.y + 0.65f);
             assert_true(f.locked[0]);
